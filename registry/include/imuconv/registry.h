@@ -1,0 +1,115 @@
+// Registry: loads imuconv plugins with Boost.DLL and composes conventions.
+//
+// Conversion Jacobians are derived for any pair of registered conventions of one kind,
+// with no pair-specific code: every convention is related to its kind's reference chart
+// (`left` for states, `preint_reference` for increments, see reference_charts.h), and
+//   conversion(A, B, x) = J_{B <- ref}(x) * J_{ref <- A}(x),
+// which is the exact chain rule of d local_B(x, retract_A(x, d)) / d d at d = 0. Each factor
+// is the plugin's analytic Jacobian (checked against Ridders' differences when the plugin is
+// loaded; a wrong one is refused) or, where the plugin gives none, Ridders' differences of
+// its own retract/local against the reference chart.
+#pragma once
+
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "imuconv/error_state.h"
+#include "imuconv/export.h"
+#include "imuconv/plugin_abi.h"
+#include "imuconv/preintegrator.h"
+#include "imuconv/propagator.h"
+
+namespace imuconv {
+
+/// Every error the host-side API reports; the message names the file, id or value at fault.
+class IMUCONV_API Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct PluginInfo {
+  std::string id;
+  PluginKind kind = PluginKind::StateConvention;
+  std::string file;     ///< shared object it came from ("built-in" for the reference charts)
+  std::string version;
+  std::string summary;
+  std::vector<std::string> blocks;  ///< block order, for conventions
+  std::string native_convention;    ///< propagators: native state convention; preintegrators: covariance convention
+  std::string jacobian_convention;  ///< preintegrators: bias-Jacobian chart; preint conventions: bias_jacobian_chart()
+  bool analytic_jacobians = false;  ///< conventions: analytic Jacobians given (and verified)
+};
+
+struct LoadIssue {
+  std::string file;
+  std::string message;
+};
+
+class IMUCONV_API Registry {
+ public:
+  Registry();
+  ~Registry();
+  Registry(const Registry&) = delete;
+  Registry& operator=(const Registry&) = delete;
+
+  // ---- loading -------------------------------------------------------------------
+  /// Loads one plugin file. Throws Error (naming the file and the cause) for a missing
+  /// file, a file that is not an imuconv plugin, an ABI mismatch, a duplicate id or a
+  /// convention whose charts or analytic Jacobians fail their checks. On failure the
+  /// registry is unchanged and stays usable.
+  void load_file(const std::string& path);
+  /// Loads every imuconv_plugin_*.so in dir; returns what failed (the rest is loaded).
+  std::vector<LoadIssue> load_directory(const std::string& dir);
+  /// Loads the search path: extra_dirs (e.g. from a pipeline config), then the directories
+  /// of IMUCONV_PLUGIN_PATH (colon-separated), then the install or build plugin directory.
+  std::vector<LoadIssue> load_search_path(const std::vector<std::string>& extra_dirs = {});
+  static std::vector<std::string> search_path(const std::vector<std::string>& extra_dirs = {});
+  /// The built-in plugin directory (next to the installed library, else the build tree).
+  static std::string default_plugin_dir();
+
+  const std::vector<PluginInfo>& plugins() const;
+  const PluginInfo& info(PluginKind kind, std::string_view id) const;
+  bool has(PluginKind kind, std::string_view id) const;
+  std::vector<std::string> ids(PluginKind kind) const;
+
+  // ---- access (throw Error for an unknown id, listing the known ones) --------------
+  std::shared_ptr<const ErrorState> state_convention(std::string_view id) const;
+  std::shared_ptr<const PreintConvention> preint_convention(std::string_view id) const;
+  std::shared_ptr<const Propagator> propagator(std::string_view id) const;
+  std::shared_ptr<const Preintegrator> preintegrator(std::string_view id) const;
+
+  // ---- state conventions -----------------------------------------------------------
+  /// J = d local_to(x, retract_from(x, d)) / d d at d = 0.
+  Mat15 conversion(std::string_view from, std::string_view to, const ImuState& x) const;
+  /// J_{left <- from}(x) and J_{to <- left}(x).
+  Mat15 to_reference(std::string_view from, const ImuState& x) const;
+  Mat15 from_reference(std::string_view to, const ImuState& x) const;
+  /// A covariance in `from` at x expressed in `to`: J S J^T.
+  Mat15 convert_covariance(std::string_view from, std::string_view to, const ImuState& x, const Mat15& S) const;
+  /// A transition matrix from x_s to x_e in `from` expressed in `to`: J_e Phi J_s^{-1},
+  /// with J_s^{-1} = conversion(to, from, x_s).
+  Mat15 convert_transition(std::string_view from, std::string_view to, const ImuState& x_s,
+                           const ImuState& x_e, const Mat15& Phi) const;
+
+  // ---- increment conventions -------------------------------------------------------
+  Mat15 preint_conversion(std::string_view from, std::string_view to, const PreintIncrement& x) const;
+  Mat15 preint_to_reference(std::string_view from, const PreintIncrement& x) const;
+  Mat15 preint_from_reference(std::string_view to, const PreintIncrement& x) const;
+
+  // ---- propagation in any state convention -----------------------------------------
+  /// Runs the propagator; in.cov_s and the result's Phi and cov are in `convention`.
+  PropagationResult propagate(std::string_view propagator, std::string_view convention,
+                              const PropagationInput& in) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Index of each label's block in a convention's order, e.g. for {"theta","p","v","ba","bg"}
+/// BlockOffset(labels, "bg") = 12. Throws Error for an unknown label.
+IMUCONV_API int BlockOffset(const BlockLabels& labels, std::string_view label);
+
+}  // namespace imuconv

@@ -1,0 +1,106 @@
+// Plugin loading: the built plugins load, and each kind of bad file gives its own error
+// while the registry stays usable.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "imuconv_test.h"
+
+namespace {
+namespace fs = std::filesystem;
+using imuconv::Error;
+using imuconv::PluginKind;
+using imuconv::Registry;
+
+std::string PluginFile(const std::string& name) { return Registry::default_plugin_dir() + "/" + name; }
+
+std::string ErrorOf(Registry& r, const std::string& path) {
+  try {
+    r.load_file(path);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Loading, BuiltPluginsLoad) {
+  Registry r;
+  const auto issues = r.load_directory(Registry::default_plugin_dir());
+  EXPECT_TRUE(issues.empty());
+  EXPECT_TRUE(r.has(PluginKind::StateConvention, "left"));
+  EXPECT_TRUE(r.has(PluginKind::PreintConvention, "preint_reference"));
+  EXPECT_EQ(r.info(PluginKind::StateConvention, "left").blocks,
+            (std::vector<std::string>{"p", "theta", "v", "bg", "ba"}));
+}
+
+TEST(Loading, MissingFile) {
+  Registry r;
+  const std::string msg = ErrorOf(r, "/nonexistent/imuconv_plugin_x.so");
+  EXPECT_NE(msg.find("does not exist"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("/nonexistent/imuconv_plugin_x.so"), std::string::npos) << msg;
+}
+
+TEST(Loading, FileThatIsNotASharedLibrary) {
+  const fs::path p = fs::temp_directory_path() / "imuconv_plugin_not_a_library.so";
+  std::ofstream(p) << "this is text, not ELF\n";
+  Registry r;
+  const std::string msg = ErrorOf(r, p.string());
+  EXPECT_NE(msg.find("cannot load"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(p.string()), std::string::npos) << msg;
+  fs::remove(p);
+}
+
+TEST(Loading, SharedLibraryThatIsNotAPlugin) {
+  // The registry library itself is a shared object without the plugin aliases.
+  Registry r;
+  const std::string lib = std::string(IMUCONV_BINARY_DIR) + "/lib/libimuconv_core.so";
+  const std::string msg = ErrorOf(r, lib);
+  EXPECT_NE(msg.find("is not an imuconv plugin"), std::string::npos) << msg;
+}
+
+TEST(Loading, WrongAbiVersion) {
+  Registry r;
+  const std::string msg = ErrorOf(r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_wrong_abi.so");
+  EXPECT_NE(msg.find("ABI version 999"), std::string::npos) << msg;
+}
+
+TEST(Loading, DuplicateIdNamesBothFiles) {
+  Registry r;
+  r.load_file(PluginFile("imuconv_plugin_state_left.so"));
+  const std::string dup = std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_duplicate_left.so";
+  const std::string msg = ErrorOf(r, dup);
+  EXPECT_NE(msg.find("duplicate"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("imuconv_plugin_state_left.so"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("imuconv_plugin_duplicate_left.so"), std::string::npos) << msg;
+}
+
+TEST(Loading, WrongAnalyticJacobianIsRefused) {
+  Registry r;
+  const std::string msg = ErrorOf(r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_bad_jacobian.so");
+  EXPECT_NE(msg.find("analytic jacobian_to_reference differs"), std::string::npos) << msg;
+}
+
+TEST(Loading, RegistryStaysUsableAfterFailures) {
+  Registry r;
+  ErrorOf(r, "/nonexistent.so");
+  ErrorOf(r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_wrong_abi.so");
+  ErrorOf(r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_bad_jacobian.so");
+  r.load_file(PluginFile("imuconv_plugin_state_left.so"));
+  imuconv::ImuState x;
+  EXPECT_TRUE(r.conversion("left", "left", x).isIdentity());
+  EXPECT_FALSE(r.has(PluginKind::StateConvention, "bad_jacobian"));
+}
+
+TEST(Loading, UnknownIdListsKnownOnes) {
+  Registry r;
+  r.load_file(PluginFile("imuconv_plugin_state_left.so"));
+  try {
+    (void)r.state_convention("nope");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("known: left"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace

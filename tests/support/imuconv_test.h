@@ -1,0 +1,112 @@
+// Shared helpers for the test suite: a registry with the built plugins, deterministic
+// random states, the paper's entrywise difference metric and JSON matrix readers.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <string>
+
+#include "imuconv/registry.h"
+#include "imuconv/so3.h"
+
+namespace imuconv::test {
+
+/// One registry per test binary, loaded from the build tree's plugin directory only
+/// (IMUCONV_PLUGIN_PATH is not consulted so a user's environment cannot change results).
+inline Registry& Plugins() {
+  static Registry* reg = [] {
+    auto* r = new Registry();
+    const auto issues = r->load_directory(Registry::default_plugin_dir());
+    for (const auto& i : issues) ADD_FAILURE() << "plugin failed to load: " << i.file << ": " << i.message;
+    return r;
+  }();
+  return *reg;
+}
+
+inline std::mt19937& Rng() {
+  static std::mt19937 rng(20261121);
+  return rng;
+}
+
+inline Vec3 RandVec(double scale) {
+  std::normal_distribution<double> n(0.0, scale);
+  return Vec3(n(Rng()), n(Rng()), n(Rng()));
+}
+
+inline Vec15 RandVec15(double scale) {
+  std::normal_distribution<double> n(0.0, scale);
+  Vec15 d;
+  for (int i = 0; i < 15; ++i) d[i] = n(Rng());
+  return d;
+}
+
+/// Identity, tiny and random states: the three cases every Jacobian test runs on.
+inline std::vector<ImuState> TestStates() {
+  std::vector<ImuState> xs(3);
+  xs[1].R = so3::Exp(Vec3(1e-8, 2e-8, -1e-8));
+  xs[1].p = Vec3(1e-7, -1e-7, 2e-7);
+  xs[1].v = Vec3(2e-7, 1e-7, -1e-7);
+  xs[2].R = so3::Exp(RandVec(1.2));
+  xs[2].p = RandVec(10.0);
+  xs[2].v = RandVec(2.0);
+  xs[2].bg = RandVec(0.01);
+  xs[2].ba = RandVec(0.1);
+  return xs;
+}
+
+inline std::vector<PreintIncrement> TestIncrements() {
+  std::vector<PreintIncrement> xs(3);
+  xs[1].dR = so3::Exp(Vec3(1e-8, 2e-8, -1e-8));
+  xs[1].dp = Vec3(1e-7, -1e-7, 2e-7);
+  xs[2].dR = so3::Exp(RandVec(0.8));
+  xs[2].dp = RandVec(10.0);
+  xs[2].dv = RandVec(3.0);
+  xs[2].dbg = RandVec(1e-3);
+  xs[2].dba = RandVec(1e-2);
+  return xs;
+}
+
+/// The paper's entrywise difference: |r - e| / |r| where |r| > 1e-4, else |r - e|.
+inline double EntryDiff(double r, double e) {
+  return std::abs(r) > 1e-4 ? std::abs((r - e) / r) : std::abs(r - e);
+}
+
+template <typename A, typename B>
+double MaxEntryDiff(const Eigen::MatrixBase<A>& ref, const Eigen::MatrixBase<B>& est) {
+  double m = 0.0;
+  for (Eigen::Index i = 0; i < ref.rows(); ++i)
+    for (Eigen::Index j = 0; j < ref.cols(); ++j) m = std::max(m, EntryDiff(ref(i, j), est(i, j)));
+  return m;
+}
+
+/// Max |A - B| / max(1, max|B|): a relative matrix error.
+template <typename A, typename B>
+double RelErr(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
+  return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
+}
+
+inline nlohmann::json ReadJson(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open " + path);
+  return nlohmann::json::parse(in);
+}
+
+inline Eigen::MatrixXd JsonMatrix(const nlohmann::json& j) {
+  if (!j.is_array() || j.empty()) return {};
+  if (!j[0].is_array()) {
+    Eigen::MatrixXd m(j.size(), 1);
+    for (std::size_t i = 0; i < j.size(); ++i) m(i, 0) = j[i].get<double>();
+    return m;
+  }
+  Eigen::MatrixXd m(j.size(), j[0].size());
+  for (std::size_t i = 0; i < j.size(); ++i)
+    for (std::size_t k = 0; k < j[i].size(); ++k) m(i, k) = j[i][k].get<double>();
+  return m;
+}
+
+inline std::string DataPath(const std::string& rel) { return std::string(IMUCONV_TEST_DATA_DIR) + "/" + rel; }
+
+}  // namespace imuconv::test
