@@ -1,0 +1,91 @@
+// The bridge between preintegration and propagation (paper, section 3), written once
+// against the registry so that any propagator, any preintegrator and any pair of
+// conventions compose with no pair-specific code.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "imuconv/prediction.h"
+#include "imuconv/registry.h"
+
+namespace imuconv {
+
+/// A preintegrated measurement held in the reference charts (convention-free):
+///   delta, cov: the increment and its 15x15 covariance in `preint_reference`
+///               ([theta, p, v, bg, ba], dR Exp(dtheta), additive p, v, Delta b);
+///   J_bias:     9x6 d(theta, p, v in preint_reference) / d(bias estimate), columns [bg, ba].
+struct Preintegrated {
+  double dt = 0.0;
+  PreintIncrement delta;
+  Vec3 bg_hat = Vec3::Zero(), ba_hat = Vec3::Zero();
+  Mat96 J_bias = Mat96::Zero();
+  Mat15 cov = Mat15::Zero();
+};
+
+/// A preintegrated measurement expressed in a named increment convention, in that
+/// convention's block order. J_bias rows are the (theta, p, v) blocks of the convention's
+/// bias-Jacobian chart (PreintConvention::bias_jacobian_chart()), in its order; columns are
+/// an additive change of the bias estimate in the convention's bias order.
+struct PreintegratedIn {
+  std::string convention;           ///< chart of cov
+  std::string jacobian_convention;  ///< chart of J_bias's rows
+  double dt = 0.0;
+  PreintIncrement delta;
+  Vec3 bg_hat = Vec3::Zero(), ba_hat = Vec3::Zero();
+  Mat96 J_bias = Mat96::Zero();
+  Mat15 cov = Mat15::Zero();
+};
+
+/// Paper, section 3.1: preintegration by propagation. Propagates from the identity state
+/// with zero covariance and zero gravity, then converts with (d dx_e|s / d dx_se)^{-1}.
+Preintegrated PreintegrateByPropagation(const Registry& reg, std::string_view propagator,
+                                        const SampleWindow& window, const Vec3& bg, const Vec3& ba,
+                                        const ImuNoise& noise);
+
+/// Runs a native preintegrator and brings its output into the reference charts.
+Preintegrated PreintegrateNative(const Registry& reg, std::string_view preintegrator,
+                                 const SampleWindow& window, const Vec3& bg, const Vec3& ba,
+                                 const ImuNoise& noise);
+
+/// Expresses a measurement in a named increment convention, and back (e.g. to import
+/// numbers dumped from GTSAM).
+PreintegratedIn Express(const Registry& reg, const Preintegrated& m, std::string_view convention);
+Preintegrated FromConvention(const Registry& reg, const PreintegratedIn& m);
+
+/// Paper, section 3.2 (eq. prop-cov): propagation by preintegration. Phi_e|s and
+/// Sigma_e|s = Phi Sigma_s Phi^T + G Sigma_dx G^T, with x_s, cov_s and the results in the
+/// named state convention.
+PropagationResult PropagateByPreintegration(const Registry& reg, const Preintegrated& m, const ImuState& x_s,
+                                            const Mat15& cov_s, std::string_view state_convention,
+                                            const Vec3& gravity);
+
+/// First-order bias correction in the chart of `jacobian_convention` (GTSAM's
+/// biasCorrectedDelta when that chart is GTSAM's): retract(delta, J_chart (b - b_hat)).
+PreintIncrement BiasCorrectedDelta(const Registry& reg, const Preintegrated& m, std::string_view jacobian_convention,
+                                   const Vec3& bg, const Vec3& ba);
+
+enum class ResidualKind {
+  Gtsam,    ///< PreintegrationBase::computeError: Log(R_e^T R_pred), R_e^T(p_pred - p_e), R_e^T(v_pred - v_e); bias b_e - b_pred
+  Forster,  ///< Forster et al.: Log(R_pred^T R_e), R_s^T(p_e - p_pred), R_s^T(v_e - v_pred); bias b_e - b_pred
+};
+
+/// A 15-dim residual [theta, p, v, bg, ba] with its Jacobians with respect to the start
+/// state (including the start bias, through the bias Jacobian) and the end state, both in
+/// `state_convention`, and its covariance by the chain rule (paper, eq. residual-cov).
+struct Residual {
+  Vec15 r = Vec15::Zero();
+  Mat15 H_start = Mat15::Zero();
+  Mat15 H_end = Mat15::Zero();
+  Mat15 cov = Mat15::Zero();
+  /// d r / d dx_se in preint_reference (multiply by preint_conversion(conv, "preint_reference")
+  /// for another increment convention).
+  Mat15 H_increment = Mat15::Zero();
+};
+
+/// The start bias is x_s's; the increment is first-order bias-corrected from m.bg_hat/ba_hat
+/// to it in preint_reference (exact first order in any chart).
+Residual ComputeResidual(const Registry& reg, ResidualKind kind, const Preintegrated& m, const ImuState& x_s,
+                         const ImuState& x_e, std::string_view state_convention, const Vec3& gravity);
+
+}  // namespace imuconv
