@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 
+#include "imuconv/export.h"
 #include "imuconv/prediction.h"
 #include "imuconv/registry.h"
 
@@ -39,30 +40,30 @@ struct PreintegratedIn {
 
 /// Paper, section 3.1: preintegration by propagation. Propagates from the identity state
 /// with zero covariance and zero gravity, then converts with (d dx_e|s / d dx_se)^{-1}.
-Preintegrated PreintegrateByPropagation(const Registry& reg, std::string_view propagator,
+IMUCONV_API Preintegrated PreintegrateByPropagation(const Registry& reg, std::string_view propagator,
                                         const SampleWindow& window, const Vec3& bg, const Vec3& ba,
                                         const ImuNoise& noise);
 
 /// Runs a native preintegrator and brings its output into the reference charts.
-Preintegrated PreintegrateNative(const Registry& reg, std::string_view preintegrator,
+IMUCONV_API Preintegrated PreintegrateNative(const Registry& reg, std::string_view preintegrator,
                                  const SampleWindow& window, const Vec3& bg, const Vec3& ba,
                                  const ImuNoise& noise);
 
 /// Expresses a measurement in a named increment convention, and back (e.g. to import
 /// numbers dumped from GTSAM).
-PreintegratedIn Express(const Registry& reg, const Preintegrated& m, std::string_view convention);
-Preintegrated FromConvention(const Registry& reg, const PreintegratedIn& m);
+IMUCONV_API PreintegratedIn Express(const Registry& reg, const Preintegrated& m, std::string_view convention);
+IMUCONV_API Preintegrated FromConvention(const Registry& reg, const PreintegratedIn& m);
 
 /// Paper, section 3.2 (eq. prop-cov): propagation by preintegration. Phi_e|s and
 /// Sigma_e|s = Phi Sigma_s Phi^T + G Sigma_dx G^T, with x_s, cov_s and the results in the
 /// named state convention.
-PropagationResult PropagateByPreintegration(const Registry& reg, const Preintegrated& m, const ImuState& x_s,
+IMUCONV_API PropagationResult PropagateByPreintegration(const Registry& reg, const Preintegrated& m, const ImuState& x_s,
                                             const Mat15& cov_s, std::string_view state_convention,
                                             const Vec3& gravity);
 
 /// First-order bias correction in the chart of `jacobian_convention` (GTSAM's
 /// biasCorrectedDelta when that chart is GTSAM's): retract(delta, J_chart (b - b_hat)).
-PreintIncrement BiasCorrectedDelta(const Registry& reg, const Preintegrated& m, std::string_view jacobian_convention,
+IMUCONV_API PreintIncrement BiasCorrectedDelta(const Registry& reg, const Preintegrated& m, std::string_view jacobian_convention,
                                    const Vec3& bg, const Vec3& ba);
 
 enum class ResidualKind {
@@ -85,7 +86,7 @@ struct Residual {
 
 /// The start bias is x_s's; the increment is first-order bias-corrected from m.bg_hat/ba_hat
 /// to it in preint_reference (exact first order in any chart).
-Residual ComputeResidual(const Registry& reg, ResidualKind kind, const Preintegrated& m, const ImuState& x_s,
+IMUCONV_API Residual ComputeResidual(const Registry& reg, ResidualKind kind, const Preintegrated& m, const ImuState& x_s,
                          const ImuState& x_e, std::string_view state_convention, const Vec3& gravity);
 
 }  // namespace imuconv
