@@ -6,6 +6,8 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <Eigen/Cholesky>
+#include <cstdio>
 #include <random>
 #include <string>
 
@@ -108,5 +110,41 @@ inline Eigen::MatrixXd JsonMatrix(const nlohmann::json& j) {
 }
 
 inline std::string DataPath(const std::string& rel) { return std::string(IMUCONV_TEST_DATA_DIR) + "/" + rel; }
+
+}  // namespace imuconv::test
+
+namespace imuconv::test {
+
+/// Monte Carlo check of a covariance P against samples E (one error per column).
+/// With L L^T = P, the whitened sample covariance W = L^{-1} S L^{-T} of N samples has
+/// diagonal entries ~ 1 +- sqrt(2/N) and off-diagonal entries ~ 0 +- sqrt(1/N) (Wishart,
+/// Gaussian errors). We require every entry within 5 standard deviations: for 120 distinct
+/// entries the chance that a correct P fails is below 1e-4, while a wrong block, sign or
+/// factor of 2 moves the affected entries by O(1). NEES, the mean of e^T P^{-1} e, must be
+/// 15 +- 5 sqrt(30/N). Nonlinearity adds bias of order sigma^2 relative, negligible here.
+inline void ExpectCovarianceMatchesSamples(const Mat15& P, const Eigen::Matrix<double, 15, Eigen::Dynamic>& E) {
+  const double N = static_cast<double>(E.cols());
+  const Eigen::LLT<Mat15> llt(P);
+  ASSERT_EQ(llt.info(), Eigen::Success) << "predicted covariance is not positive definite";
+  const Eigen::Matrix<double, 15, Eigen::Dynamic> Z = llt.matrixL().solve(E);
+  const Vec15 mean = Z.rowwise().mean();
+  const Eigen::Matrix<double, 15, Eigen::Dynamic> Zc = Z.colwise() - mean;
+  const Mat15 W = Zc * Zc.transpose() / (N - 1.0);
+  const double diag_tol = 5.0 * std::sqrt(2.0 / N), off_tol = 5.0 * std::sqrt(1.0 / N);
+  double worst_diag = 0.0, worst_off = 0.0;
+  for (int i = 0; i < 15; ++i)
+    for (int j = 0; j < 15; ++j) {
+      if (i == j) worst_diag = std::max(worst_diag, std::abs(W(i, i) - 1.0));
+      else worst_off = std::max(worst_off, std::abs(W(i, j)));
+    }
+  const double nees = Z.colwise().squaredNorm().mean();
+  std::printf("  Monte Carlo N=%d: worst |W_ii - 1| = %.3f (tol %.3f), worst |W_ij| = %.3f (tol %.3f), NEES = %.2f\n",
+              static_cast<int>(N), worst_diag, diag_tol, worst_off, off_tol, nees);
+  EXPECT_LT(worst_diag, diag_tol) << "whitened sample covariance:\n" << W;
+  EXPECT_LT(worst_off, off_tol) << "whitened sample covariance:\n" << W;
+  EXPECT_NEAR(nees, 15.0, 5.0 * std::sqrt(30.0 / N));
+  // The mean of the whitened errors is ~N(0, 1/N) per entry.
+  EXPECT_LT(mean.cwiseAbs().maxCoeff(), 5.0 / std::sqrt(N)) << "mean whitened error " << mean.transpose();
+}
 
 }  // namespace imuconv::test
