@@ -1,0 +1,167 @@
+#include "suite.h"
+
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "imuconv/bridge.h"
+#include "imuconv/registry.h"
+#include "imuconv/so3.h"
+
+namespace imuconv::bench {
+namespace {
+
+Registry& Plugins() {
+  static Registry* reg = [] {
+    auto* r = new Registry();
+    for (const auto& i : r->load_search_path()) std::fprintf(stderr, "imuconv bench: %s: %s\n", i.file.c_str(), i.message.c_str());
+    return r;
+  }();
+  return *reg;
+}
+
+// 10 s at 200 Hz of smooth motion (sums of sinusoids, as the reference `smooth` kind).
+const std::vector<ImuSample>& Samples() {
+  static const std::vector<ImuSample> s = [] {
+    std::vector<ImuSample> v;
+    for (int k = 0; k <= 2000; ++k) {
+      const double t = k / 200.0;
+      ImuSample z;
+      z.t = 100.0 + t;
+      z.gyro = Vec3(0.5 * std::sin(1.3 * t + 0.2), -0.4 * std::cos(0.7 * t), 0.3 * std::sin(2.1 * t + 1.0));
+      z.accel = Vec3(1.5 * std::cos(0.9 * t), 2.0 * std::sin(1.7 * t + 0.3), 9.81 + 0.8 * std::sin(0.5 * t));
+      v.push_back(z);
+    }
+    return v;
+  }();
+  return s;
+}
+
+SampleWindow Window() {
+  SampleWindow w;
+  const auto& s = Samples();
+  MakeWindow(s.data(), s.size(), s.front().t, s.back().t, w);
+  return w;
+}
+
+ImuNoise Noise() {
+  ImuNoise q;
+  q.gyro_noise_density = 1.7e-4;
+  q.accel_noise_density = 2.0e-3;
+  q.gyro_random_walk = 1.9e-5;
+  q.accel_random_walk = 3.0e-3;
+  return q;
+}
+
+PropagationInput Input() {
+  PropagationInput in;
+  in.x_s.R = so3::Exp(Vec3(0.1, -0.2, 0.3));
+  in.x_s.bg = Vec3(1e-3, -2e-3, 5e-4);
+  in.x_s.ba = Vec3(0.02, -0.01, 0.03);
+  in.cov_s = 1e-4 * Mat15::Identity();
+  in.noise = Noise();
+  in.window = Window();
+  return in;
+}
+
+void SetSamples(benchmark::State& st) {
+  st.SetItemsProcessed(static_cast<int64_t>(st.iterations()) * static_cast<int64_t>(Samples().size() - 1));
+}
+
+void BM_Preintegrate(benchmark::State& st, const char* id) {
+  const auto pre = Plugins().preintegrator(id);
+  PreintegrationInput in;
+  in.bg = Vec3(1e-3, -2e-3, 5e-4);
+  in.ba = Vec3(0.02, -0.01, 0.03);
+  in.noise = Noise();
+  in.window = Window();
+  NativePreintegration out;
+  for (auto _ : st) {
+    pre->integrate(in, out);
+    benchmark::DoNotOptimize(out);
+  }
+  SetSamples(st);
+}
+
+void BM_Propagate(benchmark::State& st, const char* id) {
+  const auto prop = Plugins().propagator(id);
+  const PropagationInput in = Input();
+  PropagationResult out;
+  for (auto _ : st) {
+    prop->propagate(in, out);
+    benchmark::DoNotOptimize(out);
+  }
+  SetSamples(st);
+}
+
+void BM_PreintegrateByPropagation(benchmark::State& st, const char* id) {
+  const SampleWindow w = Window();
+  for (auto _ : st) {
+    Preintegrated m = PreintegrateByPropagation(Plugins(), id, w, Vec3(1e-3, -2e-3, 5e-4), Vec3(0.02, -0.01, 0.03), Noise());
+    benchmark::DoNotOptimize(m);
+  }
+  SetSamples(st);
+}
+
+void BM_Conversion(benchmark::State& st, const char* from, const char* to) {
+  ImuState x;
+  x.R = so3::Exp(Vec3(0.4, -0.3, 1.2));
+  x.p = Vec3(1, 2, 3);
+  x.v = Vec3(-1, 0.5, 2);
+  for (auto _ : st) {
+    Mat15 J = Plugins().conversion(from, to, x);
+    benchmark::DoNotOptimize(J);
+  }
+  st.SetItemsProcessed(st.iterations());
+}
+
+// The plugin path (registry lookup, virtual call into the shared object, convention
+// handling) against the same propagator object called directly, interleaved in one loop so
+// both see the same machine state. Reports the plugin path's time; `overhead_pct` is
+// (plugin - direct) / direct.
+void BM_PluginOverhead(benchmark::State& st, const char* id) {
+  const auto prop = Plugins().propagator(id);
+  const PropagationInput in = Input();
+  PropagationResult out;
+  double direct = 0.0, plugin = 0.0;
+  for (auto _ : st) {
+    const auto t0 = std::chrono::steady_clock::now();
+    prop->propagate(in, out);
+    benchmark::DoNotOptimize(out);
+    const auto t1 = std::chrono::steady_clock::now();
+    out = Plugins().propagate(id, "left", in);
+    benchmark::DoNotOptimize(out);
+    const auto t2 = std::chrono::steady_clock::now();
+    direct += std::chrono::duration<double>(t1 - t0).count();
+    plugin += std::chrono::duration<double>(t2 - t1).count();
+    st.SetIterationTime(std::chrono::duration<double>(t2 - t1).count());
+  }
+  st.counters["overhead_pct"] = 100.0 * (plugin - direct) / direct;
+  SetSamples(st);
+}
+
+}  // namespace
+
+void RegisterAll() {
+  for (const char* id : {"manifold", "tangent"})
+    benchmark::RegisterBenchmark((std::string("BM_Preintegrate/") + id).c_str(), BM_Preintegrate, id);
+  for (const char* id : {"euler", "midpoint", "rk4"})
+    benchmark::RegisterBenchmark((std::string("BM_Propagate/") + id).c_str(), BM_Propagate, id);
+  benchmark::RegisterBenchmark("BM_PreintegrateByPropagation/rk4", BM_PreintegrateByPropagation, "rk4");
+  benchmark::RegisterBenchmark("BM_Conversion/left/gtsam_navstate", BM_Conversion, "left", "gtsam_navstate");
+  benchmark::RegisterBenchmark("BM_PluginOverhead/rk4", BM_PluginOverhead, "rk4")->UseManualTime();
+}
+
+int Main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  RegisterAll();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
+
+}  // namespace imuconv::bench
