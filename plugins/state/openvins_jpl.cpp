@@ -1,0 +1,106 @@
+// `openvins_jpl`: the IMU error state of OpenVINS (ov_msckf, ov_type::IMU / JPLQuat).
+// OpenVINS stores the JPL quaternion q_GtoI (vector part first, global-to-IMU rotation) and
+// updates it exactly as JPLQuat::update does: dq = normalize([dtheta / 2; 1]),
+// q = dq (x) q^ (JPL product). p_IinG and v_IinG are updated additively in the global frame,
+// the biases additively; order [theta, p, v, bg, ba] as in OpenVINS's IMU state vector.
+//
+// In body-to-world Hamilton terms: dq is a rotation by |phi| = 2 atan(|dtheta| / 2) about
+// dtheta / |dtheta|, and a JPL quaternion's matrix is C(q) = R_GtoI = Exp(-phi) for that
+// rotation, so R_GtoI = Exp(-phi) R^_GtoI, i.e.
+//   R = R^ Exp(phi),  phi = 2 atan(|dtheta| / 2) dtheta / |dtheta|,
+//   p = p^ + dp,  v = v^ + dv,  b = b^ + db.
+// local inverts it: phi = Log(R^T R_y), dtheta = 2 tan(|phi| / 2) phi / |phi| (|phi| < pi).
+// (tests/conventions/openvins_jpl.cpp checks this against an independent JPL implementation.)
+//
+// Against `left`: phi = dtheta + O(|dtheta|^3), so dtheta_l = R^ dtheta to first order;
+// dp_l = dp, dv_l = dv. The Jacobians equal those of the first-order error state OpenVINS
+// linearises its filter in (R_GtoI ~ (I - [dtheta]x) R^_GtoI).
+#include <cmath>
+
+#include "imuconv/plugin_abi.h"
+#include "imuconv/reference_charts.h"
+#include "imuconv/so3.h"
+
+namespace {
+
+using imuconv::ImuState;
+using imuconv::Mat15;
+using imuconv::Mat3;
+using imuconv::Vec15;
+using imuconv::Vec3;
+namespace so3 = imuconv::so3;
+namespace ref = imuconv::left_idx;
+
+namespace idx {
+constexpr int theta = 0, p = 3, v = 6, bg = 9, ba = 12;
+}
+
+// Below this angle the ratios use their Taylor series (next term < 1e-18).
+constexpr double kSeriesBelow = 1e-3;
+
+// phi / dtheta = 2 atan(s / 2) / s with s = |dtheta|.
+double AtanRatio(double s) {
+  if (s < kSeriesBelow) {
+    const double s2 = s * s;
+    return 1.0 - s2 / 12.0 + s2 * s2 / 80.0;
+  }
+  return 2.0 * std::atan(0.5 * s) / s;
+}
+
+// dtheta / phi = 2 tan(t / 2) / t with t = |phi|.
+double TanRatio(double t) {
+  if (t < kSeriesBelow) {
+    const double t2 = t * t;
+    return 1.0 + t2 / 12.0 + t2 * t2 / 120.0;
+  }
+  return 2.0 * std::tan(0.5 * t) / t;
+}
+
+class OpenVinsJpl final : public imuconv::ErrorState {
+ public:
+  const char* id() const noexcept override { return "openvins_jpl"; }
+  imuconv::BlockLabels labels() const noexcept override { return {"theta", "p", "v", "bg", "ba"}; }
+
+  void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
+    const Vec3 dtheta = d.segment<3>(idx::theta);
+    y.R = x.R * so3::Exp(AtanRatio(dtheta.norm()) * dtheta);
+    y.p = x.p + d.segment<3>(idx::p);
+    y.v = x.v + d.segment<3>(idx::v);
+    y.bg = x.bg + d.segment<3>(idx::bg);
+    y.ba = x.ba + d.segment<3>(idx::ba);
+  }
+
+  void local(const ImuState& x, const ImuState& y, Vec15& d) const noexcept override {
+    const Vec3 phi = so3::Log(x.R.transpose() * y.R);
+    d.segment<3>(idx::theta) = TanRatio(phi.norm()) * phi;
+    d.segment<3>(idx::p) = y.p - x.p;
+    d.segment<3>(idx::v) = y.v - x.v;
+    d.segment<3>(idx::bg) = y.bg - x.bg;
+    d.segment<3>(idx::ba) = y.ba - x.ba;
+  }
+
+  bool jacobian_to_reference(const ImuState& x, Mat15& J) const noexcept override {
+    J.setZero();
+    J.block<3, 3>(ref::theta, idx::theta) = x.R;
+    J.block<3, 3>(ref::p, idx::p).setIdentity();
+    J.block<3, 3>(ref::v, idx::v).setIdentity();
+    J.block<3, 3>(ref::bg, idx::bg).setIdentity();
+    J.block<3, 3>(ref::ba, idx::ba).setIdentity();
+    return true;
+  }
+
+  bool jacobian_from_reference(const ImuState& x, Mat15& J) const noexcept override {
+    J.setZero();
+    J.block<3, 3>(idx::theta, ref::theta) = x.R.transpose();
+    J.block<3, 3>(idx::p, ref::p).setIdentity();
+    J.block<3, 3>(idx::v, ref::v).setIdentity();
+    J.block<3, 3>(idx::bg, ref::bg).setIdentity();
+    J.block<3, 3>(idx::ba, ref::ba).setIdentity();
+    return true;
+  }
+};
+
+}  // namespace
+
+IMUCONV_PLUGIN(StateConvention, OpenVinsJpl, "openvins_jpl", "1.0.0",
+               "OpenVINS JPL q_GtoI update dq(x)q, dq = [dtheta/2; 1] normalised; p, v, b additive; [theta,p,v,bg,ba]")
