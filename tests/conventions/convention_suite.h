@@ -200,11 +200,11 @@ void CheckRetractZero(const std::string& id) {
 template <typename K>
 void CheckLabels(const std::string& id) {
   const auto c = K::Get(id);
-  std::set<std::string> got;
-  for (const char* l : c->labels()) got.insert(l);
+  const BlockLabels labels = c->labels();
+  std::set<std::string> got(labels.begin(), labels.end());
   EXPECT_EQ(got, (std::set<std::string>{"p", "theta", "v", "bg", "ba"})) << id;
   const PluginInfo& info = Plugins().info(K::kKind, id);
-  EXPECT_EQ(info.blocks, std::vector<std::string>(c->labels().begin(), c->labels().end())) << id;
+  EXPECT_EQ(info.blocks, std::vector<std::string>(labels.begin(), labels.end())) << id;
   EXPECT_TRUE(info.analytic_jacobians) << id << ": the registry fell back to numerical Jacobians";
 }
 

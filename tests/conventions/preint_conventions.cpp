@@ -119,8 +119,8 @@ TEST(PreintStructure, ReferenceToManifoldJacobianFlipsAndSwapsBiases) {
                          .set("bg", "bg", -I3)
                          .matrix());
     // Raw indices: j's ba rows 9-11 read the reference's ba columns 12-14 with a minus sign.
-    EXPECT_TRUE(J.block<3, 3>(9, 12).isApprox(-I3, 0.0));
-    EXPECT_TRUE(J.block<3, 3>(12, 9).isApprox(-I3, 0.0));
+    EXPECT_TRUE((J.block<3, 3>(9, 12).isApprox(-I3, 0.0)));
+    EXPECT_TRUE((J.block<3, 3>(12, 9).isApprox(-I3, 0.0)));
   }
 }
 

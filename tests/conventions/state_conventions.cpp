@@ -86,8 +86,8 @@ TEST(StateStructure, LeftToNavStateRotatesIntoTheBodyFrame) {
     // its ba rows 9-11 read left's ba columns 12-14, its bg rows 12-14 left's bg columns 9-11.
     const Mat15 J = Plugins().conversion("left", "gtsam_navstate", x);
     EXPECT_LE(RelErr(J.block<3, 3>(0, 3), Rt), imuconv::test::kStructureTol);
-    EXPECT_TRUE(J.block<3, 3>(9, 12).isIdentity(0.0));
-    EXPECT_TRUE(J.block<3, 3>(12, 9).isIdentity(0.0));
+    EXPECT_TRUE((J.block<3, 3>(9, 12).isIdentity(0.0)));
+    EXPECT_TRUE((J.block<3, 3>(12, 9).isIdentity(0.0)));
   }
 }
 
