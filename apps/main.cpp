@@ -1,2 +1,39 @@
+// imuconv: IMU propagation and preintegration with conventions as plugins.
+// Each subcommand is registered here and implemented in its own cmd_<name>.cpp.
+#include <exception>
 #include <iostream>
-int main() { std::cout << "imuconv\n"; return 0; }
+
+#include "commands.h"
+
+int main(int argc, char** argv) {
+  using namespace imuconv::cli;
+  CLI::App app{
+      "imuconv: IMU propagation and preintegration, with perturbation conventions, integrators and "
+      "preintegrators as plugins.",
+      "imuconv"};
+  app.require_subcommand(1);
+  CommandContext ctx;
+  app.add_option("--plugin-dir", ctx.plugin_dirs_main,
+                 "Extra plugin directory, searched before IMUCONV_PLUGIN_PATH and the built-in one (repeatable)")
+      ->type_name("DIR")
+      ->allow_extra_args(false);
+
+  // ---- subcommands (one file each) ----
+  RegisterPluginsCommand(app, ctx);
+  RegisterConversionCommand(app, ctx);
+  RegisterRunCommand(app, ctx);
+
+  try {
+    app.parse(argc, argv);  // runs the chosen subcommand's callback
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints help (stdout) or the usage error (stderr)
+    return code == 0 ? 0 : 2;
+  } catch (const std::exception& e) {
+    PrintError(e.what());
+    return 1;
+  } catch (...) {
+    PrintError("unknown failure");
+    return 1;
+  }
+  return ctx.exit_code;
+}

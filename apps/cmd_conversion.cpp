@@ -1,0 +1,86 @@
+// imuconv conversion --from A --to B --state STATE.json [--json]: the 15x15 Jacobian
+// d dx_B / d dx_A of a state-convention change at a state, with block labels.
+#include <cstdio>
+#include <iostream>
+
+#include "commands.h"
+#include "imuconv/pipeline/json_io.h"
+
+namespace imuconv::cli {
+namespace {
+
+struct Options {
+  std::string from, to, state;
+  bool as_json = false;
+};
+
+std::vector<std::string> AxisLabels(const std::vector<std::string>& blocks) {
+  std::vector<std::string> out;
+  for (const auto& b : blocks)
+    for (const char* ax : {"x", "y", "z"}) out.push_back(b + "." + ax);
+  return out;
+}
+
+int Run(const CommandContext& ctx, const Options& o) {
+  Registry reg;
+  const auto issues = LoadRegistry(reg, ctx);
+  for (const auto& id : {o.from, o.to}) {
+    if (reg.has(PluginKind::StateConvention, id)) continue;
+    std::string known;
+    for (const auto& k : reg.ids(PluginKind::StateConvention)) known += (known.empty() ? "" : ", ") + k;
+    std::string msg = "unknown state convention '" + id + "'; known: " + known;
+    if (reg.has(PluginKind::PreintConvention, id)) msg += " ('" + id + "' is an increment convention)";
+    if (!issues.empty()) msg += "\n" + std::to_string(issues.size()) + " plugin file(s) failed to load; see 'imuconv plugins'";
+    PrintError(msg);
+    return 1;
+  }
+  const ImuState x = pipeline::ReadStateFile(o.state);
+  const Mat15 J = reg.conversion(o.from, o.to, x);
+  const auto bf = pipeline::Blocks(reg, PluginKind::StateConvention, o.from);
+  const auto bt = pipeline::Blocks(reg, PluginKind::StateConvention, o.to);
+  if (o.as_json) {
+    nlohmann::json j = {{"from", o.from}, {"to", o.to}, {"state", pipeline::StateToJson(x)},
+                        {"jacobian", pipeline::MixedMatrixToJson(J, o.to, bt, o.from, bf)}};
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << "d dx[" << o.to << "] / d dx[" << o.from << "] at the state in " << o.state
+            << "\nrows: " << o.to << " blocks, columns: " << o.from << " blocks\n\n";
+  const auto rl = AxisLabels(bt), cl = AxisLabels(bf);
+  char buf[64];
+  std::printf("%-10s", "");
+  for (int c = 0; c < 15; ++c) std::printf("%10s", cl[static_cast<std::size_t>(c)].c_str());
+  std::printf("\n");
+  for (int r = 0; r < 15; ++r) {
+    if (r % 3 == 0 && r) std::printf("\n");
+    std::printf("%-10s", rl[static_cast<std::size_t>(r)].c_str());
+    for (int c = 0; c < 15; ++c) {
+      const double v = J(r, c);
+      if (v == 0.0)
+        std::snprintf(buf, sizeof buf, "%10s", "0");
+      else
+        std::snprintf(buf, sizeof buf, "%10.4g", v);
+      std::printf("%s", buf);
+    }
+    std::printf("\n");
+  }
+  std::fflush(stdout);
+  return 0;
+}
+
+}  // namespace
+
+void RegisterConversionCommand(CLI::App& app, CommandContext& ctx) {
+  auto* sub = app.add_subcommand("conversion", "Print the 15x15 Jacobian d dx_B / d dx_A between two state conventions at a state");
+  static Options o;
+  sub->add_option("--from", o.from, "State convention id A (e.g. left)")->required()->type_name("A");
+  sub->add_option("--to", o.to, "State convention id B (e.g. gtsam_navstate)")->required()->type_name("B");
+  sub->add_option("--state", o.state, "State file: {\"p\", \"q_wxyz\", \"v\", \"bg\", \"ba\"}")
+      ->required()
+      ->type_name("STATE.json");
+  sub->add_flag("--json", o.as_json, "Print JSON (the matrix with its row and column conventions and blocks)");
+  AddPluginDirOption(*sub, ctx);
+  sub->callback([&ctx] { ctx.exit_code = Run(ctx, o); });
+}
+
+}  // namespace imuconv::cli

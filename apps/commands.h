@@ -1,0 +1,38 @@
+// The imuconv command line: each subcommand lives in its own cmd_<name>.cpp and provides one
+// Register<Name>Command function, called from main.cpp. To add a subcommand: write
+// cmd_<name>.cpp (it is picked up by apps/CMakeLists.txt's glob), declare its Register
+// function below and add it to the list in main.cpp.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "imuconv/registry.h"
+
+namespace imuconv::cli {
+
+struct CommandContext {
+  std::vector<std::string> plugin_dirs_main;  ///< --plugin-dir before the subcommand
+  std::vector<std::string> plugin_dirs_sub;   ///< --plugin-dir after it
+  int exit_code = 0;                          ///< set by the subcommand that ran
+
+  /// Every --plugin-dir, in the order given (searched before the default path).
+  std::vector<std::string> plugin_dirs() const;
+};
+
+/// Adds the repeatable --plugin-dir option to a subcommand.
+void AddPluginDirOption(CLI::App& sub, CommandContext& ctx);
+
+/// Loads the plugin search path (--plugin-dir first, then `extra`, IMUCONV_PLUGIN_PATH and the
+/// default directory) and returns what failed to load.
+std::vector<LoadIssue> LoadRegistry(Registry& reg, const CommandContext& ctx, const std::vector<std::string>& extra = {});
+
+/// Prints "imuconv: error: <message>" to stderr (each line of a multi-line message indented).
+void PrintError(const std::string& message);
+
+void RegisterPluginsCommand(CLI::App& app, CommandContext& ctx);
+void RegisterConversionCommand(CLI::App& app, CommandContext& ctx);
+void RegisterRunCommand(CLI::App& app, CommandContext& ctx);
+
+}  // namespace imuconv::cli

@@ -1,0 +1,96 @@
+// IMU and ground-truth readers. Files are streamed line by line.
+//
+// Time handling: a timestamp is read exactly as written (an integer part as int64 and the
+// fractional part separately), made relative to a time origin, and only then converted to
+// double seconds. EuRoC's nanosecond stamps (~1.4e18, beyond double's 2^53) therefore lose
+// nothing; the origin is kept so that outputs can report absolute times.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "imuconv/types.h"
+
+namespace imuconv::pipeline {
+
+enum class TimeUnit { s, ms, us, ns };
+/// Nanoseconds per unit: 1e9, 1e6, 1e3, 1.
+std::int64_t NanosPerUnit(TimeUnit u);
+const char* TimeUnitName(TimeUnit u);
+std::optional<TimeUnit> ParseTimeUnit(const std::string& s);
+
+/// A timestamp in some unit: whole units (exact) plus a fraction of one unit in [0, 1).
+struct TimeValue {
+  std::int64_t whole = 0;
+  double frac = 0.0;
+};
+
+/// Parses a decimal timestamp ("1403715273262142976", "1403715273.262143", "-0.5", "1.5e-3").
+/// Plain decimals keep every digit: the integer part exactly, the fraction to double
+/// precision. Exponent forms go through double. Returns nothing for anything else
+/// (including nan, inf and trailing garbage).
+std::optional<TimeValue> ParseTimeValue(std::string_view text);
+/// A JSON-number timestamp split the same way (integers exactly).
+TimeValue TimeValueFromDouble(double t);
+
+/// The time origin of a data set: absolute time = origin + relative time.
+struct TimeOrigin {
+  TimeValue value;                 ///< in `unit`
+  TimeUnit unit = TimeUnit::s;
+  /// Seconds from the origin to a time given in the same unit (exact difference first).
+  double relative_seconds(const TimeValue& t) const;
+  /// The origin in integer nanoseconds (the fraction rounded); nothing if out of range.
+  std::optional<std::int64_t> nanoseconds() const;
+  /// Absolute nanoseconds of a relative time in seconds (rounded to 1 ns).
+  std::optional<std::int64_t> absolute_ns(double relative_seconds) const;
+};
+
+struct ImuData {
+  std::vector<ImuSample> samples;    ///< strictly increasing t, seconds relative to `origin`
+  std::optional<TimeOrigin> origin;  ///< absent for inline samples without a time_origin
+  std::string source;                ///< file path, or "inline"
+};
+
+/// EuRoC IMU CSV: `#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z`, integer nanoseconds, rad/s,
+/// m/s^2. Lines starting with '#' and blank lines are skipped; every other line must have
+/// exactly 7 numeric fields. `origin_ns` defaults to the first sample's timestamp.
+ImuData ReadEurocImu(const std::string& path, std::optional<std::int64_t> origin_ns = std::nullopt);
+
+/// A column of a generic CSV: a 0-based index or a header name.
+using ColumnRef = std::variant<int, std::string>;
+
+struct CsvFormat {
+  char delimiter = ',';
+  bool whitespace_delimited = false;  ///< fields separated by runs of spaces/tabs
+  int header_rows = 0;                ///< lines skipped at the top; names come from the first
+  std::string comment;                ///< lines starting with this prefix are skipped ("" = none)
+  TimeUnit time_unit = TimeUnit::s;
+  /// t, wx, wy, wz, ax, ay, az.
+  std::array<ColumnRef, 7> columns{0, 1, 2, 3, 4, 5, 6};
+  std::optional<TimeValue> time_origin;  ///< in time_unit; default: the first sample
+};
+
+/// The names of the seven columns of CsvFormat::columns.
+extern const std::array<const char*, 7> kImuColumnNames;
+
+ImuData ReadCsvImu(const std::string& path, const CsvFormat& format);
+
+/// A ground-truth trajectory on the same time axis as the IMU data.
+struct GroundTruth {
+  std::vector<double> t;  ///< seconds relative to the IMU origin, strictly increasing
+  std::vector<ImuState> x;
+  std::string source;
+  /// The state at t: p, v, bg, ba interpolated linearly, R by slerp. Nothing outside [t0, tN].
+  std::optional<ImuState> at(double t) const;
+};
+
+/// EuRoC/ASL ground truth (state_groundtruth_estimate0/data.csv, or OpenVINS' vicon2gt
+/// files): `#time(ns), p xyz, q wxyz, v xyz, bg xyz, ba xyz` (17 fields), made relative to
+/// `origin` (the IMU data's origin).
+GroundTruth ReadEurocGroundTruth(const std::string& path, const TimeOrigin& origin);
+
+}  // namespace imuconv::pipeline

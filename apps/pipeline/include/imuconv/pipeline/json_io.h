@@ -1,0 +1,62 @@
+// JSON forms of states, noise and matrices.
+//
+//   state:  {"p":[3], "q_wxyz":[4] (Hamilton, body to world), "v":[3], "bg":[3], "ba":[3]}
+//   noise:  {"gyro_noise_density", "accel_noise_density", "gyro_random_walk", "accel_random_walk"}
+//   matrix: a row-major array of rows. Every matrix imuconv writes carries its chart:
+//     {"convention": ID, "blocks": [5 labels], "matrix": [[...]]}              (one chart)
+//     {"rows": {"convention", "blocks"}, "cols": {"convention", "blocks"}, "matrix"} (two)
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "imuconv/pipeline/json_check.h"
+#include "imuconv/registry.h"
+#include "imuconv/types.h"
+
+namespace imuconv::pipeline {
+
+json Vec3ToJson(const Vec3& v);
+json MatrixToJson(const Eigen::MatrixXd& m);
+json StateToJson(const ImuState& x);
+json NoiseToJson(const ImuNoise& n);
+/// {"convention": id, "blocks": blocks, "matrix": m}.
+json ChartMatrixToJson(const Eigen::MatrixXd& m, const std::string& convention, const std::vector<std::string>& blocks);
+/// {"rows": {...}, "cols": {...}, "matrix": m}.
+json MixedMatrixToJson(const Eigen::MatrixXd& m, const std::string& row_convention,
+                       const std::vector<std::string>& row_blocks, const std::string& col_convention,
+                       const std::vector<std::string>& col_blocks);
+
+/// Block labels of a registered convention, e.g. {"theta","p","v","ba","bg"}.
+std::vector<std::string> Blocks(const Registry& reg, PluginKind kind, const std::string& id);
+
+/// Reads a state object (bg and ba default to zero); the quaternion must have unit norm
+/// within 1e-6 and is normalised.
+std::optional<ImuState> StateFromJson(const Node& n);
+std::optional<ImuNoise> NoiseFromJson(const Node& n);
+
+/// A 15x15 matrix given as an array of rows, {"diagonal": [15]}, {"sigma": [15]} (standard
+/// deviations) or {"convention": id, "blocks": [...], "matrix": [[...]]}. When a convention
+/// is written it is returned in `convention` (the caller converts or checks it).
+struct Matrix15In {
+  Mat15 m = Mat15::Zero();
+  std::optional<std::string> convention;
+  std::optional<std::vector<std::string>> blocks;
+  std::string pointer;
+};
+std::optional<Matrix15In> Matrix15FromJson(const Node& n);
+
+/// JSON text with objects indented and every array of numbers (vector, matrix row) on one line.
+std::string PrettyJson(const json& j);
+
+/// Reads a state file (a JSON state object) with the checks of StateFromJson; throws
+/// ConfigError naming the file and pointer.
+ImuState ReadStateFile(const std::string& path);
+
+/// Writes `text` to `path` atomically: a temporary file in the same directory, flushed and
+/// renamed over `path`. On any failure the temporary is removed and Error is thrown; `path`
+/// is then untouched.
+void WriteFileAtomically(const std::string& path, const std::string& text);
+
+}  // namespace imuconv::pipeline

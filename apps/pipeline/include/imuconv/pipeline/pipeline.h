@@ -1,0 +1,63 @@
+// JSON pipelines: an IMU source, noise, gravity and an ordered list of named tasks
+// (propagate, preintegrate, propagate_by_preintegration, convert, residual, bias_update).
+// The format is described by schemas/pipeline.schema.json and docs in examples/README.md.
+//
+// Loading validates the structure by hand and reports every problem with its JSON pointer
+// (unknown keys included); running then checks plugin ids against the registry and times
+// against the data (again with pointers) before any task runs, and produces one output
+// JSON document. Nothing is written here: the caller writes the document (atomically).
+#pragma once
+
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "imuconv/pipeline/json_check.h"
+#include "imuconv/registry.h"
+
+namespace imuconv::pipeline {
+
+struct PipelineSpec;  // the parsed document (apps/pipeline/src/spec.h)
+
+class Pipeline {
+ public:
+  /// Reads and validates a pipeline file; relative paths in it are relative to its directory.
+  /// Throws ConfigError (every issue, with pointers) or ReadError (file cannot be opened).
+  static Pipeline Load(const std::string& path);
+  /// The same from a parsed document; `file` names it in messages, `base_dir` resolves paths.
+  static Pipeline FromJson(const json& doc, const std::string& file, const std::string& base_dir);
+
+  Pipeline(Pipeline&&) noexcept;
+  Pipeline& operator=(Pipeline&&) noexcept;
+  ~Pipeline();
+
+  const std::string& file() const;
+  /// The pipeline's plugin_dirs, resolved against its directory.
+  const std::vector<std::string>& plugin_dirs() const;
+  /// The pipeline's "output" key, resolved against its directory.
+  const std::optional<std::string>& output_path() const;
+  const PipelineSpec& spec() const { return *spec_; }
+
+ private:
+  explicit Pipeline(std::unique_ptr<PipelineSpec> s);
+  std::unique_ptr<PipelineSpec> spec_;
+};
+
+struct RunOptions {
+  /// Plugin directories searched before the pipeline's own plugin_dirs (e.g. --plugin-dir).
+  std::vector<std::string> plugin_dirs;
+  /// Plugin load problems are reported here as warnings (may be null).
+  std::ostream* log = nullptr;
+  /// The human-readable summary tables are printed here (may be null).
+  std::ostream* summary = nullptr;
+};
+
+/// Loads the registry from RunOptions::plugin_dirs, the pipeline's plugin_dirs and the
+/// default search path, then runs. Throws ConfigError / ReadError / Error naming the file.
+json Run(const Pipeline& p, const RunOptions& options);
+/// Runs with a given registry (plugin_dirs of the pipeline and options are then ignored).
+json Run(const Pipeline& p, const Registry& reg, const RunOptions& options);
+
+}  // namespace imuconv::pipeline

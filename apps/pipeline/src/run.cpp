@@ -1,0 +1,962 @@
+// Running a parsed pipeline: registry checks, data loading, time checks, then the tasks.
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <map>
+#include <ostream>
+#include <sstream>
+
+#include "imuconv/bridge.h"
+#include "imuconv/pipeline/pipeline.h"
+#include "imuconv/so3.h"
+#include "spec.h"
+
+#ifndef IMUCONV_VERSION
+#define IMUCONV_VERSION "unknown"
+#endif
+
+namespace imuconv::pipeline {
+namespace {
+
+constexpr const char* kRef = "preint_reference";
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+std::string Join(const std::vector<std::string>& xs) {
+  std::string s;
+  for (const auto& x : xs) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+std::string Num(double v, int prec = 6) {
+  std::ostringstream o;
+  o << std::setprecision(prec) << v;
+  return o.str();
+}
+
+/// Non-bias and bias labels of a chart, in its order.
+std::vector<std::string> NavLabels(const std::vector<std::string>& blocks) {
+  std::vector<std::string> out;
+  for (const auto& b : blocks)
+    if (b != "bg" && b != "ba") out.push_back(b);
+  return out;
+}
+std::vector<std::string> BiasLabels(const std::vector<std::string>& blocks) {
+  std::vector<std::string> out;
+  for (const auto& b : blocks)
+    if (b == "bg" || b == "ba") out.push_back(b);
+  return out;
+}
+
+json DeltaToJson(const PreintIncrement& d) {
+  const Eigen::Vector4d q = so3::ToQuaternionWxyz(d.dR);
+  return {{"q_wxyz", json::array({q[0], q[1], q[2], q[3]})},
+          {"R", MatrixToJson(d.dR)},
+          {"dp", Vec3ToJson(d.dp)},
+          {"dv", Vec3ToJson(d.dv)},
+          {"dbg", Vec3ToJson(d.dbg)},
+          {"dba", Vec3ToJson(d.dba)},
+          {"rotation_angle_deg", so3::Log(d.dR).norm() * kRadToDeg}};
+}
+
+double RotationErrorDeg(const Mat3& a, const Mat3& b) { return so3::Log(a.transpose() * b).norm() * kRadToDeg; }
+
+/// A measurement with its time span (when known) and, for reintegration, its origin.
+struct MeasRecord {
+  Preintegrated m;
+  std::optional<double> t_s, t_e;
+  std::size_t n_knots = 0;
+  std::string pointer;  // where it came from, for messages ("" for task outputs)
+};
+
+struct PropRecord {
+  ImuState x_s, x_e;
+  Mat15 Phi = Mat15::Identity(), cov = Mat15::Zero();
+  std::string convention;
+  std::optional<double> t_s, t_e;
+};
+
+struct TaskResult {
+  std::string type;
+  const PreintegrateTask* preint = nullptr;
+  std::vector<MeasRecord> meas;
+  std::vector<PropRecord> props;
+};
+
+/// The "FILE: POINTER: message" error of one task at run time.
+class TaskFailure : public Error {
+ public:
+  using Error::Error;
+};
+
+class Runner {
+ public:
+  Runner(const PipelineSpec& s, const Registry& reg, const RunOptions& opt) : s_(s), reg_(reg), opt_(opt) {}
+
+  json Run() {
+    CheckRegistry();
+    LoadData();
+    CheckTimes();
+    json tasks = json::array();
+    for (const auto& t : s_.tasks) {
+      try {
+        tasks.push_back(RunTask(t));
+      } catch (const ConfigError&) {
+        throw;
+      } catch (const ReadError&) {
+        throw;
+      } catch (const TaskFailure&) {
+        throw;
+      } catch (const std::exception& e) {
+        throw TaskFailure(s_.file + ": " + t.pointer + " (task '" + t.name + "'): " + e.what());
+      }
+    }
+    json out;
+    out["imuconv_version"] = IMUCONV_VERSION;
+    out["pipeline"] = s_.file;
+    if (!s_.description.empty()) out["description"] = s_.description;
+    if (origin_ns_) out["time_origin_ns"] = *origin_ns_;
+    out["times"] = origin_ns_ ? "seconds relative to time_origin_ns; *_abs_ns are absolute nanoseconds"
+                              : "seconds, as given";
+    out["gravity"] = Vec3ToJson(s_.gravity);
+    out["noise"] = NoiseToJson(s_.noise);
+    if (have_imu_) {
+      json imu = {{"source", imu_.source}, {"samples", imu_.samples.size()},
+                  {"t_first", imu_.samples.front().t}, {"t_last", imu_.samples.back().t}};
+      out["imu"] = imu;
+    }
+    if (gt_) out["ground_truth"] = {{"source", gt_->source}, {"rows", gt_->t.size()}, {"t_first", gt_->t.front()},
+                                    {"t_last", gt_->t.back()}};
+    out["tasks"] = std::move(tasks);
+    return out;
+  }
+
+ private:
+  const PipelineSpec& s_;
+  const Registry& reg_;
+  const RunOptions& opt_;
+  ImuData imu_;
+  bool have_imu_ = false;
+  std::optional<std::int64_t> origin_ns_;
+  std::optional<GroundTruth> gt_;
+  std::map<std::string, TaskResult> results_;
+  std::map<std::string, std::vector<MeasRecord>> files_;
+
+  // ---- checks against the registry --------------------------------------------------
+  void CheckId(Checker& c, PluginKind kind, const std::string& id, const std::string& pointer) {
+    if (reg_.has(kind, id)) return;
+    const char* what = kind == PluginKind::StateConvention    ? "state convention"
+                       : kind == PluginKind::PreintConvention ? "increment (preintegration) convention"
+                       : kind == PluginKind::Propagator       ? "propagator"
+                                                              : "preintegrator";
+    std::string msg = std::string("unknown ") + what + " '" + id + "'; known: " + Join(reg_.ids(kind));
+    // A known id of another kind is a frequent slip: say so.
+    for (PluginKind k : {PluginKind::StateConvention, PluginKind::PreintConvention, PluginKind::Propagator,
+                         PluginKind::Preintegrator})
+      if (k != kind && reg_.has(k, id)) msg += " ('" + id + "' is a " + KindName(k) + ")";
+    c.error(pointer, msg);
+  }
+
+  void CheckCovConvention(Checker& c, const CovSpec& cov, PluginKind kind, const std::string& target) {
+    if (!cov.given) return;
+    const std::string conv = cov.m.convention.value_or(target);
+    if (cov.m.convention) {
+      CheckId(c, kind, conv, cov.m.pointer + "/convention");
+      if (!reg_.has(kind, conv)) return;
+    }
+    if (cov.m.blocks && reg_.has(kind, conv)) {
+      const auto expect = Blocks(reg_, kind, conv);
+      if (*cov.m.blocks != expect)
+        c.error(cov.m.pointer + "/blocks", "blocks [" + Join(*cov.m.blocks) + "] do not match the block order of '" + conv +
+                                               "': [" + Join(expect) + "]");
+    }
+  }
+
+  void CheckRegistry() {
+    Checker c(s_.file);
+    for (const auto& t : s_.tasks) {
+      const std::string& p = t.pointer;
+      if (const auto* x = std::get_if<PropagateTask>(&t.body)) {
+        CheckId(c, PluginKind::Propagator, x->propagator, p + "/propagator");
+        CheckId(c, PluginKind::StateConvention, x->convention, p + "/state_convention");
+        if (reg_.has(PluginKind::StateConvention, x->convention))
+          CheckCovConvention(c, x->cov, PluginKind::StateConvention, x->convention);
+      } else if (const auto* x = std::get_if<PreintegrateTask>(&t.body)) {
+        CheckId(c, x->native ? PluginKind::Preintegrator : PluginKind::Propagator, x->method_id, x->method_pointer);
+        for (std::size_t i = 0; i < x->conventions.size(); ++i)
+          CheckId(c, PluginKind::PreintConvention, x->conventions[i], x->conventions_pointer + "/" + std::to_string(i));
+      } else if (const auto* x = std::get_if<PropByPreintTask>(&t.body)) {
+        CheckId(c, PluginKind::StateConvention, x->convention, p + "/state_convention");
+        if (reg_.has(PluginKind::StateConvention, x->convention))
+          CheckCovConvention(c, x->cov, PluginKind::StateConvention, x->convention);
+      } else if (const auto* x = std::get_if<ConvertTask>(&t.body)) {
+        using W = ConvertTask::What;
+        const bool state_kind = x->what == W::StateJacobian || x->what == W::StateCovariance || x->what == W::StateTransition;
+        const PluginKind kind = state_kind ? PluginKind::StateConvention : PluginKind::PreintConvention;
+        if (x->from) CheckId(c, kind, *x->from, x->from_pointer);
+        CheckId(c, kind, x->to, x->to_pointer);
+        if (x->matrix && x->matrix->convention && x->from && *x->matrix->convention != *x->from)
+          c.error(x->matrix->pointer + "/convention",
+                  "the matrix is in '" + *x->matrix->convention + "' but \"from\" is '" + *x->from + "'");
+        if (x->matrix && x->from && reg_.has(kind, *x->from)) {
+          CovSpec cs;
+          cs.given = true;
+          cs.m = *x->matrix;
+          CheckCovConvention(c, cs, kind, *x->from);
+        }
+        if (x->source_task) {
+          const auto it = results_type(*x->source_task);
+          const bool ok = state_kind ? (it == "propagate" || it == "propagate_by_preintegration") : it == "preintegrate";
+          if (!ok)
+            c.error(x->source_pointer + "/task", "task '" + *x->source_task + "' is a " + it + " task; a " + x->what_name +
+                                                     " conversion takes its matrix from " +
+                                                     (state_kind ? "a propagate or propagate_by_preintegration task"
+                                                                 : "a preintegrate task"));
+        }
+      } else if (const auto* x = std::get_if<ResidualTask>(&t.body)) {
+        CheckId(c, PluginKind::StateConvention, x->convention, p + "/state_convention");
+      } else if (const auto* x = std::get_if<BiasUpdateTask>(&t.body)) {
+        for (std::size_t i = 0; i < x->charts.size(); ++i)
+          CheckId(c, PluginKind::PreintConvention, x->charts[i], x->charts_pointer + "/" + std::to_string(i));
+      }
+    }
+    c.throw_if_errors();
+  }
+
+  std::string results_type(const std::string& name) const {
+    for (const auto& t : s_.tasks)
+      if (t.name == name) return t.type;
+    return "?";
+  }
+
+  // ---- data -----------------------------------------------------------------------------
+  void LoadData() {
+    if (s_.imu) {
+      const ImuSourceSpec& src = *s_.imu;
+      if (src.format == ImuSourceSpec::Format::Euroc) {
+        imu_ = ReadEurocImu(src.path, src.origin_ns);
+      } else if (src.format == ImuSourceSpec::Format::Csv) {
+        imu_ = ReadCsvImu(src.path, src.csv);
+      } else {
+        TimeOrigin o;
+        o.unit = src.csv.time_unit;
+        if (src.csv.time_origin) o.value = *src.csv.time_origin;
+        imu_.source = "inline";
+        for (std::size_t i = 0; i < src.inline_raw.size(); ++i) {
+          ImuSample smp = src.inline_raw[i];
+          smp.t = o.relative_seconds(src.inline_t[i]);
+          if (!imu_.samples.empty() && !(smp.t > imu_.samples.back().t))
+            throw ConfigError(s_.file, {{src.pointer + "/samples/" + std::to_string(i) + "/0",
+                                         "time is too close to the previous sample's to be told apart in seconds"}});
+          imu_.samples.push_back(smp);
+        }
+        if (src.csv.time_origin) imu_.origin = o;
+      }
+      have_imu_ = true;
+      if (imu_.origin) origin_ns_ = imu_.origin->nanoseconds();
+      if (imu_.samples.size() < 2)
+        throw ReadError(imu_.source, 0, "has " + std::to_string(imu_.samples.size()) + " IMU sample(s); at least 2 are needed");
+    }
+    if (s_.gt) {
+      TimeOrigin o;
+      if (imu_.origin)
+        o = *imu_.origin;
+      else
+        o.unit = TimeUnit::s;  // inline samples without an origin: GT stamps taken as absolute
+      gt_ = ReadEurocGroundTruth(s_.gt->path, o);
+    }
+    // Measurement files.
+    for (const auto& t : s_.tasks) {
+      const MeasurementsSpec* m = nullptr;
+      if (const auto* x = std::get_if<PropByPreintTask>(&t.body)) m = &x->meas;
+      if (const auto* x = std::get_if<ResidualTask>(&t.body)) m = &x->meas;
+      if (const auto* x = std::get_if<BiasUpdateTask>(&t.body)) m = &x->meas;
+      if (m && !m->file.empty() && !files_.count(m->file)) files_[m->file] = LoadMeasurementFile(m->file);
+    }
+  }
+
+  std::vector<MeasRecord> LoadMeasurementFile(const std::string& path) {
+    const json doc = ParseJsonFile(path);
+    Checker c(path);
+    const Node root(doc, "", c);
+    std::vector<MeasRecord> out;
+    if (!root.expect_object({"$schema", "description", "time_origin_ns", "measurements"})) c.throw_if_errors();
+    std::optional<std::int64_t> file_origin;
+    if (auto o = root.integer("time_origin_ns", false)) file_origin = *o;
+    const auto ms = root.get("measurements", true);
+    if (ms && (!ms->is_array() || ms->size() == 0)) ms->fail("expected a non-empty array of measurements");
+    if (!ms || !ms->is_array()) c.throw_if_errors();
+    for (std::size_t i = 0; i < ms->size(); ++i) {
+      const Node e = (*ms)[i];
+      if (!e.expect_object({"index", "t_start", "t_end", "t_start_abs_ns", "t_end_abs_ns", "dt", "n_knots", "bias_estimate",
+                            "delta", "J_bias", "cov", "expressed"}))
+        continue;
+      const std::size_t before = c.count();
+      MeasRecord r;
+      r.pointer = e.pointer();
+      PreintegratedIn in;
+      // Times: absolute stamps win when both sides have an origin.
+      for (auto [key, abs_key, dst] : {std::tuple<const char*, const char*, std::optional<double>*>{"t_start", "t_start_abs_ns", &r.t_s},
+                                       {"t_end", "t_end_abs_ns", &r.t_e}}) {
+        if (auto a = e.integer(abs_key, false); a && origin_ns_) {
+          *dst = static_cast<double>(*a - *origin_ns_) * 1e-9;
+        } else if (auto t = e.number(key, false)) {
+          *dst = *t;
+          if (file_origin && origin_ns_) *dst = *t + static_cast<double>(*file_origin - *origin_ns_) * 1e-9;
+        }
+      }
+      if (auto dt = e.number("dt", true)) {
+        if (!(*dt > 0.0))
+          e.checker().error(e.child_pointer("dt"), "expected a positive duration");
+        else
+          in.dt = *dt;
+      }
+      if (auto bn = e.get("bias_estimate", true)) {
+        if (bn->expect_object({"bg", "ba"})) {
+          if (auto v = bn->vec3("bg", true)) in.bg_hat = *v;
+          if (auto v = bn->vec3("ba", true)) in.ba_hat = *v;
+        }
+      }
+      if (auto dn = e.get("delta", true)) ReadDelta(*dn, in.delta);
+      std::string cov_conv;
+      if (auto cn = e.get("cov", true)) {
+        if (cn->expect_object({"convention", "blocks", "matrix"})) {
+          if (auto cv = cn->string("convention", true)) {
+            CheckId(c, PluginKind::PreintConvention, *cv, cn->child_pointer("convention"));
+            if (reg_.has(PluginKind::PreintConvention, *cv)) cov_conv = *cv;
+          }
+          if (auto mn = cn->get("matrix", true))
+            if (auto m = mn->matrix(15, 15)) in.cov = *m;
+          if (auto bn = cn->get("blocks", false))
+            if (auto b = bn->string_list(); b && !cov_conv.empty()) {
+              const auto expect = Blocks(reg_, PluginKind::PreintConvention, cov_conv);
+              if (*b != expect)
+                bn->fail("blocks [" + Join(*b) + "] do not match the block order of '" + cov_conv + "': [" + Join(expect) + "]");
+            }
+        }
+      }
+      in.convention = cov_conv;
+      if (auto jn = e.get("J_bias", true)) ReadJBias(*jn, cov_conv, in);
+      if (c.count() != before) continue;
+      try {
+        r.m = FromConvention(reg_, in);
+      } catch (const std::exception& ex) {
+        e.fail(std::string("cannot bring the measurement into the reference chart: ") + ex.what());
+        continue;
+      }
+      if (r.t_s && r.t_e && std::abs((*r.t_e - *r.t_s) - in.dt) > 1e-6)
+        e.checker().error(e.child_pointer("dt"), "dt = " + Num(in.dt, 10) + " s does not match t_end - t_start = " +
+                                                     Num(*r.t_e - *r.t_s, 10) + " s (tolerance 1e-6 s)");
+      out.push_back(r);
+    }
+    c.throw_if_errors();
+    return out;
+  }
+
+  void ReadDelta(const Node& n, PreintIncrement& d) {
+    if (!n.expect_object({"q_wxyz", "R", "dp", "dv", "dbg", "dba", "rotation_angle_deg"})) return;
+    std::optional<Mat3> Rq, Rm;
+    if (auto qn = n.get("q_wxyz", false))
+      if (auto q = qn->vector(4)) {
+        if (std::abs(q->norm() - 1.0) > 1e-6)
+          qn->fail("expected a unit quaternion [w, x, y, z] (norm within 1e-6 of 1)");
+        else
+          Rq = so3::FromQuaternionWxyz((*q)[0], (*q)[1], (*q)[2], (*q)[3]);
+      }
+    if (auto rn = n.get("R", false))
+      if (auto R = rn->matrix(3, 3)) {
+        const Mat3 M = *R;
+        if ((M.transpose() * M - Mat3::Identity()).cwiseAbs().maxCoeff() > 1e-6 || M.determinant() < 0.0)
+          rn->fail("expected a rotation matrix (R^T R = I within 1e-6, det +1)");
+        else
+          Rm = so3::Exp(so3::Log(M));
+      }
+    if (!n.has("q_wxyz") && !n.has("R")) n.checker().error(n.child_pointer("q_wxyz"), "required key is missing (give q_wxyz or R)");
+    if (Rq && Rm && RotationErrorDeg(*Rq, *Rm) > 1e-6)
+      n.checker().error(n.child_pointer("R"), "R and q_wxyz disagree by " + Num(RotationErrorDeg(*Rq, *Rm)) + " deg");
+    if (Rm) d.dR = *Rm;
+    if (Rq) d.dR = *Rq;
+    if (auto v = n.vec3("dp", true)) d.dp = *v;
+    if (auto v = n.vec3("dv", true)) d.dv = *v;
+    if (auto v = n.vec3("dbg", false)) d.dbg = *v;
+    if (auto v = n.vec3("dba", false)) d.dba = *v;
+  }
+
+  void ReadJBias(const Node& n, const std::string& cov_conv, PreintegratedIn& in) {
+    if (!n.expect_object({"convention", "rows", "cols", "matrix"})) return;
+    std::string chart;
+    std::optional<std::vector<std::string>> rows, cols;
+    if (auto cv = n.string("convention", false)) chart = *cv;
+    for (auto [key, dst] : {std::pair<const char*, std::optional<std::vector<std::string>>*>{"rows", &rows}, {"cols", &cols}}) {
+      if (auto rn = n.get(key, false)) {
+        if (!rn->expect_object({"convention", "blocks"})) continue;
+        if (auto cv = rn->string("convention", false)) {
+          if (!chart.empty() && chart != *cv)
+            rn->checker().error(rn->child_pointer("convention"), "'" + *cv + "' differs from the J_bias chart '" + chart + "'");
+          chart = *cv;
+        }
+        if (auto bn = rn->get("blocks", false))
+          if (auto b = bn->string_list()) *dst = *b;
+      }
+    }
+    if (!chart.empty()) {
+      CheckId(n.checker(), PluginKind::PreintConvention, chart, n.child_pointer("convention"));
+      if (!reg_.has(PluginKind::PreintConvention, chart)) return;
+    } else if (!cov_conv.empty()) {
+      chart = reg_.info(PluginKind::PreintConvention, cov_conv).jacobian_convention;
+      if (chart.empty()) chart = cov_conv;
+    }
+    if (!chart.empty()) {
+      const auto labels = Blocks(reg_, PluginKind::PreintConvention, chart);
+      if (rows && *rows != NavLabels(labels))
+        n.checker().error(n.child_pointer("rows") + "/blocks",
+                          "rows [" + Join(*rows) + "] do not match the order of '" + chart + "': [" + Join(NavLabels(labels)) + "]");
+      if (cols && *cols != BiasLabels(labels))
+        n.checker().error(n.child_pointer("cols") + "/blocks",
+                          "cols [" + Join(*cols) + "] do not match the bias order of '" + chart + "': [" + Join(BiasLabels(labels)) + "]");
+    }
+    in.jacobian_convention = chart;
+    if (auto mn = n.get("matrix", true))
+      if (auto m = mn->matrix(9, 6)) in.J_bias = *m;
+  }
+
+  // ---- checks against the data ---------------------------------------------------------
+  void CheckTime(Checker& c, double t, const std::string& pointer) {
+    const double t0 = imu_.samples.front().t, t1 = imu_.samples.back().t;
+    if (t < t0)
+      c.error(pointer, "t = " + Num(t, 10) + " s is before the first IMU sample (t = " + Num(t0, 10) + " s; times are relative to the time origin)");
+    else if (t > t1)
+      c.error(pointer, "t = " + Num(t, 10) + " s is after the last IMU sample (t = " + Num(t1, 10) + " s; times are relative to the time origin)");
+  }
+
+  void CheckGt(Checker& c, double t, const std::string& pointer) {
+    if (!gt_) return;
+    if (!(t >= gt_->t.front() && t <= gt_->t.back()))
+      c.error(pointer, "ground truth does not cover t = " + Num(t, 10) + " s (" + gt_->source + " spans [" +
+                           Num(gt_->t.front(), 10) + ", " + Num(gt_->t.back(), 10) + "] s)");
+  }
+
+  void CheckTimes() {
+    Checker c(s_.file);
+    for (const auto& t : s_.tasks) {
+      const IntervalsSpec* iv = nullptr;
+      const StateSpec* st = nullptr;
+      const BiasSpec* bs = nullptr;
+      if (const auto* x = std::get_if<PropagateTask>(&t.body)) {
+        iv = &x->interval;
+        st = &x->start;
+        if (x->compare_gt.value_or(false) && !iv->times.empty()) CheckGt(c, iv->times.back(), iv->pointers.back());
+      }
+      if (const auto* x = std::get_if<PreintegrateTask>(&t.body)) {
+        iv = &x->intervals;
+        bs = &x->bias;
+      }
+      if (!iv) continue;
+      if (!have_imu_) continue;  // reported by the parser
+      for (std::size_t i = 0; i < iv->times.size(); ++i) CheckTime(c, iv->times[i], iv->pointers[i]);
+      if (st && st->ground_truth && !iv->times.empty()) CheckGt(c, iv->times.front(), st->pointer);
+      if (bs && bs->ground_truth)
+        for (std::size_t i = 0; i + 1 < iv->times.size(); ++i) CheckGt(c, iv->times[i], bs->pointer);
+    }
+    c.throw_if_errors();
+  }
+
+  // ---- helpers ---------------------------------------------------------------------------
+  json TimesJson(std::optional<double> ts, std::optional<double> te) const {
+    json j = json::object();
+    if (ts) j["t_start"] = *ts;
+    if (te) j["t_end"] = *te;
+    if (imu_.origin) {
+      if (ts)
+        if (auto a = imu_.origin->absolute_ns(*ts)) j["t_start_abs_ns"] = *a;
+      if (te)
+        if (auto a = imu_.origin->absolute_ns(*te)) j["t_end_abs_ns"] = *a;
+    }
+    return j;
+  }
+
+  SampleWindow Window(double ts, double te) const {
+    SampleWindow w;
+    const Status st = MakeWindow(imu_.samples.data(), imu_.samples.size(), ts, te, w);
+    if (!st.ok()) throw Error(st.message());
+    return w;
+  }
+
+  json StateChart(const Mat15& m, const std::string& conv) const {
+    return ChartMatrixToJson(m, conv, Blocks(reg_, PluginKind::StateConvention, conv));
+  }
+  json PreintChart(const Mat15& m, const std::string& conv) const {
+    return ChartMatrixToJson(m, conv, Blocks(reg_, PluginKind::PreintConvention, conv));
+  }
+
+  Mat15 StartCov(const CovSpec& cov, const std::string& conv, const ImuState& x) const {
+    if (!cov.given) return Mat15::Zero();
+    if (cov.m.convention && *cov.m.convention != conv) return reg_.convert_covariance(*cov.m.convention, conv, x, cov.m.m);
+    return cov.m.m;
+  }
+
+  ImuState GtAt(double t, const std::string& pointer) const {
+    if (!gt_) throw TaskFailure(s_.file + ": " + pointer + ": there is no /ground_truth");
+    auto x = gt_->at(t);
+    if (!x)
+      throw TaskFailure(s_.file + ": " + pointer + ": ground truth does not cover t = " + Num(t, 10) + " s (" + gt_->source +
+                        " spans [" + Num(gt_->t.front(), 10) + ", " + Num(gt_->t.back(), 10) + "] s)");
+    return *x;
+  }
+
+  struct GtError {
+    double pos = 0, rot = 0, vel = 0;
+  };
+  json GtCompare(const ImuState& pred, const ImuState& gt, GtError* e = nullptr) const {
+    GtError g;
+    g.pos = (pred.p - gt.p).norm();
+    g.rot = RotationErrorDeg(gt.R, pred.R);
+    g.vel = (pred.v - gt.v).norm();
+    if (e) *e = g;
+    Vec15 d;
+    LeftLocal(gt, pred, d);
+    return {{"state", StateToJson(gt)},
+            {"position_error_m", g.pos},
+            {"rotation_error_deg", g.rot},
+            {"velocity_error_mps", g.vel},
+            {"error_left", {{"convention", "left"}, {"blocks", {"p", "theta", "v", "bg", "ba"}},
+                            {"vector", MatrixToJson(d.transpose()).at(0)}}}};
+  }
+
+  const std::vector<MeasRecord>& Measurements(const MeasurementsSpec& m) const {
+    if (!m.task.empty()) return results_.at(m.task).meas;
+    return files_.at(m.file);
+  }
+  std::string MeasurementsName(const MeasurementsSpec& m) const {
+    return m.task.empty() ? "file " + m.file : "task '" + m.task + "'";
+  }
+
+  Preintegrated Integrate(const PreintegrateTask& p, const SampleWindow& w, const Vec3& bg, const Vec3& ba) const {
+    return p.native ? PreintegrateNative(reg_, p.method_id, w, bg, ba, s_.noise)
+                    : PreintegrateByPropagation(reg_, p.method_id, w, bg, ba, s_.noise);
+  }
+
+  json MeasurementJson(const MeasRecord& r, std::size_t k, const std::vector<std::string>& conventions) const {
+    const Preintegrated& m = r.m;
+    json j = TimesJson(r.t_s, r.t_e);
+    j["index"] = k;
+    j["dt"] = m.dt;
+    if (r.n_knots) j["n_knots"] = r.n_knots;
+    j["bias_estimate"] = {{"bg", Vec3ToJson(m.bg_hat)}, {"ba", Vec3ToJson(m.ba_hat)}};
+    j["delta"] = DeltaToJson(m.delta);
+    const auto ref_blocks = Blocks(reg_, PluginKind::PreintConvention, kRef);
+    j["J_bias"] = MixedMatrixToJson(m.J_bias, kRef, NavLabels(ref_blocks), kRef, BiasLabels(ref_blocks));
+    j["cov"] = ChartMatrixToJson(m.cov, kRef, ref_blocks);
+    json expressed = json::object();
+    for (const auto& c : conventions) {
+      const PreintegratedIn in = Express(reg_, m, c);
+      const auto jb = Blocks(reg_, PluginKind::PreintConvention, in.jacobian_convention);
+      expressed[c] = {{"J_bias", MixedMatrixToJson(in.J_bias, in.jacobian_convention, NavLabels(jb), in.jacobian_convention,
+                                                   BiasLabels(jb))},
+                      {"cov", PreintChart(in.cov, in.convention)}};
+    }
+    if (!conventions.empty()) j["expressed"] = expressed;
+    return j;
+  }
+
+  // ---- tasks -----------------------------------------------------------------------------
+  json RunTask(const TaskSpec& t) {
+    json j = {{"name", t.name}, {"type", t.type}};
+    if (!t.description.empty()) j["description"] = t.description;
+    TaskResult res;
+    res.type = t.type;
+    if (const auto* x = std::get_if<PropagateTask>(&t.body)) RunPropagate(t, *x, j, res);
+    if (const auto* x = std::get_if<PreintegrateTask>(&t.body)) RunPreintegrate(t, *x, j, res);
+    if (const auto* x = std::get_if<PropByPreintTask>(&t.body)) RunPropByPreint(t, *x, j, res);
+    if (const auto* x = std::get_if<ConvertTask>(&t.body)) RunConvert(t, *x, j);
+    if (const auto* x = std::get_if<ResidualTask>(&t.body)) RunResidual(t, *x, j);
+    if (const auto* x = std::get_if<BiasUpdateTask>(&t.body)) RunBiasUpdate(t, *x, j);
+    results_[t.name] = std::move(res);
+    return j;
+  }
+
+  void RunPropagate(const TaskSpec& t, const PropagateTask& p, json& j, TaskResult& res) {
+    const double ts = p.interval.times.front(), te = p.interval.times.back();
+    PropagationInput in;
+    in.x_s = p.start.ground_truth ? GtAt(ts, p.start.pointer) : p.start.x;
+    in.cov_s = StartCov(p.cov, p.convention, in.x_s);
+    in.noise = s_.noise;
+    in.gravity = s_.gravity;
+    in.window = Window(ts, te);
+    const PropagationResult r = reg_.propagate(p.propagator, p.convention, in);
+    j["propagator"] = p.propagator;
+    j["state_convention"] = p.convention;
+    j["interval"] = TimesJson(ts, te);
+    j["n_knots"] = in.window.size();
+    j["x_s"] = StateToJson(in.x_s);
+    j["cov_s"] = StateChart(in.cov_s, p.convention);
+    j["x_e"] = StateToJson(r.x_e);
+    j["Phi"] = StateChart(r.Phi, p.convention);
+    j["cov"] = StateChart(r.cov, p.convention);
+    const bool compare = p.compare_gt.value_or(gt_ && gt_->at(te).has_value());
+    GtError e;
+    if (compare) j["ground_truth"] = GtCompare(r.x_e, GtAt(te, t.pointer + "/interval/t_end"), &e);
+    res.props.push_back({in.x_s, r.x_e, r.Phi, r.cov, p.convention, ts, te});
+    if (opt_.summary) {
+      std::ostream& o = *opt_.summary;
+      o << "propagate '" << t.name << "': " << p.propagator << " over [" << Num(ts) << ", " << Num(te) << "] s ("
+        << in.window.size() << " knots), state convention " << p.convention;
+      if (compare) o << "; vs ground truth: position " << Num(e.pos, 4) << " m, rotation " << Num(e.rot, 4) << " deg";
+      o << "\n";
+    }
+  }
+
+  void RunPreintegrate(const TaskSpec& t, const PreintegrateTask& p, json& j, TaskResult& res) {
+    res.preint = &p;
+    json ms = json::array();
+    const auto& ts = p.intervals.times;
+    for (std::size_t k = 0; k + 1 < ts.size(); ++k) {
+      Vec3 bg = p.bias.bg, ba = p.bias.ba;
+      if (p.bias.ground_truth) {
+        const ImuState g = GtAt(ts[k], p.bias.pointer);
+        bg = g.bg;
+        ba = g.ba;
+      }
+      const SampleWindow w = Window(ts[k], ts[k + 1]);
+      MeasRecord r;
+      r.m = Integrate(p, w, bg, ba);
+      r.t_s = ts[k];
+      r.t_e = ts[k + 1];
+      r.n_knots = w.size();
+      ms.push_back(MeasurementJson(r, k, p.conventions));
+      res.meas.push_back(std::move(r));
+    }
+    j["method"] = p.native ? json{{"preintegrator", p.method_id}} : json{{"propagator", p.method_id}};
+    j["bias"] = p.bias.ground_truth ? json("ground_truth at each interval start")
+                                    : json{{"bg", Vec3ToJson(p.bias.bg)}, {"ba", Vec3ToJson(p.bias.ba)}};
+    j["conventions"] = p.conventions;
+    j["measurements"] = std::move(ms);
+    if (opt_.summary) {
+      double total = 0;
+      for (const auto& r : res.meas) total += r.m.dt;
+      *opt_.summary << "preintegrate '" << t.name << "': " << res.meas.size() << " measurement(s) over " << Num(total)
+                    << " s by " << (p.native ? "native preintegrator " : "propagation with ") << p.method_id
+                    << (p.conventions.empty() ? std::string() : ", expressed in " + Join(p.conventions)) << "\n";
+    }
+  }
+
+  void RunPropByPreint(const TaskSpec& t, const PropByPreintTask& p, json& j, TaskResult& res) {
+    const auto& ms = Measurements(p.meas);
+    json steps = json::array();
+    struct Row {
+      std::size_t k;
+      std::optional<double> ts;
+      double dt, dp, ang;
+      bool has_gt;
+      GtError e;
+    };
+    std::vector<Row> rows;
+    ImuState x;
+    Mat15 cov = Mat15::Zero();
+    for (std::size_t k = 0; k < ms.size(); ++k) {
+      const MeasRecord& r = ms[k];
+      const std::string where = p.meas.task.empty() ? r.pointer : p.meas.pointer + " (measurement " + std::to_string(k) + ")";
+      if (k == 0 || !p.chain) {
+        if (p.start.ground_truth) {
+          if (!r.t_s) throw TaskFailure(s_.file + ": " + p.start.pointer + ": starting from ground truth needs t_start of " + MeasurementsName(p.meas) + " measurement " + std::to_string(k));
+          x = GtAt(*r.t_s, p.start.pointer);
+        } else {
+          x = p.start.x;
+        }
+        cov = StartCov(p.cov, p.convention, x);
+      }
+      const ImuState x_s = x;
+      const Mat15 cov_s = cov;
+      const PropagationResult out = PropagateByPreintegration(reg_, r.m, x_s, cov_s, p.convention, s_.gravity);
+      json sj = TimesJson(r.t_s, r.t_e);
+      sj["index"] = k;
+      sj["dt"] = r.m.dt;
+      sj["x_s"] = StateToJson(x_s);
+      sj["x_e"] = StateToJson(out.x_e);
+      sj["Phi"] = StateChart(out.Phi, p.convention);
+      sj["cov"] = StateChart(out.cov, p.convention);
+      Row row{k, r.t_s, r.m.dt, r.m.delta.dp.norm(), so3::Log(r.m.delta.dR).norm() * kRadToDeg, false, {}};
+      const bool compare = p.compare_gt.value_or(gt_ && r.t_e && gt_->at(*r.t_e).has_value());
+      if (compare) {
+        if (!r.t_e) throw TaskFailure(s_.file + ": " + where + ": comparing with ground truth needs t_end");
+        sj["ground_truth"] = GtCompare(out.x_e, GtAt(*r.t_e, where), &row.e);
+        row.has_gt = true;
+      }
+      rows.push_back(row);
+      steps.push_back(std::move(sj));
+      res.props.push_back({x_s, out.x_e, out.Phi, out.cov, p.convention, r.t_s, r.t_e});
+      x = out.x_e;
+      cov = out.cov;
+    }
+    j["measurements"] = p.meas.task.empty() ? json{{"file", p.meas.file}} : json(p.meas.task);
+    j["state_convention"] = p.convention;
+    j["start"] = p.start.ground_truth ? json("ground_truth") : StateToJson(p.start.x);
+    j["chain"] = p.chain;
+    j["steps"] = std::move(steps);
+    // Totals over the intervals compared with ground truth.
+    std::size_t n = 0;
+    double se_p = 0, se_r = 0, max_p = 0, max_r = 0, sum_dt = 0, sum_dp = 0, sum_ang = 0;
+    for (const auto& r : rows) {
+      sum_dt += r.dt;
+      sum_dp += r.dp;
+      sum_ang += r.ang;
+      if (!r.has_gt) continue;
+      ++n;
+      se_p += r.e.pos * r.e.pos;
+      se_r += r.e.rot * r.e.rot;
+      max_p = std::max(max_p, r.e.pos);
+      max_r = std::max(max_r, r.e.rot);
+    }
+    if (n) {
+      j["ground_truth_summary"] = {{"intervals", n},
+                                   {"rms_position_error_m", std::sqrt(se_p / n)},
+                                   {"max_position_error_m", max_p},
+                                   {"rms_rotation_error_deg", std::sqrt(se_r / n)},
+                                   {"max_rotation_error_deg", max_r}};
+    }
+    if (!opt_.summary) return;
+    std::ostream& o = *opt_.summary;
+    o << "\npropagate_by_preintegration '" << t.name << "': " << MeasurementsName(p.meas) << ", state convention "
+      << p.convention << ", "
+      << (p.start.ground_truth ? (p.chain ? "chained from the ground truth at the first keyframe"
+                                          : "each interval from the ground truth at its start")
+                               : (p.chain ? "chained from the given start state" : "each interval from the given start state"))
+      << "\n";
+    o << "     k   t_start[s]   dt[s]    |dp|[m]   angle[deg]";
+    if (n) o << "   pos.err[m]   rot.err[deg]";
+    o << "\n";
+    char buf[256];
+    for (const auto& r : rows) {
+      if (r.ts)
+        std::snprintf(buf, sizeof buf, "%6zu %12.3f %7.4f %10.5f %12.5f", r.k, *r.ts, r.dt, r.dp, r.ang);
+      else
+        std::snprintf(buf, sizeof buf, "%6zu %12s %7.4f %10.5f %12.5f", r.k, "-", r.dt, r.dp, r.ang);
+      o << buf;
+      if (r.has_gt) {
+        std::snprintf(buf, sizeof buf, " %12.3e %14.3e", r.e.pos, r.e.rot);
+        o << buf;
+      }
+      o << "\n";
+    }
+    std::snprintf(buf, sizeof buf, " total %zu intervals, %.4f s, sum |dp| %.4f m, sum angle %.3f deg", rows.size(), sum_dt,
+                  sum_dp, sum_ang);
+    o << buf;
+    if (n) {
+      std::snprintf(buf, sizeof buf, "; position error rms %.3e m, max %.3e m; rotation error rms %.3e deg, max %.3e deg",
+                    std::sqrt(se_p / n), max_p, std::sqrt(se_r / n), max_r);
+      o << buf;
+    }
+    o << "\n";
+  }
+
+  void RunConvert(const TaskSpec& t, const ConvertTask& p, json& j) {
+    using W = ConvertTask::What;
+    const bool state_kind = p.what == W::StateJacobian || p.what == W::StateCovariance || p.what == W::StateTransition;
+    std::string from = p.from.value_or("");
+    ImuState xs, xe;
+    PreintIncrement d;
+    Mat15 M = Mat15::Zero();
+    if (p.source_task) {
+      const TaskResult& src = results_.at(*p.source_task);
+      const std::size_t count = state_kind ? src.props.size() : src.meas.size();
+      if (p.source_index >= count)
+        throw TaskFailure(s_.file + ": " + p.source_pointer + "/index: task '" + *p.source_task + "' has " +
+                          std::to_string(count) + " result(s); index " + std::to_string(p.source_index) + " is out of range");
+      std::string src_conv;
+      if (state_kind) {
+        const PropRecord& r = src.props[p.source_index];
+        xs = r.x_s;
+        xe = r.x_e;
+        src_conv = r.convention;
+        M = p.what == W::StateTransition ? r.Phi : r.cov;
+      } else {
+        const MeasRecord& r = src.meas[p.source_index];
+        d = r.m.delta;
+        M = r.m.cov;
+        src_conv = kRef;
+      }
+      if (!from.empty() && from != src_conv)
+        throw TaskFailure(s_.file + ": " + p.from_pointer + ": the source's matrices are in '" + src_conv + "', not '" + from +
+                          "' (leave \"from\" out to use the source's convention)");
+      from = src_conv;
+      j["source"] = {{"task", *p.source_task}, {"index", p.source_index}};
+    } else {
+      if (p.state) xs = *p.state;
+      if (p.state_end) xe = *p.state_end;
+      if (p.increment) d = *p.increment;
+      if (p.matrix) M = p.matrix->m;
+    }
+    j["what"] = p.what_name;
+    j["from"] = from;
+    j["to"] = p.to;
+    const PluginKind kind = state_kind ? PluginKind::StateConvention : PluginKind::PreintConvention;
+    const auto bf = Blocks(reg_, kind, from), bt = Blocks(reg_, kind, p.to);
+    switch (p.what) {
+      case W::StateJacobian: {
+        // For a source task, the Jacobian at its end state (where its covariance lives).
+        const ImuState& x = p.source_task ? xe : xs;
+        j["state"] = StateToJson(x);
+        j["result"] = MixedMatrixToJson(reg_.conversion(from, p.to, x), p.to, bt, from, bf);
+        break;
+      }
+      case W::StateCovariance: {
+        const ImuState& x = p.source_task ? xe : xs;
+        j["state"] = StateToJson(x);
+        j["input"] = ChartMatrixToJson(M, from, bf);
+        j["result"] = ChartMatrixToJson(reg_.convert_covariance(from, p.to, x, M), p.to, bt);
+        break;
+      }
+      case W::StateTransition:
+        j["state"] = StateToJson(xs);
+        j["state_end"] = StateToJson(xe);
+        j["input"] = ChartMatrixToJson(M, from, bf);
+        j["result"] = ChartMatrixToJson(reg_.convert_transition(from, p.to, xs, xe, M), p.to, bt);
+        break;
+      case W::IncrementJacobian:
+        j["increment"] = DeltaToJson(d);
+        j["result"] = MixedMatrixToJson(reg_.preint_conversion(from, p.to, d), p.to, bt, from, bf);
+        break;
+      case W::IncrementCovariance: {
+        const Mat15 J = reg_.preint_conversion(from, p.to, d);
+        Mat15 S = J * M * J.transpose();
+        S = 0.5 * (S + S.transpose());
+        j["increment"] = DeltaToJson(d);
+        j["input"] = ChartMatrixToJson(M, from, bf);
+        j["result"] = ChartMatrixToJson(S, p.to, bt);
+        break;
+      }
+    }
+    if (opt_.summary) *opt_.summary << "convert '" << t.name << "': " << p.what_name << " from " << from << " to " << p.to << "\n";
+  }
+
+  std::vector<std::size_t> Selected(const std::vector<MeasRecord>& ms, const std::optional<std::size_t>& index,
+                                    const std::string& pointer, const std::string& what) const {
+    if (!index) {
+      std::vector<std::size_t> all(ms.size());
+      for (std::size_t i = 0; i < ms.size(); ++i) all[i] = i;
+      return all;
+    }
+    if (*index >= ms.size())
+      throw TaskFailure(s_.file + ": " + pointer + "/index: " + what + " has " + std::to_string(ms.size()) +
+                        " measurement(s); index " + std::to_string(*index) + " is out of range");
+    return {*index};
+  }
+
+  void RunResidual(const TaskSpec& t, const ResidualTask& p, json& j) {
+    const auto& ms = Measurements(p.meas);
+    const auto sel = Selected(ms, p.index, t.pointer, MeasurementsName(p.meas));
+    if ((!p.start.ground_truth || !p.end.ground_truth) && sel.size() > 1)
+      throw TaskFailure(s_.file + ": " + t.pointer + ": explicit start/end states go with one measurement; give \"index\" (" +
+                        MeasurementsName(p.meas) + " has " + std::to_string(ms.size()) + ")");
+    const std::vector<std::string> rblocks = {"theta", "p", "v", "bg", "ba"};
+    const std::string rconv = "residual_" + p.kind_name;
+    const auto sb = Blocks(reg_, PluginKind::StateConvention, p.convention);
+    const auto ib = Blocks(reg_, PluginKind::PreintConvention, kRef);
+    json rs = json::array();
+    double sum_m2 = 0;
+    std::size_t n_m2 = 0;
+    for (std::size_t k : sel) {
+      const MeasRecord& r = ms[k];
+      const auto state_at = [&](const StateSpec& s, std::optional<double> t_at, const char* which) {
+        if (!s.ground_truth) return s.x;
+        if (!t_at)
+          throw TaskFailure(s_.file + ": " + s.pointer + ": ground truth needs the measurement's " + which + " time");
+        return GtAt(*t_at, s.pointer);
+      };
+      const ImuState xs = state_at(p.start, r.t_s, "start"), xe = state_at(p.end, r.t_e, "end");
+      const Residual res = ComputeResidual(reg_, p.kind, r.m, xs, xe, p.convention, s_.gravity);
+      json rj = TimesJson(r.t_s, r.t_e);
+      rj["index"] = k;
+      rj["x_s"] = StateToJson(xs);
+      rj["x_e"] = StateToJson(xe);
+      rj["r"] = {{"convention", rconv}, {"blocks", rblocks}, {"vector", MatrixToJson(res.r.transpose()).at(0)}};
+      rj["H_start"] = MixedMatrixToJson(res.H_start, rconv, rblocks, p.convention, sb);
+      rj["H_end"] = MixedMatrixToJson(res.H_end, rconv, rblocks, p.convention, sb);
+      rj["H_increment"] = MixedMatrixToJson(res.H_increment, rconv, rblocks, kRef, ib);
+      rj["cov"] = ChartMatrixToJson(res.cov, rconv, rblocks);
+      const Eigen::LDLT<Mat15> ldlt(res.cov);
+      if (ldlt.info() == Eigen::Success && ldlt.isPositive() && ldlt.vectorD().minCoeff() > 0.0) {
+        const double m2 = res.r.dot(ldlt.solve(res.r));
+        rj["mahalanobis_squared"] = m2;
+        sum_m2 += m2;
+        ++n_m2;
+      }
+      rs.push_back(std::move(rj));
+    }
+    j["kind"] = p.kind_name;
+    j["measurements"] = p.meas.task.empty() ? json{{"file", p.meas.file}} : json(p.meas.task);
+    j["state_convention"] = p.convention;
+    j["residuals"] = std::move(rs);
+    if (n_m2) j["mean_mahalanobis_squared"] = sum_m2 / static_cast<double>(n_m2);
+    if (opt_.summary) {
+      *opt_.summary << "residual '" << t.name << "' (" << p.kind_name << "): " << sel.size() << " residual(s)";
+      if (n_m2) *opt_.summary << ", mean r^T cov^-1 r = " << Num(sum_m2 / static_cast<double>(n_m2), 4) << " (15 dof)";
+      *opt_.summary << "\n";
+    }
+  }
+
+  void RunBiasUpdate(const TaskSpec& t, const BiasUpdateTask& p, json& j) {
+    const auto& ms = Measurements(p.meas);
+    const auto sel = Selected(ms, p.index, t.pointer, MeasurementsName(p.meas));
+    const PreintegrateTask* origin = p.meas.task.empty() ? nullptr : results_.at(p.meas.task).preint;
+    json us = json::array();
+    double max_rot = 0, max_dp = 0, max_dv = 0;
+    for (std::size_t k : sel) {
+      const MeasRecord& r = ms[k];
+      const Vec3 bg = p.relative ? Vec3(r.m.bg_hat + p.bg) : p.bg;
+      const Vec3 ba = p.relative ? Vec3(r.m.ba_hat + p.ba) : p.ba;
+      json uj = TimesJson(r.t_s, r.t_e);
+      uj["index"] = k;
+      uj["bias_estimate"] = {{"bg", Vec3ToJson(r.m.bg_hat)}, {"ba", Vec3ToJson(r.m.ba_hat)}};
+      uj["new_bias"] = {{"bg", Vec3ToJson(bg)}, {"ba", Vec3ToJson(ba)}};
+      std::optional<Preintegrated> re;
+      if (p.reintegrate && origin && r.t_s && r.t_e) {
+        re = Integrate(*origin, Window(*r.t_s, *r.t_e), bg, ba);
+        uj["reintegrated"] = MeasurementJson(MeasRecord{*re, r.t_s, r.t_e, 0, ""}, k, {});
+      }
+      json fo = json::object();
+      for (const auto& c : p.charts) {
+        const PreintIncrement d = BiasCorrectedDelta(reg_, r.m, c, bg, ba);
+        json cj = {{"delta", DeltaToJson(d)}};
+        if (re) {
+          const double rot = RotationErrorDeg(re->delta.dR, d.dR);
+          const double edp = (re->delta.dp - d.dp).norm(), edv = (re->delta.dv - d.dv).norm();
+          cj["vs_reintegrated"] = {{"rotation_deg", rot}, {"dp_m", edp}, {"dv_mps", edv}};
+          max_rot = std::max(max_rot, rot);
+          max_dp = std::max(max_dp, edp);
+          max_dv = std::max(max_dv, edv);
+        }
+        fo[c] = std::move(cj);
+      }
+      uj["first_order"] = std::move(fo);
+      us.push_back(std::move(uj));
+    }
+    j["measurements"] = p.meas.task.empty() ? json{{"file", p.meas.file}} : json(p.meas.task);
+    j["updates"] = std::move(us);
+    if (opt_.summary) {
+      *opt_.summary << "bias_update '" << t.name << "': " << sel.size() << " measurement(s), first order in " << Join(p.charts);
+      if (p.reintegrate && origin)
+        *opt_.summary << "; first order vs re-integration: max " << Num(max_rot, 3) << " deg, " << Num(max_dp, 3) << " m (dp), "
+                      << Num(max_dv, 3) << " m/s (dv)";
+      *opt_.summary << "\n";
+    }
+  }
+};
+
+}  // namespace
+
+json Run(const Pipeline& p, const Registry& reg, const RunOptions& options) {
+  Runner r(p.spec(), reg, options);
+  return r.Run();
+}
+
+json Run(const Pipeline& p, const RunOptions& options) {
+  std::vector<std::string> dirs = options.plugin_dirs;
+  dirs.insert(dirs.end(), p.plugin_dirs().begin(), p.plugin_dirs().end());
+  Registry reg;
+  const auto issues = reg.load_search_path(dirs);
+  if (options.log)
+    for (const auto& i : issues) *options.log << "warning: plugin " << i.file << ": " << i.message << "\n";
+  return Run(p, reg, options);
+}
+
+}  // namespace imuconv::pipeline

@@ -1,0 +1,151 @@
+// The parsed form of a pipeline document (internal to imuconv_pipeline).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "imuconv/bridge.h"
+#include "imuconv/pipeline/imu_reader.h"
+#include "imuconv/pipeline/json_io.h"
+
+namespace imuconv::pipeline {
+
+// ---- sources --------------------------------------------------------------------------
+struct ImuSourceSpec {
+  enum class Format { Euroc, Csv, Inline } format = Format::Euroc;
+  std::string path;  // resolved
+  std::optional<std::int64_t> origin_ns;  // euroc
+  CsvFormat csv;                          // csv (and time_unit/time_origin for inline)
+  std::vector<ImuSample> inline_raw;      // inline: t in time units (not yet relative)
+  std::vector<TimeValue> inline_t;
+  std::string pointer;
+};
+
+struct GroundTruthSpec {
+  std::string path;  // resolved
+  std::string pointer;
+};
+
+// ---- task pieces ----------------------------------------------------------------------
+/// Interval boundaries: one interval [t0, t1] or consecutive keyframe pairs.
+struct IntervalsSpec {
+  std::vector<double> times;
+  /// The pointer of each time (for "interval outside the data" errors).
+  std::vector<std::string> pointers;
+};
+
+struct StateSpec {
+  bool ground_truth = false;
+  ImuState x;
+  std::string pointer;
+};
+
+struct BiasSpec {
+  bool ground_truth = false;
+  Vec3 bg = Vec3::Zero(), ba = Vec3::Zero();
+  std::string pointer;
+};
+
+/// A 15x15 covariance input; `convention` when the matrix names one.
+struct CovSpec {
+  bool given = false;
+  Matrix15In m;
+};
+
+/// Measurements from an earlier task or from a file (already read and checked for shape).
+struct MeasurementFileEntry {
+  std::optional<double> t_start, t_end;
+  PreintegratedIn m;
+  std::string pointer;  // in the file
+  std::optional<std::vector<std::string>> cov_blocks, jac_rows, jac_cols;
+};
+struct MeasurementsSpec {
+  std::string task;  // or
+  std::string file;  // resolved
+  std::vector<MeasurementFileEntry> entries;  // file only
+  std::string pointer;
+};
+
+// ---- tasks ----------------------------------------------------------------------------
+struct PropagateTask {
+  std::string propagator, convention = "left";
+  StateSpec start;
+  CovSpec cov;
+  IntervalsSpec interval;
+  std::optional<bool> compare_gt;
+};
+
+struct PreintegrateTask {
+  bool native = false;  // preintegrator (true) or propagator (false)
+  std::string method_id;
+  std::string method_pointer;
+  std::vector<std::string> conventions;
+  std::string conventions_pointer;
+  BiasSpec bias;
+  IntervalsSpec intervals;
+};
+
+struct PropByPreintTask {
+  MeasurementsSpec meas;
+  std::string convention = "left";
+  StateSpec start;
+  CovSpec cov;
+  bool chain = false;
+  std::optional<bool> compare_gt;
+};
+
+struct ConvertTask {
+  enum class What { StateJacobian, StateCovariance, StateTransition, IncrementJacobian, IncrementCovariance } what{};
+  std::string what_name;
+  std::optional<std::string> from;
+  std::string to;
+  std::optional<ImuState> state, state_end;
+  std::optional<PreintIncrement> increment;
+  std::optional<Matrix15In> matrix;
+  std::optional<std::string> source_task;
+  std::size_t source_index = 0;
+  std::string from_pointer, to_pointer, source_pointer;
+};
+
+struct ResidualTask {
+  ResidualKind kind = ResidualKind::Gtsam;
+  std::string kind_name;
+  MeasurementsSpec meas;
+  std::string convention = "left";
+  StateSpec start, end;
+  std::optional<std::size_t> index;
+};
+
+struct BiasUpdateTask {
+  MeasurementsSpec meas;
+  bool relative = false;  // delta_bg/delta_ba rather than bg/ba
+  Vec3 bg = Vec3::Zero(), ba = Vec3::Zero();
+  std::vector<std::string> charts;  // first-order correction charts
+  std::string charts_pointer;
+  bool reintegrate = true;
+  std::optional<std::size_t> index;
+};
+
+struct TaskSpec {
+  std::string type, name, description, pointer;
+  std::variant<PropagateTask, PreintegrateTask, PropByPreintTask, ConvertTask, ResidualTask, BiasUpdateTask> body;
+};
+
+struct PipelineSpec {
+  std::string file, base_dir;
+  std::string description;
+  std::vector<std::string> plugin_dirs;
+  std::optional<std::string> output;
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);
+  ImuNoise noise;
+  std::optional<ImuSourceSpec> imu;
+  std::optional<GroundTruthSpec> gt;
+  std::vector<TaskSpec> tasks;
+};
+
+/// Parses and validates the structure; throws ConfigError listing every issue.
+std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file, const std::string& base_dir);
+
+}  // namespace imuconv::pipeline
