@@ -155,6 +155,26 @@ std::string CheckConvention(const Conv& c, const std::vector<Value>& xs, RefRetr
 
 std::vector<std::string> BlockVector(const BlockLabels& l) { return {l.begin(), l.end()}; }
 
+// C = A B for 15x15 matrices made of 3x3 blocks, skipping zero blocks. Conversion Jacobians
+// have at most 7 non-zero blocks of 25, so this is several times cheaper than a dense
+// product (which Eigen does not vectorise well at this odd size).
+Mat15 BlockSparseProduct(const Mat15& A, const Mat15& B) {
+  unsigned maskA[5] = {0, 0, 0, 0, 0}, maskB[5] = {0, 0, 0, 0, 0};
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j) {
+      if (!A.block<3, 3>(3 * i, 3 * j).isZero(0.0)) maskA[i] |= 1u << j;
+      if (!B.block<3, 3>(3 * i, 3 * j).isZero(0.0)) maskB[i] |= 1u << j;
+    }
+  Mat15 C = Mat15::Zero();
+  for (int i = 0; i < 5; ++i)
+    for (int k = 0; k < 5; ++k) {
+      if (!(maskA[i] >> k & 1u)) continue;
+      for (int j = 0; j < 5; ++j)
+        if (maskB[k] >> j & 1u) C.block<3, 3>(3 * i, 3 * j).noalias() += A.block<3, 3>(3 * i, 3 * k) * B.block<3, 3>(3 * k, 3 * j);
+    }
+  return C;
+}
+
 }  // namespace
 
 int BlockOffset(const BlockLabels& labels, std::string_view label) {
@@ -175,6 +195,13 @@ struct Registry::Impl {
     for (const auto& i : infos)
       if (i.kind == kind && i.id == id) return &i;
     return nullptr;
+  }
+
+  template <typename T>
+  const T* raw(const IdMap<T>& m, PluginKind kind, std::string_view id) const {
+    auto it = m.find(id);
+    if (it != m.end()) return it->second.get();
+    return get(m, kind, id).get();  // throws with the list of known ids
   }
 
   template <typename T>
@@ -417,7 +444,7 @@ std::shared_ptr<const Preintegrator> Registry::preintegrator(std::string_view id
 // ---- state conversions ----------------------------------------------------------------
 
 Mat15 Registry::to_reference(std::string_view from, const ImuState& x) const {
-  const auto c = state_convention(from);
+  const ErrorState* c = impl_->raw(impl_->states, PluginKind::StateConvention, from);
   Mat15 J;
   if (c->jacobian_to_reference(x, J)) return J;
   return RiddersJacobian([&](const Vec15& d, Vec15& out) {
@@ -428,7 +455,7 @@ Mat15 Registry::to_reference(std::string_view from, const ImuState& x) const {
 }
 
 Mat15 Registry::from_reference(std::string_view to, const ImuState& x) const {
-  const auto c = state_convention(to);
+  const ErrorState* c = impl_->raw(impl_->states, PluginKind::StateConvention, to);
   Mat15 J;
   if (c->jacobian_from_reference(x, J)) return J;
   return RiddersJacobian([&](const Vec15& e, Vec15& out) {
@@ -440,12 +467,10 @@ Mat15 Registry::from_reference(std::string_view to, const ImuState& x) const {
 
 Mat15 Registry::conversion(std::string_view from, std::string_view to, const ImuState& x) const {
   if (from == to) {
-    (void)state_convention(from);
+    (void)impl_->raw(impl_->states, PluginKind::StateConvention, from);
     return Mat15::Identity();
   }
-  Mat15 J;
-  J.noalias() = from_reference(to, x) * to_reference(from, x);
-  return J;
+  return BlockSparseProduct(from_reference(to, x), to_reference(from, x));
 }
 
 Mat15 Registry::convert_covariance(std::string_view from, std::string_view to, const ImuState& x,
@@ -463,7 +488,7 @@ Mat15 Registry::convert_transition(std::string_view from, std::string_view to, c
 // ---- increment conversions --------------------------------------------------------------
 
 Mat15 Registry::preint_to_reference(std::string_view from, const PreintIncrement& x) const {
-  const auto c = preint_convention(from);
+  const PreintConvention* c = impl_->raw(impl_->preints, PluginKind::PreintConvention, from);
   Mat15 J;
   if (c->jacobian_to_reference(x, J)) return J;
   return RiddersJacobian([&](const Vec15& d, Vec15& out) {
@@ -474,7 +499,7 @@ Mat15 Registry::preint_to_reference(std::string_view from, const PreintIncrement
 }
 
 Mat15 Registry::preint_from_reference(std::string_view to, const PreintIncrement& x) const {
-  const auto c = preint_convention(to);
+  const PreintConvention* c = impl_->raw(impl_->preints, PluginKind::PreintConvention, to);
   Mat15 J;
   if (c->jacobian_from_reference(x, J)) return J;
   return RiddersJacobian([&](const Vec15& e, Vec15& out) {
@@ -486,12 +511,10 @@ Mat15 Registry::preint_from_reference(std::string_view to, const PreintIncrement
 
 Mat15 Registry::preint_conversion(std::string_view from, std::string_view to, const PreintIncrement& x) const {
   if (from == to) {
-    (void)preint_convention(from);
+    (void)impl_->raw(impl_->preints, PluginKind::PreintConvention, from);
     return Mat15::Identity();
   }
-  Mat15 J;
-  J.noalias() = preint_from_reference(to, x) * preint_to_reference(from, x);
-  return J;
+  return BlockSparseProduct(preint_from_reference(to, x), preint_to_reference(from, x));
 }
 
 // ---- propagation -------------------------------------------------------------------------

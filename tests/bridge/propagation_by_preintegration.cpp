@@ -13,13 +13,13 @@ namespace {
 using namespace imuconv;
 using imuconv::test::Plugins;
 
-struct Setup {
+struct Scenario {
   std::vector<ImuSample> imu = test::SmoothImu(1.0);
   SampleWindow w;
   ImuState x_s;
   Mat15 cov_left;
   Vec3 g = Vec3(0, 0, -9.81);
-  Setup() {
+  Scenario() {
     EXPECT_TRUE(MakeWindow(imu.data(), imu.size(), imu.front().t, imu.back().t, w).ok());
     x_s.R = so3::Exp(Vec3(0.3, -1.1, 0.7));
     x_s.p = Vec3(3, -2, 1);
@@ -36,7 +36,7 @@ class ByPreintegration : public ::testing::TestWithParam<const char*> {};
 TEST_P(ByPreintegration, PhiMatchesCentralDifferencesOfThePrediction) {
   // The start bias differs from the measurement's bias estimate, so the first-order bias
   // correction and its curvature are exercised.
-  Setup s;
+  Scenario s;
   const Preintegrated m = PreintegrateByPropagation(Plugins(), "rk4", s.w, s.x_s.bg - Vec3(2e-3, 1e-3, -1e-3),
                                                     s.x_s.ba + Vec3(0.02, -0.01, 0.03), test::TestNoise());
   const std::string conv = GetParam();
@@ -56,7 +56,7 @@ TEST_P(ByPreintegration, AgreesWithThePropagatorItCameFrom) {
   // rk4's Phi and covariance come from its linearised ODE, the prediction's from the exact
   // derivative of the prediction equations with the same rk4 increments: they agree up to
   // rk4's truncation error (~1e-10 relative at 200 Hz over 1 s); 1e-7 leaves margin.
-  Setup s;
+  Scenario s;
   const std::string conv = GetParam();
   const Mat15 cov_conv = Plugins().convert_covariance("left", conv, s.x_s, s.cov_left);
   const Preintegrated m = PreintegrateByPropagation(Plugins(), "rk4", s.w, s.x_s.bg, s.x_s.ba, test::TestNoise());

@@ -14,13 +14,13 @@ namespace {
 using namespace imuconv;
 using imuconv::test::Plugins;
 
-struct Setup {
+struct Scenario {
   std::vector<ImuSample> imu = test::SmoothImu(1.0);
   SampleWindow w;
   ImuState x_s, x_e;
   Vec3 g = Vec3(0, 0, -9.81);
   Preintegrated m;
-  Setup() {
+  Scenario() {
     EXPECT_TRUE(MakeWindow(imu.data(), imu.size(), imu.front().t, imu.back().t, w).ok());
     x_s.R = so3::Exp(Vec3(0.3, -1.1, 0.7));
     x_s.p = Vec3(3, -2, 1);
@@ -42,7 +42,7 @@ using Param = std::tuple<ResidualKind, const char*>;
 class ResidualJacobians : public ::testing::TestWithParam<Param> {};
 
 TEST_P(ResidualJacobians, MatchCentralDifferences) {
-  Setup s;
+  Scenario s;
   const auto [kind, conv] = GetParam();
   const auto c = Plugins().state_convention(conv);
   const Residual r = ComputeResidual(Plugins(), kind, s.m, s.x_s, s.x_e, conv, s.g);
@@ -62,7 +62,7 @@ TEST_P(ResidualJacobians, MatchCentralDifferences) {
 }
 
 TEST_P(ResidualJacobians, IncrementJacobianAndCovariance) {
-  Setup s;
+  Scenario s;
   const auto [kind, conv] = GetParam();
   const Residual r = ComputeResidual(Plugins(), kind, s.m, s.x_s, s.x_e, conv, s.g);
   const Mat15 num = CentralJacobian([&](const Vec15& w, Vec15& out) {
@@ -88,7 +88,7 @@ INSTANTIATE_TEST_SUITE_P(KindsAndConventions, ResidualJacobians,
 // (eq. forster-res-jac). Blocks are in each chart's order [theta, p, v, ba, bg] /
 // [theta, p, v, bg, ba]; the bias blocks of the gtsam charts are swapped accordingly.
 TEST(ResidualIncrementJacobian, MatchesThePapersClosedForms) {
-  Setup s;
+  Scenario s;
   s.m.bg_hat = s.x_s.bg;  // at the estimate, so the increment is not bias-corrected
   s.m.ba_hat = s.x_s.ba;
   const Residual g = ComputeResidual(Plugins(), ResidualKind::Gtsam, s.m, s.x_s, s.x_e, "left", s.g);

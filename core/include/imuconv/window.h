@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <string>
 
+#include "imuconv/export.h"
 #include "imuconv/status.h"
 #include "imuconv/types.h"
 
@@ -41,6 +42,6 @@ inline ImuSample InterpolateSample(const ImuSample& a, const ImuSample& b, doubl
 
 /// Builds the window of [t_s, t_e] over samples sorted by strictly increasing time.
 /// Fails if the interval is empty or not covered by the samples.
-Status MakeWindow(const ImuSample* samples, std::size_t n, double t_s, double t_e, SampleWindow& out);
+IMUCONV_API Status MakeWindow(const ImuSample* samples, std::size_t n, double t_s, double t_e, SampleWindow& out);
 
 }  // namespace imuconv
