@@ -79,10 +79,30 @@ TEST(Kernels, JrInvTimesVecDerivativeMatchesRidders) {
 TEST(Kernels, DPrimeOverTIsContinuousAtTheSeriesSwitch) {
   // Both branches at t = 0.5 (series just below, closed form at): they must agree to the
   // closed form's own accuracy, ~30/t^2 ulps relative = 3e-14.
-  const double t = 0.5, below = std::nextafter(t, 0.0);
-  const double series = k::detail::coefDPrimeOverT(below, below * below);
-  const double closed = k::detail::coefDPrimeOverT(t, t * t);
+  const double t = k::detail::kDPrimeSeriesBelow, below = std::nextafter(t, 0.0);
+  const double series = k::detail::ComputeTangentCoefs(below, below * below).e;
+  const double closed = k::detail::ComputeTangentCoefs(t, t * t).e;
   EXPECT_LT(std::abs(series - closed) / closed, 1e-12) << series << " vs " << closed;
+}
+
+TEST(Kernels, CombinedCoefficientsMatchSo3) {
+  // The kernels evaluate Exp, Jr and Jr^{-1} from one sin/cos of the half angle; so3.h
+  // evaluates each separately. Same functions, so they agree to a few ulps.
+  const Vec3 axis = Vec3(0.3, -0.5, 0.8).normalized();
+  for (double a : {0.0, 1e-9, 0.05, 0.0999, 0.1, 0.3, 1.0, 3.0, 4.5}) {
+    const Vec3 phi = a * axis;
+    const double t2 = phi.squaredNorm(), t = std::sqrt(t2);
+    const auto c = k::detail::ComputeTangentCoefs(t, t2);
+    const Mat3 S = so3::skew(phi), S2 = S * S;
+    // 1e-14: a handful of ulps of unit-sized entries (Jr^{-1} at 4.5 rad has entries ~10).
+    EXPECT_LT(RelErr(Mat3(Mat3::Identity() + c.a * S + c.b * S2), so3::Exp(phi)), 1e-14) << a;
+    EXPECT_LT(RelErr(Mat3(Mat3::Identity() - c.b * S + c.c * S2), so3::Jr(phi)), 1e-14) << a;
+    EXPECT_LT(RelErr(Mat3(Mat3::Identity() + 0.5 * S + c.d * S2), so3::JrInv(phi)), 1e-14) << a;
+    const auto m = k::detail::ComputeExpJrCoefs(t, t2);
+    EXPECT_EQ(m.a, c.a);
+    EXPECT_EQ(m.b, c.b);
+    EXPECT_EQ(m.c, c.c);
+  }
 }
 
 // One step's Jacobians against differences of the step. Input d = [dx (9), dacc, domega].
@@ -119,22 +139,50 @@ TEST(Kernels, ManifoldStepJacobiansMatchRidders) {
     x.dv = RandVec(5.0);
     k::ManifoldIncrement x1 = x;
     k::StepJacobians J;
-    k::ManifoldStep<true>(sc.acc, sc.omega, sc.dt, x1, &J);
-    // The NavState chart: dR Exp(dth), dp + dR ddp, dv + dR ddv.
+    k::ManifoldStep(sc.acc, sc.omega, sc.dt, x1, J);
+    // The step from x perturbed by d's rotation part and the given dp, dv offsets.
+    const auto step = [&](const Vec15& d, const Vec3& dp, const Vec3& dv) {
+      k::ManifoldIncrement y = x;
+      y.dR = x.dR * so3::Exp(d.segment<3>(0));
+      y.dp = x.dp + dp;
+      y.dv = x.dv + dv;
+      k::StepJacobians unused;
+      k::ManifoldStep(sc.acc + d.segment<3>(9), sc.omega + d.segment<3>(12), sc.dt, y, unused);
+      return y;
+    };
+    // The kernel's own chart: dR Exp(dth), dp + ddp, dv + ddv.
     const Mat15 num = RiddersJacobian(
         [&](const Vec15& d, Vec15& out) {
-          k::ManifoldIncrement y = x;
-          y.dR = x.dR * so3::Exp(d.segment<3>(0));
-          y.dp = x.dp + x.dR * d.segment<3>(3);
-          y.dv = x.dv + x.dR * d.segment<3>(6);
-          k::ManifoldStep<false>(sc.acc + d.segment<3>(9), sc.omega + d.segment<3>(12), sc.dt, y, nullptr);
+          const k::ManifoldIncrement y = step(d, d.segment<3>(3), d.segment<3>(6));
+          out.setZero();
+          out.segment<3>(0) = so3::Log(x1.dR.transpose() * y.dR);
+          out.segment<3>(3) = y.dp - x1.dp;
+          out.segment<3>(6) = y.dv - x1.dv;
+        },
+        0.01);
+    ExpectStepJacobians(J, num, "manifold dt=" + std::to_string(sc.dt));
+
+    // GTSAM's NavState chart (dR Exp(dth), dp + dR ddp, dv + dR ddv): the same Jacobians
+    // after the chart change blockdiag(I, dR^T, dR^T) on both sides.
+    const Mat15 num_nav = RiddersJacobian(
+        [&](const Vec15& d, Vec15& out) {
+          const k::ManifoldIncrement y = step(d, x.dR * d.segment<3>(3), x.dR * d.segment<3>(6));
           out.setZero();
           out.segment<3>(0) = so3::Log(x1.dR.transpose() * y.dR);
           out.segment<3>(3) = x1.dR.transpose() * (y.dp - x1.dp);
           out.segment<3>(6) = x1.dR.transpose() * (y.dv - x1.dv);
         },
         0.01);
-    ExpectStepJacobians(J, num, "manifold dt=" + std::to_string(sc.dt));
+    Mat9 T0 = Mat9::Identity(), T1 = Mat9::Identity();  // ref -> NavState before / after
+    for (int b = 3; b <= 6; b += 3) {
+      T0.block<3, 3>(b, b) = x.dR.transpose();
+      T1.block<3, 3>(b, b) = x1.dR.transpose();
+    }
+    const Mat9 A_nav = T1 * J.A() * T0.inverse();
+    g_worst_step = std::max(g_worst_step, RelErr(A_nav, Mat9(num_nav.topLeftCorner<9, 9>())));
+    EXPECT_LT(RelErr(A_nav, Mat9(num_nav.topLeftCorner<9, 9>())), kRiddersTol) << "NavState A";
+    EXPECT_LT(RelErr(k::Mat93(T1 * J.B()), k::Mat93(num_nav.block<9, 3>(0, 9))), kRiddersTol) << "NavState B";
+    EXPECT_LT(RelErr(k::Mat93(T1 * J.C()), k::Mat93(num_nav.block<9, 3>(0, 12))), kRiddersTol) << "NavState C";
   }
   std::printf("[ worst   ] manifold step A,B,C vs Ridders (so far): %.2e\n", g_worst_step);
 }
@@ -149,12 +197,13 @@ TEST(Kernels, TangentStepJacobiansMatchRidders) {
       x.xi.segment<3>(6) = RandVec(5.0);
       k::TangentIncrement x1 = x;
       k::StepJacobians J;
-      k::TangentStep<true>(sc.acc, sc.omega, sc.dt, x1, &J);
+      k::TangentStep(sc.acc, sc.omega, sc.dt, x1, J);
       const Mat15 num = RiddersJacobian(
           [&](const Vec15& d, Vec15& out) {
             k::TangentIncrement y = x;
             y.xi += d.head<9>();
-            k::TangentStep<false>(sc.acc + d.segment<3>(9), sc.omega + d.segment<3>(12), sc.dt, y, nullptr);
+            k::StepJacobians unused;
+            k::TangentStep(sc.acc + d.segment<3>(9), sc.omega + d.segment<3>(12), sc.dt, y, unused);
             out.setZero();
             out.head<9>() = y.xi - x1.xi;
           },
