@@ -79,6 +79,17 @@ PreintIncrement CorrectInReference(const Preintegrated& m, const Vec3& bg, const
   return out;
 }
 
+// The measurement's errors are defined on the uncorrected increment Delta^; the corrected
+// one is Delta^ Exp(delta) Exp(a) with a = J_theta db, and Exp(delta) Exp(a) =
+// Exp(a) Exp(Exp(-a) delta), so its rotation error is Exp(a)^T delta (other blocks unchanged).
+Mat15 CorrectionTransport(const Preintegrated& m, const Vec3& bg, const Vec3& ba) {
+  Eigen::Matrix<double, 6, 1> db;
+  db << bg - m.bg_hat, ba - m.ba_hat;
+  Mat15 T = Mat15::Identity();
+  T.block<3, 3>(pref_idx::theta, pref_idx::theta) = so3::Exp(m.J_bias.topRows<3>() * db).transpose();
+  return T;
+}
+
 }  // namespace
 
 Preintegrated PreintegrateByPropagation(const Registry& reg, std::string_view propagator, const SampleWindow& window,
@@ -200,7 +211,8 @@ PropagationResult PropagateByPreintegration(const Registry& reg, const Preintegr
   Phi.block<9, 6>(0, left_idx::bg).noalias() += G.topLeftCorner<9, 9>() * J;
 
   const Mat15 S_s = reg.convert_covariance(state_convention, "left", x_s, cov_s);
-  const Mat15 S_e = Phi * S_s * Phi.transpose() + G * m.cov * G.transpose();  // eq. prop-cov
+  const Mat15 GT = G * CorrectionTransport(m, x_s.bg, x_s.ba);
+  const Mat15 S_e = Phi * S_s * Phi.transpose() + GT * m.cov * GT.transpose();  // eq. prop-cov
   out.Phi = reg.convert_transition("left", state_convention, x_s, out.x_e, Phi);
   out.cov = reg.convert_covariance("left", state_convention, out.x_e, Symmetrized(S_e));
   return out;
@@ -285,7 +297,7 @@ Residual ComputeResidual(const Registry& reg, ResidualKind kind, const Preintegr
     D_start.block<3, 3>(6, theta) = Rst * so3::skew(x_e.v - xp.v);
   }
   const Mat15 H_start_left = D_pred * Phi + D_start;
-  out.H_increment = D_pred * G;
+  out.H_increment = D_pred * G * CorrectionTransport(m, x_s.bg, x_s.ba);
   out.cov = Symmetrized(out.H_increment * m.cov * out.H_increment.transpose());  // eq. residual-cov
   out.H_start = H_start_left * reg.conversion(state_convention, "left", x_s);
   out.H_end = D_end * reg.conversion(state_convention, "left", x_e);

@@ -79,8 +79,9 @@ struct Residual {
   Mat15 H_start = Mat15::Zero();
   Mat15 H_end = Mat15::Zero();
   Mat15 cov = Mat15::Zero();
-  /// d r / d dx_se in preint_reference (multiply by preint_conversion(conv, "preint_reference")
-  /// for another increment convention).
+  /// d r / d dx_se: the derivative with respect to a perturbation of the measured increment
+  /// (before bias correction) in preint_reference; multiply by
+  /// preint_conversion(conv, "preint_reference", m.delta) for another increment convention.
   Mat15 H_increment = Mat15::Zero();
 };
 
