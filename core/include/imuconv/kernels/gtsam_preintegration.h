@@ -68,7 +68,7 @@ inline Mat3 SkewSquared(const Vec3& phi, double t2) {
 /// e(t) = d'(t)/t for d(t) = 1/t^2 - cot(t/2)/(2t), the [phi]x^2 coefficient of Jr^{-1}.
 /// Series: d(t) = sum_{n>=1} |B_2n|/(2n)! t^(2n-2) (Bernoulli numbers, from the Laurent
 /// series of cot), so e(t) = sum_{n>=2} (2n-2)|B_2n|/(2n)! t^(2n-4). Below t = 0.5 the
-/// terms shrink by t^2/(4 pi^2) < 0.0064, so seven terms leave < 1e-16 relative. Above,
+/// terms shrink by t^2/(4 pi^2) < 0.0064, so seven terms leave < 5e-16 relative. Above,
 /// the closed form e = (1/(4 sin^2(t/2)) - 1/t^2 - d)/t^2 loses at most ~30/t^2 ulps
 /// (< 3e-14 relative).
 inline double DPrimeOverTSeries(double t2) {
