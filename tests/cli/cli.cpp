@@ -1,0 +1,178 @@
+// The imuconv binary: each subcommand's output, exit codes and error messages.
+#include <gtest/gtest.h>
+
+#include "../pipeline/pipeline_test_util.h"
+#include "imuconv/pipeline/json_io.h"
+#include "imuconv_test.h"
+
+namespace {
+using namespace imuconv::test;
+using nlohmann::json;
+
+bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
+
+TEST(Cli, HelpEverywhere) {
+  TempDir tmp;
+  CommandResult r = RunImuconv("--help", tmp);
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* sub : {"plugins", "conversion", "run", "--plugin-dir"}) EXPECT_TRUE(Has(r.out, sub)) << sub << "\n" << r.out;
+  for (const char* sub : {"plugins", "conversion", "run"}) {
+    r = RunImuconv(std::string(sub) + " --help", tmp);
+    EXPECT_EQ(r.exit_code, 0) << sub;
+    EXPECT_TRUE(Has(r.out, "--plugin-dir")) << sub << "\n" << r.out;
+  }
+}
+
+TEST(Cli, UsageErrorsExitWith2) {
+  TempDir tmp;
+  CommandResult r = RunImuconv("", tmp);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(Has(r.err, "A subcommand is required")) << r.err;
+  r = RunImuconv("frobnicate", tmp);
+  EXPECT_EQ(r.exit_code, 2);
+  r = RunImuconv("run", tmp);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(Has(r.err, "pipeline is required")) << r.err;
+  r = RunImuconv("conversion --from left", tmp);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(Has(r.err, "--to is required")) << r.err;
+}
+
+TEST(Cli, PluginsTableAndJson) {
+  TempDir tmp;
+  CommandResult r = RunImuconv("plugins", tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* s : {"state_convention:", "preint_convention:", "propagator:", "preintegrator:", "rk4", "gtsam_manifold",
+                        "[theta,p,v,ba,bg]", "imuconv_plugin_state_left.so", "1.0.0"})
+    EXPECT_TRUE(Has(r.out, s)) << s << "\n" << r.out;
+  EXPECT_FALSE(Has(r.out, "load errors:"));
+
+  r = RunImuconv("plugins --json", tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_TRUE(j["load_errors"].empty());
+  // The same plugins as the test registry, with the same block orders.
+  const auto& reg = Plugins();
+  EXPECT_EQ(j["plugins"].size(), reg.plugins().size());
+  for (const auto& p : j["plugins"]) {
+    for (const char* k : {"id", "kind", "file", "version", "blocks"}) EXPECT_TRUE(p.contains(k)) << p.dump();
+    if (p["kind"] == "state_convention")
+      EXPECT_EQ(p["blocks"].get<std::vector<std::string>>(),
+                reg.info(imuconv::PluginKind::StateConvention, p["id"].get<std::string>()).blocks);
+  }
+}
+
+TEST(Cli, PluginDirIsSearchedFirstAndLoadErrorsAreListed) {
+  TempDir tmp;
+  fs::create_directories(tmp.file("extra"));
+  const std::string broken = tmp.write("extra/imuconv_plugin_broken.so", "not a shared object\n");
+  for (const std::string args : {"plugins --json --plugin-dir " + ShellQuote(tmp.file("extra")),
+                                 "--plugin-dir " + ShellQuote(tmp.file("extra")) + " plugins --json"}) {
+    const CommandResult r = RunImuconv(args, tmp);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json j = json::parse(r.out);
+    ASSERT_FALSE(j["search_path"].empty());
+    EXPECT_EQ(j["search_path"][0], tmp.file("extra"));
+    ASSERT_EQ(j["load_errors"].size(), 1u) << r.out;
+    EXPECT_EQ(j["load_errors"][0]["file"], broken);
+    EXPECT_TRUE(Has(j["load_errors"][0]["message"], "cannot load")) << r.out;
+    EXPECT_GT(j["plugins"].size(), 5u);  // the built-in ones still load
+  }
+  const CommandResult t = RunImuconv("plugins --plugin-dir " + ShellQuote(tmp.file("extra")), tmp);
+  EXPECT_TRUE(Has(t.out, "load errors:\n  " + broken + ": ")) << t.out;
+}
+
+TEST(Cli, ConversionMatchesTheRegistry) {
+  TempDir tmp;
+  const std::string state = SourcePath("examples/hover.state.json");
+  CommandResult r = RunImuconv("conversion --from left --to gtsam_navstate --state " + ShellQuote(state) + " --json", tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["jacobian"]["rows"]["convention"], "gtsam_navstate");
+  EXPECT_EQ(j["jacobian"]["rows"]["blocks"], json({"theta", "p", "v", "ba", "bg"}));
+  EXPECT_EQ(j["jacobian"]["cols"]["convention"], "left");
+  EXPECT_EQ(j["jacobian"]["cols"]["blocks"], json({"p", "theta", "v", "bg", "ba"}));
+  const imuconv::ImuState x = imuconv::pipeline::ReadStateFile(state);
+  const imuconv::Mat15 expect = Plugins().conversion("left", "gtsam_navstate", x);
+  // Same computation, printed with 17 significant digits: equal to 1e-15.
+  EXPECT_LT((JsonMatrix(j["jacobian"]["matrix"]) - expect).cwiseAbs().maxCoeff(), 1e-15);
+
+  r = RunImuconv("conversion --from left --to gtsam_navstate --state " + ShellQuote(state), tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(Has(r.out, "rows: gtsam_navstate blocks, columns: left blocks")) << r.out;
+  EXPECT_TRUE(Has(r.out, "theta.x")) << r.out;
+  EXPECT_TRUE(Has(r.out, "\nbg.z ")) << r.out;
+  EXPECT_TRUE(Has(r.out, "      p.x       p.y       p.z   theta.x")) << r.out;
+}
+
+TEST(Cli, ConversionErrors) {
+  TempDir tmp;
+  const std::string state = SourcePath("examples/hover.state.json");
+  CommandResult r = RunImuconv("conversion --from left --to navstate --state " + ShellQuote(state), tmp);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(Has(r.err, "imuconv: error: unknown state convention 'navstate'; known: ")) << r.err;
+  r = RunImuconv("conversion --from gtsam_manifold --to left --state " + ShellQuote(state), tmp);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(Has(r.err, "('gtsam_manifold' is an increment convention)")) << r.err;
+  const std::string bad = tmp.write("bad.state.json", R"({"p": [0, 0, 0], "q_wxyz": [1, 0, 0], "v": [0, 0, 0], "w": 1})");
+  r = RunImuconv("conversion --from left --to gtsam_navstate --state " + ShellQuote(bad), tmp);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(Has(r.err, bad + ": /q_wxyz: expected an array of 4 numbers, found an array of 3")) << r.err;
+  EXPECT_TRUE(Has(r.err, bad + ": /w: unknown key 'w'")) << r.err;
+  r = RunImuconv("conversion --from left --to gtsam_navstate --state " + ShellQuote(tmp.file("none.json")), tmp);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(Has(r.err, tmp.file("none.json") + ": cannot open the file for reading")) << r.err;
+}
+
+TEST(Cli, RunWritesOutputAndSummary) {
+  TempDir tmp;
+  const std::string out = tmp.file("out.json");
+  CommandResult r = RunImuconv("run " + ShellQuote(SourcePath("examples/inline_basics.json")) + " -o " + ShellQuote(out), tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(Has(r.out, "propagate_by_preintegration 'by_preint'")) << r.out;
+  EXPECT_TRUE(Has(r.out, "wrote " + out)) << r.out;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  const json j = json::parse(ReadText(out));
+  EXPECT_EQ(j["tasks"].size(), 10u);
+  EXPECT_GT(CheckMatricesLabelled(j), 0u);
+
+  // -o -: the JSON alone on stdout, the summary on stderr.
+  r = RunImuconv("run " + ShellQuote(SourcePath("examples/inline_basics.json")) + " -o -", tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(json::parse(r.out)["tasks"].size(), 10u);
+  EXPECT_TRUE(Has(r.err, "preintegrate 'kf'")) << r.err;
+}
+
+TEST(Cli, RunReportsEveryConfigErrorWithItsPointer) {
+  TempDir tmp;
+  json doc = json::parse(ReadText(SourcePath("examples/inline_basics.json")));
+  doc["tasks"][0]["propagatr"] = "rk4";
+  doc["tasks"][1]["keyframes"][2] = "late";
+  doc.erase("noise");
+  const std::string f = tmp.write("bad.json", doc.dump(2));
+  const CommandResult r = RunImuconv("run " + ShellQuote(f) + " -o " + ShellQuote(tmp.file("o.json")), tmp);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(Has(r.err, "imuconv: error: " + f + ": ")) << r.err;
+  EXPECT_TRUE(Has(r.err, f + ": /noise: required key is missing")) << r.err;
+  EXPECT_TRUE(Has(r.err, f + ": /tasks/0/propagatr: unknown key 'propagatr'")) << r.err;
+  EXPECT_TRUE(Has(r.err, f + ": /tasks/1/keyframes/2: expected a number, found a string")) << r.err;
+  EXPECT_FALSE(fs::exists(tmp.file("o.json")));
+}
+
+TEST(Cli, RunReportsBadDataWithFileAndLine) {
+  TempDir tmp;
+  fs::create_directories(tmp.file("data"));
+  tmp.write("data/imu.csv", "#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z\n1000,0,0,0,0,0,9.8\n2000,0,0,0,0,0,9.8\n1500,0,0,0,0,0,9.8\n");
+  json doc = json::parse(ReadText(SourcePath("examples/euroc_v1_01_keyframes.json")));
+  doc["imu"]["path"] = "data/imu.csv";
+  doc.erase("ground_truth");
+  doc["tasks"] = {{{"type", "preintegrate"}, {"name", "p"}, {"method", {{"propagator", "rk4"}}},
+                   {"interval", {{"t_start", 0.0}, {"t_end", 1e-6}}}}};
+  const std::string f = tmp.write("p.json", doc.dump());
+  const CommandResult r = RunImuconv("run " + ShellQuote(f) + " -o -", tmp);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(Has(r.err, tmp.file("data/imu.csv") + ":4: timestamp 1500 is not after the previous sample's (line 3)")) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+}  // namespace

@@ -1,0 +1,280 @@
+// IMU and ground-truth readers: the real EuRoC slice, nanosecond precision, the generic CSV
+// column map, and one specific error (file, line, expectation) per kind of malformed file.
+#include <gtest/gtest.h>
+
+#include "imuconv/pipeline/imu_reader.h"
+#include "imuconv/so3.h"
+#include "pipeline_test_util.h"
+
+namespace {
+using namespace imuconv;
+using namespace imuconv::pipeline;
+using imuconv::test::MessageOf;
+using imuconv::test::SourcePath;
+using imuconv::test::TempDir;
+
+const std::string kEurocHeader = "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
+                                 "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n";
+
+std::string EurocSlice() { return SourcePath("examples/data/V1_01_easy_imu0_slice.csv"); }
+std::string GtSlice() { return SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv"); }
+
+// ---- EuRoC, good files ----------------------------------------------------------------
+TEST(EurocReader, RealSlice) {
+  const ImuData d = ReadEurocImu(EurocSlice());
+  ASSERT_EQ(d.samples.size(), 4041u);
+  ASSERT_TRUE(d.origin.has_value());
+  EXPECT_EQ(d.origin->nanoseconds().value(), 1403715293262142976LL);
+  // First rows, compared exactly with the text of the file (same decimal -> same double).
+  EXPECT_EQ(d.samples[0].t, 0.0);
+  EXPECT_EQ(d.samples[0].gyro.x(), 0.50614548307835561);
+  EXPECT_EQ(d.samples[0].accel.z(), -3.6202882916666663);
+  // Stamps ...3267142912 - ...3262142976 = 4999936 ns: exact in int64, then one rounding.
+  EXPECT_EQ(d.samples[1].t, 4999936.0 / 1e9);
+  EXPECT_EQ(d.samples.back().t, 20.2);  // 20200000000 ns after the origin
+  for (std::size_t i = 1; i < d.samples.size(); ++i) ASSERT_GT(d.samples[i].t, d.samples[i - 1].t);
+}
+
+TEST(EurocReader, NanosecondStepsSurviveLargeStamps) {
+  // 1.4e18 ns is beyond 2^53: as a double its resolution is 256 ns. Read as int64 and made
+  // relative first, 1 ns steps stay exact.
+  TempDir tmp;
+  const std::string f = tmp.write("imu.csv", kEurocHeader +
+                                                 "1403715273262142976,0,0,0,0,0,9.81\n"
+                                                 "1403715273262142977,0,0,0,0,0,9.81\n"
+                                                 "1403715273262142979,0,0,0,0,0,9.81\n");
+  const ImuData d = ReadEurocImu(f);
+  ASSERT_EQ(d.samples.size(), 3u);
+  EXPECT_EQ(d.samples[1].t, 1e-9);
+  EXPECT_EQ(d.samples[2].t, 3e-9);
+  EXPECT_EQ(d.origin->absolute_ns(d.samples[2].t).value(), 1403715273262142979LL);
+}
+
+TEST(EurocReader, GivenOriginAndCrlf) {
+  TempDir tmp;
+  const std::string f = tmp.write("imu.csv", "#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z\r\n"
+                                             "2000000000, 0.1,0.2,0.3 ,1,2,3\r\n"
+                                             "\r\n"
+                                             "2005000000,0.1,0.2,0.3,1,2,3\r\n");
+  const ImuData d = ReadEurocImu(f, 1000000000LL);
+  ASSERT_EQ(d.samples.size(), 2u);
+  EXPECT_EQ(d.samples[0].t, 1.0);
+  EXPECT_EQ(d.samples[1].t, 1.005);
+  EXPECT_EQ(d.samples[0].gyro.z(), 0.3);
+}
+
+// ---- EuRoC, malformed files: each gets its own message with file and line ------------
+struct Malformed {
+  const char* name;
+  std::string body;   // after the header line
+  std::string expect;  // substring of the message after "FILE:LINE: "
+  std::size_t line;
+};
+
+void PrintTo(const Malformed& m, std::ostream* os) { *os << m.name; }
+
+class EurocMalformed : public ::testing::TestWithParam<Malformed> {};
+
+TEST_P(EurocMalformed, SpecificError) {
+  const Malformed& m = GetParam();
+  TempDir tmp;
+  const std::string f = tmp.write("bad.csv", kEurocHeader + m.body);
+  try {
+    ReadEurocImu(f);
+    FAIL() << "no error for " << m.name;
+  } catch (const ReadError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(e.file(), f);
+    EXPECT_EQ(e.line(), m.line) << msg;
+    EXPECT_EQ(msg.rfind(f + ":" + std::to_string(m.line) + ": ", 0), 0u) << msg;
+    EXPECT_NE(msg.find(m.expect), std::string::npos) << "expected '" << m.expect << "' in: " << msg;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, EurocMalformed,
+    ::testing::Values(
+        Malformed{"too_few_columns", "1000,0,0,0,0,0,9.81\n2000,0,0,0,0,9.81\n", "expected 7 fields separated by ',', found 6", 3},
+        Malformed{"too_many_columns", "1000,0,0,0,0,0,9.81,7\n", "expected 7 fields separated by ',', found 8", 2},
+        Malformed{"non_numeric", "1000,0,abc,0,0,0,9.81\n", "column 2 (w_y): expected a finite number, found 'abc'", 2},
+        Malformed{"nan", "1000,0,0,0,0,0,9.81\n2000,0,0,0,nan,0,9.81\n", "column 4 (a_x): expected a finite number, found 'nan'", 3},
+        Malformed{"inf", "1000,0,0,inf,0,0,9.81\n", "column 3 (w_z): expected a finite number, found 'inf'", 2},
+        Malformed{"empty_field", "1000,0,0,0,,0,9.81\n", "column 4 (a_x): expected a finite number, found ''", 2},
+        Malformed{"repeated_stamp", "1000,0,0,0,0,0,9.81\n2000,0,0,0,0,0,9.81\n2000,0,0,0,0,0,9.81\n",
+                  "timestamp 2000 is not after the previous sample's (line 3)", 4},
+        Malformed{"decreasing_stamp", "1000,0,0,0,0,0,9.81\n999,0,0,0,0,0,9.81\n",
+                  "timestamp 999 is not after the previous sample's (line 2)", 3},
+        Malformed{"fractional_stamp", "1000.5,0,0,0,0,0,9.81\n", "column 0 (timestamp [ns]): expected an integer timestamp in nanoseconds, found '1000.5'", 2},
+        Malformed{"stamp_overflow", "99999999999999999999,0,0,0,0,0,9.81\n", "expected an integer timestamp in nanoseconds", 2},
+        Malformed{"trailing_garbage", "1000,0,0,0,0,0,9.81x\n", "column 6 (a_z): expected a finite number, found '9.81x'", 2}),
+    [](const auto& info) { return std::string(info.param.name); });
+
+TEST(EurocReader, MissingAndEmptyFiles) {
+  TempDir tmp;
+  const std::string missing = tmp.file("nope.csv");
+  std::string msg = MessageOf<ReadError>([&] { ReadEurocImu(missing); });
+  EXPECT_EQ(msg, missing + ": cannot open the file for reading");
+  const std::string empty = tmp.write("empty.csv", kEurocHeader);
+  msg = MessageOf<ReadError>([&] { ReadEurocImu(empty); });
+  EXPECT_EQ(msg, empty + ": contains no IMU samples");
+}
+
+// ---- generic CSV --------------------------------------------------------------------------
+TEST(CsvReader, SecondsCsvMatchesTheEurocFile) {
+  // examples/data/generic_imu_seconds.csv is the first 2 s of the EuRoC slice rewritten with
+  // absolute seconds (9 decimals), ';' and reordered columns. Times must agree with the
+  // nanosecond file's to round-off of the fraction (tolerance 1e-15 s); values exactly.
+  CsvFormat f;
+  f.delimiter = ';';
+  f.header_rows = 1;
+  f.time_unit = TimeUnit::s;
+  f.columns = {std::string("time"), 4, 5, 6, std::string("ax"), std::string("ay"), std::string("az")};
+  const ImuData c = ReadCsvImu(SourcePath("examples/data/generic_imu_seconds.csv"), f);
+  const ImuData e = ReadEurocImu(EurocSlice());
+  ASSERT_EQ(c.samples.size(), 401u);
+  EXPECT_EQ(c.origin->nanoseconds().value(), e.origin->nanoseconds().value());
+  for (std::size_t i = 0; i < c.samples.size(); ++i) {
+    ASSERT_NEAR(c.samples[i].t, e.samples[i].t, 1e-15) << i;
+    ASSERT_EQ(c.samples[i].gyro, e.samples[i].gyro) << i;
+    ASSERT_EQ(c.samples[i].accel, e.samples[i].accel) << i;
+  }
+}
+
+TEST(CsvReader, WhitespaceMillisecondsOriginAndComments) {
+  TempDir tmp;
+  const std::string f = tmp.write("imu.txt",
+                                  "ax ay az  t  gx gy gz\n"
+                                  "-  -  -   ms rad/s rad/s rad/s\n"
+                                  "0 0 9.8   1000.5  0.1 0 0\n"
+                                  "% a comment line\n"
+                                  "\t0 0 9.8 1003.0 0.2 0 0\n");
+  CsvFormat fmt;
+  fmt.whitespace_delimited = true;
+  fmt.header_rows = 2;
+  fmt.comment = "%";
+  fmt.time_unit = TimeUnit::ms;
+  fmt.time_origin = TimeValue{1000, 0.0};
+  fmt.columns = {3, 4, 5, 6, 0, 1, 2};
+  const ImuData d = ReadCsvImu(f, fmt);
+  ASSERT_EQ(d.samples.size(), 2u);
+  EXPECT_DOUBLE_EQ(d.samples[0].t, 0.5e-3);
+  EXPECT_DOUBLE_EQ(d.samples[1].t, 3e-3);
+  EXPECT_EQ(d.samples[1].gyro.x(), 0.2);
+  EXPECT_EQ(d.samples[1].accel.z(), 9.8);
+  EXPECT_EQ(d.origin->nanoseconds().value(), 1000000000LL);  // 1000 ms
+}
+
+TEST(CsvReader, SpecificErrors) {
+  TempDir tmp;
+  CsvFormat named;
+  named.header_rows = 1;
+  named.columns = {std::string("t"), std::string("gx"), std::string("gy"), std::string("gz"), std::string("ax"),
+                   std::string("ay"), std::string("az")};
+  const std::string hdr = "t,gx,gy,gz,ax,ay,az\n";
+
+  std::string f = tmp.write("a.csv", "t,gyro_x,gy,gz,ax,ay,az\n0,0,0,0,0,0,0\n");
+  std::string msg = MessageOf<ReadError>([&] { ReadCsvImu(f, named); });
+  EXPECT_NE(msg.find(f + ":1: no column named 'gx' (for 'wx') in the header; columns: 't', 'gyro_x'"), std::string::npos) << msg;
+
+  CsvFormat no_header = named;
+  no_header.header_rows = 0;
+  f = tmp.write("b.csv", "0,0,0,0,0,0,0\n");
+  msg = MessageOf<ReadError>([&] { ReadCsvImu(f, no_header); });
+  EXPECT_NE(msg.find("column 't' is given by the name 't' but the format has no header row"), std::string::npos) << msg;
+
+  CsvFormat wide;
+  wide.columns = {0, 1, 2, 3, 4, 5, 9};
+  f = tmp.write("c.csv", "0,0,0,0,0,0,0\n");
+  msg = MessageOf<ReadError>([&] { ReadCsvImu(f, wide); });
+  EXPECT_NE(msg.find(f + ":1: expected at least 10 fields separated by ','"), std::string::npos) << msg;
+
+  f = tmp.write("d.csv", hdr + "0,0,0,0,0,0,0\n0.1,0,0,0,0,0\n");
+  msg = MessageOf<ReadError>([&] { ReadCsvImu(f, named); });
+  EXPECT_NE(msg.find(f + ":3: expected 7 fields separated by ',', found 6"), std::string::npos) << msg;
+
+  f = tmp.write("e.csv", hdr + "0,0,0,0,0,0,0\n0.1,0,0,0,0,0,0\n0.1,0,0,0,0,0,0\n");
+  msg = MessageOf<ReadError>([&] { ReadCsvImu(f, named); });
+  EXPECT_NE(msg.find(f + ":4: timestamp 0.1 is not after the previous sample's (line 3)"), std::string::npos) << msg;
+
+  f = tmp.write("f.csv", hdr + "0,0,0,0,0,0,0\n0.1x,0,0,0,0,0,0\n");
+  msg = MessageOf<ReadError>([&] { ReadCsvImu(f, named); });
+  EXPECT_NE(msg.find(f + ":3: column 0 (t, 't'): expected a timestamp in s, found '0.1x'"), std::string::npos) << msg;
+
+  f = tmp.write("g.csv", hdr + "0,0,0,0,0,NaN,0\n");
+  msg = MessageOf<ReadError>([&] { ReadCsvImu(f, named); });
+  EXPECT_NE(msg.find(f + ":2: column 5 (ay, 'ay'): expected a finite number, found 'NaN'"), std::string::npos) << msg;
+
+  f = tmp.write("h.csv", "");
+  CsvFormat two_headers = named;
+  two_headers.header_rows = 2;
+  msg = MessageOf<ReadError>([&] { ReadCsvImu(f, two_headers); });
+  EXPECT_NE(msg.find("expected 2 header rows, the file ends first"), std::string::npos) << msg;
+}
+
+TEST(TimeValue, ParsesExactly) {
+  auto t = ParseTimeValue("1403715273.262142976");
+  ASSERT_TRUE(t);
+  EXPECT_EQ(t->whole, 1403715273);
+  EXPECT_EQ(t->frac, 0.262142976);
+  t = ParseTimeValue("-0.25");
+  ASSERT_TRUE(t);
+  EXPECT_EQ(t->whole, -1);
+  EXPECT_EQ(t->frac, 0.75);
+  t = ParseTimeValue("1.5e-3");
+  ASSERT_TRUE(t);
+  EXPECT_EQ(t->whole, 0);
+  EXPECT_DOUBLE_EQ(t->frac, 1.5e-3);
+  t = ParseTimeValue(" 42 ");
+  ASSERT_TRUE(t);
+  EXPECT_EQ(t->whole, 42);
+  for (const char* bad : {"", "abc", "1.2.3", "nan", "inf", "1e", "--1", "0x10", "1,5"})
+    EXPECT_FALSE(ParseTimeValue(bad)) << bad;
+  // Relative seconds: the whole parts subtract exactly before anything is rounded.
+  TimeOrigin o{TimeValue{1403715273, 0.262142976}, TimeUnit::s};
+  EXPECT_NEAR(o.relative_seconds(*ParseTimeValue("1403715273.267142912")), 4.999936e-3, 1e-16);
+}
+
+// ---- ground truth -----------------------------------------------------------------------
+TEST(GroundTruthReader, RealSliceAndInterpolation) {
+  const ImuData imu = ReadEurocImu(EurocSlice());
+  const GroundTruth gt = ReadEurocGroundTruth(GtSlice(), *imu.origin);
+  ASSERT_EQ(gt.t.size(), 405u);
+  EXPECT_EQ(gt.t.front(), 0.0);
+  // The first row of the file, compared exactly with its text.
+  EXPECT_EQ(gt.x[0].p, Vec3(0.953572, 0.497809, 1.32987));
+  EXPECT_EQ(gt.x[0].v, Vec3(-0.136055, -0.389991, 0.323311));
+  EXPECT_EQ(gt.x[0].bg, Vec3(-0.00191464, 0.0212065, 0.0763849));
+  EXPECT_EQ(gt.x[0].ba, Vec3(-0.0175313, 0.16211, 0.0891823));
+  EXPECT_LT((gt.x[0].R - so3::FromQuaternionWxyz(0.429511, 0.534653, -0.615223, 0.388801)).norm(), 1e-15);
+  // Midway between two rows: p, v, b linear; R on the geodesic, half the relative angle.
+  const double tm = 0.5 * (gt.t[10] + gt.t[11]);
+  const auto xm = gt.at(tm);
+  ASSERT_TRUE(xm);
+  EXPECT_LT((xm->p - 0.5 * (gt.x[10].p + gt.x[11].p)).norm(), 1e-12);
+  const Vec3 full = so3::Log(gt.x[10].R.transpose() * gt.x[11].R);
+  const Vec3 half = so3::Log(gt.x[10].R.transpose() * xm->R);
+  EXPECT_LT((half - 0.5 * full).norm(), 1e-12);
+  EXPECT_FALSE(gt.at(-0.001));
+  EXPECT_FALSE(gt.at(gt.t.back() + 1e-6));
+  EXPECT_TRUE(gt.at(gt.t.back()));
+}
+
+TEST(GroundTruthReader, SpecificErrors) {
+  TempDir tmp;
+  const TimeOrigin o{TimeValue{0, 0.0}, TimeUnit::ns};
+  const std::string hdr = "#time(ns),px,py,pz,qw,qx,qy,qz,vx,vy,vz,bwx,bwy,bwz,bax,bay,baz\n";
+  std::string f = tmp.write("a.csv", hdr + "1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0\n");
+  std::string msg = MessageOf<ReadError>([&] { ReadEurocGroundTruth(f, o); });
+  EXPECT_NE(msg.find(f + ":2: expected 17 fields"), std::string::npos) << msg;
+  f = tmp.write("b.csv", hdr + "1000,0,0,0,0.9,0,0,0,0,0,0,0,0,0,0,0,0\n");
+  msg = MessageOf<ReadError>([&] { ReadEurocGroundTruth(f, o); });
+  EXPECT_NE(msg.find(f + ":2: quaternion (q_w, q_x, q_y, q_z) has norm 0.9"), std::string::npos) << msg;
+  f = tmp.write("c.csv", hdr + "1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n");
+  msg = MessageOf<ReadError>([&] { ReadEurocGroundTruth(f, o); });
+  EXPECT_NE(msg.find(f + ":3: timestamp 1000 is not after the previous sample's (line 2)"), std::string::npos) << msg;
+  f = tmp.write("d.csv", hdr + "1000,0,0,0,1,0,0,0,0,0,x,0,0,0,0,0,0\n");
+  msg = MessageOf<ReadError>([&] { ReadEurocGroundTruth(f, o); });
+  EXPECT_NE(msg.find(f + ":2: column 10 (v_z): expected a finite number, found 'x'"), std::string::npos) << msg;
+}
+
+}  // namespace
