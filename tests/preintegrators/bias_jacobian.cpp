@@ -2,8 +2,8 @@
 // with a perturbed bias estimate, over the whole 10 s (static: 5 s) of every reference case.
 // Each scheme is differentiated in its own chart (paper, "GTSAM Peculiarities"):
 //   manifold: Log(dR0^T dR(b)), dp(b) - dp0, dv(b) - dv0   (eq. preint-error-dr..dv);
-//   tangent:  xi(b) - xi0 on the 9-vector [theta, p, v] (theta is not wrapped at pi, so
-//             it is read from the kernel's increment rather than from Log(dR)).
+//   tangent:  xi(b) - xi0 on the 9-vector [theta, p, v], read from the kernel's increment
+//             (Log(dR) would equal theta only while |theta| < pi; the scheme never wraps).
 // Columns [ba, bg]. Both recursions are exact derivatives of the discrete schemes, so the
 // only error is the differencing.
 #include <gtest/gtest.h>

@@ -72,8 +72,9 @@ void CompareCase(const Preintegrator& pre, const ReferenceCase& rc, const nlohma
   }
   std::printf("    %-12s max d %.2e (%s)\n", rc.id.c_str(), case_worst, case_field.c_str());
 
-  // Tangent only: GTSAM's own 9-vector [theta, p, v] (theta unwrapped, beyond pi in the
-  // aggressive cases), from the kernel the plugin runs.
+  // Tangent only: GTSAM's own 9-vector [theta, p, v] (the scheme's state; theta is never
+  // wrapped, so it is compared directly rather than through Log(dR)), from the kernel the
+  // plugin runs.
   if (ref.contains("preintegrated_tangent")) {
     kernels::TangentIncrement inc;
     NativePreintegration o;
