@@ -117,6 +117,15 @@ TEST(EurocReader, MissingAndEmptyFiles) {
   const std::string empty = tmp.write("empty.csv", kEurocHeader);
   msg = MessageOf<ReadError>([&] { ReadEurocImu(empty); });
   EXPECT_EQ(msg, empty + ": contains no IMU samples");
+  // A directory, and a binary file: refused rather than read without end.
+  msg = MessageOf<ReadError>([&] { ReadEurocImu(tmp.path()); });
+  EXPECT_EQ(msg, tmp.path() + ": is a directory, not a file");
+  const std::string bin = tmp.write("bin.csv", kEurocHeader + std::string("1000,0,0,\0,0,0,9.81\n", 21));
+  msg = MessageOf<ReadError>([&] { ReadEurocImu(bin); });
+  EXPECT_EQ(msg, bin + ":2: contains a NUL byte; expected a text (CSV) file");
+  const std::string longline = tmp.write("long.csv", kEurocHeader + std::string(2u << 20, '1'));
+  msg = MessageOf<ReadError>([&] { ReadEurocImu(longline); });
+  EXPECT_EQ(msg, longline + ":2: line is longer than 1 MiB; expected a text (CSV) file");
 }
 
 // ---- generic CSV --------------------------------------------------------------------------

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <charconv>
+#include <filesystem>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -149,16 +150,32 @@ std::optional<std::int64_t> TimeOrigin::absolute_ns(double relative_seconds) con
 
 namespace {
 
-// Streams a text file line by line, counting lines (1-based).
+// Streams a text file line by line, counting lines (1-based). Lines are capped at 1 MiB so a
+// binary or endless file (e.g. /dev/zero) fails instead of exhausting memory.
 class LineReader {
  public:
-  explicit LineReader(const std::string& path) : path_(path), in_(path, std::ios::binary) {
+  static constexpr std::size_t kMaxLine = 1u << 20;
+  explicit LineReader(const std::string& path) : path_(path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw ReadError(path, 0, "is a directory, not a file");
+    in_.open(path, std::ios::binary);
     if (!in_) throw ReadError(path, 0, "cannot open the file for reading");
   }
   bool next(std::string& line) {
-    if (!std::getline(in_, line)) {
-      if (in_.bad()) throw ReadError(path_, line_no_, "read error");
-      return false;
+    line.clear();
+    std::streambuf* sb = in_.rdbuf();
+    bool any = false;
+    while (true) {
+      const int c = sb->sbumpc();
+      if (c == std::char_traits<char>::eof()) {
+        if (!any) return false;
+        break;
+      }
+      any = true;
+      if (c == '\n') break;
+      if (c == '\0') throw ReadError(path_, line_no_ + 1, "contains a NUL byte; expected a text (CSV) file");
+      line.push_back(static_cast<char>(c));
+      if (line.size() > kMaxLine) throw ReadError(path_, line_no_ + 1, "line is longer than 1 MiB; expected a text (CSV) file");
     }
     ++line_no_;
     if (!line.empty() && line.back() == '\r') line.pop_back();

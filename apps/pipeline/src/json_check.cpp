@@ -1,6 +1,7 @@
 #include "imuconv/pipeline/json_check.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -278,6 +279,8 @@ std::optional<Vec3> Node::vec3(std::string_view key, bool required) const {
 }
 
 json ParseJsonFile(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw ReadError(path, 0, "is a directory, not a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ReadError(path, 0, "cannot open the file for reading");
   try {
@@ -288,6 +291,8 @@ json ParseJsonFile(const std::string& path) {
     const auto pos = msg.find("] ");
     if (pos != std::string::npos) msg = msg.substr(pos + 2);
     throw ConfigError(path, {{"", "not valid JSON: " + msg}});
+  } catch (const std::exception& e) {
+    throw ReadError(path, 0, std::string("cannot read the file: ") + e.what());
   }
 }
 

@@ -737,15 +737,18 @@ class Runner {
       }
       o << "\n";
     }
-    std::snprintf(buf, sizeof buf, " total %zu intervals, %.4f s, sum |dp| %.4f m, sum angle %.3f deg", rows.size(), sum_dt,
-                  sum_dp, sum_ang);
+    const std::string label = " total (" + std::to_string(rows.size()) + ")";
+    std::snprintf(buf, sizeof buf, "%-19s %7.4f %10.5f %12.5f", label.c_str(), sum_dt, sum_dp, sum_ang);
     o << buf;
     if (n) {
-      std::snprintf(buf, sizeof buf, "; position error rms %.3e m, max %.3e m; rotation error rms %.3e deg, max %.3e deg",
-                    std::sqrt(se_p / n), max_p, std::sqrt(se_r / n), max_r);
+      std::snprintf(buf, sizeof buf, " %12.3e %14.3e   rms over %zu interval(s)\n", std::sqrt(se_p / static_cast<double>(n)),
+                    std::sqrt(se_r / static_cast<double>(n)), n);
       o << buf;
+      std::snprintf(buf, sizeof buf, "%-19s %7s %10s %12s %12.3e %14.3e   max\n", "", "", "", "", max_p, max_r);
+      o << buf;
+    } else {
+      o << "\n";
     }
-    o << "\n";
   }
 
   void RunConvert(const TaskSpec& t, const ConvertTask& p, json& j) {
