@@ -248,6 +248,15 @@ TEST(PipelineConfig, RuntimeFailuresNameTheTask) {
   const Pipeline p = Pipeline::FromJson(d, kFile, IMUCONV_SOURCE_DIR);
   const std::string msg = imuconv::test::MessageOf<Error>([&] { pipeline::Run(p, imuconv::test::Plugins(), RunOptions{}); });
   EXPECT_EQ(msg, std::string(kFile) + ": /tasks/5/source/index: task 'prop' has 1 result(s); index 3 is out of range");
+  // A start covariance of 1e308 overflows in propagation: the task fails instead of writing null.
+  json big = Base();
+  json sigma = json::array();
+  for (int i = 0; i < 15; ++i) sigma.push_back(1e154);
+  big["tasks"][0]["start"]["cov"] = {{"sigma", sigma}};
+  const Pipeline q = Pipeline::FromJson(big, kFile, IMUCONV_SOURCE_DIR);
+  const std::string m2 = imuconv::test::MessageOf<Error>([&] { pipeline::Run(q, imuconv::test::Plugins(), RunOptions{}); });
+  EXPECT_NE(m2.find(std::string(kFile) + ": /tasks/0 (task 'prop'): produced a non-finite number (output /tasks/0/cov/matrix/"),
+            std::string::npos) << m2;
 }
 
 }  // namespace

@@ -82,6 +82,20 @@ struct TaskResult {
   std::vector<PropRecord> props;
 };
 
+/// The pointer (below `prefix`) of the first non-finite number in j, or nothing.
+std::optional<std::string> FindNonFinite(const json& j, const std::string& prefix) {
+  if (j.is_number_float()) {
+    if (!std::isfinite(j.get<double>())) return prefix;
+  } else if (j.is_object()) {
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (auto p = FindNonFinite(it.value(), prefix + "/" + PointerToken(it.key()))) return p;
+  } else if (j.is_array()) {
+    for (std::size_t i = 0; i < j.size(); ++i)
+      if (auto p = FindNonFinite(j[i], prefix + "/" + std::to_string(i))) return p;
+  }
+  return std::nullopt;
+}
+
 /// The "FILE: POINTER: message" error of one task at run time.
 class TaskFailure : public Error {
  public:
@@ -99,7 +113,11 @@ class Runner {
     json tasks = json::array();
     for (const auto& t : s_.tasks) {
       try {
-        tasks.push_back(RunTask(t));
+        json r = RunTask(t);
+        // JSON has no NaN or infinity: a task that produced one fails rather than writing null.
+        if (auto where = FindNonFinite(r, "/tasks/" + std::to_string(tasks.size())))
+          throw Error("produced a non-finite number (output " + *where + "); no output is written");
+        tasks.push_back(std::move(r));
       } catch (const ConfigError&) {
         throw;
       } catch (const ReadError&) {
