@@ -34,5 +34,7 @@ void PrintError(const std::string& message);
 void RegisterPluginsCommand(CLI::App& app, CommandContext& ctx);
 void RegisterConversionCommand(CLI::App& app, CommandContext& ctx);
 void RegisterRunCommand(CLI::App& app, CommandContext& ctx);
+void RegisterRefcaseCommand(CLI::App& app, CommandContext& ctx);
+void RegisterBenchCommand(CLI::App& app, CommandContext& ctx);
 
 }  // namespace imuconv::cli

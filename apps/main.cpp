@@ -22,6 +22,8 @@ int main(int argc, char** argv) {
   RegisterPluginsCommand(app, ctx);
   RegisterConversionCommand(app, ctx);
   RegisterRunCommand(app, ctx);
+  RegisterRefcaseCommand(app, ctx);
+  RegisterBenchCommand(app, ctx);
 
   try {
     app.parse(argc, argv);  // runs the chosen subcommand's callback
