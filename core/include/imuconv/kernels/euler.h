@@ -13,7 +13,7 @@
 // beyond the exact first derivative of this map.
 //
 // Exact Jacobian of the step in the left chart (R = Exp(dtheta) R^, paper eq. left-dpr..):
-//   dtheta' = dtheta - R' Jr(w dt) dt dbg             (Exp(w dt - dbg dt) = Exp(w dt) Exp(-Jr dbg dt),
+//   dtheta' = dtheta - R' Jr(w dt) dt dbg             (Exp(w dt - dbg dt) ~ Exp(w dt) Exp(-Jr dbg dt),
 //                                                      moved to the left through R')
 //   dv'     = dv - dt [R a]x dtheta - dt R dba        (Exp(dtheta) R a ~ R a - [R a]x dtheta)
 //   dp'     = dp + dt dv - dt^2/2 [R a]x dtheta - dt^2/2 R dba

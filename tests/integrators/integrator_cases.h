@@ -1,0 +1,105 @@
+// Helpers shared by the integrator tests: the reference cases as kernel input, windows over
+// them, and one switch over the three kernels.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "imuconv/kernels/euler.h"
+#include "imuconv/kernels/rk4.h"
+#include "imuconv/so3.h"
+#include "imuconv/window.h"
+#include "imuconv_test.h"
+
+namespace imuconv::test {
+
+/// One tests/data/reference/cases/*.json file (FORMAT.md) as kernel input.
+struct ImuCase {
+  std::vector<ImuSample> samples;
+  ImuState x_s;
+  Mat15 cov_s_left = Mat15::Zero();
+  ImuNoise noise;
+  Vec3 gravity = Vec3::Zero();
+};
+
+inline Vec3 JsonVec3(const nlohmann::json& j) { return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>()); }
+
+inline ImuCase LoadCase(const std::string& name) {
+  const nlohmann::json j = ReadJson(DataPath("reference/cases/" + name + ".json"));
+  ImuCase c;
+  for (const auto& row : j.at("imu")) {
+    ImuSample s;
+    s.t = row[0].get<double>();
+    s.gyro = Vec3(row[1].get<double>(), row[2].get<double>(), row[3].get<double>());
+    s.accel = Vec3(row[4].get<double>(), row[5].get<double>(), row[6].get<double>());
+    c.samples.push_back(s);
+  }
+  const auto& st = j.at("state_s");
+  const auto& q = st.at("q_wxyz");
+  c.x_s.R = so3::FromQuaternionWxyz(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>());
+  c.x_s.p = JsonVec3(st.at("p"));
+  c.x_s.v = JsonVec3(st.at("v"));
+  c.x_s.bg = JsonVec3(st.at("bg"));
+  c.x_s.ba = JsonVec3(st.at("ba"));
+  c.cov_s_left = JsonMatrix(j.at("cov_s_left").at("matrix"));
+  const auto& n = j.at("noise");
+  c.noise.gyro_noise_density = n.at("gyro_noise_density").get<double>();
+  c.noise.accel_noise_density = n.at("accel_noise_density").get<double>();
+  c.noise.gyro_random_walk = n.at("gyro_random_walk").get<double>();
+  c.noise.accel_random_walk = n.at("accel_random_walk").get<double>();
+  c.gravity = JsonVec3(j.at("gravity"));
+  return c;
+}
+
+/// Kernel input over [t_s, t_e] of a case's samples (which must outlive the input).
+inline PropagationInput MakeInput(const ImuCase& c, double t_s, double t_e) {
+  PropagationInput in;
+  in.x_s = c.x_s;
+  in.cov_s = c.cov_s_left;
+  in.noise = c.noise;
+  in.gravity = c.gravity;
+  const Status st = MakeWindow(c.samples.data(), c.samples.size(), t_s, t_e, in.window);
+  if (!st.ok()) throw std::runtime_error("MakeWindow: " + st.message());
+  return in;
+}
+
+enum class Integrator { Euler, Midpoint, Rk4 };
+
+inline const char* Name(Integrator i) {
+  switch (i) {
+    case Integrator::Euler: return "euler";
+    case Integrator::Midpoint: return "midpoint";
+    case Integrator::Rk4: return "rk4";
+  }
+  return "?";
+}
+
+const Integrator kIntegrators[] = {Integrator::Euler, Integrator::Midpoint, Integrator::Rk4};
+
+/// The kernel of one integrator, unchecked (inputs of these tests are valid by construction).
+template <kernels::Outputs kOut = kernels::Outputs::All>
+void RunKernel(Integrator i, const PropagationInput& in, PropagationResult& out, int rk4_substeps = 1) {
+  switch (i) {
+    case Integrator::Euler: kernels::IntegrateHeld<kernels::Hold::Euler, kOut>(in, out); break;
+    case Integrator::Midpoint: kernels::IntegrateHeld<kernels::Hold::Midpoint, kOut>(in, out); break;
+    case Integrator::Rk4: kernels::IntegrateRk4<kOut>(in, out, rk4_substeps); break;
+  }
+}
+
+/// The same through the checked entry points the plugins call.
+inline Status PropagateKernel(Integrator i, const PropagationInput& in, PropagationResult& out) {
+  switch (i) {
+    case Integrator::Euler: return kernels::PropagateHeld<kernels::Hold::Euler>(in, out);
+    case Integrator::Midpoint: return kernels::PropagateHeld<kernels::Hold::Midpoint>(in, out);
+    case Integrator::Rk4: return kernels::PropagateRk4(in, out);
+  }
+  return Status::Error("unknown integrator");
+}
+
+/// max |A - B| / max |B|: the relative change of a matrix.
+template <typename A, typename B>
+double RelChange(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
+  return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
+}
+
+}  // namespace imuconv::test
