@@ -11,6 +11,7 @@ namespace {
 struct Options {
   std::string pipeline, output;
   bool quiet = false;
+  unsigned threads = 0;
 };
 
 int Run(const CommandContext& ctx, const Options& o) {
@@ -22,12 +23,17 @@ int Run(const CommandContext& ctx, const Options& o) {
   ro.plugin_dirs = ctx.plugin_dirs();
   ro.log = &std::cerr;
   ro.summary = o.quiet ? nullptr : (to_stdout ? &std::cerr : &std::cout);
-  const nlohmann::json result = pipeline::Run(p, ro);
-  const std::string text = pipeline::PrettyJson(result);
+  ro.threads = o.threads;
   if (to_stdout) {
+    // Held until the run has succeeded: a failing run prints no partial document.
+    std::string text;
+    pipeline::RunToText(p, ro, [&](std::string_view s) { text.append(s.data(), s.size()); });
     std::cout << text << std::flush;
   } else {
-    pipeline::WriteFileAtomically(out, text);
+    // Streamed into a temporary next to the output, renamed over it once complete.
+    pipeline::AtomicFile file(out);
+    pipeline::RunToText(p, ro, [&](std::string_view s) { file.write(s); });
+    file.commit();
     if (!o.quiet) std::cout << "\nwrote " << out << "\n";
   }
   return 0;
@@ -45,6 +51,10 @@ void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_option("pipeline", o.pipeline, "Pipeline file")->required()->type_name("PIPELINE.json");
   sub->add_option("-o,--output", o.output, "Output file (written atomically; '-' for stdout)")->type_name("OUT.json");
   sub->add_flag("-q,--quiet", o.quiet, "Do not print the summary");
+  sub->add_option("-j,--threads", o.threads,
+                  "Threads for independent intervals (0 = every core, the default; 1 = serial). The output is the "
+                  "same, byte for byte, for any number")
+      ->type_name("N");
   AddPluginDirOption(*sub, ctx);
   sub->callback([&ctx] { ctx.exit_code = Run(ctx, o); });
 }

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "imuconv/pipeline/json_writer.h"
 #include "imuconv/so3.h"
 
 namespace imuconv::pipeline {
@@ -140,50 +141,10 @@ std::optional<Matrix15In> Matrix15FromJson(const Node& n) {
   return out;
 }
 
-namespace {
-bool IsScalar(const json& j) { return !j.is_object() && !j.is_array(); }
-
-void WritePretty(const json& j, int indent, std::string& out) {
-  const std::string pad(static_cast<std::size_t>(indent) + 2, ' ');
-  if (j.is_object()) {
-    if (j.empty()) {
-      out += "{}";
-      return;
-    }
-    out += "{\n";
-    bool first = true;
-    for (auto it = j.begin(); it != j.end(); ++it) {
-      if (!first) out += ",\n";
-      first = false;
-      out += pad + json(it.key()).dump() + ": ";
-      WritePretty(it.value(), indent + 2, out);
-    }
-    out += "\n" + std::string(static_cast<std::size_t>(indent), ' ') + "}";
-    return;
-  }
-  if (j.is_array()) {
-    if (std::all_of(j.begin(), j.end(), IsScalar)) {  // vectors and matrix rows: one line
-      out += "[";
-      for (std::size_t i = 0; i < j.size(); ++i) out += (i ? ", " : "") + j[i].dump();
-      out += "]";
-      return;
-    }
-    out += "[\n";
-    for (std::size_t i = 0; i < j.size(); ++i) {
-      if (i) out += ",\n";
-      out += pad;
-      WritePretty(j[i], indent + 2, out);
-    }
-    out += "\n" + std::string(static_cast<std::size_t>(indent), ' ') + "]";
-    return;
-  }
-  out += j.dump();
-}
-}  // namespace
-
 std::string PrettyJson(const json& j) {
   std::string out;
-  WritePretty(j, 0, out);
+  JsonWriter w(out, 0, {}, JsonWriter::NonFinite::Null);
+  w.value(j);
   out += "\n";
   return out;
 }
@@ -197,45 +158,80 @@ ImuState ReadStateFile(const std::string& path) {
 }
 
 void WriteFileAtomically(const std::string& path, const std::string& text) {
+  AtomicFile f(path);
+  f.write(text);
+  f.commit();
+}
+
+AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   namespace fs = std::filesystem;
-  const fs::path target(path);
+  const fs::path target(path_);
   fs::path dir = target.parent_path();
   if (dir.empty()) dir = ".";
   std::string tmpl = (dir / ("." + target.filename().string() + ".tmp.XXXXXX")).string();
   std::vector<char> buf(tmpl.begin(), tmpl.end());
   buf.push_back('\0');
-  const int fd = ::mkstemp(buf.data());
-  if (fd < 0) throw Error(path + ": cannot create a temporary file in " + dir.string() + ": " + std::strerror(errno));
-  const std::string tmp(buf.data());
-  const auto fail = [&](const std::string& what) {
-    const int err = errno;
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    throw Error(path + ": " + what + ": " + std::strerror(err));
-  };
+  fd_ = ::mkstemp(buf.data());
+  if (fd_ < 0) throw Error(path_ + ": cannot create a temporary file in " + dir.string() + ": " + std::strerror(errno));
+  tmp_ = buf.data();
+}
+
+AtomicFile::~AtomicFile() {
+  if (fd_ >= 0) {
+    ::close(fd_);
+    ::unlink(tmp_.c_str());
+  }
+}
+
+void AtomicFile::fail(const std::string& what) {
+  const int err = errno;
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+  ::unlink(tmp_.c_str());
+  throw Error(path_ + ": " + what + ": " + std::strerror(err));
+}
+
+void AtomicFile::write(std::string_view text) {
+  if (fd_ < 0) throw Error(path_ + ": the temporary file is closed");
   std::size_t done = 0;
   while (done < text.size()) {
-    const ssize_t w = ::write(fd, text.data() + done, text.size() - done);
+    const ssize_t w = ::write(fd_, text.data() + done, text.size() - done);
     if (w < 0) {
       if (errno == EINTR) continue;
-      fail("cannot write the temporary file " + tmp);
+      fail("cannot write the temporary file " + tmp_);
     }
     done += static_cast<std::size_t>(w);
   }
+  written_ += text.size();
+#ifdef SYNC_FILE_RANGE_WRITE
+  // Large outputs: start writing back what is there while the rest is produced, so that the
+  // final fsync has little left to wait for. Only a hint; errors surface at fsync.
+  constexpr std::size_t kWriteBehind = 8u << 20;
+  if (written_ - synced_ >= kWriteBehind) {
+    ::sync_file_range(fd_, static_cast<off_t>(synced_), static_cast<off_t>(written_ - synced_), SYNC_FILE_RANGE_WRITE);
+    synced_ = written_;
+  }
+#endif
+}
+
+void AtomicFile::commit() {
+  if (fd_ < 0) throw Error(path_ + ": the temporary file is closed");
   // Respect the umask for the final file (mkstemp creates it 0600).
   const mode_t mask = ::umask(0);
   ::umask(mask);
-  ::fchmod(fd, 0666 & ~mask);
-  if (::fsync(fd) != 0) fail("cannot flush the temporary file " + tmp);
+  ::fchmod(fd_, 0666 & ~mask);
+  if (::fsync(fd_) != 0) fail("cannot flush the temporary file " + tmp_);
+  const int fd = fd_;
+  fd_ = -1;
   if (::close(fd) != 0) {
     const int err = errno;
-    ::unlink(tmp.c_str());
-    throw Error(path + ": cannot close the temporary file " + tmp + ": " + std::strerror(err));
+    ::unlink(tmp_.c_str());
+    throw Error(path_ + ": cannot close the temporary file " + tmp_ + ": " + std::strerror(err));
   }
-  if (::rename(tmp.c_str(), path.c_str()) != 0) {
+  if (::rename(tmp_.c_str(), path_.c_str()) != 0) {
     const int err = errno;
-    ::unlink(tmp.c_str());
-    throw Error(path + ": cannot rename the temporary file over it: " + std::strerror(err));
+    ::unlink(tmp_.c_str());
+    throw Error(path_ + ": cannot rename the temporary file over it: " + std::strerror(err));
   }
 }
 

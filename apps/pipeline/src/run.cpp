@@ -1,5 +1,13 @@
 // Running a parsed pipeline: registry checks, data loading, time checks, then the tasks.
+//
+// The output document is streamed: each task writes its part with a JsonWriter as soon as it
+// has run, and the text goes to the caller's sink in pieces of about 1 MiB. Independent
+// intervals (the keyframe intervals of a preintegrate task, unchained propagation by
+// preintegration) are computed on a thread pool, and every interval's JSON is formatted on
+// the pool too; each interval's results and text depend on that interval only, and they are
+// assembled in index order, so the document is the same byte for byte for any thread count.
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <iomanip>
 #include <map>
@@ -7,9 +15,11 @@
 #include <sstream>
 
 #include "imuconv/bridge.h"
+#include "imuconv/pipeline/json_writer.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/so3.h"
 #include "spec.h"
+#include "thread_pool.h"
 
 #ifndef IMUCONV_VERSION
 #define IMUCONV_VERSION "unknown"
@@ -20,6 +30,8 @@ namespace {
 
 constexpr const char* kRef = "preint_reference";
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+// Output text is handed to the sink in pieces of about this size.
+constexpr std::size_t kFlushBytes = 1u << 20;
 
 std::string Join(const std::vector<std::string>& xs) {
   std::string s;
@@ -47,18 +59,99 @@ std::vector<std::string> BiasLabels(const std::vector<std::string>& blocks) {
   return out;
 }
 
-json DeltaToJson(const PreintIncrement& d) {
-  const Eigen::Vector4d q = so3::ToQuaternionWxyz(d.dR);
-  return {{"q_wxyz", json::array({q[0], q[1], q[2], q[3]})},
-          {"R", MatrixToJson(d.dR)},
-          {"dp", Vec3ToJson(d.dp)},
-          {"dv", Vec3ToJson(d.dv)},
-          {"dbg", Vec3ToJson(d.dbg)},
-          {"dba", Vec3ToJson(d.dba)},
-          {"rotation_angle_deg", so3::Log(d.dR).norm() * kRadToDeg}};
+double RotationErrorDeg(const Mat3& a, const Mat3& b) { return so3::Log(a.transpose() * b).norm() * kRadToDeg; }
+
+// ---- output pieces (the JSON forms of json_io.h, written directly) -------------------------
+void WriteState(JsonWriter& w, const ImuState& x) {
+  const Eigen::Vector4d q = so3::ToQuaternionWxyz(x.R);
+  w.begin_object();
+  w.key("p");
+  w.vector(x.p);
+  w.key("q_wxyz");
+  w.vector(q);
+  w.key("v");
+  w.vector(x.v);
+  w.key("bg");
+  w.vector(x.bg);
+  w.key("ba");
+  w.vector(x.ba);
+  w.end_object();
 }
 
-double RotationErrorDeg(const Mat3& a, const Mat3& b) { return so3::Log(a.transpose() * b).norm() * kRadToDeg; }
+void WriteBias(JsonWriter& w, const Vec3& bg, const Vec3& ba) {
+  w.begin_object();
+  w.key("bg");
+  w.vector(bg);
+  w.key("ba");
+  w.vector(ba);
+  w.end_object();
+}
+
+void WriteDelta(JsonWriter& w, const PreintIncrement& d) {
+  const Eigen::Vector4d q = so3::ToQuaternionWxyz(d.dR);
+  w.begin_object();
+  w.key("q_wxyz");
+  w.vector(q);
+  w.key("R");
+  w.matrix(d.dR);
+  w.key("dp");
+  w.vector(d.dp);
+  w.key("dv");
+  w.vector(d.dv);
+  w.key("dbg");
+  w.vector(d.dbg);
+  w.key("dba");
+  w.vector(d.dba);
+  w.key("rotation_angle_deg");
+  w.number(so3::Log(d.dR).norm() * kRadToDeg);
+  w.end_object();
+}
+
+/// {"convention", "blocks", "matrix"}.
+template <typename M>
+void WriteChart(JsonWriter& w, const M& m, const std::string& convention, const std::vector<std::string>& blocks) {
+  w.begin_object();
+  w.key("convention");
+  w.string(convention);
+  w.key("blocks");
+  w.string_list(blocks);
+  w.key("matrix");
+  w.matrix(m);
+  w.end_object();
+}
+
+/// {"rows": {"convention", "blocks"}, "cols": {...}, "matrix"}.
+template <typename M>
+void WriteMixed(JsonWriter& w, const M& m, const std::string& row_convention, const std::vector<std::string>& row_blocks,
+                const std::string& col_convention, const std::vector<std::string>& col_blocks) {
+  w.begin_object();
+  for (auto [k, c, b] : {std::tuple<const char*, const std::string*, const std::vector<std::string>*>{"rows", &row_convention, &row_blocks},
+                         {"cols", &col_convention, &col_blocks}}) {
+    w.key(k);
+    w.begin_object();
+    w.key("convention");
+    w.string(*c);
+    w.key("blocks");
+    w.string_list(*b);
+    w.end_object();
+  }
+  w.key("matrix");
+  w.matrix(m);
+  w.end_object();
+}
+
+/// {"convention", "blocks", "vector"}.
+template <typename V>
+void WriteChartVector(JsonWriter& w, const V& v, const std::string& convention, const std::vector<std::string>& blocks) {
+  w.begin_object();
+  w.key("convention");
+  w.string(convention);
+  w.key("blocks");
+  w.string_list(blocks);
+  w.key("vector");
+  w.vector(v);
+  w.end_object();
+}
 
 /// A measurement with its time span (when known) and, for reintegration, its origin.
 struct MeasRecord {
@@ -82,20 +175,6 @@ struct TaskResult {
   std::vector<PropRecord> props;
 };
 
-/// The pointer (below `prefix`) of the first non-finite number in j, or nothing.
-std::optional<std::string> FindNonFinite(const json& j, const std::string& prefix) {
-  if (j.is_number_float()) {
-    if (!std::isfinite(j.get<double>())) return prefix;
-  } else if (j.is_object()) {
-    for (auto it = j.begin(); it != j.end(); ++it)
-      if (auto p = FindNonFinite(it.value(), prefix + "/" + PointerToken(it.key()))) return p;
-  } else if (j.is_array()) {
-    for (std::size_t i = 0; i < j.size(); ++i)
-      if (auto p = FindNonFinite(j[i], prefix + "/" + std::to_string(i))) return p;
-  }
-  return std::nullopt;
-}
-
 /// The "FILE: POINTER: message" error of one task at run time.
 class TaskFailure : public Error {
  public:
@@ -104,20 +183,66 @@ class TaskFailure : public Error {
 
 class Runner {
  public:
-  Runner(const PipelineSpec& s, const Registry& reg, const RunOptions& opt) : s_(s), reg_(reg), opt_(opt) {}
+  Runner(const PipelineSpec& s, const Registry& reg, const RunOptions& opt, const TextSink& sink)
+      : s_(s), reg_(reg), opt_(opt), sink_(sink), pool_(opt.threads) {}
 
-  json Run() {
+  void Run() {
     CheckRegistry();
     LoadData();
     CheckTimes();
-    json tasks = json::array();
+    JsonWriter w(buf_);
+    w.begin_object();
+    w.key("imuconv_version");
+    w.string(IMUCONV_VERSION);
+    w.key("pipeline");
+    w.string(s_.file);
+    if (!s_.description.empty()) {
+      w.key("description");
+      w.string(s_.description);
+    }
+    if (origin_ns_) {
+      w.key("time_origin_ns");
+      w.integer(*origin_ns_);
+    }
+    w.key("times");
+    w.string(origin_ns_ ? "seconds relative to time_origin_ns; *_abs_ns are absolute nanoseconds" : "seconds, as given");
+    w.key("gravity");
+    w.vector(s_.gravity);
+    w.key("noise");
+    w.value(NoiseToJson(s_.noise));
+    if (have_imu_) {
+      w.key("imu");
+      w.begin_object();
+      w.key("source");
+      w.string(imu_.source);
+      w.key("samples");
+      w.unsigned_integer(imu_.samples.size());
+      w.key("t_first");
+      w.number(imu_.samples.front().t);
+      w.key("t_last");
+      w.number(imu_.samples.back().t);
+      w.end_object();
+    }
+    if (gt_) {
+      w.key("ground_truth");
+      w.begin_object();
+      w.key("source");
+      w.string(gt_->source);
+      w.key("rows");
+      w.unsigned_integer(gt_->t.size());
+      w.key("t_first");
+      w.number(gt_->t.front());
+      w.key("t_last");
+      w.number(gt_->t.back());
+      w.end_object();
+    }
+    w.key("tasks");
+    w.begin_array();
     for (const auto& t : s_.tasks) {
       try {
-        json r = RunTask(t);
-        // JSON has no NaN or infinity: a task that produced one fails rather than writing null.
-        if (auto where = FindNonFinite(r, "/tasks/" + std::to_string(tasks.size())))
-          throw Error("produced a non-finite number (output " + *where + "); no output is written");
-        tasks.push_back(std::move(r));
+        // JSON has no NaN or infinity: the writer fails a task that produced one (naming
+        // the output pointer) rather than writing null.
+        RunTask(t, w);
       } catch (const ConfigError&) {
         throw;
       } catch (const ReadError&) {
@@ -127,37 +252,65 @@ class Runner {
       } catch (const std::exception& e) {
         throw TaskFailure(s_.file + ": " + t.pointer + " (task '" + t.name + "'): " + e.what());
       }
+      Flush(false);
     }
-    json out;
-    out["imuconv_version"] = IMUCONV_VERSION;
-    out["pipeline"] = s_.file;
-    if (!s_.description.empty()) out["description"] = s_.description;
-    if (origin_ns_) out["time_origin_ns"] = *origin_ns_;
-    out["times"] = origin_ns_ ? "seconds relative to time_origin_ns; *_abs_ns are absolute nanoseconds"
-                              : "seconds, as given";
-    out["gravity"] = Vec3ToJson(s_.gravity);
-    out["noise"] = NoiseToJson(s_.noise);
-    if (have_imu_) {
-      json imu = {{"source", imu_.source}, {"samples", imu_.samples.size()},
-                  {"t_first", imu_.samples.front().t}, {"t_last", imu_.samples.back().t}};
-      out["imu"] = imu;
-    }
-    if (gt_) out["ground_truth"] = {{"source", gt_->source}, {"rows", gt_->t.size()}, {"t_first", gt_->t.front()},
-                                    {"t_last", gt_->t.back()}};
-    out["tasks"] = std::move(tasks);
-    return out;
+    w.end_array();
+    w.end_object();
+    buf_ += "\n";
+    Flush(true);
   }
 
  private:
   const PipelineSpec& s_;
   const Registry& reg_;
   const RunOptions& opt_;
+  const TextSink& sink_;
+  ThreadPool pool_;
+  std::string buf_;  // output not yet handed to the sink
   ImuData imu_;
   bool have_imu_ = false;
   std::optional<std::int64_t> origin_ns_;
   std::optional<GroundTruth> gt_;
   std::map<std::string, TaskResult> results_;
   std::map<std::string, std::vector<MeasRecord>> files_;
+
+  void Flush(bool all) {
+    if (buf_.empty() || (!all && buf_.size() < kFlushBytes)) return;
+    sink_(buf_);
+    buf_.clear();
+  }
+
+  /// Writes n elements of the open array of `w`, element k by write_one(writer, k): formatted
+  /// on the pool in batches (each into its own string, by its own writer) and appended in
+  /// order, a batch while the next one is being formatted. The text is the same as writing
+  /// them one after the other into `w`.
+  template <typename F>
+  void WriteElements(JsonWriter& w, std::size_t n, const F& write_one) {
+    const int depth = w.content_depth();
+    const std::string base = w.container_pointer();
+    const std::size_t batch = 32 * static_cast<std::size_t>(pool_.size());
+    std::vector<std::string> ready(std::min(batch, n)), next(std::min(batch, n));
+    std::size_t n_ready = 0;
+    const auto append_ready = [&] {
+      for (std::size_t i = 0; i < n_ready; ++i) w.raw_element(ready[i]);
+      n_ready = 0;
+      Flush(false);
+    };
+    for (std::size_t b0 = 0; b0 < n; b0 += batch) {
+      const std::size_t m = std::min(batch, n - b0);
+      pool_.parallel_for(
+          m,
+          [&](std::size_t i) {
+            next[i].clear();
+            JsonWriter cw(next[i], depth, base + "/" + std::to_string(b0 + i));
+            write_one(cw, b0 + i);
+          },
+          append_ready);
+      std::swap(ready, next);
+      n_ready = m;
+    }
+    append_ready();
+  }
 
   // ---- checks against the registry --------------------------------------------------
   void CheckId(Checker& c, PluginKind kind, const std::string& id, const std::string& pointer) {
@@ -479,17 +632,34 @@ class Runner {
   }
 
   // ---- helpers ---------------------------------------------------------------------------
-  json TimesJson(std::optional<double> ts, std::optional<double> te) const {
-    json j = json::object();
-    if (ts) j["t_start"] = *ts;
-    if (te) j["t_end"] = *te;
+  /// The keys t_start, t_end (and their *_abs_ns) of the open object.
+  void WriteTimes(JsonWriter& w, std::optional<double> ts, std::optional<double> te) const {
+    if (ts) {
+      w.key("t_start");
+      w.number(*ts);
+    }
+    if (te) {
+      w.key("t_end");
+      w.number(*te);
+    }
     if (imu_.origin) {
       if (ts)
-        if (auto a = imu_.origin->absolute_ns(*ts)) j["t_start_abs_ns"] = *a;
+        if (auto a = imu_.origin->absolute_ns(*ts)) {
+          w.key("t_start_abs_ns");
+          w.integer(*a);
+        }
       if (te)
-        if (auto a = imu_.origin->absolute_ns(*te)) j["t_end_abs_ns"] = *a;
+        if (auto a = imu_.origin->absolute_ns(*te)) {
+          w.key("t_end_abs_ns");
+          w.integer(*a);
+        }
     }
-    return j;
+  }
+  /// {t_start, t_end, ...} as an object.
+  void WriteInterval(JsonWriter& w, std::optional<double> ts, std::optional<double> te) const {
+    w.begin_object();
+    WriteTimes(w, ts, te);
+    w.end_object();
   }
 
   SampleWindow Window(double ts, double te) const {
@@ -499,11 +669,13 @@ class Runner {
     return w;
   }
 
-  json StateChart(const Mat15& m, const std::string& conv) const {
-    return ChartMatrixToJson(m, conv, Blocks(reg_, PluginKind::StateConvention, conv));
+  const std::vector<std::string>& BlocksOf(PluginKind kind, const std::string& id) const { return reg_.info(kind, id).blocks; }
+
+  void StateChart(JsonWriter& w, const Mat15& m, const std::string& conv) const {
+    WriteChart(w, m, conv, BlocksOf(PluginKind::StateConvention, conv));
   }
-  json PreintChart(const Mat15& m, const std::string& conv) const {
-    return ChartMatrixToJson(m, conv, Blocks(reg_, PluginKind::PreintConvention, conv));
+  void PreintChart(JsonWriter& w, const Mat15& m, const std::string& conv) const {
+    WriteChart(w, m, conv, BlocksOf(PluginKind::PreintConvention, conv));
   }
 
   Mat15 StartCov(const CovSpec& cov, const std::string& conv, const ImuState& x) const {
@@ -524,20 +696,35 @@ class Runner {
   struct GtError {
     double pos = 0, rot = 0, vel = 0;
   };
-  json GtCompare(const ImuState& pred, const ImuState& gt, GtError* e = nullptr) const {
-    GtError g;
-    g.pos = (pred.p - gt.p).norm();
-    g.rot = RotationErrorDeg(gt.R, pred.R);
-    g.vel = (pred.v - gt.v).norm();
-    if (e) *e = g;
-    Vec15 d;
-    LeftLocal(gt, pred, d);
-    return {{"state", StateToJson(gt)},
-            {"position_error_m", g.pos},
-            {"rotation_error_deg", g.rot},
-            {"velocity_error_mps", g.vel},
-            {"error_left", {{"convention", "left"}, {"blocks", {"p", "theta", "v", "bg", "ba"}},
-                            {"vector", MatrixToJson(d.transpose()).at(0)}}}};
+  /// A prediction against the ground truth: the errors and the left-chart error vector.
+  struct GtComparison {
+    ImuState gt;
+    GtError e;
+    Vec15 d = Vec15::Zero();
+  };
+  static GtComparison Compare(const ImuState& pred, const ImuState& gt) {
+    GtComparison c;
+    c.gt = gt;
+    c.e.pos = (pred.p - gt.p).norm();
+    c.e.rot = RotationErrorDeg(gt.R, pred.R);
+    c.e.vel = (pred.v - gt.v).norm();
+    LeftLocal(gt, pred, c.d);
+    return c;
+  }
+  static void WriteComparison(JsonWriter& w, const GtComparison& c) {
+    static const std::vector<std::string> kLeftBlocks = {"p", "theta", "v", "bg", "ba"};
+    w.begin_object();
+    w.key("state");
+    WriteState(w, c.gt);
+    w.key("position_error_m");
+    w.number(c.e.pos);
+    w.key("rotation_error_deg");
+    w.number(c.e.rot);
+    w.key("velocity_error_mps");
+    w.number(c.e.vel);
+    w.key("error_left");
+    WriteChartVector(w, c.d, "left", kLeftBlocks);
+    w.end_object();
   }
 
   const std::vector<MeasRecord>& Measurements(const MeasurementsSpec& m) const {
@@ -547,52 +734,89 @@ class Runner {
   std::string MeasurementsName(const MeasurementsSpec& m) const {
     return m.task.empty() ? "file " + m.file : "task '" + m.task + "'";
   }
+  void WriteMeasurementsSource(JsonWriter& w, const MeasurementsSpec& m) const {
+    w.key("measurements");
+    if (m.task.empty()) {
+      w.begin_object();
+      w.key("file");
+      w.string(m.file);
+      w.end_object();
+    } else {
+      w.string(m.task);
+    }
+  }
 
   Preintegrated Integrate(const PreintegrateTask& p, const SampleWindow& w, const Vec3& bg, const Vec3& ba) const {
     return p.native ? PreintegrateNative(reg_, p.method_id, w, bg, ba, s_.noise)
                     : PreintegrateByPropagation(reg_, p.method_id, w, bg, ba, s_.noise);
   }
 
-  json MeasurementJson(const MeasRecord& r, std::size_t k, const std::vector<std::string>& conventions) const {
+  /// One measurement: times, bias estimate, increment, J_bias and cov in preint_reference and
+  /// in each of `conventions`.
+  void WriteMeasurement(JsonWriter& w, const MeasRecord& r, std::size_t k, const std::vector<std::string>& conventions) const {
     const Preintegrated& m = r.m;
-    json j = TimesJson(r.t_s, r.t_e);
-    j["index"] = k;
-    j["dt"] = m.dt;
-    if (r.n_knots) j["n_knots"] = r.n_knots;
-    j["bias_estimate"] = {{"bg", Vec3ToJson(m.bg_hat)}, {"ba", Vec3ToJson(m.ba_hat)}};
-    j["delta"] = DeltaToJson(m.delta);
-    const auto ref_blocks = Blocks(reg_, PluginKind::PreintConvention, kRef);
-    j["J_bias"] = MixedMatrixToJson(m.J_bias, kRef, NavLabels(ref_blocks), kRef, BiasLabels(ref_blocks));
-    j["cov"] = ChartMatrixToJson(m.cov, kRef, ref_blocks);
-    json expressed = json::object();
-    for (const auto& c : conventions) {
-      const PreintegratedIn in = Express(reg_, m, c);
-      const auto jb = Blocks(reg_, PluginKind::PreintConvention, in.jacobian_convention);
-      expressed[c] = {{"J_bias", MixedMatrixToJson(in.J_bias, in.jacobian_convention, NavLabels(jb), in.jacobian_convention,
-                                                   BiasLabels(jb))},
-                      {"cov", PreintChart(in.cov, in.convention)}};
+    w.begin_object();
+    w.key("index");
+    w.unsigned_integer(k);
+    WriteTimes(w, r.t_s, r.t_e);
+    w.key("dt");
+    w.number(m.dt);
+    if (r.n_knots) {
+      w.key("n_knots");
+      w.unsigned_integer(r.n_knots);
     }
-    if (!conventions.empty()) j["expressed"] = expressed;
-    return j;
+    w.key("bias_estimate");
+    WriteBias(w, m.bg_hat, m.ba_hat);
+    w.key("delta");
+    WriteDelta(w, m.delta);
+    const auto& ref_blocks = BlocksOf(PluginKind::PreintConvention, kRef);
+    w.key("J_bias");
+    WriteMixed(w, m.J_bias, kRef, NavLabels(ref_blocks), kRef, BiasLabels(ref_blocks));
+    w.key("cov");
+    WriteChart(w, m.cov, kRef, ref_blocks);
+    if (!conventions.empty()) {
+      w.key("expressed");
+      w.begin_object();
+      for (const auto& c : conventions) {
+        const PreintegratedIn in = Express(reg_, m, c);
+        const auto& jb = BlocksOf(PluginKind::PreintConvention, in.jacobian_convention);
+        w.key(c);
+        w.begin_object();
+        w.key("J_bias");
+        WriteMixed(w, in.J_bias, in.jacobian_convention, NavLabels(jb), in.jacobian_convention, BiasLabels(jb));
+        w.key("cov");
+        PreintChart(w, in.cov, in.convention);
+        w.end_object();
+      }
+      w.end_object();
+    }
+    w.end_object();
   }
 
   // ---- tasks -----------------------------------------------------------------------------
-  json RunTask(const TaskSpec& t) {
-    json j = {{"name", t.name}, {"type", t.type}};
-    if (!t.description.empty()) j["description"] = t.description;
+  void RunTask(const TaskSpec& t, JsonWriter& w) {
+    w.begin_object();
+    w.key("name");
+    w.string(t.name);
+    w.key("type");
+    w.string(t.type);
+    if (!t.description.empty()) {
+      w.key("description");
+      w.string(t.description);
+    }
     TaskResult res;
     res.type = t.type;
-    if (const auto* x = std::get_if<PropagateTask>(&t.body)) RunPropagate(t, *x, j, res);
-    if (const auto* x = std::get_if<PreintegrateTask>(&t.body)) RunPreintegrate(t, *x, j, res);
-    if (const auto* x = std::get_if<PropByPreintTask>(&t.body)) RunPropByPreint(t, *x, j, res);
-    if (const auto* x = std::get_if<ConvertTask>(&t.body)) RunConvert(t, *x, j);
-    if (const auto* x = std::get_if<ResidualTask>(&t.body)) RunResidual(t, *x, j);
-    if (const auto* x = std::get_if<BiasUpdateTask>(&t.body)) RunBiasUpdate(t, *x, j);
+    if (const auto* x = std::get_if<PropagateTask>(&t.body)) RunPropagate(t, *x, w, res);
+    if (const auto* x = std::get_if<PreintegrateTask>(&t.body)) RunPreintegrate(t, *x, w, res);
+    if (const auto* x = std::get_if<PropByPreintTask>(&t.body)) RunPropByPreint(t, *x, w, res);
+    if (const auto* x = std::get_if<ConvertTask>(&t.body)) RunConvert(t, *x, w);
+    if (const auto* x = std::get_if<ResidualTask>(&t.body)) RunResidual(t, *x, w);
+    if (const auto* x = std::get_if<BiasUpdateTask>(&t.body)) RunBiasUpdate(t, *x, w);
+    w.end_object();
     results_[t.name] = std::move(res);
-    return j;
   }
 
-  void RunPropagate(const TaskSpec& t, const PropagateTask& p, json& j, TaskResult& res) {
+  void RunPropagate(const TaskSpec& t, const PropagateTask& p, JsonWriter& w, TaskResult& res) {
     const double ts = p.interval.times.front(), te = p.interval.times.back();
     PropagationInput in;
     in.x_s = p.start.ground_truth ? GtAt(ts, p.start.pointer) : p.start.x;
@@ -601,53 +825,77 @@ class Runner {
     in.gravity = s_.gravity;
     in.window = Window(ts, te);
     const PropagationResult r = reg_.propagate(p.propagator, p.convention, in);
-    j["propagator"] = p.propagator;
-    j["state_convention"] = p.convention;
-    j["interval"] = TimesJson(ts, te);
-    j["n_knots"] = in.window.size();
-    j["x_s"] = StateToJson(in.x_s);
-    j["cov_s"] = StateChart(in.cov_s, p.convention);
-    j["x_e"] = StateToJson(r.x_e);
-    j["Phi"] = StateChart(r.Phi, p.convention);
-    j["cov"] = StateChart(r.cov, p.convention);
     const bool compare = p.compare_gt.value_or(gt_ && gt_->at(te).has_value());
-    GtError e;
-    if (compare) j["ground_truth"] = GtCompare(r.x_e, GtAt(te, t.pointer + "/interval/t_end"), &e);
+    std::optional<GtComparison> cmp;
+    if (compare) cmp = Compare(r.x_e, GtAt(te, t.pointer + "/interval/t_end"));
+    w.key("propagator");
+    w.string(p.propagator);
+    w.key("state_convention");
+    w.string(p.convention);
+    w.key("interval");
+    WriteInterval(w, ts, te);
+    w.key("n_knots");
+    w.unsigned_integer(in.window.size());
+    w.key("x_s");
+    WriteState(w, in.x_s);
+    w.key("cov_s");
+    StateChart(w, in.cov_s, p.convention);
+    w.key("x_e");
+    WriteState(w, r.x_e);
+    w.key("Phi");
+    StateChart(w, r.Phi, p.convention);
+    w.key("cov");
+    StateChart(w, r.cov, p.convention);
+    if (cmp) {
+      w.key("ground_truth");
+      WriteComparison(w, *cmp);
+    }
     res.props.push_back({in.x_s, r.x_e, r.Phi, r.cov, p.convention, ts, te});
     if (opt_.summary) {
       std::ostream& o = *opt_.summary;
       o << "propagate '" << t.name << "': " << p.propagator << " over [" << Num(ts) << ", " << Num(te) << "] s ("
         << in.window.size() << " knots), state convention " << p.convention;
-      if (compare) o << "; vs ground truth: position " << Num(e.pos, 4) << " m, rotation " << Num(e.rot, 4) << " deg";
+      if (cmp) o << "; vs ground truth: position " << Num(cmp->e.pos, 4) << " m, rotation " << Num(cmp->e.rot, 4) << " deg";
       o << "\n";
     }
   }
 
-  void RunPreintegrate(const TaskSpec& t, const PreintegrateTask& p, json& j, TaskResult& res) {
+  void RunPreintegrate(const TaskSpec& t, const PreintegrateTask& p, JsonWriter& w, TaskResult& res) {
     res.preint = &p;
-    json ms = json::array();
     const auto& ts = p.intervals.times;
-    for (std::size_t k = 0; k + 1 < ts.size(); ++k) {
+    const std::size_t n = ts.size() < 2 ? 0 : ts.size() - 1;
+    // Every interval on its own: computed on the pool, each into its own record.
+    res.meas.resize(n);
+    pool_.parallel_for(n, [&](std::size_t k) {
       Vec3 bg = p.bias.bg, ba = p.bias.ba;
       if (p.bias.ground_truth) {
         const ImuState g = GtAt(ts[k], p.bias.pointer);
         bg = g.bg;
         ba = g.ba;
       }
-      const SampleWindow w = Window(ts[k], ts[k + 1]);
-      MeasRecord r;
-      r.m = Integrate(p, w, bg, ba);
+      const SampleWindow win = Window(ts[k], ts[k + 1]);
+      MeasRecord& r = res.meas[k];
+      r.m = Integrate(p, win, bg, ba);
       r.t_s = ts[k];
       r.t_e = ts[k + 1];
-      r.n_knots = w.size();
-      ms.push_back(MeasurementJson(r, k, p.conventions));
-      res.meas.push_back(std::move(r));
-    }
-    j["method"] = p.native ? json{{"preintegrator", p.method_id}} : json{{"propagator", p.method_id}};
-    j["bias"] = p.bias.ground_truth ? json("ground_truth at each interval start")
-                                    : json{{"bg", Vec3ToJson(p.bias.bg)}, {"ba", Vec3ToJson(p.bias.ba)}};
-    j["conventions"] = p.conventions;
-    j["measurements"] = std::move(ms);
+      r.n_knots = win.size();
+    });
+    w.key("method");
+    w.begin_object();
+    w.key(p.native ? "preintegrator" : "propagator");
+    w.string(p.method_id);
+    w.end_object();
+    w.key("bias");
+    if (p.bias.ground_truth)
+      w.string("ground_truth at each interval start");
+    else
+      WriteBias(w, p.bias.bg, p.bias.ba);
+    w.key("conventions");
+    w.string_list(p.conventions);
+    w.key("measurements");
+    w.begin_array();
+    WriteElements(w, n, [&](JsonWriter& cw, std::size_t k) { WriteMeasurement(cw, res.meas[k], k, p.conventions); });
+    w.end_array();
     if (opt_.summary) {
       double total = 0;
       for (const auto& r : res.meas) total += r.m.dt;
@@ -657,9 +905,84 @@ class Runner {
     }
   }
 
-  void RunPropByPreint(const TaskSpec& t, const PropByPreintTask& p, json& j, TaskResult& res) {
+  void RunPropByPreint(const TaskSpec& t, const PropByPreintTask& p, JsonWriter& w, TaskResult& res) {
     const auto& ms = Measurements(p.meas);
-    json steps = json::array();
+    const std::size_t n = ms.size();
+    std::vector<std::optional<GtComparison>> cmps(n);
+    res.props.resize(n);
+    // Step k from its start state (and covariance) to its end: the start is the previous
+    // step's end when chained, else given or the ground truth (independent steps).
+    const auto step = [&](std::size_t k, const ImuState& x_s, const Mat15& cov_s) {
+      const MeasRecord& r = ms[k];
+      const std::string where = p.meas.task.empty() ? r.pointer : p.meas.pointer + " (measurement " + std::to_string(k) + ")";
+      const PropagationResult out = PropagateByPreintegration(reg_, r.m, x_s, cov_s, p.convention, s_.gravity);
+      const bool compare = p.compare_gt.value_or(gt_ && r.t_e && gt_->at(*r.t_e).has_value());
+      if (compare) {
+        if (!r.t_e) throw TaskFailure(s_.file + ": " + where + ": comparing with ground truth needs t_end");
+        cmps[k] = Compare(out.x_e, GtAt(*r.t_e, where));
+      }
+      res.props[k] = {x_s, out.x_e, out.Phi, out.cov, p.convention, r.t_s, r.t_e};
+    };
+    const auto start_state = [&](std::size_t k) {
+      if (!p.start.ground_truth) return p.start.x;
+      const MeasRecord& r = ms[k];
+      if (!r.t_s)
+        throw TaskFailure(s_.file + ": " + p.start.pointer + ": starting from ground truth needs t_start of " +
+                          MeasurementsName(p.meas) + " measurement " + std::to_string(k));
+      return GtAt(*r.t_s, p.start.pointer);
+    };
+    if (p.chain) {
+      for (std::size_t k = 0; k < n; ++k) {
+        if (k == 0) {
+          const ImuState x = start_state(0);
+          step(0, x, StartCov(p.cov, p.convention, x));
+        } else {
+          step(k, res.props[k - 1].x_e, res.props[k - 1].cov);
+        }
+      }
+    } else {
+      pool_.parallel_for(n, [&](std::size_t k) {
+        const ImuState x = start_state(k);
+        step(k, x, StartCov(p.cov, p.convention, x));
+      });
+    }
+    WriteMeasurementsSource(w, p.meas);
+    w.key("state_convention");
+    w.string(p.convention);
+    w.key("start");
+    if (p.start.ground_truth)
+      w.string("ground_truth");
+    else
+      WriteState(w, p.start.x);
+    w.key("chain");
+    w.boolean(p.chain);
+    w.key("steps");
+    w.begin_array();
+    WriteElements(w, n, [&](JsonWriter& sw, std::size_t k) {
+      const MeasRecord& r = ms[k];
+      const PropRecord& pr = res.props[k];
+      sw.begin_object();
+      sw.key("index");
+      sw.unsigned_integer(k);
+      WriteTimes(sw, r.t_s, r.t_e);
+      sw.key("dt");
+      sw.number(r.m.dt);
+      sw.key("x_s");
+      WriteState(sw, pr.x_s);
+      sw.key("x_e");
+      WriteState(sw, pr.x_e);
+      sw.key("Phi");
+      StateChart(sw, pr.Phi, p.convention);
+      sw.key("cov");
+      StateChart(sw, pr.cov, p.convention);
+      if (cmps[k]) {
+        sw.key("ground_truth");
+        WriteComparison(sw, *cmps[k]);
+      }
+      sw.end_object();
+    });
+    w.end_array();
+    // Totals over the intervals compared with ground truth.
     struct Row {
       std::size_t k;
       std::optional<double> ts;
@@ -668,68 +991,39 @@ class Runner {
       GtError e;
     };
     std::vector<Row> rows;
-    ImuState x;
-    Mat15 cov = Mat15::Zero();
-    for (std::size_t k = 0; k < ms.size(); ++k) {
+    rows.reserve(n);
+    for (std::size_t k = 0; k < n; ++k) {
       const MeasRecord& r = ms[k];
-      const std::string where = p.meas.task.empty() ? r.pointer : p.meas.pointer + " (measurement " + std::to_string(k) + ")";
-      if (k == 0 || !p.chain) {
-        if (p.start.ground_truth) {
-          if (!r.t_s) throw TaskFailure(s_.file + ": " + p.start.pointer + ": starting from ground truth needs t_start of " + MeasurementsName(p.meas) + " measurement " + std::to_string(k));
-          x = GtAt(*r.t_s, p.start.pointer);
-        } else {
-          x = p.start.x;
-        }
-        cov = StartCov(p.cov, p.convention, x);
-      }
-      const ImuState x_s = x;
-      const Mat15 cov_s = cov;
-      const PropagationResult out = PropagateByPreintegration(reg_, r.m, x_s, cov_s, p.convention, s_.gravity);
-      json sj = TimesJson(r.t_s, r.t_e);
-      sj["index"] = k;
-      sj["dt"] = r.m.dt;
-      sj["x_s"] = StateToJson(x_s);
-      sj["x_e"] = StateToJson(out.x_e);
-      sj["Phi"] = StateChart(out.Phi, p.convention);
-      sj["cov"] = StateChart(out.cov, p.convention);
-      Row row{k, r.t_s, r.m.dt, r.m.delta.dp.norm(), so3::Log(r.m.delta.dR).norm() * kRadToDeg, false, {}};
-      const bool compare = p.compare_gt.value_or(gt_ && r.t_e && gt_->at(*r.t_e).has_value());
-      if (compare) {
-        if (!r.t_e) throw TaskFailure(s_.file + ": " + where + ": comparing with ground truth needs t_end");
-        sj["ground_truth"] = GtCompare(out.x_e, GtAt(*r.t_e, where), &row.e);
-        row.has_gt = true;
-      }
-      rows.push_back(row);
-      steps.push_back(std::move(sj));
-      res.props.push_back({x_s, out.x_e, out.Phi, out.cov, p.convention, r.t_s, r.t_e});
-      x = out.x_e;
-      cov = out.cov;
+      rows.push_back({k, r.t_s, r.m.dt, r.m.delta.dp.norm(), so3::Log(r.m.delta.dR).norm() * kRadToDeg, cmps[k].has_value(),
+                      cmps[k] ? cmps[k]->e : GtError{}});
     }
-    j["measurements"] = p.meas.task.empty() ? json{{"file", p.meas.file}} : json(p.meas.task);
-    j["state_convention"] = p.convention;
-    j["start"] = p.start.ground_truth ? json("ground_truth") : StateToJson(p.start.x);
-    j["chain"] = p.chain;
-    j["steps"] = std::move(steps);
-    // Totals over the intervals compared with ground truth.
-    std::size_t n = 0;
+    std::size_t ngt = 0;
     double se_p = 0, se_r = 0, max_p = 0, max_r = 0, sum_dt = 0, sum_dp = 0, sum_ang = 0;
     for (const auto& r : rows) {
       sum_dt += r.dt;
       sum_dp += r.dp;
       sum_ang += r.ang;
       if (!r.has_gt) continue;
-      ++n;
+      ++ngt;
       se_p += r.e.pos * r.e.pos;
       se_r += r.e.rot * r.e.rot;
       max_p = std::max(max_p, r.e.pos);
       max_r = std::max(max_r, r.e.rot);
     }
-    if (n) {
-      j["ground_truth_summary"] = {{"intervals", n},
-                                   {"rms_position_error_m", std::sqrt(se_p / n)},
-                                   {"max_position_error_m", max_p},
-                                   {"rms_rotation_error_deg", std::sqrt(se_r / n)},
-                                   {"max_rotation_error_deg", max_r}};
+    if (ngt) {
+      w.key("ground_truth_summary");
+      w.begin_object();
+      w.key("intervals");
+      w.unsigned_integer(ngt);
+      w.key("rms_position_error_m");
+      w.number(std::sqrt(se_p / static_cast<double>(ngt)));
+      w.key("max_position_error_m");
+      w.number(max_p);
+      w.key("rms_rotation_error_deg");
+      w.number(std::sqrt(se_r / static_cast<double>(ngt)));
+      w.key("max_rotation_error_deg");
+      w.number(max_r);
+      w.end_object();
     }
     if (!opt_.summary) return;
     std::ostream& o = *opt_.summary;
@@ -740,27 +1034,29 @@ class Runner {
                                : (p.chain ? "chained from the given start state" : "each interval from the given start state"))
       << "\n";
     o << "     k   t_start[s]   dt[s]    |dp|[m]   angle[deg]";
-    if (n) o << "   pos.err[m]   rot.err[deg]";
+    if (ngt) o << "   pos.err[m]   rot.err[deg]";
     o << "\n";
     char buf[256];
+    std::string table;
     for (const auto& r : rows) {
       if (r.ts)
         std::snprintf(buf, sizeof buf, "%6zu %12.3f %7.4f %10.5f %12.5f", r.k, *r.ts, r.dt, r.dp, r.ang);
       else
         std::snprintf(buf, sizeof buf, "%6zu %12s %7.4f %10.5f %12.5f", r.k, "-", r.dt, r.dp, r.ang);
-      o << buf;
+      table += buf;
       if (r.has_gt) {
         std::snprintf(buf, sizeof buf, " %12.3e %14.3e", r.e.pos, r.e.rot);
-        o << buf;
+        table += buf;
       }
-      o << "\n";
+      table += "\n";
     }
+    o << table;
     const std::string label = " total (" + std::to_string(rows.size()) + ")";
     std::snprintf(buf, sizeof buf, "%-19s %7.4f %10.5f %12.5f", label.c_str(), sum_dt, sum_dp, sum_ang);
     o << buf;
-    if (n) {
-      std::snprintf(buf, sizeof buf, " %12.3e %14.3e   rms over %zu interval(s)\n", std::sqrt(se_p / static_cast<double>(n)),
-                    std::sqrt(se_r / static_cast<double>(n)), n);
+    if (ngt) {
+      std::snprintf(buf, sizeof buf, " %12.3e %14.3e   rms over %zu interval(s)\n", std::sqrt(se_p / static_cast<double>(ngt)),
+                    std::sqrt(se_r / static_cast<double>(ngt)), ngt);
       o << buf;
       std::snprintf(buf, sizeof buf, "%-19s %7s %10s %12s %12.3e %14.3e   max\n", "", "", "", "", max_p, max_r);
       o << buf;
@@ -769,7 +1065,7 @@ class Runner {
     }
   }
 
-  void RunConvert(const TaskSpec& t, const ConvertTask& p, json& j) {
+  void RunConvert(const TaskSpec& t, const ConvertTask& p, JsonWriter& w) {
     using W = ConvertTask::What;
     const bool state_kind = p.what == W::StateJacobian || p.what == W::StateCovariance || p.what == W::StateTransition;
     std::string from = p.from.value_or("");
@@ -799,52 +1095,84 @@ class Runner {
         throw TaskFailure(s_.file + ": " + p.from_pointer + ": the source's matrices are in '" + src_conv + "', not '" + from +
                           "' (leave \"from\" out to use the source's convention)");
       from = src_conv;
-      j["source"] = {{"task", *p.source_task}, {"index", p.source_index}};
     } else {
       if (p.state) xs = *p.state;
       if (p.state_end) xe = *p.state_end;
       if (p.increment) d = *p.increment;
       if (p.matrix) M = p.matrix->m;
     }
-    j["what"] = p.what_name;
-    j["from"] = from;
-    j["to"] = p.to;
     const PluginKind kind = state_kind ? PluginKind::StateConvention : PluginKind::PreintConvention;
-    const auto bf = Blocks(reg_, kind, from), bt = Blocks(reg_, kind, p.to);
+    const auto& bf = BlocksOf(kind, from);
+    const auto& bt = BlocksOf(kind, p.to);
+    // The result first (it may throw), then the output.
+    Mat15 result;
+    const ImuState& x_at = p.source_task ? xe : xs;  // state Jacobian / covariance: at the source's end state
     switch (p.what) {
-      case W::StateJacobian: {
-        // For a source task, the Jacobian at its end state (where its covariance lives).
-        const ImuState& x = p.source_task ? xe : xs;
-        j["state"] = StateToJson(x);
-        j["result"] = MixedMatrixToJson(reg_.conversion(from, p.to, x), p.to, bt, from, bf);
-        break;
-      }
-      case W::StateCovariance: {
-        const ImuState& x = p.source_task ? xe : xs;
-        j["state"] = StateToJson(x);
-        j["input"] = ChartMatrixToJson(M, from, bf);
-        j["result"] = ChartMatrixToJson(reg_.convert_covariance(from, p.to, x, M), p.to, bt);
-        break;
-      }
-      case W::StateTransition:
-        j["state"] = StateToJson(xs);
-        j["state_end"] = StateToJson(xe);
-        j["input"] = ChartMatrixToJson(M, from, bf);
-        j["result"] = ChartMatrixToJson(reg_.convert_transition(from, p.to, xs, xe, M), p.to, bt);
-        break;
-      case W::IncrementJacobian:
-        j["increment"] = DeltaToJson(d);
-        j["result"] = MixedMatrixToJson(reg_.preint_conversion(from, p.to, d), p.to, bt, from, bf);
-        break;
+      case W::StateJacobian: result = reg_.conversion(from, p.to, x_at); break;
+      case W::StateCovariance: result = reg_.convert_covariance(from, p.to, x_at, M); break;
+      case W::StateTransition: result = reg_.convert_transition(from, p.to, xs, xe, M); break;
+      case W::IncrementJacobian: result = reg_.preint_conversion(from, p.to, d); break;
       case W::IncrementCovariance: {
         const Mat15 J = reg_.preint_conversion(from, p.to, d);
-        Mat15 S = J * M * J.transpose();
-        S = 0.5 * (S + S.transpose());
-        j["increment"] = DeltaToJson(d);
-        j["input"] = ChartMatrixToJson(M, from, bf);
-        j["result"] = ChartMatrixToJson(S, p.to, bt);
+        result = J * M * J.transpose();
+        result = (0.5 * (result + result.transpose())).eval();
         break;
       }
+    }
+    w.key("what");
+    w.string(p.what_name);
+    w.key("from");
+    w.string(from);
+    w.key("to");
+    w.string(p.to);
+    if (p.source_task) {
+      w.key("source");
+      w.begin_object();
+      w.key("task");
+      w.string(*p.source_task);
+      w.key("index");
+      w.unsigned_integer(p.source_index);
+      w.end_object();
+    }
+    switch (p.what) {
+      case W::StateJacobian:
+        w.key("state");
+        WriteState(w, x_at);
+        w.key("result");
+        WriteMixed(w, result, p.to, bt, from, bf);
+        break;
+      case W::StateCovariance:
+        w.key("state");
+        WriteState(w, x_at);
+        w.key("input");
+        WriteChart(w, M, from, bf);
+        w.key("result");
+        WriteChart(w, result, p.to, bt);
+        break;
+      case W::StateTransition:
+        w.key("state");
+        WriteState(w, xs);
+        w.key("state_end");
+        WriteState(w, xe);
+        w.key("input");
+        WriteChart(w, M, from, bf);
+        w.key("result");
+        WriteChart(w, result, p.to, bt);
+        break;
+      case W::IncrementJacobian:
+        w.key("increment");
+        WriteDelta(w, d);
+        w.key("result");
+        WriteMixed(w, result, p.to, bt, from, bf);
+        break;
+      case W::IncrementCovariance:
+        w.key("increment");
+        WriteDelta(w, d);
+        w.key("input");
+        WriteChart(w, M, from, bf);
+        w.key("result");
+        WriteChart(w, result, p.to, bt);
+        break;
     }
     if (opt_.summary) *opt_.summary << "convert '" << t.name << "': " << p.what_name << " from " << from << " to " << p.to << "\n";
   }
@@ -862,7 +1190,7 @@ class Runner {
     return {*index};
   }
 
-  void RunResidual(const TaskSpec& t, const ResidualTask& p, json& j) {
+  void RunResidual(const TaskSpec& t, const ResidualTask& p, JsonWriter& w) {
     const auto& ms = Measurements(p.meas);
     const auto sel = Selected(ms, p.index, t.pointer, MeasurementsName(p.meas));
     if ((!p.start.ground_truth || !p.end.ground_truth) && sel.size() > 1)
@@ -870,9 +1198,15 @@ class Runner {
                         MeasurementsName(p.meas) + " has " + std::to_string(ms.size()) + ")");
     const std::vector<std::string> rblocks = {"theta", "p", "v", "bg", "ba"};
     const std::string rconv = "residual_" + p.kind_name;
-    const auto sb = Blocks(reg_, PluginKind::StateConvention, p.convention);
-    const auto ib = Blocks(reg_, PluginKind::PreintConvention, kRef);
-    json rs = json::array();
+    const auto& sb = BlocksOf(PluginKind::StateConvention, p.convention);
+    const auto& ib = BlocksOf(PluginKind::PreintConvention, kRef);
+    w.key("kind");
+    w.string(p.kind_name);
+    WriteMeasurementsSource(w, p.meas);
+    w.key("state_convention");
+    w.string(p.convention);
+    w.key("residuals");
+    w.begin_array();
     double sum_m2 = 0;
     std::size_t n_m2 = 0;
     for (std::size_t k : sel) {
@@ -885,29 +1219,39 @@ class Runner {
       };
       const ImuState xs = state_at(p.start, r.t_s, "start"), xe = state_at(p.end, r.t_e, "end");
       const Residual res = ComputeResidual(reg_, p.kind, r.m, xs, xe, p.convention, s_.gravity);
-      json rj = TimesJson(r.t_s, r.t_e);
-      rj["index"] = k;
-      rj["x_s"] = StateToJson(xs);
-      rj["x_e"] = StateToJson(xe);
-      rj["r"] = {{"convention", rconv}, {"blocks", rblocks}, {"vector", MatrixToJson(res.r.transpose()).at(0)}};
-      rj["H_start"] = MixedMatrixToJson(res.H_start, rconv, rblocks, p.convention, sb);
-      rj["H_end"] = MixedMatrixToJson(res.H_end, rconv, rblocks, p.convention, sb);
-      rj["H_increment"] = MixedMatrixToJson(res.H_increment, rconv, rblocks, kRef, ib);
-      rj["cov"] = ChartMatrixToJson(res.cov, rconv, rblocks);
+      w.begin_object();
+      w.key("index");
+      w.unsigned_integer(k);
+      WriteTimes(w, r.t_s, r.t_e);
+      w.key("x_s");
+      WriteState(w, xs);
+      w.key("x_e");
+      WriteState(w, xe);
+      w.key("r");
+      WriteChartVector(w, res.r, rconv, rblocks);
+      w.key("H_start");
+      WriteMixed(w, res.H_start, rconv, rblocks, p.convention, sb);
+      w.key("H_end");
+      WriteMixed(w, res.H_end, rconv, rblocks, p.convention, sb);
+      w.key("H_increment");
+      WriteMixed(w, res.H_increment, rconv, rblocks, kRef, ib);
+      w.key("cov");
+      WriteChart(w, res.cov, rconv, rblocks);
       const Eigen::LDLT<Mat15> ldlt(res.cov);
       if (ldlt.info() == Eigen::Success && ldlt.isPositive() && ldlt.vectorD().minCoeff() > 0.0) {
         const double m2 = res.r.dot(ldlt.solve(res.r));
-        rj["mahalanobis_squared"] = m2;
+        w.key("mahalanobis_squared");
+        w.number(m2);
         sum_m2 += m2;
         ++n_m2;
       }
-      rs.push_back(std::move(rj));
+      w.end_object();
     }
-    j["kind"] = p.kind_name;
-    j["measurements"] = p.meas.task.empty() ? json{{"file", p.meas.file}} : json(p.meas.task);
-    j["state_convention"] = p.convention;
-    j["residuals"] = std::move(rs);
-    if (n_m2) j["mean_mahalanobis_squared"] = sum_m2 / static_cast<double>(n_m2);
+    w.end_array();
+    if (n_m2) {
+      w.key("mean_mahalanobis_squared");
+      w.number(sum_m2 / static_cast<double>(n_m2));
+    }
     if (opt_.summary) {
       *opt_.summary << "residual '" << t.name << "' (" << p.kind_name << "): " << sel.size() << " residual(s)";
       if (n_m2) *opt_.summary << ", mean r^T cov^-1 r = " << Num(sum_m2 / static_cast<double>(n_m2), 4) << " (15 dof)";
@@ -915,44 +1259,62 @@ class Runner {
     }
   }
 
-  void RunBiasUpdate(const TaskSpec& t, const BiasUpdateTask& p, json& j) {
+  void RunBiasUpdate(const TaskSpec& t, const BiasUpdateTask& p, JsonWriter& w) {
     const auto& ms = Measurements(p.meas);
     const auto sel = Selected(ms, p.index, t.pointer, MeasurementsName(p.meas));
     const PreintegrateTask* origin = p.meas.task.empty() ? nullptr : results_.at(p.meas.task).preint;
-    json us = json::array();
+    WriteMeasurementsSource(w, p.meas);
+    w.key("updates");
+    w.begin_array();
     double max_rot = 0, max_dp = 0, max_dv = 0;
     for (std::size_t k : sel) {
       const MeasRecord& r = ms[k];
       const Vec3 bg = p.relative ? Vec3(r.m.bg_hat + p.bg) : p.bg;
       const Vec3 ba = p.relative ? Vec3(r.m.ba_hat + p.ba) : p.ba;
-      json uj = TimesJson(r.t_s, r.t_e);
-      uj["index"] = k;
-      uj["bias_estimate"] = {{"bg", Vec3ToJson(r.m.bg_hat)}, {"ba", Vec3ToJson(r.m.ba_hat)}};
-      uj["new_bias"] = {{"bg", Vec3ToJson(bg)}, {"ba", Vec3ToJson(ba)}};
+      w.begin_object();
+      w.key("index");
+      w.unsigned_integer(k);
+      WriteTimes(w, r.t_s, r.t_e);
+      w.key("bias_estimate");
+      WriteBias(w, r.m.bg_hat, r.m.ba_hat);
+      w.key("new_bias");
+      WriteBias(w, bg, ba);
       std::optional<Preintegrated> re;
       if (p.reintegrate && origin && r.t_s && r.t_e) {
         re = Integrate(*origin, Window(*r.t_s, *r.t_e), bg, ba);
-        uj["reintegrated"] = MeasurementJson(MeasRecord{*re, r.t_s, r.t_e, 0, ""}, k, {});
+        w.key("reintegrated");
+        WriteMeasurement(w, MeasRecord{*re, r.t_s, r.t_e, 0, ""}, k, {});
       }
-      json fo = json::object();
+      w.key("first_order");
+      w.begin_object();
       for (const auto& c : p.charts) {
         const PreintIncrement d = BiasCorrectedDelta(reg_, r.m, c, bg, ba);
-        json cj = {{"delta", DeltaToJson(d)}};
+        w.key(c);
+        w.begin_object();
+        w.key("delta");
+        WriteDelta(w, d);
         if (re) {
           const double rot = RotationErrorDeg(re->delta.dR, d.dR);
           const double edp = (re->delta.dp - d.dp).norm(), edv = (re->delta.dv - d.dv).norm();
-          cj["vs_reintegrated"] = {{"rotation_deg", rot}, {"dp_m", edp}, {"dv_mps", edv}};
+          w.key("vs_reintegrated");
+          w.begin_object();
+          w.key("rotation_deg");
+          w.number(rot);
+          w.key("dp_m");
+          w.number(edp);
+          w.key("dv_mps");
+          w.number(edv);
+          w.end_object();
           max_rot = std::max(max_rot, rot);
           max_dp = std::max(max_dp, edp);
           max_dv = std::max(max_dv, edv);
         }
-        fo[c] = std::move(cj);
+        w.end_object();
       }
-      uj["first_order"] = std::move(fo);
-      us.push_back(std::move(uj));
+      w.end_object();
+      w.end_object();
     }
-    j["measurements"] = p.meas.task.empty() ? json{{"file", p.meas.file}} : json(p.meas.task);
-    j["updates"] = std::move(us);
+    w.end_array();
     if (opt_.summary) {
       *opt_.summary << "bias_update '" << t.name << "': " << sel.size() << " measurement(s), first order in " << Join(p.charts);
       if (p.reintegrate && origin)
@@ -965,19 +1327,31 @@ class Runner {
 
 }  // namespace
 
-json Run(const Pipeline& p, const Registry& reg, const RunOptions& options) {
-  Runner r(p.spec(), reg, options);
-  return r.Run();
+void RunToText(const Pipeline& p, const Registry& reg, const RunOptions& options, const TextSink& sink) {
+  Runner r(p.spec(), reg, options, sink);
+  r.Run();
 }
 
-json Run(const Pipeline& p, const RunOptions& options) {
+void RunToText(const Pipeline& p, const RunOptions& options, const TextSink& sink) {
   std::vector<std::string> dirs = options.plugin_dirs;
   dirs.insert(dirs.end(), p.plugin_dirs().begin(), p.plugin_dirs().end());
   Registry reg;
   const auto issues = reg.load_search_path(dirs);
   if (options.log)
     for (const auto& i : issues) *options.log << "warning: plugin " << i.file << ": " << i.message << "\n";
-  return Run(p, reg, options);
+  RunToText(p, reg, options, sink);
+}
+
+json Run(const Pipeline& p, const Registry& reg, const RunOptions& options) {
+  std::string text;
+  RunToText(p, reg, options, [&](std::string_view s) { text.append(s.data(), s.size()); });
+  return json::parse(text);
+}
+
+json Run(const Pipeline& p, const RunOptions& options) {
+  std::string text;
+  RunToText(p, options, [&](std::string_view s) { text.append(s.data(), s.size()); });
+  return json::parse(text);
 }
 
 }  // namespace imuconv::pipeline

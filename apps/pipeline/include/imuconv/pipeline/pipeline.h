@@ -8,10 +8,12 @@
 // JSON document. Nothing is written here: the caller writes the document (atomically).
 #pragma once
 
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "imuconv/pipeline/json_check.h"
@@ -52,10 +54,26 @@ struct RunOptions {
   std::ostream* log = nullptr;
   /// The human-readable summary tables are printed here (may be null).
   std::ostream* summary = nullptr;
+  /// Threads for independent intervals (the caller's included): 0 = every core
+  /// (std::thread::hardware_concurrency()), 1 = serial. The output does not depend on it:
+  /// it is the same, byte for byte, for any number of threads.
+  unsigned threads = 0;
 };
+
+/// Receives the output document's text in order, in pieces.
+using TextSink = std::function<void(std::string_view)>;
+
+/// Runs and streams the output document (pretty-printed as PrettyJson lays it out; numbers in
+/// the shortest form that reads back exactly) into `sink` while the tasks run, so that a large
+/// document never has to be held in memory. The registry is loaded as by Run. On any error
+/// the sink has received an incomplete document: write it to a temporary (AtomicFile) and
+/// discard it on failure.
+void RunToText(const Pipeline& p, const RunOptions& options, const TextSink& sink);
+void RunToText(const Pipeline& p, const Registry& reg, const RunOptions& options, const TextSink& sink);
 
 /// Loads the registry from RunOptions::plugin_dirs, the pipeline's plugin_dirs and the
 /// default search path, then runs. Throws ConfigError / ReadError / Error naming the file.
+/// The document is RunToText's text, parsed.
 json Run(const Pipeline& p, const RunOptions& options);
 /// Runs with a given registry (plugin_dirs of the pipeline and options are then ignored).
 json Run(const Pipeline& p, const Registry& reg, const RunOptions& options);

@@ -1,0 +1,128 @@
+// A streaming JSON text writer with the layout of PrettyJson: objects one key per line,
+// indented by two spaces per level; arrays of scalars (vectors, matrix rows) on one line.
+//
+// Numbers are written in the shortest form that reads back to the same double
+// (std::to_chars), with ".0" added to integral values so that they stay floating point.
+// The writer keeps the JSON pointer of the value being written, so that a non-finite number
+// (which JSON cannot hold) is reported where it is: "produced a non-finite number (output
+// /tasks/0/cov/matrix/3/4); no output is written" (or written as null, if so configured).
+//
+// Pieces of one document can be written by independent writers (e.g. on several threads)
+// and spliced in order with raw_element(): a writer made with the depth and pointer of the
+// element it writes produces exactly the text the parent writer would have produced.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "imuconv/pipeline/json_check.h"
+
+namespace imuconv::pipeline {
+
+class JsonWriter {
+ public:
+  enum class NonFinite {
+    Throw,  ///< throw imuconv::Error naming the output pointer (pipeline outputs)
+    Null,   ///< write null, as nlohmann::json's dump does
+  };
+
+  /// Appends to `out`. `depth` is the indentation level of the first value's contents (0 for
+  /// a whole document; JsonWriter::content_depth() of the parent for a spliced element) and
+  /// `pointer` the JSON pointer of that value.
+  explicit JsonWriter(std::string& out, int depth = 0, std::string pointer = {}, NonFinite non_finite = NonFinite::Throw);
+
+  // ---- containers -------------------------------------------------------------------------
+  void begin_object();
+  void end_object();
+  /// An array with one element per line (objects, matrices).
+  void begin_array();
+  /// An array on one line; for scalars only.
+  void begin_line_array();
+  void end_array();
+  /// The next member's key (inside an object); its value follows.
+  void key(std::string_view k);
+
+  // ---- scalars: an object member (after key()) or an array element -------------------------
+  void number(double v);
+  void integer(std::int64_t v);
+  void unsigned_integer(std::uint64_t v);
+  void boolean(bool b);
+  void string(std::string_view s);
+  void null();
+
+  // ---- composites ---------------------------------------------------------------------------
+  /// A one-line array of n numbers.
+  void numbers(const double* v, std::size_t n);
+  template <typename Derived>
+  void vector(const Eigen::DenseBase<Derived>& v) {
+    double buf[32];
+    if (v.size() <= 32) {
+      for (Eigen::Index i = 0; i < v.size(); ++i) buf[i] = v.derived().coeff(i);
+      numbers(buf, static_cast<std::size_t>(v.size()));
+      return;
+    }
+    begin_line_array();
+    for (Eigen::Index i = 0; i < v.size(); ++i) number(v.derived().coeff(i));
+    end_array();
+  }
+  /// A matrix as an array of rows (row-major), each row on one line.
+  template <typename Derived>
+  void matrix(const Eigen::DenseBase<Derived>& m) {
+    begin_array();
+    double row[32];
+    for (Eigen::Index i = 0; i < m.rows(); ++i) {
+      if (m.cols() <= 32) {
+        for (Eigen::Index k = 0; k < m.cols(); ++k) row[k] = m.derived().coeff(i, k);
+        numbers(row, static_cast<std::size_t>(m.cols()));
+      } else {
+        begin_line_array();
+        for (Eigen::Index k = 0; k < m.cols(); ++k) number(m.derived().coeff(i, k));
+        end_array();
+      }
+    }
+    end_array();
+  }
+  void string_list(const std::vector<std::string>& v);
+  /// Any nlohmann::json value in the same layout (keys in the json's own order).
+  void value(const json& j);
+
+  // ---- splicing -------------------------------------------------------------------------------
+  /// Appends an array element that another writer produced (made with content_depth() and
+  /// element_pointer(i) of this writer's current, multi-line array).
+  void raw_element(std::string_view text);
+  /// The indentation level of the open container's contents.
+  int content_depth() const noexcept;
+  /// The pointer of the open container.
+  std::string container_pointer() const;
+  /// The pointer of the value being written (for messages).
+  std::string pointer() const;
+
+ private:
+  struct Frame {
+    bool object = false;
+    bool one_line = false;
+    std::size_t count = 0;
+    std::string key;  // objects: the current member
+  };
+  void before_value();
+  void open(bool object, bool one_line, char c);
+  void close(char c);
+  void append_number(double v);
+  [[noreturn]] void non_finite() const;
+  std::string pointer_upto(std::size_t frames) const;
+
+  std::string& out_;
+  int depth_;  // base depth
+  int open_lines_ = 0;  // multi-line containers open
+  std::string pointer_;
+  NonFinite non_finite_;
+  std::vector<Frame> stack_;
+};
+
+/// JSON string literal of s (quotes and escapes), as nlohmann::json writes it.
+void AppendJsonString(std::string& out, std::string_view s);
+
+}  // namespace imuconv::pipeline

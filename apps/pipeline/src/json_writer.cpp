@@ -1,0 +1,279 @@
+#include "imuconv/pipeline/json_writer.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+
+#include "imuconv/registry.h"
+
+namespace imuconv::pipeline {
+
+namespace {
+
+constexpr char kSpaces[] = "                                                                ";  // 64
+
+void AppendPad(std::string& out, int level) {
+  std::size_t n = 2 * static_cast<std::size_t>(std::max(level, 0));
+  while (n > 0) {
+    const std::size_t k = std::min<std::size_t>(n, sizeof kSpaces - 1);
+    out.append(kSpaces, k);
+    n -= k;
+  }
+}
+
+// Shortest round-trip form; integral values get ".0" (as nlohmann::json writes them).
+char* FormatDouble(char* p, char* end, double v) {
+  if (v == 0.0) {  // a third of a typical output (block-sparse Jacobians and covariances)
+    if (std::signbit(v)) *p++ = '-';
+    std::memcpy(p, "0.0", 3);
+    return p + 3;
+  }
+  const auto r = std::to_chars(p, end, v);
+  char* q = r.ptr;
+  bool plain_integer = true;
+  for (char* c = p; c != q; ++c)
+    if (*c == '.' || *c == 'e') {
+      plain_integer = false;
+      break;
+    }
+  if (plain_integer) {
+    *q++ = '.';
+    *q++ = '0';
+  }
+  return q;
+}
+
+}  // namespace
+
+void AppendJsonString(std::string& out, std::string_view s) {
+  out.push_back('"');
+  std::size_t run = 0;  // start of the pending run of plain bytes
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c >= 0x20 && c != '"' && c != '\\') continue;
+    out.append(s.data() + run, i - run);
+    run = i + 1;
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\b': out += "\\b"; break;
+      case '\f': out += "\\f"; break;
+      case '\n': out += "\\n"; break;
+      case '\r': out += "\\r"; break;
+      case '\t': out += "\\t"; break;
+      default: {
+        static const char* hex = "0123456789abcdef";
+        const char u[6] = {'\\', 'u', '0', '0', hex[c >> 4], hex[c & 15]};
+        out.append(u, 6);
+      }
+    }
+  }
+  out.append(s.data() + run, s.size() - run);
+  out.push_back('"');
+}
+
+JsonWriter::JsonWriter(std::string& out, int depth, std::string pointer, NonFinite non_finite)
+    : out_(out), depth_(depth), pointer_(std::move(pointer)), non_finite_(non_finite) {
+  stack_.reserve(16);
+}
+
+int JsonWriter::content_depth() const noexcept { return depth_ + open_lines_; }
+
+std::string JsonWriter::pointer_upto(std::size_t frames) const {
+  std::string p = pointer_;
+  for (std::size_t i = 0; i < frames && i < stack_.size(); ++i) {
+    const Frame& f = stack_[i];
+    if (f.object)
+      p += "/" + PointerToken(f.key);
+    else
+      p += "/" + std::to_string(f.count == 0 ? 0 : f.count - 1);
+  }
+  return p;
+}
+
+std::string JsonWriter::container_pointer() const {
+  return pointer_upto(stack_.empty() ? 0 : stack_.size() - 1);
+}
+
+std::string JsonWriter::pointer() const { return pointer_upto(stack_.size()); }
+
+void JsonWriter::non_finite() const {
+  throw Error("produced a non-finite number (output " + pointer() + "); no output is written");
+}
+
+void JsonWriter::before_value() {
+  if (stack_.empty()) return;
+  Frame& f = stack_.back();
+  if (f.object) return;  // key() wrote the separator
+  if (f.one_line) {
+    if (f.count) out_ += ", ";
+  } else {
+    out_ += f.count ? ",\n" : "\n";
+    AppendPad(out_, content_depth());
+  }
+  ++f.count;
+}
+
+void JsonWriter::open(bool object, bool one_line, char c) {
+  before_value();
+  out_.push_back(c);
+  Frame f;
+  f.object = object;
+  f.one_line = one_line;
+  stack_.push_back(std::move(f));
+  if (!one_line) ++open_lines_;
+}
+
+void JsonWriter::close(char c) {
+  const Frame f = std::move(stack_.back());
+  stack_.pop_back();
+  if (!f.one_line) {
+    --open_lines_;
+    if (f.count) {
+      out_.push_back('\n');
+      AppendPad(out_, content_depth());
+    }
+  }
+  out_.push_back(c);
+}
+
+void JsonWriter::begin_object() { open(true, false, '{'); }
+void JsonWriter::end_object() { close('}'); }
+void JsonWriter::begin_array() { open(false, false, '['); }
+void JsonWriter::begin_line_array() { open(false, true, '['); }
+void JsonWriter::end_array() { close(']'); }
+
+void JsonWriter::key(std::string_view k) {
+  Frame& f = stack_.back();
+  out_ += f.count ? ",\n" : "\n";
+  AppendPad(out_, content_depth());
+  AppendJsonString(out_, k);
+  out_ += ": ";
+  ++f.count;
+  f.key.assign(k.data(), k.size());
+}
+
+void JsonWriter::append_number(double v) {
+  if (!std::isfinite(v)) {
+    if (non_finite_ == NonFinite::Throw) non_finite();
+    out_ += "null";
+    return;
+  }
+  char buf[40];
+  out_.append(buf, static_cast<std::size_t>(FormatDouble(buf, buf + sizeof buf, v) - buf));
+}
+
+void JsonWriter::number(double v) {
+  before_value();
+  append_number(v);
+}
+
+void JsonWriter::integer(std::int64_t v) {
+  before_value();
+  char buf[24];
+  out_.append(buf, static_cast<std::size_t>(std::to_chars(buf, buf + sizeof buf, v).ptr - buf));
+}
+
+void JsonWriter::unsigned_integer(std::uint64_t v) {
+  before_value();
+  char buf[24];
+  out_.append(buf, static_cast<std::size_t>(std::to_chars(buf, buf + sizeof buf, v).ptr - buf));
+}
+
+void JsonWriter::boolean(bool b) {
+  before_value();
+  out_ += b ? "true" : "false";
+}
+
+void JsonWriter::string(std::string_view s) {
+  before_value();
+  AppendJsonString(out_, s);
+}
+
+void JsonWriter::null() {
+  before_value();
+  out_ += "null";
+}
+
+void JsonWriter::numbers(const double* v, std::size_t n) {
+  before_value();
+  // One formatting pass into a local buffer, one append.
+  char buf[32 * 28 + 4];
+  if (n > 32) {
+    stack_.push_back(Frame{false, true, 0, {}});
+    out_.push_back('[');
+    for (std::size_t i = 0; i < n; ++i) number(v[i]);
+    out_.push_back(']');
+    stack_.pop_back();
+    return;
+  }
+  char* p = buf;
+  *p++ = '[';
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(v[i])) {
+      if (non_finite_ == NonFinite::Throw) {
+        stack_.push_back(Frame{false, true, i + 1, {}});  // so that pointer() names the element
+        non_finite();
+      }
+      if (i) {
+        *p++ = ',';
+        *p++ = ' ';
+      }
+      std::memcpy(p, "null", 4);
+      p += 4;
+      continue;
+    }
+    if (i) {
+      *p++ = ',';
+      *p++ = ' ';
+    }
+    p = FormatDouble(p, buf + sizeof buf, v[i]);
+  }
+  *p++ = ']';
+  out_.append(buf, static_cast<std::size_t>(p - buf));
+}
+
+void JsonWriter::string_list(const std::vector<std::string>& v) {
+  begin_line_array();
+  for (const auto& s : v) string(s);
+  end_array();
+}
+
+namespace {
+bool IsScalar(const json& j) { return !j.is_object() && !j.is_array(); }
+}  // namespace
+
+void JsonWriter::value(const json& j) {
+  switch (j.type()) {
+    case json::value_t::object:
+      begin_object();
+      for (auto it = j.begin(); it != j.end(); ++it) {
+        key(it.key());
+        value(it.value());
+      }
+      end_object();
+      return;
+    case json::value_t::array:
+      if (std::all_of(j.begin(), j.end(), IsScalar))
+        begin_line_array();
+      else
+        begin_array();
+      for (const auto& e : j) value(e);
+      end_array();
+      return;
+    case json::value_t::number_float: number(j.get<double>()); return;
+    case json::value_t::number_integer: integer(j.get<std::int64_t>()); return;
+    case json::value_t::number_unsigned: unsigned_integer(j.get<std::uint64_t>()); return;
+    case json::value_t::boolean: boolean(j.get<bool>()); return;
+    case json::value_t::string: string(j.get_ref<const std::string&>()); return;
+    default: null(); return;
+  }
+}
+
+void JsonWriter::raw_element(std::string_view text) {
+  before_value();
+  out_.append(text.data(), text.size());
+}
+
+}  // namespace imuconv::pipeline
