@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <Eigen/Cholesky>
 #include <cstdio>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -72,7 +73,9 @@ inline std::vector<PreintIncrement> TestIncrements() {
 }
 
 /// The paper's entrywise difference: |r - e| / |r| where |r| > 1e-4, else |r - e|.
+/// A non-finite estimate counts as an infinite difference (so NaN can never pass a max).
 inline double EntryDiff(double r, double e) {
+  if (!std::isfinite(e)) return std::numeric_limits<double>::infinity();
   return std::abs(r) > 1e-4 ? std::abs((r - e) / r) : std::abs(r - e);
 }
 
