@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "double_format.h"
 #include "imuconv/registry.h"
 
 namespace imuconv::pipeline {
@@ -22,26 +23,14 @@ void AppendPad(std::string& out, int level) {
   }
 }
 
-// Shortest round-trip form; integral values get ".0" (as nlohmann::json writes them).
-char* FormatDouble(char* p, char* end, double v) {
+// Shortest round-trip form, as nlohmann::json lays it out (integral values get ".0").
+inline char* FormatDouble(char* p, double v) {
   if (v == 0.0) {  // a third of a typical output (block-sparse Jacobians and covariances)
     if (std::signbit(v)) *p++ = '-';
     std::memcpy(p, "0.0", 3);
     return p + 3;
   }
-  const auto r = std::to_chars(p, end, v);
-  char* q = r.ptr;
-  bool plain_integer = true;
-  for (char* c = p; c != q; ++c)
-    if (*c == '.' || *c == 'e') {
-      plain_integer = false;
-      break;
-    }
-  if (plain_integer) {
-    *q++ = '.';
-    *q++ = '0';
-  }
-  return q;
+  return FormatShortest(p, v);
 }
 
 }  // namespace
@@ -161,7 +150,7 @@ void JsonWriter::append_number(double v) {
     return;
   }
   char buf[40];
-  out_.append(buf, static_cast<std::size_t>(FormatDouble(buf, buf + sizeof buf, v) - buf));
+  out_.append(buf, static_cast<std::size_t>(FormatDouble(buf, v) - buf));
 }
 
 void JsonWriter::number(double v) {
@@ -228,7 +217,7 @@ void JsonWriter::numbers(const double* v, std::size_t n) {
       *p++ = ',';
       *p++ = ' ';
     }
-    p = FormatDouble(p, buf + sizeof buf, v[i]);
+    p = FormatDouble(p, v[i]);
   }
   *p++ = ']';
   out_.append(buf, static_cast<std::size_t>(p - buf));

@@ -1,8 +1,9 @@
 // A streaming JSON text writer with the layout of PrettyJson: objects one key per line,
 // indented by two spaces per level; arrays of scalars (vectors, matrix rows) on one line.
 //
-// Numbers are written in the shortest form that reads back to the same double
-// (std::to_chars), with ".0" added to integral values so that they stay floating point.
+// Numbers are written in the shortest form that reads back to the same double (the digits
+// std::to_chars gives, by the faster Schubfach algorithm), laid out as nlohmann::json does:
+// ".0" on integral values so that they stay floating point, exponents from 1e-05 / 1e+16.
 // The writer keeps the JSON pointer of the value being written, so that a non-finite number
 // (which JSON cannot hold) is reported where it is: "produced a non-finite number (output
 // /tasks/0/cov/matrix/3/4); no output is written" (or written as null, if so configured).
