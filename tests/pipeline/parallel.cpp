@@ -106,6 +106,24 @@ TEST(Parallel, FailuresAreTheSameForAnyThreadCount) {
       << *messages.begin();
 }
 
+TEST(Parallel, AFailingSinkIsReportedAsItself) {
+  // The output is streamed while tasks run: an error of the sink (a full disk) is reported
+  // with its own message, not as a failure of the task that was running.
+  const Pipeline p = Pipeline::Load(SourcePath("examples/euroc_v1_01_keyframes.json"));
+  for (unsigned threads : {1u, 3u}) {
+    int calls = 0;
+    RunOptions o;
+    o.threads = threads;
+    const std::string msg = imuconv::test::MessageOf<Error>([&] {
+      RunToText(p, imuconv::test::Plugins(), o, [&](std::string_view) {
+        if (++calls == 2) throw Error("out.json: cannot write the temporary file: No space left on device");
+      });
+    });
+    EXPECT_EQ(msg, "out.json: cannot write the temporary file: No space left on device");
+    EXPECT_EQ(calls, 2);
+  }
+}
+
 TEST(Parallel, CommandLineThreadsGiveTheSameFile) {
   imuconv::test::TempDir tmp;
   const std::string pipeline = imuconv::test::ShellQuote(SourcePath("examples/euroc_v1_01_keyframes.json"));

@@ -181,6 +181,12 @@ class TaskFailure : public Error {
   using Error::Error;
 };
 
+/// The sink could not take the output (e.g. a full disk): reported as it is, not as a task's.
+class SinkFailure : public Error {
+ public:
+  using Error::Error;
+};
+
 class Runner {
  public:
   Runner(const PipelineSpec& s, const Registry& reg, const RunOptions& opt, const TextSink& sink)
@@ -249,6 +255,8 @@ class Runner {
         throw;
       } catch (const TaskFailure&) {
         throw;
+      } catch (const SinkFailure&) {
+        throw;
       } catch (const std::exception& e) {
         throw TaskFailure(s_.file + ": " + t.pointer + " (task '" + t.name + "'): " + e.what());
       }
@@ -276,7 +284,11 @@ class Runner {
 
   void Flush(bool all) {
     if (buf_.empty() || (!all && buf_.size() < kFlushBytes)) return;
-    sink_(buf_);
+    try {
+      sink_(buf_);
+    } catch (const std::exception& e) {
+      throw SinkFailure(e.what());
+    }
     buf_.clear();
   }
 

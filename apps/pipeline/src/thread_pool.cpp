@@ -1,10 +1,12 @@
 #include "thread_pool.h"
 
+#include <algorithm>
+
 namespace imuconv::pipeline {
 
 ThreadPool::ThreadPool(unsigned threads) {
   if (threads == 0) threads = std::thread::hardware_concurrency();
-  size_ = threads == 0 ? 1 : threads;
+  size_ = threads == 0 ? 1 : std::min(threads, kMaxThreads);
   threads_.reserve(size_ - 1);
   for (unsigned i = 1; i < size_; ++i) threads_.emplace_back([this] { worker(); });
 }

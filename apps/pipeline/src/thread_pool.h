@@ -21,6 +21,8 @@ namespace imuconv::pipeline {
 
 class ThreadPool {
  public:
+  /// More are not started (a request for more gets this many).
+  static constexpr unsigned kMaxThreads = 256;
   /// `threads` workers in all, the caller included; 0 = std::thread::hardware_concurrency().
   explicit ThreadPool(unsigned threads);
   ~ThreadPool();
