@@ -65,6 +65,52 @@ TEST(ThreadPool, EveryItemOnceAndTheLowestFailureWins) {
   EXPECT_GE(every_core.size(), 1u);
 }
 
+TEST(ThreadPool, OrderedForConsumesInOrderWithinTheWindow) {
+  for (unsigned threads : {1u, 2u, 5u}) {
+    SCOPED_TRACE(threads);
+    ThreadPool pool(threads);
+    constexpr std::size_t n = 2000, window = 7;
+    std::vector<std::atomic<int>> produced(n);
+    std::atomic<std::size_t> consumed{0};
+    std::atomic<bool> ahead{false};
+    std::vector<std::size_t> order;
+    pool.ordered_for(
+        n, window,
+        [&](std::size_t i) {
+          if (i >= consumed.load() + window) ahead = true;  // started before i - window was consumed
+          produced[i]++;
+        },
+        [&](std::size_t i) {
+          EXPECT_EQ(produced[i].load(), 1);
+          order.push_back(i);
+          consumed = i + 1;
+        });
+    EXPECT_FALSE(ahead.load());
+    ASSERT_EQ(order.size(), n);
+    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(order[i], i);
+    for (const auto& p : produced) ASSERT_EQ(p.load(), 1);
+    // The lowest failing item wins; nothing after it is consumed.
+    std::size_t last = 0;
+    const std::string msg = imuconv::test::MessageOf<std::runtime_error>([&] {
+      pool.ordered_for(
+          n, window,
+          [&](std::size_t i) {
+            if (i == 1500 || i == 900 || i == 901) throw std::runtime_error("item " + std::to_string(i));
+          },
+          [&](std::size_t i) { last = i; });
+    });
+    EXPECT_EQ(msg, "item 900");
+    EXPECT_EQ(last, 899u);
+    // A failing consumer stops the loop at once.
+    const std::string m2 = imuconv::test::MessageOf<std::runtime_error>([&] {
+      pool.ordered_for(n, window, [](std::size_t) {}, [](std::size_t i) {
+        if (i == 10) throw std::runtime_error("sink");
+      });
+    });
+    EXPECT_EQ(m2, "sink");
+  }
+}
+
 TEST(Parallel, EveryExampleIsByteIdenticalToASerialRun) {
   for (const char* name : {"euroc_v1_01_keyframes.json", "inline_basics.json", "generic_csv.json", "gtsam_import.json"}) {
     SCOPED_TRACE(name);

@@ -292,36 +292,28 @@ class Runner {
     buf_.clear();
   }
 
-  /// Writes n elements of the open array of `w`, element k by write_one(writer, k): formatted
-  /// on the pool in batches (each into its own string, by its own writer) and appended in
-  /// order, a batch while the next one is being formatted. The text is the same as writing
-  /// them one after the other into `w`.
+  /// Writes n elements of the open array of `w`, element k by write_one(writer, k) (which
+  /// may compute it first): run on the pool, each into its own string by its own writer, and
+  /// appended in order as soon as it is there (at most a window of elements ahead). The text
+  /// is the same as writing them one after the other into `w`.
   template <typename F>
   void WriteElements(JsonWriter& w, std::size_t n, const F& write_one) {
     const int depth = w.content_depth();
     const std::string base = w.container_pointer();
-    const std::size_t batch = 32 * static_cast<std::size_t>(pool_.size());
-    std::vector<std::string> ready(std::min(batch, n)), next(std::min(batch, n));
-    std::size_t n_ready = 0;
-    const auto append_ready = [&] {
-      for (std::size_t i = 0; i < n_ready; ++i) w.raw_element(ready[i]);
-      n_ready = 0;
-      Flush(false);
-    };
-    for (std::size_t b0 = 0; b0 < n; b0 += batch) {
-      const std::size_t m = std::min(batch, n - b0);
-      pool_.parallel_for(
-          m,
-          [&](std::size_t i) {
-            next[i].clear();
-            JsonWriter cw(next[i], depth, base + "/" + std::to_string(b0 + i));
-            write_one(cw, b0 + i);
-          },
-          append_ready);
-      std::swap(ready, next);
-      n_ready = m;
-    }
-    append_ready();
+    const std::size_t window = 16 * static_cast<std::size_t>(pool_.size());
+    std::vector<std::string> slots(std::min(window, n));
+    pool_.ordered_for(
+        n, window,
+        [&](std::size_t k) {
+          std::string& text = slots[k % window];
+          text.clear();
+          JsonWriter cw(text, depth, base + "/" + std::to_string(k));
+          write_one(cw, k);
+        },
+        [&](std::size_t k) {
+          w.raw_element(slots[k % window]);
+          Flush(false);
+        });
   }
 
   // ---- checks against the registry --------------------------------------------------
@@ -876,9 +868,9 @@ class Runner {
     res.preint = &p;
     const auto& ts = p.intervals.times;
     const std::size_t n = ts.size() < 2 ? 0 : ts.size() - 1;
-    // Every interval on its own: computed on the pool, each into its own record.
+    // Every interval on its own: computed and written on the pool, each into its own record.
     res.meas.resize(n);
-    pool_.parallel_for(n, [&](std::size_t k) {
+    const auto compute = [&](std::size_t k) {
       Vec3 bg = p.bias.bg, ba = p.bias.ba;
       if (p.bias.ground_truth) {
         const ImuState g = GtAt(ts[k], p.bias.pointer);
@@ -891,7 +883,7 @@ class Runner {
       r.t_s = ts[k];
       r.t_e = ts[k + 1];
       r.n_knots = win.size();
-    });
+    };
     w.key("method");
     w.begin_object();
     w.key(p.native ? "preintegrator" : "propagator");
@@ -906,7 +898,10 @@ class Runner {
     w.string_list(p.conventions);
     w.key("measurements");
     w.begin_array();
-    WriteElements(w, n, [&](JsonWriter& cw, std::size_t k) { WriteMeasurement(cw, res.meas[k], k, p.conventions); });
+    WriteElements(w, n, [&](JsonWriter& cw, std::size_t k) {
+      compute(k);
+      WriteMeasurement(cw, res.meas[k], k, p.conventions);
+    });
     w.end_array();
     if (opt_.summary) {
       double total = 0;
@@ -943,6 +938,7 @@ class Runner {
                           MeasurementsName(p.meas) + " measurement " + std::to_string(k));
       return GtAt(*r.t_s, p.start.pointer);
     };
+    // Chained steps one after the other here; independent ones on the pool, as they are written.
     if (p.chain) {
       for (std::size_t k = 0; k < n; ++k) {
         if (k == 0) {
@@ -952,11 +948,6 @@ class Runner {
           step(k, res.props[k - 1].x_e, res.props[k - 1].cov);
         }
       }
-    } else {
-      pool_.parallel_for(n, [&](std::size_t k) {
-        const ImuState x = start_state(k);
-        step(k, x, StartCov(p.cov, p.convention, x));
-      });
     }
     WriteMeasurementsSource(w, p.meas);
     w.key("state_convention");
@@ -971,6 +962,10 @@ class Runner {
     w.key("steps");
     w.begin_array();
     WriteElements(w, n, [&](JsonWriter& sw, std::size_t k) {
+      if (!p.chain) {
+        const ImuState x = start_state(k);
+        step(k, x, StartCov(p.cov, p.convention, x));
+      }
       const MeasRecord& r = ms[k];
       const PropRecord& pr = res.props[k];
       sw.begin_object();

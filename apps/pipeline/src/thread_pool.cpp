@@ -1,6 +1,7 @@
 #include "thread_pool.h"
 
 #include <algorithm>
+#include <memory>
 
 namespace imuconv::pipeline {
 
@@ -20,36 +21,37 @@ ThreadPool::~ThreadPool() {
   for (auto& t : threads_) t.join();
 }
 
-void ThreadPool::work_on_current_job() {
-  while (true) {
-    const std::size_t i = next_.fetch_add(1, std::memory_order_relaxed);
-    if (i >= n_) return;
-    if (i > first_failure_.load(std::memory_order_relaxed)) continue;  // a serial loop stops earlier
-    try {
-      (*f_)(i);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(m_);
-      if (i < first_failure_.load(std::memory_order_relaxed)) {
-        first_failure_.store(i, std::memory_order_relaxed);
-        error_ = std::current_exception();
-      }
-    }
-  }
-}
-
 void ThreadPool::worker() {
   std::size_t seen = 0;
   while (true) {
+    const std::function<void()>* job = nullptr;
     {
       std::unique_lock<std::mutex> lock(m_);
       wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
       if (stop_) return;
       seen = generation_;
+      job = job_;
     }
-    work_on_current_job();
+    (*job)();  // jobs catch their own exceptions
     std::lock_guard<std::mutex> lock(m_);
     if (--busy_ == 0) done_.notify_one();
   }
+}
+
+void ThreadPool::start_workers(const std::function<void()>& job) {
+  {
+    std::lock_guard<std::mutex> lock(m_);
+    job_ = &job;
+    busy_ = threads_.size();
+    ++generation_;
+  }
+  wake_.notify_all();
+}
+
+void ThreadPool::wait_workers() {
+  std::unique_lock<std::mutex> lock(m_);
+  done_.wait(lock, [&] { return busy_ == 0; });
+  job_ = nullptr;
 }
 
 void ThreadPool::parallel_for(std::size_t n, const std::function<void(std::size_t)>& f,
@@ -59,37 +61,130 @@ void ThreadPool::parallel_for(std::size_t n, const std::function<void(std::size_
     for (std::size_t i = 0; i < n; ++i) f(i);
     return;
   }
-  {
-    std::lock_guard<std::mutex> lock(m_);
-    f_ = &f;
-    n_ = n;
-    next_.store(0);
-    first_failure_.store(n);
-    error_ = nullptr;
-    busy_ = threads_.size();
-    ++generation_;
-  }
-  wake_.notify_all();
+  std::atomic<std::size_t> next{0}, first_failure{n};
+  std::mutex error_m;
+  std::exception_ptr error;
+  const std::function<void()> loop = [&] {
+    while (true) {
+      const std::size_t i = next.fetch_add(1, std::memory_order_relaxed);
+      if (i >= n) return;
+      if (i > first_failure.load(std::memory_order_relaxed)) continue;  // a serial loop stops earlier
+      try {
+        f(i);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_m);
+        if (i < first_failure.load(std::memory_order_relaxed)) {
+          first_failure.store(i, std::memory_order_relaxed);
+          error = std::current_exception();
+        }
+      }
+    }
+  };
+  start_workers(loop);
   std::exception_ptr own;
   if (meanwhile) {
     try {
       meanwhile();
     } catch (...) {
       own = std::current_exception();
-      first_failure_.store(0);  // the items are not needed any more
+      first_failure.store(0);  // the items are not needed any more
     }
   }
-  work_on_current_job();
-  std::exception_ptr error;
-  {
-    std::unique_lock<std::mutex> lock(m_);
-    done_.wait(lock, [&] { return busy_ == 0; });
-    f_ = nullptr;
-    error = error_;
-    error_ = nullptr;
-  }
+  loop();
+  wait_workers();
   if (own) std::rethrow_exception(own);
   if (error) std::rethrow_exception(error);
+}
+
+void ThreadPool::ordered_for(std::size_t n, std::size_t window, const std::function<void(std::size_t)>& produce,
+                             const std::function<void(std::size_t)>& consume) {
+  if (threads_.empty() || n <= 1) {
+    for (std::size_t i = 0; i < n; ++i) {
+      produce(i);
+      consume(i);
+    }
+    return;
+  }
+  window = std::max<std::size_t>(window, 1);
+  // Item states: 0 pending, 1 produced, 2 failed (its exception in errors[i % window]).
+  std::unique_ptr<std::atomic<int>[]> state(new std::atomic<int>[n]);
+  for (std::size_t i = 0; i < n; ++i) state[i].store(0, std::memory_order_relaxed);
+  std::vector<std::exception_ptr> errors(window);
+  std::atomic<std::size_t> next{0};      // next item to claim
+  std::atomic<std::size_t> consumed{0};  // items consumed
+  std::atomic<bool> abort{false};
+  std::mutex m;
+  std::condition_variable produced_cv, consumed_cv;
+
+  const auto run = [&](std::size_t i) {
+    int s = 1;
+    try {
+      produce(i);
+    } catch (...) {
+      errors[i % window] = std::current_exception();
+      s = 2;
+    }
+    {
+      std::lock_guard<std::mutex> lock(m);
+      state[i].store(s, std::memory_order_release);
+    }
+    produced_cv.notify_all();
+  };
+  const std::function<void()> worker_loop = [&] {
+    while (!abort.load(std::memory_order_relaxed)) {
+      const std::size_t i = next.fetch_add(1, std::memory_order_relaxed);
+      if (i >= n) return;
+      if (i >= consumed.load(std::memory_order_acquire) + window) {
+        std::unique_lock<std::mutex> lock(m);
+        consumed_cv.wait(lock, [&] { return abort.load() || i < consumed.load() + window; });
+        if (abort.load()) return;
+      }
+      run(i);
+    }
+  };
+  start_workers(worker_loop);
+  std::exception_ptr failure;
+  for (std::size_t j = 0; j < n && !failure; ++j) {
+    // Help while item j is not there: claim an item only if it fits in the window (the
+    // consumer must never wait for the window itself).
+    while (state[j].load(std::memory_order_acquire) == 0) {
+      std::size_t i = next.load(std::memory_order_relaxed);
+      if (i < n && i < j + window && next.compare_exchange_weak(i, i + 1, std::memory_order_relaxed)) {
+        run(i);
+        continue;
+      }
+      std::unique_lock<std::mutex> lock(m);
+      produced_cv.wait(lock, [&] {
+        if (state[j].load(std::memory_order_acquire) != 0) return true;
+        const std::size_t k = next.load(std::memory_order_relaxed);
+        return k < n && k < j + window;  // something to help with
+      });
+    }
+    if (state[j].load(std::memory_order_acquire) == 2) {
+      failure = errors[j % window];
+      break;
+    }
+    try {
+      consume(j);
+    } catch (...) {
+      failure = std::current_exception();
+      break;
+    }
+    {
+      std::lock_guard<std::mutex> lock(m);
+      consumed.store(j + 1, std::memory_order_release);
+    }
+    consumed_cv.notify_all();
+  }
+  if (failure) {
+    {
+      std::lock_guard<std::mutex> lock(m);
+      abort.store(true);
+    }
+    consumed_cv.notify_all();
+  }
+  wait_workers();
+  if (failure) std::rethrow_exception(failure);
 }
 
 }  // namespace imuconv::pipeline

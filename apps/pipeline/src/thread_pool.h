@@ -1,11 +1,15 @@
 // A small fixed thread pool for independent work items (internal to imuconv_pipeline).
 //
 // parallel_for(n, f) calls f(i) once for every i in [0, n); the calling thread takes part.
-// Results must go to slots owned by i (f(i) writes nothing shared), so that the outcome does
-// not depend on which thread ran which item. When items throw, the exception of the lowest
-// failing index is rethrown (items after it may be skipped): the same error a serial loop
-// would have stopped at. With one thread, items run in order on the caller and the first
-// exception propagates at once.
+// ordered_for(n, window, produce, consume) calls produce(i) on the pool and consume(i) on the
+// calling thread in index order, as soon as item i is produced, with at most `window` items
+// produced ahead of consumption (so that their results stay small).
+//
+// Results must go to slots owned by i (produce/f write nothing shared), so that the outcome
+// does not depend on which thread ran which item. When items throw, the exception of the
+// lowest failing index is rethrown (items after it may be skipped): the same error a serial
+// loop would have stopped at. With one thread, items run in order on the caller and the
+// first exception propagates at once.
 #pragma once
 
 #include <atomic>
@@ -30,15 +34,26 @@ class ThreadPool {
   ThreadPool& operator=(const ThreadPool&) = delete;
 
   unsigned size() const noexcept { return size_; }
+
   void parallel_for(std::size_t n, const std::function<void(std::size_t)>& f) { parallel_for(n, f, nullptr); }
   /// The same, with `meanwhile` run first on the calling thread while the other threads
-  /// start on the items (e.g. writing out the previous batch's results). An exception from
-  /// it is rethrown once the items are done (it wins over theirs).
+  /// start on the items. An exception from it is rethrown once the items are done (it wins
+  /// over theirs).
   void parallel_for(std::size_t n, const std::function<void(std::size_t)>& f, const std::function<void()>& meanwhile);
+
+  /// produce(i) for every i on the pool (the caller helps while it waits), consume(i) on the
+  /// caller in order 0, 1, ..., each once its item is produced; item i is not started before
+  /// item i - window is consumed. An exception from produce(i) is rethrown when i's turn to
+  /// be consumed comes (so the lowest failing index wins); one from consume(i) at once. No
+  /// barrier between items: a thread that is descheduled holds up at most its own item.
+  void ordered_for(std::size_t n, std::size_t window, const std::function<void(std::size_t)>& produce,
+                   const std::function<void(std::size_t)>& consume);
 
  private:
   void worker();
-  void work_on_current_job();
+  /// Runs job() once on every worker thread; returns at once (join with wait_workers()).
+  void start_workers(const std::function<void()>& job);
+  void wait_workers();
 
   unsigned size_ = 1;
   std::vector<std::thread> threads_;
@@ -47,13 +62,7 @@ class ThreadPool {
   bool stop_ = false;
   std::size_t generation_ = 0;  // bumped per job
   std::size_t busy_ = 0;        // workers still on the current job
-
-  // The current job.
-  const std::function<void(std::size_t)>* f_ = nullptr;
-  std::size_t n_ = 0;
-  std::atomic<std::size_t> next_{0};
-  std::atomic<std::size_t> first_failure_{0};
-  std::exception_ptr error_;  // of first_failure_ (guarded by m_)
+  const std::function<void()>* job_ = nullptr;
 };
 
 }  // namespace imuconv::pipeline
