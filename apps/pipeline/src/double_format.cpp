@@ -135,6 +135,17 @@ inline char* DigitsBackward(char* end, u64 f) {
   return end;
 }
 
+// Decimal digits of f (0 < f < 10^17).
+inline int DigitCount(u64 f) {
+  static constexpr u64 kPow10[] = {1ULL, 10ULL, 100ULL, 1000ULL, 10000ULL, 100000ULL, 1000000ULL, 10000000ULL,
+                                   100000000ULL, 1000000000ULL, 10000000000ULL, 100000000000ULL, 1000000000000ULL,
+                                   10000000000000ULL, 100000000000000ULL, 1000000000000000ULL, 10000000000000000ULL,
+                                   100000000000000000ULL, 1000000000000000000ULL};
+  const int bits = 64 - __builtin_clzll(f);
+  const int len = FloorLog10Pow2(bits);  // 10^len <= 2^bits
+  return f >= kPow10[len] ? len + 1 : len;
+}
+
 char* AppendExponent(char* p, int e) {
   if (e < 0) {
     e = -e;
@@ -186,14 +197,12 @@ char* FormatShortest(char* p, double v) {
     d.f /= 10;
     ++d.e;
   }
-  // Digits, then nlohmann::json's layout (min exponent -4, max 15): v = digits 10^(n - k).
-  char buf[24];
-  char* const dend = buf + sizeof buf;
-  const char* dstart = DigitsBackward(dend, d.f);
-  const int k = static_cast<int>(dend - dstart);
+  // nlohmann::json's layout (min exponent -4, max 15) for v = digits 10^(n - k); the digits
+  // are written in place.
+  const int k = DigitCount(d.f);
   const int n = k + d.e;
   if (k <= n && n <= 15) {  // digits[000].0
-    std::memcpy(p, dstart, static_cast<std::size_t>(k));
+    DigitsBackward(p + k, d.f);
     p += k;
     std::memset(p, '0', static_cast<std::size_t>(n - k));
     p += n - k;
@@ -201,26 +210,26 @@ char* FormatShortest(char* p, double v) {
     *p++ = '0';
     return p;
   }
-  if (0 < n && n <= 15) {  // dig.its
-    std::memcpy(p, dstart, static_cast<std::size_t>(n));
-    p += n;
-    *p++ = '.';
-    std::memcpy(p, dstart + n, static_cast<std::size_t>(k - n));
-    return p + (k - n);
+  if (0 < n && n <= 15) {  // dig.its: the digits one place to the right, then the point
+    DigitsBackward(p + 1 + k, d.f);
+    for (int i = 0; i < n; ++i) p[i] = p[i + 1];
+    p[n] = '.';
+    return p + k + 1;
   }
   if (-4 < n && n <= 0) {  // 0.[000]digits
-    *p++ = '0';
-    *p++ = '.';
-    std::memset(p, '0', static_cast<std::size_t>(-n));
-    p += -n;
-    std::memcpy(p, dstart, static_cast<std::size_t>(k));
+    std::memcpy(p, "0.0000", 6);  // "0." and up to 4 zeros, as many as needed kept
+    p += 2 - n;
+    DigitsBackward(p + k, d.f);
     return p + k;
   }
-  *p++ = dstart[0];  // d[.igits]e+XX
+  // d[.igits]e+XX: the digits one place to the right, then the first one moved before the point
+  DigitsBackward(p + 1 + k, d.f);
+  p[0] = p[1];
   if (k > 1) {
-    *p++ = '.';
-    std::memcpy(p, dstart + 1, static_cast<std::size_t>(k - 1));
-    p += k - 1;
+    p[1] = '.';
+    p += k + 1;
+  } else {
+    p += 1;
   }
   *p++ = 'e';
   return AppendExponent(p, n - 1);

@@ -260,6 +260,14 @@ void JsonWriter::value(const json& j) {
   }
 }
 
+std::string JsonWriter::element_separator(bool first) const {
+  std::string sep = (first && stack_.back().count == 0) ? "\n" : ",\n";
+  AppendPad(sep, content_depth());
+  return sep;
+}
+
+void JsonWriter::skip_elements(std::size_t n) { stack_.back().count += n; }
+
 void JsonWriter::raw_element(std::string_view text) {
   before_value();
   out_.append(text.data(), text.size());

@@ -284,36 +284,42 @@ class Runner {
 
   void Flush(bool all) {
     if (buf_.empty() || (!all && buf_.size() < kFlushBytes)) return;
+    Sink(buf_);
+    buf_.clear();
+  }
+
+  void Sink(std::string_view text) {
     try {
-      sink_(buf_);
+      sink_(text);
     } catch (const std::exception& e) {
       throw SinkFailure(e.what());
     }
-    buf_.clear();
   }
 
   /// Writes n elements of the open array of `w`, element k by write_one(writer, k) (which
   /// may compute it first): run on the pool, each into its own string by its own writer, and
-  /// appended in order as soon as it is there (at most a window of elements ahead). The text
-  /// is the same as writing them one after the other into `w`.
+  /// handed to the sink in order as soon as it is there (at most a window of elements
+  /// ahead). The text is the same as writing them one after the other into `w`.
   template <typename F>
   void WriteElements(JsonWriter& w, std::size_t n, const F& write_one) {
     const int depth = w.content_depth();
     const std::string base = w.container_pointer();
+    const std::string first_sep = w.element_separator(true), sep = w.element_separator(false);
     const std::size_t window = 16 * static_cast<std::size_t>(pool_.size());
     std::vector<std::string> slots(std::min(window, n));
     pool_.ordered_for(
         n, window,
         [&](std::size_t k) {
           std::string& text = slots[k % window];
-          text.clear();
+          text = k == 0 ? first_sep : sep;
           JsonWriter cw(text, depth, base + "/" + std::to_string(k));
           write_one(cw, k);
         },
         [&](std::size_t k) {
-          w.raw_element(slots[k % window]);
-          Flush(false);
+          if (k == 0) Flush(true);  // what comes before the elements
+          Sink(slots[k % window]);
         });
+    w.skip_elements(n);
   }
 
   // ---- checks against the registry --------------------------------------------------

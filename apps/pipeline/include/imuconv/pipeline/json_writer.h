@@ -92,8 +92,13 @@ class JsonWriter {
 
   // ---- splicing -------------------------------------------------------------------------------
   /// Appends an array element that another writer produced (made with content_depth() and
-  /// element_pointer(i) of this writer's current, multi-line array).
+  /// the element's pointer, container_pointer() + "/" + index, of this writer's open
+  /// multi-line array).
   void raw_element(std::string_view text);
+  /// Or, for elements whose text goes elsewhere (straight to the output): what goes before
+  /// the next element (`first`) or any later one, and then skip_elements(n) to count them.
+  std::string element_separator(bool first) const;
+  void skip_elements(std::size_t n);
   /// The indentation level of the open container's contents.
   int content_depth() const noexcept;
   /// The pointer of the open container.
