@@ -1,11 +1,11 @@
 // Running a parsed pipeline: registry checks, data loading, time checks, then the tasks.
 //
-// The output document is streamed: each task writes its part with a JsonWriter as soon as it
-// has run, and the text goes to the caller's sink in pieces of about 1 MiB. Independent
-// intervals (the keyframe intervals of a preintegrate task, unchained propagation by
-// preintegration) are computed on a thread pool, and every interval's JSON is formatted on
-// the pool too; each interval's results and text depend on that interval only, and they are
-// assembled in index order, so the document is the same byte for byte for any thread count.
+// The output document is streamed: each task writes its part with a JsonWriter as it runs,
+// and the text goes to the caller's sink in pieces (about 1 MiB, or one interval's text).
+// Independent intervals (the keyframe intervals of a preintegrate task, unchained propagation
+// by preintegration) are computed and formatted on a thread pool (ThreadPool::ordered_for);
+// each interval's results and text depend on that interval only and go to the sink in index
+// order, so the document is the same byte for byte for any thread count.
 #include <algorithm>
 #include <cstdio>
 #include <cmath>
