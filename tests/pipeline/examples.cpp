@@ -212,3 +212,51 @@ TEST(Examples, MeasurementsRoundTripThroughFiles) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Examples, OmitLeavesOutTheNamedMatrices) {
+  // The whole-matrix outputs can be left out for small, fast outputs; everything else stays.
+  json doc = imuconv::test::ReadJson(SourcePath("examples/euroc_v1_01_keyframes.json"));
+  const json full = pipeline::Run(Pipeline::FromJson(doc, "full.json", SourcePath("examples")), imuconv::test::Plugins(), {});
+  doc["omit"] = {"reference", "Phi"};
+  const json light = pipeline::Run(Pipeline::FromJson(doc, "light.json", SourcePath("examples")), imuconv::test::Plugins(), {});
+  doc["omit"] = {"Phi", "cov", "J_bias", "R"};
+  const json bare = pipeline::Run(Pipeline::FromJson(doc, "bare.json", SourcePath("examples")), imuconv::test::Plugins(), {});
+  const json& fm = Task(full, "kf_rk4")["measurements"][7];
+  const json& lm = Task(light, "kf_rk4")["measurements"][7];
+  const json& bm = Task(bare, "kf_rk4")["measurements"][7];
+  // "reference": the preint_reference copies go, the expressed ones stay (the same numbers).
+  EXPECT_TRUE(fm.contains("J_bias") && fm.contains("cov"));
+  EXPECT_FALSE(lm.contains("J_bias") || lm.contains("cov"));
+  EXPECT_EQ(lm["expressed"], fm["expressed"]);
+  EXPECT_EQ(lm["delta"], fm["delta"]);
+  // Phi, cov, J_bias, R: no matrices at all; states, increments and errors as before.
+  EXPECT_FALSE(bm.contains("J_bias") || bm.contains("cov") || bm.contains("expressed") || bm["delta"].contains("R"));
+  EXPECT_EQ(bm["delta"]["q_wxyz"], fm["delta"]["q_wxyz"]);
+  EXPECT_EQ(imuconv::test::CheckMatricesLabelled(bare), 0u);
+  const json& fs = Task(full, "pred_rk4")["steps"][7];
+  const json& ls = Task(light, "pred_rk4")["steps"][7];
+  const json& bs = Task(bare, "pred_rk4")["steps"][7];
+  EXPECT_FALSE(ls.contains("Phi"));
+  EXPECT_EQ(ls["cov"], fs["cov"]);
+  EXPECT_FALSE(bs.contains("Phi") || bs.contains("cov"));
+  EXPECT_EQ(bs["x_e"], fs["x_e"]);
+  EXPECT_EQ(bs["ground_truth"], fs["ground_truth"]);
+  EXPECT_EQ(Task(bare, "pred_rk4")["ground_truth_summary"], Task(full, "pred_rk4")["ground_truth_summary"]);
+  EXPECT_LT(bare.dump().size() * 5, full.dump().size());
+  // Names are checked.
+  doc["omit"] = {"Phi", "phi", "Phi"};
+  try {
+    Pipeline::FromJson(doc, "bad.json", SourcePath("examples"));
+    FAIL() << "accepted";
+  } catch (const ConfigError& e) {
+    ASSERT_EQ(e.issues().size(), 2u) << e.what();
+    EXPECT_EQ(e.issues()[0].pointer, "/omit/1");
+    EXPECT_NE(e.issues()[0].message.find("'Phi'"), std::string::npos) << e.issues()[0].message;
+    EXPECT_EQ(e.issues()[1].pointer, "/omit/2");
+    EXPECT_EQ(e.issues()[1].message, "'Phi' is listed twice");
+  }
+}
+
+}  // namespace

@@ -105,6 +105,27 @@ def main():
             else:
                 print(f"ok   {os.path.relpath(path, src)}")
 
+    # An output without the omitted matrices still validates.
+    light = load(os.path.join(src, "examples", "inline_basics.json"))
+    light["omit"] = ["Phi", "cov", "J_bias", "R", "reference"]
+    light_path = os.path.join(args.work_dir, "omit_all.json")
+    with open(light_path, "w") as f:
+        json.dump(light, f)
+    out = os.path.join(args.work_dir, "omit_all.out.json")
+    r = subprocess.run([args.binary, "run", light_path, "-o", out, "--quiet"], capture_output=True, text=True, timeout=240,
+                       cwd=os.path.join(src, "examples"))
+    checked += 1
+    if r.returncode != 0:
+        failures += 1
+        print(f"FAIL {light_path}: imuconv run exited with {r.returncode}: {r.stderr.strip()[:2000]}")
+    else:
+        errs = errors_of(v["pipeline.schema.json"], light) + errors_of(v["output.schema.json"], load(out))
+        if errs:
+            failures += 1
+            report(out, errs)
+        else:
+            print("ok   inline_basics.json with every matrix omitted, and its output")
+
     # The schema must reject what the C++ reader rejects (a sample of malformed pipelines).
     base = load(os.path.join(src, "examples", "inline_basics.json"))
     bad = []
@@ -115,6 +136,8 @@ def main():
     d = copy.deepcopy(base); d["tasks"][1]["type"] = "integrate"; bad.append(("unknown task type", d))
     d = copy.deepcopy(base); d["imu"]["samples"][3] = [0.1, 1, 2]; bad.append(("short sample", d))
     d = copy.deepcopy(base); d["tasks"][1]["interval"] = {"t_start": 0, "t_end": 0.1}; bad.append(("interval and keyframes", d))
+    d = copy.deepcopy(base); d["omit"] = ["phi"]; bad.append(("unknown omit name", d))
+    d = copy.deepcopy(base); d["omit"] = ["Phi", "Phi"]; bad.append(("omit name twice", d))
     for what, doc in bad:
         checked += 1
         if not errors_of(v["pipeline.schema.json"], doc):

@@ -648,7 +648,7 @@ std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file
   Checker c(file);
   const Node root(doc, "", c);
   if (!root.expect_object({"$schema", "description", "plugin_dirs", "gravity", "noise", "imu", "ground_truth", "output",
-                           "tasks"}))
+                           "omit", "tasks"}))
     c.throw_if_errors();
   Parser parser{c, base_dir, false, false, {}};
   if (auto d = root.string("description", false)) spec->description = *d;
@@ -657,6 +657,25 @@ std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file
     if (auto l = pn->string_list(true))
       for (const auto& d : *l) spec->plugin_dirs.push_back(Resolve(base_dir, d));
   if (auto o = root.string("output", false)) spec->output = Resolve(base_dir, *o);
+  if (auto on = root.get("omit", false)) {
+    if (!on->is_array()) {
+      on->fail("expected an array of names (Phi, cov, J_bias, R, reference), found " + TypeName(on->value()));
+    } else {
+      std::vector<std::string> seen;
+      for (std::size_t i = 0; i < on->size(); ++i) {
+        const auto what = (*on)[i].one_of({"Phi", "cov", "J_bias", "R", "reference"});
+        if (!what) continue;
+        if (std::find(seen.begin(), seen.end(), *what) != seen.end()) (*on)[i].fail("'" + *what + "' is listed twice");
+        seen.push_back(*what);
+        OmitSpec& o = spec->omit;
+        if (*what == "Phi") o.Phi = true;
+        if (*what == "cov") o.cov = true;
+        if (*what == "J_bias") o.J_bias = true;
+        if (*what == "R") o.R = true;
+        if (*what == "reference") o.reference = true;
+      }
+    }
+  }
   if (auto g = root.vec3("gravity", false)) spec->gravity = *g;
   if (auto nn = root.get("noise", true))
     if (auto q = NoiseFromJson(*nn)) spec->noise = *q;

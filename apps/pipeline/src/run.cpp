@@ -87,13 +87,15 @@ void WriteBias(JsonWriter& w, const Vec3& bg, const Vec3& ba) {
   w.end_object();
 }
 
-void WriteDelta(JsonWriter& w, const PreintIncrement& d) {
+void WriteDelta(JsonWriter& w, const PreintIncrement& d, bool with_R = true) {
   const Eigen::Vector4d q = so3::ToQuaternionWxyz(d.dR);
   w.begin_object();
   w.key("q_wxyz");
   w.vector(q);
-  w.key("R");
-  w.matrix(d.dR);
+  if (with_R) {
+    w.key("R");
+    w.matrix(d.dR);
+  }
   w.key("dp");
   w.vector(d.dp);
   w.key("dv");
@@ -778,13 +780,19 @@ class Runner {
     w.key("bias_estimate");
     WriteBias(w, m.bg_hat, m.ba_hat);
     w.key("delta");
-    WriteDelta(w, m.delta);
+    WriteDelta(w, m.delta, !s_.omit.R);
+    const OmitSpec& omit = s_.omit;
+    const bool reference = conventions.empty() || !omit.reference;
     const auto& ref_blocks = BlocksOf(PluginKind::PreintConvention, kRef);
-    w.key("J_bias");
-    WriteMixed(w, m.J_bias, kRef, NavLabels(ref_blocks), kRef, BiasLabels(ref_blocks));
-    w.key("cov");
-    WriteChart(w, m.cov, kRef, ref_blocks);
-    if (!conventions.empty()) {
+    if (reference && !omit.J_bias) {
+      w.key("J_bias");
+      WriteMixed(w, m.J_bias, kRef, NavLabels(ref_blocks), kRef, BiasLabels(ref_blocks));
+    }
+    if (reference && !omit.cov) {
+      w.key("cov");
+      WriteChart(w, m.cov, kRef, ref_blocks);
+    }
+    if (!conventions.empty() && !(omit.J_bias && omit.cov)) {
       w.key("expressed");
       w.begin_object();
       for (const auto& c : conventions) {
@@ -792,10 +800,14 @@ class Runner {
         const auto& jb = BlocksOf(PluginKind::PreintConvention, in.jacobian_convention);
         w.key(c);
         w.begin_object();
-        w.key("J_bias");
-        WriteMixed(w, in.J_bias, in.jacobian_convention, NavLabels(jb), in.jacobian_convention, BiasLabels(jb));
-        w.key("cov");
-        PreintChart(w, in.cov, in.convention);
+        if (!omit.J_bias) {
+          w.key("J_bias");
+          WriteMixed(w, in.J_bias, in.jacobian_convention, NavLabels(jb), in.jacobian_convention, BiasLabels(jb));
+        }
+        if (!omit.cov) {
+          w.key("cov");
+          PreintChart(w, in.cov, in.convention);
+        }
         w.end_object();
       }
       w.end_object();
@@ -848,14 +860,20 @@ class Runner {
     w.unsigned_integer(in.window.size());
     w.key("x_s");
     WriteState(w, in.x_s);
-    w.key("cov_s");
-    StateChart(w, in.cov_s, p.convention);
+    if (!s_.omit.cov) {
+      w.key("cov_s");
+      StateChart(w, in.cov_s, p.convention);
+    }
     w.key("x_e");
     WriteState(w, r.x_e);
-    w.key("Phi");
-    StateChart(w, r.Phi, p.convention);
-    w.key("cov");
-    StateChart(w, r.cov, p.convention);
+    if (!s_.omit.Phi) {
+      w.key("Phi");
+      StateChart(w, r.Phi, p.convention);
+    }
+    if (!s_.omit.cov) {
+      w.key("cov");
+      StateChart(w, r.cov, p.convention);
+    }
     if (cmp) {
       w.key("ground_truth");
       WriteComparison(w, *cmp);
@@ -984,10 +1002,14 @@ class Runner {
       WriteState(sw, pr.x_s);
       sw.key("x_e");
       WriteState(sw, pr.x_e);
-      sw.key("Phi");
-      StateChart(sw, pr.Phi, p.convention);
-      sw.key("cov");
-      StateChart(sw, pr.cov, p.convention);
+      if (!s_.omit.Phi) {
+        sw.key("Phi");
+        StateChart(sw, pr.Phi, p.convention);
+      }
+      if (!s_.omit.cov) {
+        sw.key("cov");
+        StateChart(sw, pr.cov, p.convention);
+      }
       if (cmps[k]) {
         sw.key("ground_truth");
         WriteComparison(sw, *cmps[k]);
@@ -1174,13 +1196,13 @@ class Runner {
         break;
       case W::IncrementJacobian:
         w.key("increment");
-        WriteDelta(w, d);
+        WriteDelta(w, d, !s_.omit.R);
         w.key("result");
         WriteMixed(w, result, p.to, bt, from, bf);
         break;
       case W::IncrementCovariance:
         w.key("increment");
-        WriteDelta(w, d);
+        WriteDelta(w, d, !s_.omit.R);
         w.key("input");
         WriteChart(w, M, from, bf);
         w.key("result");
@@ -1305,7 +1327,7 @@ class Runner {
         w.key(c);
         w.begin_object();
         w.key("delta");
-        WriteDelta(w, d);
+        WriteDelta(w, d, !s_.omit.R);
         if (re) {
           const double rot = RotationErrorDeg(re->delta.dR, d.dR);
           const double edp = (re->delta.dp - d.dp).norm(), edv = (re->delta.dv - d.dv).norm();
