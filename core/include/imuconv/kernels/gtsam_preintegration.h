@@ -403,12 +403,12 @@ IMUCONV_PREINT_INLINE d4 Splat(double x) {
 }
 /// Lane k of v in every lane (one permute; Splat(v[k]) when v is in memory).
 template <int k>
-IMUCONV_PREINT_INLINE d4 Lane(d4 v) {
+IMUCONV_PREINT_INLINE d4 Lane(const d4& v) {
   return __builtin_shufflevector(v, v, k, k, k, k);
 }
 IMUCONV_PREINT_INLINE d4 Load3(const double* p) { return d4{p[0], p[1], p[2], 0.0}; }
 IMUCONV_PREINT_INLINE d4 FromEigen(const Vec3& v) { return Load3(v.data()); }
-IMUCONV_PREINT_INLINE Vec3 ToEigen(d4 v) { return Vec3(v[0], v[1], v[2]); }
+IMUCONV_PREINT_INLINE Vec3 ToEigen(const d4& v) { return Vec3(v[0], v[1], v[2]); }
 IMUCONV_PREINT_INLINE void ToEigen(const B& m, Eigen::Ref<Eigen::Matrix<double, 3, 3>, 0, Eigen::OuterStride<>> out) {
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i < 3; ++i) out(i, j) = m.c[j][i];
@@ -471,28 +471,28 @@ IMUCONV_PREINT_INLINE B MulT(const B& a, const B& b) {
   return r;
 }
 /// a v (v in a register: lane permutes).
-IMUCONV_PREINT_INLINE d4 MulV(const B& a, d4 v) { return a.c[0] * Lane<0>(v) + a.c[1] * Lane<1>(v) + a.c[2] * Lane<2>(v); }
+IMUCONV_PREINT_INLINE d4 MulV(const B& a, const d4& v) { return a.c[0] * Lane<0>(v) + a.c[1] * Lane<1>(v) + a.c[2] * Lane<2>(v); }
 
-IMUCONV_PREINT_INLINE d4 Yzx(d4 a) { return __builtin_shufflevector(a, a, 1, 2, 0, 3); }
-IMUCONV_PREINT_INLINE double Dot(d4 a, d4 b) {
+IMUCONV_PREINT_INLINE d4 Yzx(const d4& a) { return __builtin_shufflevector(a, a, 1, 2, 0, 3); }
+IMUCONV_PREINT_INLINE double Dot(const d4& a, const d4& b) {
   const d4 p = a * b;
   return p[0] + p[1] + p[2];
 }
 /// a x b.
-IMUCONV_PREINT_INLINE d4 Cross(d4 a, d4 b) { return Yzx(a * Yzx(b) - Yzx(a) * b); }
+IMUCONV_PREINT_INLINE d4 Cross(const d4& a, const d4& b) { return Yzx(a * Yzx(b) - Yzx(a) * b); }
 /// z [b]x, with b's entries broadcast in b0, b1, b2.
-IMUCONV_PREINT_INLINE B TimesSkew(const B& z, d4 b0, d4 b1, d4 b2) {
+IMUCONV_PREINT_INLINE B TimesSkew(const B& z, const d4& b0, const d4& b1, const d4& b2) {
   return {{b2 * z.c[1] - b1 * z.c[2], b0 * z.c[2] - b2 * z.c[0], b1 * z.c[0] - b0 * z.c[1]}};
 }
 /// u v^T.
-IMUCONV_PREINT_INLINE B Outer(d4 u, d4 v) { return {{u * Lane<0>(v), u * Lane<1>(v), u * Lane<2>(v)}}; }
+IMUCONV_PREINT_INLINE B Outer(const d4& u, const d4& v) { return {{u * Lane<0>(v), u * Lane<1>(v), u * Lane<2>(v)}}; }
 
 /// [w]x and w w^T by columns, for alpha I + beta [w]x + gamma w w^T (Exp, Jr, Jl, Jr^{-1}
 /// of w, with [w]x^2 = w w^T - |w|^2 I).
 struct So3Basis {
   B skew, outer;
 };
-IMUCONV_PREINT_INLINE So3Basis MakeSo3Basis(d4 w) {
+IMUCONV_PREINT_INLINE So3Basis MakeSo3Basis(const d4& w) {
   const d4 m = -w;
   return {{{__builtin_shufflevector(w, m, 3, 2, 5, 3), __builtin_shufflevector(w, m, 6, 3, 0, 3),
             __builtin_shufflevector(w, m, 1, 4, 3, 3)}},
@@ -524,8 +524,8 @@ IMUCONV_PREINT_INLINE d4x2 operator-(const d4x2& a, const d4x2& b) { return {a.l
 IMUCONV_PREINT_INLINE d4x2 operator*(const d4x2& a, const d4x2& b) { return {a.lo * b.lo, a.hi * b.hi}; }
 IMUCONV_PREINT_INLINE d4x2 operator-(const d4x2& a) { return {-a.lo, -a.hi}; }
 
-IMUCONV_PREINT_INLINE d4 Lo(d8 x) { return __builtin_shufflevector(x, x, 0, 1, 2, 3); }
-IMUCONV_PREINT_INLINE d4 Hi(d8 x) { return __builtin_shufflevector(x, x, 4, 5, 6, 7); }
+IMUCONV_PREINT_INLINE d4 Lo(const d8& x) { return __builtin_shufflevector(x, x, 0, 1, 2, 3); }
+IMUCONV_PREINT_INLINE d4 Hi(const d8& x) { return __builtin_shufflevector(x, x, 4, 5, 6, 7); }
 IMUCONV_PREINT_INLINE d4 Lo(const d4x2& x) { return x.lo; }
 IMUCONV_PREINT_INLINE d4 Hi(const d4x2& x) { return x.hi; }
 
@@ -533,30 +533,30 @@ template <class W>
 struct PairOps;
 template <>
 struct PairOps<d8> {
-  static IMUCONV_PREINT_INLINE d8 Cat(d4 a, d4 b) { return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7); }
+  static IMUCONV_PREINT_INLINE d8 Cat(const d4& a, const d4& b) { return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7); }
   static IMUCONV_PREINT_INLINE d8 Splat(double x) {
     const d8 v = {x, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     return __builtin_shufflevector(v, v, 0, 0, 0, 0, 0, 0, 0, 0);
   }
   /// [lane k of the first half x4 | lane k of the second half x4].
   template <int k>
-  static IMUCONV_PREINT_INLINE d8 Lane(d8 x) {
+  static IMUCONV_PREINT_INLINE d8 Lane(const d8& x) {
     return __builtin_shufflevector(x, x, k, k, k, k, k + 4, k + 4, k + 4, k + 4);
   }
-  static IMUCONV_PREINT_INLINE d8 Yzx(d8 x) { return __builtin_shufflevector(x, x, 1, 2, 0, 3, 5, 6, 4, 7); }
+  static IMUCONV_PREINT_INLINE d8 Yzx(const d8& x) { return __builtin_shufflevector(x, x, 1, 2, 0, 3, 5, 6, 4, 7); }
   /// [second half | 0].
-  static IMUCONV_PREINT_INLINE d8 ShiftDown(d8 x) {
+  static IMUCONV_PREINT_INLINE d8 ShiftDown(const d8& x) {
     const d8 z = {};
     return __builtin_shufflevector(x, z, 4, 5, 6, 7, 8, 8, 8, 8);
   }
   /// [first half of a | first half of b].
-  static IMUCONV_PREINT_INLINE d8 Los(d8 a, d8 b) { return __builtin_shufflevector(a, b, 0, 1, 2, 3, 8, 9, 10, 11); }
+  static IMUCONV_PREINT_INLINE d8 Los(const d8& a, const d8& b) { return __builtin_shufflevector(a, b, 0, 1, 2, 3, 8, 9, 10, 11); }
   /// [second half of a | second half of a].
-  static IMUCONV_PREINT_INLINE d8 DupHi(d8 a) { return __builtin_shufflevector(a, a, 4, 5, 6, 7, 4, 5, 6, 7); }
+  static IMUCONV_PREINT_INLINE d8 DupHi(const d8& a) { return __builtin_shufflevector(a, a, 4, 5, 6, 7, 4, 5, 6, 7); }
 };
 template <>
 struct PairOps<d4x2> {
-  static IMUCONV_PREINT_INLINE d4x2 Cat(d4 a, d4 b) { return {a, b}; }
+  static IMUCONV_PREINT_INLINE d4x2 Cat(const d4& a, const d4& b) { return {a, b}; }
   static IMUCONV_PREINT_INLINE d4x2 Splat(double x) {
     const d4 v = simd::Splat(x);
     return {v, v};
@@ -694,17 +694,61 @@ IMUCONV_PREINT_INLINE void ZeroState(State<W>& s) {
   s = State<W>{z, zz, z, z, z, zz, zz, zz, zz, zz, 0.0, 0.0};
 }
 
-/// The maps of one step (see StepJacobians), kept in memory for the broadcasts: N, C =
-/// C_t and dt N, [N | N], [C | C], and C C^T = dt^2 (I + cc_g [cc_u]x^2) in closed form.
+/// Everything one step broadcasts, kept in memory (InMemory) so that the broadcasts are
+/// loads: the maps N, C = C_t and dt N with [N | N] and [C | C]; C C^T = dt^2 (I + cc_g
+/// [cc_u]x^2) in closed form; the step's scalars; b = dt R acc for the manifold chart.
 template <class W>
-struct NoiseMaps {
+struct StepConsts {
   B N, C, dtN;
   BB<W> dN, dC;
-  double dt, cc_g;
-  d4 cc_u;
+  d4 cc_u, b;
+  double dt, hd, h, hd2, dt2, neg_dt, neg_h, one, neg_one;
+  double s_bg, hs_ba, dts_ba;                   // random-walk variances scaled
+  double gg_outer, gg_diag;                     // cov(g, g) = gg_diag I + gg_outer u u^T
+  double h2kw, dthkw, dt2kw;                    // cov(w, w) entering p'p', v'p', v'v'
+  double s_ba_next, s_bg_next;
 };
 
-/// Start-frame chart of the manifold scheme: A_tt = I, K = -[b]x with b = dt dR acc.
+/// Fills the scalars (the maps N, C, cc_g, cc_u must be set), then pins everything in
+/// memory and forms the pairs from there.
+template <bool kCovariance, class W>
+IMUCONV_PREINT_INLINE void FinishStepConsts(StepConsts<W>& m, double dt, double cc_g, const NoiseVariances& q,
+                                            double s_ba, double s_bg) {
+  m.dt = dt;
+  m.hd = 0.5 * dt;
+  m.h = 0.5 * dt * dt;
+  m.hd2 = m.hd * m.hd;
+  m.dt2 = dt * dt;
+  m.neg_dt = -dt;
+  m.neg_h = -m.h;
+  m.one = 1.0;
+  m.neg_one = -1.0;
+  m.dtN = dt * m.N;
+  if constexpr (kCovariance) {
+    const double inv_dt = 1.0 / dt;
+    const double kw = s_ba + q.accel * inv_dt;  // cov(w, w) = kw I (N is a rotation)
+    const double kg = s_bg + q.gyro * inv_dt;   // cov(g, g) = kg C C^T
+    const double kcc = kg * dt * dt;
+    m.s_bg = s_bg;
+    m.hs_ba = m.h * s_ba;
+    m.dts_ba = dt * s_ba;
+    m.gg_outer = kcc * cc_g;
+    m.gg_diag = kcc * (1.0 - cc_g * simd::Dot(m.cc_u, m.cc_u));
+    m.h2kw = m.h * m.h * kw;
+    m.dthkw = dt * m.h * kw;
+    m.dt2kw = dt * dt * kw;
+    m.s_ba_next = s_ba + dt * q.accel_rw;
+    m.s_bg_next = s_bg + dt * q.gyro_rw;
+  } else {  // without the covariance X stays zero and the variances are not tracked
+    m.s_bg = m.hs_ba = m.dts_ba = 0.0;
+  }
+  simd::InMemory(m);
+  m.dN = simd::Pair<W>(m.N, m.N);
+  m.dC = simd::Pair<W>(m.C, m.C);
+}
+
+/// Start-frame chart of the manifold scheme: A_tt = I, K = -[b]x with b = dt dR acc
+/// (read from the step's constants in memory).
 template <class W>
 struct StartFrameTransition {
   static constexpr bool kGeneral = false;
@@ -712,16 +756,18 @@ struct StartFrameTransition {
   d4 b0s, b1s, b2s;   // b's entries broadcast
   W w0, w1, w2;       // ... over both halves
   W wb, wb1;          // [b | b], rotated
-  explicit StartFrameTransition(d4 bb) : b(bb), b1(simd::Yzx(bb)) {
+  explicit StartFrameTransition(const d4& mb) {
     using O = simd::PairOps<W>;
-    b0s = simd::Lane<0>(bb);
-    b1s = simd::Lane<1>(bb);
-    b2s = simd::Lane<2>(bb);
-    w0 = O::Cat(b0s, b0s);
-    w1 = O::Cat(b1s, b1s);
-    w2 = O::Cat(b2s, b2s);
-    wb = O::Cat(bb, bb);
-    wb1 = O::Cat(b1, b1);
+    b = mb;
+    b1 = simd::Yzx(mb);
+    b0s = simd::Splat(mb[0]);
+    b1s = simd::Splat(mb[1]);
+    b2s = simd::Splat(mb[2]);
+    w0 = O::Splat(mb[0]);
+    w1 = O::Splat(mb[1]);
+    w2 = O::Splat(mb[2]);
+    wb = O::Cat(mb, mb);
+    wb1 = O::Yzx(wb);
   }
   /// K z = z x b, column by column.
   IMUCONV_PREINT_INLINE B LeftK(const B& z) const {
@@ -755,9 +801,6 @@ struct StartFrameTransition {
     az = z;
     kz = LeftK(z);
   }
-  /// acc + A_tt z.
-  IMUCONV_PREINT_INLINE B LeftAAdd(const B& acc, const B& z) const { return acc + z; }
-  IMUCONV_PREINT_INLINE BB<W> RightAAdd(const BB<W>& acc, const BB<W>& z) const { return acc + z; }
 };
 
 /// General A_tt and K (tangent scheme), in memory for the broadcasts, with [A | K],
@@ -801,38 +844,31 @@ struct GeneralTransition {
 /// PreintegratedImuMeasurements' 9x9 covariance is P of this recursion run with zero
 /// random walk (X and the bias block then stay zero).
 template <bool kCovariance, class W, class Transition>
-IMUCONV_PREINT_INLINE void PropagateBlocks(const Transition& tr, const NoiseMaps<W>& m, const NoiseVariances& q,
-                                           const State<W>& __restrict in, State<W>& __restrict out) {
+IMUCONV_PREINT_INLINE void PropagateBlocks(const Transition& tr, const StepConsts<W>& m, const State<W>& __restrict in,
+                                           State<W>& __restrict out) {
   using namespace simd;
   using O = PairOps<W>;
-  const double dt = m.dt, hd = 0.5 * dt, h = 0.5 * dt * dt;
 
   // [X | H] through the step: X' = A X + Fb S, H' = A H - Fb, with the rows of q = p + dt v
   // and of p' and v' before the inputs enter.
   BB<W> a_tg, k_tg;
   tr.LeftBias(in.tg, a_tg, k_tg);
-  const BB<W> qa = AddScaled(in.pa, O::Splat(dt), in.va);                               // [X | H]_qa
-  const BB<W> gp = AddScaled(AddScaled(in.pg, O::Splat(dt), in.vg), O::Splat(hd), k_tg);  // q + dt/2 u vs bg
-  const BB<W> gv = in.vg + k_tg;                                                          // v + u vs bg
-  // Without the covariance X stays zero and the bias variances are not tracked.
-  const double s_ba = kCovariance ? in.s_ba : 0.0, s_bg = kCovariance ? in.s_bg : 0.0;
-  out.tg = AddScaled(a_tg, O::Cat(Splat(s_bg), Splat(-1.0)), m.dC);
+  const BB<W> qa = AddScaled(in.pa, O::Splat(m.dt), in.va);                                  // [X | H]_qa
+  const BB<W> gp = AddScaled(AddScaled(in.pg, O::Splat(m.dt), in.vg), O::Splat(m.hd), k_tg);  // q + dt/2 u vs bg
+  const BB<W> gv = in.vg + k_tg;                                                               // v + u vs bg
+  out.tg = AddScaled(a_tg, O::Cat(Splat(m.s_bg), Splat(m.neg_one)), m.dC);
   out.pg = gp;
   out.vg = gv;
-  out.pa = AddScaled(qa, O::Cat(Splat(h * s_ba), Splat(-h)), m.dN);
-  out.va = AddScaled(in.va, O::Cat(Splat(dt * s_ba), Splat(-dt)), m.dN);
+  out.pa = AddScaled(qa, O::Cat(Splat(m.hs_ba), Splat(m.neg_h)), m.dN);
+  out.va = AddScaled(in.va, O::Cat(Splat(m.dts_ba), Splat(m.neg_dt)), m.dN);
   if constexpr (!kCovariance) return;
-
-  const double inv_dt = 1.0 / dt;
-  const double kw = in.s_ba + q.accel * inv_dt;  // cov(w, w) = kw I (N is a rotation)
-  const double kg = in.s_bg + q.gyro * inv_dt;   // cov(g, g) = kg C C^T
-  out.s_ba = in.s_ba + dt * q.accel_rw;
-  out.s_bg = in.s_bg + dt * q.gyro_rw;
+  out.s_ba = m.s_ba_next;
+  out.s_bg = m.s_bg_next;
 
   // Column theta of P: Yt = cov(theta, theta~), Zt = cov(theta, u), and for q and v
   // side by side; then Tt = cov(theta~, theta~), Ut = cov(u, theta~), Uu = cov(u, u).
-  const BB<W> Pqv = AddScaled(in.Ppvt, O::Splat(dt), BB<W>{{O::ShiftDown(in.Ppvt.c[0]), O::ShiftDown(in.Ppvt.c[1]),
-                                                             O::ShiftDown(in.Ppvt.c[2])}});  // [Pqt | Pvt]
+  BB<W> Pqv;  // [cov(q, theta) | cov(v, theta)]
+  for (int j = 0; j < 3; ++j) Pqv.c[j] = in.Ppvt.c[j] + O::Splat(m.dt) * O::ShiftDown(in.Ppvt.c[j]);
   B Yt, Zt, Tt, Ut, Uu;
   tr.Right(in.Ptt, Yt, Zt);
   if constexpr (Transition::kGeneral) {  // broadcast by the left products: from memory
@@ -840,33 +876,33 @@ IMUCONV_PREINT_INLINE void PropagateBlocks(const Transition& tr, const NoiseMaps
     InMemory(Zt);
   }
   tr.Left(Yt, Zt, Tt, Ut, Uu);
+  InMemory(Ut);
   BB<W> Yqv, Zqv;
   tr.Right(Pqv, Yqv, Zqv);
 
   // cov(., g): Gt = cov(theta~, g) and [cov(q + dt/2 u, g) | cov(v + u, g)]; then P's
-  // column theta.
+  // column theta. cov(g, g) = gg_diag I + gg_outer u u^T.
   {
     const B Gt = MulT(Lo(a_tg), m.C);
-    // cov(g, g) = kg dt^2 (I + cc_g [u]x^2) = kg dt^2 ((1 - cc_g |u|^2) I + cc_g u u^T).
-    const double kcc = kg * dt * dt;
-    const B GG = AddDiagonal(Outer(m.cc_u, Splat(kcc * m.cc_g) * m.cc_u), kcc * (1.0 - m.cc_g * Dot(m.cc_u, m.cc_u)));
+    const d4 gu = Splat(m.gg_outer) * m.cc_u;
+    const B GG{{gu * Splat(m.cc_u[0]) + Splat(m.gg_diag) * kE0, gu * Splat(m.cc_u[1]) + Splat(m.gg_diag) * kE1,
+                gu * Splat(m.cc_u[2]) + Splat(m.gg_diag) * kE2}};
     out.Ptt = Tt + Gt + Transpose(Gt) + GG;
   }
   {
-    BB<W> dUt;
-    for (int j = 0; j < 3; ++j) dUt.c[j] = O::Cat(Ut.c[j], Ut.c[j]);
+    const BB<W> dUt = Pair<W>(Ut, Ut);
     const BB<W> gpv{{O::Los(gp.c[0], gv.c[0]), O::Los(gp.c[1], gv.c[1]), O::Los(gp.c[2], gv.c[2])}};
-    out.Ppvt = MulTAdd(AddScaled(Yqv, O::Cat(Splat(hd), Splat(1.0)), dUt), gpv, m.C);
+    out.Ppvt = MulTAdd(AddScaled(Yqv, O::Cat(Splat(m.hd), Splat(m.one)), dUt), gpv, m.C);
   }
   // [Rq | Sv] = [cov(q, u + dt w) | cov(v, u + dt w)] with cov(., w) = X_.a N^T; the
   // symmetric diagonal blocks are each a block plus its transpose.
   const BB<W> qva{{O::Los(qa.c[0], in.va.c[0]), O::Los(qa.c[1], in.va.c[1]), O::Los(qa.c[2], in.va.c[2])}};
   const BB<W> RS = MulTAdd(Zqv, qva, m.dtN);
   const B Rq = Lo(RS), Sv = Hi(RS);
-  const B Spp = AddScaled(hd * Rq, dt, in.Pvp);
-  out.Ppp = AddDiagonal(AddScaled(AddScaled(in.Ppp, dt * dt, in.Pvv), hd * hd, Uu) + Spp + Transpose(Spp), h * h * kw);
-  out.Pvp = AddDiagonal(AddScaled(AddScaled(AddScaled(in.Pvp, dt, in.Pvv), hd, Sv), hd, Uu) + Transpose(Rq), dt * h * kw);
-  out.Pvv = AddDiagonal(in.Pvv + Uu + Sv + Transpose(Sv), dt * dt * kw);
+  const B Spp = AddScaled(m.hd * Rq, m.dt, in.Pvp);
+  out.Ppp = AddDiagonal(AddScaled(AddScaled(in.Ppp, m.dt2, in.Pvv), m.hd2, Uu) + Spp + Transpose(Spp), m.h2kw);
+  out.Pvp = AddDiagonal(AddScaled(AddScaled(AddScaled(in.Pvp, m.dt, in.Pvv), m.hd, Sv), m.hd, Uu) + Transpose(Rq), m.dthkw);
+  out.Pvv = AddDiagonal(in.Pvv + Uu + Sv + Transpose(Sv), m.dt2kw);
 }
 
 /// The held knots of the window, in order: knot j (bias-corrected with (bg, ba)) is held
@@ -877,11 +913,9 @@ struct HeldKnots {
   std::size_t steps() const { return w.size() - 1; }
   IMUCONV_PREINT_INLINE const ImuSample& knot(std::size_t j) const { return j == 0 ? w.first : w.samples[w.begin + j - 1]; }
   IMUCONV_PREINT_INLINE double t_next(std::size_t j) const { return j + 2 == w.size() ? w.last.t : w.samples[w.begin + j].t; }
-  IMUCONV_PREINT_INLINE d4 acc(const ImuSample& s) const { return simd::Load3(s.accel.data()) - ba; }
-  IMUCONV_PREINT_INLINE d4 omega(const ImuSample& s) const { return simd::Load3(s.gyro.data()) - bg; }
 };
 
-/// Runs step(knot j, dt_j, in, out) over the window, alternating the two state buffers;
+/// Runs step(knot, dt_j, in, out) over the window, alternating the two state buffers;
 /// returns the buffer holding the result.
 template <class W, typename StepFn>
 IMUCONV_PREINT_INLINE const State<W>& RunHeldKnots(const PreintegrationInput& in, State<W>& b0, State<W>& b1,
@@ -891,39 +925,50 @@ IMUCONV_PREINT_INLINE const State<W>& RunHeldKnots(const PreintegrationInput& in
   std::size_t j = 0;
   for (; j + 1 < steps; j += 2) {
     const ImuSample& s0 = knots.knot(j);
-    step(knots.acc(s0), knots.omega(s0), knots.t_next(j) - s0.t, b0, b1);
+    step(s0, knots.t_next(j) - s0.t, b0, b1);
     const ImuSample& s1 = knots.knot(j + 1);
-    step(knots.acc(s1), knots.omega(s1), knots.t_next(j + 1) - s1.t, b1, b0);
+    step(s1, knots.t_next(j + 1) - s1.t, b1, b0);
   }
   if (j < steps) {
     const ImuSample& s0 = knots.knot(j);
-    step(knots.acc(s0), knots.omega(s0), knots.t_next(j) - s0.t, b0, b1);
+    step(s0, knots.t_next(j) - s0.t, b0, b1);
     return b1;
   }
   return b0;
 }
 
-template <class W>
-IMUCONV_PREINT_INLINE void SetNoiseMaps(NoiseMaps<W>& m, double dt) {
-  m.dt = dt;
-  m.dtN = dt * m.N;
-  m.dN = simd::Pair<W>(m.N, m.N);
-  m.dC = simd::Pair<W>(m.C, m.C);
-}
+/// Bias-corrected inputs of a sample, as vectors and as broadcast entries (loads from the
+/// sample minus the broadcast bias).
+struct Inputs {
+  d4 ba[3], bg[3], ba_v, bg_v;
+  explicit Inputs(const PreintegrationInput& in) {
+    for (int k = 0; k < 3; ++k) {
+      ba[k] = simd::Splat(in.ba[k]);
+      bg[k] = simd::Splat(in.bg[k]);
+    }
+    ba_v = simd::FromEigen(in.ba);
+    bg_v = simd::FromEigen(in.bg);
+  }
+  IMUCONV_PREINT_INLINE d4 acc(const ImuSample& s) const { return simd::Load3(s.accel.data()) - ba_v; }
+  IMUCONV_PREINT_INLINE d4 omega(const ImuSample& s) const { return simd::Load3(s.gyro.data()) - bg_v; }
+  IMUCONV_PREINT_INLINE d4 acc(const ImuSample& s, int k) const { return simd::Splat(s.accel.data()[k]) - ba[k]; }
+  IMUCONV_PREINT_INLINE d4 omega(const ImuSample& s, int k) const { return simd::Splat(s.gyro.data()[k]) - bg[k]; }
+};
 
 /// One manifold step (start-frame chart) as a functor over the state buffers.
 template <bool kCovariance, class W>
 struct ManifoldStepper {
   NoiseVariances q;
+  Inputs u;
   B dR;
   d4 dp, dv;
   double dt_total;
 
-  IMUCONV_PREINT_INLINE void operator()(const d4& acc, const d4& omega, double dt, const State<W>& __restrict in,
+  IMUCONV_PREINT_INLINE void operator()(const ImuSample& s, double dt, const State<W>& __restrict in,
                                         State<W>& __restrict out) {
     using namespace simd;
-    const double h = 0.5 * dt * dt;
-    const d4 phi = Splat(dt) * omega;
+    const d4 vdt = Splat(dt);
+    const d4 phi = vdt * u.omega(s);
     const double t2 = Dot(phi, phi);
     ExpJrCoefs k;
     if (t2 < so3::detail::kSeriesBelow * so3::detail::kSeriesBelow) {
@@ -936,21 +981,20 @@ struct ManifoldStepper {
     }
     // dR Exp(phi) = dR + a T1 + b T2 and dR Jl(phi) = dR + b T1 + c T2 with
     // T1 = dR [phi]x, T2 = dR [phi]x^2: no 3x3 product.
-    const d4 p0 = Lane<0>(phi), p1 = Lane<1>(phi), p2 = Lane<2>(phi);
+    const d4 p0 = vdt * u.omega(s, 0), p1 = vdt * u.omega(s, 1), p2 = vdt * u.omega(s, 2);
     const B T1 = TimesSkew(dR, p0, p1, p2), T2 = TimesSkew(T1, p0, p1, p2);
-    const d4 a_start = MulV(dR, acc);
+    const d4 a_start = dR.c[0] * u.acc(s, 0) + dR.c[1] * u.acc(s, 1) + dR.c[2] * u.acc(s, 2);
 
-    NoiseMaps<W> m;
+    StepConsts<W> m;
     m.N = dR;
     m.C = AddScaled(AddScaled(dt * dR, dt * k.b, T1), dt * k.c, T2);  // dt dR Jl(phi)
-    m.cc_g = SymmetricSquareCoef(k.b, k.c, t2);
-    m.cc_u = dR.c[0] * p0 + dR.c[1] * p1 + dR.c[2] * p2;  // dR Jl Jl^T dR^T = I + g [dR phi]x^2
-    SetNoiseMaps(m, dt);
-    InMemory(m);
-    PropagateBlocks<kCovariance>(StartFrameTransition<W>(Splat(dt) * a_start), m, q, in, out);
+    m.cc_u = dR.c[0] * p0 + dR.c[1] * p1 + dR.c[2] * p2;              // dR Jl Jl^T dR^T = I + g [dR phi]x^2
+    m.b = vdt * a_start;
+    FinishStepConsts<kCovariance>(m, dt, SymmetricSquareCoef(k.b, k.c, t2), q, in.s_ba, in.s_bg);
+    PropagateBlocks<kCovariance>(StartFrameTransition<W>(m.b), m, in, out);
 
-    dp += Splat(dt) * dv + Splat(h) * a_start;
-    dv += Splat(dt) * a_start;
+    dp += vdt * dv + Splat(0.5 * dt * dt) * a_start;
+    dv += vdt * a_start;
     dR = AddScaled(AddScaled(dR, k.a, T1), k.b, T2);
     dt_total += dt;
   }
@@ -962,7 +1006,8 @@ IMUCONV_PREINT_INLINE void ManifoldInterval(const PreintegrationInput& in, Manif
   using namespace simd;
   State<W> b0, b1;
   ZeroState(b0);
-  ManifoldStepper<kCovariance, W> step{NoiseVariances::FromDensities(in.noise), Identity(), Splat(0.0), Splat(0.0), 0.0};
+  ManifoldStepper<kCovariance, W> step{NoiseVariances::FromDensities(in.noise), Inputs(in), Identity(), Splat(0.0),
+                                       Splat(0.0), 0.0};
   result = ToBlocks(RunHeldKnots(in, b0, b1, step));
   inc.dt = step.dt_total;
   ToEigen(step.dR, inc.dR);
@@ -970,17 +1015,24 @@ IMUCONV_PREINT_INLINE void ManifoldInterval(const PreintegrationInput& in, Manif
   inc.dv = ToEigen(step.dv);
 }
 
+/// The tangent step's vectors whose entries are broadcast, kept in memory.
+struct TangentVectors {
+  d4 theta, dw, ev;
+};
+
 /// One tangent step (additive chart of xi) as a functor over the state buffers.
 template <bool kCovariance, class W>
 struct TangentStepper {
   NoiseVariances q;
+  Inputs u;
   d4 theta, p, v;
   double dt_total;
 
-  IMUCONV_PREINT_INLINE void operator()(const d4& acc, const d4& omega, double dt, const State<W>& __restrict in,
+  IMUCONV_PREINT_INLINE void operator()(const ImuSample& s, double dt, const State<W>& __restrict in,
                                         State<W>& __restrict out) {
     using namespace simd;
-    const double h = 0.5 * dt * dt;
+    const d4 vdt = Splat(dt);
+    const d4 omega = u.omega(s), acc = u.acc(s);
     const d4 th = theta;
     const double t2 = Dot(th, th);
     TangentCoefs c;
@@ -998,38 +1050,49 @@ struct TangentStepper {
     // Jr^{-1} omega = omega + 1/2 theta x omega + d theta x (theta x omega).
     const double tw = Dot(th, omega);
     const d4 txtxw = th * Splat(tw) - omega * Splat(t2);
-    theta = th + Splat(dt) * (omega + Splat(0.5) * Cross(th, omega) + Splat(c.d) * txtxw);
+    theta = th + vdt * (omega + Splat(0.5) * Cross(th, omega) + Splat(c.d) * txtxw);
 
     // R acc = acc + a theta x acc + b theta x (theta x acc).
     const d4 a_start = Splat(1.0 - c.b * t2) * acc + Splat(c.a) * Cross(th, acc) + Splat(c.b * Dot(th, acc)) * th;
 
-    const So3Basis basis = MakeSo3Basis(th);
-    NoiseMaps<W> m;
+    TangentVectors tv{th, Splat(dt * c.d) * omega, {}};
+    tv.ev = Splat(dt * c.e) * txtxw - Splat(2.0) * tv.dw;
+    InMemory(tv);
+    // theta's [.]x and theta theta^T, by columns (entries broadcast from memory).
+    const So3Basis basis{{{__builtin_shufflevector(th, -th, 3, 2, 5, 3), __builtin_shufflevector(th, -th, 6, 3, 0, 3),
+                           __builtin_shufflevector(th, -th, 1, 4, 3, 3)}},
+                         {{th * Splat(tv.theta[0]), th * Splat(tv.theta[1]), th * Splat(tv.theta[2])}}};
+    StepConsts<W> m;
     m.N = Poly(basis, 1.0 - c.b * t2, c.a, c.b);                   // R
     m.C = Poly(basis, dt * (1.0 - c.d * t2), 0.5 * dt, dt * c.d);  // dt Jr^{-1}
-    m.cc_g = SymmetricSquareCoef(0.5, c.d, t2);
-    m.cc_u = th;  // Jr^{-1} Jr^{-T} = I + g [theta]x^2
-    SetNoiseMaps(m, dt);
-    GeneralTransition<W> tr;
+    m.cc_u = th;                                                    // Jr^{-1} Jr^{-T} = I + g [theta]x^2
+    FinishStepConsts<kCovariance>(m, dt, SymmetricSquareCoef(0.5, c.d, t2), q, in.s_ba, in.s_bg);
+    GeneralTransition<W> tr;  // kept in memory: its entries are broadcast
     // K = -dt [R acc]x Jl(theta): the columns of Jl crossed with dt R acc.
     {
       const B Jl = Poly(basis, 1.0 - c.c * t2, c.b, c.c);
-      const d4 bk = Splat(dt) * a_start, bk1 = Yzx(bk);
+      const d4 bk = vdt * a_start, bk1 = Yzx(bk);
       for (int j = 0; j < 3; ++j) tr.K.c[j] = Yzx(Jl.c[j] * bk1 - Yzx(Jl.c[j]) * bk);
     }
     // A_tt = I + dt D, D = (d theta.omega) I - 1/2 [omega]x + theta (d omega)^T
     //                      + (e theta x (theta x omega) - 2 d omega) theta^T.
-    const d4 dw = Splat(dt * c.d) * omega, ev = Splat(dt * c.e) * txtxw - Splat(2.0) * dw;
-    tr.A = AddScaled(AddDiagonal(Outer(th, dw) + Outer(ev, th), 1.0 + dt * c.d * tw), -0.5 * dt, MakeSo3Basis(omega).skew);
+    {
+      const d4 a0 = Splat(1.0 + dt * c.d * tw), hw = Splat(-0.5 * dt) * omega, mhw = -hw;
+      const d4 w0 = __builtin_shufflevector(hw, mhw, 3, 2, 5, 3), w1 = __builtin_shufflevector(hw, mhw, 6, 3, 0, 3),
+               w2 = __builtin_shufflevector(hw, mhw, 1, 4, 3, 3);
+      tr.A.c[0] = a0 * kE0 + w0 + th * Splat(tv.dw[0]) + tv.ev * Splat(tv.theta[0]);
+      tr.A.c[1] = a0 * kE1 + w1 + th * Splat(tv.dw[1]) + tv.ev * Splat(tv.theta[1]);
+      tr.A.c[2] = a0 * kE2 + w2 + th * Splat(tv.dw[2]) + tv.ev * Splat(tv.theta[2]);
+    }
+    InMemory(tr.A);
+    InMemory(tr.K);
     tr.AK = Pair<W>(tr.A, tr.K);
     tr.dA = Pair<W>(tr.A, tr.A);
     tr.dK = Pair<W>(tr.K, tr.K);
-    InMemory(m);
-    InMemory(tr);
-    PropagateBlocks<kCovariance>(tr, m, q, in, out);
+    PropagateBlocks<kCovariance>(tr, m, in, out);
 
-    p += Splat(dt) * v + Splat(h) * a_start;
-    v += Splat(dt) * a_start;
+    p += vdt * v + Splat(0.5 * dt * dt) * a_start;
+    v += vdt * a_start;
     dt_total += dt;
   }
 };
@@ -1040,7 +1103,8 @@ IMUCONV_PREINT_INLINE void TangentInterval(const PreintegrationInput& in, Tangen
   using namespace simd;
   State<W> b0, b1;
   ZeroState(b0);
-  TangentStepper<kCovariance, W> step{NoiseVariances::FromDensities(in.noise), Splat(0.0), Splat(0.0), Splat(0.0), 0.0};
+  TangentStepper<kCovariance, W> step{NoiseVariances::FromDensities(in.noise), Inputs(in), Splat(0.0), Splat(0.0),
+                                      Splat(0.0), 0.0};
   result = ToBlocks(RunHeldKnots(in, b0, b1, step));
   inc.dt = step.dt_total;
   inc.xi << ToEigen(step.theta), ToEigen(step.p), ToEigen(step.v);
