@@ -1110,7 +1110,11 @@ IMUCONV_PREINT_INLINE void TangentInterval(const PreintegrationInput& in, Tangen
                                       Splat(0.0), 0.0};
   result = ToBlocks(RunHeldKnots(in, b0, b1, step));
   inc.dt = step.dt_total;
-  inc.xi << ToEigen(step.theta), ToEigen(step.p), ToEigen(step.v);
+  for (int k = 0; k < 3; ++k) {
+    inc.xi(k) = step.theta[k];
+    inc.xi(3 + k) = step.p[k];
+    inc.xi(6 + k) = step.v[k];
+  }
 }
 
 // ---------------------------------------------------------------------------------------
