@@ -90,6 +90,19 @@ Mat15 CorrectionTransport(const Preintegrated& m, const Vec3& bg, const Vec3& ba
   return T;
 }
 
+// Phi_e|s in the left chart (paper, section 3.2): d f / d dx_s plus [0, G^nn J_bs P_b], with
+// the bias-correction curvature: the rotation rows of dR^ Exp(J_theta db) differentiate to
+// Jr(J_theta db) J_theta. Columns of J_bias are [bg, ba], the left chart's bias order.
+Mat15 PredictionTransition(const Preintegrated& m, const ImuState& x_s, const Mat15& F_s, const Mat15& G) {
+  Eigen::Matrix<double, 6, 1> db;
+  db << x_s.bg - m.bg_hat, x_s.ba - m.ba_hat;
+  Mat96 J = m.J_bias;
+  J.topRows<3>() = so3::Jr(m.J_bias.topRows<3>() * db) * m.J_bias.topRows<3>();
+  Mat15 Phi = F_s;
+  Phi.block<9, 6>(0, left_idx::bg).noalias() += G.topLeftCorner<9, 9>() * J;
+  return Phi;
+}
+
 }  // namespace
 
 Preintegrated PreintegrateByPropagation(const Registry& reg, std::string_view propagator, const SampleWindow& window,
@@ -200,15 +213,7 @@ PropagationResult PropagateByPreintegration(const Registry& reg, const Preintegr
 
   Mat15 F_s, G;
   PredictJacobians(x_s, delta, m.dt, &F_s, &G);
-  // Phi_e|s = d f / d dx_s + [0, G^nn J_bs^n P_b]; in the left chart P_b = I with columns
-  // [bg, ba], the order of J_bias's columns. The correction's own curvature: the rotation
-  // rows of dR^ Exp(J_theta db) differentiate to Jr(J_theta db) J_theta.
-  Eigen::Matrix<double, 6, 1> db;
-  db << x_s.bg - m.bg_hat, x_s.ba - m.ba_hat;
-  Mat96 J = m.J_bias;
-  J.topRows<3>() = so3::Jr(m.J_bias.topRows<3>() * db) * m.J_bias.topRows<3>();
-  Mat15 Phi = F_s;
-  Phi.block<9, 6>(0, left_idx::bg).noalias() += G.topLeftCorner<9, 9>() * J;
+  const Mat15 Phi = PredictionTransition(m, x_s, F_s, G);
 
   const Mat15 S_s = reg.convert_covariance(state_convention, "left", x_s, cov_s);
   const Mat15 GT = G * CorrectionTransport(m, x_s.bg, x_s.ba);
@@ -243,12 +248,7 @@ Residual ComputeResidual(const Registry& reg, ResidualKind kind, const Preintegr
   // d x_pred / d dx_s and d x_pred / d dx_se in the left chart (as in PropagateByPreintegration).
   Mat15 F_s, G;
   PredictJacobians(x_s, delta, m.dt, &F_s, &G);
-  Eigen::Matrix<double, 6, 1> db;
-  db << x_s.bg - m.bg_hat, x_s.ba - m.ba_hat;
-  Mat96 J = m.J_bias;
-  J.topRows<3>() = so3::Jr(m.J_bias.topRows<3>() * db) * m.J_bias.topRows<3>();
-  Mat15 Phi = F_s;
-  Phi.block<9, 6>(0, bg).noalias() += G.topLeftCorner<9, 9>() * J;
+  const Mat15 Phi = PredictionTransition(m, x_s, F_s, G);
 
   // Residual rows [theta, p, v, bg, ba]; D_pred, D_end, D_start_direct: derivatives with
   // respect to left-chart perturbations of the prediction, the end state and (directly)
