@@ -23,6 +23,7 @@
 #pragma once
 
 #include "imuconv/kernels/common.h"
+#include "imuconv/kernels/gtsam_preintegration.h"
 #include "imuconv/kernels/left_transition.h"
 
 namespace imuconv::kernels {
@@ -130,10 +131,12 @@ enum class Hold {
   Midpoint,  ///< mean of knots k and k+1
 };
 
-/// Integrates over the whole window without checking the input (see PropagateHeld).
-/// Fills out.x_e, and out.Phi and out.cov as `kOut` asks.
+/// Integrates over the whole window one step at a time, without checking the input (see
+/// PropagateHeld): the recursion above, in plain Eigen. Fills out.x_e, and out.Phi and
+/// out.cov as `kOut` asks. It is the specification IntegrateHeldByPreintegration is
+/// tested against, and the route on CPUs without AVX2.
 template <Hold kHold, Outputs kOut = Outputs::All>
-inline void IntegrateHeld(const PropagationInput& in, PropagationResult& out) {
+inline void IntegrateHeldPerSample(const PropagationInput& in, PropagationResult& out) {
   constexpr bool kPhi = WantsTransition(kOut), kCov = WantsCovariance(kOut);
   const SampleWindow& w = in.window;
   const NoiseVariances q(in.noise);
@@ -162,6 +165,89 @@ inline void IntegrateHeld(const PropagationInput& in, PropagationResult& out) {
     out.Phi = Phi.ToMatrix();
   }
   if constexpr (kCov) out.cov = 0.5 * (P + P.transpose());  // remove rounding asymmetry once
+}
+
+/// The same propagation computed as a preintegration followed by the prediction (paper,
+/// section 3.2, "propagation from preintegration"), without checking the input. Euler's
+/// step over [t_k, t_k+1] and GTSAM's manifold preintegration step are the same map:
+/// with R_s fixed, R_k = R_s dR_k, v_k = v_s + g (t_k - t_s) + R_s dv_k and
+/// p_k = p_s + v_s (t_k - t_s) + g (t_k - t_s)^2/2 + R_s dp_k turn one into the other, and
+/// the noise and bias random walk enter both identically. So the preintegration kernel's
+/// per-sample recursion (4-lane SIMD, kernels/gtsam_preintegration.h) does the per-sample
+/// work, and the prediction runs once per interval:
+///   start-frame increment errors (Exp(phi) dR, dp + e_p, dv + e_v; bias Jacobian H):
+///     dtheta_e = dtheta_s + R_s phi,
+///     dv_e = dv_s - [R_s dv]x dtheta_s + R_s e_v,
+///     dp_e = dp_s + T dv_s - [R_s dp]x dtheta_s + R_s e_p,
+///   with (phi, e_p, e_v) = H db_s + noise part, and db_e = db_s - delta b_k (the kernel's
+///   bias error is minus the random walk, see gtsam_preintegration.h). Hence
+///     Phi = the left transition with th_bg = R_s H_tg, v_bg = R_s H_vg, v_ba = R_s H_va,
+///           p_bg = R_s H_pg, p_ba = R_s H_pa and the theta columns from the state,
+///     Sigma_e = Phi Sigma_s Phi^T + M Sigma_k M^T,  M = blockdiag(R_s, R_s, R_s, -I, -I)
+///   after reordering [theta, p, v, ba, bg] to [p, theta, v, bg, ba] (paper, eq. prop-cov
+///   with b_hat = b_s, where the bias-correction curvature vanishes).
+/// kCov = false computes the state and Phi only.
+template <Hold kHold, bool kCov>
+inline void IntegrateHeldByPreintegration(const PropagationInput& in, PropagationResult& out,
+                                          detail::IsaLevel isa) {
+  using namespace left_idx;
+  const ImuState& x_s = in.x_s;
+  PreintegrationInput pin;
+  pin.bg = x_s.bg;
+  pin.ba = x_s.ba;
+  pin.noise = in.noise;
+  pin.window = in.window;
+  ManifoldIncrement inc;
+  detail::Blocks r;
+  detail::RunManifold<kCov, kHold == Hold::Midpoint>(isa, pin, inc, r);
+
+  const double T = in.window.t_end() - in.window.t_start();
+  const Mat3& Rs = x_s.R;
+  ImuState& x_e = out.x_e;
+  x_e.R = Rs * inc.dR;
+  x_e.v = x_s.v + T * in.gravity + Rs * inc.dv;
+  x_e.p = x_s.p + T * x_s.v + (0.5 * T * T) * in.gravity + Rs * inc.dp;
+  x_e.bg = x_s.bg;
+  x_e.ba = x_s.ba;
+
+  const Mat96 H = detail::AssembleBiasJacobian(r);  // rows [theta, p, v], columns [ba, bg]
+  LeftTransition Phi;
+  Phi.th_bg.noalias() = Rs * H.block<3, 3>(0, 3);
+  Phi.p_bg.noalias() = Rs * H.block<3, 3>(3, 3);
+  Phi.v_bg.noalias() = Rs * H.block<3, 3>(6, 3);
+  Phi.p_ba.noalias() = Rs * H.block<3, 3>(3, 0);
+  Phi.v_ba.noalias() = Rs * H.block<3, 3>(6, 0);
+  ThetaColumnsFromState(x_s, x_e, T, in.gravity, Phi);
+  out.Phi = Phi.ToMatrix();
+
+  if constexpr (kCov) {
+    // M Sigma_k M^T: reorder and flip the bias rows and columns, then rotate the first nine.
+    const Mat15 K = detail::AssembleCovariance(r);
+    constexpr int kFrom[5] = {3, 0, 6, 12, 9};        // kernel block of left blocks p, theta, v, bg, ba
+    constexpr double kSign[5] = {1, 1, 1, -1, -1};
+    Mat15 S;
+    for (int i = 0; i < 5; ++i)
+      for (int j = 0; j < 5; ++j) S.block<3, 3>(3 * i, 3 * j) = (kSign[i] * kSign[j]) * K.block<3, 3>(kFrom[i], kFrom[j]);
+    for (int b = 0; b < 9; b += 3) S.middleRows<3>(b) = Rs * S.middleRows<3>(b);
+    for (int b = 0; b < 9; b += 3) S.middleCols<3>(b) = S.middleCols<3>(b) * Rs.transpose();
+    // Phi Sigma_s Phi^T only where there is a start covariance (preintegration by
+    // propagation starts from zero).
+    if (!in.cov_s.isZero(0.0)) S += Congruence(Phi, in.cov_s);
+    out.cov = 0.5 * (S + S.transpose());
+  }
+}
+
+/// Integrates over the whole window without checking the input (see PropagateHeld). Fills
+/// out.x_e, and out.Phi and out.cov as `kOut` asks. Where the CPU has AVX2, the transition
+/// and covariance come from the preintegration kernel (IntegrateHeldByPreintegration,
+/// chosen once per interval); CPUs without AVX2 step per sample. Every mode takes the same
+/// route, so the state never depends on what else is asked for (the state-only mode computes
+/// Phi too there: it serves finite differences and Monte Carlo, not speed).
+template <Hold kHold, Outputs kOut = Outputs::All>
+inline void IntegrateHeld(const PropagationInput& in, PropagationResult& out) {
+  const detail::IsaLevel isa = detail::BestIsaLevel();
+  if (isa != detail::IsaLevel::kBaseline) return IntegrateHeldByPreintegration<kHold, WantsCovariance(kOut)>(in, out, isa);
+  IntegrateHeldPerSample<kHold, kOut>(in, out);
 }
 
 /// The propagator entry point: checks the input, then integrates. Never throws except

@@ -56,6 +56,7 @@
 #include <cstdint>
 #include <string>
 
+#include "imuconv/kernels/common.h"
 #include "imuconv/preintegrator.h"
 #include "imuconv/so3.h"
 #include "imuconv/status.h"
@@ -377,16 +378,9 @@ inline void TangentStep(const Vec3& acc, const Vec3& omega, double dt, TangentIn
   s.dt += dt;
 }
 
-/// Discrete noise variances: gyro/accel white noise density^2 (divided by dt per step),
-/// bias random walks density^2 (multiplied by dt per step). GTSAM's
-/// integrationCovariance and biasAccOmegaInit are zero here.
-struct NoiseVariances {
-  double gyro = 0.0, accel = 0.0, gyro_rw = 0.0, accel_rw = 0.0;
-  static NoiseVariances FromDensities(const ImuNoise& n) {
-    return {n.gyro_noise_density * n.gyro_noise_density, n.accel_noise_density * n.accel_noise_density,
-            n.gyro_random_walk * n.gyro_random_walk, n.accel_random_walk * n.accel_random_walk};
-  }
-};
+// Discrete noise: kernels::NoiseVariances (common.h) holds the densities squared; white
+// noise is divided by dt per step, the bias random walks multiplied by dt. GTSAM's
+// integrationCovariance and biasAccOmegaInit are zero here.
 
 // ---------------------------------------------------------------------------------------
 // 3x3 blocks as three 4-lane columns, and pairs of blocks side by side.
@@ -740,8 +734,8 @@ IMUCONV_PREINT_INLINE void FinishStepConsts(StepConsts<W>& m, double dt, double 
     m.h2kw = m.h * m.h * kw;
     m.dthkw = dt * m.h * kw;
     m.dt2kw = dt * dt * kw;
-    m.s_ba_next = s_ba + dt * q.accel_rw;
-    m.s_bg_next = s_bg + dt * q.gyro_rw;
+    m.s_ba_next = s_ba + dt * q.accel_walk;
+    m.s_bg_next = s_bg + dt * q.gyro_walk;
   } else {  // without the covariance X stays zero and the variances are not tracked
     m.s_bg = m.hs_ba = m.dts_ba = 0.0;
   }
@@ -916,24 +910,45 @@ struct HeldKnots {
   std::size_t steps() const { return w.size() - 1; }
   IMUCONV_PREINT_INLINE const ImuSample& knot(std::size_t j) const { return j == 0 ? w.first : w.samples[w.begin + j - 1]; }
   IMUCONV_PREINT_INLINE double t_next(std::size_t j) const { return j + 2 == w.size() ? w.last.t : w.samples[w.begin + j].t; }
+  IMUCONV_PREINT_INLINE const ImuSample& next_knot(std::size_t j) const {
+    return j + 2 == w.size() ? w.last : w.samples[w.begin + j];
+  }
+  /// The value held over [t_j, t_j+1]: knot j (zero-order hold, GTSAM's input) or, with
+  /// kMidpoint, the mean of knots j and j+1 (OpenVINS' imu_avg; the midpoint propagator's
+  /// input, see kernels/euler.h), formed in `tmp`.
+  template <bool kMidpoint>
+  IMUCONV_PREINT_INLINE const ImuSample& held(std::size_t j, ImuSample& tmp) const {
+    if constexpr (!kMidpoint) {
+      (void)tmp;
+      return knot(j);
+    } else {
+      const ImuSample& a = knot(j);
+      const ImuSample& b = next_knot(j);
+      tmp.t = a.t;
+      tmp.gyro = 0.5 * (a.gyro + b.gyro);
+      tmp.accel = 0.5 * (a.accel + b.accel);
+      return tmp;
+    }
+  }
 };
 
 /// Runs step(knot, dt_j, in, out) over the window, alternating the two state buffers;
 /// returns the buffer holding the result.
-template <class W, typename StepFn>
+template <class W, bool kMidpoint = false, typename StepFn>
 IMUCONV_PREINT_INLINE const State<W>& RunHeldKnots(const PreintegrationInput& in, State<W>& b0, State<W>& b1,
                                                    StepFn& step) {
   const HeldKnots knots{in.window, simd::FromEigen(in.ba), simd::FromEigen(in.bg)};
   const std::size_t steps = knots.steps();
+  ImuSample tmp;
   std::size_t j = 0;
   for (; j + 1 < steps; j += 2) {
-    const ImuSample& s0 = knots.knot(j);
+    const ImuSample& s0 = knots.held<kMidpoint>(j, tmp);
     step(s0, knots.t_next(j) - s0.t, b0, b1);
-    const ImuSample& s1 = knots.knot(j + 1);
+    const ImuSample& s1 = knots.held<kMidpoint>(j + 1, tmp);
     step(s1, knots.t_next(j + 1) - s1.t, b1, b0);
   }
   if (j < steps) {
-    const ImuSample& s0 = knots.knot(j);
+    const ImuSample& s0 = knots.held<kMidpoint>(j, tmp);
     step(s0, knots.t_next(j) - s0.t, b0, b1);
     return b1;
   }
@@ -1003,15 +1018,16 @@ struct ManifoldStepper {
   }
 };
 
-/// Manifold scheme over the window, start-frame chart.
-template <bool kCovariance, class W>
+/// Manifold scheme over the window, start-frame chart; kMidpoint holds the mean of
+/// adjacent knots instead of knot j (see HeldKnots::held).
+template <bool kCovariance, class W, bool kMidpoint = false>
 IMUCONV_PREINT_INLINE void ManifoldInterval(const PreintegrationInput& in, ManifoldIncrement& inc, Blocks& result) {
   using namespace simd;
   State<W> b0, b1;
   ZeroState(b0);
-  ManifoldStepper<kCovariance, W> step{NoiseVariances::FromDensities(in.noise), Inputs(in), Identity(), Splat(0.0),
+  ManifoldStepper<kCovariance, W> step{NoiseVariances(in.noise), Inputs(in), Identity(), Splat(0.0),
                                        Splat(0.0), 0.0};
-  result = ToBlocks(RunHeldKnots(in, b0, b1, step));
+  result = ToBlocks(RunHeldKnots<W, kMidpoint>(in, b0, b1, step));
   inc.dt = step.dt_total;
   ToEigen(step.dR, inc.dR);
   inc.dp = ToEigen(step.dp);
@@ -1106,7 +1122,7 @@ IMUCONV_PREINT_INLINE void TangentInterval(const PreintegrationInput& in, Tangen
   using namespace simd;
   State<W> b0, b1;
   ZeroState(b0);
-  TangentStepper<kCovariance, W> step{NoiseVariances::FromDensities(in.noise), Inputs(in), Splat(0.0), Splat(0.0),
+  TangentStepper<kCovariance, W> step{NoiseVariances(in.noise), Inputs(in), Splat(0.0), Splat(0.0),
                                       Splat(0.0), 0.0};
   result = ToBlocks(RunHeldKnots(in, b0, b1, step));
   inc.dt = step.dt_total;
@@ -1277,8 +1293,8 @@ inline void PropagateCombined(const StepJacobians& J, const NoiseVariances& q, C
   c.X.block<3, 3>(3, 3) = Xq_g + half_dt * KXg;
   c.X.block<3, 3>(6, 3) = Xv_g + KXg;
 
-  c.s_ba += dt * q.accel_rw;
-  c.s_bg += dt * q.gyro_rw;
+  c.s_ba += dt * q.accel_walk;
+  c.s_bg += dt * q.gyro_walk;
 }
 
 
@@ -1321,7 +1337,7 @@ inline Mat15 ManifoldCovarianceInNavStateChart(const Mat3& dR, const CombinedCov
 template <bool kCovariance, typename StepFn>
 inline void Run(const PreintegrationInput& in, StepFn step, BiasJacobians& H, CombinedCovariance& cov) {
   const SampleWindow& w = in.window;
-  const NoiseVariances q = NoiseVariances::FromDensities(in.noise);
+  const NoiseVariances q = NoiseVariances(in.noise);
   StepJacobians J;
   for (std::size_t j = 0; j + 1 < w.size(); ++j) {
     const ImuSample& s = w[j];
@@ -1340,9 +1356,9 @@ enum class IsaLevel { kBaseline = 0, kAvx2 = 1, kAvx512 = 2 };
 
 // W: the pair type of the instance (8-lane vectors only where AVX-512 makes them native).
 #define IMUCONV_PREINT_INSTANCE(NAME, ATTR, W)                                                          \
-  template <bool kCov>                                                                                  \
+  template <bool kCov, bool kMid>                                                                       \
   ATTR void ManifoldInterval##NAME(const PreintegrationInput& in, ManifoldIncrement& inc, Blocks& r) { \
-    ManifoldInterval<kCov, W>(in, inc, r);                                                              \
+    ManifoldInterval<kCov, W, kMid>(in, inc, r);                                                        \
   }                                                                                                     \
   template <bool kCov>                                                                                  \
   ATTR void TangentInterval##NAME(const PreintegrationInput& in, TangentIncrement& inc, Blocks& r) {   \
@@ -1380,14 +1396,14 @@ inline IsaLevel BestIsaLevel() {
   return best;
 }
 
-template <bool kCov>
+template <bool kCov, bool kMidpoint = false>
 inline void RunManifold(IsaLevel level, const PreintegrationInput& in, ManifoldIncrement& inc, Blocks& r) {
 #if IMUCONV_PREINT_X86_DISPATCH
-  if (level == IsaLevel::kAvx512) return ManifoldIntervalAvx512<kCov>(in, inc, r);
-  if (level == IsaLevel::kAvx2) return ManifoldIntervalAvx2<kCov>(in, inc, r);
+  if (level == IsaLevel::kAvx512) return ManifoldIntervalAvx512<kCov, kMidpoint>(in, inc, r);
+  if (level == IsaLevel::kAvx2) return ManifoldIntervalAvx2<kCov, kMidpoint>(in, inc, r);
 #endif
   (void)level;
-  ManifoldIntervalBaseline<kCov>(in, inc, r);
+  ManifoldIntervalBaseline<kCov, kMidpoint>(in, inc, r);
 }
 
 template <bool kCov>

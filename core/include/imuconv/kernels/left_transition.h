@@ -71,6 +71,37 @@ struct LeftTransition {
 };
 
 
+/// T P T^T for a transition in block form and a symmetric P, once per interval. With
+/// T = I + E (E non-zero only in the p, theta and v rows) and C = P E^T (non-zero only in
+/// the p, theta and v columns): T P T^T = P + C + C^T + E C, as in the Euler covariance step.
+inline Mat15 Congruence(const LeftTransition& T, const Mat15& P) {
+  using namespace left_idx;
+  // E_p = [0, p_th, p_v I, p_bg, p_ba], E_theta = [0, 0, 0, th_bg, 0], E_v = [0, v_th, 0, v_bg, v_ba].
+  Eigen::Matrix<double, 15, 9> C;
+  C.middleCols<3>(p).noalias() = P.middleCols<3>(theta) * T.p_th.transpose();
+  C.middleCols<3>(p) += T.p_v * P.middleCols<3>(v);
+  C.middleCols<3>(p).noalias() += P.middleCols<3>(bg) * T.p_bg.transpose();
+  C.middleCols<3>(p).noalias() += P.middleCols<3>(ba) * T.p_ba.transpose();
+  C.middleCols<3>(theta).noalias() = P.middleCols<3>(bg) * T.th_bg.transpose();
+  C.middleCols<3>(v).noalias() = P.middleCols<3>(theta) * T.v_th.transpose();
+  C.middleCols<3>(v).noalias() += P.middleCols<3>(bg) * T.v_bg.transpose();
+  C.middleCols<3>(v).noalias() += P.middleCols<3>(ba) * T.v_ba.transpose();
+  Mat9 EC;
+  EC.middleRows<3>(p).noalias() = T.p_th * C.middleRows<3>(theta);
+  EC.middleRows<3>(p) += T.p_v * C.middleRows<3>(v);
+  EC.middleRows<3>(p).noalias() += T.p_bg * C.middleRows<3>(bg);
+  EC.middleRows<3>(p).noalias() += T.p_ba * C.middleRows<3>(ba);
+  EC.middleRows<3>(theta).noalias() = T.th_bg * C.middleRows<3>(bg);
+  EC.middleRows<3>(v).noalias() = T.v_th * C.middleRows<3>(theta);
+  EC.middleRows<3>(v).noalias() += T.v_bg * C.middleRows<3>(bg);
+  EC.middleRows<3>(v).noalias() += T.v_ba * C.middleRows<3>(ba);
+  Mat15 out = P;
+  out.leftCols<9>() += C;
+  out.topRows<9>() += C.transpose();
+  out.topLeftCorner<9, 9>() += EC;
+  return out;
+}
+
 /// Fills the theta columns (v_th, p_th) and p_v of Phi over [t_s, t_s + T] from the nominal
 /// start and end states. Since d v_th/dt = -[R a]x while d v/dt = g + R a, and p_th and p
 /// integrate v_th and v, the exact flow has
