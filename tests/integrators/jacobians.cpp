@@ -8,6 +8,7 @@
 
 #include "imuconv/numeric.h"
 #include "integrator_cases.h"
+#include "rk4_reference.h"
 
 namespace {
 
@@ -174,6 +175,7 @@ TEST(BlockSparseAlgebra, TransitionCompositionMatchesDense) {
   EXPECT_LT(RelChange(a.ToMatrix(), dense), 1e-14);
 }
 
+// The covariance rate of the classical RK4 reference (rk4_reference.h), against F P + P F^T + D.
 TEST(BlockSparseAlgebra, Rk4CovarianceRateMatchesDense) {
   const ImuNoise n = SomeNoise();
   const Mat3 R = so3::Exp(RandVec(1.0));
@@ -184,12 +186,12 @@ TEST(BlockSparseAlgebra, Rk4CovarianceRateMatchesDense) {
   F.block<3, 3>(li::theta, li::bg) = -R;
   F.block<3, 3>(li::v, li::theta) = -so3::skew(Ra);
   F.block<3, 3>(li::v, li::ba) = -R;
-  const Vec15 D = kernels::rk4_detail::ProcessNoiseDiagonal(kernels::NoiseVariances(n));
+  const Vec15 D = rk4_reference::rk4_detail::ProcessNoiseDiagonal(kernels::NoiseVariances(n));
   const Mat15 dense = F * P + P * F.transpose() + Mat15(D.asDiagonal());
   Eigen::Matrix<double, 15, 9> PFt;
-  kernels::rk4_detail::CovarianceRateColumns(R, so3::skew(Ra), P, PFt);
+  rk4_reference::rk4_detail::CovarianceRateColumns(R, so3::skew(Ra), P, PFt);
   Mat15 rate = Mat15::Zero();
-  kernels::rk4_detail::AddSymmetricRate(PFt, D, 1.0, rate);
+  rk4_reference::rk4_detail::AddSymmetricRate(PFt, D, 1.0, rate);
   EXPECT_LT(RelChange(rate, dense), 1e-14);  // rounding only
 }
 

@@ -1,24 +1,66 @@
-// Fourth-order Runge-Kutta integration in the `left` error state: state, transition matrix
-// and covariance are one ODE system integrated together, so all three are fourth order.
+// Fourth-order integration in the `left` error state of the state, the transition matrix and
+// the covariance, with the gyro and accel input interpolated linearly between knots (so the
+// input is smooth inside a step and the order is kept); each knot interval may be split into
+// `substeps` equal steps of length h (the plugin uses 1; tests halve the step with 2).
 //
-// Input: gyro and accel interpolated linearly between knots (t_k, t_k+1), so inside a step
-// the input is smooth and RK4 keeps its order; each knot interval may be split into
-// `substeps` equal steps (the plugin uses 1; tests halve the step with 2).
+// The file keeps its name (and the plugin its id `rk4`): it started as one classical RK4
+// system for state, Phi and P (still in tests/integrators/rk4_reference.h as a cross-check).
+// The present form is fourth order in all three and costs a fraction of it; why it is built
+// this way is below.
 //
-// State (paper, eq. diff-state, noise-free): d/dt R = R [w]x, d/dt v = g + R a, d/dt p = v,
-// d/dt b = 0, with w = w_m(t) - bg, a = a_m(t) - ba. Rotation is integrated as a Lie-group
-// RK4 (Munthe-Kaas): over a step R(t) = R_0 Exp(phi(t)) with d phi/dt = Jr^{-1}(phi) w(t),
-// phi(0) = 0, and classical RK4 runs on (phi, v, p) together. Every stage rotation is a true
-// rotation, and a constant rate is integrated exactly.
+// 1. State (paper, eq. diff-state, noise-free): d/dt R = R [w]x, d/dt v = g + R a, d/dt p = v,
+//    with w = w_m(t) - bg and a = a_m(t) - ba linear in t over a step. The rotation is the
+//    fourth-order Magnus expansion, which for a linear w is
+//      R(t0 + t) = R0 Exp(Omega(t)),  Omega(t) = int_0^t w + t^3/(12 h) w0 x w1  (+ O(t^5)),
+//    i.e. Omega(h) = h/2 (w0 + w1) + h^2/12 w0 x w1 at the step's end and
+//    Omega(h/2) = h/8 (3 w0 + w1) + h^2/96 w0 x w1 at its middle: two exponentials per step, a
+//    true rotation at both, and a constant rate is integrated exactly. Everything else is a
+//    quadrature of functions known at the nodes 0, h/2, h (the end node is the next step's
+//    start, so each step evaluates two new nodes), with the rules that are exact for a
+//    quadratic integrand f (local error O(h^5), fourth order over the window):
+//      int_0^h f = h/6 (f0 + 4 fm + f1)              int_0^{h/2} f = h/24 (5 f0 + 8 fm - f1)
+//      int_0^h (h - t) f = h^2/6 (f0 + 2 fm)         int_0^{h/2} (h/2 - t) f = h^2/96 (7 f0 + 6 fm - f1)
+//    Velocity and position are kept as U = v - v_s - g s and W = p - p_s - v_s s - g s^2/2
+//    (s = t - t_s), the integrals of R a.
 //
-// Error state (paper, "IMU Propagation in Detail", left error dynamics, eq. cont-error):
-//   d dtheta/dt = -R dbg - R n_g,  d dv/dt = -[R a]x dtheta - R dba - R n_a,
-//   d dp/dt = dv,                  d dbg/dt = n_wg,  d dba/dt = n_wa,
-// i.e. F(t) and G(t) with Qc = diag(sigma_g^2, sigma_a^2, sigma_wg^2, sigma_wa^2) (x) I.
-// Phi(t, t_s) solves d Phi/dt = F Phi and the covariance d P/dt = F P + P F^T + G Qc G^T
-// (the continuous form of the paper's Sigma_k recursion), with F evaluated at each RK4 stage
-// state. Because R is orthogonal, G Qc G^T = diag(0, sigma_g^2 I, sigma_a^2 I, sigma_wg^2 I,
-// sigma_wa^2 I) does not depend on the state.
+// 2. Transition matrix. The error dynamics (paper, "IMU Propagation in Detail", eq. cont-error,
+//    left chart, order [p, theta, v, bg, ba]) are
+//      d dtheta/dt = -R dbg - R n_g,  d dv/dt = -[R a]x dtheta - R dba - R n_a,
+//      d dp/dt = dv,                  d dbg/dt = n_wg,  d dba/dt = n_wa,
+//    i.e. F(t) and G(t) with Qc = diag(q_g, q_a, q_wg, q_wa) (x) I. Instead of Phi(t, t_s) the
+//    kernel integrates its inverse Psi(t) = Phi(t, t_s)^{-1}, which solves d Psi/dt = -Psi F and
+//    has the same block form (left_transition.h). Its columns are
+//      theta: [[alpha]x; I; [U]x; 0; 0],  alpha = -int s R a = W - s U   (from the state)
+//      v:     [-s I; 0; I; 0; 0]
+//      bg:    [Pg; Tg; Vg; I; 0],  Pg' = [alpha]x R,  Tg' = R,  Vg' = [U]x R
+//      ba:    [Pa; 0; Tg; 0; I],   Pa' = -s R
+//    so Psi's free part is the 9x3 X = [Pg; Tg; Vg] plus Pa, all plain quadratures of
+//    X' = G_theta R (G_theta = Psi's theta column): Simpson per step. Phi = Psi^{-1} follows in
+//    closed form once per window (PhiFromPsi); its theta columns come from the state
+//    (ThetaColumnsFromState), exactly as the variational equations give them.
+//
+// 3. Covariance. dP/dt = F P + P F^T + D with D = G Qc G^T = diag(0, q_g, q_a, q_wg, q_wa) (x) I
+//    (state independent since R R^T = I) has, by variation of constants, the solution
+//      P(t_e) = Phi_e (P_s + M) Phi_e^T,   M = int Psi D Psi^T dt
+//    which is the paper's eq. prop-cov with Phi_e = Phi_{e|s} and G Sigma_Dx G^T = Phi_e M Phi_e^T.
+//    Per noise, Psi D Psi^T = q c c^T for Psi's column c of that noise:
+//      q_g  c_theta c_theta^T: blocks [alpha]x[alpha]x^T = |alpha|^2 I - alpha alpha^T,
+//           [alpha]x[U]x^T = (alpha.U) I - U alpha^T, ... : weighted sums of 3-vector outer
+//           products, Simpson per step (two nodes, 21 products each);
+//      q_a  c_v c_v^T = [s^2 I, -s I; -s I, I] in (p, v): closed form in T = t_e - t_s;
+//      q_wg X X^T (and the linear blocks int X), q_wa [Pa; Tg][Pa; Tg]^T: 3x3 products. Over
+//           a step, with Xb the step mean of X and the derivative at the step's middle,
+//             int_step X X^T = h Xb Xb^T + h^3/12 X'_m X'_m^T + O(h^5)
+//           (Taylor expansion about the middle; X is C^2 across knots, so the remainder is
+//           bounded), and X' X'^T = G_theta R R^T G_theta^T = G_theta G_theta^T is again of
+//           the cheap q_g form, as is [-s R; R][-s R; R]^T = [s^2 I, -s I; -s I, I]. So the
+//           walks cost one set of 3x3 products per step (of Xb, itself a quadrature:
+//           Xb = X0 + h/6 (X'_0 + 2 X'_m)), not one per node.
+//    The congruence with Phi_e is once per window, in block form.
+//
+// All quadratures share the nodes of the state, so state, Phi and P are fourth order in h
+// (tests/integrators/rk4_convergence.cpp checks the 16x per halving for all three, and
+// rk4_cross_check.cpp the agreement with the classical RK4 to O(h^4)). Nothing allocates.
 #pragma once
 
 #include "imuconv/kernels/common.h"
@@ -28,181 +70,268 @@ namespace imuconv::kernels {
 
 namespace rk4_detail {
 
-/// The noise diagonal G Qc G^T (state independent, see the file comment).
-inline Vec15 ProcessNoiseDiagonal(const NoiseVariances& q) {
-  using namespace left_idx;
-  Vec15 d = Vec15::Zero();
-  d.segment<3>(theta).setConstant(q.gyro);
-  d.segment<3>(v).setConstant(q.accel);
-  d.segment<3>(bg).setConstant(q.gyro_walk);
-  d.segment<3>(ba).setConstant(q.accel_walk);
-  return d;
+/// M's accumulators: M = int Psi D Psi^T assembled from them once per window (AssembleM).
+struct NoiseSums {
+  // q_g-type terms, sum of w * (outer product) over the nodes, w including the noise density:
+  // Simpson weights times q_g, plus q_wg h^3/12 at each step's middle (the walk correction).
+  Mat3 aa = Mat3::Zero(), Ua = Mat3::Zero(), UU = Mat3::Zero();  ///< alpha alpha^T, U alpha^T, U U^T
+  Vec3 a = Vec3::Zero(), U = Vec3::Zero();
+  double pending = 0.0;  ///< the q_g weight still owed to the last node (h_prev / 6 q_g)
+  // Walk corrections of the c_v-type (closed-form) terms: sum h^3/12 {1, s_m, s_m^2}.
+  double h3 = 0.0, h3_s = 0.0, h3_ss = 0.0;
+  // Sum over steps of h Xb Xb^T blocks (gyro walk) and of the accel walk's [Pa; Tg] blocks.
+  Mat3 PgPg = Mat3::Zero(), PgTg = Mat3::Zero(), PgVg = Mat3::Zero();
+  Mat3 TgTg = Mat3::Zero(), TgVg = Mat3::Zero(), VgVg = Mat3::Zero();
+  Mat3 PaPa = Mat3::Zero(), PaTg = Mat3::Zero();
+  // Sum over steps of h Xb: int Pg, int Tg, int Vg, int Pa.
+  Mat3 iPg = Mat3::Zero(), iTg = Mat3::Zero(), iVg = Mat3::Zero(), iPa = Mat3::Zero();
+
+  /// One node of the q_g-type terms with weight w.
+  void AddNode(const Vec3& alpha, const Vec3& U_, double w) {
+    const Vec3 wa = w * alpha, wU = w * U_;
+    aa.noalias() += wa * alpha.transpose();
+    Ua.noalias() += wU * alpha.transpose();
+    UU.noalias() += wU * U_.transpose();
+    a += wa;
+    U += wU;
+  }
+};
+
+/// [x]x B, column by column.
+inline Mat3 SkewTimes(const Vec3& x, const Mat3& B) {
+  Mat3 out;
+  for (int j = 0; j < 3; ++j) out.col(j) = x.cross(B.col(j));
+  return out;
 }
 
-/// The p, theta and v columns of P F^T, which is all of it: F is non-zero only in its p, theta
-/// and v rows, F_p = [0, 0, I, 0, 0], F_theta = [0, 0, 0, -R, 0], F_v = [0, -[R a]x, 0, 0, -R].
-/// Built from whole columns of P, contiguous in Eigen's column-major storage.
-inline void CovarianceRateColumns(const Mat3& R, const Mat3& Ra_skew, const Mat15& P,
-                                  Eigen::Matrix<double, 15, 9>& PFt) {
-  using namespace left_idx;
-  PFt.middleCols<3>(p) = P.middleCols<3>(v);
-  const Mat3 minus_Rt = -R.transpose();
-  AssignTimes3x3(P.middleCols<3>(bg), minus_Rt, PFt.middleCols<3>(theta));
-  AssignTimes3x3(P.middleCols<3>(theta), Ra_skew, PFt.middleCols<3>(v));  // -[R a]x^T = [R a]x
-  AddTimes3x3(P.middleCols<3>(ba), minus_Rt, PFt.middleCols<3>(v));
+/// Everything the integration carries from one step to the next (values at the step's start).
+struct Rk4Carry {
+  // State: R, and U, W of the file comment; s = t - t_s at the step's start.
+  Mat3 R;
+  Vec3 U = Vec3::Zero(), W = Vec3::Zero();
+  Vec3 Ra;  ///< R a at the node
+  // Psi (as kOut asks): X = [Pg; Tg; Vg], Pa, and X' at the node (Tg' = R needs no copy).
+  Mat3 Pg = Mat3::Zero(), Tg = Mat3::Zero(), Vg = Mat3::Zero(), Pa = Mat3::Zero();
+  Mat3 dPg = Mat3::Zero(), dVg = Mat3::Zero();
+  Vec3 alpha = Vec3::Zero();
+  NoiseSums sums;
+};
+
+}  // namespace rk4_detail
+
+/// Input of one step at its start and end, biases already removed (the middle is the mean).
+struct Rk4StepInput {
+  Vec3 w0, w1;  ///< body rate
+  Vec3 a0, a1;  ///< specific force
+};
+
+/// One step of length h from s0 = t - t_s (see the file comment for the rules). `q` is only
+/// read for Outputs::All.
+template <Outputs kOut>
+inline void Rk4Step(rk4_detail::Rk4Carry& c, const Rk4StepInput& u, double h, double s0, const NoiseVariances& q) {
+  constexpr bool kPhi = WantsTransition(kOut), kCov = WantsCovariance(kOut);
+  // Rotation at the middle and the end (Magnus, linear rate).
+  const Vec3 wxw = u.w0.cross(u.w1);
+  const double h2 = h * h;
+  Mat3 dRm, dR1;
+  ExpAndJr((0.125 * h) * (3.0 * u.w0 + u.w1) + (h2 / 96.0) * wxw, dRm, nullptr);
+  ExpAndJr((0.5 * h) * (u.w0 + u.w1) + (h2 / 12.0) * wxw, dR1, nullptr);
+  const Mat3 R0 = c.R;
+  Mat3 Rm, R1;
+  Rm.noalias() = R0 * dRm;
+  R1.noalias() = R0 * dR1;
+  const Vec3 Ra0 = c.Ra;
+  const Vec3 Ram = Rm * (0.5 * (u.a0 + u.a1));
+  const Vec3 Ra1 = R1 * u.a1;
+  const double h6 = h / 6.0;
+  const Vec3 U0 = c.U;
+  const Vec3 U1 = U0 + h6 * (Ra0 + 4.0 * Ram + Ra1);
+  const Vec3 W1 = c.W + h * U0 + (h2 / 6.0) * (Ra0 + 2.0 * Ram);
+
+  if constexpr (kPhi) {
+    using rk4_detail::SkewTimes;
+    const double sm = s0 + 0.5 * h, s1 = s0 + h;
+    const Vec3 Um = U0 + (h / 24.0) * (5.0 * Ra0 + 8.0 * Ram - Ra1);
+    const Vec3 Wm = c.W + (0.5 * h) * U0 + (h2 / 96.0) * (7.0 * Ra0 + 6.0 * Ram - Ra1);
+    const Vec3 alpha0 = c.alpha, alpha_m = Wm - sm * Um, alpha1 = W1 - s1 * U1;
+    // X' = G_theta R at the middle and the end.
+    const Mat3 dPgm = SkewTimes(alpha_m, Rm), dVgm = SkewTimes(Um, Rm);
+    const Mat3 dPg1 = SkewTimes(alpha1, R1), dVg1 = SkewTimes(U1, R1);
+    if constexpr (kCov) {
+      rk4_detail::NoiseSums& n = c.sums;
+      // Step means Xb = X0 + h/6 (X'_0 + 2 X'_m), Pa likewise (Pa' = -s R).
+      const Mat3 Tgb = c.Tg + h6 * (R0 + 2.0 * Rm);
+      const Mat3 Pgb = c.Pg + h6 * (c.dPg + 2.0 * dPgm);
+      const Mat3 Vgb = c.Vg + h6 * (c.dVg + 2.0 * dVgm);
+      const Mat3 Pab = c.Pa - h6 * (s0 * R0 + (2.0 * sm) * Rm);
+      const Mat3 hTgb = h * Tgb, hPgb = h * Pgb, hVgb = h * Vgb, hPab = h * Pab;
+      n.PgPg.noalias() += hPgb * Pgb.transpose();
+      n.PgTg.noalias() += hPgb * Tgb.transpose();
+      n.PgVg.noalias() += hPgb * Vgb.transpose();
+      n.TgTg.noalias() += hTgb * Tgb.transpose();
+      n.TgVg.noalias() += hTgb * Vgb.transpose();
+      n.VgVg.noalias() += hVgb * Vgb.transpose();
+      n.PaPa.noalias() += hPab * Pab.transpose();
+      n.PaTg.noalias() += hPab * Tgb.transpose();
+      n.iPg += hPgb;
+      n.iTg += hTgb;
+      n.iVg += hVgb;
+      n.iPa += hPab;
+      // q_g-type nodes: the start (its Simpson weight completed now that h is known) and the
+      // middle (with the gyro walk's h^3/12 X'_m X'_m^T = h^3/12 G_theta G_theta^T).
+      const double h3 = h2 * h / 12.0;
+      const double wq = q.gyro * h6;
+      n.AddNode(alpha0, U0, n.pending + wq);
+      n.AddNode(alpha_m, Um, 4.0 * wq + q.gyro_walk * h3);
+      n.pending = wq;
+      n.h3 += h3;
+      n.h3_s += h3 * sm;
+      n.h3_ss += h3 * sm * sm;
+    }
+    c.Tg += h6 * (R0 + 4.0 * Rm + R1);
+    c.Pg += h6 * (c.dPg + 4.0 * dPgm + dPg1);
+    c.Vg += h6 * (c.dVg + 4.0 * dVgm + dVg1);
+    c.Pa -= h6 * (s0 * R0 + (4.0 * sm) * Rm + s1 * R1);
+    c.dPg = dPg1;
+    c.dVg = dVg1;
+    c.alpha = alpha1;
+  }
+
+  c.R = R1;
+  c.Ra = Ra1;
+  c.U = U1;
+  c.W = W1;
 }
 
-/// P += c (G + G^T + D) for G = [PFt, 0] (15x15): the symmetric rate F P + P F^T + D added
-/// without forming it.
-inline void AddSymmetricRate(const Eigen::Matrix<double, 15, 9>& PFt, const Vec15& noise_diag, double c, Mat15& P) {
-  P.leftCols<9>() += c * PFt;
-  P.topLeftCorner<9, 9>() += c * PFt.topRows<9>().transpose();
-  P.topRightCorner<9, 6>() += c * PFt.bottomRows<6>().transpose();
-  P.diagonal() += c * noise_diag;
+namespace rk4_detail {
+
+/// Phi = Psi^{-1} from Psi's bias columns (block form; solve Psi c = e for each column):
+///   th_bg = -Tg, v_bg = [U]x Tg - Vg, p_bg = [alpha]x Tg + T v_bg - Pg, v_ba = -Tg,
+///   p_ba = -T Tg - Pa. The theta and v columns come from the state (ThetaColumnsFromState).
+inline void PhiFromPsi(const Rk4Carry& c, double T, LeftTransition& Phi) {
+  Phi.th_bg = -c.Tg;
+  Phi.v_bg = SkewTimes(c.U, c.Tg) - c.Vg;
+  Phi.p_bg = SkewTimes(c.alpha, c.Tg) + T * Phi.v_bg - c.Pg;
+  Phi.v_ba = -c.Tg;
+  Phi.p_ba = -T * c.Tg - c.Pa;
+}
+
+/// M = int_{t_s}^{t_e} Psi D Psi^T from the sums (lower triangle filled by symmetry).
+inline Mat15 AssembleM(const NoiseSums& n, const NoiseVariances& q, double T) {
+  using namespace left_idx;
+  const Mat3 I = Mat3::Identity();
+  // c_v-type scalars: q_a int {1, s, s^2} in closed form plus the accel walk's corrections.
+  const double c1 = q.accel * T + q.accel_walk * n.h3;
+  const double cs = q.accel * (0.5 * T * T) + q.accel_walk * n.h3_s;
+  const double css = q.accel * (T * T * T / 3.0) + q.accel_walk * n.h3_ss;
+  const double c_theta = q.gyro * T + q.gyro_walk * n.h3;  // the sum of the q_g-type weights
+  Mat15 M = Mat15::Zero();
+  M.block<3, 3>(p, p) = (n.aa.trace() + css) * I - n.aa + q.gyro_walk * n.PgPg + q.accel_walk * n.PaPa;
+  M.block<3, 3>(p, theta) = so3::skew(n.a) + q.gyro_walk * n.PgTg;
+  M.block<3, 3>(p, v) = (n.Ua.trace() - cs) * I - n.Ua + q.gyro_walk * n.PgVg + q.accel_walk * n.PaTg;
+  M.block<3, 3>(p, bg) = q.gyro_walk * n.iPg;
+  M.block<3, 3>(p, ba) = q.accel_walk * n.iPa;
+  M.block<3, 3>(theta, theta) = c_theta * I + q.gyro_walk * n.TgTg;
+  M.block<3, 3>(theta, v) = -so3::skew(n.U) + q.gyro_walk * n.TgVg;
+  M.block<3, 3>(theta, bg) = q.gyro_walk * n.iTg;
+  M.block<3, 3>(v, v) = (n.UU.trace() + c1) * I - n.UU + q.gyro_walk * n.VgVg + q.accel_walk * n.TgTg;
+  M.block<3, 3>(v, bg) = q.gyro_walk * n.iVg;
+  M.block<3, 3>(v, ba) = q.accel_walk * n.iTg;
+  M.block<3, 3>(bg, bg) = (q.gyro_walk * T) * I;
+  M.block<3, 3>(ba, ba) = (q.accel_walk * T) * I;
+  M.triangularView<Eigen::StrictlyLower>() = M.transpose();
+  return M;
+}
+
+/// T P T^T for T in block form (T = I + E, E non-zero only in the p, theta, v rows) and a
+/// symmetric P, once per window: with C = P E^T (15x9), T P T^T = P + C + C^T + E C.
+inline Mat15 CongruenceBlock(const LeftTransition& T, const Mat15& P) {
+  using namespace left_idx;
+  // E_p = [0, p_th, p_v I, p_bg, p_ba], E_theta = [0, 0, 0, th_bg, 0], E_v = [0, v_th, 0, v_bg, v_ba].
+  Eigen::Matrix<double, 15, 9> C;
+  C.middleCols<3>(p).noalias() = P.middleCols<3>(theta) * T.p_th.transpose();
+  C.middleCols<3>(p) += T.p_v * P.middleCols<3>(v);
+  C.middleCols<3>(p).noalias() += P.middleCols<3>(bg) * T.p_bg.transpose();
+  C.middleCols<3>(p).noalias() += P.middleCols<3>(ba) * T.p_ba.transpose();
+  C.middleCols<3>(theta).noalias() = P.middleCols<3>(bg) * T.th_bg.transpose();
+  C.middleCols<3>(v).noalias() = P.middleCols<3>(theta) * T.v_th.transpose();
+  C.middleCols<3>(v).noalias() += P.middleCols<3>(bg) * T.v_bg.transpose();
+  C.middleCols<3>(v).noalias() += P.middleCols<3>(ba) * T.v_ba.transpose();
+  Mat9 EC;
+  EC.middleRows<3>(p).noalias() = T.p_th * C.middleRows<3>(theta);
+  EC.middleRows<3>(p) += T.p_v * C.middleRows<3>(v);
+  EC.middleRows<3>(p).noalias() += T.p_bg * C.middleRows<3>(bg);
+  EC.middleRows<3>(p).noalias() += T.p_ba * C.middleRows<3>(ba);
+  EC.middleRows<3>(theta).noalias() = T.th_bg * C.middleRows<3>(bg);
+  EC.middleRows<3>(v).noalias() = T.v_th * C.middleRows<3>(theta);
+  EC.middleRows<3>(v).noalias() += T.v_bg * C.middleRows<3>(bg);
+  EC.middleRows<3>(v).noalias() += T.v_ba * C.middleRows<3>(ba);
+  Mat15 out = P;
+  out.leftCols<9>() += C;
+  out.topRows<9>() += C.transpose();
+  out.topLeftCorner<9, 9>() += EC;
+  return out;
 }
 
 }  // namespace rk4_detail
 
-/// Input of one RK4 step at its start, middle and end, biases already removed.
-struct Rk4StepInput {
-  Vec3 w0, wm, w1;  ///< body rate
-  Vec3 a0, am, a1;  ///< specific force
-};
-
-/// One classical RK4 step of length h of the state and, as kOut asks, of the free blocks
-/// of Phi and of the covariance P (the Basalt-style static step; biases are constant).
-template <Outputs kOut>
-inline void Rk4Step(ImuState& x, LeftTransition& Phi, Mat15& P, const Rk4StepInput& u, double h,
-                    const Vec3& gravity, const Vec15& noise_diag) {
-  using namespace rk4_detail;
-  constexpr bool kPhi = WantsTransition(kOut), kCov = WantsCovariance(kOut);
-  const double half_h = 0.5 * h;
-
-  // Stage c = 0, 1/2, 1/2, 1. The rotation coordinate of stage i is phi_i = c_i h k_{i-1}^phi.
-  Mat3 R[4];
-  Vec3 Ra[4];
-  Vec3 k_phi[4], k_v[4], v_stage[4];
-  R[0] = x.R;
-  k_phi[0] = u.w0;  // Jr^{-1}(0) = I
-  v_stage[0] = x.v;
-  Ra[0] = R[0] * u.a0;
-  k_v[0] = gravity + Ra[0];
-  for (int i = 1; i < 4; ++i) {
-    const double c_h = i < 3 ? half_h : h;
-    const Vec3 phi = c_h * k_phi[i - 1];
-    Mat3 dR;
-    ExpAndJr(phi, dR, nullptr);
-    R[i].noalias() = x.R * dR;
-    const Vec3& w = i < 3 ? u.wm : u.w1;
-    const Vec3& a = i < 3 ? u.am : u.a1;
-    k_phi[i] = JrInvTimes(phi, w);
-    v_stage[i] = x.v + c_h * k_v[i - 1];
-    Ra[i] = R[i] * a;
-    k_v[i] = gravity + Ra[i];
-  }
-  const double h6 = h / 6.0;
-
-  if constexpr (kPhi) {
-    // Phi's bias columns as one more RK4 system driven by the same stage states (the theta
-    // columns follow from the state, see ThetaColumnsFromState). Their rates, from
-    // d Phi/dt = F Phi:  th_bg' = v_ba' = -R, v_bg' = -[R a]x th_bg, p_bg' = v_bg, p_ba' = v_ba.
-    // th_bg and v_ba have the same rate and start, so v_ba = th_bg throughout.
-    Mat3 th_bg = Phi.th_bg, v_bg = Phi.v_bg;  // stage values
-    Mat3 rate_v_bg;
-    Mat3 sum_R = Mat3::Zero(), sum_rate_v_bg = Mat3::Zero(), sum_th_bg = Mat3::Zero(), sum_v_bg = Mat3::Zero();
-    for (int i = 0; i < 4; ++i) {
-      const double weight = (i == 0 || i == 3) ? 1.0 : 2.0;
-      if (i > 0) {
-        const double c_h = i < 3 ? half_h : h;
-        th_bg = Phi.th_bg - c_h * R[i - 1];
-        v_bg = Phi.v_bg + c_h * rate_v_bg;
-      }
-      rate_v_bg.noalias() = -so3::skew(Ra[i]) * th_bg;
-      sum_R += weight * R[i];
-      sum_rate_v_bg += weight * rate_v_bg;
-      sum_th_bg += weight * th_bg;
-      sum_v_bg += weight * v_bg;
-    }
-    Phi.p_bg += h6 * sum_v_bg;
-    Phi.p_ba += h6 * sum_th_bg;
-    Phi.th_bg -= h6 * sum_R;
-    Phi.v_bg += h6 * sum_rate_v_bg;
-    Phi.v_ba = Phi.th_bg;
-  }
-
-  if constexpr (kCov) {
-    // RK4 on dP/dt = F P + P F^T + D, keeping only P F^T (15x9) per stage:
-    // P_i = P + c_i h (G_{i-1} + G_{i-1}^T + D), and P += h/6 (S + S^T) + h D with S the
-    // weighted sum of the G_i.
-    Eigen::Matrix<double, 15, 9> PFt, sum_PFt;
-    Mat15 P_stage;
-    CovarianceRateColumns(R[0], so3::skew(Ra[0]), P, PFt);
-    sum_PFt = PFt;
-    for (int i = 1; i < 4; ++i) {
-      const double c_h = i < 3 ? half_h : h;
-      P_stage = P;
-      AddSymmetricRate(PFt, noise_diag, c_h, P_stage);
-      CovarianceRateColumns(R[i], so3::skew(Ra[i]), P_stage, PFt);
-      sum_PFt += (i < 3 ? 2.0 : 1.0) * PFt;
-    }
-    AddSymmetricRate(sum_PFt, 6.0 * noise_diag, h6, P);  // the weights sum to 6
-  }
-
-  // The state last: the stages above read x.R and x.v at the start of the step.
-  const Vec3 phi = h6 * (k_phi[0] + 2.0 * (k_phi[1] + k_phi[2]) + k_phi[3]);
-  Mat3 dR;
-  ExpAndJr(phi, dR, nullptr);
-  x.p += h6 * (v_stage[0] + 2.0 * (v_stage[1] + v_stage[2]) + v_stage[3]);
-  x.v += h6 * (k_v[0] + 2.0 * (k_v[1] + k_v[2]) + k_v[3]);
-  x.R = x.R * dR;
-}
-
-/// Integrates over the whole window with `substeps` RK4 steps per knot interval, without
+/// Integrates over the whole window with `substeps` steps per knot interval, without
 /// checking the input (see PropagateRk4). Fills out.x_e, and out.Phi and out.cov as asked.
 template <Outputs kOut = Outputs::All>
 inline void IntegrateRk4(const PropagationInput& in, PropagationResult& out, int substeps = 1) {
   constexpr bool kPhi = WantsTransition(kOut), kCov = WantsCovariance(kOut);
   const SampleWindow& w = in.window;
-  const Vec15 noise_diag = rk4_detail::ProcessNoiseDiagonal(NoiseVariances(in.noise));
-  ImuState x = in.x_s;
-  LeftTransition Phi;
-  Mat15 P;
-  if constexpr (kCov) P = in.cov_s;
+  const NoiseVariances q(in.noise);
+  const ImuState& xs = in.x_s;
+  const double t_s = w.t_start();
+  rk4_detail::Rk4Carry c;
+  c.R = xs.R;
+  c.Ra = xs.R * (w[0].accel - xs.ba);
   const std::size_t intervals = w.size() - 1;
   const double inv_n = 1.0 / substeps;
   const ImuSample* k0 = &w[0];
   Rk4StepInput u;
   for (std::size_t k = 0; k < intervals; ++k) {
     const ImuSample* k1 = &w[k + 1];
-    const double dt = k1->t - k0->t;
-    const Vec3 w_k0 = k0->gyro - x.bg, a_k0 = k0->accel - x.ba;
-    const Vec3 w_k1 = k1->gyro - x.bg, a_k1 = k1->accel - x.ba;
+    const double dt = k1->t - k0->t, s0 = k0->t - t_s;
+    const Vec3 w_k0 = k0->gyro - xs.bg, a_k0 = k0->accel - xs.ba;
+    const Vec3 w_k1 = k1->gyro - xs.bg, a_k1 = k1->accel - xs.ba;
     if (substeps == 1) {
       u.w0 = w_k0, u.w1 = w_k1, u.a0 = a_k0, u.a1 = a_k1;
-      u.wm = 0.5 * (w_k0 + w_k1), u.am = 0.5 * (a_k0 + a_k1);
-      Rk4Step<kOut>(x, Phi, P, u, dt, in.gravity, noise_diag);
+      Rk4Step<kOut>(c, u, dt, s0, q);
     } else {
       const Vec3 dw = w_k1 - w_k0, da = a_k1 - a_k0;
       const double h = dt * inv_n;
       u.w1 = w_k0, u.a1 = a_k0;
       for (int i = 0; i < substeps; ++i) {
-        // Linear interpolation at the substep's start, middle and end (fractions of dt).
-        const double s_mid = (i + 0.5) * inv_n, s_end = (i + 1) * inv_n;
+        // Linear interpolation at the substep's end (a fraction of dt).
+        const double s_end = (i + 1) * inv_n;
         u.w0 = u.w1, u.a0 = u.a1;
-        u.wm = w_k0 + s_mid * dw, u.am = a_k0 + s_mid * da;
         u.w1 = i + 1 == substeps ? w_k1 : Vec3(w_k0 + s_end * dw);
         u.a1 = i + 1 == substeps ? a_k1 : Vec3(a_k0 + s_end * da);
-        Rk4Step<kOut>(x, Phi, P, u, h, in.gravity, noise_diag);
+        Rk4Step<kOut>(c, u, h, s0 + i * h, q);
       }
     }
     k0 = k1;
   }
-  out.x_e = x;
+  const double T = w.t_end() - t_s;
+  ImuState& x = out.x_e;
+  x = xs;  // the biases are constant
+  x.R = c.R;
+  x.v = xs.v + c.U + T * in.gravity;
+  x.p = xs.p + T * xs.v + (0.5 * T * T) * in.gravity + c.W;
   if constexpr (kPhi) {
-    ThetaColumnsFromState(in.x_s, x, w.t_end() - w.t_start(), in.gravity, Phi);
+    LeftTransition Phi;
+    rk4_detail::PhiFromPsi(c, T, Phi);
+    ThetaColumnsFromState(xs, x, T, in.gravity, Phi);
     out.Phi = Phi.ToMatrix();
+    if constexpr (kCov) {
+      rk4_detail::NoiseSums& n = c.sums;
+      n.AddNode(c.alpha, c.U, n.pending);  // the last node's remaining Simpson weight
+      const Mat15 P = rk4_detail::CongruenceBlock(Phi, in.cov_s + rk4_detail::AssembleM(n, q, T));
+      out.cov = 0.5 * (P + P.transpose());
+    }
   }
-  if constexpr (kCov) out.cov = 0.5 * (P + P.transpose());
 }
 
 /// The propagator entry point: checks the input (and substeps >= 1), then integrates.
