@@ -17,9 +17,11 @@
 //    true rotation at both, and a constant rate is integrated exactly. Everything else is a
 //    quadrature of functions known at the nodes 0, h/2, h (the end node is the next step's
 //    start, so each step evaluates two new nodes), with the rules that are exact for a
-//    quadratic integrand f (local error O(h^5), fourth order over the window):
+//    quadratic integrand f:
 //      int_0^h f = h/6 (f0 + 4 fm + f1)              int_0^{h/2} f = h/24 (5 f0 + 8 fm - f1)
 //      int_0^h (h - t) f = h^2/6 (f0 + 2 fm)         int_0^{h/2} (h/2 - t) f = h^2/96 (7 f0 + 6 fm - f1)
+//    The full-step rules have local error O(h^5) (fourth order over the window); the
+//    half-step ones O(h^4), which is enough: middle values only enter full-step rules, times h.
 //    Velocity and position are kept as U = v - v_s - g s and W = p - p_s - v_s s - g s^2/2
 //    (s = t - t_s), the integrals of R a.
 //
@@ -35,7 +37,7 @@
 //      bg:    [Pg; Tg; Vg; I; 0],  Pg' = [alpha]x R,  Tg' = R,  Vg' = [U]x R
 //      ba:    [Pa; 0; Tg; 0; I],   Pa' = -s R
 //    so Psi's free part is the 9x3 X = [Pg; Tg; Vg] plus Pa, all plain quadratures of
-//    X' = G_theta R (G_theta = Psi's theta column): Simpson per step. Phi = Psi^{-1} follows in
+//    X' = G_theta R (G_theta = Psi's theta column), by the rules above. Phi = Psi^{-1} follows in
 //    closed form once per window (PhiFromPsi); its theta columns come from the state
 //    (ThetaColumnsFromState), exactly as the variational equations give them.
 //
@@ -45,17 +47,17 @@
 //    which is the paper's eq. prop-cov with Phi_e = Phi_{e|s} and G Sigma_Dx G^T = Phi_e M Phi_e^T.
 //    Per noise, Psi D Psi^T = q c c^T for Psi's column c of that noise:
 //      q_g  c_theta c_theta^T: blocks [alpha]x[alpha]x^T = |alpha|^2 I - alpha alpha^T,
-//           [alpha]x[U]x^T = (alpha.U) I - U alpha^T, ... : weighted sums of 3-vector outer
-//           products, Simpson per step (two nodes, 21 products each);
+//           [alpha]x[U]x^T = (alpha.U) I - U alpha^T, ...: sums of 3-vector outer products;
 //      q_a  c_v c_v^T = [s^2 I, -s I; -s I, I] in (p, v): closed form in T = t_e - t_s;
-//      q_wg X X^T (and the linear blocks int X), q_wa [Pa; Tg][Pa; Tg]^T: 3x3 products. Over
-//           a step, with Xb the step mean of X and the derivative at the step's middle,
-//             int_step X X^T = h Xb Xb^T + h^3/12 X'_m X'_m^T + O(h^5)
-//           (Taylor expansion about the middle; X is C^2 across knots, so the remainder is
-//           bounded), and X' X'^T = G_theta R R^T G_theta^T = G_theta G_theta^T is again of
-//           the cheap q_g form, as is [-s R; R][-s R; R]^T = [s^2 I, -s I; -s I, I]. So the
-//           walks cost one set of 3x3 products per step (of Xb, itself a quadrature:
-//           Xb = X0 + h/6 (X'_0 + 2 X'_m)), not one per node.
+//      q_wg X X^T and the linear blocks int X; q_wa [Pa; Tg][Pa; Tg]^T likewise: 3x3 products.
+//    They are integrated by one rule per step rather than per node: for y, z smooth inside
+//    the step (the input is), Taylor expansion about the step's middle gives
+//      int_step y z^T = h yb zb^T + h^3/12 y'_m z'_m^T + O(h^5),   yb = step mean of y,
+//    with yb = y0 + h/6 (y'_0 + 2 y'_m) a rule of the list above, and y'_m z'_m^T needed only
+//    to O(h^2). The derivative products are cheap: X' X'^T = G_theta R R^T G_theta^T =
+//    G_theta G_theta^T (the q_g form again), [-s R; R][-s R; R]^T = [s^2 I, -s I; -s I, I],
+//    and for (alpha, U) all three outer products are (R a)(R a)^T times s^2, -s, 1. So a step
+//    costs one set of 3x3 products (of the means) and one of 3-vector outer products.
 //    The congruence with Phi_e is once per window, in block form.
 //
 // All quadratures share the nodes of the state, so state, Phi and P are fourth order in h
@@ -72,11 +74,10 @@ namespace rk4_detail {
 
 /// M's accumulators: M = int Psi D Psi^T assembled from them once per window (AssembleM).
 struct NoiseSums {
-  // q_g-type terms, sum of w * (outer product) over the nodes, w including the noise density:
-  // Simpson weights times q_g, plus q_wg h^3/12 at each step's middle (the walk correction).
+  // q_g-type terms: sums of weighted outer products of (alpha, U), the weights including the
+  // noise densities (see Rk4Step).
   Mat3 aa = Mat3::Zero(), Ua = Mat3::Zero(), UU = Mat3::Zero();  ///< alpha alpha^T, U alpha^T, U U^T
   Vec3 a = Vec3::Zero(), U = Vec3::Zero();
-  double pending = 0.0;  ///< the q_g weight still owed to the last node (h_prev / 6 q_g)
   // Walk corrections of the c_v-type (closed-form) terms: sum h^3/12 {1, s_m, s_m^2}.
   double h3 = 0.0, h3_s = 0.0, h3_ss = 0.0;
   // Sum over steps of h Xb Xb^T blocks (gyro walk) and of the accel walk's [Pa; Tg] blocks.
@@ -86,7 +87,7 @@ struct NoiseSums {
   // Sum over steps of h Xb: int Pg, int Tg, int Vg, int Pa.
   Mat3 iPg = Mat3::Zero(), iTg = Mat3::Zero(), iVg = Mat3::Zero(), iPa = Mat3::Zero();
 
-  /// One node of the q_g-type terms with weight w.
+  /// w g g'^T for g, g' in {alpha, U} (and w alpha, w U).
   void AddNode(const Vec3& alpha, const Vec3& U_, double w) {
     const Vec3 wa = w * alpha, wU = w * U_;
     aa.noalias() += wa * alpha.transpose();
@@ -157,13 +158,16 @@ inline void Rk4Step(rk4_detail::Rk4Carry& c, const Rk4StepInput& u, double h, do
     // X' = G_theta R at the middle and the end.
     const Mat3 dPgm = SkewTimes(alpha_m, Rm), dVgm = SkewTimes(Um, Rm);
     const Mat3 dPg1 = SkewTimes(alpha1, R1), dVg1 = SkewTimes(U1, R1);
+    // Step means Xb = X0 + h/6 (X'_0 + 2 X'_m) (Pa' = -s R likewise), then the end values
+    // X1 = Xb + h/6 (2 X'_m + X'_1) = X0 + h/6 (X'_0 + 4 X'_m + X'_1) (Simpson). The means are
+    // formed in both modes so that Phi is bitwise the same with and without the covariance.
+    const Mat3 Tgb = c.Tg + h6 * (R0 + 2.0 * Rm);
+    const Mat3 Pgb = c.Pg + h6 * (c.dPg + 2.0 * dPgm);
+    const Mat3 Vgb = c.Vg + h6 * (c.dVg + 2.0 * dVgm);
+    const Mat3 Pab = c.Pa - h6 * (s0 * R0 + (2.0 * sm) * Rm);
     if constexpr (kCov) {
       rk4_detail::NoiseSums& n = c.sums;
-      // Step means Xb = X0 + h/6 (X'_0 + 2 X'_m), Pa likewise (Pa' = -s R).
-      const Mat3 Tgb = c.Tg + h6 * (R0 + 2.0 * Rm);
-      const Mat3 Pgb = c.Pg + h6 * (c.dPg + 2.0 * dPgm);
-      const Mat3 Vgb = c.Vg + h6 * (c.dVg + 2.0 * dVgm);
-      const Mat3 Pab = c.Pa - h6 * (s0 * R0 + (2.0 * sm) * Rm);
+      // Walks: int_step X X^T = h Xb Xb^T + h^3/12 X'_m X'_m^T, the second term below.
       const Mat3 hTgb = h * Tgb, hPgb = h * Pgb, hVgb = h * Vgb, hPab = h * Pab;
       n.PgPg.noalias() += hPgb * Pgb.transpose();
       n.PgTg.noalias() += hPgb * Tgb.transpose();
@@ -177,21 +181,28 @@ inline void Rk4Step(rk4_detail::Rk4Carry& c, const Rk4StepInput& u, double h, do
       n.iTg += hTgb;
       n.iVg += hVgb;
       n.iPa += hPab;
-      // q_g-type nodes: the start (its Simpson weight completed now that h is known) and the
-      // middle (with the gyro walk's h^3/12 X'_m X'_m^T = h^3/12 G_theta G_theta^T).
+      // q_g-type terms by the same step-mean rule on (alpha, U), alpha' = -s R a, U' = R a:
+      //   int_step g g'^T = h gb gb'^T + h^3/12 g_m' g_m'^T for g, g' in {alpha, U}, so the
+      //   derivative part is (R a)(R a)^T times s^2, -s, 1 (alpha alpha^T, U alpha^T, U U^T).
+      // The walks' h^3/12 X'_m X'_m^T = h^3/12 G_theta G_theta^T joins the mean's weight
+      // (G_theta at the mean instead of the middle: O(h^2) apart, O(h^5) in the step).
       const double h3 = h2 * h / 12.0;
-      const double wq = q.gyro * h6;
-      n.AddNode(alpha0, U0, n.pending + wq);
-      n.AddNode(alpha_m, Um, 4.0 * wq + q.gyro_walk * h3);
-      n.pending = wq;
+      const Vec3 alpha_b = alpha0 - h6 * (s0 * Ra0 + (2.0 * sm) * Ram);
+      const Vec3 U_b = U0 + h6 * (Ra0 + 2.0 * Ram);
+      n.AddNode(alpha_b, U_b, q.gyro * h + q.gyro_walk * h3);
+      const Vec3 qRam = (q.gyro * h3) * Ram;
+      const Mat3 RaRa = qRam * Ram.transpose();
+      n.aa += (sm * sm) * RaRa;
+      n.Ua -= sm * RaRa;
+      n.UU += RaRa;
       n.h3 += h3;
       n.h3_s += h3 * sm;
       n.h3_ss += h3 * sm * sm;
     }
-    c.Tg += h6 * (R0 + 4.0 * Rm + R1);
-    c.Pg += h6 * (c.dPg + 4.0 * dPgm + dPg1);
-    c.Vg += h6 * (c.dVg + 4.0 * dVgm + dVg1);
-    c.Pa -= h6 * (s0 * R0 + (4.0 * sm) * Rm + s1 * R1);
+    c.Tg = Tgb + h6 * (2.0 * Rm + R1);
+    c.Pg = Pgb + h6 * (2.0 * dPgm + dPg1);
+    c.Vg = Vgb + h6 * (2.0 * dVgm + dVg1);
+    c.Pa = Pab - h6 * ((2.0 * sm) * Rm + s1 * R1);
     c.dPg = dPg1;
     c.dVg = dVg1;
     c.alpha = alpha1;
@@ -326,9 +337,7 @@ inline void IntegrateRk4(const PropagationInput& in, PropagationResult& out, int
     ThetaColumnsFromState(xs, x, T, in.gravity, Phi);
     out.Phi = Phi.ToMatrix();
     if constexpr (kCov) {
-      rk4_detail::NoiseSums& n = c.sums;
-      n.AddNode(c.alpha, c.U, n.pending);  // the last node's remaining Simpson weight
-      const Mat15 P = rk4_detail::CongruenceBlock(Phi, in.cov_s + rk4_detail::AssembleM(n, q, T));
+      const Mat15 P = rk4_detail::CongruenceBlock(Phi, in.cov_s + rk4_detail::AssembleM(c.sums, q, T));
       out.cov = 0.5 * (P + P.transpose());
     }
   }
