@@ -88,7 +88,7 @@ struct NoiseSums {
   Mat3 iPg = Mat3::Zero(), iTg = Mat3::Zero(), iVg = Mat3::Zero(), iPa = Mat3::Zero();
 
   /// w g g'^T for g, g' in {alpha, U} (and w alpha, w U).
-  void AddNode(const Vec3& alpha, const Vec3& U_, double w) {
+  void AddWeighted(const Vec3& alpha, const Vec3& U_, double w) {
     const Vec3 wa = w * alpha, wU = w * U_;
     aa.noalias() += wa * alpha.transpose();
     Ua.noalias() += wU * alpha.transpose();
@@ -189,7 +189,7 @@ inline void Rk4Step(rk4_detail::Rk4Carry& c, const Rk4StepInput& u, double h, do
       const double h3 = h2 * h / 12.0;
       const Vec3 alpha_b = alpha0 - h6 * (s0 * Ra0 + (2.0 * sm) * Ram);
       const Vec3 U_b = U0 + h6 * (Ra0 + 2.0 * Ram);
-      n.AddNode(alpha_b, U_b, q.gyro * h + q.gyro_walk * h3);
+      n.AddWeighted(alpha_b, U_b, q.gyro * h + q.gyro_walk * h3);
       const Vec3 qRam = (q.gyro * h3) * Ram;
       const Mat3 RaRa = qRam * Ram.transpose();
       n.aa += (sm * sm) * RaRa;
