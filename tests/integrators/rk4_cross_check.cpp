@@ -62,14 +62,15 @@ INSTANTIATE_TEST_SUITE_P(Cases, Rk4VsClassicalRk4, ::testing::Values("smooth-0",
                            return name;
                          });
 
-// The once-per-window congruence in block form against the dense 15x15 product.
-TEST(Rk4BlockAlgebra, CongruenceMatchesDense) {
+// The once-per-window congruence in block form (left_transition.h; rk4, euler and midpoint
+// use it) against the dense 15x15 product.
+TEST(LeftTransitionAlgebra, CongruenceMatchesDense) {
   kernels::LeftTransition T;
   for (Mat3* m : {&T.th_bg, &T.v_th, &T.v_bg, &T.v_ba, &T.p_th, &T.p_bg, &T.p_ba}) *m = Mat3::Random();
   T.p_v = 0.7;
   const Mat15 L = Mat15::Random(), P = L * L.transpose();
   const Mat15 dense = T.ToMatrix() * P * T.ToMatrix().transpose();
-  EXPECT_LT(RelChange(kernels::rk4_detail::CongruenceBlock(T, P), dense), 1e-14);  // rounding only
+  EXPECT_LT(RelChange(kernels::Congruence(T, P), dense), 1e-14);  // rounding only
 }
 
 }  // namespace

@@ -186,7 +186,7 @@ inline void IntegrateHeldPerSample(const PropagationInput& in, PropagationResult
 ///     Sigma_e = Phi Sigma_s Phi^T + M Sigma_k M^T,  M = blockdiag(R_s, R_s, R_s, -I, -I)
 ///   after reordering [theta, p, v, ba, bg] to [p, theta, v, bg, ba] (paper, eq. prop-cov
 ///   with b_hat = b_s, where the bias-correction curvature vanishes).
-/// kCov = false computes the state and Phi only.
+/// kCov = false computes the state and Phi only (out.cov untouched).
 template <Hold kHold, bool kCov>
 inline void IntegrateHeldByPreintegration(const PropagationInput& in, PropagationResult& out,
                                           detail::IsaLevel isa) {
@@ -240,13 +240,15 @@ inline void IntegrateHeldByPreintegration(const PropagationInput& in, Propagatio
 /// Integrates over the whole window without checking the input (see PropagateHeld). Fills
 /// out.x_e, and out.Phi and out.cov as `kOut` asks. Where the CPU has AVX2, the transition
 /// and covariance come from the preintegration kernel (IntegrateHeldByPreintegration,
-/// chosen once per interval); CPUs without AVX2 step per sample. Every mode takes the same
-/// route, so the state never depends on what else is asked for (the state-only mode computes
-/// Phi too there: it serves finite differences and Monte Carlo, not speed).
+/// chosen once per interval); CPUs without AVX2 step per sample. Every mode runs the same
+/// compiled code (the covariance instance, its covariance dropped where not asked for), so
+/// the state and Phi are bitwise the same whatever else is asked for: separate instances may
+/// fuse multiply-adds differently. The reduced modes serve finite differences and Monte
+/// Carlo, not speed.
 template <Hold kHold, Outputs kOut = Outputs::All>
 inline void IntegrateHeld(const PropagationInput& in, PropagationResult& out) {
   const detail::IsaLevel isa = detail::BestIsaLevel();
-  if (isa != detail::IsaLevel::kBaseline) return IntegrateHeldByPreintegration<kHold, WantsCovariance(kOut)>(in, out, isa);
+  if (isa != detail::IsaLevel::kBaseline) return IntegrateHeldByPreintegration<kHold, true>(in, out, isa);
   IntegrateHeldPerSample<kHold, kOut>(in, out);
 }
 

@@ -254,36 +254,6 @@ inline Mat15 AssembleM(const NoiseSums& n, const NoiseVariances& q, double T) {
   return M;
 }
 
-/// T P T^T for T in block form (T = I + E, E non-zero only in the p, theta, v rows) and a
-/// symmetric P, once per window: with C = P E^T (15x9), T P T^T = P + C + C^T + E C.
-inline Mat15 CongruenceBlock(const LeftTransition& T, const Mat15& P) {
-  using namespace left_idx;
-  // E_p = [0, p_th, p_v I, p_bg, p_ba], E_theta = [0, 0, 0, th_bg, 0], E_v = [0, v_th, 0, v_bg, v_ba].
-  Eigen::Matrix<double, 15, 9> C;
-  C.middleCols<3>(p).noalias() = P.middleCols<3>(theta) * T.p_th.transpose();
-  C.middleCols<3>(p) += T.p_v * P.middleCols<3>(v);
-  C.middleCols<3>(p).noalias() += P.middleCols<3>(bg) * T.p_bg.transpose();
-  C.middleCols<3>(p).noalias() += P.middleCols<3>(ba) * T.p_ba.transpose();
-  C.middleCols<3>(theta).noalias() = P.middleCols<3>(bg) * T.th_bg.transpose();
-  C.middleCols<3>(v).noalias() = P.middleCols<3>(theta) * T.v_th.transpose();
-  C.middleCols<3>(v).noalias() += P.middleCols<3>(bg) * T.v_bg.transpose();
-  C.middleCols<3>(v).noalias() += P.middleCols<3>(ba) * T.v_ba.transpose();
-  Mat9 EC;
-  EC.middleRows<3>(p).noalias() = T.p_th * C.middleRows<3>(theta);
-  EC.middleRows<3>(p) += T.p_v * C.middleRows<3>(v);
-  EC.middleRows<3>(p).noalias() += T.p_bg * C.middleRows<3>(bg);
-  EC.middleRows<3>(p).noalias() += T.p_ba * C.middleRows<3>(ba);
-  EC.middleRows<3>(theta).noalias() = T.th_bg * C.middleRows<3>(bg);
-  EC.middleRows<3>(v).noalias() = T.v_th * C.middleRows<3>(theta);
-  EC.middleRows<3>(v).noalias() += T.v_bg * C.middleRows<3>(bg);
-  EC.middleRows<3>(v).noalias() += T.v_ba * C.middleRows<3>(ba);
-  Mat15 out = P;
-  out.leftCols<9>() += C;
-  out.topRows<9>() += C.transpose();
-  out.topLeftCorner<9, 9>() += EC;
-  return out;
-}
-
 }  // namespace rk4_detail
 
 /// Integrates over the whole window with `substeps` steps per knot interval, without
@@ -337,7 +307,7 @@ inline void IntegrateRk4(const PropagationInput& in, PropagationResult& out, int
     ThetaColumnsFromState(xs, x, T, in.gravity, Phi);
     out.Phi = Phi.ToMatrix();
     if constexpr (kCov) {
-      const Mat15 P = rk4_detail::CongruenceBlock(Phi, in.cov_s + rk4_detail::AssembleM(c.sums, q, T));
+      const Mat15 P = Congruence(Phi, in.cov_s + rk4_detail::AssembleM(c.sums, q, T));
       out.cov = 0.5 * (P + P.transpose());
     }
   }
