@@ -1,6 +1,9 @@
-// `rk4`: classical fourth-order Runge-Kutta on the state (Lie-group form for the rotation),
-// the transition matrix and the covariance together, input interpolated linearly between
-// knots, one step per knot interval; native convention `left`.
+// `rk4`: fourth-order integration of the continuous-time model with the input interpolated
+// linearly between knots, one step per knot interval; native convention `left`. Since 1.1.0
+// it is no longer the classical Runge-Kutta tableau: the rotation is the fourth-order Magnus
+// expansion, everything else quadratures at the nodes 0, h/2, h, and the covariance comes by
+// variation of constants. It agrees with the classical RK4 (kept in the tests as the
+// cross-check) to O(h^4); the id keeps its name so that configurations keep working.
 // The kernel is core/include/imuconv/kernels/rk4.h.
 #include <exception>
 #include <string>
@@ -26,5 +29,5 @@ class Rk4Propagator final : public imuconv::Propagator {
 
 }  // namespace
 
-IMUCONV_PLUGIN(Propagator, Rk4Propagator, "rk4", "1.0.0",
-               "RK4 of state, Phi and covariance with linearly interpolated input; native left")
+IMUCONV_PLUGIN(Propagator, Rk4Propagator, "rk4", "1.1.0",
+               "4th-order (Magnus + node quadratures) state, Phi and covariance, linearly interpolated input; native left")
