@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "imuconv/bridge.h"
+#include "imuconv/kernels/gtsam_preintegration.h"
 #include "imuconv/kernels/rk4.h"
 #include "imuconv/registry.h"
 #include "imuconv/so3.h"
@@ -87,6 +88,27 @@ void BM_Preintegrate(benchmark::State& st, const char* id) {
   SetSamples(st);
 }
 
+// The native preintegration kernel with its compiled instance forced (the plugins pick the
+// widest one the CPU runs, once per interval): what a CPU without AVX-512, or without AVX2,
+// gets from the same code. Called directly, as the plugin calls it.
+enum class Scheme { kManifold, kTangent };
+
+void BM_PreintegrateInstance(benchmark::State& st, Scheme scheme, kernels::Isa isa) {
+  PreintegrationInput in;
+  in.bg = Vec3(1e-3, -2e-3, 5e-4);
+  in.ba = Vec3(0.02, -0.01, 0.03);
+  in.noise = Noise();
+  in.window = Window();
+  NativePreintegration out;
+  for (auto _ : st) {
+    const Status s = scheme == Scheme::kManifold ? kernels::IntegrateManifold<true>(in, out, nullptr, isa)
+                                                 : kernels::IntegrateTangent<true>(in, out, nullptr, isa);
+    benchmark::DoNotOptimize(s);
+    benchmark::DoNotOptimize(out);
+  }
+  SetSamples(st);
+}
+
 void BM_Propagate(benchmark::State& st, const char* id) {
   const auto prop = Plugins().propagator(id);
   const PropagationInput in = Input();
@@ -153,6 +175,15 @@ void BM_PluginOverhead(benchmark::State& st, const char* id, DirectKernel direct
 void RegisterAll() {
   for (const char* id : {"manifold", "tangent"})
     benchmark::RegisterBenchmark((std::string("BM_Preintegrate/") + id).c_str(), BM_Preintegrate, id);
+  const struct {
+    const char* name;
+    kernels::Isa isa;
+  } instances[] = {{"baseline", kernels::Isa::kBaseline}, {"avx2", kernels::Isa::kAvx2}, {"avx512", kernels::Isa::kAvx512}};
+  for (const auto& [scheme, scheme_name] : {std::pair{Scheme::kManifold, "manifold"}, std::pair{Scheme::kTangent, "tangent"}})
+    for (const auto& i : instances)
+      if (kernels::IsaAvailable(i.isa))
+        benchmark::RegisterBenchmark((std::string("BM_PreintegrateInstance/") + scheme_name + "/" + i.name).c_str(),
+                                     BM_PreintegrateInstance, scheme, i.isa);
   for (const char* id : {"euler", "midpoint", "rk4"})
     benchmark::RegisterBenchmark((std::string("BM_Propagate/") + id).c_str(), BM_Propagate, id);
   benchmark::RegisterBenchmark("BM_PreintegrateByPropagation/rk4", BM_PreintegrateByPropagation, "rk4");

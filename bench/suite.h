@@ -5,7 +5,9 @@
 namespace imuconv::bench {
 
 /// Registers the set: BM_Preintegrate/{manifold,tangent}, BM_Propagate/{euler,midpoint,rk4},
-/// BM_PreintegrateByPropagation/rk4, BM_Conversion/left/gtsam_navstate, BM_PluginOverhead/rk4.
+/// BM_PreintegrateByPropagation/rk4, BM_Conversion/left/gtsam_navstate, BM_PluginOverhead/rk4;
+/// and BM_PreintegrateInstance/{manifold,tangent}/{baseline,avx2,avx512} for each compiled
+/// instance of the native kernels this CPU can run.
 void RegisterAll();
 
 /// Initialises Google Benchmark with argv, registers the set and runs it; returns an exit code.
