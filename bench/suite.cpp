@@ -69,17 +69,22 @@ PropagationInput Input() {
   return in;
 }
 
+PreintegrationInput PreintInput() {
+  PreintegrationInput in;
+  in.bg = Vec3(1e-3, -2e-3, 5e-4);
+  in.ba = Vec3(0.02, -0.01, 0.03);
+  in.noise = Noise();
+  in.window = Window();
+  return in;
+}
+
 void SetSamples(benchmark::State& st) {
   st.SetItemsProcessed(static_cast<int64_t>(st.iterations()) * static_cast<int64_t>(Samples().size() - 1));
 }
 
 void BM_Preintegrate(benchmark::State& st, const char* id) {
   const auto pre = Plugins().preintegrator(id);
-  PreintegrationInput in;
-  in.bg = Vec3(1e-3, -2e-3, 5e-4);
-  in.ba = Vec3(0.02, -0.01, 0.03);
-  in.noise = Noise();
-  in.window = Window();
+  const PreintegrationInput in = PreintInput();
   NativePreintegration out;
   for (auto _ : st) {
     pre->integrate(in, out);
@@ -94,11 +99,7 @@ void BM_Preintegrate(benchmark::State& st, const char* id) {
 enum class Scheme { kManifold, kTangent };
 
 void BM_PreintegrateInstance(benchmark::State& st, Scheme scheme, kernels::Isa isa) {
-  PreintegrationInput in;
-  in.bg = Vec3(1e-3, -2e-3, 5e-4);
-  in.ba = Vec3(0.02, -0.01, 0.03);
-  in.noise = Noise();
-  in.window = Window();
+  const PreintegrationInput in = PreintInput();
   NativePreintegration out;
   for (auto _ : st) {
     const Status s = scheme == Scheme::kManifold ? kernels::IntegrateManifold<true>(in, out, nullptr, isa)
