@@ -78,6 +78,14 @@ PreintegrationInput PreintInput() {
   return in;
 }
 
+// A failing call ends the benchmark with its message (Google Benchmark reports
+// error_occurred) instead of timing the error path.
+bool Failed(benchmark::State& st, const Status& s) {
+  if (s.ok()) return false;
+  st.SkipWithError(s.message().c_str());
+  return true;
+}
+
 void SetSamples(benchmark::State& st) {
   st.SetItemsProcessed(static_cast<int64_t>(st.iterations()) * static_cast<int64_t>(Samples().size() - 1));
 }
@@ -87,7 +95,7 @@ void BM_Preintegrate(benchmark::State& st, const char* id) {
   const PreintegrationInput in = PreintInput();
   NativePreintegration out;
   for (auto _ : st) {
-    pre->integrate(in, out);
+    if (Failed(st, pre->integrate(in, out))) break;
     benchmark::DoNotOptimize(out);
   }
   SetSamples(st);
@@ -104,7 +112,7 @@ void BM_PreintegrateInstance(benchmark::State& st, Scheme scheme, kernels::Isa i
   for (auto _ : st) {
     const Status s = scheme == Scheme::kManifold ? kernels::IntegrateManifold<true>(in, out, nullptr, isa)
                                                  : kernels::IntegrateTangent<true>(in, out, nullptr, isa);
-    benchmark::DoNotOptimize(s);
+    if (Failed(st, s)) break;
     benchmark::DoNotOptimize(out);
   }
   SetSamples(st);
@@ -115,7 +123,7 @@ void BM_Propagate(benchmark::State& st, const char* id) {
   const PropagationInput in = Input();
   PropagationResult out;
   for (auto _ : st) {
-    prop->propagate(in, out);
+    if (Failed(st, prop->propagate(in, out))) break;
     benchmark::DoNotOptimize(out);
   }
   SetSamples(st);
@@ -157,7 +165,7 @@ void BM_PluginOverhead(benchmark::State& st, const char* id, DirectKernel direct
   double direct = 0.0, plugin = 0.0;
   for (auto _ : st) {
     const auto t0 = std::chrono::steady_clock::now();
-    direct_kernel(in, out);
+    if (Failed(st, direct_kernel(in, out))) break;
     benchmark::DoNotOptimize(out);
     const auto t1 = std::chrono::steady_clock::now();
     out = Plugins().propagate(id, "left", in);

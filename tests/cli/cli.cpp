@@ -1,7 +1,14 @@
 // The imuconv binary: each subcommand's output, exit codes and error messages.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "../pipeline/pipeline_test_util.h"
+#include "imuconv/kernels/gtsam_preintegration.h"
 #include "imuconv/pipeline/json_io.h"
 #include "imuconv_test.h"
 
@@ -56,9 +63,10 @@ TEST(Cli, PluginsTableAndJson) {
   EXPECT_EQ(j["plugins"].size(), reg.plugins().size());
   for (const auto& p : j["plugins"]) {
     for (const char* k : {"id", "kind", "file", "version", "blocks"}) EXPECT_TRUE(p.contains(k)) << p.dump();
-    if (p["kind"] == "state_convention")
+    if (p["kind"] == "state_convention") {
       EXPECT_EQ(p["blocks"].get<std::vector<std::string>>(),
                 reg.info(imuconv::PluginKind::StateConvention, p["id"].get<std::string>()).blocks);
+    }
   }
 }
 
@@ -66,7 +74,7 @@ TEST(Cli, PluginDirIsSearchedFirstAndLoadErrorsAreListed) {
   TempDir tmp;
   fs::create_directories(tmp.file("extra"));
   const std::string broken = tmp.write("extra/imuconv_plugin_broken.so", "not a shared object\n");
-  for (const std::string args : {"plugins --json --plugin-dir " + ShellQuote(tmp.file("extra")),
+  for (const std::string& args : {"plugins --json --plugin-dir " + ShellQuote(tmp.file("extra")),
                                  "--plugin-dir " + ShellQuote(tmp.file("extra")) + " plugins --json"}) {
     const CommandResult r = RunImuconv(args, tmp);
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -173,6 +181,42 @@ TEST(Cli, RunReportsBadDataWithFileAndLine) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_TRUE(Has(r.err, tmp.file("data/imu.csv") + ":4: timestamp 1500 is not after the previous sample's (line 3)")) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+// `imuconv bench` runs the benchmark set of bench/ from the tool. Speed is never asserted
+// (bench/README.md keeps the figures); this checks that every benchmark issue 4 names, and
+// each compiled kernel instance the CPU runs, is there and ran: a positive, finite rate in
+// IMU samples per second, in a JSON report that parses, with no plugin load errors.
+TEST(Cli, BenchRunsTheWholeSet) {
+  TempDir tmp;
+  const CommandResult r = RunImuconv("bench --json --benchmark-args=--benchmark_min_time=0.01", tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(Has(r.err, "imuconv bench:")) << r.err;  // a plugin that failed to load
+  const json j = json::parse(r.out);
+  std::map<std::string, json> ran;
+  for (const auto& b : j.at("benchmarks")) ran[b.at("name").get<std::string>()] = b;
+  std::vector<std::string> names{"BM_Preintegrate/manifold",         "BM_Preintegrate/tangent",
+                                 "BM_Propagate/euler",               "BM_Propagate/midpoint",
+                                 "BM_Propagate/rk4",                 "BM_PreintegrateByPropagation/rk4",
+                                 "BM_Conversion/left/gtsam_navstate", "BM_PluginOverhead/rk4/manual_time"};
+  const std::pair<imuconv::kernels::Isa, const char*> instances[] = {{imuconv::kernels::Isa::kBaseline, "baseline"},
+                                                                     {imuconv::kernels::Isa::kAvx2, "avx2"},
+                                                                     {imuconv::kernels::Isa::kAvx512, "avx512"}};
+  for (const char* scheme : {"manifold", "tangent"})
+    for (const auto& [isa, name] : instances)
+      if (imuconv::kernels::IsaAvailable(isa)) names.push_back(std::string("BM_PreintegrateInstance/") + scheme + "/" + name);
+  for (const std::string& name : names) {
+    ASSERT_TRUE(ran.count(name)) << name << " did not run\n" << r.out;
+    const json& b = ran[name];
+    if (b.contains("error_occurred") && b["error_occurred"].get<bool>()) {
+      ADD_FAILURE() << name << " failed: " << b.value("error_message", std::string());
+      continue;
+    }
+    const double rate = b.at("items_per_second").get<double>();
+    EXPECT_TRUE(std::isfinite(rate) && rate > 0.0) << b.dump();
+  }
+  EXPECT_TRUE(std::isfinite(ran["BM_PluginOverhead/rk4/manual_time"].at("overhead_pct").get<double>()));
+  EXPECT_EQ(ran.size(), names.size()) << r.out;  // nothing unlisted either
 }
 
 }  // namespace
