@@ -75,7 +75,7 @@ TEST(Cli, PluginDirIsSearchedFirstAndLoadErrorsAreListed) {
   fs::create_directories(tmp.file("extra"));
   const std::string broken = tmp.write("extra/imuconv_plugin_broken.so", "not a shared object\n");
   for (const std::string& args : {"plugins --json --plugin-dir " + ShellQuote(tmp.file("extra")),
-                                 "--plugin-dir " + ShellQuote(tmp.file("extra")) + " plugins --json"}) {
+                                  "--plugin-dir " + ShellQuote(tmp.file("extra")) + " plugins --json"}) {
     const CommandResult r = RunImuconv(args, tmp);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const json j = json::parse(r.out);
