@@ -90,15 +90,21 @@ void SetSamples(benchmark::State& st) {
   st.SetItemsProcessed(static_cast<int64_t>(st.iterations()) * static_cast<int64_t>(Samples().size() - 1));
 }
 
+/// Times call() (returning a Status, writing `out`) over the interval, per IMU sample.
+template <class Out, class Call>
+void TimeCalls(benchmark::State& st, Out& out, Call call) {
+  for (auto _ : st) {
+    if (Failed(st, call())) break;
+    benchmark::DoNotOptimize(out);
+  }
+  SetSamples(st);
+}
+
 void BM_Preintegrate(benchmark::State& st, const char* id) {
   const auto pre = Plugins().preintegrator(id);
   const PreintegrationInput in = PreintInput();
   NativePreintegration out;
-  for (auto _ : st) {
-    if (Failed(st, pre->integrate(in, out))) break;
-    benchmark::DoNotOptimize(out);
-  }
-  SetSamples(st);
+  TimeCalls(st, out, [&] { return pre->integrate(in, out); });
 }
 
 // The native preintegration kernel with its compiled instance forced (the plugins pick the
@@ -109,24 +115,17 @@ enum class Scheme { kManifold, kTangent };
 void BM_PreintegrateInstance(benchmark::State& st, Scheme scheme, kernels::Isa isa) {
   const PreintegrationInput in = PreintInput();
   NativePreintegration out;
-  for (auto _ : st) {
-    const Status s = scheme == Scheme::kManifold ? kernels::IntegrateManifold<true>(in, out, nullptr, isa)
-                                                 : kernels::IntegrateTangent<true>(in, out, nullptr, isa);
-    if (Failed(st, s)) break;
-    benchmark::DoNotOptimize(out);
-  }
-  SetSamples(st);
+  TimeCalls(st, out, [&] {
+    return scheme == Scheme::kManifold ? kernels::IntegrateManifold<true>(in, out, nullptr, isa)
+                                       : kernels::IntegrateTangent<true>(in, out, nullptr, isa);
+  });
 }
 
 void BM_Propagate(benchmark::State& st, const char* id) {
   const auto prop = Plugins().propagator(id);
   const PropagationInput in = Input();
   PropagationResult out;
-  for (auto _ : st) {
-    if (Failed(st, prop->propagate(in, out))) break;
-    benchmark::DoNotOptimize(out);
-  }
-  SetSamples(st);
+  TimeCalls(st, out, [&] { return prop->propagate(in, out); });
 }
 
 void BM_PreintegrateByPropagation(benchmark::State& st, const char* id) {
