@@ -49,6 +49,9 @@ SampleWindow Window() {
   return w;
 }
 
+// The bias estimate every benchmark integrates with.
+const Vec3 kBiasGyro(1e-3, -2e-3, 5e-4), kBiasAccel(0.02, -0.01, 0.03);
+
 ImuNoise Noise() {
   ImuNoise q;
   q.gyro_noise_density = 1.7e-4;
@@ -61,8 +64,8 @@ ImuNoise Noise() {
 PropagationInput Input() {
   PropagationInput in;
   in.x_s.R = so3::Exp(Vec3(0.1, -0.2, 0.3));
-  in.x_s.bg = Vec3(1e-3, -2e-3, 5e-4);
-  in.x_s.ba = Vec3(0.02, -0.01, 0.03);
+  in.x_s.bg = kBiasGyro;
+  in.x_s.ba = kBiasAccel;
   in.cov_s = 1e-4 * Mat15::Identity();
   in.noise = Noise();
   in.window = Window();
@@ -71,8 +74,8 @@ PropagationInput Input() {
 
 PreintegrationInput PreintInput() {
   PreintegrationInput in;
-  in.bg = Vec3(1e-3, -2e-3, 5e-4);
-  in.ba = Vec3(0.02, -0.01, 0.03);
+  in.bg = kBiasGyro;
+  in.ba = kBiasAccel;
   in.noise = Noise();
   in.window = Window();
   return in;
@@ -131,7 +134,7 @@ void BM_Propagate(benchmark::State& st, const char* id) {
 void BM_PreintegrateByPropagation(benchmark::State& st, const char* id) {
   const SampleWindow w = Window();
   for (auto _ : st) {
-    Preintegrated m = PreintegrateByPropagation(Plugins(), id, w, Vec3(1e-3, -2e-3, 5e-4), Vec3(0.02, -0.01, 0.03), Noise());
+    Preintegrated m = PreintegrateByPropagation(Plugins(), id, w, kBiasGyro, kBiasAccel, Noise());
     benchmark::DoNotOptimize(m);
   }
   SetSamples(st);
