@@ -1,7 +1,10 @@
 #include "imuconv/numeric.h"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 namespace imuconv {
 
@@ -57,6 +60,52 @@ Mat15 RiddersJacobian(const Map15& f, double h0) {
     J.col(i) = best;
   }
   return J;
+}
+
+std::string CovarianceProblem(const Eigen::MatrixXd& C, double tol) {
+  std::ostringstream o;
+  o.precision(6);
+  const Eigen::Index n = C.rows();
+  if (C.cols() != n) {
+    o << "a covariance must be square; this matrix is " << C.rows() << "x" << C.cols();
+    return o.str();
+  }
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j)
+      if (!std::isfinite(C(i, j))) {
+        o << "entry (" << i << ", " << j << ") is not finite";
+        return o.str();
+      }
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (C(i, i) < 0.0) {
+      o << "diagonal entry (" << i << ", " << i << ") = " << C(i, i) << " is negative: a variance cannot be negative";
+      return o.str();
+    }
+  // The correlation scale: s_i = sqrt(C_ii). A zero variance gets the smallest positive
+  // scale, so that a non-zero entry in its row shows up as a correlation far above 1.
+  Eigen::VectorXd s(n);
+  for (Eigen::Index i = 0; i < n; ++i) s[i] = std::sqrt(std::max(C(i, i), std::numeric_limits<double>::min()));
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = i + 1; j < n; ++j) {
+      const double r = std::abs(C(i, j) - C(j, i)) / (s[i] * s[j]);
+      if (r > tol) {
+        o << "not symmetric: entries (" << i << ", " << j << ") = " << C(i, j) << " and (" << j << ", " << i
+          << ") = " << C(j, i) << " differ by " << r << " on the correlation scale (|C_ij - C_ji| / sqrt(C_ii C_jj); tolerance "
+          << tol << ")";
+        return o.str();
+      }
+    }
+  const Eigen::MatrixXd sym = 0.5 * (C + C.transpose());
+  const Eigen::MatrixXd R = s.asDiagonal().inverse() * sym * s.asDiagonal().inverse();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig_r(R, Eigen::EigenvaluesOnly);
+  const double min_r = eig_r.eigenvalues().minCoeff();
+  if (min_r < -tol) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig_c(sym, Eigen::EigenvaluesOnly);
+    o << "not positive semi-definite: smallest eigenvalue " << eig_c.eigenvalues().minCoeff()
+      << " (of the correlation matrix C_ij / sqrt(C_ii C_jj): " << min_r << "; tolerance " << -tol << ")";
+    return o.str();
+  }
+  return {};
 }
 
 }  // namespace imuconv

@@ -726,4 +726,20 @@ const std::string& Pipeline::file() const { return spec_->file; }
 const std::vector<std::string>& Pipeline::plugin_dirs() const { return spec_->plugin_dirs; }
 const std::optional<std::string>& Pipeline::output_path() const { return spec_->output; }
 
+std::vector<std::string> Pipeline::input_files() const {
+  std::vector<std::string> files;
+  const auto add = [&](const std::string& f) {
+    if (!f.empty() && std::find(files.begin(), files.end(), f) == files.end()) files.push_back(f);
+  };
+  add(spec_->file);
+  if (spec_->imu && spec_->imu->format != ImuSourceSpec::Format::Inline) add(spec_->imu->path);
+  if (spec_->gt) add(spec_->gt->path);
+  for (const auto& t : spec_->tasks) {
+    if (const auto* x = std::get_if<PropByPreintTask>(&t.body)) add(x->meas.file);
+    if (const auto* x = std::get_if<ResidualTask>(&t.body)) add(x->meas.file);
+    if (const auto* x = std::get_if<BiasUpdateTask>(&t.body)) add(x->meas.file);
+  }
+  return files;
+}
+
 }  // namespace imuconv::pipeline
