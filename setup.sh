@@ -1,12 +1,26 @@
 #!/usr/bin/env bash
 # Idempotent set-up for a fresh Debian machine: installs the Debian packages imuconv needs
 # (only the missing ones) and configures the build in ./build (Release).
-# Usage: ./setup.sh [extra cmake arguments]
+#
+# Usage: ./setup.sh [--sanitizers] [extra cmake arguments for ./build]
+#   --sanitizers  also installs clang and its sanitizer and libFuzzer runtimes and configures
+#                 ./build-san: the whole suite under AddressSanitizer and
+#                 UndefinedBehaviorSanitizer, plus the libFuzzer targets (tests/fuzz), which
+#                 ctest runs for IMUCONV_FUZZ_SECONDS each (60 by default).
 set -euo pipefail
 cd "$(dirname "$0")"
 
+sanitizers=0
+if [ "${1:-}" = "--sanitizers" ]; then
+  sanitizers=1
+  shift
+fi
+
 packages=(g++ cmake make pkg-config libeigen3-dev libboost-dev nlohmann-json3-dev libgtest-dev
           libbenchmark-dev libcli11-dev python3 python3-jsonschema)
+if [ "$sanitizers" = 1 ]; then
+  packages+=(clang libclang-rt-14-dev llvm)
+fi
 missing=()
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
@@ -24,3 +38,11 @@ fi
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "$@" > build-configure.log 2>&1 || { cat build-configure.log; exit 1; }
 echo "setup.sh: configured ./build (log: build-configure.log)"
+
+if [ "$sanitizers" = 1 ]; then
+  # -O1: the sanitizers' own advice (fast enough to run the suite, keeps stack traces exact).
+  CC=clang CXX=clang++ cmake -S . -B build-san -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" \
+    -DIMUCONV_SANITIZE=address,undefined -DIMUCONV_FUZZ=ON > build-san-configure.log 2>&1 ||
+    { cat build-san-configure.log; exit 1; }
+  echo "setup.sh: configured ./build-san, AddressSanitizer + UndefinedBehaviorSanitizer + libFuzzer (log: build-san-configure.log)"
+fi

@@ -1,0 +1,27 @@
+// libFuzzer target: the pipeline reader (JSON syntax, the hand checker, every task kind's
+// parse), then the run itself with inline samples, its output thrown away. Plugins are loaded
+// once. The run is given one thread so that a finding reproduces exactly.
+#include <string_view>
+
+#include "fuzz_support.h"
+#include "imuconv/pipeline/pipeline.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace imuconv;
+  static fuzz::InputFile file("pipeline.json");
+  static Registry* reg = [] {
+    auto* r = new Registry();
+    r->load_search_path();
+    return r;
+  }();
+  const std::string& path = file.write(data, size);
+  fuzz::Expect(
+      [&] {
+        const pipeline::Pipeline p = pipeline::Pipeline::Load(path);
+        pipeline::RunOptions options;
+        options.threads = 1;
+        pipeline::RunToText(p, *reg, options, [](std::string_view) {});
+      },
+      path);
+  return 0;
+}
