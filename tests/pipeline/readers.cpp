@@ -37,17 +37,17 @@ TEST(EurocReader, RealSlice) {
 
 TEST(EurocReader, NanosecondStepsSurviveLargeStamps) {
   // 1.4e18 ns is beyond 2^53: as a double its resolution is 256 ns. Read as int64 and made
-  // relative first, 1 ns steps stay exact.
+  // relative first, a 1 ns offset on top of the 5 ms (200 Hz) steps stays exact.
   TempDir tmp;
   const std::string f = tmp.write("imu.csv", kEurocHeader +
                                                  "1403715273262142976,0,0,0,0,0,9.81\n"
-                                                 "1403715273262142977,0,0,0,0,0,9.81\n"
-                                                 "1403715273262142979,0,0,0,0,0,9.81\n");
+                                                 "1403715273267142977,0,0,0,0,0,9.81\n"
+                                                 "1403715273272142979,0,0,0,0,0,9.81\n");
   const ImuData d = ReadEurocImu(f);
   ASSERT_EQ(d.samples.size(), 3u);
-  EXPECT_EQ(d.samples[1].t, 1e-9);
-  EXPECT_EQ(d.samples[2].t, 3e-9);
-  EXPECT_EQ(d.origin->absolute_ns(d.samples[2].t).value(), 1403715273262142979LL);
+  EXPECT_EQ(d.samples[1].t, 5000001.0 / 1e9);
+  EXPECT_EQ(d.samples[2].t, 10000003.0 / 1e9);
+  EXPECT_EQ(d.origin->absolute_ns(d.samples[2].t).value(), 1403715273272142979LL);
 }
 
 TEST(EurocReader, GivenOriginAndCrlf) {

@@ -1,25 +1,28 @@
 #include "imuconv/pipeline/json_check.h"
 
+#include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <limits>
-#include <sstream>
+
+#include "imuconv/printable.h"
 
 namespace imuconv::pipeline {
 namespace {
 
-std::string JoinIssues(const std::string& file, const std::vector<Issue>& issues) {
+// The first ConfigError::kShownIssues issues, one per line, then how many more there were.
+// File and pointer come from the user (a key can hold a newline): escaped.
+std::string JoinIssues(const std::string& file, const std::vector<Issue>& issues, std::size_t total) {
+  const std::string shown_file = Printable(file);
   std::string s;
-  for (std::size_t i = 0; i < issues.size(); ++i) {
+  const std::size_t n = std::min(issues.size(), ConfigError::kShownIssues);
+  for (std::size_t i = 0; i < n; ++i) {
     if (i) s += "\n";
-    s += file + ": " + (issues[i].pointer.empty() ? std::string("(document)") : issues[i].pointer) + ": " +
-         issues[i].message;
+    s += shown_file + ": " + (issues[i].pointer.empty() ? std::string("(document)") : Printable(issues[i].pointer)) +
+         ": " + issues[i].message;
   }
+  if (total > n) s += "\n... and " + std::to_string(total - n) + " more problems in " + shown_file;
   return s;
 }
-
-std::string Quoted(std::string_view s) { return "'" + std::string(s) + "'"; }
 
 template <typename List>
 std::string JoinQuoted(const List& xs) {
@@ -35,11 +38,14 @@ std::string JoinQuoted(const List& xs) {
 
 }  // namespace
 
-ConfigError::ConfigError(std::string file, std::vector<Issue> issues)
-    : Error(JoinIssues(file, issues)), file_(std::move(file)), issues_(std::move(issues)) {}
+ConfigError::ConfigError(std::string file, std::vector<Issue> issues, std::size_t total)
+    : Error(JoinIssues(file, issues, std::max(total, issues.size()))),
+      file_(std::move(file)),
+      issues_(std::move(issues)),
+      total_(std::max(total, issues_.size())) {}
 
 ReadError::ReadError(std::string file, std::size_t line, const std::string& message)
-    : Error(line > 0 ? file + ":" + std::to_string(line) + ": " + message : file + ": " + message),
+    : Error(line > 0 ? Printable(file) + ":" + std::to_string(line) + ": " + message : Printable(file) + ": " + message),
       file_(std::move(file)),
       line_(line) {}
 
@@ -72,7 +78,7 @@ std::string TypeName(const json& j) {
 }
 
 void Checker::throw_if_errors() const {
-  if (!issues_.empty()) throw ConfigError(file_, issues_);
+  if (total_ > 0) throw ConfigError(file_, issues_, total_);
 }
 
 bool Node::expect_object(std::initializer_list<std::string_view> allowed) const {
@@ -276,24 +282,6 @@ std::optional<std::string> Node::string(std::string_view key, bool required) con
 std::optional<Vec3> Node::vec3(std::string_view key, bool required) const {
   auto n = get(key, required);
   return n ? n->vec3() : std::nullopt;
-}
-
-json ParseJsonFile(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw ReadError(path, 0, "is a directory, not a file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ReadError(path, 0, "cannot open the file for reading");
-  try {
-    return json::parse(in);
-  } catch (const json::parse_error& e) {
-    // nlohmann's message reads "[json.exception.parse_error.101] parse error at line L, column C: ...".
-    std::string msg = e.what();
-    const auto pos = msg.find("] ");
-    if (pos != std::string::npos) msg = msg.substr(pos + 2);
-    throw ConfigError(path, {{"", "not valid JSON: " + msg}});
-  } catch (const std::exception& e) {
-    throw ReadError(path, 0, std::string("cannot read the file: ") + e.what());
-  }
 }
 
 }  // namespace imuconv::pipeline

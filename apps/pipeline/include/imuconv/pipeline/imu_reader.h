@@ -4,6 +4,12 @@
 // fractional part separately), made relative to a time origin, and only then converted to
 // double seconds. EuRoC's nanosecond stamps (~1.4e18, beyond double's 2^53) therefore lose
 // nothing; the origin is kept so that outputs can report absolute times.
+//
+// Every reader takes ReadOptions (timing.h): the timing policy (gaps longer than
+// max_gap_factor x the median period, and implausible rates, are errors) and the time range
+// the tasks need (`keep`: only the rows in it, plus one on each side, are kept; every line is
+// still validated, and the timing checks judge the kept rows). Inputs must be regular files:
+// a FIFO or a device is refused without blocking.
 #pragma once
 
 #include <array>
@@ -13,15 +19,10 @@
 #include <variant>
 #include <vector>
 
+#include "imuconv/pipeline/timing.h"
 #include "imuconv/types.h"
 
 namespace imuconv::pipeline {
-
-enum class TimeUnit { s, ms, us, ns };
-/// Nanoseconds per unit: 1e9, 1e6, 1e3, 1.
-std::int64_t NanosPerUnit(TimeUnit u);
-const char* TimeUnitName(TimeUnit u);
-std::optional<TimeUnit> ParseTimeUnit(const std::string& s);
 
 /// A timestamp in some unit: whole units (exact) plus a fraction of one unit in [0, 1).
 struct TimeValue {
@@ -34,7 +35,9 @@ struct TimeValue {
 /// precision. Exponent forms go through double. Returns nothing for anything else
 /// (including nan, inf and trailing garbage).
 std::optional<TimeValue> ParseTimeValue(std::string_view text);
-/// A JSON-number timestamp split the same way (integers exactly).
+/// A JSON-number timestamp split the same way (integers exactly). Values beyond +-9e18 or not
+/// finite cannot be represented; they saturate at the int64 range (the caller should refuse
+/// them first, as ParseTimeValue does).
 TimeValue TimeValueFromDouble(double t);
 
 /// The time origin of a data set: absolute time = origin + relative time.
@@ -57,8 +60,10 @@ struct ImuData {
 
 /// EuRoC IMU CSV: `#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z`, integer nanoseconds, rad/s,
 /// m/s^2. Lines starting with '#' and blank lines are skipped; every other line must have
-/// exactly 7 numeric fields. `origin_ns` defaults to the first sample's timestamp.
-ImuData ReadEurocImu(const std::string& path, std::optional<std::int64_t> origin_ns = std::nullopt);
+/// exactly 7 numeric fields. `origin_ns` defaults to the first sample's timestamp (of the
+/// file, whether or not it is in options.keep).
+ImuData ReadEurocImu(const std::string& path, std::optional<std::int64_t> origin_ns = std::nullopt,
+                     const ReadOptions& options = {});
 
 /// A column of a generic CSV: a 0-based index or a header name.
 using ColumnRef = std::variant<int, std::string>;
@@ -77,7 +82,9 @@ struct CsvFormat {
 /// The names of the seven columns of CsvFormat::columns.
 extern const std::array<const char*, 7> kImuColumnNames;
 
-ImuData ReadCsvImu(const std::string& path, const CsvFormat& format);
+/// A column index must be below the header's width (when there is a header) and below the
+/// first data row's field count; every data row must have the same count.
+ImuData ReadCsvImu(const std::string& path, const CsvFormat& format, const ReadOptions& options = {});
 
 /// A ground-truth trajectory on the same time axis as the IMU data.
 struct GroundTruth {
@@ -90,7 +97,8 @@ struct GroundTruth {
 
 /// EuRoC/ASL ground truth (state_groundtruth_estimate0/data.csv, or OpenVINS' vicon2gt
 /// files): `#time(ns), p xyz, q wxyz, v xyz, bg xyz, ba xyz` (17 fields), made relative to
-/// `origin` (the IMU data's origin).
-GroundTruth ReadEurocGroundTruth(const std::string& path, const TimeOrigin& origin);
+/// `origin` (the IMU data's origin). Gaps between rows are judged by options.timing like IMU
+/// gaps: they would be interpolated across and used as start states.
+GroundTruth ReadEurocGroundTruth(const std::string& path, const TimeOrigin& origin, const ReadOptions& options = {});
 
 }  // namespace imuconv::pipeline

@@ -24,21 +24,31 @@ std::string PointerToken(std::string_view key);
 /// "an object", "a string", ... for messages.
 std::string TypeName(const json& j);
 
-/// Collects the issues of one document.
+/// Collects the issues of one document. It counts every issue but stores only the first
+/// kMaxStored (a hostile document can hold millions of problems; the message shows
+/// ConfigError::kShownIssues of them anyway).
 class Checker {
  public:
+  static constexpr std::size_t kMaxStored = 100;
   explicit Checker(std::string file) : file_(std::move(file)) {}
-  void error(std::string pointer, std::string message) { issues_.push_back({std::move(pointer), std::move(message)}); }
-  bool ok() const noexcept { return issues_.empty(); }
-  std::size_t count() const noexcept { return issues_.size(); }
+  void error(std::string pointer, std::string message) {
+    ++total_;
+    if (issues_.size() < kMaxStored) issues_.push_back({std::move(pointer), std::move(message)});
+  }
+  bool ok() const noexcept { return total_ == 0; }
+  /// Every issue reported so far, stored or not (callers compare counts to see whether a
+  /// check added one).
+  std::size_t count() const noexcept { return total_; }
   const std::string& file() const noexcept { return file_; }
+  /// The stored issues: the first kMaxStored.
   const std::vector<Issue>& issues() const noexcept { return issues_; }
-  /// Throws ConfigError listing every issue, if there is any.
+  /// Throws ConfigError with the stored issues and the total count, if there is any.
   void throw_if_errors() const;
 
  private:
   std::string file_;
   std::vector<Issue> issues_;
+  std::size_t total_ = 0;
 };
 
 class Node {
@@ -100,8 +110,18 @@ class Node {
   Checker* c_;
 };
 
-/// Parses a JSON file; throws ConfigError (pointer "") naming the file, line and column of a
-/// syntax error, or ReadError if the file cannot be opened.
+/// Largest JSON document ParseJsonFile reads: 256 MiB. imuconv's own largest outputs must stay
+/// readable as measurement files (the whole-file V1_01 run writes 34 MB); a parsed document
+/// takes roughly 10 to 20 times its text in memory, so this bounds a parse at about 3 to 5 GB.
+inline constexpr std::size_t kMaxJsonBytes = std::size_t{256} << 20;
+/// Deepest nesting of arrays and objects accepted (imuconv's documents nest < 10 deep; a
+/// limit keeps recursive code over the document safe from a stack overflow).
+inline constexpr std::size_t kMaxJsonDepth = 256;
+
+/// Parses a JSON file. Regular files only (a FIFO or a device is refused without blocking) of
+/// at most kMaxJsonBytes. Throws ReadError if the file cannot be read, and ConfigError for a
+/// syntax error (file, line and column, pointer ""), for each duplicate key (at its pointer:
+/// with nlohmann the last one would silently win), or for nesting deeper than kMaxJsonDepth.
 json ParseJsonFile(const std::string& path);
 
 }  // namespace imuconv::pipeline

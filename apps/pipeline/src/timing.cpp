@@ -1,0 +1,146 @@
+#include "imuconv/pipeline/timing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace imuconv::pipeline {
+
+std::int64_t NanosPerUnit(TimeUnit u) {
+  switch (u) {
+    case TimeUnit::s: return 1000000000;
+    case TimeUnit::ms: return 1000000;
+    case TimeUnit::us: return 1000;
+    case TimeUnit::ns: return 1;
+  }
+  return 1;
+}
+
+const char* TimeUnitName(TimeUnit u) {
+  switch (u) {
+    case TimeUnit::s: return "s";
+    case TimeUnit::ms: return "ms";
+    case TimeUnit::us: return "us";
+    case TimeUnit::ns: return "ns";
+  }
+  return "?";
+}
+
+std::optional<TimeUnit> ParseTimeUnit(const std::string& s) {
+  if (s == "s") return TimeUnit::s;
+  if (s == "ms") return TimeUnit::ms;
+  if (s == "us") return TimeUnit::us;
+  if (s == "ns") return TimeUnit::ns;
+  return std::nullopt;
+}
+
+namespace {
+
+// 6 significant digits, as %g: 0.005, 5e+06.
+std::string Num(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", x);
+  return buf;
+}
+
+const char* LongName(TimeUnit u) {
+  switch (u) {
+    case TimeUnit::s: return "seconds";
+    case TimeUnit::ms: return "milliseconds";
+    case TimeUnit::us: return "microseconds";
+    case TimeUnit::ns: return "nanoseconds";
+  }
+  return "?";
+}
+
+bool PlausibleRate(double hz) { return hz >= kMinRateHz && hz <= kMaxRateHz; }
+
+// The unit the stamps were most likely written in: among the units that turn the median
+// period into a plausible rate, the one whose rate is nearest (on a log scale) to 300 Hz,
+// the middle of the usual IMU range of 100 Hz to 1 kHz. Units are 1000x apart and the
+// plausible range spans 5 decades, so at most two units qualify; the log distance picks
+// 100 Hz over 100 kHz, say.
+std::optional<TimeUnit> LikelyUnit(double period_s, TimeUnit declared) {
+  // The period as a number in the file's own unit.
+  const double in_units = period_s * 1e9 / static_cast<double>(NanosPerUnit(declared));
+  std::optional<TimeUnit> best;
+  double best_distance = 0.0;
+  for (TimeUnit u : {TimeUnit::s, TimeUnit::ms, TimeUnit::us, TimeUnit::ns}) {
+    if (u == declared) continue;
+    const double rate = 1e9 / (in_units * static_cast<double>(NanosPerUnit(u)));
+    if (!PlausibleRate(rate)) continue;
+    const double distance = std::abs(std::log10(rate) - std::log10(300.0));
+    if (!best || distance < best_distance) {
+      best = u;
+      best_distance = distance;
+    }
+  }
+  return best;
+}
+
+std::string RateMessage(double period, TimeUnit declared, TimeSource source) {
+  std::string m = "the median period is " + Num(period) + " s (rate " + Num(1.0 / period) + " Hz); ";
+  const auto likely = LikelyUnit(period, declared);
+  const std::string range = " (" + std::string(source == TimeSource::ground_truth ? "a ground-truth" : "an IMU") +
+                            " rate is expected between 1 Hz and 100 kHz)";
+  if (!likely) {
+    m += "no time unit (s, ms, us, ns) gives a plausible rate: check the time column";
+    if (source == TimeSource::imu) m += " and time_unit";
+    return m + range;
+  }
+  m += std::string("the timestamps look like ") + LongName(*likely);
+  switch (source) {
+    case TimeSource::imu:
+      m += std::string(": set time_unit to \"") + TimeUnitName(*likely) + "\"";
+      break;
+    case TimeSource::imu_euroc:
+      m += std::string(", but the EuRoC format reads nanoseconds: convert them, or read the file with \"format\": \"csv\" "
+                       "and \"time_unit\": \"") + TimeUnitName(*likely) + "\"";
+      break;
+    case TimeSource::ground_truth:
+      m += ", but ground-truth files are read in nanoseconds: convert them";
+      break;
+  }
+  return m + range;
+}
+
+}  // namespace
+
+double MedianPeriod(const std::vector<double>& t) {
+  if (t.size() < 2) return 0.0;
+  std::vector<double> d(t.size() - 1);
+  for (std::size_t i = 1; i < t.size(); ++i) d[i - 1] = t[i] - t[i - 1];
+  const auto mid = d.begin() + static_cast<std::ptrdiff_t>((d.size() - 1) / 2);
+  std::nth_element(d.begin(), mid, d.end());
+  return *mid;
+}
+
+std::optional<TimingIssue> FindTimingIssue(const std::vector<double>& t, const TimingPolicy& policy, TimeUnit declared,
+                                           TimeSource source) {
+  return FindTimingIssue(t, MedianPeriod(t), policy, declared, source);
+}
+
+std::optional<TimingIssue> FindTimingIssue(const std::vector<double>& t, double median, const TimingPolicy& policy,
+                                           TimeUnit declared, TimeSource source) {
+  if (t.size() < 2 || !(median > 0.0) || !std::isfinite(median)) return std::nullopt;
+  // The rate first: a wrong unit makes every gap message beside the point.
+  if (!PlausibleRate(1.0 / median))
+    return TimingIssue{TimingIssue::Kind::rate, 0, RateMessage(median, declared, source)};
+  if (policy.allow_gaps) return std::nullopt;
+  const double factor =
+      std::isfinite(policy.max_gap_factor) && policy.max_gap_factor >= 1.0 ? policy.max_gap_factor : TimingPolicy{}.max_gap_factor;
+  const double limit = factor * median;
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    const double gap = t[i] - t[i - 1];
+    if (!(gap > limit)) continue;
+    const bool gt = source == TimeSource::ground_truth;
+    return TimingIssue{TimingIssue::Kind::gap, i,
+                       "gap of " + Num(gap) + " s before this " + (gt ? "row" : "sample") + " (the median period is " +
+                           Num(median) + " s; limit " + Num(factor) + " x median = " + Num(limit) +
+                           " s); set \"allow_gaps\": true in the " + (gt ? "ground_truth object to interpolate" : "IMU source to integrate") +
+                           " across it"};
+  }
+  return std::nullopt;
+}
+
+}  // namespace imuconv::pipeline
