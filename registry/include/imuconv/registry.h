@@ -42,9 +42,22 @@ struct PluginInfo {
   bool analytic_jacobians = false;  ///< conventions: analytic Jacobians given (and verified)
 };
 
+/// A plugin file that was not loaded, and why. Every bad file on the search path becomes one
+/// of these while the others load; the message quotes paths and ids through Printable, `file`
+/// is the raw path (print it through Printable too).
 struct LoadIssue {
   std::string file;
   std::string message;
+  /// True for a duplicate id skipped because LoadOptions::allow_override was set (a warning:
+  /// the plugin earlier on the search path is used).
+  bool overridden = false;
+};
+
+struct LoadOptions {
+  /// Two files that declare the same kind and id make load_directory and load_search_path
+  /// throw Error naming both, unless this is set; then the one earlier on the search path
+  /// wins and the later one is a LoadIssue with overridden = true.
+  bool allow_override = false;
 };
 
 class IMUCONV_API Registry {
@@ -55,16 +68,29 @@ class IMUCONV_API Registry {
   Registry& operator=(const Registry&) = delete;
 
   // ---- loading -------------------------------------------------------------------
+  // Loading runs the plugin's code in this process (its static initialisers at dlopen, then
+  // its entry points): only load directories you trust. What can be contained is: a C++
+  // exception thrown through an entry point, a null or malformed string, a file that is not
+  // a shared object all become errors naming the file. A crash or a hang cannot be; use
+  // `imuconv plugins --check DIR`, which exercises each file in a child process.
+
   /// Loads one plugin file. Throws Error (naming the file and the cause) for a missing
-  /// file, a file that is not an imuconv plugin, an ABI mismatch, a duplicate id or a
-  /// convention whose charts or analytic Jacobians fail their checks. On failure the
-  /// registry is unchanged and stays usable.
+  /// file, a file that is not an imuconv plugin, an ABI mismatch, a duplicate id, an
+  /// invalid id (not letters, digits, '_', '-', '.'), a null string, an exception thrown by
+  /// an entry point or a convention whose charts or analytic Jacobians fail their checks. On
+  /// failure the registry is unchanged and stays usable.
   void load_file(const std::string& path);
-  /// Loads every imuconv_plugin_*.so in dir; returns what failed (the rest is loaded).
-  std::vector<LoadIssue> load_directory(const std::string& dir);
+  /// Loads every imuconv_plugin_*.so in dir (sorted by name); returns what failed (the rest is
+  /// loaded), an unreadable directory included. Throws Error for duplicate ids unless
+  /// options.allow_override (see LoadOptions).
+  std::vector<LoadIssue> load_directory(const std::string& dir, const LoadOptions& options = {});
   /// Loads the search path: extra_dirs (e.g. from a pipeline config), then the directories
   /// of IMUCONV_PLUGIN_PATH (colon-separated), then the install or build plugin directory.
-  std::vector<LoadIssue> load_search_path(const std::vector<std::string>& extra_dirs = {});
+  /// Returns what failed to load; throws Error, after the whole path was read and naming both
+  /// files of every duplicate id, unless options.allow_override. Do not use the registry
+  /// after that throw.
+  std::vector<LoadIssue> load_search_path(const std::vector<std::string>& extra_dirs = {},
+                                          const LoadOptions& options = {});
   static std::vector<std::string> search_path(const std::vector<std::string>& extra_dirs = {});
   /// The built-in plugin directory (next to the installed library, else the build tree).
   static std::string default_plugin_dir();
