@@ -15,12 +15,17 @@ void AddPluginDirOption(CLI::App& sub, CommandContext& ctx) {
                  "Extra plugin directory, searched before IMUCONV_PLUGIN_PATH and the built-in one (repeatable)")
       ->type_name("DIR")
       ->allow_extra_args(false);
+  sub.add_flag("--allow-plugin-override", ctx.allow_plugin_override,
+               "Let a plugin earlier on the search path replace one with the same id (a warning names both files); "
+               "without it a duplicate id is an error");
 }
 
 std::vector<LoadIssue> LoadRegistry(Registry& reg, const CommandContext& ctx, const std::vector<std::string>& extra) {
   std::vector<std::string> dirs = ctx.plugin_dirs();
   dirs.insert(dirs.end(), extra.begin(), extra.end());
-  return reg.load_search_path(dirs);
+  LoadOptions options;
+  options.allow_override = ctx.allow_plugin_override;
+  return reg.load_search_path(dirs, options);
 }
 
 void PrintError(const std::string& message) {

@@ -15,17 +15,19 @@ namespace imuconv::cli {
 struct CommandContext {
   std::vector<std::string> plugin_dirs_main;  ///< --plugin-dir before the subcommand
   std::vector<std::string> plugin_dirs_sub;   ///< --plugin-dir after it
+  bool allow_plugin_override = false;         ///< --allow-plugin-override: a duplicate id is a warning, the first wins
   int exit_code = 0;                          ///< set by the subcommand that ran
 
   /// Every --plugin-dir, in the order given (searched before the default path).
   std::vector<std::string> plugin_dirs() const;
 };
 
-/// Adds the repeatable --plugin-dir option to a subcommand.
+/// Adds the repeatable --plugin-dir option and the --allow-plugin-override flag to a subcommand.
 void AddPluginDirOption(CLI::App& sub, CommandContext& ctx);
 
 /// Loads the plugin search path (--plugin-dir first, then `extra`, IMUCONV_PLUGIN_PATH and the
-/// default directory) and returns what failed to load.
+/// default directory) and returns what failed to load. Throws Error for a duplicate plugin id
+/// unless --allow-plugin-override was given.
 std::vector<LoadIssue> LoadRegistry(Registry& reg, const CommandContext& ctx, const std::vector<std::string>& extra = {});
 
 /// Prints "imuconv: error: <message>" to stderr (each line of a multi-line message indented).

@@ -1,0 +1,365 @@
+// The child-process check behind `imuconv plugins --check DIR`.
+//
+// A plugin is code in the host process: the registry contains what it can (exceptions through
+// the entry points, null and malformed strings), but a segfault, an exception inside a
+// noexcept method (std::terminate) or an endless loop cannot be contained in-process. Here
+// each file is loaded in a forked child that reports through a pipe; the parent only reads
+// the pipe, waits with a deadline, and kills and reaps the child's process group.
+#include "plugin_check.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#ifdef __linux__
+#include <sys/prctl.h>
+#endif
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <thread>
+
+#include "imuconv/printable.h"
+#include "imuconv/registry.h"
+#include "imuconv/window.h"
+
+namespace imuconv::cli {
+namespace {
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+// What the child reads back is bounded: a report is one line, stderr is kept for its tail.
+constexpr std::size_t kMaxReport = 64 * 1024;
+constexpr std::size_t kMaxStderrTail = 4 * 1024;
+
+const char* SignalName(int sig) {
+  switch (sig) {
+    case SIGSEGV: return "SIGSEGV";
+    case SIGBUS: return "SIGBUS";
+    case SIGABRT: return "SIGABRT";
+    case SIGILL: return "SIGILL";
+    case SIGFPE: return "SIGFPE";
+    case SIGKILL: return "SIGKILL";
+    case SIGTERM: return "SIGTERM";
+    case SIGINT: return "SIGINT";
+    case SIGTRAP: return "SIGTRAP";
+    case SIGSYS: return "SIGSYS";
+    case SIGPIPE: return "SIGPIPE";
+    case SIGXCPU: return "SIGXCPU";
+    case SIGXFSZ: return "SIGXFSZ";
+    default: return nullptr;
+  }
+}
+
+template <typename M>
+bool AllFinite(const Eigen::MatrixBase<M>& m) {
+  return m.allFinite();
+}
+
+// 10 ms of a slowly turning, slightly accelerating IMU at 200 Hz: small enough to be instant
+// for any integrator, not so special (all zero) that a broken one passes by luck.
+std::vector<ImuSample> TestSamples() {
+  std::vector<ImuSample> s(3);
+  for (int k = 0; k < 3; ++k) {
+    s[k].t = 0.005 * k;
+    s[k].gyro = Vec3(0.01, -0.02, 0.03 + 0.001 * k);
+    s[k].accel = Vec3(0.1, 0.2 - 0.01 * k, 9.81);
+  }
+  return s;
+}
+
+ImuNoise TestNoise() {
+  ImuNoise q;
+  q.gyro_noise_density = 1.7e-4;
+  q.accel_noise_density = 2e-3;
+  q.gyro_random_walk = 1.9e-5;
+  q.accel_random_walk = 3e-3;
+  return q;
+}
+
+// The child's work: everything that calls plugin code. Returns the "ok" description; throws
+// Error with what failed.
+std::string Exercise(const std::string& file) {
+  Registry reg;
+  reg.load_file(file);
+  const PluginInfo& p = reg.plugins().back();
+  std::string what = std::string(KindName(p.kind)) + " " + Quoted(p.id) + " " + Printable(p.version);
+  const std::string who = std::string(KindName(p.kind)) + " " + Quoted(p.id) + " in " + Quoted(file);
+  const auto samples = TestSamples();
+  SampleWindow w;
+  if (const Status st = MakeWindow(samples.data(), samples.size(), 0.0, 0.01, w); !st.ok())
+    throw Error("internal: the test window cannot be built: " + st.message());
+  if (p.kind == PluginKind::Propagator) {
+    PropagationInput in;
+    in.window = w;
+    in.noise = TestNoise();
+    in.cov_s = Mat15::Identity() * 1e-6;
+    in.x_s.v = Vec3(0.5, 0.0, 0.0);
+    PropagationResult out;
+    const Status st = reg.propagator(p.id)->propagate(in, out);
+    if (!st.ok()) throw Error(who + ": propagate() failed on a 10 ms test window: " + Printable(st.message()));
+    if (!AllFinite(out.x_e.R) || !AllFinite(out.x_e.p) || !AllFinite(out.x_e.v) || !AllFinite(out.x_e.bg) ||
+        !AllFinite(out.x_e.ba) || !AllFinite(out.Phi) || !AllFinite(out.cov))
+      throw Error(who + ": propagate() returned non-finite values on a 10 ms test window");
+    what += "; propagate() ran on a 10 ms test window";
+  } else if (p.kind == PluginKind::Preintegrator) {
+    PreintegrationInput in;
+    in.window = w;
+    in.noise = TestNoise();
+    NativePreintegration out;
+    const Status st = reg.preintegrator(p.id)->integrate(in, out);
+    if (!st.ok()) throw Error(who + ": integrate() failed on a 10 ms test window: " + Printable(st.message()));
+    if (!std::isfinite(out.dt) || !AllFinite(out.delta.dR) || !AllFinite(out.delta.dp) || !AllFinite(out.delta.dv) ||
+        !AllFinite(out.cov) || !AllFinite(out.J_bias))
+      throw Error(who + ": integrate() returned non-finite values on a 10 ms test window");
+    what += "; integrate() ran on a 10 ms test window";
+  } else {
+    what += "; charts and Jacobians checked";
+  }
+  return what;
+}
+
+void WriteAll(int fd, const std::string& s) {
+  std::size_t done = 0;
+  while (done < s.size()) {
+    const ssize_t n = ::write(fd, s.data() + done, s.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return;
+    done += static_cast<std::size_t>(n);
+  }
+}
+
+[[noreturn]] void RunChild(const std::string& file, int report_fd, int stderr_fd, pid_t parent) {
+  ::setpgid(0, 0);  // its own group, so that the parent can kill whatever it starts
+#ifdef __linux__
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // dies with the parent (e.g. Ctrl-C on imuconv)
+  ::prctl(PR_SET_DUMPABLE, 0);         // a crash leaves no core file behind
+#endif
+  if (::getppid() != parent) ::_exit(127);  // the parent died before PDEATHSIG was set
+  const rlimit no_core{0, 0};
+  ::setrlimit(RLIMIT_CORE, &no_core);
+  // The plugin's own output must not reach the report: stdout and stdin are /dev/null,
+  // stderr goes to a pipe the parent keeps the tail of.
+  const int devnull = ::open("/dev/null", O_RDWR | O_CLOEXEC);
+  if (devnull >= 0) {
+    ::dup2(devnull, STDIN_FILENO);
+    ::dup2(devnull, STDOUT_FILENO);
+  }
+  ::dup2(stderr_fd, STDERR_FILENO);
+  std::string report;
+  try {
+    report = "O" + Exercise(file);
+  } catch (const std::exception& e) {
+    report = std::string("E") + e.what();
+  } catch (...) {
+    report = "Efailed with an exception that is not a std::exception";
+  }
+  WriteAll(report_fd, report);
+  ::_exit(0);  // no destructors, no atexit handlers: nothing of the parent's state is flushed twice
+}
+
+// Appends what fd has to `into` (at most `cap` bytes kept: the first for the report, the last
+// for stderr). Returns false at end of file or on an error.
+bool Drain(int fd, std::string& into, std::size_t cap, bool keep_tail) {
+  char buf[4096];
+  const ssize_t n = ::read(fd, buf, sizeof buf);
+  if (n < 0) return errno == EINTR || errno == EAGAIN;
+  if (n == 0) return false;
+  into.append(buf, static_cast<std::size_t>(n));
+  if (into.size() > cap) {
+    if (keep_tail)
+      into.erase(0, into.size() - cap);
+    else
+      into.resize(cap);
+  }
+  return true;
+}
+
+std::string LastLine(const std::string& text) {
+  std::size_t end = text.find_last_not_of("\r\n \t");
+  if (end == std::string::npos) return {};
+  const std::size_t start = text.find_last_of('\n', end);
+  std::string line = text.substr(start == std::string::npos ? 0 : start + 1, end + 1 - (start == std::string::npos ? 0 : start + 1));
+  if (line.size() > 200) line = line.substr(0, 200) + "...";
+  return line;
+}
+
+std::string Seconds(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", s);
+  return buf;
+}
+
+// Restores SIGCHLD's disposition: an inherited SIG_IGN would make the kernel reap the child
+// before waitpid could read its status.
+struct DefaultSigchld {
+  struct sigaction old {};
+  DefaultSigchld() {
+    struct sigaction dfl {};
+    dfl.sa_handler = SIG_DFL;
+    sigemptyset(&dfl.sa_mask);
+    ::sigaction(SIGCHLD, &dfl, &old);
+  }
+  ~DefaultSigchld() { ::sigaction(SIGCHLD, &old, nullptr); }
+};
+
+struct Fd {
+  int fd = -1;
+  ~Fd() { reset(); }
+  void reset() {
+    if (fd >= 0) ::close(fd);
+    fd = -1;
+  }
+};
+
+}  // namespace
+
+const char* OutcomeName(PluginCheck::Outcome o) {
+  switch (o) {
+    case PluginCheck::Outcome::Ok: return "ok";
+    case PluginCheck::Outcome::Refused: return "refused";
+    case PluginCheck::Outcome::Crashed: return "crashed";
+    case PluginCheck::Outcome::TimedOut: return "timed_out";
+    case PluginCheck::Outcome::NoResult: return "no_result";
+  }
+  return "no_result";
+}
+
+std::string SafeText(const std::string& text) {
+  const std::string escaped = Printable(text);
+  std::string doubled;  // what Printable makes of text that needs no escape: backslashes doubled
+  doubled.reserve(text.size());
+  for (char c : text) doubled += c == '\\' ? std::string("\\\\") : std::string(1, c);
+  return escaped == doubled ? text : escaped;
+}
+
+std::vector<std::string> PluginFilesIn(const std::string& dir) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(dir, ec);
+  if (st.type() == fs::file_type::not_found) throw Error("plugin directory " + Quoted(dir) + " does not exist");
+  if (ec) throw Error("cannot access plugin directory " + Quoted(dir) + ": " + ec.message());
+  if (!fs::is_directory(st)) throw Error(Quoted(dir) + " is not a directory");
+  fs::directory_iterator it(dir, ec);
+  if (ec) throw Error("cannot list plugin directory " + Quoted(dir) + ": " + ec.message());
+  std::vector<std::string> files;
+  for (const fs::directory_iterator end{}; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() > 3 && name.rfind("imuconv_plugin_", 0) == 0 && name.compare(name.size() - 3, 3, ".so") == 0)
+      files.push_back(it->path().string());
+  }
+  if (ec) throw Error("listing plugin directory " + Quoted(dir) + " failed: " + ec.message());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+PluginCheck CheckPluginInChild(const std::string& file, double timeout_s) {
+  PluginCheck result;
+  result.file = file;
+  DefaultSigchld sigchld;
+  int report_pipe[2], stderr_pipe[2];
+  if (::pipe2(report_pipe, O_CLOEXEC) != 0) throw Error(std::string("cannot create a pipe: ") + std::strerror(errno));
+  Fd report_r{report_pipe[0]}, report_w{report_pipe[1]};
+  if (::pipe2(stderr_pipe, O_CLOEXEC) != 0) throw Error(std::string("cannot create a pipe: ") + std::strerror(errno));
+  Fd stderr_r{stderr_pipe[0]}, stderr_w{stderr_pipe[1]};
+
+  std::cout.flush();
+  std::cerr.flush();
+  std::fflush(nullptr);  // nothing buffered is inherited and written twice
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid < 0) throw Error("cannot start a child process to check " + Quoted(file) + ": " + std::strerror(errno));
+  if (pid == 0) {
+    ::close(report_pipe[0]);
+    ::close(stderr_pipe[0]);
+    RunChild(file, report_pipe[1], stderr_pipe[1], parent);
+  }
+  ::setpgid(pid, pid);  // also done by the child; whichever runs first
+  report_w.reset();
+  stderr_w.reset();
+
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_s));
+  auto remaining_ms = [&] {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+    return left <= 0 ? 0 : static_cast<int>(std::min<long long>(left, 1000));
+  };
+  std::string report, err;
+  bool timed_out = false;
+  // 1. Read both pipes until the child closes them (it exits) or the deadline passes.
+  while (report_r.fd >= 0 || stderr_r.fd >= 0) {
+    if (Clock::now() >= deadline) {
+      timed_out = true;
+      break;
+    }
+    pollfd fds[2];
+    nfds_t n = 0;
+    Fd* owners[2];
+    for (Fd* f : {&report_r, &stderr_r})
+      if (f->fd >= 0) {
+        fds[n] = {f->fd, POLLIN, 0};
+        owners[n++] = f;
+      }
+    const int r = ::poll(fds, n, remaining_ms());
+    if (r < 0 && errno != EINTR) break;
+    for (nfds_t i = 0; r > 0 && i < n; ++i) {
+      if (!(fds[i].revents & (POLLIN | POLLHUP | POLLERR | POLLNVAL))) continue;
+      const bool is_report = owners[i] == &report_r;
+      if (!Drain(fds[i].fd, is_report ? report : err, is_report ? kMaxReport : kMaxStderrTail, !is_report))
+        owners[i]->reset();
+    }
+  }
+  // 2. The pipes are closed; the child may still be on its way out (or have closed them and
+  //    gone on running): wait for its exit, without reaping it yet, until the deadline.
+  while (!timed_out) {
+    siginfo_t si{};
+    const int w = ::waitid(P_PID, static_cast<id_t>(pid), &si, WEXITED | WNOHANG | WNOWAIT);
+    if (w == 0 && si.si_pid == pid) break;
+    if (w < 0 && errno != EINTR) break;
+    if (Clock::now() >= deadline) {
+      timed_out = true;
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  // 3. Kill the group (the child if it still runs, and anything it started) while the
+  //    unreaped child still holds its pid, so the number cannot name another process; reap.
+  ::kill(-pid, SIGKILL);
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+
+  const std::string last_err = LastLine(err);
+  const std::string stderr_note = last_err.empty() ? "" : "; last line on stderr: " + Quoted(last_err);
+  if (timed_out) {
+    result.outcome = PluginCheck::Outcome::TimedOut;
+    result.message = "did not finish within " + Seconds(timeout_s) + " s (killed)";
+  } else if (!report.empty() && report[0] == 'O') {
+    result.outcome = PluginCheck::Outcome::Ok;
+    result.message = "ok (" + SafeText(report.substr(1)) + ")";
+  } else if (!report.empty() && report[0] == 'E') {
+    result.outcome = PluginCheck::Outcome::Refused;
+    result.message = SafeText(report.substr(1));
+  } else if (WIFSIGNALED(status)) {
+    result.outcome = PluginCheck::Outcome::Crashed;
+    const int sig = WTERMSIG(status);
+    const char* name = SignalName(sig);
+    result.message = "crashed with signal " + (name ? std::string(name) : std::to_string(sig));
+    if (sig == SIGABRT) result.message += " (abort or std::terminate, e.g. an exception thrown in a noexcept method)";
+    result.message += stderr_note;
+  } else {
+    result.outcome = PluginCheck::Outcome::NoResult;
+    result.message = "stopped without a result (exit status " +
+                     std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")" + stderr_note;
+  }
+  return result;
+}
+
+}  // namespace imuconv::cli
