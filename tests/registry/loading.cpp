@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "../pipeline/pipeline_test_util.h"
 #include "imuconv_test.h"
 
 namespace {
@@ -42,13 +43,11 @@ TEST(Loading, MissingFile) {
 }
 
 TEST(Loading, FileThatIsNotASharedLibrary) {
-  const fs::path p = fs::temp_directory_path() / "imuconv_plugin_not_a_library.so";
-  std::ofstream(p) << "this is text, not ELF\n";
+  imuconv::test::TempDir tmp;  // unique: tests run in parallel
+  const std::string p = tmp.write("imuconv_plugin_not_a_library.so", "this is text, not ELF\n");
   Registry r;
-  const std::string msg = ErrorOf(r, p.string());
-  EXPECT_NE(msg.find("cannot load"), std::string::npos) << msg;
-  EXPECT_NE(msg.find(p.string()), std::string::npos) << msg;
-  fs::remove(p);
+  const std::string msg = ErrorOf(r, p);
+  EXPECT_NE(msg.find("cannot load '" + p + "': it is not an ELF shared object"), std::string::npos) << msg;
 }
 
 TEST(Loading, SharedLibraryThatIsNotAPlugin) {
