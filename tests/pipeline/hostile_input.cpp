@@ -437,7 +437,8 @@ TEST(JsonDocument, DeepNestingIsRefused) {
   const std::string msg = MessageOf<ConfigError>([&] { ParseJsonFile(f); });
   std::string ptr;
   for (std::size_t i = 0; i < kMaxJsonDepth; ++i) ptr += "/0";
-  EXPECT_EQ(msg, f + ": " + ptr + ": arrays and objects are nested deeper than 256 levels");
+  // The pointer is 512 bytes: shown up to 200.
+  EXPECT_EQ(msg, f + ": " + ptr.substr(0, 200) + "...: arrays and objects are nested deeper than 256 levels");
   // 256 levels are fine.
   const std::string g = tmp.write("ok.json", std::string(256, '[') + std::string(256, ']'));
   EXPECT_NO_THROW(ParseJsonFile(g));
@@ -451,9 +452,25 @@ TEST(JsonDocument, SizeLimit) {
   ASSERT_GE(fd, 0);
   ASSERT_EQ(::ftruncate(fd, static_cast<off_t>(kMaxJsonBytes + 1)), 0);
   ::close(fd);
-  EXPECT_EQ(MessageOf<ReadError>([&] { ParseJsonFile(f); }),
-            f + ": is larger than 256 MiB, the largest JSON document imuconv reads (parsed, a document takes 10 to 20 "
-                "times its size in memory)");
+  EXPECT_EQ(MessageOf<ReadError>([&] { ParseJsonFile(f); }), f + ": is larger than 256 MiB, the largest JSON document imuconv reads");
+}
+
+TEST(JsonDocument, MemoryEstimateStopsManyTinyValues) {
+  // 20 000 empty arrays: 60 kB of text, about 1.6 MB once parsed (estimated 80 B each).
+  TempDir tmp;
+  std::string doc = "[[]";
+  for (int i = 1; i < 20000; ++i) doc += ",[]";
+  const std::string f = tmp.write("tiny.json", doc + "]");
+  JsonLimits limits;
+  limits.max_memory = std::size_t{1} << 20;
+  EXPECT_EQ(MessageOf<ReadError>([&] { ParseJsonFile(f, limits); }),
+            f + ": would take more than 1 MiB of memory once parsed: it holds too many small values (imuconv's own "
+                "documents take about twice their size)");
+  limits.max_memory = std::size_t{4} << 20;
+  EXPECT_EQ(ParseJsonFile(f, limits).size(), 20000u);
+  // A real document under the same 1 MiB bound (its text is 2 kB).
+  limits.max_memory = std::size_t{1} << 20;
+  EXPECT_NO_THROW(ParseJsonFile(SourcePath("examples/euroc_v1_01_keyframes.json"), limits));
 }
 
 // ---- 6. error output is capped -----------------------------------------------------------------
@@ -505,6 +522,11 @@ TEST(Escaping, FileNamesKeysAndFieldsInMessages) {
   const std::string j = tmp.write("k.json", "{\"a\\nb\": 1, \"a\\nb\": 2}");
   EXPECT_EQ(MessageOf<ConfigError>([&] { ParseJsonFile(j); }),
             j + ": /a\\nb: duplicate key 'a\\nb' (the last one would silently win)");
+  // A megabyte key is cut in the message (and in the pointer shown).
+  const std::string big(1 << 20, 'k');
+  const std::string k = tmp.write("big.json", "{\"" + big + "\": 1, \"" + big + "\": 2}");
+  EXPECT_EQ(MessageOf<ConfigError>([&] { ParseJsonFile(k); }),
+            k + ": /" + big.substr(0, 199) + "...: duplicate key '" + big.substr(0, 80) + "...' (the last one would silently win)");
 }
 
 }  // namespace

@@ -9,6 +9,13 @@
 namespace imuconv::pipeline {
 namespace {
 
+// A pointer in a message: escaped, and cut at 200 bytes.
+std::string PointerShown(std::string_view p) {
+  constexpr std::size_t kMax = 200;
+  if (p.size() <= kMax) return Printable(p);
+  return Printable(p.substr(0, kMax)) + "...";
+}
+
 // The first ConfigError::kShownIssues issues, one per line, then how many more there were.
 // File and pointer come from the user (a key can hold a newline): escaped.
 std::string JoinIssues(const std::string& file, const std::vector<Issue>& issues, std::size_t total) {
@@ -17,7 +24,7 @@ std::string JoinIssues(const std::string& file, const std::vector<Issue>& issues
   const std::size_t n = std::min(issues.size(), ConfigError::kShownIssues);
   for (std::size_t i = 0; i < n; ++i) {
     if (i) s += "\n";
-    s += shown_file + ": " + (issues[i].pointer.empty() ? std::string("(document)") : Printable(issues[i].pointer)) +
+    s += shown_file + ": " + (issues[i].pointer.empty() ? std::string("(document)") : PointerShown(issues[i].pointer)) +
          ": " + issues[i].message;
   }
   if (total > n) s += "\n... and " + std::to_string(total - n) + " more problems in " + shown_file;
@@ -48,6 +55,12 @@ ReadError::ReadError(std::string file, std::size_t line, const std::string& mess
     : Error(line > 0 ? Printable(file) + ":" + std::to_string(line) + ": " + message : Printable(file) + ": " + message),
       file_(std::move(file)),
       line_(line) {}
+
+std::string QuotedShort(std::string_view s) {
+  constexpr std::size_t kMax = 80;  // the start is enough to find it; a key can be a megabyte long
+  if (s.size() <= kMax) return Quoted(s);
+  return "'" + Printable(s.substr(0, kMax)) + "...'";
+}
 
 std::string PointerToken(std::string_view key) {
   std::string s;
@@ -93,7 +106,7 @@ bool Node::expect_object(const std::vector<std::string>& allowed) const {
   for (auto it = j_->begin(); it != j_->end(); ++it) {
     bool known = false;
     for (const auto& a : allowed) known = known || it.key() == a;
-    if (!known) c_->error(child_pointer(it.key()), "unknown key " + Quoted(it.key()) + " (allowed here: " + JoinQuoted(allowed) + ")");
+    if (!known) c_->error(child_pointer(it.key()), "unknown key " + QuotedShort(it.key()) + " (allowed here: " + JoinQuoted(allowed) + ")");
   }
   return true;
 }
@@ -170,7 +183,7 @@ std::optional<std::string> Node::one_of(const std::vector<std::string>& choices,
   const std::string s = j_->get<std::string>();
   for (const auto& c : choices)
     if (c == s) return s;
-  fail("unknown value " + Quoted(s) + "; expected " + label + " " + JoinQuoted(choices));
+  fail("unknown value " + QuotedShort(s) + "; expected " + label + " " + JoinQuoted(choices));
   return std::nullopt;
 }
 

@@ -19,6 +19,9 @@ namespace imuconv::pipeline {
 
 using json = nlohmann::json;
 
+/// Text from a document (a key, a string value) for a message: escaped with Printable, in
+/// quotes, cut after 80 bytes with "...".
+std::string QuotedShort(std::string_view s);
 /// RFC 6901 escaping of one reference token ("~" -> "~0", "/" -> "~1").
 std::string PointerToken(std::string_view key);
 /// "an object", "a string", ... for messages.
@@ -111,17 +114,30 @@ class Node {
 };
 
 /// Largest JSON document ParseJsonFile reads: 256 MiB. imuconv's own largest outputs must stay
-/// readable as measurement files (the whole-file V1_01 run writes 34 MB); a parsed document
-/// takes roughly 10 to 20 times its text in memory, so this bounds a parse at about 3 to 5 GB.
+/// readable as measurement files (the whole-file V1_01 run writes 34 MB).
 inline constexpr std::size_t kMaxJsonBytes = std::size_t{256} << 20;
+/// Largest estimated memory of a parsed document: 1 GiB. nlohmann's DOM takes 1.7 times the
+/// text for imuconv's outputs (mostly numbers with many digits; 59 MB for the 34 MB output),
+/// but up to 22 times for many tiny values ("[[],[],...]": 16 B of json plus a 24 B vector
+/// per 3 bytes of text). The builder adds up an estimate as it goes and stops at this bound,
+/// so a hostile document costs at most about 256 MiB of text + 1 GiB, while any imuconv
+/// output under the size limit (<= 256 MiB x 1.7) passes.
+inline constexpr std::size_t kMaxJsonMemory = std::size_t{1} << 30;
 /// Deepest nesting of arrays and objects accepted (imuconv's documents nest < 10 deep; a
 /// limit keeps recursive code over the document safe from a stack overflow).
 inline constexpr std::size_t kMaxJsonDepth = 256;
 
-/// Parses a JSON file. Regular files only (a FIFO or a device is refused without blocking) of
-/// at most kMaxJsonBytes. Throws ReadError if the file cannot be read, and ConfigError for a
-/// syntax error (file, line and column, pointer ""), for each duplicate key (at its pointer:
-/// with nlohmann the last one would silently win), or for nesting deeper than kMaxJsonDepth.
-json ParseJsonFile(const std::string& path);
+struct JsonLimits {
+  std::size_t max_bytes = kMaxJsonBytes;
+  std::size_t max_memory = kMaxJsonMemory;
+  std::size_t max_depth = kMaxJsonDepth;
+};
+
+/// Parses a JSON file. Regular files only (a FIFO or a device is refused without blocking),
+/// within `limits`. Throws ReadError if the file cannot be read or exceeds the size or memory
+/// limit, and ConfigError for a syntax error (file, line and column; pointer ""), for each
+/// duplicate key (at its pointer: with nlohmann the last one would silently win), or for
+/// nesting deeper than max_depth (at the pointer where it happens).
+json ParseJsonFile(const std::string& path, const JsonLimits& limits = {});
 
 }  // namespace imuconv::pipeline
