@@ -415,7 +415,8 @@ TEST(JsonDocument, LineAndColumnAreCountedAsNlohmannCountsThem) {
   // Our count comes from the byte offset; it must agree with the library's own.
   TempDir tmp;
   for (const std::string text : {"{\"a\": x}", "{\n\n  \"a\": [1, 2,, 3]}", "[1,\r\n2\r\n", "{\"a\": \"\n\"}", "\n\n\n",
-                                 "[\"\xff\"]", "{\"a\" 1}", "[1] [2]", "", "[1,\n"}) {
+                                 "[\"\xff\"]", "{\"a\" 1}", "[1] [2]", "", "[1,\n", "\xef\xbb\xbf{\"a\": x}",
+                                 "\xef\xbb\xbf\n[,]"}) {
     const std::string f = tmp.write("x.json", text);
     std::string theirs;
     try {

@@ -238,6 +238,11 @@ TEST(TimeValue, ParsesExactly) {
   EXPECT_EQ(t->whole, 42);
   for (const char* bad : {"", "abc", "1.2.3", "nan", "inf", "1e", "--1", "0x10", "1,5"})
     EXPECT_FALSE(ParseTimeValue(bad)) << bad;
+  // JSON numbers beyond int64 saturate instead of an undefined cast (UBSan catches the cast).
+  EXPECT_EQ(TimeValueFromDouble(1e300).whole, 9000000000000000000LL);
+  EXPECT_EQ(TimeValueFromDouble(-1e300).whole, -9000000000000000000LL);
+  EXPECT_EQ(TimeValueFromDouble(-0.25).whole, -1);
+  EXPECT_EQ(TimeValueFromDouble(-0.25).frac, 0.75);
   // Relative seconds: the whole parts subtract exactly before anything is rounded.
   TimeOrigin o{TimeValue{1403715273, 0.262142976}, TimeUnit::s};
   EXPECT_NEAR(o.relative_seconds(*ParseTimeValue("1403715273.267142912")), 4.999936e-3, 1e-16);

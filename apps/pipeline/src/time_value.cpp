@@ -1,11 +1,10 @@
-#include "imuconv/pipeline/imu_reader.h"
-
 // Timestamps as written (TimeValue) and relative to an origin (TimeOrigin); see imu_reader.h.
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 
 #include "data/csv_text.h"
+#include "imuconv/pipeline/imu_reader.h"
 
 namespace imuconv::pipeline {
 
