@@ -2,8 +2,9 @@
 #include <iostream>
 
 #include "commands.h"
-#include "imuconv/pipeline/json_io.h"
+#include "imuconv/pipeline/output_file.h"
 #include "imuconv/pipeline/pipeline.h"
+#include "imuconv/printable.h"
 
 namespace imuconv::cli {
 namespace {
@@ -18,24 +19,31 @@ int Run(const CommandContext& ctx, const Options& o) {
   const pipeline::Pipeline p = pipeline::Pipeline::Load(o.pipeline);
   std::string out = o.output;
   if (out.empty() && p.output_path()) out = *p.output_path();
-  const bool to_stdout = out.empty() || out == "-";
+  if (out.empty()) out = "-";
+  // The destination is examined before any work (nothing is created yet): what kind of file
+  // it is, and that it is none of the files the run reads or loads.
+  pipeline::OutputFile file(out);
+  const std::vector<std::string> inputs = p.input_files();
+  for (std::size_t i = 0; i < inputs.size(); ++i)
+    file.refuse_if_same(inputs[i], inputs[i] == p.file() ? "the pipeline" : "the input file");
   pipeline::RunOptions ro;
   ro.plugin_dirs = ctx.plugin_dirs();
   ro.log = &std::cerr;
-  ro.summary = o.quiet ? nullptr : (to_stdout ? &std::cerr : &std::cout);
+  ro.summary = o.quiet ? nullptr : (file.is_stdout() ? &std::cerr : &std::cout);
   ro.threads = o.threads;
-  if (to_stdout) {
-    // Held until the run has succeeded: a failing run prints no partial document.
-    std::string text;
-    pipeline::RunToText(p, ro, [&](std::string_view s) { text.append(s.data(), s.size()); });
-    std::cout << text << std::flush;
-  } else {
-    // Streamed into a temporary next to the output, renamed over it once complete.
-    pipeline::AtomicFile file(out);
-    pipeline::RunToText(p, ro, [&](std::string_view s) { file.write(s); });
-    file.commit();
-    if (!o.quiet) std::cout << "\nwrote " << out << "\n";
-  }
+  // The runner loads the plugins and hands text to the sink only once the plugins, the data and
+  // the times have been checked. Then, before a file's temporary is created, the destination
+  // must not be a plugin (or library) the run has loaded. The text for a device, a FIFO or
+  // stdout is held until the run has succeeded: a failing run writes nothing anywhere.
+  bool first = true;
+  pipeline::RunToText(p, ro, [&](std::string_view s) {
+    if (first) file.refuse_if_loaded_object();
+    first = false;
+    file.write(s);
+  });
+  std::cout.flush();
+  file.commit();
+  if (!o.quiet && !file.is_stdout()) std::cout << "\nwrote " << Printable(out) << "\n";
   return 0;
 }
 
@@ -49,7 +57,10 @@ void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
       "nothing.");
   static Options o;
   sub->add_option("pipeline", o.pipeline, "Pipeline file")->required()->type_name("PIPELINE.json");
-  sub->add_option("-o,--output", o.output, "Output file (written atomically; '-' for stdout)")->type_name("OUT.json");
+  sub->add_option("-o,--output", o.output,
+                  "Output file: a regular file is replaced atomically (keeping its permissions; a symbolic link is "
+                  "followed to it); a device or FIFO is written through; '-' is stdout. Never one of the inputs")
+      ->type_name("OUT.json");
   sub->add_flag("-q,--quiet", o.quiet, "Do not print the summary");
   sub->add_option("-j,--threads", o.threads,
                   "Threads for independent intervals (0 = every core, the default; 1 = serial). The output is the "

@@ -4,9 +4,13 @@
 #include <iostream>
 
 #include "commands.h"
+#include "imuconv/pipeline/output_file.h"
 
 int main(int argc, char** argv) {
   using namespace imuconv::cli;
+  // An interrupted run (Ctrl-C, kill, a closed terminal or pipe) removes its temporary output
+  // file before dying of the signal; the previous output, if any, is untouched.
+  imuconv::pipeline::RemoveTemporariesOnSignal();
   CLI::App app{
       "imuconv: IMU propagation and preintegration, with perturbation conventions, integrators and "
       "preintegrators as plugins.",

@@ -656,7 +656,18 @@ std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file
   if (auto pn = root.get("plugin_dirs", false))
     if (auto l = pn->string_list(true))
       for (const auto& d : *l) spec->plugin_dirs.push_back(Resolve(base_dir, d));
-  if (auto o = root.string("output", false)) spec->output = Resolve(base_dir, *o);
+  // A pipeline (perhaps someone else's) may only write inside its own directory; -o, typed by
+  // the user, is not restricted. Lexical check: a symbolic link inside the directory is trusted.
+  if (auto o = root.string("output", false)) {
+    const fs::path rel = fs::path(*o).lexically_normal();
+    if (o->empty() || o->find('\0') != std::string::npos || rel.is_absolute() || rel.has_root_name() ||
+        rel.has_root_directory() || (!rel.empty() && *rel.begin() == ".."))
+      c.error("/output",
+              "expected a relative path inside the pipeline's directory (not absolute, not leading out of it with "
+              "'..'); to write anywhere else, give the output on the command line with -o");
+    else
+      spec->output = Resolve(base_dir, *o);
+  }
   if (auto on = root.get("omit", false)) {
     if (!on->is_array()) {
       on->fail("expected an array of names (Phi, cov, J_bias, R, reference), found " + TypeName(on->value()));

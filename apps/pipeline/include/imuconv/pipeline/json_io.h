@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "imuconv/pipeline/json_check.h"
+#include "imuconv/pipeline/output_file.h"  // OutputFile, WriteFileAtomically (they lived here)
 #include "imuconv/registry.h"
 #include "imuconv/types.h"
 
@@ -54,30 +55,5 @@ std::string PrettyJson(const json& j);
 /// Reads a state file (a JSON state object) with the checks of StateFromJson; throws
 /// ConfigError naming the file and pointer.
 ImuState ReadStateFile(const std::string& path);
-
-/// Writes `text` to `path` atomically: a temporary file in the same directory, flushed and
-/// renamed over `path`. On any failure the temporary is removed and Error is thrown; `path`
-/// is then untouched.
-void WriteFileAtomically(const std::string& path, const std::string& text);
-
-/// The same in pieces, for output that is streamed as it is produced: the constructor creates
-/// the temporary file, write() appends to it, commit() flushes it to disk and renames it over
-/// `path`. A file that is not committed (an exception, or destruction without commit()) is
-/// removed, so `path` only ever holds a complete document.
-class AtomicFile {
- public:
-  explicit AtomicFile(std::string path);
-  ~AtomicFile();
-  AtomicFile(const AtomicFile&) = delete;
-  AtomicFile& operator=(const AtomicFile&) = delete;
-  void write(std::string_view text);
-  void commit();
-
- private:
-  [[noreturn]] void fail(const std::string& what);
-  std::string path_, tmp_;
-  int fd_ = -1;
-  std::size_t written_ = 0, synced_ = 0;
-};
 
 }  // namespace imuconv::pipeline

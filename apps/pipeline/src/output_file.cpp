@@ -1,0 +1,394 @@
+#include "imuconv/pipeline/output_file.h"
+
+#include <fcntl.h>
+#include <link.h>
+#include <limits.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/random.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <optional>
+#include <random>
+#include <vector>
+
+#include "imuconv/printable.h"
+#include "imuconv/registry.h"
+
+namespace imuconv::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---- live temporaries, for the signal handler ----------------------------------------------
+// A fixed table, no allocation and no lock: the handler may run on any thread at any moment and
+// may only use async-signal-safe calls (unlink, raise) and lock-free atomics. A slot is
+// reserved (Filling) while its path is copied in, so the handler never reads half a path.
+constexpr int kSlots = 16;  // one output per command today; room for a library user with a few
+enum SlotState : int { kFree, kFilling, kLive };
+struct Slot {
+  std::atomic<int> state{kFree};
+  char path[PATH_MAX];
+};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs lock-free atomics");
+Slot g_slots[kSlots];
+
+int Remember(const std::string& path) {
+  if (path.size() >= PATH_MAX) return -1;
+  for (int i = 0; i < kSlots; ++i) {
+    int expected = kFree;
+    if (g_slots[i].state.compare_exchange_strong(expected, kFilling)) {
+      std::memcpy(g_slots[i].path, path.c_str(), path.size() + 1);
+      g_slots[i].state.store(kLive);
+      return i;
+    }
+  }
+  return -1;
+}
+
+void Forget(int slot) {
+  if (slot >= 0) g_slots[slot].state.store(kFree);
+}
+
+// Installed with SA_RESETHAND, so the disposition is the default again when this runs; the
+// signal is blocked while it runs, so raise() leaves it pending and it is delivered, with its
+// default action, as the handler returns.
+void RemoveTemporariesAndDie(int sig) {
+  for (auto& s : g_slots)
+    if (s.state.load() == kLive) ::unlink(s.path);
+  ::raise(sig);
+}
+
+// ---- examining the destination -----------------------------------------------------------
+
+std::string KindOf(mode_t m) {
+  if (S_ISREG(m)) return "a regular file";
+  if (S_ISDIR(m)) return "a directory";
+  if (S_ISCHR(m)) return "a character device";
+  if (S_ISBLK(m)) return "a block device";
+  if (S_ISFIFO(m)) return "a FIFO";
+  if (S_ISSOCK(m)) return "a socket";
+  if (S_ISLNK(m)) return "a symbolic link";
+  return "a file of unknown kind";
+}
+
+/// N when `p` names this process's descriptor N (/dev/fd/N, /proc/self/fd/N,
+/// /proc/thread-self/fd/N, /proc/<our pid>/fd/N). Those are written through the descriptor we
+/// already hold: reopening them would start at offset 0 without the append mode of `>>`, and
+/// following them as links would replace whatever file the shell opened.
+std::optional<int> OwnDescriptor(const std::string& p) {
+  // By name first: /dev and /proc are not mounted everywhere (some containers).
+  if (p == "-" || p == "/dev/stdout") return 1;
+  if (p == "/dev/stderr") return 2;
+  const fs::path path(p);
+  const std::string name = path.filename().string();
+  if (name.empty() || name.size() > 9 || !std::all_of(name.begin(), name.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return std::nullopt;
+  const std::string parent = path.parent_path().string();
+  if (parent.empty()) return std::nullopt;  // a file called "3" in the working directory
+  if (parent == "/dev/fd" || parent == "/proc/self/fd" || parent == "/proc/thread-self/fd") return std::stoi(name);
+  char buf[PATH_MAX];
+  if (!::realpath(path.parent_path().c_str(), buf)) return std::nullopt;
+  const std::string dir(buf), proc = "/proc/" + std::to_string(::getpid());
+  bool ours = dir == proc + "/fd";
+  const std::string task = proc + "/task/";
+  if (!ours && dir.size() > task.size() + 3 && dir.compare(0, task.size(), task) == 0 &&
+      dir.compare(dir.size() - 3, 3, "/fd") == 0) {
+    const std::string tid = dir.substr(task.size(), dir.size() - 3 - task.size());
+    ours = std::all_of(tid.begin(), tid.end(), [](char c) { return c >= '0' && c <= '9'; });
+  }
+  if (!ours) return std::nullopt;
+  return std::stoi(name);
+}
+
+std::string ReadLink(const std::string& p, const std::string& shown) {
+  std::string buf(256, '\0');
+  for (;;) {
+    const ssize_t n = ::readlink(p.c_str(), buf.data(), buf.size());
+    if (n < 0) throw Error(shown + ": cannot read the symbolic link " + Printable(p) + ": " + std::strerror(errno));
+    if (static_cast<std::size_t>(n) < buf.size()) return buf.substr(0, static_cast<std::size_t>(n));
+    buf.resize(buf.size() * 2);
+  }
+}
+
+/// Writes everything, through EINTR, short writes and a non-blocking descriptor; 0 or errno.
+int WriteAll(int fd, std::string_view text) {
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const std::size_t chunk = std::min<std::size_t>(text.size() - done, std::size_t{1} << 30);
+    const ssize_t w = ::write(fd, text.data() + done, chunk);
+    if (w < 0) {
+      if (errno == EINTR) continue;
+      if (errno == EAGAIN || errno == EWOULDBLOCK) {
+        pollfd p{fd, POLLOUT, 0};
+        ::poll(&p, 1, -1);
+        continue;
+      }
+      return errno;
+    }
+    done += static_cast<std::size_t>(w);
+  }
+  return 0;
+}
+
+/// 12 characters of [A-Za-z0-9] (71 bits) for a temporary's name.
+std::string RandomSuffix() {
+  static const char kChars[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
+  unsigned char b[12];
+  if (::getrandom(b, sizeof b, 0) != static_cast<ssize_t>(sizeof b)) {
+    std::random_device rd;
+    for (auto& c : b) c = static_cast<unsigned char>(rd());
+  }
+  std::string s;
+  for (unsigned char c : b) s += kChars[c % 62];
+  return s;
+}
+
+}  // namespace
+
+OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
+  const std::string shown = Printable(path_);
+  if (path_.empty()) throw Error("the output path is empty; expected a file name, or '-' for standard output");
+  if (path_.find('\0') != std::string::npos) throw Error(shown + ": a path cannot contain a NUL byte");
+
+  // Follow symbolic links one at a time (a descriptor path is recognised before it is followed).
+  std::string p = path_;
+  struct stat st {};
+  for (int links = 0;; ++links) {
+    if (const auto n = OwnDescriptor(p)) {
+      struct stat fst {};
+      if (::fstat(*n, &fst) != 0) throw Error(shown + ": file descriptor " + std::to_string(*n) + " is not open");
+      const int flags = ::fcntl(*n, F_GETFL);
+      if (flags < 0 || (flags & O_ACCMODE) == O_RDONLY)
+        throw Error(shown + ": file descriptor " + std::to_string(*n) + " is not open for writing");
+      mode_ = Mode::WriteThrough;
+      fd_target_ = *n;
+      target_ = path_;
+      exists_ = true;
+      dev_ = fst.st_dev;
+      ino_ = fst.st_ino;
+      return;
+    }
+    if (::lstat(p.c_str(), &st) != 0) {
+      // A missing name is a new file (a missing directory is reported below).
+      if (errno != ENOENT) throw Error(shown + ": cannot examine " + Printable(p) + ": " + std::strerror(errno));
+      break;
+    }
+    if (!S_ISLNK(st.st_mode)) {
+      exists_ = true;
+      break;
+    }
+    if (links == 40)
+      throw Error(shown + ": more than 40 symbolic links to follow (a loop?); expected a file, a character device or a FIFO");
+    const fs::path to(ReadLink(p, shown));
+    p = to.is_absolute() ? to.string() : (fs::path(p).parent_path() / to).string();
+  }
+  target_ = p;
+  const std::string where = target_ == path_ ? shown : shown + " (a symbolic link to " + Printable(target_) + ")";
+
+  if (exists_) {
+    dev_ = st.st_dev;
+    ino_ = st.st_ino;
+    if (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode)) {
+      // Written through: /dev/null must stay a device, a FIFO's reader must get the data.
+      mode_ = Mode::WriteThrough;
+      fifo_ = S_ISFIFO(st.st_mode);
+      if (::faccessat(AT_FDCWD, target_.c_str(), W_OK, AT_EACCESS) != 0)
+        throw Error(where + ": cannot write to this " + KindOf(st.st_mode).substr(2) + ": " + std::strerror(errno));
+      return;
+    }
+    if (!S_ISREG(st.st_mode))
+      throw Error(where + ": is " + KindOf(st.st_mode) +
+                  "; expected a regular file (replaced atomically), a character device or a FIFO (written through)");
+    if (st.st_nlink > 1)
+      throw Error(where + ": has " + std::to_string(st.st_nlink) +
+                  " hard links; replacing it would split them (the other names would keep the old content) and "
+                  "writing into it in place could leave them all with half a document: remove the other links, or "
+                  "write the output elsewhere");
+    perms_ = st.st_mode & 0777;
+    uid_ = st.st_uid;
+    gid_ = st.st_gid;
+  } else {
+    // umask() is the only portable way to read the mask; it is set back at once.
+    const mode_t mask = ::umask(0);
+    ::umask(mask);
+    perms_ = 0666 & ~mask;
+  }
+  mode_ = Mode::Replace;
+  dir_ = fs::path(target_).parent_path().string();
+  if (dir_.empty()) dir_ = ".";
+  // Checked now, so that a run is not done in vain; the temporary itself waits for the first write.
+  if (::faccessat(AT_FDCWD, dir_.c_str(), W_OK | X_OK, AT_EACCESS) != 0)
+    throw Error(where + ": cannot create a temporary file in " + Printable(dir_) + ": " + std::strerror(errno));
+}
+
+OutputFile::~OutputFile() {
+  discard();
+  if (fifo_ && !committed_) {
+    // Non-blocking: this succeeds only when a reader is already waiting in open(), and then
+    // closing at once gives it end-of-file with no data instead of a wait that never ends.
+    const int fd = ::open(target_.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd >= 0) ::close(fd);
+  }
+}
+
+void OutputFile::discard() noexcept {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+  if (!tmp_.empty()) ::unlink(tmp_.c_str());
+  tmp_.clear();
+  Forget(slot_);
+  slot_ = -1;
+  held_.clear();
+}
+
+void OutputFile::fail(const std::string& what, int err) {
+  discard();
+  throw Error(Printable(path_) + ": " + what + (err != 0 ? std::string(": ") + std::strerror(err) : std::string()));
+}
+
+void OutputFile::refuse_if_same(const std::string& other, const std::string& role) const {
+  if (!exists_) return;
+  struct stat st {};
+  if (::stat(other.c_str(), &st) != 0) return;  // an input that is missing fails when it is read
+  if (st.st_dev == dev_ && st.st_ino == ino_)
+    throw Error(Printable(path_) + ": is the same file as " + role + " " + Printable(other) +
+                ": refusing to overwrite it; write the output elsewhere");
+}
+
+void OutputFile::refuse_if_loaded_object() const {
+  if (!exists_) return;
+  std::vector<std::string> files;
+  ::dl_iterate_phdr(
+      [](dl_phdr_info* info, std::size_t, void* data) {
+        if (info->dlpi_name && *info->dlpi_name) static_cast<std::vector<std::string>*>(data)->emplace_back(info->dlpi_name);
+        return 0;
+      },
+      &files);
+  for (const auto& f : files) refuse_if_same(f, "the loaded plugin or library");
+}
+
+void OutputFile::create_temporary() {
+  const std::string base = "." + fs::path(target_).filename().string() + ".tmp.";
+  // The name is entered in the signal handler's table before the file exists (O_EXCL), so
+  // there is no moment at which our temporary exists unknown to the handler.
+  for (int attempt = 0; attempt < 16; ++attempt) {
+    const std::string name = (fs::path(dir_) / (base + RandomSuffix())).string();
+    slot_ = Remember(name);
+    if (slot_ < 0) fail("cannot create a temporary file: more than 16 open at once, or a path too long", 0);
+    fd_ = ::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+    if (fd_ >= 0) {
+      tmp_ = name;
+      return;
+    }
+    const int err = errno;
+    Forget(slot_);
+    slot_ = -1;
+    if (err != EEXIST) fail("cannot create a temporary file in " + Printable(dir_), err);
+  }
+  fail("cannot create a temporary file in " + Printable(dir_) + ": 16 random names were all taken", 0);
+}
+
+void OutputFile::write(std::string_view text) {
+  if (committed_) throw Error(Printable(path_) + ": written after it was completed");
+  if (mode_ == Mode::WriteThrough) {
+    held_.append(text.data(), text.size());
+    return;
+  }
+  if (fd_ < 0) create_temporary();
+  if (const int err = WriteAll(fd_, text)) fail("cannot write the temporary file " + Printable(tmp_), err);
+  written_ += text.size();
+#ifdef SYNC_FILE_RANGE_WRITE
+  // Large outputs: start writing back what is there while the rest is produced, so that the
+  // final fsync has little left to wait for. Only a hint; errors surface at fsync.
+  constexpr std::size_t kWriteBehind = 8u << 20;
+  if (written_ - synced_ >= kWriteBehind) {
+    ::sync_file_range(fd_, static_cast<off_t>(synced_), static_cast<off_t>(written_ - synced_), SYNC_FILE_RANGE_WRITE);
+    synced_ = written_;
+  }
+#endif
+}
+
+void OutputFile::commit() {
+  if (committed_) throw Error(Printable(path_) + ": completed twice");
+  const std::string shown = Printable(path_);
+  if (mode_ == Mode::WriteThrough) {
+    int fd = fd_target_;
+    if (fd < 0) {
+      // No O_CREAT, no O_TRUNC: the node is used as it is. A FIFO waits here for its reader.
+      fd = ::open(target_.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);
+      if (fd < 0) {
+        const int err = errno;
+        held_.clear();
+        throw Error(shown + ": cannot open it for writing: " + std::strerror(err));
+      }
+    }
+    int err = WriteAll(fd, held_);
+    if (fd != fd_target_ && ::close(fd) != 0 && err == 0) err = errno;
+    held_.clear();
+    held_.shrink_to_fit();
+    if (err != 0) throw Error(shown + ": cannot write to it: " + std::strerror(err));
+    committed_ = true;
+    return;
+  }
+
+  if (fd_ < 0) create_temporary();  // an empty document is still a document
+  // The destination may have changed while the run went on: never rename over anything but a
+  // regular file with one name.
+  struct stat now {};
+  if (::lstat(target_.c_str(), &now) == 0 && (!S_ISREG(now.st_mode) || now.st_nlink > 1))
+    fail("became " + (S_ISREG(now.st_mode) ? std::string("a file with several hard links") : KindOf(now.st_mode)) +
+             " while the output was produced; it is left as it is",
+         0);
+  // Keep the owner of a file we replace when we may (root), then its permission bits (after
+  // fchown, which may clear set-id bits).
+  if (exists_ && (uid_ != ::geteuid() || gid_ != ::getegid())) {
+    [[maybe_unused]] const int ignored = ::fchown(fd_, uid_, gid_);  // not permitted unless root: then ours
+  }
+  if (::fchmod(fd_, perms_) != 0) fail("cannot set the permissions of the temporary file " + Printable(tmp_), errno);
+  if (::fsync(fd_) != 0) fail("cannot flush the temporary file " + Printable(tmp_), errno);
+  const int fd = fd_;
+  fd_ = -1;
+  if (::close(fd) != 0) fail("cannot close the temporary file " + Printable(tmp_), errno);
+  if (::rename(tmp_.c_str(), target_.c_str()) != 0) fail("cannot rename the temporary file over it", errno);
+  tmp_.clear();
+  Forget(slot_);
+  slot_ = -1;
+  committed_ = true;
+  // Make the rename itself durable; not every file system can sync a directory, so a failure
+  // here is not an error (the data are on disk already).
+  const int dfd = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
+}
+
+void WriteFileAtomically(const std::string& path, const std::string& text) {
+  OutputFile f(path);
+  f.write(text);
+  f.commit();
+}
+
+void RemoveTemporariesOnSignal() {
+  const int signals[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
+  struct sigaction sa {};
+  sa.sa_handler = RemoveTemporariesAndDie;
+  sigemptyset(&sa.sa_mask);
+  for (int s : signals) sigaddset(&sa.sa_mask, s);  // one cleanup at a time
+  sa.sa_flags = SA_RESETHAND;
+  for (int s : signals) {
+    struct sigaction old {};
+    if (::sigaction(s, nullptr, &old) != 0) continue;
+    if (!(old.sa_flags & SA_SIGINFO) && old.sa_handler == SIG_IGN) continue;  // nohup: keep ignoring it
+    ::sigaction(s, &sa, nullptr);
+  }
+}
+
+}  // namespace imuconv::pipeline
