@@ -5,7 +5,8 @@
 
 #include "commands.h"
 #include "imuconv/pipeline/json_check.h"
-#include "imuconv/pipeline/json_io.h"
+#include "imuconv/pipeline/output_file.h"
+#include "imuconv/printable.h"
 #include "refcase.h"
 
 namespace imuconv::cli {
@@ -14,19 +15,30 @@ void RegisterRefcaseCommand(CLI::App& app, CommandContext& ctx) {
   auto* sub = app.add_subcommand("refcase", "Run a reference case and write results in the GTSAM reference layout");
   static std::string case_path, out_path;
   sub->add_option("CASE", case_path, "Case file (format: tests/data/reference/FORMAT.md)")->required();
-  sub->add_option("-o,--output", out_path, "Output JSON (written atomically)")->required();
+  sub->add_option("-o,--output", out_path,
+                  "Output JSON: a regular file is replaced atomically (a symbolic link is followed to it); a device or "
+                  "FIFO is written through; '-' is stdout. Never the case file")
+      ->required();
   AddPluginDirOption(*sub, ctx);
   sub->callback([&ctx] {
+    // The destination is examined first (nothing is created): its kind, and that it is neither
+    // the case nor a plugin. The result is written only once it has been computed and checked.
+    pipeline::OutputFile file(out_path);
+    file.refuse_if_same(case_path, "the case file");
     Registry reg;
-    for (const auto& i : LoadRegistry(reg, ctx)) std::cerr << "imuconv: warning: " << i.file << ": " << i.message << "\n";
+    for (const auto& i : LoadRegistry(reg, ctx))
+      std::cerr << "imuconv: warning: " << Printable(i.file) << ": " << Printable(i.message) << "\n";
+    for (const auto& info : reg.plugins())
+      if (info.file != "built-in") file.refuse_if_same(info.file, "the plugin");
     const nlohmann::json c = pipeline::ParseJsonFile(case_path);
     nlohmann::json out;
     try {
       out = refcase::Run(reg, c);
-    } catch (const Error& e) {
-      throw Error(case_path + ": " + e.what());
+    } catch (const std::exception& e) {
+      throw Error(Printable(case_path) + ": " + e.what());
     }
-    pipeline::WriteFileAtomically(out_path, out.dump(1) + "\n");
+    file.write(out.dump(1) + "\n");
+    file.commit();
     ctx.exit_code = 0;
   });
 }

@@ -1,9 +1,16 @@
 #include "refcase.h"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <initializer_list>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "imuconv/bridge.h"
+#include "imuconv/numeric.h"
+#include "imuconv/printable.h"
 #include "imuconv/so3.h"
 
 namespace imuconv::refcase {
@@ -11,19 +18,97 @@ namespace {
 
 using json = nlohmann::json;
 
+// Every input is checked by the rules `imuconv run` applies to its own inputs, and every
+// error names the JSON pointer (the command line adds the file): nothing is repaired or taken
+// as a default in silence.
+
+/// RFC 6901 token of a key, made printable for a message.
+std::string Token(const std::string& key) {
+  std::string t;
+  for (char c : key) t += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
+  return Printable(t);
+}
+
+std::string Num(double v) {
+  std::ostringstream o;
+  o.precision(10);
+  o << v;
+  return o.str();
+}
+
+/// The object at `ptr`, with no key outside `keys` (a misspelt optional key would otherwise
+/// be ignored).
+const json& Object(const json& j, const std::string& ptr, std::initializer_list<const char*> keys) {
+  if (!j.is_object()) throw Error((ptr.empty() ? std::string("the document") : ptr) + ": expected a JSON object");
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    if (std::none_of(keys.begin(), keys.end(), [&](const char* k) { return it.key() == k; })) {
+      std::string known;
+      for (const char* k : keys) known += std::string(known.empty() ? "" : ", ") + k;
+      throw Error(ptr + "/" + Token(it.key()) + ": unknown key; expected one of " + known);
+    }
+  }
+  return j;
+}
+
 const json& At(const json& j, const std::string& key, const std::string& ptr) {
-  if (!j.is_object() || !j.contains(key)) throw Error(ptr + "/" + key + ": missing");
+  if (!j.contains(key)) throw Error(ptr + "/" + key + ": missing");
   return j.at(key);
 }
 
 double Number(const json& j, const std::string& ptr) {
   if (!j.is_number()) throw Error(ptr + ": expected a number");
-  return j.get<double>();
+  const double v = j.get<double>();
+  if (!std::isfinite(v)) throw Error(ptr + ": expected a finite number");
+  return v;
+}
+
+double NonNegative(const json& j, const std::string& ptr) {
+  const double v = Number(j, ptr);
+  if (v < 0.0) throw Error(ptr + ": expected a non-negative number, found " + Num(v));
+  return v;
 }
 
 Vec3 Vector3(const json& j, const std::string& ptr) {
   if (!j.is_array() || j.size() != 3) throw Error(ptr + ": expected an array of 3 numbers");
   return Vec3(Number(j[0], ptr + "/0"), Number(j[1], ptr + "/1"), Number(j[2], ptr + "/2"));
+}
+
+/// An array of strings that, when present, must be exactly `expected` (the layout the runner
+/// assumes: a case written for another column or block order must not be read as this one).
+void FixedLabels(const json& parent, const char* key, const std::string& ptr, const std::vector<std::string>& expected) {
+  if (!parent.contains(key)) return;
+  const json& j = parent.at(key);
+  std::string want;
+  for (const auto& e : expected) want += std::string(want.empty() ? "[" : ", ") + "\"" + e + "\"";
+  want += "]";
+  bool same = j.is_array() && j.size() == expected.size();
+  for (std::size_t i = 0; same && i < expected.size(); ++i) same = j[i].is_string() && j[i].get<std::string>() == expected[i];
+  if (!same) throw Error(ptr + "/" + key + ": expected " + want + " (the only layout imuconv refcase reads)");
+}
+
+/// Same rule and tolerance as `imuconv run` (StateFromJson): a unit quaternion within 1e-6,
+/// never an all-zero one taken as the identity or a scaled one normalised in silence.
+Mat3 Rotation(const json& q, const std::string& ptr) {
+  if (!q.is_array() || q.size() != 4) throw Error(ptr + ": expected a quaternion [w, x, y, z] (4 numbers)");
+  Eigen::Vector4d v;
+  for (int i = 0; i < 4; ++i) v[i] = Number(q[static_cast<std::size_t>(i)], ptr + "/" + std::to_string(i));
+  const double norm = v.norm();
+  if (!(std::abs(norm - 1.0) <= 1e-6))
+    throw Error(ptr + ": expected a unit quaternion [w, x, y, z] (norm within 1e-6 of 1), found one of norm " + Num(norm));
+  return so3::FromQuaternionWxyz(v[0], v[1], v[2], v[3]);
+}
+
+/// Same rule as `imuconv run`: imuconv::CovarianceProblem with kCovarianceTol (1e-9 on the
+/// correlation scale: round-off passes, a real defect does not); nothing is repaired.
+void CheckCovariance(const Mat15& C, const std::string& ptr) {
+  std::string p = CovarianceProblem(C, kCovarianceTol);
+  if (p.empty()) return;
+  if (p.find("eigenvalue") == std::string::npos && C.allFinite()) {
+    const Mat15 sym = 0.5 * (C + C.transpose());
+    const Eigen::SelfAdjointEigenSolver<Mat15> eig(sym, Eigen::EigenvaluesOnly);
+    p += " (smallest eigenvalue of (C + C^T)/2: " + Num(eig.eigenvalues().minCoeff()) + ")";
+  }
+  throw Error(ptr + ": not a valid covariance: " + p + "; nothing is repaired, fix the input");
 }
 
 json ToJson(const Eigen::MatrixXd& m) {
@@ -61,10 +146,36 @@ struct Case {
   Vec3 dbg, dba;
 };
 
+/// The timing rules of `imuconv run` (apps/pipeline/include/imuconv/pipeline/timing.h, whose
+/// library refcase does not link): the median period must give a plausible IMU rate, 1 Hz to
+/// 100 kHz (else the times are not in seconds), and no gap may exceed 10 x the median period
+/// (the generator's jitter stays within 1.4 x). Either would otherwise be integrated across in
+/// silence.
+void CheckTiming(const std::vector<ImuSample>& s) {
+  std::vector<double> d(s.size() - 1);
+  for (std::size_t i = 1; i < s.size(); ++i) d[i - 1] = s[i].t - s[i - 1].t;
+  const auto mid = d.begin() + static_cast<std::ptrdiff_t>((d.size() - 1) / 2);  // lower median
+  std::nth_element(d.begin(), mid, d.end());
+  const double median = *mid;
+  if (!(1.0 / median >= 1.0 && 1.0 / median <= 1.0e5))
+    throw Error("/imu: the median period is " + Num(median) + " s (rate " + Num(1.0 / median) +
+                " Hz); an IMU rate is expected between 1 Hz and 100 kHz: t must be in seconds (FORMAT.md)");
+  for (std::size_t i = 1; i < s.size(); ++i)
+    if (s[i].t - s[i - 1].t > 10.0 * median)
+      throw Error("/imu/" + std::to_string(i) + "/0: gap of " + Num(s[i].t - s[i - 1].t) +
+                  " s before this sample (the median period is " + Num(median) + " s; limit 10 x median = " +
+                  Num(10.0 * median) + " s): a reference case must be sampled without gaps");
+}
+
 Case Parse(const json& c) {
   Case k;
+  Object(c, "", {"case_id", "kind", "gravity", "noise", "imu_columns", "imu", "state_s", "cov_s_left", "end_perturbation",
+                 "bias_delta"});
+  for (const char* key : {"case_id", "kind"})
+    if (c.contains(key) && !c.at(key).is_string()) throw Error(std::string("/") + key + ": expected a string");
+  FixedLabels(c, "imu_columns", "", {"t", "wx", "wy", "wz", "ax", "ay", "az"});
   const json& imu = At(c, "imu", "");
-  if (!imu.is_array() || imu.size() < 2) throw Error("/imu: expected at least two rows");
+  if (!imu.is_array() || imu.size() < 2) throw Error("/imu: expected an array of at least two rows [t, wx, wy, wz, ax, ay, az]");
   k.samples.reserve(imu.size());
   for (std::size_t i = 0; i < imu.size(); ++i) {
     const std::string ptr = "/imu/" + std::to_string(i);
@@ -76,38 +187,73 @@ Case Parse(const json& c) {
       s.gyro[a] = Number(row[1 + a], ptr + "/" + std::to_string(1 + a));
       s.accel[a] = Number(row[4 + a], ptr + "/" + std::to_string(4 + a));
     }
-    if (!k.samples.empty() && !(s.t > k.samples.back().t)) throw Error(ptr + "/0: time does not increase");
+    if (!k.samples.empty() && !(s.t > k.samples.back().t))
+      throw Error(ptr + "/0: time " + Num(s.t) + " s does not increase (the previous sample is at " +
+                  Num(k.samples.back().t) + " s)");
     k.samples.push_back(s);
   }
+  CheckTiming(k.samples);
   k.gravity = Vector3(At(c, "gravity", ""), "/gravity");
-  const json& n = At(c, "noise", "");
-  k.noise.gyro_noise_density = Number(At(n, "gyro_noise_density", "/noise"), "/noise/gyro_noise_density");
-  k.noise.accel_noise_density = Number(At(n, "accel_noise_density", "/noise"), "/noise/accel_noise_density");
-  k.noise.gyro_random_walk = Number(At(n, "gyro_random_walk", "/noise"), "/noise/gyro_random_walk");
-  k.noise.accel_random_walk = Number(At(n, "accel_random_walk", "/noise"), "/noise/accel_random_walk");
-  const json& s = At(c, "state_s", "");
-  const json& q = At(s, "q_wxyz", "/state_s");
-  if (!q.is_array() || q.size() != 4) throw Error("/state_s/q_wxyz: expected 4 numbers");
-  k.x_s.R = so3::FromQuaternionWxyz(Number(q[0], "/state_s/q_wxyz/0"), Number(q[1], "/state_s/q_wxyz/1"),
-                                    Number(q[2], "/state_s/q_wxyz/2"), Number(q[3], "/state_s/q_wxyz/3"));
+  const json& n = Object(At(c, "noise", ""), "/noise",
+                         {"gyro_noise_density", "accel_noise_density", "gyro_random_walk", "accel_random_walk"});
+  k.noise.gyro_noise_density = NonNegative(At(n, "gyro_noise_density", "/noise"), "/noise/gyro_noise_density");
+  k.noise.accel_noise_density = NonNegative(At(n, "accel_noise_density", "/noise"), "/noise/accel_noise_density");
+  k.noise.gyro_random_walk = NonNegative(At(n, "gyro_random_walk", "/noise"), "/noise/gyro_random_walk");
+  k.noise.accel_random_walk = NonNegative(At(n, "accel_random_walk", "/noise"), "/noise/accel_random_walk");
+  const json& s = Object(At(c, "state_s", ""), "/state_s", {"p", "q_wxyz", "v", "bg", "ba"});
+  k.x_s.R = Rotation(At(s, "q_wxyz", "/state_s"), "/state_s/q_wxyz");
   k.x_s.p = Vector3(At(s, "p", "/state_s"), "/state_s/p");
   k.x_s.v = Vector3(At(s, "v", "/state_s"), "/state_s/v");
   k.x_s.bg = Vector3(At(s, "bg", "/state_s"), "/state_s/bg");
   k.x_s.ba = Vector3(At(s, "ba", "/state_s"), "/state_s/ba");
-  const json& cov = At(At(c, "cov_s_left", ""), "matrix", "/cov_s_left");
+  const json& cs = Object(At(c, "cov_s_left", ""), "/cov_s_left", {"order", "definition", "matrix"});
+  FixedLabels(cs, "order", "/cov_s_left", {"p", "theta", "v", "bg", "ba"});
+  if (cs.contains("definition") && !cs.at("definition").is_string()) throw Error("/cov_s_left/definition: expected a string");
+  const json& cov = At(cs, "matrix", "/cov_s_left");
   if (!cov.is_array() || cov.size() != 15) throw Error("/cov_s_left/matrix: expected 15 rows");
   for (int i = 0; i < 15; ++i) {
     const std::string ptr = "/cov_s_left/matrix/" + std::to_string(i);
     if (!cov[i].is_array() || cov[i].size() != 15) throw Error(ptr + ": expected 15 numbers");
     for (int j = 0; j < 15; ++j) k.cov_s_left(i, j) = Number(cov[i][j], ptr + "/" + std::to_string(j));
   }
+  CheckCovariance(k.cov_s_left, "/cov_s_left/matrix");
   const json& e = At(c, "end_perturbation", "");
   if (!e.is_array() || e.size() != 15) throw Error("/end_perturbation: expected 15 numbers");
   for (int i = 0; i < 15; ++i) k.end_perturbation[i] = Number(e[i], "/end_perturbation/" + std::to_string(i));
-  const json& bd = At(c, "bias_delta", "");
+  const json& bd = Object(At(c, "bias_delta", ""), "/bias_delta", {"bg", "ba"});
   k.dbg = Vector3(At(bd, "bg", "/bias_delta"), "/bias_delta/bg");
   k.dba = Vector3(At(bd, "ba", "/bias_delta"), "/bias_delta/ba");
   return k;
+}
+
+/// One policy with `imuconv run`: JSON holds no NaN or infinity, and a variance computed from
+/// valid inputs is never negative beyond round-off. Either is refused, naming the output
+/// pointer, rather than written (as null, or as a "covariance" that is not one).
+void CheckResults(const json& j, const std::string& ptr) {
+  if (j.is_number_float() && !std::isfinite(j.get<double>()))
+    throw Error("produced a non-finite number (output " + ptr + "); no output is written");
+  if (j.is_object()) {
+    for (auto it = j.begin(); it != j.end(); ++it) CheckResults(it.value(), ptr + "/" + Token(it.key()));
+    for (const char* key : {"cov15", "cov9", "cov"}) {
+      if (!j.contains(key)) continue;
+      const json& m = j.at(key);
+      if (!m.is_array() || !std::all_of(m.begin(), m.end(), [&](const json& r) { return r.is_array() && r.size() == m.size(); }))
+        continue;  // "orders" names them with strings
+      // J S J^T and Phi P Phi^T + Q of a positive semi-definite S or P have non-negative
+      // variances up to round-off, far below 1e-9 of the largest variance.
+      double scale = 0.0;
+      for (std::size_t i = 0; i < m.size(); ++i) scale = std::max(scale, std::abs(m[i][i].get<double>()));
+      for (std::size_t i = 0; i < m.size(); ++i)
+        if (m[i][i].get<double>() < -kCovarianceTol * scale)
+          throw Error("computed a covariance with a negative variance, entry (" + std::to_string(i) + ", " +
+                      std::to_string(i) + ") = " + Num(m[i][i].get<double>()) + " (output " + ptr + "/" + key +
+                      "; tolerance 1e-9 of the largest variance " + Num(scale) +
+                      "). The inputs were checked, so this is a defect of imuconv or of a plugin: please report it. "
+                      "No output is written");
+    }
+  } else if (j.is_array()) {
+    for (std::size_t i = 0; i < j.size(); ++i) CheckResults(j[i], ptr + "/" + std::to_string(i));
+  }
 }
 
 // GTSAM's `mid` input: the mean of samples k and k+1 held over [t_k, t_k+1]. For the native
@@ -238,7 +384,7 @@ json Run(const Registry& reg, const json& case_json) {
   if (!st.ok()) throw Error("/imu: " + st.message());
 
   json out;
-  out["case_id"] = case_json.value("case_id", "");
+  out["case_id"] = case_json.contains("case_id") ? case_json.at("case_id") : json("");
   out["generator"] = "imuconv refcase";
   out["orders"] = {{"J_bias", "rows [theta,p,v] cols [ba,bg]"},
                    {"cov15", "[theta,p,v,ba,bg]"},
@@ -264,6 +410,7 @@ json Run(const Registry& reg, const json& case_json) {
                                                           {"state_e", FullStateJson(r.x_e)},
                                                           {"Phi", ToJson(r.Phi)},
                                                           {"cov", ToJson(r.cov)}};
+  CheckResults(out, "");
   return out;
 }
 

@@ -15,7 +15,12 @@
 
 namespace imuconv::refcase {
 
-/// Throws imuconv::Error naming the JSON pointer of a missing or malformed field.
+/// Throws imuconv::Error naming the JSON pointer of a missing, unknown or malformed field,
+/// with the rules of `imuconv run`: finite numbers, a unit quaternion (within 1e-6), a valid
+/// covariance (imuconv::CovarianceProblem), non-negative noise densities, increasing times,
+/// and the layout labels (imu_columns, cov_s_left/order), when given, as FORMAT.md has them.
+/// A result that is not finite, or a computed variance below -1e-9 of the largest, is refused
+/// naming its output pointer; nothing is repaired or written as null.
 nlohmann::json Run(const Registry& reg, const nlohmann::json& case_json);
 
 }  // namespace imuconv::refcase
