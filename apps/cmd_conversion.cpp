@@ -5,6 +5,7 @@
 
 #include "commands.h"
 #include "imuconv/pipeline/json_io.h"
+#include "imuconv/printable.h"
 
 namespace imuconv::cli {
 namespace {
@@ -28,8 +29,8 @@ int Run(const CommandContext& ctx, const Options& o) {
     if (reg.has(PluginKind::StateConvention, id)) continue;
     std::string known;
     for (const auto& k : reg.ids(PluginKind::StateConvention)) known += (known.empty() ? "" : ", ") + k;
-    std::string msg = "unknown state convention '" + id + "'; known: " + known;
-    if (reg.has(PluginKind::PreintConvention, id)) msg += " ('" + id + "' is an increment convention)";
+    std::string msg = "unknown state convention " + Quoted(id) + "; known: " + known;
+    if (reg.has(PluginKind::PreintConvention, id)) msg += " (" + Quoted(id) + " is an increment convention)";
     if (!issues.empty()) msg += "\n" + std::to_string(issues.size()) + " plugin file(s) failed to load; see 'imuconv plugins'";
     PrintError(msg);
     return 1;

@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
                  "Extra plugin directory, searched before IMUCONV_PLUGIN_PATH and the built-in one (repeatable)")
       ->type_name("DIR")
       ->allow_extra_args(false);
+  app.add_flag("--allow-plugin-override", ctx.allow_plugin_override,
+               "Two plugins with one id: use the one earlier on the search path (a warning) instead of failing");
 
   // ---- subcommands (one file each) ----
   RegisterPluginsCommand(app, ctx);

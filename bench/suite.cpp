@@ -10,6 +10,7 @@
 #include "imuconv/bridge.h"
 #include "imuconv/kernels/gtsam_preintegration.h"
 #include "imuconv/kernels/rk4.h"
+#include "imuconv/printable.h"
 #include "imuconv/registry.h"
 #include "imuconv/so3.h"
 
@@ -19,7 +20,7 @@ namespace {
 Registry& Plugins() {
   static Registry* reg = [] {
     auto* r = new Registry();
-    for (const auto& i : r->load_search_path()) std::fprintf(stderr, "imuconv bench: %s: %s\n", i.file.c_str(), i.message.c_str());
+    for (const auto& i : r->load_search_path()) std::fprintf(stderr, "imuconv bench: %s: %s\n", Printable(i.file).c_str(), Printable(i.message).c_str());
     return r;
   }();
   return *reg;
