@@ -12,6 +12,7 @@
 #include <filesystem>
 
 #include "imuconv/pipeline/json_writer.h"
+#include "input_checks.h"
 #include "imuconv/so3.h"
 
 namespace imuconv::pipeline {
@@ -65,15 +66,8 @@ std::optional<ImuState> StateFromJson(const Node& n) {
   const std::size_t before = n.checker().count();
   ImuState x;
   if (auto p = n.vec3("p", true)) x.p = *p;
-  if (auto qn = n.get("q_wxyz", true)) {
-    if (auto q = qn->vector(4)) {
-      const double norm = q->norm();
-      if (std::abs(norm - 1.0) > 1e-6)
-        qn->fail("quaternion norm is " + std::to_string(norm) + "; expected a unit quaternion [w, x, y, z] (within 1e-6)");
-      else
-        x.R = so3::FromQuaternionWxyz((*q)[0], (*q)[1], (*q)[2], (*q)[3]);
-    }
-  }
+  if (auto qn = n.get("q_wxyz", true))
+    if (auto R = RotationFromQuaternion(*qn)) x.R = *R;
   if (auto v = n.vec3("v", true)) x.v = *v;
   if (auto bg = n.vec3("bg", false)) x.bg = *bg;
   if (auto ba = n.vec3("ba", false)) x.ba = *ba;

@@ -2,10 +2,14 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <set>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "imuconv/pipeline/pipeline.h"
+#include "imuconv/printable.h"
 #include "imuconv/so3.h"
+#include "input_checks.h"
+#include "intervals.h"
 #include "spec.h"
 
 namespace imuconv::pipeline {
@@ -49,7 +53,12 @@ struct Parser {
   const std::string& base_dir;
   bool has_gt = false;
   bool has_imu = false;
-  std::vector<std::pair<std::string, std::string>> earlier;  // (name, type) of earlier tasks
+  // name -> type of the earlier tasks: looked up once per reference, so that validation
+  // stays linear in the number of tasks.
+  std::unordered_map<std::string, std::string> earlier;
+  // The first few earlier preintegrate task names, in order, for messages.
+  std::vector<std::string> preintegrate_names;
+  std::size_t preintegrate_count = 0;
 
   // ---- IMU source ---------------------------------------------------------------------
   std::optional<ImuSourceSpec> Imu(const Node& n) {
@@ -64,12 +73,12 @@ struct Parser {
     if (fmt) f = fmt->one_of({"euroc", "csv", "inline"});
     if (!f) {
       n.expect_object({"format", "path", "time_origin_ns", "delimiter", "header_rows", "comment", "time_unit", "columns",
-                       "time_origin", "samples"});
+                       "time_origin", "samples", "max_gap_factor", "allow_gaps"});
       return std::nullopt;
     }
     if (*f == "euroc") {
       s.format = ImuSourceSpec::Format::Euroc;
-      n.expect_object({"format", "path", "time_origin_ns"});
+      n.expect_object({"format", "path", "time_origin_ns", "max_gap_factor", "allow_gaps"});
       if (auto p = n.string("path", true)) s.path = Resolve(base_dir, *p);
       if (auto o = n.get("time_origin_ns", false)) {
         if (o->value().is_string()) {
@@ -84,7 +93,8 @@ struct Parser {
       }
     } else if (*f == "csv") {
       s.format = ImuSourceSpec::Format::Csv;
-      n.expect_object({"format", "path", "delimiter", "header_rows", "comment", "time_unit", "columns", "time_origin"});
+      n.expect_object({"format", "path", "delimiter", "header_rows", "comment", "time_unit", "columns", "time_origin",
+                       "max_gap_factor", "allow_gaps"});
       if (auto p = n.string("path", true)) s.path = Resolve(base_dir, *p);
       if (auto dn = n.get("delimiter", false)) {
         if (auto d = dn->string()) {
@@ -132,7 +142,7 @@ struct Parser {
     } else {
       s.format = ImuSourceSpec::Format::Inline;
       s.path = "inline";
-      n.expect_object({"format", "samples", "time_unit", "time_origin"});
+      n.expect_object({"format", "samples", "time_unit", "time_origin", "max_gap_factor", "allow_gaps"});
       if (auto un = n.get("time_unit", false))
         if (auto u = un->one_of({"s", "ms", "us", "ns"})) s.csv.time_unit = *ParseTimeUnit(*u);
       if (auto o = n.get("time_origin", false))
@@ -172,11 +182,47 @@ struct Parser {
             }
             s.inline_t.push_back(*t);
             s.inline_raw.push_back(smp);
+            s.inline_index.push_back(i);
           }
         }
       }
     }
+    s.timing = Timing(n);
+    if (s.format == ImuSourceSpec::Format::Inline) CheckInlineTiming(n, s);
     return s;
+  }
+
+  /// "max_gap_factor" (> 1, default 10) and "allow_gaps" (default false) of an IMU or
+  /// ground-truth source.
+  static TimingPolicy Timing(const Node& n) {
+    TimingPolicy t;
+    if (auto fn = n.get("max_gap_factor", false))
+      if (auto f = fn->number()) {
+        if (!(*f > 1.0))
+          fn->fail("expected a number > 1 (a gap longer than this many median sample periods is an error)");
+        else
+          t.max_gap_factor = *f;
+      }
+    if (auto b = n.boolean("allow_gaps", false)) t.allow_gaps = *b;
+    return t;
+  }
+
+  /// Inline samples get the readers' timing checks (rate, gaps), reported at the sample.
+  static void CheckInlineTiming(const Node& n, const ImuSourceSpec& s) {
+    if (s.inline_t.size() < 2 || s.inline_t.size() != s.inline_index.size()) return;
+    TimeOrigin o;
+    o.unit = s.csv.time_unit;
+    if (s.csv.time_origin) o.value = *s.csv.time_origin;
+    std::vector<double> t;
+    t.reserve(s.inline_t.size());
+    for (const auto& v : s.inline_t) t.push_back(o.relative_seconds(v));
+    const auto issue = FindTimingIssue(t, s.timing, s.csv.time_unit, TimeSource::imu);
+    if (!issue) return;
+    if (issue->kind == TimingIssue::Kind::gap && issue->index < s.inline_index.size())
+      n.checker().error(n.child_pointer("samples") + "/" + std::to_string(s.inline_index[issue->index]) + "/0",
+                        issue->message);
+    else
+      n.checker().error(n.child_pointer(n.has("time_unit") ? "time_unit" : "samples"), issue->message);
   }
 
   // ---- task pieces --------------------------------------------------------------------
@@ -226,12 +272,13 @@ struct Parser {
     return b;
   }
 
+  /// A start covariance: read, and refused (never repaired) unless it is one.
   std::optional<CovSpec> Cov(const Node& n) {
     CovSpec cs;
     auto m = Matrix15FromJson(n);
-    if (!m) return std::nullopt;
+    if (!m || !CheckCovarianceInput(n.checker(), n.pointer(), m->m)) return std::nullopt;
     cs.given = true;
-    cs.m = *m;
+    cs.in = std::make_shared<const Matrix15In>(std::move(*m));
     return cs;
   }
 
@@ -243,11 +290,6 @@ struct Parser {
       if (auto s = State(*st)) state = *s;
     if (auto cn = sn->get("cov", false))
       if (auto cv = Cov(*cn)) cov = *cv;
-  }
-
-  std::optional<double> Time(const Node& n) {
-    const auto t = n.number();
-    return t;
   }
 
   /// "interval": {"t_start", "t_end"} and/or "keyframes": [...] | {"start","end","step"}.
@@ -267,6 +309,7 @@ struct Parser {
     IntervalsSpec iv;
     if (has_i) {
       const Node in = task["interval"];
+      iv.pointer = in.pointer();
       if (!in.expect_object({"t_start", "t_end"})) return std::nullopt;
       const auto ts = in.number("t_start", true);
       const auto te = in.number("t_end", true);
@@ -275,18 +318,19 @@ struct Parser {
         in.checker().error(in.child_pointer("t_end"), "t_end must be after t_start");
         return std::nullopt;
       }
+      iv.form = IntervalsSpec::Form::Interval;
       iv.times = {*ts, *te};
-      iv.pointers = {in.child_pointer("t_start"), in.child_pointer("t_end")};
       return iv;
     }
     const Node kn = task["keyframes"];
+    iv.pointer = kn.pointer();
     if (kn.is_array()) {
       if (kn.size() < 2) {
         kn.fail("expected at least 2 keyframe times");
         return std::nullopt;
       }
-      if (kn.size() > 10000000) {
-        kn.fail("too many keyframes");
+      if (kn.size() > kMaxKeyframes) {
+        kn.fail("too many keyframes (more than 1e7, the limit of one task)");
         return std::nullopt;
       }
       auto ts = kn.number_list(2);
@@ -296,8 +340,8 @@ struct Parser {
           kn[i].fail("keyframe times must be strictly increasing");
           return std::nullopt;
         }
-      iv.times = *ts;
-      for (std::size_t i = 0; i < ts->size(); ++i) iv.pointers.push_back(kn.child_pointer(i));
+      iv.form = IntervalsSpec::Form::Array;
+      iv.times = std::move(*ts);
       return iv;
     }
     if (kn.is_object()) {
@@ -312,28 +356,27 @@ struct Parser {
         kn.checker().error(kn.child_pointer("end"), "end must be after start");
         return std::nullopt;
       }
-      const double n = std::floor((*b - *a) / *h + 1e-9);
-      if (n > 1e7) {
-        kn.checker().error(kn.child_pointer("step"), "step gives more than 1e7 keyframes");
-        return std::nullopt;
-      }
-      const auto count = static_cast<std::size_t>(n);
-      for (std::size_t k = 0; k <= count; ++k) {
-        // a + k h, snapped to the nearest nanosecond when that is within round-off (0.1 * 3 -> 0.3).
-        double tk = *a + static_cast<double>(k) * *h;
-        const double snapped = std::round(tk * 1e9) / 1e9;
-        if (std::abs(snapped - tk) <= 1e-12 * std::max(1.0, std::abs(tk))) tk = snapped;
-        iv.times.push_back(tk);
-        iv.pointers.push_back(k == 0 ? kn.child_pointer("start") : kn.child_pointer("end"));
-      }
-      if (iv.times.size() < 2) {
-        kn.checker().error(kn.child_pointer("step"), "step is longer than end - start: no interval");
+      if (auto problem = GenerateKeyframes(*a, *b, *h, iv)) {
+        kn.checker().error(kn.child_pointer("step"), *problem);
         return std::nullopt;
       }
       return iv;
     }
     kn.fail("expected an array of keyframe times or {\"start\", \"end\", \"step\"}, found " + TypeName(kn.value()));
     return std::nullopt;
+  }
+
+  /// The type of the earlier task `name`, or nothing.
+  const std::string* Earlier(const std::string& name) const {
+    const auto it = earlier.find(name);
+    return it == earlier.end() ? nullptr : &it->second;
+  }
+
+  void Remember(const std::string& name, const std::string& type) {
+    earlier.emplace(name, type);
+    if (type != "preintegrate") return;
+    ++preintegrate_count;
+    if (preintegrate_names.size() < 5) preintegrate_names.push_back(name);
   }
 
   std::optional<MeasurementsSpec> Measurements(const Node& task) {
@@ -343,17 +386,18 @@ struct Parser {
     m.pointer = n->pointer();
     if (n->value().is_string()) {
       const std::string name = n->value().get<std::string>();
-      const auto it = std::find_if(earlier.begin(), earlier.end(), [&](const auto& e) { return e.first == name; });
-      if (it == earlier.end()) {
+      const std::string* type = Earlier(name);
+      if (!type) {
         std::string known;
-        for (const auto& e : earlier)
-          if (e.second == "preintegrate") known += (known.empty() ? "'" : ", '") + e.first + "'";
-        n->fail("no earlier preintegrate task named '" + name + "'" +
+        for (const auto& e : preintegrate_names) known += (known.empty() ? "" : ", ") + Quoted(e);
+        if (preintegrate_count > preintegrate_names.size())
+          known += " and " + std::to_string(preintegrate_count - preintegrate_names.size()) + " more";
+        n->fail("no earlier preintegrate task named " + Quoted(name) +
                 (known.empty() ? std::string(" (there is none before this task)") : " (earlier ones: " + known + ")"));
         return std::nullopt;
       }
-      if (it->second != "preintegrate") {
-        n->fail("task '" + name + "' is a " + it->second + " task; measurements come from a preintegrate task");
+      if (*type != "preintegrate") {
+        n->fail("task " + Quoted(name) + " is a " + *type + " task; measurements come from a preintegrate task");
         return std::nullopt;
       }
       m.task = name;
@@ -394,38 +438,6 @@ struct Parser {
     return std::nullopt;
   }
 
-  std::optional<PreintIncrement> Increment(const Node& n) {
-    if (!n.expect_object({"q_wxyz", "R", "dp", "dv", "dbg", "dba"})) return std::nullopt;
-    const std::size_t before = c.count();
-    PreintIncrement d;
-    if (n.has("q_wxyz") && n.has("R")) {
-      n.checker().error(n.child_pointer("R"), "give either q_wxyz or R, not both");
-    } else if (n.has("q_wxyz")) {
-      if (auto q = n["q_wxyz"].vector(4)) {
-        if (std::abs(q->norm() - 1.0) > 1e-6)
-          n["q_wxyz"].fail("expected a unit quaternion [w, x, y, z] (norm within 1e-6 of 1)");
-        else
-          d.dR = so3::FromQuaternionWxyz((*q)[0], (*q)[1], (*q)[2], (*q)[3]);
-      }
-    } else if (n.has("R")) {
-      if (auto R = n["R"].matrix(3, 3)) {
-        const Mat3 Rm = *R;
-        if ((Rm.transpose() * Rm - Mat3::Identity()).cwiseAbs().maxCoeff() > 1e-6 || Rm.determinant() < 0.0)
-          n["R"].fail("expected a rotation matrix (R^T R = I within 1e-6, det +1)");
-        else
-          d.dR = so3::Exp(so3::Log(Rm));
-      }
-    } else {
-      n.checker().error(n.child_pointer("q_wxyz"), "required key is missing (give q_wxyz or R)");
-    }
-    if (auto v = n.vec3("dp", true)) d.dp = *v;
-    if (auto v = n.vec3("dv", true)) d.dv = *v;
-    if (auto v = n.vec3("dbg", false)) d.dbg = *v;
-    if (auto v = n.vec3("dba", false)) d.dba = *v;
-    if (c.count() != before) return std::nullopt;
-    return d;
-  }
-
   // ---- tasks --------------------------------------------------------------------------
   void Task(const Node& n, std::vector<TaskSpec>& out) {
     static const std::vector<std::string> kTypes = {"propagate", "preintegrate", "propagate_by_preintegration",
@@ -443,15 +455,15 @@ struct Parser {
     if (name) {
       if (!ValidName(*name))
         n.checker().error(n.child_pointer("name"), "expected a name of letters, digits, '_', '-' and '.', found '" + *name + "'");
-      else if (std::any_of(earlier.begin(), earlier.end(), [&](const auto& e) { return e.first == *name; }))
-        n.checker().error(n.child_pointer("name"), "duplicate task name '" + *name + "'");
+      else if (Earlier(*name))
+        n.checker().error(n.child_pointer("name"), "duplicate task name " + Quoted(*name));
       t.name = *name;
     }
     if (auto d = n.string("description", false)) t.description = *d;
     if (!type) {
       // Unknown type: still report unknown keys against the union of every task's keys? No:
       // the type decides the keys, so only the type error is reported.
-      if (name) earlier.emplace_back(*name, "?");
+      if (name) Remember(*name, "?");
       return;
     }
     t.type = *type;
@@ -539,9 +551,8 @@ struct Parser {
       if (auto sn = n.get("source", false)) {
         if (sn->expect_object({"task", "index"})) {
           if (auto tn = sn->string("task", true)) {
-            const auto it = std::find_if(earlier.begin(), earlier.end(), [&](const auto& e) { return e.first == *tn; });
-            if (it == earlier.end())
-              sn->checker().error(sn->child_pointer("task"), "no earlier task named '" + *tn + "'");
+            if (!Earlier(*tn))
+              sn->checker().error(sn->child_pointer("task"), "no earlier task named " + Quoted(*tn));
             else
               p.source_task = *tn;
           }
@@ -559,9 +570,15 @@ struct Parser {
       if (auto sn = n.get("state_end", false))
         if (auto x = StateFromJson(*sn)) p.state_end = *x;
       if (auto in = n.get("increment", false))
-        if (auto d = Increment(*in)) p.increment = *d;
+        if (auto d = IncrementFromJson(*in)) p.increment = *d;
       if (auto mn = n.get("matrix", false))
-        if (auto m = Matrix15FromJson(*mn)) p.matrix = *m;
+        if (auto m = Matrix15FromJson(*mn)) {
+          // A covariance must be one; a transition matrix need not be symmetric.
+          using W = ConvertTask::What;
+          const bool cov = !p.what_name.empty() && (p.what == W::StateCovariance || p.what == W::IncrementCovariance);
+          if (!cov || CheckCovarianceInput(n.checker(), mn->pointer(), m->m))
+            p.matrix = std::make_shared<const Matrix15In>(std::move(*m));
+        }
       // What each kind needs when there is no source.
       if (!n.has("source") && !p.what_name.empty()) {
         using W = ConvertTask::What;
@@ -634,7 +651,7 @@ struct Parser {
                           "can only be corrected to first order (set \"reintegrate\": false)");
       t.body = p;
     }
-    if (name) earlier.emplace_back(*name, *type);
+    if (name) Remember(*name, *type);
     out.push_back(std::move(t));
   }
 };
@@ -647,15 +664,16 @@ std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file
   spec->base_dir = base_dir;
   Checker c(file);
   const Node root(doc, "", c);
-  if (!root.expect_object({"$schema", "description", "plugin_dirs", "gravity", "noise", "imu", "ground_truth", "output",
-                           "omit", "tasks"}))
+  if (!root.expect_object({"$schema", "description", "plugin_dirs", "allow_plugin_override", "gravity", "noise", "imu",
+                           "ground_truth", "output", "omit", "tasks"}))
     c.throw_if_errors();
-  Parser parser{c, base_dir, false, false, {}};
+  Parser parser{c, base_dir, false, false, {}, {}, 0};
   if (auto d = root.string("description", false)) spec->description = *d;
   root.string("$schema", false);
   if (auto pn = root.get("plugin_dirs", false))
     if (auto l = pn->string_list(true))
       for (const auto& d : *l) spec->plugin_dirs.push_back(Resolve(base_dir, d));
+  if (auto b = root.boolean("allow_plugin_override", false)) spec->allow_plugin_override = *b;
   // A pipeline (perhaps someone else's) may only write inside its own directory; -o, typed by
   // the user, is not restricted. Lexical check: a symbolic link inside the directory is trusted.
   if (auto o = root.string("output", false)) {
@@ -696,10 +714,11 @@ std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file
   }
   if (auto gn = root.get("ground_truth", false)) {
     parser.has_gt = true;
-    if (gn->expect_object({"format", "path"})) {
+    if (gn->expect_object({"format", "path", "max_gap_factor", "allow_gaps"})) {
       if (auto fn = gn->get("format", true)) fn->one_of({"euroc"});
       GroundTruthSpec g;
       g.pointer = gn->pointer();
+      g.timing = Parser::Timing(*gn);
       if (auto p = gn->string("path", true)) g.path = Resolve(base_dir, *p);
       spec->gt = g;
     }
@@ -710,6 +729,7 @@ std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file
     if (!tn->is_array() || tn->size() == 0) {
       tn->fail("expected a non-empty array of tasks, found " + (tn->is_array() ? std::string("an empty array") : TypeName(tn->value())));
     } else {
+      spec->tasks.reserve(tn->size());  // a TaskSpec is ~3 KB: no reallocation copies
       for (std::size_t i = 0; i < tn->size(); ++i) parser.Task((*tn)[i], spec->tasks);
     }
   }
@@ -739,8 +759,9 @@ const std::optional<std::string>& Pipeline::output_path() const { return spec_->
 
 std::vector<std::string> Pipeline::input_files() const {
   std::vector<std::string> files;
+  std::unordered_set<std::string> seen;  // linear in the number of tasks
   const auto add = [&](const std::string& f) {
-    if (!f.empty() && std::find(files.begin(), files.end(), f) == files.end()) files.push_back(f);
+    if (!f.empty() && seen.insert(f).second) files.push_back(f);
   };
   add(spec_->file);
   if (spec_->imu && spec_->imu->format != ImuSourceSpec::Format::Inline) add(spec_->imu->path);

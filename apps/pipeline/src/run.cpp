@@ -5,7 +5,8 @@
 // Independent intervals (the keyframe intervals of a preintegrate task, unchained propagation
 // by preintegration) are computed and formatted on a thread pool (ThreadPool::ordered_for);
 // each interval's results and text depend on that interval only and go to the sink in index
-// order, so the document is the same byte for byte for any thread count.
+// order, so the document is the same byte for byte for any thread count. An interval's
+// record is kept after it is written only when a later task names the task (results.h).
 #include <algorithm>
 #include <cstdio>
 #include <cmath>
@@ -14,10 +15,19 @@
 #include <ostream>
 #include <sstream>
 
+#include <unordered_map>
+
 #include "imuconv/bridge.h"
 #include "imuconv/pipeline/json_writer.h"
 #include "imuconv/pipeline/pipeline.h"
+#include "imuconv/printable.h"
 #include "imuconv/so3.h"
+#include "input_checks.h"
+#include "intervals.h"
+#include "measurement_file.h"
+#include "plugins_used.h"
+#include "results.h"
+#include "run_util.h"
 #include "spec.h"
 #include "thread_pool.h"
 
@@ -32,32 +42,6 @@ constexpr const char* kRef = "preint_reference";
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 // Output text is handed to the sink in pieces of about this size.
 constexpr std::size_t kFlushBytes = 1u << 20;
-
-std::string Join(const std::vector<std::string>& xs) {
-  std::string s;
-  for (const auto& x : xs) s += (s.empty() ? "" : ", ") + x;
-  return s;
-}
-
-std::string Num(double v, int prec = 6) {
-  std::ostringstream o;
-  o << std::setprecision(prec) << v;
-  return o.str();
-}
-
-/// Non-bias and bias labels of a chart, in its order.
-std::vector<std::string> NavLabels(const std::vector<std::string>& blocks) {
-  std::vector<std::string> out;
-  for (const auto& b : blocks)
-    if (b != "bg" && b != "ba") out.push_back(b);
-  return out;
-}
-std::vector<std::string> BiasLabels(const std::vector<std::string>& blocks) {
-  std::vector<std::string> out;
-  for (const auto& b : blocks)
-    if (b == "bg" || b == "ba") out.push_back(b);
-  return out;
-}
 
 double RotationErrorDeg(const Mat3& a, const Mat3& b) { return so3::Log(a.transpose() * b).norm() * kRadToDeg; }
 
@@ -155,28 +139,6 @@ void WriteChartVector(JsonWriter& w, const V& v, const std::string& convention, 
   w.end_object();
 }
 
-/// A measurement with its time span (when known) and, for reintegration, its origin.
-struct MeasRecord {
-  Preintegrated m;
-  std::optional<double> t_s, t_e;
-  std::size_t n_knots = 0;
-  std::string pointer;  // where it came from, for messages ("" for task outputs)
-};
-
-struct PropRecord {
-  ImuState x_s, x_e;
-  Mat15 Phi = Mat15::Identity(), cov = Mat15::Zero();
-  std::string convention;
-  std::optional<double> t_s, t_e;
-};
-
-struct TaskResult {
-  std::string type;
-  const PreintegrateTask* preint = nullptr;
-  std::vector<MeasRecord> meas;
-  std::vector<PropRecord> props;
-};
-
 /// The "FILE: POINTER: message" error of one task at run time.
 class TaskFailure : public Error {
  public:
@@ -192,12 +154,16 @@ class SinkFailure : public Error {
 class Runner {
  public:
   Runner(const PipelineSpec& s, const Registry& reg, const RunOptions& opt, const TextSink& sink)
-      : s_(s), reg_(reg), opt_(opt), sink_(sink), pool_(opt.threads) {}
+      : s_(s), reg_(reg), opt_(opt), sink_(sink), pool_(opt.threads), referenced_(ReferencedTasks(s)) {
+    for (const auto& t : s_.tasks) by_name_.emplace(t.name, &t);
+  }
 
   void Run() {
     CheckRegistry();
     LoadData();
     CheckTimes();
+    CheckKeptMemory(s_, referenced_, [&](const std::string& f) { return files_.at(f).size(); }, opt_.max_kept_bytes);
+    if (opt_.check_only) return;
     JsonWriter w(buf_);
     w.begin_object();
     w.key("imuconv_version");
@@ -218,6 +184,8 @@ class Runner {
     w.vector(s_.gravity);
     w.key("noise");
     w.value(NoiseToJson(s_.noise));
+    WritePlugins(w);
+    // Only the part of the data the tasks need is read into memory: say which.
     if (have_imu_) {
       w.key("imu");
       w.begin_object();
@@ -229,6 +197,7 @@ class Runner {
       w.number(imu_.samples.front().t);
       w.key("t_last");
       w.number(imu_.samples.back().t);
+      WriteKept(w, imu_keep_);
       w.end_object();
     }
     if (gt_) {
@@ -242,6 +211,7 @@ class Runner {
       w.number(gt_->t.front());
       w.key("t_last");
       w.number(gt_->t.back());
+      WriteKept(w, gt_keep_);
       w.end_object();
     }
     w.key("tasks");
@@ -268,6 +238,15 @@ class Runner {
     w.end_object();
     buf_ += "\n";
     Flush(true);
+    if (opt_.stats) {
+      opt_.stats->records = records_;
+      opt_.stats->kept_records = opt_.stats->kept_bytes = 0;
+      for (const auto& [name, r] : results_) {
+        opt_.stats->kept_records += r.meas.size() + r.props.size();
+        for (const auto& m : r.meas) opt_.stats->kept_bytes += KeptBytes(m);
+        for (const auto& pr : r.props) opt_.stats->kept_bytes += KeptBytes(pr);
+      }
+    }
   }
 
  private:
@@ -281,8 +260,13 @@ class Runner {
   bool have_imu_ = false;
   std::optional<std::int64_t> origin_ns_;
   std::optional<GroundTruth> gt_;
+  std::optional<std::pair<double, double>> imu_keep_, gt_keep_;  // the time ranges read into memory
+  // Results of the tasks a later task names (referenced_), and nothing else.
+  std::unordered_map<std::string, std::string> referenced_;
+  std::unordered_map<std::string, const TaskSpec*> by_name_;
   std::map<std::string, TaskResult> results_;
   std::map<std::string, std::vector<MeasRecord>> files_;
+  std::size_t records_ = 0;  // interval results written (RunOptions::Stats)
 
   void Flush(bool all) {
     if (buf_.empty() || (!all && buf_.size() < kFlushBytes)) return;
@@ -302,12 +286,14 @@ class Runner {
   /// may compute it first): run on the pool, each into its own string by its own writer, and
   /// handed to the sink in order as soon as it is there (at most a window of elements
   /// ahead). The text is the same as writing them one after the other into `w`.
-  template <typename F>
-  void WriteElements(JsonWriter& w, std::size_t n, const F& write_one) {
+  /// consumed(k) runs on the calling thread, in order, once element k is in the sink; what
+  /// write_one(., k) left in a slot of index k % Window() is still there for it.
+  template <typename F, typename G>
+  void WriteElements(JsonWriter& w, std::size_t n, const F& write_one, const G& consumed) {
     const int depth = w.content_depth();
     const std::string base = w.container_pointer();
     const std::string first_sep = w.element_separator(true), sep = w.element_separator(false);
-    const std::size_t window = 16 * static_cast<std::size_t>(pool_.size());
+    const std::size_t window = Window();
     std::vector<std::string> slots(std::min(window, n));
     pool_.ordered_for(
         n, window,
@@ -320,36 +306,31 @@ class Runner {
         [&](std::size_t k) {
           if (k == 0) Flush(true);  // what comes before the elements
           Sink(slots[k % window]);
+          slots[k % window] = std::string();  // a long element's text is not held on to
+          ++records_;
+          consumed(k);
         });
     w.skip_elements(n);
   }
+  /// Elements in flight at most in WriteElements.
+  std::size_t Window() const { return 16 * static_cast<std::size_t>(pool_.size()); }
 
   // ---- checks against the registry --------------------------------------------------
   void CheckId(Checker& c, PluginKind kind, const std::string& id, const std::string& pointer) {
-    if (reg_.has(kind, id)) return;
-    const char* what = kind == PluginKind::StateConvention    ? "state convention"
-                       : kind == PluginKind::PreintConvention ? "increment (preintegration) convention"
-                       : kind == PluginKind::Propagator       ? "propagator"
-                                                              : "preintegrator";
-    std::string msg = std::string("unknown ") + what + " '" + id + "'; known: " + Join(reg_.ids(kind));
-    // A known id of another kind is a frequent slip: say so.
-    for (PluginKind k : {PluginKind::StateConvention, PluginKind::PreintConvention, PluginKind::Propagator,
-                         PluginKind::Preintegrator})
-      if (k != kind && reg_.has(k, id)) msg += " ('" + id + "' is a " + KindName(k) + ")";
-    c.error(pointer, msg);
+    CheckPluginId(c, reg_, kind, id, pointer);
   }
 
   void CheckCovConvention(Checker& c, const CovSpec& cov, PluginKind kind, const std::string& target) {
     if (!cov.given) return;
-    const std::string conv = cov.m.convention.value_or(target);
-    if (cov.m.convention) {
-      CheckId(c, kind, conv, cov.m.pointer + "/convention");
+    const std::string conv = cov.m().convention.value_or(target);
+    if (cov.m().convention) {
+      CheckId(c, kind, conv, cov.m().pointer + "/convention");
       if (!reg_.has(kind, conv)) return;
     }
-    if (cov.m.blocks && reg_.has(kind, conv)) {
+    if (cov.m().blocks && reg_.has(kind, conv)) {
       const auto expect = Blocks(reg_, kind, conv);
-      if (*cov.m.blocks != expect)
-        c.error(cov.m.pointer + "/blocks", "blocks [" + Join(*cov.m.blocks) + "] do not match the block order of '" + conv +
+      if (*cov.m().blocks != expect)
+        c.error(cov.m().pointer + "/blocks", "blocks [" + Join(*cov.m().blocks) + "] do not match the block order of '" + conv +
                                                "': [" + Join(expect) + "]");
     }
   }
@@ -383,7 +364,7 @@ class Runner {
         if (x->matrix && x->from && reg_.has(kind, *x->from)) {
           CovSpec cs;
           cs.given = true;
-          cs.m = *x->matrix;
+          cs.in = x->matrix;
           CheckCovConvention(c, cs, kind, *x->from);
         }
         if (x->source_task) {
@@ -406,20 +387,70 @@ class Runner {
   }
 
   std::string results_type(const std::string& name) const {
-    for (const auto& t : s_.tasks)
-      if (t.name == name) return t.type;
-    return "?";
+    const auto it = by_name_.find(name);
+    return it == by_name_.end() ? "?" : it->second->type;
+  }
+
+  void WritePlugins(JsonWriter& w) const {
+    // Provenance: which file (and version) each plugin the tasks used came from, so that a
+    // plugin overriding another's id is visible in the output.
+    w.key("plugins");
+    w.begin_array();
+    for (const PluginInfo* info : PluginsUsed(s_, reg_, files_)) {
+      w.begin_object();
+      w.key("id");
+      w.string(info->id);
+      w.key("kind");
+      w.string(KindName(info->kind));
+      w.key("file");
+      w.string(info->file);
+      w.key("version");
+      w.string(info->version);
+      w.end_object();
+    }
+    w.end_array();
+  }
+
+  static void WriteKept(JsonWriter& w, const std::optional<std::pair<double, double>>& keep) {
+    if (!keep) return;
+    w.key("kept_range");
+    w.begin_line_array();
+    w.number(keep->first);
+    w.number(keep->second);
+    w.end_array();
   }
 
   // ---- data -----------------------------------------------------------------------------
+  /// The time range the propagate and preintegrate tasks integrate over, if any.
+  std::optional<std::pair<double, double>> ImuRange() const {
+    std::optional<std::pair<double, double>> r;
+    const auto add = [&](double a, double b) {
+      r = r ? std::make_pair(std::min(r->first, a), std::max(r->second, b)) : std::make_pair(a, b);
+    };
+    for (const auto& t : s_.tasks) {
+      if (const auto* x = std::get_if<PropagateTask>(&t.body)) add(x->interval.front(), x->interval.back());
+      if (const auto* x = std::get_if<PreintegrateTask>(&t.body)) add(x->intervals.front(), x->intervals.back());
+    }
+    return r;
+  }
+
   void LoadData() {
+    // Only the samples the tasks integrate over are kept (the readers still check every
+    // line and keep one sample beyond each end, for interpolation).
+    const auto imu_range = ImuRange();
     if (s_.imu) {
       const ImuSourceSpec& src = *s_.imu;
+      ReadOptions ro;
+      ro.timing = src.timing;
+      ro.keep = imu_range;
       if (src.format == ImuSourceSpec::Format::Euroc) {
-        imu_ = ReadEurocImu(src.path, src.origin_ns);
+        imu_ = ReadEurocImu(src.path, src.origin_ns, ro);
+        imu_keep_ = imu_range;
       } else if (src.format == ImuSourceSpec::Format::Csv) {
-        imu_ = ReadCsvImu(src.path, src.csv);
+        imu_ = ReadCsvImu(src.path, src.csv, ro);
+        imu_keep_ = imu_range;
       } else {
+        // Inline samples (timing checked when parsed, at their pointers) are all in memory.
         TimeOrigin o;
         o.unit = src.csv.time_unit;
         if (src.csv.time_origin) o.value = *src.csv.time_origin;
@@ -428,7 +459,7 @@ class Runner {
           ImuSample smp = src.inline_raw[i];
           smp.t = o.relative_seconds(src.inline_t[i]);
           if (!imu_.samples.empty() && !(smp.t > imu_.samples.back().t))
-            throw ConfigError(s_.file, {{src.pointer + "/samples/" + std::to_string(i) + "/0",
+            throw ConfigError(s_.file, {{src.pointer + "/samples/" + std::to_string(src.inline_index[i]) + "/0",
                                          "time is too close to the previous sample's to be told apart in seconds"}});
           imu_.samples.push_back(smp);
         }
@@ -436,8 +467,18 @@ class Runner {
       }
       have_imu_ = true;
       if (imu_.origin) origin_ns_ = imu_.origin->nanoseconds();
-      if (imu_.samples.size() < 2)
+      // With a kept range, fewer than 2 samples means the range misses the data: CheckTimes
+      // says which time is outside.
+      if (imu_.samples.size() < 2 && !(imu_keep_ && !imu_.samples.empty()))
         throw ReadError(imu_.source, 0, "has " + std::to_string(imu_.samples.size()) + " IMU sample(s); at least 2 are needed");
+    }
+    // Measurement files (on the IMU data's time axis, so after it).
+    for (const auto& t : s_.tasks) {
+      const MeasurementsSpec* m = nullptr;
+      if (const auto* x = std::get_if<PropByPreintTask>(&t.body)) m = &x->meas;
+      if (const auto* x = std::get_if<ResidualTask>(&t.body)) m = &x->meas;
+      if (const auto* x = std::get_if<BiasUpdateTask>(&t.body)) m = &x->meas;
+      if (m && !m->file.empty() && !files_.count(m->file)) files_[m->file] = ReadMeasurementFile(m->file, reg_, origin_ns_);
     }
     if (s_.gt) {
       TimeOrigin o;
@@ -445,161 +486,18 @@ class Runner {
         o = *imu_.origin;
       else
         o.unit = TimeUnit::s;  // inline samples without an origin: GT stamps taken as absolute
-      gt_ = ReadEurocGroundTruth(s_.gt->path, o);
+      // Ground truth is looked up at interval ends and at the measurements' times.
+      auto range = imu_range;
+      for (const auto& [file, records] : files_)
+        for (const auto& r : records)
+          for (const auto& tm : {r.t_s, r.t_e})
+            if (tm) range = range ? std::make_pair(std::min(range->first, *tm), std::max(range->second, *tm)) : std::make_pair(*tm, *tm);
+      ReadOptions ro;
+      ro.timing = s_.gt->timing;
+      ro.keep = range;
+      gt_ = ReadEurocGroundTruth(s_.gt->path, o, ro);
+      gt_keep_ = range;
     }
-    // Measurement files.
-    for (const auto& t : s_.tasks) {
-      const MeasurementsSpec* m = nullptr;
-      if (const auto* x = std::get_if<PropByPreintTask>(&t.body)) m = &x->meas;
-      if (const auto* x = std::get_if<ResidualTask>(&t.body)) m = &x->meas;
-      if (const auto* x = std::get_if<BiasUpdateTask>(&t.body)) m = &x->meas;
-      if (m && !m->file.empty() && !files_.count(m->file)) files_[m->file] = LoadMeasurementFile(m->file);
-    }
-  }
-
-  std::vector<MeasRecord> LoadMeasurementFile(const std::string& path) {
-    const json doc = ParseJsonFile(path);
-    Checker c(path);
-    const Node root(doc, "", c);
-    std::vector<MeasRecord> out;
-    if (!root.expect_object({"$schema", "description", "time_origin_ns", "measurements"})) c.throw_if_errors();
-    std::optional<std::int64_t> file_origin;
-    if (auto o = root.integer("time_origin_ns", false)) file_origin = *o;
-    const auto ms = root.get("measurements", true);
-    if (ms && (!ms->is_array() || ms->size() == 0)) ms->fail("expected a non-empty array of measurements");
-    if (!ms || !ms->is_array()) c.throw_if_errors();
-    for (std::size_t i = 0; i < ms->size(); ++i) {
-      const Node e = (*ms)[i];
-      if (!e.expect_object({"index", "t_start", "t_end", "t_start_abs_ns", "t_end_abs_ns", "dt", "n_knots", "bias_estimate",
-                            "delta", "J_bias", "cov", "expressed"}))
-        continue;
-      const std::size_t before = c.count();
-      MeasRecord r;
-      r.pointer = e.pointer();
-      PreintegratedIn in;
-      // Times: absolute stamps win when both sides have an origin.
-      for (auto [key, abs_key, dst] : {std::tuple<const char*, const char*, std::optional<double>*>{"t_start", "t_start_abs_ns", &r.t_s},
-                                       {"t_end", "t_end_abs_ns", &r.t_e}}) {
-        if (auto a = e.integer(abs_key, false); a && origin_ns_) {
-          *dst = static_cast<double>(*a - *origin_ns_) * 1e-9;
-        } else if (auto t = e.number(key, false)) {
-          *dst = *t;
-          if (file_origin && origin_ns_) *dst = *t + static_cast<double>(*file_origin - *origin_ns_) * 1e-9;
-        }
-      }
-      if (auto dt = e.number("dt", true)) {
-        if (!(*dt > 0.0))
-          e.checker().error(e.child_pointer("dt"), "expected a positive duration");
-        else
-          in.dt = *dt;
-      }
-      if (auto bn = e.get("bias_estimate", true)) {
-        if (bn->expect_object({"bg", "ba"})) {
-          if (auto v = bn->vec3("bg", true)) in.bg_hat = *v;
-          if (auto v = bn->vec3("ba", true)) in.ba_hat = *v;
-        }
-      }
-      if (auto dn = e.get("delta", true)) ReadDelta(*dn, in.delta);
-      std::string cov_conv;
-      if (auto cn = e.get("cov", true)) {
-        if (cn->expect_object({"convention", "blocks", "matrix"})) {
-          if (auto cv = cn->string("convention", true)) {
-            CheckId(c, PluginKind::PreintConvention, *cv, cn->child_pointer("convention"));
-            if (reg_.has(PluginKind::PreintConvention, *cv)) cov_conv = *cv;
-          }
-          if (auto mn = cn->get("matrix", true))
-            if (auto m = mn->matrix(15, 15)) in.cov = *m;
-          if (auto bn = cn->get("blocks", false))
-            if (auto b = bn->string_list(); b && !cov_conv.empty()) {
-              const auto expect = Blocks(reg_, PluginKind::PreintConvention, cov_conv);
-              if (*b != expect)
-                bn->fail("blocks [" + Join(*b) + "] do not match the block order of '" + cov_conv + "': [" + Join(expect) + "]");
-            }
-        }
-      }
-      in.convention = cov_conv;
-      if (auto jn = e.get("J_bias", true)) ReadJBias(*jn, cov_conv, in);
-      if (c.count() != before) continue;
-      try {
-        r.m = FromConvention(reg_, in);
-      } catch (const std::exception& ex) {
-        e.fail(std::string("cannot bring the measurement into the reference chart: ") + ex.what());
-        continue;
-      }
-      if (r.t_s && r.t_e && std::abs((*r.t_e - *r.t_s) - in.dt) > 1e-6)
-        e.checker().error(e.child_pointer("dt"), "dt = " + Num(in.dt, 10) + " s does not match t_end - t_start = " +
-                                                     Num(*r.t_e - *r.t_s, 10) + " s (tolerance 1e-6 s)");
-      out.push_back(r);
-    }
-    c.throw_if_errors();
-    return out;
-  }
-
-  void ReadDelta(const Node& n, PreintIncrement& d) {
-    if (!n.expect_object({"q_wxyz", "R", "dp", "dv", "dbg", "dba", "rotation_angle_deg"})) return;
-    std::optional<Mat3> Rq, Rm;
-    if (auto qn = n.get("q_wxyz", false))
-      if (auto q = qn->vector(4)) {
-        if (std::abs(q->norm() - 1.0) > 1e-6)
-          qn->fail("expected a unit quaternion [w, x, y, z] (norm within 1e-6 of 1)");
-        else
-          Rq = so3::FromQuaternionWxyz((*q)[0], (*q)[1], (*q)[2], (*q)[3]);
-      }
-    if (auto rn = n.get("R", false))
-      if (auto R = rn->matrix(3, 3)) {
-        const Mat3 M = *R;
-        if ((M.transpose() * M - Mat3::Identity()).cwiseAbs().maxCoeff() > 1e-6 || M.determinant() < 0.0)
-          rn->fail("expected a rotation matrix (R^T R = I within 1e-6, det +1)");
-        else
-          Rm = so3::Exp(so3::Log(M));
-      }
-    if (!n.has("q_wxyz") && !n.has("R")) n.checker().error(n.child_pointer("q_wxyz"), "required key is missing (give q_wxyz or R)");
-    if (Rq && Rm && RotationErrorDeg(*Rq, *Rm) > 1e-6)
-      n.checker().error(n.child_pointer("R"), "R and q_wxyz disagree by " + Num(RotationErrorDeg(*Rq, *Rm)) + " deg");
-    if (Rm) d.dR = *Rm;
-    if (Rq) d.dR = *Rq;
-    if (auto v = n.vec3("dp", true)) d.dp = *v;
-    if (auto v = n.vec3("dv", true)) d.dv = *v;
-    if (auto v = n.vec3("dbg", false)) d.dbg = *v;
-    if (auto v = n.vec3("dba", false)) d.dba = *v;
-  }
-
-  void ReadJBias(const Node& n, const std::string& cov_conv, PreintegratedIn& in) {
-    if (!n.expect_object({"convention", "rows", "cols", "matrix"})) return;
-    std::string chart;
-    std::optional<std::vector<std::string>> rows, cols;
-    if (auto cv = n.string("convention", false)) chart = *cv;
-    for (auto [key, dst] : {std::pair<const char*, std::optional<std::vector<std::string>>*>{"rows", &rows}, {"cols", &cols}}) {
-      if (auto rn = n.get(key, false)) {
-        if (!rn->expect_object({"convention", "blocks"})) continue;
-        if (auto cv = rn->string("convention", false)) {
-          if (!chart.empty() && chart != *cv)
-            rn->checker().error(rn->child_pointer("convention"), "'" + *cv + "' differs from the J_bias chart '" + chart + "'");
-          chart = *cv;
-        }
-        if (auto bn = rn->get("blocks", false))
-          if (auto b = bn->string_list()) *dst = *b;
-      }
-    }
-    if (!chart.empty()) {
-      CheckId(n.checker(), PluginKind::PreintConvention, chart, n.child_pointer("convention"));
-      if (!reg_.has(PluginKind::PreintConvention, chart)) return;
-    } else if (!cov_conv.empty()) {
-      chart = reg_.info(PluginKind::PreintConvention, cov_conv).jacobian_convention;
-      if (chart.empty()) chart = cov_conv;
-    }
-    if (!chart.empty()) {
-      const auto labels = Blocks(reg_, PluginKind::PreintConvention, chart);
-      if (rows && *rows != NavLabels(labels))
-        n.checker().error(n.child_pointer("rows") + "/blocks",
-                          "rows [" + Join(*rows) + "] do not match the order of '" + chart + "': [" + Join(NavLabels(labels)) + "]");
-      if (cols && *cols != BiasLabels(labels))
-        n.checker().error(n.child_pointer("cols") + "/blocks",
-                          "cols [" + Join(*cols) + "] do not match the bias order of '" + chart + "': [" + Join(BiasLabels(labels)) + "]");
-    }
-    in.jacobian_convention = chart;
-    if (auto mn = n.get("matrix", true))
-      if (auto m = mn->matrix(9, 6)) in.J_bias = *m;
   }
 
   // ---- checks against the data ---------------------------------------------------------
@@ -611,11 +509,40 @@ class Runner {
       c.error(pointer, "t = " + Num(t, 10) + " s is after the last IMU sample (t = " + Num(t1, 10) + " s; times are relative to the time origin)");
   }
 
+  /// Where the ground truth ends, for a time it does not cover. Only the rows around the
+  /// times the tasks use are read, but every such time is in that range: a time before the
+  /// first row read is before the file's first row (and after the last, after its last).
+  std::string GtUncovered(double t) const {
+    return "ground truth does not cover t = " + Num(t, 10) + " s (" + Printable(gt_->source) +
+           (t < gt_->t.front() ? " starts at t = " + Num(gt_->t.front(), 10) : " ends at t = " + Num(gt_->t.back(), 10)) +
+           " s)";
+  }
+
   void CheckGt(Checker& c, double t, const std::string& pointer) {
     if (!gt_) return;
-    if (!(t >= gt_->t.front() && t <= gt_->t.back()))
-      c.error(pointer, "ground truth does not cover t = " + Num(t, 10) + " s (" + gt_->source + " spans [" +
-                           Num(gt_->t.front(), 10) + ", " + Num(gt_->t.back(), 10) + "] s)");
+    if (!(t >= gt_->t.front() && t <= gt_->t.back())) c.error(pointer, GtUncovered(t));
+  }
+
+  /// Every keyframe within the IMU data. Generated keyframes increase, so the first one and
+  /// the first one past the data say all there is (one message, not one per keyframe).
+  void CheckIntervalTimes(Checker& c, const IntervalsSpec& iv) {
+    if (iv.form != IntervalsSpec::Form::Generated) {
+      for (std::size_t i = 0; i < iv.size(); ++i) CheckTime(c, iv.time(i), iv.pointer_of(i));
+      return;
+    }
+    CheckTime(c, iv.front(), iv.pointer_of(0));
+    const double t1 = imu_.samples.back().t;
+    if (!(iv.back() > t1)) return;
+    std::size_t lo = 0, hi = iv.size() - 1;  // the first keyframe after t1 is in (lo, hi]
+    while (hi - lo > 1) {
+      const std::size_t mid = lo + (hi - lo) / 2;
+      (iv.time(mid) > t1 ? hi : lo) = mid;
+    }
+    if (iv.time(lo) > t1) hi = lo;
+    c.error(iv.pointer_of(iv.size() - 1), "t = " + Num(iv.time(hi), 10) + " s is after the last IMU sample (t = " +
+                                              Num(t1, 10) + " s; times are relative to the time origin): keyframe " +
+                                              std::to_string(hi) + " of " + std::to_string(iv.size()) +
+                                              (hi + 1 < iv.size() ? " and every later one up to end" : std::string()));
   }
 
   void CheckTimes() {
@@ -627,18 +554,22 @@ class Runner {
       if (const auto* x = std::get_if<PropagateTask>(&t.body)) {
         iv = &x->interval;
         st = &x->start;
-        if (x->compare_gt.value_or(false) && !iv->times.empty()) CheckGt(c, iv->times.back(), iv->pointers.back());
+        if (x->compare_gt.value_or(false) && iv->size()) CheckGt(c, iv->back(), iv->pointer_of(iv->size() - 1));
       }
       if (const auto* x = std::get_if<PreintegrateTask>(&t.body)) {
         iv = &x->intervals;
         bs = &x->bias;
       }
-      if (!iv) continue;
+      if (!iv || iv->size() < 2) continue;
       if (!have_imu_) continue;  // reported by the parser
-      for (std::size_t i = 0; i < iv->times.size(); ++i) CheckTime(c, iv->times[i], iv->pointers[i]);
-      if (st && st->ground_truth && !iv->times.empty()) CheckGt(c, iv->times.front(), st->pointer);
-      if (bs && bs->ground_truth)
-        for (std::size_t i = 0; i + 1 < iv->times.size(); ++i) CheckGt(c, iv->times[i], bs->pointer);
+      CheckIntervalTimes(c, *iv);
+      if (st && st->ground_truth) CheckGt(c, iv->front(), st->pointer);
+      // The bias at every interval start: the ground truth spans one range, so the first
+      // and the last start decide.
+      if (bs && bs->ground_truth) {
+        CheckGt(c, iv->front(), bs->pointer);
+        if (iv->size() > 2) CheckGt(c, iv->time(iv->size() - 2), bs->pointer);
+      }
     }
     c.throw_if_errors();
   }
@@ -686,22 +617,28 @@ class Runner {
   void StateChart(JsonWriter& w, const Mat15& m, const std::string& conv) const {
     WriteChart(w, m, conv, BlocksOf(PluginKind::StateConvention, conv));
   }
-  void PreintChart(JsonWriter& w, const Mat15& m, const std::string& conv) const {
-    WriteChart(w, m, conv, BlocksOf(PluginKind::PreintConvention, conv));
+  /// Covariances the pipeline computed are checked before they are written (input_checks.h).
+  void CovChart(JsonWriter& w, const Mat15& m, const std::string& conv, const std::vector<std::string>& blocks) const {
+    CheckOutputCovariance(m, w.pointer() + "/matrix");
+    WriteChart(w, m, conv, blocks);
+  }
+  void StateCovChart(JsonWriter& w, const Mat15& m, const std::string& conv) const {
+    CovChart(w, m, conv, BlocksOf(PluginKind::StateConvention, conv));
+  }
+  void PreintCovChart(JsonWriter& w, const Mat15& m, const std::string& conv) const {
+    CovChart(w, m, conv, BlocksOf(PluginKind::PreintConvention, conv));
   }
 
   Mat15 StartCov(const CovSpec& cov, const std::string& conv, const ImuState& x) const {
     if (!cov.given) return Mat15::Zero();
-    if (cov.m.convention && *cov.m.convention != conv) return reg_.convert_covariance(*cov.m.convention, conv, x, cov.m.m);
-    return cov.m.m;
+    if (cov.m().convention && *cov.m().convention != conv) return reg_.convert_covariance(*cov.m().convention, conv, x, cov.m().m);
+    return cov.m().m;
   }
 
   ImuState GtAt(double t, const std::string& pointer) const {
     if (!gt_) throw TaskFailure(s_.file + ": " + pointer + ": there is no /ground_truth");
     auto x = gt_->at(t);
-    if (!x)
-      throw TaskFailure(s_.file + ": " + pointer + ": ground truth does not cover t = " + Num(t, 10) + " s (" + gt_->source +
-                        " spans [" + Num(gt_->t.front(), 10) + ", " + Num(gt_->t.back(), 10) + "] s)");
+    if (!x) throw TaskFailure(s_.file + ": " + pointer + ": " + GtUncovered(t));
     return *x;
   }
 
@@ -790,7 +727,7 @@ class Runner {
     }
     if (reference && !omit.cov) {
       w.key("cov");
-      WriteChart(w, m.cov, kRef, ref_blocks);
+      CovChart(w, m.cov, kRef, ref_blocks);
     }
     if (!conventions.empty() && !(omit.J_bias && omit.cov)) {
       w.key("expressed");
@@ -806,7 +743,7 @@ class Runner {
         }
         if (!omit.cov) {
           w.key("cov");
-          PreintChart(w, in.cov, in.convention);
+          PreintCovChart(w, in.cov, in.convention);
         }
         w.end_object();
       }
@@ -835,11 +772,14 @@ class Runner {
     if (const auto* x = std::get_if<ResidualTask>(&t.body)) RunResidual(t, *x, w);
     if (const auto* x = std::get_if<BiasUpdateTask>(&t.body)) RunBiasUpdate(t, *x, w);
     w.end_object();
-    results_[t.name] = std::move(res);
+    if (Kept(t)) results_[t.name] = std::move(res);
   }
 
+  /// A later task names this one: its results are kept (else written and dropped).
+  bool Kept(const TaskSpec& t) const { return referenced_.count(t.name) > 0; }
+
   void RunPropagate(const TaskSpec& t, const PropagateTask& p, JsonWriter& w, TaskResult& res) {
-    const double ts = p.interval.times.front(), te = p.interval.times.back();
+    const double ts = p.interval.front(), te = p.interval.back();
     PropagationInput in;
     in.x_s = p.start.ground_truth ? GtAt(ts, p.start.pointer) : p.start.x;
     in.cov_s = StartCov(p.cov, p.convention, in.x_s);
@@ -862,7 +802,7 @@ class Runner {
     WriteState(w, in.x_s);
     if (!s_.omit.cov) {
       w.key("cov_s");
-      StateChart(w, in.cov_s, p.convention);
+      StateCovChart(w, in.cov_s, p.convention);
     }
     w.key("x_e");
     WriteState(w, r.x_e);
@@ -872,12 +812,13 @@ class Runner {
     }
     if (!s_.omit.cov) {
       w.key("cov");
-      StateChart(w, r.cov, p.convention);
+      StateCovChart(w, r.cov, p.convention);
     }
     if (cmp) {
       w.key("ground_truth");
       WriteComparison(w, *cmp);
     }
+    ++records_;
     res.props.push_back({in.x_s, r.x_e, r.Phi, r.cov, p.convention, ts, te});
     if (opt_.summary) {
       std::ostream& o = *opt_.summary;
@@ -890,22 +831,24 @@ class Runner {
 
   void RunPreintegrate(const TaskSpec& t, const PreintegrateTask& p, JsonWriter& w, TaskResult& res) {
     res.preint = &p;
-    const auto& ts = p.intervals.times;
-    const std::size_t n = ts.size() < 2 ? 0 : ts.size() - 1;
-    // Every interval on its own: computed and written on the pool, each into its own record.
-    res.meas.resize(n);
-    const auto compute = [&](std::size_t k) {
+    const IntervalsSpec& iv = p.intervals;
+    const std::size_t n = iv.size() < 2 ? 0 : iv.size() - 1;
+    // Every interval on its own, computed and written on the pool; its record is kept only
+    // when a later task uses it.
+    const bool keep = Kept(t);
+    if (keep) res.meas.resize(n);
+    const auto compute = [&](std::size_t k, MeasRecord& r) {
+      const double ts = iv.time(k), te = iv.time(k + 1);
       Vec3 bg = p.bias.bg, ba = p.bias.ba;
       if (p.bias.ground_truth) {
-        const ImuState g = GtAt(ts[k], p.bias.pointer);
+        const ImuState g = GtAt(ts, p.bias.pointer);
         bg = g.bg;
         ba = g.ba;
       }
-      const SampleWindow win = Window(ts[k], ts[k + 1]);
-      MeasRecord& r = res.meas[k];
+      const SampleWindow win = Window(ts, te);
       r.m = Integrate(p, win, bg, ba);
-      r.t_s = ts[k];
-      r.t_e = ts[k + 1];
+      r.t_s = ts;
+      r.t_e = te;
       r.n_knots = win.size();
     };
     w.key("method");
@@ -922,37 +865,55 @@ class Runner {
     w.string_list(p.conventions);
     w.key("measurements");
     w.begin_array();
-    WriteElements(w, n, [&](JsonWriter& cw, std::size_t k) {
-      compute(k);
-      WriteMeasurement(cw, res.meas[k], k, p.conventions);
-    });
+    double total = 0;  // summed in index order, whatever the thread count
+    std::vector<double> dts(std::min(Window(), n));
+    WriteElements(
+        w, n,
+        [&](JsonWriter& cw, std::size_t k) {
+          MeasRecord local;
+          MeasRecord& r = keep ? res.meas[k] : local;
+          compute(k, r);
+          WriteMeasurement(cw, r, k, p.conventions);
+          dts[k % Window()] = r.m.dt;
+        },
+        [&](std::size_t k) { total += dts[k % Window()]; });
     w.end_array();
     if (opt_.summary) {
-      double total = 0;
-      for (const auto& r : res.meas) total += r.m.dt;
-      *opt_.summary << "preintegrate '" << t.name << "': " << res.meas.size() << " measurement(s) over " << Num(total)
-                    << " s by " << (p.native ? "native preintegrator " : "propagation with ") << p.method_id
-                    << (p.conventions.empty() ? std::string() : ", expressed in " + Join(p.conventions)) << "\n";
+      *opt_.summary << "preintegrate '" << t.name << "': " << n << " measurement(s) over " << Num(total) << " s by "
+                    << (p.native ? "native preintegrator " : "propagation with ") << p.method_id
+                    << (p.conventions.empty() ? std::string() : ", expressed in " + Join(p.conventions));
+      if (iv.form == IntervalsSpec::Form::Generated && iv.short_last)
+        *opt_.summary << "; the last interval, [" << Num(iv.time(n - 1), 10) << ", " << Num(iv.end, 10) << "] s, is the "
+                      << Num(iv.end - iv.time(n - 1)) << " s left after " << n - 1 << " whole step(s) of " << Num(iv.step)
+                      << " s";
+      *opt_.summary << "\n";
     }
   }
+
+  /// Totals of a propagate_by_preintegration task over its steps, in index order.
+  struct StepTotals {
+    std::size_t ngt = 0;
+    double se_p = 0, se_r = 0, max_p = 0, max_r = 0, sum_dt = 0, sum_dp = 0, sum_ang = 0;
+  };
 
   void RunPropByPreint(const TaskSpec& t, const PropByPreintTask& p, JsonWriter& w, TaskResult& res) {
     const auto& ms = Measurements(p.meas);
     const std::size_t n = ms.size();
-    std::vector<std::optional<GtComparison>> cmps(n);
-    res.props.resize(n);
+    const bool keep = Kept(t);
+    if (keep) res.props.resize(n);
     // Step k from its start state (and covariance) to its end: the start is the previous
     // step's end when chained, else given or the ground truth (independent steps).
-    const auto step = [&](std::size_t k, const ImuState& x_s, const Mat15& cov_s) {
+    const auto step = [&](std::size_t k, const ImuState& x_s, const Mat15& cov_s, PropRecord& pr,
+                          std::optional<GtComparison>& cmp) {
       const MeasRecord& r = ms[k];
       const std::string where = p.meas.task.empty() ? r.pointer : p.meas.pointer + " (measurement " + std::to_string(k) + ")";
       const PropagationResult out = PropagateByPreintegration(reg_, r.m, x_s, cov_s, p.convention, s_.gravity);
       const bool compare = p.compare_gt.value_or(gt_ && r.t_e && gt_->at(*r.t_e).has_value());
       if (compare) {
         if (!r.t_e) throw TaskFailure(s_.file + ": " + where + ": comparing with ground truth needs t_end");
-        cmps[k] = Compare(out.x_e, GtAt(*r.t_e, where));
+        cmp = Compare(out.x_e, GtAt(*r.t_e, where));
       }
-      res.props[k] = {x_s, out.x_e, out.Phi, out.cov, p.convention, r.t_s, r.t_e};
+      pr = {x_s, out.x_e, out.Phi, out.cov, p.convention, r.t_s, r.t_e};
     };
     const auto start_state = [&](std::size_t k) {
       if (!p.start.ground_truth) return p.start.x;
@@ -962,36 +923,8 @@ class Runner {
                           MeasurementsName(p.meas) + " measurement " + std::to_string(k));
       return GtAt(*r.t_s, p.start.pointer);
     };
-    // Chained steps one after the other here; independent ones on the pool, as they are written.
-    if (p.chain) {
-      for (std::size_t k = 0; k < n; ++k) {
-        if (k == 0) {
-          const ImuState x = start_state(0);
-          step(0, x, StartCov(p.cov, p.convention, x));
-        } else {
-          step(k, res.props[k - 1].x_e, res.props[k - 1].cov);
-        }
-      }
-    }
-    WriteMeasurementsSource(w, p.meas);
-    w.key("state_convention");
-    w.string(p.convention);
-    w.key("start");
-    if (p.start.ground_truth)
-      w.string("ground_truth");
-    else
-      WriteState(w, p.start.x);
-    w.key("chain");
-    w.boolean(p.chain);
-    w.key("steps");
-    w.begin_array();
-    WriteElements(w, n, [&](JsonWriter& sw, std::size_t k) {
-      if (!p.chain) {
-        const ImuState x = start_state(k);
-        step(k, x, StartCov(p.cov, p.convention, x));
-      }
+    const auto write_step = [&](JsonWriter& sw, std::size_t k, const PropRecord& pr, const std::optional<GtComparison>& cmp) {
       const MeasRecord& r = ms[k];
-      const PropRecord& pr = res.props[k];
       sw.begin_object();
       sw.key("index");
       sw.unsigned_integer(k);
@@ -1008,95 +941,139 @@ class Runner {
       }
       if (!s_.omit.cov) {
         sw.key("cov");
-        StateChart(sw, pr.cov, p.convention);
+        StateCovChart(sw, pr.cov, p.convention);
       }
-      if (cmps[k]) {
+      if (cmp) {
         sw.key("ground_truth");
-        WriteComparison(sw, *cmps[k]);
+        WriteComparison(sw, *cmp);
       }
       sw.end_object();
-    });
-    w.end_array();
-    // Totals over the intervals compared with ground truth.
-    struct Row {
-      std::size_t k;
-      std::optional<double> ts;
-      double dt, dp, ang;
-      bool has_gt;
-      GtError e;
     };
-    std::vector<Row> rows;
-    rows.reserve(n);
-    for (std::size_t k = 0; k < n; ++k) {
+    // The summary table is printed row by row as the steps are written (nothing per step is
+    // held), and the totals are summed in index order.
+    std::ostream* o = opt_.summary;
+    if (o) {
+      *o << "\npropagate_by_preintegration '" << t.name << "': " << MeasurementsName(p.meas) << ", state convention "
+         << p.convention << ", "
+         << (p.start.ground_truth ? (p.chain ? "chained from the ground truth at the first keyframe"
+                                             : "each interval from the ground truth at its start")
+                                  : (p.chain ? "chained from the given start state" : "each interval from the given start state"))
+         << "\n";
+    }
+    // Whether any step is compared with the ground truth decides the table's columns; the
+    // rows are printed before all steps are known, so the header shows them when a
+    // comparison is possible at all.
+    const bool gt_columns = gt_ && p.compare_gt.value_or(true);
+    if (o) {
+      *o << "     k   t_start[s]   dt[s]    |dp|[m]   angle[deg]";
+      if (gt_columns) *o << "   pos.err[m]   rot.err[deg]";
+      *o << "\n";
+    }
+    StepTotals tot;
+    const auto row = [&](std::size_t k, const std::optional<GtComparison>& cmp) {
       const MeasRecord& r = ms[k];
-      rows.push_back({k, r.t_s, r.m.dt, r.m.delta.dp.norm(), so3::Log(r.m.delta.dR).norm() * kRadToDeg, cmps[k].has_value(),
-                      cmps[k] ? cmps[k]->e : GtError{}});
+      const double dp = r.m.delta.dp.norm(), ang = so3::Log(r.m.delta.dR).norm() * kRadToDeg;
+      tot.sum_dt += r.m.dt;
+      tot.sum_dp += dp;
+      tot.sum_ang += ang;
+      if (cmp) {
+        ++tot.ngt;
+        tot.se_p += cmp->e.pos * cmp->e.pos;
+        tot.se_r += cmp->e.rot * cmp->e.rot;
+        tot.max_p = std::max(tot.max_p, cmp->e.pos);
+        tot.max_r = std::max(tot.max_r, cmp->e.rot);
+      }
+      if (!o) return;
+      char buf[256];
+      if (r.t_s)
+        std::snprintf(buf, sizeof buf, "%6zu %12.3f %7.4f %10.5f %12.5f", k, *r.t_s, r.m.dt, dp, ang);
+      else
+        std::snprintf(buf, sizeof buf, "%6zu %12s %7.4f %10.5f %12.5f", k, "-", r.m.dt, dp, ang);
+      std::string line = buf;
+      if (cmp) {
+        std::snprintf(buf, sizeof buf, " %12.3e %14.3e", cmp->e.pos, cmp->e.rot);
+        line += buf;
+      }
+      *o << line << "\n";
+    };
+    WriteMeasurementsSource(w, p.meas);
+    w.key("state_convention");
+    w.string(p.convention);
+    w.key("start");
+    if (p.start.ground_truth)
+      w.string("ground_truth");
+    else
+      WriteState(w, p.start.x);
+    w.key("chain");
+    w.boolean(p.chain);
+    w.key("steps");
+    w.begin_array();
+    if (p.chain) {
+      // One after the other (each starts at the previous end), written straight into w: the
+      // text WriteElements would splice. Only the previous step is held.
+      PropRecord prev;
+      for (std::size_t k = 0; k < n; ++k) {
+        PropRecord pr;
+        std::optional<GtComparison> cmp;
+        if (k == 0) {
+          const ImuState x = start_state(0);
+          step(0, x, StartCov(p.cov, p.convention, x), pr, cmp);
+        } else {
+          step(k, prev.x_e, prev.cov, pr, cmp);
+        }
+        write_step(w, k, pr, cmp);
+        ++records_;
+        row(k, cmp);
+        if (keep) res.props[k] = pr;
+        prev = std::move(pr);
+        Flush(false);
+      }
+    } else {
+      std::vector<std::optional<GtComparison>> cmps(std::min(Window(), n));
+      WriteElements(
+          w, n,
+          [&](JsonWriter& sw, std::size_t k) {
+            PropRecord local;
+            PropRecord& pr = keep ? res.props[k] : local;
+            std::optional<GtComparison>& cmp = cmps[k % Window()];
+            cmp.reset();
+            const ImuState x = start_state(k);
+            step(k, x, StartCov(p.cov, p.convention, x), pr, cmp);
+            write_step(sw, k, pr, cmp);
+          },
+          [&](std::size_t k) { row(k, cmps[k % Window()]); });
     }
-    std::size_t ngt = 0;
-    double se_p = 0, se_r = 0, max_p = 0, max_r = 0, sum_dt = 0, sum_dp = 0, sum_ang = 0;
-    for (const auto& r : rows) {
-      sum_dt += r.dt;
-      sum_dp += r.dp;
-      sum_ang += r.ang;
-      if (!r.has_gt) continue;
-      ++ngt;
-      se_p += r.e.pos * r.e.pos;
-      se_r += r.e.rot * r.e.rot;
-      max_p = std::max(max_p, r.e.pos);
-      max_r = std::max(max_r, r.e.rot);
-    }
-    if (ngt) {
+    w.end_array();
+    if (tot.ngt) {
+      const double ngt = static_cast<double>(tot.ngt);
       w.key("ground_truth_summary");
       w.begin_object();
       w.key("intervals");
-      w.unsigned_integer(ngt);
+      w.unsigned_integer(tot.ngt);
       w.key("rms_position_error_m");
-      w.number(std::sqrt(se_p / static_cast<double>(ngt)));
+      w.number(std::sqrt(tot.se_p / ngt));
       w.key("max_position_error_m");
-      w.number(max_p);
+      w.number(tot.max_p);
       w.key("rms_rotation_error_deg");
-      w.number(std::sqrt(se_r / static_cast<double>(ngt)));
+      w.number(std::sqrt(tot.se_r / ngt));
       w.key("max_rotation_error_deg");
-      w.number(max_r);
+      w.number(tot.max_r);
       w.end_object();
     }
-    if (!opt_.summary) return;
-    std::ostream& o = *opt_.summary;
-    o << "\npropagate_by_preintegration '" << t.name << "': " << MeasurementsName(p.meas) << ", state convention "
-      << p.convention << ", "
-      << (p.start.ground_truth ? (p.chain ? "chained from the ground truth at the first keyframe"
-                                          : "each interval from the ground truth at its start")
-                               : (p.chain ? "chained from the given start state" : "each interval from the given start state"))
-      << "\n";
-    o << "     k   t_start[s]   dt[s]    |dp|[m]   angle[deg]";
-    if (ngt) o << "   pos.err[m]   rot.err[deg]";
-    o << "\n";
+    if (!o) return;
     char buf[256];
-    std::string table;
-    for (const auto& r : rows) {
-      if (r.ts)
-        std::snprintf(buf, sizeof buf, "%6zu %12.3f %7.4f %10.5f %12.5f", r.k, *r.ts, r.dt, r.dp, r.ang);
-      else
-        std::snprintf(buf, sizeof buf, "%6zu %12s %7.4f %10.5f %12.5f", r.k, "-", r.dt, r.dp, r.ang);
-      table += buf;
-      if (r.has_gt) {
-        std::snprintf(buf, sizeof buf, " %12.3e %14.3e", r.e.pos, r.e.rot);
-        table += buf;
-      }
-      table += "\n";
-    }
-    o << table;
-    const std::string label = " total (" + std::to_string(rows.size()) + ")";
-    std::snprintf(buf, sizeof buf, "%-19s %7.4f %10.5f %12.5f", label.c_str(), sum_dt, sum_dp, sum_ang);
-    o << buf;
-    if (ngt) {
-      std::snprintf(buf, sizeof buf, " %12.3e %14.3e   rms over %zu interval(s)\n", std::sqrt(se_p / static_cast<double>(ngt)),
-                    std::sqrt(se_r / static_cast<double>(ngt)), ngt);
-      o << buf;
-      std::snprintf(buf, sizeof buf, "%-19s %7s %10s %12s %12.3e %14.3e   max\n", "", "", "", "", max_p, max_r);
-      o << buf;
+    const std::string label = " total (" + std::to_string(n) + ")";
+    std::snprintf(buf, sizeof buf, "%-19s %7.4f %10.5f %12.5f", label.c_str(), tot.sum_dt, tot.sum_dp, tot.sum_ang);
+    *o << buf;
+    if (tot.ngt) {
+      const double ngt = static_cast<double>(tot.ngt);
+      std::snprintf(buf, sizeof buf, " %12.3e %14.3e   rms over %zu interval(s)\n", std::sqrt(tot.se_p / ngt),
+                    std::sqrt(tot.se_r / ngt), tot.ngt);
+      *o << buf;
+      std::snprintf(buf, sizeof buf, "%-19s %7s %10s %12s %12.3e %14.3e   max\n", "", "", "", "", tot.max_p, tot.max_r);
+      *o << buf;
     } else {
-      o << "\n";
+      *o << "\n";
     }
   }
 
@@ -1180,9 +1157,9 @@ class Runner {
         w.key("state");
         WriteState(w, x_at);
         w.key("input");
-        WriteChart(w, M, from, bf);
+        CovChart(w, M, from, bf);
         w.key("result");
-        WriteChart(w, result, p.to, bt);
+        CovChart(w, result, p.to, bt);
         break;
       case W::StateTransition:
         w.key("state");
@@ -1204,9 +1181,9 @@ class Runner {
         w.key("increment");
         WriteDelta(w, d, !s_.omit.R);
         w.key("input");
-        WriteChart(w, M, from, bf);
+        CovChart(w, M, from, bf);
         w.key("result");
-        WriteChart(w, result, p.to, bt);
+        CovChart(w, result, p.to, bt);
         break;
     }
     if (opt_.summary) *opt_.summary << "convert '" << t.name << "': " << p.what_name << " from " << from << " to " << p.to << "\n";
@@ -1271,7 +1248,7 @@ class Runner {
       w.key("H_increment");
       WriteMixed(w, res.H_increment, rconv, rblocks, kRef, ib);
       w.key("cov");
-      WriteChart(w, res.cov, rconv, rblocks);
+      CovChart(w, res.cov, rconv, rblocks);
       const Eigen::LDLT<Mat15> ldlt(res.cov);
       if (ldlt.info() == Eigen::Success && ldlt.isPositive() && ldlt.vectorD().minCoeff() > 0.0) {
         const double m2 = res.r.dot(ldlt.solve(res.r));
@@ -1318,7 +1295,11 @@ class Runner {
       if (p.reintegrate && origin && r.t_s && r.t_e) {
         re = Integrate(*origin, Window(*r.t_s, *r.t_e), bg, ba);
         w.key("reintegrated");
-        WriteMeasurement(w, MeasRecord{*re, r.t_s, r.t_e, 0, ""}, k, {});
+        MeasRecord rr;
+        rr.m = *re;
+        rr.t_s = r.t_s;
+        rr.t_e = r.t_e;
+        WriteMeasurement(w, rr, k, {});
       }
       w.key("first_order");
       w.begin_object();
@@ -1371,9 +1352,13 @@ void RunToText(const Pipeline& p, const RunOptions& options, const TextSink& sin
   std::vector<std::string> dirs = options.plugin_dirs;
   dirs.insert(dirs.end(), p.plugin_dirs().begin(), p.plugin_dirs().end());
   Registry reg;
-  const auto issues = reg.load_search_path(dirs);
+  // A plugin claiming another one's id is an error unless the user or the pipeline opts in;
+  // the output's "plugins" list then names the file that won.
+  LoadOptions lo;
+  lo.allow_override = options.allow_plugin_override || p.spec().allow_plugin_override;
+  const auto issues = reg.load_search_path(dirs, lo);
   if (options.log)
-    for (const auto& i : issues) *options.log << "warning: plugin " << i.file << ": " << i.message << "\n";
+    for (const auto& i : issues) *options.log << "warning: plugin " << Printable(i.file) << ": " << i.message << "\n";
   RunToText(p, reg, options, sink);
 }
 

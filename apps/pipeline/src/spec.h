@@ -1,6 +1,7 @@
 // The parsed form of a pipeline document (internal to imuconv_pipeline).
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <variant>
@@ -20,20 +21,39 @@ struct ImuSourceSpec {
   CsvFormat csv;                          // csv (and time_unit/time_origin for inline)
   std::vector<ImuSample> inline_raw;      // inline: t in time units (not yet relative)
   std::vector<TimeValue> inline_t;
+  std::vector<std::size_t> inline_index;  // inline: the index of each kept sample in "samples"
+  TimingPolicy timing;  // max_gap_factor, allow_gaps
   std::string pointer;
 };
 
 struct GroundTruthSpec {
   std::string path;  // resolved
+  TimingPolicy timing;
   std::string pointer;
 };
 
 // ---- task pieces ----------------------------------------------------------------------
-/// Interval boundaries: one interval [t0, t1] or consecutive keyframe pairs.
+/// Interval boundaries: one interval [t0, t1] or consecutive keyframe pairs. Explicit times
+/// ("interval", a keyframes array) are stored; a generated {start, end, step} form is not
+/// (a tiny step must not cost memory per keyframe): its keyframes are start + k step and,
+/// last, `end` itself. A remainder of (end - start) shorter than a step, beyond round-off
+/// (1e-9 of a step), is a last, shorter interval ending at `end`.
 struct IntervalsSpec {
-  std::vector<double> times;
-  /// The pointer of each time (for "interval outside the data" errors).
-  std::vector<std::string> pointers;
+  enum class Form { Interval, Array, Generated } form = Form::Interval;
+  std::vector<double> times;  // Interval, Array
+  double start = 0, step = 0, end = 0;  // Generated
+  std::size_t count = 0;                // Generated: number of keyframes
+  bool short_last = false;              // Generated: the last interval is a remainder
+  std::string pointer;  // the "interval" or "keyframes" node
+
+  std::size_t size() const { return form == Form::Generated ? count : times.size(); }
+  /// Keyframe k (k < size()).
+  double time(std::size_t k) const;
+  double front() const { return time(0); }
+  double back() const { return time(size() - 1); }
+  /// The pointer of keyframe k, for messages: its own for explicit times, start or end
+  /// (or the keyframes object, for an interior one) for the generated form.
+  std::string pointer_of(std::size_t k) const;
 };
 
 struct StateSpec {
@@ -48,10 +68,12 @@ struct BiasSpec {
   std::string pointer;
 };
 
-/// A 15x15 covariance input; `convention` when the matrix names one.
+/// A 15x15 covariance input; `convention` when the matrix names one. Held by pointer: a
+/// task is then small (~1 KB, not ~3 KB), which counts for pipelines of 100 000 tasks.
 struct CovSpec {
   bool given = false;
-  Matrix15In m;
+  std::shared_ptr<const Matrix15In> in;
+  const Matrix15In& m() const { return *in; }
 };
 
 /// Measurements from an earlier task or from a file (already read and checked for shape).
@@ -103,7 +125,7 @@ struct ConvertTask {
   std::string to;
   std::optional<ImuState> state, state_end;
   std::optional<PreintIncrement> increment;
-  std::optional<Matrix15In> matrix;
+  std::shared_ptr<const Matrix15In> matrix;  // by pointer, as CovSpec
   std::optional<std::string> source_task;
   std::size_t source_index = 0;
   std::string from_pointer, to_pointer, source_pointer;
@@ -147,6 +169,7 @@ struct PipelineSpec {
   OmitSpec omit;
   std::string description;
   std::vector<std::string> plugin_dirs;
+  bool allow_plugin_override = false;
   std::optional<std::string> output;
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
   ImuNoise noise;

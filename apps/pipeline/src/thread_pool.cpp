@@ -106,9 +106,13 @@ void ThreadPool::ordered_for(std::size_t n, std::size_t window, const std::funct
     return;
   }
   window = std::max<std::size_t>(window, 1);
-  // Item states: 0 pending, 1 produced, 2 failed (its exception in errors[i % window]).
-  std::unique_ptr<std::atomic<int>[]> state(new std::atomic<int>[n]);
-  for (std::size_t i = 0; i < n; ++i) state[i].store(0, std::memory_order_relaxed);
+  // Item states, in slot i % window (memory bounded by the window, not by n: item i starts
+  // only after item i - window was consumed and its slot reset): 0 pending, 1 produced,
+  // 2 failed (its exception in errors[i % window]).
+  const std::size_t slots = std::min(window, n);
+  std::unique_ptr<std::atomic<int>[]> slot_state(new std::atomic<int>[slots]);
+  for (std::size_t i = 0; i < slots; ++i) slot_state[i].store(0, std::memory_order_relaxed);
+  const auto state = [&](std::size_t i) -> std::atomic<int>& { return slot_state[i % window]; };
   std::vector<std::exception_ptr> errors(window);
   std::atomic<std::size_t> next{0};      // next item to claim
   std::atomic<std::size_t> consumed{0};  // items consumed
@@ -126,7 +130,7 @@ void ThreadPool::ordered_for(std::size_t n, std::size_t window, const std::funct
     }
     {
       std::lock_guard<std::mutex> lock(m);
-      state[i].store(s, std::memory_order_release);
+      state(i).store(s, std::memory_order_release);
     }
     produced_cv.notify_all();
   };
@@ -147,7 +151,7 @@ void ThreadPool::ordered_for(std::size_t n, std::size_t window, const std::funct
   for (std::size_t j = 0; j < n && !failure; ++j) {
     // Help while item j is not there: claim an item only if it fits in the window (the
     // consumer must never wait for the window itself).
-    while (state[j].load(std::memory_order_acquire) == 0) {
+    while (state(j).load(std::memory_order_acquire) == 0) {
       std::size_t i = next.load(std::memory_order_relaxed);
       if (i < n && i < j + window && next.compare_exchange_weak(i, i + 1, std::memory_order_relaxed)) {
         run(i);
@@ -155,12 +159,12 @@ void ThreadPool::ordered_for(std::size_t n, std::size_t window, const std::funct
       }
       std::unique_lock<std::mutex> lock(m);
       produced_cv.wait(lock, [&] {
-        if (state[j].load(std::memory_order_acquire) != 0) return true;
+        if (state(j).load(std::memory_order_acquire) != 0) return true;
         const std::size_t k = next.load(std::memory_order_relaxed);
         return k < n && k < j + window;  // something to help with
       });
     }
-    if (state[j].load(std::memory_order_acquire) == 2) {
+    if (state(j).load(std::memory_order_acquire) == 2) {
       failure = errors[j % window];
       break;
     }
@@ -172,6 +176,7 @@ void ThreadPool::ordered_for(std::size_t n, std::size_t window, const std::funct
     }
     {
       std::lock_guard<std::mutex> lock(m);
+      state(j).store(0, std::memory_order_relaxed);  // free for item j + window
       consumed.store(j + 1, std::memory_order_release);
     }
     consumed_cv.notify_all();

@@ -6,8 +6,15 @@
 // (unknown keys included); running then checks plugin ids against the registry and times
 // against the data (again with pointers) before any task runs, and produces one output
 // JSON document. Nothing is written here: the caller writes the document (atomically).
+//
+// Inputs are checked, never repaired (covariances symmetric and positive semi-definite,
+// unit quaternions, statements of one value that must agree, IMU and ground-truth gaps).
+// Memory is bounded by the work asked: only the data range the tasks use is read into
+// memory, and a task's per-interval results are kept only when a later task names it. The
+// document records the file and version of every plugin the tasks used ("plugins").
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <iosfwd>
 #include <memory>
@@ -61,6 +68,27 @@ struct RunOptions {
   /// (std::thread::hardware_concurrency()), 1 = serial. The output does not depend on it:
   /// it is the same, byte for byte, for any number of threads.
   unsigned threads = 0;
+  /// Let a plugin override another one's id (the first on the search path wins, with a
+  /// warning); without it a duplicate id is an error. The pipeline's "allow_plugin_override"
+  /// key does the same. Only for the registry Run/RunToText load themselves.
+  bool allow_plugin_override = false;
+  /// Load the data and run every check (plugin ids, times, covariances, memory), then stop:
+  /// no task runs and the sink receives nothing.
+  bool check_only = false;
+  /// The per-interval results a task keeps because a later task names it ("measurements":
+  /// NAME, convert "source") may take at most this many bytes in all (estimated before any
+  /// task runs; ConfigError beyond it). Results no later task names are written and dropped.
+  std::size_t max_kept_bytes = std::size_t{1} << 30;
+  /// Filled in by the run when not null (for tests and benchmarks).
+  struct Stats {
+    /// Interval results (measurements, propagations, steps) held for later tasks at the end.
+    std::size_t kept_records = 0;
+    /// Their size, in bytes, as estimated for max_kept_bytes.
+    std::size_t kept_bytes = 0;
+    /// Interval results computed and written (kept or not).
+    std::size_t records = 0;
+  };
+  Stats* stats = nullptr;
 };
 
 /// Receives the output document's text in order, in pieces.

@@ -1,0 +1,132 @@
+#include "input_checks.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "imuconv/numeric.h"
+#include "imuconv/printable.h"
+#include "imuconv/so3.h"
+
+namespace imuconv::pipeline {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+// Two statements of one rotation (q_wxyz, R, rotation_angle_deg) agree within this many
+// degrees: well above the round-off of written numbers (1e-13 deg), well below any real
+// disagreement.
+constexpr double kRotationAgreementDeg = 1e-6;
+
+std::string Num(double v, int precision = 10) {
+  std::ostringstream o;
+  o.precision(precision);
+  o << v;
+  return o.str();
+}
+
+double AngleDeg(const Mat3& R) { return so3::Log(R).norm() * kRadToDeg; }
+
+}  // namespace
+
+std::optional<Mat3> RotationFromQuaternion(const Node& n) {
+  const auto q = n.vector(4);
+  if (!q) return std::nullopt;
+  const double norm = q->norm();
+  if (!(std::abs(norm - 1.0) <= kUnitQuaternionTol)) {
+    n.fail("expected a unit quaternion [w, x, y, z] (norm within 1e-6 of 1), found one of norm " + Num(norm));
+    return std::nullopt;
+  }
+  return so3::FromQuaternionWxyz((*q)[0], (*q)[1], (*q)[2], (*q)[3]);
+}
+
+std::optional<Mat3> RotationFromMatrix(const Node& n) {
+  const auto R = n.matrix(3, 3);
+  if (!R) return std::nullopt;
+  const Mat3 M = *R;
+  const double err = (M.transpose() * M - Mat3::Identity()).cwiseAbs().maxCoeff();
+  if (!(err <= kRotationMatrixTol) || !(M.determinant() > 0.0)) {
+    n.fail("expected a rotation matrix (R^T R = I within 1e-6, det +1), found max |R^T R - I| = " + Num(err) +
+           ", det = " + Num(M.determinant()));
+    return std::nullopt;
+  }
+  return so3::Exp(so3::Log(M));
+}
+
+std::optional<PreintIncrement> IncrementFromJson(const Node& n) {
+  if (!n.expect_object({"q_wxyz", "R", "dp", "dv", "dbg", "dba", "rotation_angle_deg"})) return std::nullopt;
+  const std::size_t before = n.checker().count();
+  PreintIncrement d;
+  std::optional<Mat3> Rq, Rm;
+  if (auto qn = n.get("q_wxyz", false)) Rq = RotationFromQuaternion(*qn);
+  if (auto rn = n.get("R", false)) Rm = RotationFromMatrix(*rn);
+  if (!n.has("q_wxyz") && !n.has("R")) n.checker().error(n.child_pointer("q_wxyz"), "required key is missing (give q_wxyz or R)");
+  if (Rq && Rm) {
+    const double disagree = AngleDeg(Rq->transpose() * *Rm);
+    if (disagree > kRotationAgreementDeg)
+      n.checker().error(n.child_pointer("R"), "R and q_wxyz disagree by " + Num(disagree, 6) + " deg (tolerance 1e-6 deg)");
+  }
+  const std::optional<Mat3> R = Rq ? Rq : Rm;
+  if (auto an = n.get("rotation_angle_deg", false))
+    if (auto a = an->number(); a && R && std::abs(*a - AngleDeg(*R)) > kRotationAgreementDeg)
+      an->fail("rotation_angle_deg = " + Num(*a, 12) + " does not match the rotation's angle " + Num(AngleDeg(*R), 12) +
+               " deg (tolerance 1e-6 deg)");
+  if (R) d.dR = *R;
+  if (auto v = n.vec3("dp", true)) d.dp = *v;
+  if (auto v = n.vec3("dv", true)) d.dv = *v;
+  if (auto v = n.vec3("dbg", false)) d.dbg = *v;
+  if (auto v = n.vec3("dba", false)) d.dba = *v;
+  if (n.checker().count() != before) return std::nullopt;
+  return d;
+}
+
+std::string CovarianceInputProblem(const Mat15& C) {
+  // kCovarianceTol (1e-9 on the correlation scale) passes round-off of any covariance
+  // computed and written in double precision and catches real defects (numeric.h).
+  std::string p = CovarianceProblem(C, kCovarianceTol);
+  if (p.empty()) return p;
+  if (p.find("eigenvalue") == std::string::npos && C.allFinite()) {
+    const Mat15 sym = 0.5 * (C + C.transpose());
+    const Eigen::SelfAdjointEigenSolver<Mat15> eig(sym, Eigen::EigenvaluesOnly);
+    p += " (smallest eigenvalue of (C + C^T)/2: " + Num(eig.eigenvalues().minCoeff()) + ")";
+  }
+  return "not a valid covariance: " + p + "; nothing is repaired, fix the input";
+}
+
+bool CheckCovarianceInput(Checker& c, const std::string& pointer, const Mat15& C) {
+  const std::string p = CovarianceInputProblem(C);
+  if (p.empty()) return true;
+  c.error(pointer, p);
+  return false;
+}
+
+void CheckOutputCovariance(const Mat15& C, const std::string& pointer) {
+  // J S J^T and Phi P Phi^T + Q of a positive semi-definite S or P have non-negative
+  // variances up to round-off, which is far below 1e-9 of the largest variance.
+  const double scale = C.diagonal().cwiseAbs().maxCoeff();
+  for (Eigen::Index i = 0; i < C.rows(); ++i)
+    if (C(i, i) < -kCovarianceTol * scale)
+      throw Error("computed a covariance with a negative variance, entry (" + std::to_string(i) + ", " + std::to_string(i) +
+                  ") = " + Num(C(i, i)) + " (output " + Printable(pointer) + "; tolerance 1e-9 of the largest variance " +
+                  Num(scale) +
+                  "). The inputs were checked, so this is a defect of imuconv or of a plugin: please report it. No output "
+                  "is written");
+}
+
+void CheckPluginId(Checker& c, const Registry& reg, PluginKind kind, const std::string& id, const std::string& pointer) {
+  if (reg.has(kind, id)) return;
+  const char* what = kind == PluginKind::StateConvention    ? "state convention"
+                     : kind == PluginKind::PreintConvention ? "increment (preintegration) convention"
+                     : kind == PluginKind::Propagator       ? "propagator"
+                                                            : "preintegrator";
+  std::string known;
+  for (const auto& k : reg.ids(kind)) known += (known.empty() ? "" : ", ") + k;
+  std::string msg = std::string("unknown ") + what + " " + Quoted(id) + "; known: " + known;
+  // A known id of another kind is a frequent slip: say so.
+  for (PluginKind k :
+       {PluginKind::StateConvention, PluginKind::PreintConvention, PluginKind::Propagator, PluginKind::Preintegrator})
+    if (k != kind && reg.has(k, id)) msg += " (" + Quoted(id) + " is a " + KindName(k) + ")";
+  c.error(pointer, msg);
+}
+
+}  // namespace imuconv::pipeline

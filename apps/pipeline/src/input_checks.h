@@ -1,0 +1,48 @@
+// The checks every numeric input of a pipeline goes through, wherever it is read (pipeline
+// document, measurement file): one rule for rotations and one for covariances, so that no
+// reader has a looser path (internal to imuconv_pipeline).
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "imuconv/pipeline/json_check.h"
+#include "imuconv/registry.h"
+#include "imuconv/types.h"
+
+namespace imuconv::pipeline {
+
+/// A quaternion must have unit norm within this (then it is normalised). JSON numbers
+/// written with 7 or more significant digits stay well inside it; an all-zero, a doubled or
+/// a truncated ("0.7, 0.7") quaternion does not.
+constexpr double kUnitQuaternionTol = 1e-6;
+/// A rotation matrix: R^T R = I within this, entrywise, and det R > 0.
+constexpr double kRotationMatrixTol = 1e-6;
+
+/// [w, x, y, z] at `n` as a rotation matrix, or nothing (the error reported at n's pointer).
+std::optional<Mat3> RotationFromQuaternion(const Node& n);
+/// A 3x3 rotation matrix at `n`, re-orthonormalised, or nothing (the error reported).
+std::optional<Mat3> RotationFromMatrix(const Node& n);
+
+/// A preintegrated increment {q_wxyz and/or R, dp, dv, dbg?, dba?, rotation_angle_deg?}.
+/// Every statement of the rotation is checked and they must agree (1e-6 deg): none silently
+/// wins over another. Nothing (errors reported) if anything is wrong.
+std::optional<PreintIncrement> IncrementFromJson(const Node& n);
+
+/// "" or what is wrong with C as a covariance input: imuconv::CovarianceProblem with
+/// kCovarianceTol, plus the smallest eigenvalue when the problem does not already give it.
+std::string CovarianceInputProblem(const Mat15& C);
+/// Reports CovarianceInputProblem(C) at `pointer` (nothing is repaired); true when C is fine.
+bool CheckCovarianceInput(Checker& c, const std::string& pointer, const Mat15& C);
+
+/// A covariance the pipeline computed and is about to write at output `pointer`: throws
+/// imuconv::Error when a variance is negative beyond round-off (kCovarianceTol times the
+/// largest variance). From valid inputs that is a defect of imuconv or of a plugin, to be
+/// reported, never written.
+void CheckOutputCovariance(const Mat15& C, const std::string& pointer);
+
+/// Reports an unknown plugin id at `pointer` with the known ids of that kind (and, for a
+/// frequent slip, the kind the id does have).
+void CheckPluginId(Checker& c, const Registry& reg, PluginKind kind, const std::string& id, const std::string& pointer);
+
+}  // namespace imuconv::pipeline

@@ -1,0 +1,165 @@
+#include "measurement_file.h"
+
+#include <cmath>
+#include <tuple>
+
+#include "imuconv/pipeline/json_io.h"
+#include "imuconv/printable.h"
+#include "input_checks.h"
+#include "run_util.h"
+
+namespace imuconv::pipeline {
+namespace {
+
+// Two statements of one time (t_start and t_start_abs_ns, or dt and t_end - t_start) agree
+// within this: far above the 1 ns of the stamps and the round-off of relative seconds, far
+// below any IMU sample period.
+constexpr double kTimeAgreement = 1e-6;
+void ReadJBias(const Node& n, const Registry& reg, const std::string& cov_conv, PreintegratedIn& in) {
+  if (!n.expect_object({"convention", "rows", "cols", "matrix"})) return;
+  std::string chart;
+  std::optional<std::vector<std::string>> rows, cols;
+  if (auto cv = n.string("convention", false)) chart = *cv;
+  for (auto [key, dst] : {std::pair<const char*, std::optional<std::vector<std::string>>*>{"rows", &rows}, {"cols", &cols}}) {
+    if (auto rn = n.get(key, false)) {
+      if (!rn->expect_object({"convention", "blocks"})) continue;
+      if (auto cv = rn->string("convention", false)) {
+        if (!chart.empty() && chart != *cv)
+          rn->checker().error(rn->child_pointer("convention"), Quoted(*cv) + " differs from the J_bias chart " + Quoted(chart));
+        chart = *cv;
+      }
+      if (auto bn = rn->get("blocks", false))
+        if (auto b = bn->string_list()) *dst = *b;
+    }
+  }
+  if (!chart.empty()) {
+    CheckPluginId(n.checker(), reg, PluginKind::PreintConvention, chart, n.child_pointer("convention"));
+    if (!reg.has(PluginKind::PreintConvention, chart)) return;
+  } else if (!cov_conv.empty()) {
+    chart = reg.info(PluginKind::PreintConvention, cov_conv).jacobian_convention;
+    if (chart.empty()) chart = cov_conv;
+  }
+  if (!chart.empty()) {
+    const auto labels = Blocks(reg, PluginKind::PreintConvention, chart);
+    if (rows && *rows != NavLabels(labels))
+      n.checker().error(n.child_pointer("rows") + "/blocks", "rows [" + Printable(Join(*rows)) + "] do not match the order of '" +
+                                                                 chart + "': [" + Join(NavLabels(labels)) + "]");
+    if (cols && *cols != BiasLabels(labels))
+      n.checker().error(n.child_pointer("cols") + "/blocks", "cols [" + Printable(Join(*cols)) +
+                                                                 "] do not match the bias order of '" + chart + "': [" +
+                                                                 Join(BiasLabels(labels)) + "]");
+  }
+  in.jacobian_convention = chart;
+  if (auto mn = n.get("matrix", true))
+    if (auto m = mn->matrix(9, 6)) in.J_bias = *m;
+}
+
+/// t_start / t_end of one measurement on the pipeline's time axis. Absolute stamps place it
+/// when the pipeline has an origin; a relative time is shifted by the file's own origin. When
+/// both are given and comparable they must agree (neither silently wins).
+void ReadTimes(const Node& e, std::optional<std::int64_t> file_origin, std::optional<std::int64_t> origin_ns, MeasRecord& r) {
+  for (auto [key, abs_key, dst] : {std::tuple<const char*, const char*, std::optional<double>*>{"t_start", "t_start_abs_ns", &r.t_s},
+                                   {"t_end", "t_end_abs_ns", &r.t_e}}) {
+    std::optional<double> from_abs, from_rel;
+    if (auto a = e.integer(abs_key, false); a && origin_ns) from_abs = static_cast<double>(*a - *origin_ns) * 1e-9;
+    if (auto t = e.number(key, false)) {
+      from_rel = *t;
+      if (file_origin && origin_ns) *from_rel = *t + static_cast<double>(*file_origin - *origin_ns) * 1e-9;
+    }
+    if (from_abs && from_rel && std::abs(*from_abs - *from_rel) > kTimeAgreement)
+      e.checker().error(e.child_pointer(key), std::string(key) + " places the measurement at " + Num(*from_rel, 15) +
+                                                  " s but " + abs_key + " at " + Num(*from_abs, 15) +
+                                                  " s on the IMU data's time axis (tolerance 1e-6 s); give one, or make them agree");
+    *dst = from_abs ? from_abs : from_rel;
+  }
+}
+
+}  // namespace
+
+std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::string& file, const Registry& reg,
+                                                std::optional<std::int64_t> origin_ns) {
+  Checker c(file);
+  const Node root(doc, "", c);
+  std::vector<MeasRecord> out;
+  if (!root.expect_object({"$schema", "description", "time_origin_ns", "measurements"})) c.throw_if_errors();
+  std::optional<std::int64_t> file_origin;
+  if (auto o = root.integer("time_origin_ns", false)) file_origin = *o;
+  const auto ms = root.get("measurements", true);
+  if (ms && (!ms->is_array() || ms->size() == 0)) ms->fail("expected a non-empty array of measurements");
+  if (!ms || !ms->is_array()) c.throw_if_errors();
+  for (std::size_t i = 0; i < ms->size(); ++i) {
+    const Node e = (*ms)[i];
+    if (!e.expect_object({"index", "t_start", "t_end", "t_start_abs_ns", "t_end_abs_ns", "dt", "n_knots", "bias_estimate",
+                          "delta", "J_bias", "cov", "expressed"}))
+      continue;
+    const std::size_t before = c.count();
+    MeasRecord r;
+    r.pointer = e.pointer();
+    PreintegratedIn in;
+    ReadTimes(e, file_origin, origin_ns, r);
+    // Tasks refer to a measurement by its position ("index" of residual and bias_update
+    // tasks): an "index" that says otherwise would be silently wrong.
+    if (auto in = e.get("index", false))
+      if (auto k = in->integer(); k && *k != static_cast<std::int64_t>(i))
+        in->fail("index " + std::to_string(*k) + " is not the measurement's position " + std::to_string(i) +
+                 " in the array (tasks refer to measurements by position)");
+    if (auto dt = e.number("dt", true)) {
+      if (!(*dt > 0.0))
+        e.checker().error(e.child_pointer("dt"), "expected a positive duration");
+      else
+        in.dt = *dt;
+    }
+    if (auto bn = e.get("bias_estimate", true)) {
+      if (bn->expect_object({"bg", "ba"})) {
+        if (auto v = bn->vec3("bg", true)) in.bg_hat = *v;
+        if (auto v = bn->vec3("ba", true)) in.ba_hat = *v;
+      }
+    }
+    if (auto dn = e.get("delta", true))
+      if (auto d = IncrementFromJson(*dn)) in.delta = *d;
+    std::string cov_conv;
+    if (auto cn = e.get("cov", true)) {
+      if (cn->expect_object({"convention", "blocks", "matrix"})) {
+        if (auto cv = cn->string("convention", true)) {
+          CheckPluginId(c, reg, PluginKind::PreintConvention, *cv, cn->child_pointer("convention"));
+          if (reg.has(PluginKind::PreintConvention, *cv)) cov_conv = *cv;
+        }
+        if (auto mn = cn->get("matrix", true))
+          if (auto m = mn->matrix(15, 15)) {
+            in.cov = *m;
+            CheckCovarianceInput(c, mn->pointer(), in.cov);
+          }
+        if (auto bn = cn->get("blocks", false))
+          if (auto b = bn->string_list(); b && !cov_conv.empty()) {
+            const auto expect = Blocks(reg, PluginKind::PreintConvention, cov_conv);
+            if (*b != expect)
+              bn->fail("blocks [" + Printable(Join(*b)) + "] do not match the block order of '" + cov_conv + "': [" +
+                       Join(expect) + "]");
+          }
+      }
+    }
+    in.convention = cov_conv;
+    if (auto jn = e.get("J_bias", true)) ReadJBias(*jn, reg, cov_conv, in);
+    if (c.count() != before) continue;
+    r.convention = in.convention;
+    r.jacobian_convention = in.jacobian_convention;
+    try {
+      r.m = FromConvention(reg, in);
+    } catch (const std::exception& ex) {
+      e.fail(std::string("cannot bring the measurement into the reference chart: ") + ex.what());
+      continue;
+    }
+    if (r.t_s && r.t_e && std::abs((*r.t_e - *r.t_s) - in.dt) > kTimeAgreement)
+      e.checker().error(e.child_pointer("dt"), "dt = " + Num(in.dt, 10) + " s does not match t_end - t_start = " +
+                                                   Num(*r.t_e - *r.t_s, 10) + " s (tolerance 1e-6 s)");
+    out.push_back(std::move(r));
+  }
+  c.throw_if_errors();
+  return out;
+}
+
+std::vector<MeasRecord> ReadMeasurementFile(const std::string& path, const Registry& reg, std::optional<std::int64_t> origin_ns) {
+  return ReadMeasurementDocument(ParseJsonFile(path), path, reg, origin_ns);
+}
+
+}  // namespace imuconv::pipeline
