@@ -126,6 +126,19 @@ def main():
         else:
             print("ok   inline_basics.json with every matrix omitted, and its output")
 
+    # The new keys are accepted where the reader accepts them.
+    good = load(os.path.join(src, "examples", "inline_basics.json"))
+    good["imu"]["max_gap_factor"] = 20
+    good["imu"]["allow_gaps"] = False
+    good["allow_plugin_override"] = False
+    checked += 1
+    errs = errors_of(v["pipeline.schema.json"], good)
+    if errs:
+        failures += 1
+        report("inline_basics.json with max_gap_factor, allow_gaps, allow_plugin_override", errs)
+    else:
+        print("ok   schema accepts max_gap_factor, allow_gaps, allow_plugin_override")
+
     # The schema must reject what the C++ reader rejects (a sample of malformed pipelines).
     base = load(os.path.join(src, "examples", "inline_basics.json"))
     bad = []
@@ -138,6 +151,9 @@ def main():
     d = copy.deepcopy(base); d["tasks"][1]["interval"] = {"t_start": 0, "t_end": 0.1}; bad.append(("interval and keyframes", d))
     d = copy.deepcopy(base); d["omit"] = ["phi"]; bad.append(("unknown omit name", d))
     d = copy.deepcopy(base); d["omit"] = ["Phi", "Phi"]; bad.append(("omit name twice", d))
+    d = copy.deepcopy(base); d["imu"]["max_gap_factor"] = 1; bad.append(("max_gap_factor not > 1", d))
+    d = copy.deepcopy(base); d["imu"]["allow_gaps"] = "yes"; bad.append(("allow_gaps not a boolean", d))
+    d = copy.deepcopy(base); d["allow_plugin_override"] = 1; bad.append(("allow_plugin_override not a boolean", d))
     for what, doc in bad:
         checked += 1
         if not errors_of(v["pipeline.schema.json"], doc):
