@@ -28,6 +28,7 @@ int Run(const CommandContext& ctx, const Options& o) {
     file.refuse_if_same(inputs[i], inputs[i] == p.file() ? "the pipeline" : "the input file");
   pipeline::RunOptions ro;
   ro.plugin_dirs = ctx.plugin_dirs();
+  ro.allow_plugin_override = ctx.allow_plugin_override;
   ro.log = &std::cerr;
   ro.summary = o.quiet ? nullptr : (file.is_stdout() ? &std::cerr : &std::cout);
   ro.threads = o.threads;
