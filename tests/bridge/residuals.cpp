@@ -43,7 +43,9 @@ class ResidualJacobians : public ::testing::TestWithParam<Param> {};
 
 TEST_P(ResidualJacobians, MatchCentralDifferences) {
   Scenario s;
-  const auto [kind, conv] = GetParam();
+  // Named copies, not a structured binding: lambdas capture them (C++17 does not capture bindings).
+  const auto kind = std::get<0>(GetParam());
+  const auto conv = std::get<1>(GetParam());
   const auto c = Plugins().state_convention(conv);
   const Residual r = ComputeResidual(Plugins(), kind, s.m, s.x_s, s.x_e, conv, s.g);
   const Mat15 num_start = CentralJacobian([&](const Vec15& e, Vec15& out) {
@@ -63,7 +65,9 @@ TEST_P(ResidualJacobians, MatchCentralDifferences) {
 
 TEST_P(ResidualJacobians, IncrementJacobianAndCovariance) {
   Scenario s;
-  const auto [kind, conv] = GetParam();
+  // Named copies, not a structured binding: lambdas capture them (C++17 does not capture bindings).
+  const auto kind = std::get<0>(GetParam());
+  const auto conv = std::get<1>(GetParam());
   const Residual r = ComputeResidual(Plugins(), kind, s.m, s.x_s, s.x_e, conv, s.g);
   const Mat15 num = CentralJacobian([&](const Vec15& w, Vec15& out) {
     Preintegrated m2 = s.m;
