@@ -8,11 +8,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace imuconv;
   static fuzz::InputFile file("case.json");
-  static Registry* reg = [] {
-    auto* r = new Registry();
-    r->load_search_path();
-    return r;
-  }();
+  const Registry& reg = fuzz::LoadedRegistry();
   if (size == 0) return 0;
   const std::string& path = file.write(data + 1, size - 1);
   if (data[0] & 1) {
@@ -23,7 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     fuzz::Expect(
         [&] {
           const nlohmann::json c = pipeline::ParseJsonFile(path);
-          fuzz::Expect([&] { refcase::Run(*reg, c); }, "");
+          fuzz::Expect([&] { refcase::Run(reg, c); }, "");
         },
         path);
   }

@@ -11,11 +11,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   using namespace imuconv;
   using nlohmann::json;
   static fuzz::InputFile file("measurements.json");
-  static Registry* reg = [] {
-    auto* r = new Registry();
-    r->load_search_path();
-    return r;
-  }();
+  const Registry& reg = fuzz::LoadedRegistry();
   const std::string& path = file.write(data, size);
   const json state = {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {0, 0, 0}}};
   const json doc = {
@@ -34,7 +30,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const pipeline::Pipeline p = pipeline::Pipeline::FromJson(doc, "(fuzz pipeline)", "/");
         pipeline::RunOptions options;
         options.threads = 1;
-        pipeline::RunToText(p, *reg, options, [](std::string_view) {});
+        pipeline::RunToText(p, reg, options, [](std::string_view) {});
       },
       "");
   return 0;

@@ -9,18 +9,14 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace imuconv;
   static fuzz::InputFile file("pipeline.json");
-  static Registry* reg = [] {
-    auto* r = new Registry();
-    r->load_search_path();
-    return r;
-  }();
+  const Registry& reg = fuzz::LoadedRegistry();
   const std::string& path = file.write(data, size);
   fuzz::Expect(
       [&] {
         const pipeline::Pipeline p = pipeline::Pipeline::Load(path);
         pipeline::RunOptions options;
         options.threads = 1;
-        pipeline::RunToText(p, *reg, options, [](std::string_view) {});
+        pipeline::RunToText(p, reg, options, [](std::string_view) {});
       },
       path);
   return 0;

@@ -47,6 +47,17 @@ class InputFile {
   std::string path_;
 };
 
+/// The registry of the built-in plugins, loaded once per process (loading checks every
+/// convention's charts, far slower than one input).
+inline const Registry& LoadedRegistry() {
+  static const Registry* reg = [] {
+    auto* r = new Registry();
+    r->load_search_path();
+    return r;
+  }();
+  return *reg;
+}
+
 /// Runs f(); an imuconv::Error must name `must_name` (the input file) when that is given.
 template <typename F>
 void Expect(F&& f, const std::string& must_name) {
