@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "load_error.h"
 #include "../pipeline/pipeline_test_util.h"
 #include "imuconv/registry.h"
 #include "imuconv_test.h"
@@ -33,17 +34,10 @@ using imuconv::test::ShellQuote;
 using imuconv::test::TempDir;
 
 std::string Fixture(const std::string& rel) { return std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/" + rel; }
-std::string BuiltIn(const std::string& name) { return Registry::default_plugin_dir() + "/" + name; }
+std::string BuiltIn(const std::string& name) { return imuconv::test::BuiltInPlugin(name); }
 bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
 
-std::string ErrorOf(Registry& r, const std::string& path) {
-  try {
-    r.load_file(path);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+std::string ErrorOf(Registry& r, const std::string& path) { return imuconv::test::LoadErrorOf(r, path); }
 
 // A control byte in a message means a name or id was echoed raw.
 bool HasControlByte(const std::string& s) {

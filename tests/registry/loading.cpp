@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "load_error.h"
 #include "../pipeline/pipeline_test_util.h"
 #include "imuconv_test.h"
 
@@ -14,16 +15,9 @@ using imuconv::Error;
 using imuconv::PluginKind;
 using imuconv::Registry;
 
-std::string PluginFile(const std::string& name) { return Registry::default_plugin_dir() + "/" + name; }
+std::string PluginFile(const std::string& name) { return imuconv::test::BuiltInPlugin(name); }
 
-std::string ErrorOf(Registry& r, const std::string& path) {
-  try {
-    r.load_file(path);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+std::string ErrorOf(Registry& r, const std::string& path) { return imuconv::test::LoadErrorOf(r, path); }
 
 TEST(Loading, BuiltPluginsLoad) {
   Registry r;
