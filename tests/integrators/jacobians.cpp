@@ -34,6 +34,7 @@ Mat15 NumericPhi(Integrator integrator, const PropagationInput& in, const ImuSta
 struct PhiCase {
   Integrator integrator;
   const char* data;
+  double bound;  // on max|Phi - Phi_fd| / max|Phi_fd|, see the instantiation below
 };
 
 class PhiVsFiniteDifferences : public ::testing::TestWithParam<PhiCase> {};
@@ -53,20 +54,32 @@ TEST_P(PhiVsFiniteDifferences, OneSecond) {
             << ": max|Phi - Phi_fd| / max|Phi_fd| = " << rel << " (max|Phi| = " << numeric.cwiseAbs().maxCoeff()
             << ")\n";
   RecordProperty("phi_fd_rel_error", std::to_string(rel));
-  // 1e-6 (the specification): euler and midpoint give the exact Jacobian of their discrete map,
-  // so only the ~1e-10 differencing error remains; rk4's Phi solves the variational equation
-  // to fourth order, which differs from the derivative of the discrete RK4 map by O(dt^4)
-  // (~2e-8 at 6 rad/s on aggressive-0).
-  EXPECT_LT(rel, 1e-6);
+  EXPECT_LT(rel, pc.bound) << "bound stated in the instantiation";
 }
 
+// Bounds per integrator and case, just above what each reaches (GCC 12, x86-64; the
+// specification's 1e-6 let a wrong RK4 weight through).
+//  - euler and midpoint give the exact Jacobian of their discrete map, so only the central
+//    differencing error remains (truncation ~h^2 times the third derivative, plus rounding
+//    eps |x| / h, at h = 1e-5: ~1e-10 relative). Measured 2.5e-11 .. 6.4e-11: bound 2e-10.
+//  - rk4's Phi solves the variational equation to fourth order, which differs from the
+//    derivative of the discrete map by O(dt^4 |w|^4). Where that is below the differencing
+//    error (smooth-0: 8.0e-11) the bound is the differencing one; jitter-0 (1.6e-10, steps
+//    up to 1.4x the nominal one) gets 5e-10; aggressive-0 (up to 6 rad/s, 1.4e-8) gets 3e-8.
+//    One quadrature weight of rk4's Phi off by 2e-7 (2.0000004 for 2) gives 3.6e-8 on
+//    smooth-0 (460x), 4.4e-8 on aggressive-0, 2.9e-8 on jitter-0: all three now fail.
+constexpr double kExactFd = 2e-10;
+
 INSTANTIATE_TEST_SUITE_P(Integrators, PhiVsFiniteDifferences,
-                         ::testing::Values(PhiCase{Integrator::Euler, "smooth-0"}, PhiCase{Integrator::Euler, "aggressive-0"},
-                                           PhiCase{Integrator::Euler, "jitter-0"},
-                                           PhiCase{Integrator::Midpoint, "smooth-0"},
-                                           PhiCase{Integrator::Midpoint, "aggressive-0"},
-                                           PhiCase{Integrator::Midpoint, "jitter-0"}, PhiCase{Integrator::Rk4, "smooth-0"},
-                                           PhiCase{Integrator::Rk4, "aggressive-0"}, PhiCase{Integrator::Rk4, "jitter-0"}),
+                         ::testing::Values(PhiCase{Integrator::Euler, "smooth-0", kExactFd},
+                                           PhiCase{Integrator::Euler, "aggressive-0", kExactFd},
+                                           PhiCase{Integrator::Euler, "jitter-0", kExactFd},
+                                           PhiCase{Integrator::Midpoint, "smooth-0", kExactFd},
+                                           PhiCase{Integrator::Midpoint, "aggressive-0", kExactFd},
+                                           PhiCase{Integrator::Midpoint, "jitter-0", kExactFd},
+                                           PhiCase{Integrator::Rk4, "smooth-0", kExactFd},
+                                           PhiCase{Integrator::Rk4, "aggressive-0", 3e-8},
+                                           PhiCase{Integrator::Rk4, "jitter-0", 5e-10}),
                          [](const ::testing::TestParamInfo<PhiCase>& info) {
                            std::string name = std::string(Name(info.param.integrator)) + "_" + info.param.data;
                            for (char& ch : name)
