@@ -2,6 +2,8 @@
 
 #include <array>
 
+#include "imuconv/conversion.h"
+#include "imuconv/printable.h"
 #include "imuconv/reference_charts.h"
 #include "imuconv/so3.h"
 
@@ -105,8 +107,30 @@ Mat15 PredictionTransition(const Preintegrated& m, const ImuState& x_s, const Ma
 
 }  // namespace
 
-Preintegrated PreintegrateByPropagation(const Registry& reg, std::string_view propagator, const SampleWindow& window,
-                                        const Vec3& bg, const Vec3& ba, const ImuNoise& noise) {
+PreintegrationMethod ResolvePreintegrationMethod(const Registry& reg, PluginKind kind, std::string_view id) {
+  PreintegrationMethod m;
+  m.id = std::string(id);
+  m.kind = kind;
+  if (kind == PluginKind::Propagator) {
+    m.propagator = reg.propagator(id);
+    m.native_state = reg.state_convention(m.propagator->native_convention());
+    m.reference_state = reg.state_convention("left");
+  } else if (kind == PluginKind::Preintegrator) {
+    m.preintegrator = reg.preintegrator(id);
+    m.cov_convention = reg.preint_convention(m.preintegrator->cov_convention());
+    m.jacobian_convention = reg.preint_convention(m.preintegrator->jacobian_convention());
+    m.reference_increment = reg.preint_convention(kRef);
+  } else {
+    throw Error("method " + Quoted(id) + ": a preintegration method is a propagator or a preintegrator, not a " +
+                KindName(kind));
+  }
+  return m;
+}
+
+namespace {
+
+Preintegrated ByPropagation(const PreintegrationMethod& method, const SampleWindow& window, const Vec3& bg,
+                            const Vec3& ba, const ImuNoise& noise) {
   // Start at the identity with zero gravity: the end state is then the increment itself
   // (paper, eq. prop-by-int-rot..b with R_s = I, p_s = v_s = 0, g = 0).
   PropagationInput in;
@@ -116,7 +140,7 @@ Preintegrated PreintegrateByPropagation(const Registry& reg, std::string_view pr
   in.noise = noise;
   in.gravity.setZero();
   in.window = window;
-  const PropagationResult r = reg.propagate(propagator, "left", in);
+  const PropagationResult r = PropagateIn(*method.propagator, *method.native_state, *method.reference_state, in);
 
   Preintegrated m;
   m.dt = window.t_end() - window.t_start();
@@ -140,28 +164,60 @@ Preintegrated PreintegrateByPropagation(const Registry& reg, std::string_view pr
   return m;
 }
 
-Preintegrated PreintegrateNative(const Registry& reg, std::string_view preintegrator, const SampleWindow& window,
-                                 const Vec3& bg, const Vec3& ba, const ImuNoise& noise) {
-  const auto pre = reg.preintegrator(preintegrator);
+// A measurement in `cov` (J_bias rows in the chart of `jc`) brought into `ref`.
+Preintegrated FromResolved(const PreintConvention& cov, const PreintConvention& jc, const PreintConvention& ref,
+                           const PreintegratedIn& in) {
+  Preintegrated m;
+  m.dt = in.dt;
+  m.delta = in.delta;
+  m.bg_hat = in.bg_hat;
+  m.ba_hat = in.ba_hat;
+  const Mat15 J = Conversion(cov, ref, in.delta);
+  m.cov = Symmetrized(J * in.cov * J.transpose());
+  const Eigen::Matrix<double, 15, 6> chart_full = EmbedChartJacobian(in.J_bias, Layout(jc.labels()));
+  m.J_bias = (Conversion(jc, ref, in.delta) * chart_full).topRows<9>();
+  return m;
+}
+
+Preintegrated Native(const PreintegrationMethod& method, const SampleWindow& window, const Vec3& bg,
+                     const Vec3& ba, const ImuNoise& noise) {
   PreintegrationInput in;
   in.bg = bg;
   in.ba = ba;
   in.noise = noise;
   in.window = window;
   NativePreintegration n;
-  const Status st = pre->integrate(in, n);
-  if (!st.ok()) throw Error("preintegrator '" + std::string(preintegrator) + "': " + st.message());
+  const Status st = method.preintegrator->integrate(in, n);
+  if (!st.ok()) throw Error("preintegrator " + Quoted(method.id) + ": " + Printable(st.message()));
 
   PreintegratedIn native;
-  native.convention = pre->cov_convention();
-  native.jacobian_convention = pre->jacobian_convention();
   native.dt = n.dt;
   native.delta = n.delta;
   native.bg_hat = n.bg_hat;
   native.ba_hat = n.ba_hat;
   native.J_bias = n.J_bias;
   native.cov = n.cov;
-  return FromConvention(reg, native);
+  return FromResolved(*method.cov_convention, *method.jacobian_convention, *method.reference_increment, native);
+}
+
+}  // namespace
+
+Preintegrated Preintegrate(const Registry& /*reg*/, const PreintegrationMethod& method, const SampleWindow& window,
+                           const Vec3& bg, const Vec3& ba, const ImuNoise& noise) {
+  if (method.propagator) return ByPropagation(method, window, bg, ba, noise);
+  if (method.preintegrator) return Native(method, window, bg, ba, noise);
+  throw Error("method " + Quoted(method.id) + " was not resolved (use ResolvePreintegrationMethod)");
+}
+
+Preintegrated PreintegrateByPropagation(const Registry& reg, std::string_view propagator, const SampleWindow& window,
+                                        const Vec3& bg, const Vec3& ba, const ImuNoise& noise) {
+  return Preintegrate(reg, ResolvePreintegrationMethod(reg, PluginKind::Propagator, propagator), window, bg, ba, noise);
+}
+
+Preintegrated PreintegrateNative(const Registry& reg, std::string_view preintegrator, const SampleWindow& window,
+                                 const Vec3& bg, const Vec3& ba, const ImuNoise& noise) {
+  return Preintegrate(reg, ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, preintegrator), window, bg,
+                      ba, noise);
 }
 
 PreintegratedIn Express(const Registry& reg, const Preintegrated& m, std::string_view convention) {
@@ -185,21 +241,10 @@ PreintegratedIn Express(const Registry& reg, const Preintegrated& m, std::string
 }
 
 Preintegrated FromConvention(const Registry& reg, const PreintegratedIn& in) {
-  Preintegrated m;
-  m.dt = in.dt;
-  m.delta = in.delta;
-  m.bg_hat = in.bg_hat;
-  m.ba_hat = in.ba_hat;
-  const Mat15 J = reg.preint_conversion(in.convention, kRef, in.delta);
-  m.cov = Symmetrized(J * in.cov * J.transpose());
-
-  const std::string jchart = in.jacobian_convention.empty()
-                                 ? std::string(reg.preint_convention(in.convention)->bias_jacobian_chart())
-                                 : in.jacobian_convention;
-  const auto jc = reg.preint_convention(jchart);
-  const Eigen::Matrix<double, 15, 6> chart_full = EmbedChartJacobian(in.J_bias, Layout(jc->labels()));
-  m.J_bias = (reg.preint_conversion(jchart, kRef, in.delta) * chart_full).topRows<9>();
-  return m;
+  const auto cov = reg.preint_convention(in.convention);
+  const auto jc = reg.preint_convention(in.jacobian_convention.empty() ? std::string_view(cov->bias_jacobian_chart())
+                                                                       : std::string_view(in.jacobian_convention));
+  return FromResolved(*cov, *jc, *reg.preint_convention(kRef), in);
 }
 
 PropagationResult PropagateByPreintegration(const Registry& reg, const Preintegrated& m, const ImuState& x_s,

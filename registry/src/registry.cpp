@@ -18,6 +18,7 @@
 
 #include "builtin.h"
 #include "plugin_boundary.h"
+#include "imuconv/conversion.h"
 #include "imuconv/numeric.h"
 #include "imuconv/reference_charts.h"
 #include "imuconv/so3.h"
@@ -160,26 +161,6 @@ std::string CheckConvention(const Conv& c, const std::vector<Value>& xs, RefRetr
 }
 
 std::vector<std::string> BlockVector(const BlockLabels& l) { return {l.begin(), l.end()}; }
-
-// C = A B for 15x15 matrices made of 3x3 blocks, skipping zero blocks. Conversion Jacobians
-// have at most 7 non-zero blocks of 25, so this is several times cheaper than a dense
-// product (which Eigen does not vectorise well at this odd size).
-Mat15 BlockSparseProduct(const Mat15& A, const Mat15& B) {
-  unsigned maskA[5] = {0, 0, 0, 0, 0}, maskB[5] = {0, 0, 0, 0, 0};
-  for (int i = 0; i < 5; ++i)
-    for (int j = 0; j < 5; ++j) {
-      if (!A.block<3, 3>(3 * i, 3 * j).isZero(0.0)) maskA[i] |= 1u << j;
-      if (!B.block<3, 3>(3 * i, 3 * j).isZero(0.0)) maskB[i] |= 1u << j;
-    }
-  Mat15 C = Mat15::Zero();
-  for (int i = 0; i < 5; ++i)
-    for (int k = 0; k < 5; ++k) {
-      if (!(maskA[i] >> k & 1u)) continue;
-      for (int j = 0; j < 5; ++j)
-        if (maskB[k] >> j & 1u) C.block<3, 3>(3 * i, 3 * j).noalias() += A.block<3, 3>(3 * i, 3 * k) * B.block<3, 3>(3 * k, 3 * j);
-    }
-  return C;
-}
 
 }  // namespace
 
@@ -557,99 +538,51 @@ std::shared_ptr<const Preintegrator> Registry::preintegrator(std::string_view id
   return impl_->get(impl_->preintegrators, PluginKind::Preintegrator, id);
 }
 
-// ---- state conversions ----------------------------------------------------------------
+// ---- conversions (by id; the work is in conversion.cpp) -----------------------------------
 
 Mat15 Registry::to_reference(std::string_view from, const ImuState& x) const {
-  const ErrorState* c = impl_->raw(impl_->states, PluginKind::StateConvention, from);
-  Mat15 J;
-  if (c->jacobian_to_reference(x, J)) return J;
-  return RiddersJacobian([&](const Vec15& d, Vec15& out) {
-    ImuState y;
-    c->retract(x, d, y);
-    LeftLocal(x, y, out);
-  });
+  return ToReference(*impl_->raw(impl_->states, PluginKind::StateConvention, from), x);
 }
 
 Mat15 Registry::from_reference(std::string_view to, const ImuState& x) const {
-  const ErrorState* c = impl_->raw(impl_->states, PluginKind::StateConvention, to);
-  Mat15 J;
-  if (c->jacobian_from_reference(x, J)) return J;
-  return RiddersJacobian([&](const Vec15& e, Vec15& out) {
-    ImuState y;
-    LeftRetract(x, e, y);
-    c->local(x, y, out);
-  });
+  return FromReference(*impl_->raw(impl_->states, PluginKind::StateConvention, to), x);
 }
 
 Mat15 Registry::conversion(std::string_view from, std::string_view to, const ImuState& x) const {
-  if (from == to) {
-    (void)impl_->raw(impl_->states, PluginKind::StateConvention, from);
-    return Mat15::Identity();
-  }
-  return BlockSparseProduct(from_reference(to, x), to_reference(from, x));
+  return Conversion(*impl_->raw(impl_->states, PluginKind::StateConvention, from),
+                    *impl_->raw(impl_->states, PluginKind::StateConvention, to), x);
 }
 
 Mat15 Registry::convert_covariance(std::string_view from, std::string_view to, const ImuState& x,
                                    const Mat15& S) const {
-  const Mat15 J = conversion(from, to, x);
-  Mat15 out = J * S * J.transpose();
-  return 0.5 * (out + out.transpose());
+  return ConvertCovariance(*impl_->raw(impl_->states, PluginKind::StateConvention, from),
+                           *impl_->raw(impl_->states, PluginKind::StateConvention, to), x, S);
 }
 
 Mat15 Registry::convert_transition(std::string_view from, std::string_view to, const ImuState& x_s,
                                    const ImuState& x_e, const Mat15& Phi) const {
-  return conversion(from, to, x_e) * Phi * conversion(to, from, x_s);
+  return ConvertTransition(*impl_->raw(impl_->states, PluginKind::StateConvention, from),
+                           *impl_->raw(impl_->states, PluginKind::StateConvention, to), x_s, x_e, Phi);
 }
 
-// ---- increment conversions --------------------------------------------------------------
-
 Mat15 Registry::preint_to_reference(std::string_view from, const PreintIncrement& x) const {
-  const PreintConvention* c = impl_->raw(impl_->preints, PluginKind::PreintConvention, from);
-  Mat15 J;
-  if (c->jacobian_to_reference(x, J)) return J;
-  return RiddersJacobian([&](const Vec15& d, Vec15& out) {
-    PreintIncrement y;
-    c->retract(x, d, y);
-    PreintReferenceLocal(x, y, out);
-  });
+  return ToReference(*impl_->raw(impl_->preints, PluginKind::PreintConvention, from), x);
 }
 
 Mat15 Registry::preint_from_reference(std::string_view to, const PreintIncrement& x) const {
-  const PreintConvention* c = impl_->raw(impl_->preints, PluginKind::PreintConvention, to);
-  Mat15 J;
-  if (c->jacobian_from_reference(x, J)) return J;
-  return RiddersJacobian([&](const Vec15& e, Vec15& out) {
-    PreintIncrement y;
-    PreintReferenceRetract(x, e, y);
-    c->local(x, y, out);
-  });
+  return FromReference(*impl_->raw(impl_->preints, PluginKind::PreintConvention, to), x);
 }
 
 Mat15 Registry::preint_conversion(std::string_view from, std::string_view to, const PreintIncrement& x) const {
-  if (from == to) {
-    (void)impl_->raw(impl_->preints, PluginKind::PreintConvention, from);
-    return Mat15::Identity();
-  }
-  return BlockSparseProduct(preint_from_reference(to, x), preint_to_reference(from, x));
+  return Conversion(*impl_->raw(impl_->preints, PluginKind::PreintConvention, from),
+                    *impl_->raw(impl_->preints, PluginKind::PreintConvention, to), x);
 }
-
-// ---- propagation -------------------------------------------------------------------------
 
 PropagationResult Registry::propagate(std::string_view propagator_id, std::string_view convention,
                                       const PropagationInput& in) const {
-  const auto prop = propagator(propagator_id);
-  const std::string native = prop->native_convention();
-  PropagationInput nin = in;
-  const bool convert = convention != native;
-  if (convert) nin.cov_s = convert_covariance(convention, native, in.x_s, in.cov_s);
-  PropagationResult r;
-  const Status st = prop->propagate(nin, r);
-  if (!st.ok()) throw Error("propagator " + Quoted(propagator_id) + ": " + Printable(st.message()));
-  if (convert) {
-    r.Phi = convert_transition(native, convention, in.x_s, r.x_e, r.Phi);
-    r.cov = convert_covariance(native, convention, r.x_e, r.cov);
-  }
-  return r;
+  const Propagator* prop = impl_->raw(impl_->propagators, PluginKind::Propagator, propagator_id);
+  const ErrorState* native = impl_->raw(impl_->states, PluginKind::StateConvention, prop->native_convention());
+  return PropagateIn(*prop, *native, *impl_->raw(impl_->states, PluginKind::StateConvention, convention), in);
 }
 
 }  // namespace imuconv

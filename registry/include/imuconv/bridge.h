@@ -3,6 +3,7 @@
 // conventions compose with no pair-specific code.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -38,13 +39,40 @@ struct PreintegratedIn {
   Mat15 cov = Mat15::Zero();
 };
 
-/// Paper, section 3.1: preintegration by propagation. Propagates from the identity state
-/// with zero covariance and zero gravity, then converts with (d dx_e|s / d dx_se)^{-1}.
+/// A preintegrate task's method, resolved once from its plugin id (no lookup by string per
+/// interval). Exactly one of `propagator` and `preintegrator` is set; the conventions its path
+/// needs are resolved with it.
+struct PreintegrationMethod {
+  std::string id;
+  PluginKind kind = PluginKind::Propagator;  ///< Propagator or Preintegrator
+  /// Wrapped by propagation (paper, section 3.1), with its native state convention and the
+  /// state reference chart `left` it is run in.
+  std::shared_ptr<const Propagator> propagator;
+  std::shared_ptr<const ErrorState> native_state, reference_state;
+  /// A native scheme, with its covariance and bias-Jacobian conventions and the increment
+  /// reference chart `preint_reference` its output is brought into.
+  std::shared_ptr<const Preintegrator> preintegrator;
+  std::shared_ptr<const PreintConvention> cov_convention, jacobian_convention, reference_increment;
+};
+
+/// Resolves `id` as a plugin of `kind` (Propagator or Preintegrator) with the conventions its
+/// path needs. Throws Error listing the known ids for an unknown id or convention, and for
+/// another kind.
+IMUCONV_API PreintegrationMethod ResolvePreintegrationMethod(const Registry& reg, PluginKind kind, std::string_view id);
+
+/// Preintegrates with a resolved method: by propagation (paper, section 3.1: propagates from
+/// the identity state with zero covariance and zero gravity, then converts with
+/// (d dx_e|s / d dx_se)^{-1}) or natively, the result brought into the reference charts.
+IMUCONV_API Preintegrated Preintegrate(const Registry& reg, const PreintegrationMethod& method,
+                                       const SampleWindow& window, const Vec3& bg, const Vec3& ba,
+                                       const ImuNoise& noise);
+
+/// Preintegrate with the propagator `propagator`, resolved for this one call.
 IMUCONV_API Preintegrated PreintegrateByPropagation(const Registry& reg, std::string_view propagator,
                                         const SampleWindow& window, const Vec3& bg, const Vec3& ba,
                                         const ImuNoise& noise);
 
-/// Runs a native preintegrator and brings its output into the reference charts.
+/// Preintegrate with the native preintegrator `preintegrator`, resolved for this one call.
 IMUCONV_API Preintegrated PreintegrateNative(const Registry& reg, std::string_view preintegrator,
                                  const SampleWindow& window, const Vec3& bg, const Vec3& ba,
                                  const ImuNoise& noise);
