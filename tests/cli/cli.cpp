@@ -184,8 +184,9 @@ TEST(Cli, RunReportsBadDataWithFileAndLine) {
 }
 
 // `imuconv bench` runs the benchmark set of bench/ from the tool. Speed is never asserted
-// (bench/README.md keeps the figures); this checks that every benchmark issue 4 names, and
-// each compiled kernel instance the CPU runs, is there and ran: a positive, finite rate in
+// (bench/README.md keeps the figures); this checks that every benchmark of the set (the
+// integrators, the two schemes, a conversion, the plugin overhead, and one per compiled kernel
+// instance the CPU runs) is there and ran: a positive, finite rate in
 // IMU samples per second, in a JSON report that parses, with no plugin load errors.
 TEST(Cli, BenchRunsTheWholeSet) {
   TempDir tmp;
