@@ -31,6 +31,16 @@ struct Scenario {
     Eigen::Matrix<double, 15, 15> A = Eigen::Matrix<double, 15, 15>::Random();
     cov_left = 1e-3 * (A * A.transpose() + 15 * Mat15::Identity());
   }
+  /// The propagator's input over the scenario's window from start state x with covariance P.
+  PropagationInput Input(const ImuState& x, const Mat15& P) const {
+    PropagationInput in;
+    in.x_s = x;
+    in.cov_s = P;
+    in.noise = test::TestNoise();
+    in.gravity = g;
+    in.window = w;
+    return in;
+  }
 };
 
 class ByPreintegration : public ::testing::TestWithParam<const char*> {};
@@ -63,13 +73,7 @@ TEST_P(ByPreintegration, AgreesWithThePropagatorItCameFrom) {
   const Mat15 cov_conv = Plugins().convert_covariance("left", conv, s.x_s, s.cov_left);
   const Preintegrated m = PreintegrateByPropagation(Plugins(), "rk4", s.w, s.x_s.bg, s.x_s.ba, test::TestNoise());
   const PropagationResult a = PropagateByPreintegration(Plugins(), m, s.x_s, cov_conv, conv, s.g);
-  PropagationInput in;
-  in.x_s = s.x_s;
-  in.cov_s = cov_conv;
-  in.noise = test::TestNoise();
-  in.gravity = s.g;
-  in.window = s.w;
-  const PropagationResult b = Plugins().propagate("rk4", conv, in);
+  const PropagationResult b = Plugins().propagate("rk4", conv, s.Input(s.x_s, cov_conv));
   Vec15 d;
   Plugins().state_convention(conv)->local(b.x_e, a.x_e, d);
   EXPECT_LT(d.cwiseAbs().maxCoeff(), 1e-9);
@@ -98,13 +102,7 @@ TEST_P(ByPreintegration, StartBiasAwayFromTheEstimateAgreesWithThePropagatorToSe
     x_s.ba += scale * dba;
     const Preintegrated m = PreintegrateByPropagation(Plugins(), "rk4", s.w, s.x_s.bg, s.x_s.ba, test::TestNoise());
     const PropagationResult a = PropagateByPreintegration(Plugins(), m, x_s, Mat15::Identity(), conv, s.g);
-    PropagationInput in;
-    in.x_s = x_s;
-    in.cov_s = Mat15::Identity();
-    in.noise = test::TestNoise();
-    in.gravity = s.g;
-    in.window = s.w;
-    const PropagationResult b = Plugins().propagate("rk4", conv, in);
+    const PropagationResult b = Plugins().propagate("rk4", conv, s.Input(x_s, Mat15::Identity()));
     Vec15 d;
     Plugins().state_convention(conv)->local(b.x_e, a.x_e, d);
     return d.cwiseAbs().maxCoeff();

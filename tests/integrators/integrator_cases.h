@@ -96,6 +96,14 @@ inline Status PropagateKernel(Integrator i, const PropagationInput& in, Propagat
   return Status::Error("unknown integrator");
 }
 
+/// A test name from a case name ("smooth-0" -> "smooth_0"; GoogleTest allows no '-').
+inline std::string CaseTestName(const ::testing::TestParamInfo<const char*>& info) {
+  std::string name = info.param;
+  for (char& ch : name)
+    if (ch == '-') ch = '_';
+  return name;
+}
+
 /// max |A - B| / max |B|: the relative change of a matrix.
 template <typename A, typename B>
 double RelChange(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {

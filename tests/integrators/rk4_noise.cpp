@@ -84,12 +84,6 @@ TEST_P(Rk4Noise, EachTermMatchesAFineStepLyapunovSolution) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, Rk4Noise, ::testing::Values("smooth-0", "aggressive-0", "jitter-0"),
-                         [](const ::testing::TestParamInfo<const char*>& info) {
-                           std::string name = info.param;
-                           for (char& ch : name)
-                             if (ch == '-') ch = '_';
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(Cases, Rk4Noise, ::testing::Values("smooth-0", "aggressive-0", "jitter-0"), CaseTestName);
 
 }  // namespace
