@@ -81,8 +81,6 @@ class Node {
   /// The child `key` of this object; reports "required key is missing" at its pointer when
   /// `required` and absent. Returns nothing when absent or when this is not an object.
   std::optional<Node> get(std::string_view key, bool required) const;
-  /// Reports each key of `required` missing from this object.
-  void require(std::initializer_list<std::string_view> keys) const;
 
   // ---- typed reads: report "expected ..." at this pointer and return nothing if wrong ----
   std::optional<double> number() const;

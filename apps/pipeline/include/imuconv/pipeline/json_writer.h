@@ -2,15 +2,16 @@
 // indented by two spaces per level; arrays of scalars (vectors, matrix rows) on one line.
 //
 // Numbers are written in the shortest form that reads back to the same double (the digits
-// std::to_chars gives, by the faster Schubfach algorithm), laid out as nlohmann::json does:
+// std::to_chars gives), laid out as nlohmann::json does:
 // ".0" on integral values so that they stay floating point, exponents from 1e-05 / 1e+16.
 // The writer keeps the JSON pointer of the value being written, so that a non-finite number
 // (which JSON cannot hold) is reported where it is: "produced a non-finite number (output
 // /tasks/0/cov/matrix/3/4); no output is written" (or written as null, if so configured).
 //
 // Pieces of one document can be written by independent writers (e.g. on several threads)
-// and spliced in order with raw_element(): a writer made with the depth and pointer of the
-// element it writes produces exactly the text the parent writer would have produced.
+// and spliced in order: a writer made with the depth and pointer of the element it writes
+// produces exactly the text the parent writer would have produced; the parent writes the
+// separators (element_separator) and counts the elements (skip_elements).
 #pragma once
 
 #include <Eigen/Core>
@@ -91,12 +92,10 @@ class JsonWriter {
   void value(const json& j);
 
   // ---- splicing -------------------------------------------------------------------------------
-  /// Appends an array element that another writer produced (made with content_depth() and
-  /// the element's pointer, container_pointer() + "/" + index, of this writer's open
-  /// multi-line array).
-  void raw_element(std::string_view text);
-  /// Or, for elements whose text goes elsewhere (straight to the output): what goes before
-  /// the next element (`first`) or any later one, and then skip_elements(n) to count them.
+  /// For array elements that other writers produce (made with content_depth() and the
+  /// element's pointer, container_pointer() + "/" + index, of this writer's open multi-line
+  /// array) and whose text goes straight to the output: what goes before the next element
+  /// (`first`) or any later one, and then skip_elements(n) to count them.
   std::string element_separator(bool first) const;
   void skip_elements(std::size_t n);
   /// The indentation level of the open container's contents.
@@ -127,8 +126,5 @@ class JsonWriter {
   NonFinite non_finite_;
   std::vector<Frame> stack_;
 };
-
-/// JSON string literal of s (quotes and escapes), as nlohmann::json writes it.
-void AppendJsonString(std::string& out, std::string_view s);
 
 }  // namespace imuconv::pipeline

@@ -7,10 +7,9 @@ namespace imuconv::pipeline {
 constexpr int kMaxDoubleChars = 25;
 
 /// Writes a finite double at p in the shortest decimal form that reads back to the same
-/// double (of the shortest forms, the one closest to it), laid out as nlohmann::json does:
-/// "1.0", "0.25", "123.5", "0.0001", "1e-05", "1.5e+20", "-0.0". Returns the end. Uses the
-/// Schubfach algorithm (R. Giulietti, "The Schubfach way to render doubles", 2020), about
-/// three times faster than std::to_chars here. v must be finite.
+/// double (of the shortest forms, the one closest to it: std::to_chars' digits), laid out as
+/// nlohmann::json does: "1.0", "0.25", "123.5", "0.0001", "1e-05", "1.5e+20", "-0.0".
+/// Returns the end; at most kMaxDoubleChars are written. v must be finite.
 char* FormatShortest(char* p, double v);
 
 }  // namespace imuconv::pipeline

@@ -3,7 +3,7 @@
 // occur (with their JSON pointer) instead of the last duplicate silently winning.
 #include <algorithm>
 
-#include "data/input_file.h"
+#include "../data/input_file.h"
 #include "imuconv/pipeline/json_check.h"
 #include "imuconv/printable.h"
 

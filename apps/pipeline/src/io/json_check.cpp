@@ -121,10 +121,6 @@ std::optional<Node> Node::get(std::string_view key, bool required) const {
   return Node(*it, child_pointer(key), *c_);
 }
 
-void Node::require(std::initializer_list<std::string_view> keys) const {
-  for (auto k : keys) get(k, true);
-}
-
 std::optional<double> Node::number() const {
   if (!j_->is_number()) {
     fail("expected a number, found " + TypeName(*j_));
@@ -187,6 +183,24 @@ std::optional<std::string> Node::one_of(const std::vector<std::string>& choices,
   return std::nullopt;
 }
 
+namespace {
+// Every element of the array n read by `read`; nothing if any is wrong (each one reported).
+template <typename T>
+std::optional<std::vector<T>> ReadElements(const Node& n, std::optional<T> (Node::*read)() const) {
+  std::vector<T> out;
+  bool ok = true;
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    auto v = (n[i].*read)();
+    if (v)
+      out.push_back(std::move(*v));
+    else
+      ok = false;
+  }
+  if (!ok) return std::nullopt;
+  return out;
+}
+}  // namespace
+
 std::optional<std::vector<std::string>> Node::string_list(bool allow_empty) const {
   if (!j_->is_array()) {
     fail("expected an array of strings, found " + TypeName(*j_));
@@ -196,17 +210,7 @@ std::optional<std::vector<std::string>> Node::string_list(bool allow_empty) cons
     fail("expected a non-empty array of strings");
     return std::nullopt;
   }
-  std::vector<std::string> out;
-  bool ok = true;
-  for (std::size_t i = 0; i < j_->size(); ++i) {
-    auto s = (*this)[i].string();
-    if (s)
-      out.push_back(*s);
-    else
-      ok = false;
-  }
-  if (!ok) return std::nullopt;
-  return out;
+  return ReadElements(*this, &Node::string);
 }
 
 std::optional<std::vector<double>> Node::number_list(std::size_t min_size) const {
@@ -218,17 +222,7 @@ std::optional<std::vector<double>> Node::number_list(std::size_t min_size) const
     fail("expected at least " + std::to_string(min_size) + " numbers, found " + std::to_string(j_->size()));
     return std::nullopt;
   }
-  std::vector<double> out;
-  bool ok = true;
-  for (std::size_t i = 0; i < j_->size(); ++i) {
-    auto v = (*this)[i].number();
-    if (v)
-      out.push_back(*v);
-    else
-      ok = false;
-  }
-  if (!ok) return std::nullopt;
-  return out;
+  return ReadElements(*this, &Node::number);
 }
 
 std::optional<Eigen::VectorXd> Node::vector(Eigen::Index n) const {
@@ -276,25 +270,29 @@ std::optional<Eigen::MatrixXd> Node::matrix(Eigen::Index rows, Eigen::Index cols
   return m;
 }
 
+namespace {
+// The child `key` read by `read` (one of the typed reads above), as the keyed overloads do.
+template <typename T>
+std::optional<T> ReadChild(const Node& n, std::string_view key, bool required, std::optional<T> (Node::*read)() const) {
+  const auto child = n.get(key, required);
+  return child ? ((*child).*read)() : std::nullopt;
+}
+}  // namespace
+
 std::optional<double> Node::number(std::string_view key, bool required) const {
-  auto n = get(key, required);
-  return n ? n->number() : std::nullopt;
+  return ReadChild(*this, key, required, &Node::number);
 }
 std::optional<std::int64_t> Node::integer(std::string_view key, bool required) const {
-  auto n = get(key, required);
-  return n ? n->integer() : std::nullopt;
+  return ReadChild(*this, key, required, &Node::integer);
 }
 std::optional<bool> Node::boolean(std::string_view key, bool required) const {
-  auto n = get(key, required);
-  return n ? n->boolean() : std::nullopt;
+  return ReadChild(*this, key, required, &Node::boolean);
 }
 std::optional<std::string> Node::string(std::string_view key, bool required) const {
-  auto n = get(key, required);
-  return n ? n->string() : std::nullopt;
+  return ReadChild(*this, key, required, &Node::string);
 }
 std::optional<Vec3> Node::vec3(std::string_view key, bool required) const {
-  auto n = get(key, required);
-  return n ? n->vec3() : std::nullopt;
+  return ReadChild(*this, key, required, &Node::vec3);
 }
 
 }  // namespace imuconv::pipeline

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "double_format.h"
+#include "number_format.h"
 #include "imuconv/registry.h"
 
 namespace imuconv::pipeline {
@@ -33,8 +33,7 @@ inline char* FormatDouble(char* p, double v) {
   return FormatShortest(p, v);
 }
 
-}  // namespace
-
+// JSON string literal of s (quotes and escapes), as nlohmann::json writes it.
 void AppendJsonString(std::string& out, std::string_view s) {
   out.push_back('"');
   std::size_t run = 0;  // start of the pending run of plain bytes
@@ -61,6 +60,8 @@ void AppendJsonString(std::string& out, std::string_view s) {
   out.append(s.data() + run, s.size() - run);
   out.push_back('"');
 }
+
+}  // namespace
 
 JsonWriter::JsonWriter(std::string& out, int depth, std::string pointer, NonFinite non_finite)
     : out_(out), depth_(depth), pointer_(std::move(pointer)), non_finite_(non_finite) {
@@ -267,10 +268,5 @@ std::string JsonWriter::element_separator(bool first) const {
 }
 
 void JsonWriter::skip_elements(std::size_t n) { stack_.back().count += n; }
-
-void JsonWriter::raw_element(std::string_view text) {
-  before_value();
-  out_.append(text.data(), text.size());
-}
 
 }  // namespace imuconv::pipeline
