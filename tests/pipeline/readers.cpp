@@ -289,6 +289,34 @@ TEST(GroundTruthReader, SpecificErrors) {
   f = tmp.write("d.csv", hdr + "1000,0,0,0,1,0,0,0,0,0,x,0,0,0,0,0,0\n");
   msg = MessageOf<ReadError>([&] { ReadEurocGroundTruth(f, o); });
   EXPECT_NE(msg.find(f + ":2: column 10 (v_z): expected a finite number, found 'x'"), std::string::npos) << msg;
+  f = tmp.write("e.csv", hdr + "1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n");
+  const TimeOrigin late{TimeValue{5000, 0.0}, TimeUnit::ns};  // rows before the origin are fine: t < 0
+  EXPECT_EQ(ReadEurocGroundTruth(f, late).t.at(0), -4e-6);
+  f = tmp.write("f.csv", hdr + "# only comments and blank lines\n\n");
+  EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocGroundTruth(f, o); }), f + ": contains no ground-truth rows");
+}
+
+// Both readers go through one row loop: stamps that differ in the file but not once made
+// relative in double seconds are refused at their line, in either reader, with its own noun.
+TEST(RowLoop, StampsThatCollapseInDoubleSecondsAreRefusedAtTheirLine) {
+  TempDir tmp;
+  // 1e9 s after the origin, double seconds are 1.2e-7 s apart: 1 ns steps collapse.
+  const std::string hdr = "#time(ns),px,py,pz,qw,qx,qy,qz,vx,vy,vz,bwx,bwy,bwz,bax,bay,baz\n";
+  const std::string row = ",0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n";
+  const std::string g = tmp.write("gt.csv", hdr + "1000000000000000000" + row + "1000000000000000001" + row);
+  EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocGroundTruth(g, TimeOrigin{TimeValue{0, 0.0}, TimeUnit::s}); }),
+            g + ":3: timestamp is too close to the previous row's to be told apart in double seconds");
+  // Ground truth in ns on an axis in seconds: the stamp is split into whole seconds and the
+  // remainder before the difference, so the nanosecond survives (as a double, 1e18 ns + 5 ms
+  // + 1 ns would round to a multiple of 128 ns).
+  const std::string n = tmp.write("gt_ns.csv", hdr + "1000000000000000000" + row + "1000000000005000001" + row);
+  const TimeOrigin near{TimeValue{1000000000, 0.0}, TimeUnit::s};
+  EXPECT_EQ(ReadEurocGroundTruth(n, near).t.at(1), 5000001 / 1e9);
+  CsvFormat csv;
+  csv.time_origin = TimeValue{0, 0.0};
+  const std::string i = tmp.write("imu.csv", "1000000000.0000000001,0,0,0,0,0,9.81\n1000000000.0000000002,0,0,0,0,0,9.81\n");
+  EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(i, csv); }),
+            i + ":2: timestamp is too close to the previous sample's to be told apart in double seconds");
 }
 
 }  // namespace

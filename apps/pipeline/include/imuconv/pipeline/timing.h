@@ -53,6 +53,11 @@ struct TimingIssue {
   std::size_t index = 0;
   /// The sentence, without a file, line or pointer in front.
   std::string message;
+  /// The numbers it states (for callers that word their own advice): the median period; for
+  /// a gap, the gap and the limit it exceeds (max_gap_factor x median), all in seconds.
+  double median_period = 0.0;
+  double gap = 0.0;
+  double limit = 0.0;
 };
 
 /// The lower median of the periods t[i+1] - t[i] (0 if t has fewer than 2 entries). The lower

@@ -125,7 +125,7 @@ std::optional<TimingIssue> FindTimingIssue(const std::vector<double>& t, double 
   if (t.size() < 2 || !(median > 0.0) || !std::isfinite(median)) return std::nullopt;
   // The rate first: a wrong unit makes every gap message beside the point.
   if (!PlausibleRate(1.0 / median))
-    return TimingIssue{TimingIssue::Kind::rate, 0, RateMessage(median, declared, source)};
+    return TimingIssue{TimingIssue::Kind::rate, 0, RateMessage(median, declared, source), median};
   if (policy.allow_gaps) return std::nullopt;
   const double factor =
       std::isfinite(policy.max_gap_factor) && policy.max_gap_factor >= 1.0 ? policy.max_gap_factor : TimingPolicy{}.max_gap_factor;
@@ -138,7 +138,8 @@ std::optional<TimingIssue> FindTimingIssue(const std::vector<double>& t, double 
                        "gap of " + Num(gap) + " s before this " + (gt ? "row" : "sample") + " (the median period is " +
                            Num(median) + " s; limit " + Num(factor) + " x median = " + Num(limit) +
                            " s); set \"allow_gaps\": true in the " + (gt ? "ground_truth object to interpolate" : "IMU source to integrate") +
-                           " across it"};
+                           " across it",
+                       median, gap, limit};
   }
   return std::nullopt;
 }

@@ -3,7 +3,7 @@
 #include <charconv>
 #include <cmath>
 
-#include "data/csv_text.h"
+#include "csv_text.h"
 #include "imuconv/pipeline/imu_reader.h"
 
 namespace imuconv::pipeline {
