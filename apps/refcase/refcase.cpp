@@ -10,6 +10,7 @@
 
 #include "imuconv/bridge.h"
 #include "imuconv/numeric.h"
+#include "imuconv/pipeline/timing.h"
 #include "imuconv/printable.h"
 #include "imuconv/so3.h"
 
@@ -146,25 +147,24 @@ struct Case {
   Vec3 dbg, dba;
 };
 
-/// The timing rules of `imuconv run` (apps/pipeline/include/imuconv/pipeline/timing.h, whose
-/// library refcase does not link): the median period must give a plausible IMU rate, 1 Hz to
-/// 100 kHz (else the times are not in seconds), and no gap may exceed 10 x the median period
-/// (the generator's jitter stays within 1.4 x). Either would otherwise be integrated across in
-/// silence.
+/// The timing rules of `imuconv run`, by the pipeline's own check (FindTimingIssue with the
+/// default policy): the median period must give a plausible IMU rate, 1 Hz to 100 kHz (else
+/// the times are not in seconds), and no gap may exceed 10 x the median period (the
+/// generator's jitter stays within 1.4 x). Either would otherwise be integrated across in
+/// silence. The advice is refcase's own: a case has no time_unit or allow_gaps to set.
 void CheckTiming(const std::vector<ImuSample>& s) {
-  std::vector<double> d(s.size() - 1);
-  for (std::size_t i = 1; i < s.size(); ++i) d[i - 1] = s[i].t - s[i - 1].t;
-  const auto mid = d.begin() + static_cast<std::ptrdiff_t>((d.size() - 1) / 2);  // lower median
-  std::nth_element(d.begin(), mid, d.end());
-  const double median = *mid;
-  if (!(1.0 / median >= 1.0 && 1.0 / median <= 1.0e5))
-    throw Error("/imu: the median period is " + Num(median) + " s (rate " + Num(1.0 / median) +
-                " Hz); an IMU rate is expected between 1 Hz and 100 kHz: t must be in seconds (FORMAT.md)");
-  for (std::size_t i = 1; i < s.size(); ++i)
-    if (s[i].t - s[i - 1].t > 10.0 * median)
-      throw Error("/imu/" + std::to_string(i) + "/0: gap of " + Num(s[i].t - s[i - 1].t) +
-                  " s before this sample (the median period is " + Num(median) + " s; limit 10 x median = " +
-                  Num(10.0 * median) + " s): a reference case must be sampled without gaps");
+  std::vector<double> t(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) t[i] = s[i].t;
+  const pipeline::TimingPolicy policy;
+  const auto issue = pipeline::FindTimingIssue(t, policy, pipeline::TimeUnit::s, pipeline::TimeSource::imu);
+  if (!issue) return;
+  const double median = issue->median_period;
+  if (issue->kind == pipeline::TimingIssue::Kind::rate)
+    throw Error("/imu: the median period is " + Num(median) + " s (rate " + Num(1.0 / median) + " Hz); an IMU rate is expected between " +
+                Num(pipeline::kMinRateHz) + " Hz and " + Num(pipeline::kMaxRateHz / 1000) + " kHz: t must be in seconds (FORMAT.md)");
+  throw Error("/imu/" + std::to_string(issue->index) + "/0: gap of " + Num(issue->gap) +
+              " s before this sample (the median period is " + Num(median) + " s; limit " + Num(policy.max_gap_factor) +
+              " x median = " + Num(issue->limit) + " s): a reference case must be sampled without gaps");
 }
 
 Case Parse(const json& c) {
