@@ -7,11 +7,12 @@ python3-jsonschema (Draft202012Validator):
     examples/**/*.state.json against schemas/state.schema.json;
   - each example pipeline runs with the built binary (exit code 0) and its output validates
     against schemas/output.schema.json;
-  - a few malformed pipelines are rejected by the schema (so that it is not vacuous).
+  - the hand checker's cases (tests/data/pipeline_cases) are judged the same way by
+    schemas/pipeline.schema.json: accepted, rejected, or accepted while the checker rejects
+    them by design (what a schema cannot know: plugin ids, times against the data, ...).
 Exit code 0 when everything passes; each failure is printed with the file and the JSON path.
 """
 import argparse
-import copy
 import glob
 import json
 import os
@@ -50,6 +51,27 @@ def report(path, errs):
         print(f"FAIL {path}: {where}: {e.message[:300]}")
 
 
+def verdict(name, errs, ok_text):
+    """Prints the schema errors of `name` (returns 1) or "ok" with ok_text (returns 0)."""
+    if errs:
+        report(name, errs)
+        return 1
+    print(f"ok   {ok_text}")
+    return 0
+
+
+def run_pipeline(binary, path, out, cwd=None):
+    """Runs `imuconv run path -o out`; returns the output document, or None (the failure
+    printed)."""
+    if os.path.exists(out):
+        os.remove(out)
+    r = subprocess.run([binary, "run", path, "-o", out, "--quiet"], capture_output=True, text=True, timeout=240, cwd=cwd)
+    if r.returncode != 0:
+        print(f"FAIL {path}: imuconv run exited with {r.returncode}: {r.stderr.strip()[:2000]}")
+        return None
+    return load(out)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--source-dir", required=True)
@@ -80,30 +102,17 @@ def main():
             report(path, errs)
             continue
         out = os.path.join(args.work_dir, os.path.basename(path).replace(".json", ".out.json"))
-        if os.path.exists(out):
-            os.remove(out)
-        r = subprocess.run([args.binary, "run", path, "-o", out, "--quiet"], capture_output=True, text=True, timeout=240)
-        if r.returncode != 0:
+        result = run_pipeline(args.binary, path, out)
+        if result is None:
             failures += 1
-            print(f"FAIL {path}: imuconv run exited with {r.returncode}: {r.stderr.strip()[:2000]}")
             continue
-        errs = errors_of(v["output.schema.json"], load(out))
         checked += 1
-        if errs:
-            failures += 1
-            report(out, errs)
-        else:
-            print(f"ok   {os.path.relpath(path, src)} and its output")
+        failures += verdict(out, errors_of(v["output.schema.json"], result), f"{os.path.relpath(path, src)} and its output")
 
     for pattern, schema in (("*.measurements.json", "measurements.schema.json"), ("*.state.json", "state.schema.json")):
         for path in sorted(glob.glob(os.path.join(src, "examples", "**", pattern), recursive=True)):
-            errs = errors_of(v[schema], load(path))
             checked += 1
-            if errs:
-                failures += 1
-                report(path, errs)
-            else:
-                print(f"ok   {os.path.relpath(path, src)}")
+            failures += verdict(path, errors_of(v[schema], load(path)), os.path.relpath(path, src))
 
     # An output without the omitted matrices still validates.
     light = load(os.path.join(src, "examples", "inline_basics.json"))
@@ -112,55 +121,40 @@ def main():
     with open(light_path, "w") as f:
         json.dump(light, f)
     out = os.path.join(args.work_dir, "omit_all.out.json")
-    r = subprocess.run([args.binary, "run", light_path, "-o", out, "--quiet"], capture_output=True, text=True, timeout=240,
-                       cwd=os.path.join(src, "examples"))
+    result = run_pipeline(args.binary, light_path, out, cwd=os.path.join(src, "examples"))
     checked += 1
-    if r.returncode != 0:
+    if result is None:
         failures += 1
-        print(f"FAIL {light_path}: imuconv run exited with {r.returncode}: {r.stderr.strip()[:2000]}")
     else:
-        errs = errors_of(v["pipeline.schema.json"], light) + errors_of(v["output.schema.json"], load(out))
-        if errs:
-            failures += 1
-            report(out, errs)
-        else:
-            print("ok   inline_basics.json with every matrix omitted, and its output")
+        errs = errors_of(v["pipeline.schema.json"], light) + errors_of(v["output.schema.json"], result)
+        failures += verdict(out, errs, "inline_basics.json with every matrix omitted, and its output")
 
-    # The new keys are accepted where the reader accepts them.
-    good = load(os.path.join(src, "examples", "inline_basics.json"))
-    good["imu"]["max_gap_factor"] = 20
-    good["imu"]["allow_gaps"] = False
-    good["allow_plugin_override"] = False
-    checked += 1
-    errs = errors_of(v["pipeline.schema.json"], good)
-    if errs:
+    # The hand checker's cases (tests/data/pipeline_cases/cases.json; the checker's verdicts
+    # are asserted by tests/pipeline/schema_cases.cpp): the schema accepts accept/ and
+    # semantic/ (rejected by the checker by design, for the reason each case gives) and
+    # rejects reject/.
+    cases_dir = os.path.join(src, "tests", "data", "pipeline_cases")
+    cases = load(os.path.join(cases_dir, "cases.json"))["cases"]
+    if len(cases) < 50:
         failures += 1
-        report("inline_basics.json with max_gap_factor, allow_gaps, allow_plugin_override", errs)
-    else:
-        print("ok   schema accepts max_gap_factor, allow_gaps, allow_plugin_override")
-
-    # The schema must reject what the C++ reader rejects (a sample of malformed pipelines).
-    base = load(os.path.join(src, "examples", "inline_basics.json"))
-    bad = []
-    d = copy.deepcopy(base); d["tasks"][0]["propagatr"] = "rk4"; bad.append(("unknown task key", d))
-    d = copy.deepcopy(base); d["colour"] = 1; bad.append(("unknown top-level key", d))
-    d = copy.deepcopy(base); d["tasks"][0]["interval"]["t_end"] = "soon"; bad.append(("t_end not a number", d))
-    d = copy.deepcopy(base); del d["noise"]; bad.append(("noise missing", d))
-    d = copy.deepcopy(base); d["tasks"][1]["type"] = "integrate"; bad.append(("unknown task type", d))
-    d = copy.deepcopy(base); d["imu"]["samples"][3] = [0.1, 1, 2]; bad.append(("short sample", d))
-    d = copy.deepcopy(base); d["tasks"][1]["interval"] = {"t_start": 0, "t_end": 0.1}; bad.append(("interval and keyframes", d))
-    d = copy.deepcopy(base); d["omit"] = ["phi"]; bad.append(("unknown omit name", d))
-    d = copy.deepcopy(base); d["omit"] = ["Phi", "Phi"]; bad.append(("omit name twice", d))
-    d = copy.deepcopy(base); d["imu"]["max_gap_factor"] = 1; bad.append(("max_gap_factor not > 1", d))
-    d = copy.deepcopy(base); d["imu"]["allow_gaps"] = "yes"; bad.append(("allow_gaps not a boolean", d))
-    d = copy.deepcopy(base); d["allow_plugin_override"] = 1; bad.append(("allow_plugin_override not a boolean", d))
-    for what, doc in bad:
+        print(f"FAIL {cases_dir}/cases.json lists only {len(cases)} cases")
+    for case in cases:
+        group = case["file"].split("/")[0]
+        errs = errors_of(v["pipeline.schema.json"], load(os.path.join(cases_dir, case["file"])))
         checked += 1
-        if not errors_of(v["pipeline.schema.json"], doc):
+        want_reject = group == "reject"
+        if group not in ("accept", "reject", "semantic"):
             failures += 1
-            print(f"FAIL the pipeline schema accepts a malformed pipeline ({what})")
+            print(f"FAIL {case['file']}: unknown group {group}")
+        elif bool(errs) != want_reject:
+            failures += 1
+            if errs:
+                report(case["file"] + f" (the checker {'accepts' if group == 'accept' else 'rejects it by design: ' + case.get('why', '')}; the schema rejects)", errs)
+            else:
+                print(f"FAIL {case['file']}: the checker rejects it at {case.get('pointer', '')!r}, the schema accepts it")
         else:
-            print(f"ok   schema rejects: {what}")
+            print(f"ok   {case['file']}: schema {'rejects' if errs else 'accepts'}" +
+                  (f" (checker rejects by design: {case['why']})" if group == "semantic" else ""))
 
     print(f"{checked} checks, {failures} failures")
     return 1 if failures else 0
