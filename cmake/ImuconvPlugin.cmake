@@ -5,7 +5,7 @@
 function(imuconv_add_plugin id)
   set(target imuconv_plugin_${id})
   add_library(${target} MODULE ${ARGN})
-  target_link_libraries(${target} PRIVATE imuconv::core)
+  target_link_libraries(${target} PRIVATE imuconv::plugin_abi)
   set_target_properties(${target} PROPERTIES
     PREFIX ""
     OUTPUT_NAME imuconv_plugin_${id}

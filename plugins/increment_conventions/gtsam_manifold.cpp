@@ -8,74 +8,56 @@
 //
 // ManifoldPreintegration reports its bias Jacobians (delRdelBiasOmega, delPdelBiasAcc, ...)
 // not in this chart but in the vector-space one of `gtsam_manifold_jacobian` (paper,
-// "GTSAM Peculiarities"), hence bias_jacobian_chart().
+// "GTSAM Peculiarities"), hence jacobian_convention().
 //
 // Against `preint_reference`: dtheta_r = dtheta, dp_r = Delta R^ dp, dv_r = Delta R^ dv
 // exactly; bias blocks -I with ba and bg swapped.
+#include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
-#include "imuconv/reference_charts.h"
 #include "imuconv/so3.h"
 
 namespace {
 
+using imuconv::Block;
 using imuconv::Mat15;
 using imuconv::Mat3;
 using imuconv::PreintIncrement;
 using imuconv::Vec15;
 namespace so3 = imuconv::so3;
-namespace ref = imuconv::pref_idx;
 
-namespace idx {
-constexpr int theta = 0, p = 3, v = 6, ba = 9, bg = 12;
-}
+// GTSAM's order, accelerometer bias first.
+constexpr imuconv::BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
 
-class GtsamManifold final : public imuconv::PreintConvention {
+class GtsamManifold : public imuconv::plugin::IncrementChart<kOrder, -1> {
  public:
-  const char* id() const noexcept override { return "gtsam_manifold"; }
-  imuconv::BlockLabels labels() const noexcept override { return {"theta", "p", "v", "ba", "bg"}; }
-  const char* bias_jacobian_chart() const noexcept override { return "gtsam_manifold_jacobian"; }
+  const char* jacobian_convention() const noexcept override { return "gtsam_manifold_jacobian"; }
 
   void retract(const PreintIncrement& x, const Vec15& d, PreintIncrement& y) const noexcept override {
-    y.dR = x.dR * so3::Exp(d.segment<3>(idx::theta));
-    y.dp = x.dp + x.dR * d.segment<3>(idx::p);
-    y.dv = x.dv + x.dR * d.segment<3>(idx::v);
-    y.dba = x.dba - d.segment<3>(idx::ba);
-    y.dbg = x.dbg - d.segment<3>(idx::bg);
+    y.dR = x.dR * so3::Exp(d.segment<3>(theta));
+    y.dp = x.dp + x.dR * d.segment<3>(p);
+    y.dv = x.dv + x.dR * d.segment<3>(v);
+    RetractBiases(x, d, y);
   }
 
   void local(const PreintIncrement& x, const PreintIncrement& y, Vec15& d) const noexcept override {
     const Mat3 Rt = x.dR.transpose();
-    d.segment<3>(idx::theta) = so3::Log(Rt * y.dR);
-    d.segment<3>(idx::p) = Rt * (y.dp - x.dp);
-    d.segment<3>(idx::v) = Rt * (y.dv - x.dv);
-    d.segment<3>(idx::ba) = x.dba - y.dba;
-    d.segment<3>(idx::bg) = x.dbg - y.dbg;
+    d.segment<3>(theta) = so3::Log(Rt * y.dR);
+    d.segment<3>(p) = Rt * (y.dp - x.dp);
+    d.segment<3>(v) = Rt * (y.dv - x.dv);
+    LocalBiases(x, y, d);
   }
 
-  bool jacobian_to_reference(const PreintIncrement& x, Mat15& J) const noexcept override {
-    J.setZero();
-    J.block<3, 3>(ref::theta, idx::theta).setIdentity();
-    J.block<3, 3>(ref::p, idx::p) = x.dR;
-    J.block<3, 3>(ref::v, idx::v) = x.dR;
-    J.block<3, 3>(ref::ba, idx::ba) = -Mat3::Identity();
-    J.block<3, 3>(ref::bg, idx::bg) = -Mat3::Identity();
-    return true;
+  bool J_ref_this(const PreintIncrement& x, Mat15& J) const noexcept override {
+    return RefThis(J, {{Block::p, x.dR}, {Block::v, x.dR}});
   }
-
-  bool jacobian_from_reference(const PreintIncrement& x, Mat15& J) const noexcept override {
+  bool J_this_ref(const PreintIncrement& x, Mat15& J) const noexcept override {
     const Mat3 Rt = x.dR.transpose();
-    J.setZero();
-    J.block<3, 3>(idx::theta, ref::theta).setIdentity();
-    J.block<3, 3>(idx::p, ref::p) = Rt;
-    J.block<3, 3>(idx::v, ref::v) = Rt;
-    J.block<3, 3>(idx::ba, ref::ba) = -Mat3::Identity();
-    J.block<3, 3>(idx::bg, ref::bg) = -Mat3::Identity();
-    return true;
+    return ThisRef(J, {{Block::p, Rt}, {Block::v, Rt}});
   }
 };
 
 }  // namespace
 
-IMUCONV_PLUGIN(PreintConvention, GtsamManifold, "gtsam_manifold", "1.0.0",
+IMUCONV_PLUGIN(IncrementConvention, GtsamManifold, "gtsam_manifold", "1.0.0",
                "GTSAM ManifoldPreintegration covariance (paper's c): dR Exp(dtheta), dp + dR dp, dv + dR dv, Db - db; "
                "[theta,p,v,ba,bg]")

@@ -10,67 +10,45 @@
 //
 // Against `preint_reference` it differs only in the bias sign and order: the Jacobians are
 // identities on theta, p, v and -I on the swapped bias blocks.
+#include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
-#include "imuconv/reference_charts.h"
 #include "imuconv/so3.h"
 
 namespace {
 
+using imuconv::Block;
 using imuconv::Mat15;
 using imuconv::Mat3;
 using imuconv::PreintIncrement;
 using imuconv::Vec15;
 namespace so3 = imuconv::so3;
-namespace ref = imuconv::pref_idx;
 
-namespace idx {
-constexpr int theta = 0, p = 3, v = 6, ba = 9, bg = 12;
-}
+// GTSAM's order, accelerometer bias first.
+constexpr imuconv::BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
 
-// The same permutation-with-sign both ways: it is its own inverse.
-void SignedBiasSwap(Mat15& J) {
-  J.setZero();
-  J.block<3, 3>(idx::theta, ref::theta).setIdentity();
-  J.block<3, 3>(idx::p, ref::p).setIdentity();
-  J.block<3, 3>(idx::v, ref::v).setIdentity();
-  J.block<3, 3>(idx::ba, ref::ba) = -Mat3::Identity();
-  J.block<3, 3>(idx::bg, ref::bg) = -Mat3::Identity();
-}
-
-class GtsamManifoldJacobian final : public imuconv::PreintConvention {
+class GtsamManifoldJacobian : public imuconv::plugin::IncrementChart<kOrder, -1> {
  public:
-  const char* id() const noexcept override { return "gtsam_manifold_jacobian"; }
-  imuconv::BlockLabels labels() const noexcept override { return {"theta", "p", "v", "ba", "bg"}; }
-
   void retract(const PreintIncrement& x, const Vec15& d, PreintIncrement& y) const noexcept override {
-    y.dR = x.dR * so3::Exp(d.segment<3>(idx::theta));
-    y.dp = x.dp + d.segment<3>(idx::p);
-    y.dv = x.dv + d.segment<3>(idx::v);
-    y.dba = x.dba - d.segment<3>(idx::ba);
-    y.dbg = x.dbg - d.segment<3>(idx::bg);
+    y.dR = x.dR * so3::Exp(d.segment<3>(theta));
+    y.dp = x.dp + d.segment<3>(p);
+    y.dv = x.dv + d.segment<3>(v);
+    RetractBiases(x, d, y);
   }
 
   void local(const PreintIncrement& x, const PreintIncrement& y, Vec15& d) const noexcept override {
-    d.segment<3>(idx::theta) = so3::Log(x.dR.transpose() * y.dR);
-    d.segment<3>(idx::p) = y.dp - x.dp;
-    d.segment<3>(idx::v) = y.dv - x.dv;
-    d.segment<3>(idx::ba) = x.dba - y.dba;
-    d.segment<3>(idx::bg) = x.dbg - y.dbg;
+    d.segment<3>(theta) = so3::Log(x.dR.transpose() * y.dR);
+    d.segment<3>(p) = y.dp - x.dp;
+    d.segment<3>(v) = y.dv - x.dv;
+    LocalBiases(x, y, d);
   }
 
-  bool jacobian_to_reference(const PreintIncrement&, Mat15& J) const noexcept override {
-    SignedBiasSwap(J);
-    return true;
-  }
-
-  bool jacobian_from_reference(const PreintIncrement&, Mat15& J) const noexcept override {
-    SignedBiasSwap(J);
-    return true;
-  }
+  // The same permutation-with-sign both ways: it is its own inverse.
+  bool J_ref_this(const PreintIncrement&, Mat15& J) const noexcept override { return RefThis(J, {}); }
+  bool J_this_ref(const PreintIncrement&, Mat15& J) const noexcept override { return ThisRef(J, {}); }
 };
 
 }  // namespace
 
-IMUCONV_PLUGIN(PreintConvention, GtsamManifoldJacobian, "gtsam_manifold_jacobian", "1.0.0",
+IMUCONV_PLUGIN(IncrementConvention, GtsamManifoldJacobian, "gtsam_manifold_jacobian", "1.0.0",
                "GTSAM preintegration bias-Jacobian chart (paper's j): dR Exp(dtheta), dp + dp, dv + dv, Db - db; "
                "[theta,p,v,ba,bg]")

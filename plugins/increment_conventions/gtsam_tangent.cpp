@@ -14,66 +14,47 @@
 // Exp(psi + dtheta) = Exp(psi) Exp(Jr(psi) dtheta + O(|dtheta|^2)), so dtheta_r = Jr(psi)
 // dtheta to first order and dtheta = Jr^{-1}(psi) dtheta_r; translations pass through,
 // bias blocks are -I (sign) with ba and bg swapped (order).
+#include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
-#include "imuconv/reference_charts.h"
 #include "imuconv/so3.h"
 
 namespace {
 
+using imuconv::Block;
 using imuconv::Mat15;
+using imuconv::Mat3;
 using imuconv::PreintIncrement;
 using imuconv::Vec15;
-using imuconv::Vec3;
 namespace so3 = imuconv::so3;
-namespace ref = imuconv::pref_idx;
 
-namespace idx {
-constexpr int theta = 0, p = 3, v = 6, ba = 9, bg = 12;
-}
+// GTSAM's order, accelerometer bias first.
+constexpr imuconv::BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
 
-class GtsamTangent final : public imuconv::PreintConvention {
+class GtsamTangent : public imuconv::plugin::IncrementChart<kOrder, -1> {
  public:
-  const char* id() const noexcept override { return "gtsam_tangent"; }
-  imuconv::BlockLabels labels() const noexcept override { return {"theta", "p", "v", "ba", "bg"}; }
-
   void retract(const PreintIncrement& x, const Vec15& d, PreintIncrement& y) const noexcept override {
-    y.dR = so3::Exp(so3::Log(x.dR) + d.segment<3>(idx::theta));
-    y.dp = x.dp + d.segment<3>(idx::p);
-    y.dv = x.dv + d.segment<3>(idx::v);
-    y.dba = x.dba - d.segment<3>(idx::ba);
-    y.dbg = x.dbg - d.segment<3>(idx::bg);
+    y.dR = so3::Exp(so3::Log(x.dR) + d.segment<3>(theta));
+    y.dp = x.dp + d.segment<3>(p);
+    y.dv = x.dv + d.segment<3>(v);
+    RetractBiases(x, d, y);
   }
 
   void local(const PreintIncrement& x, const PreintIncrement& y, Vec15& d) const noexcept override {
-    d.segment<3>(idx::theta) = so3::Log(y.dR) - so3::Log(x.dR);
-    d.segment<3>(idx::p) = y.dp - x.dp;
-    d.segment<3>(idx::v) = y.dv - x.dv;
-    d.segment<3>(idx::ba) = x.dba - y.dba;
-    d.segment<3>(idx::bg) = x.dbg - y.dbg;
+    d.segment<3>(theta) = so3::Log(y.dR) - so3::Log(x.dR);
+    d.segment<3>(p) = y.dp - x.dp;
+    d.segment<3>(v) = y.dv - x.dv;
+    LocalBiases(x, y, d);
   }
 
-  bool jacobian_to_reference(const PreintIncrement& x, Mat15& J) const noexcept override {
-    J.setZero();
-    J.block<3, 3>(ref::theta, idx::theta) = so3::Jr(so3::Log(x.dR));
-    J.block<3, 3>(ref::p, idx::p).setIdentity();
-    J.block<3, 3>(ref::v, idx::v).setIdentity();
-    J.block<3, 3>(ref::ba, idx::ba) = -Eigen::Matrix3d::Identity();
-    J.block<3, 3>(ref::bg, idx::bg) = -Eigen::Matrix3d::Identity();
-    return true;
+  bool J_ref_this(const PreintIncrement& x, Mat15& J) const noexcept override {
+    return RefThis(J, {{Block::theta, so3::Jr(so3::Log(x.dR))}});
   }
-
-  bool jacobian_from_reference(const PreintIncrement& x, Mat15& J) const noexcept override {
-    J.setZero();
-    J.block<3, 3>(idx::theta, ref::theta) = so3::JrInv(so3::Log(x.dR));
-    J.block<3, 3>(idx::p, ref::p).setIdentity();
-    J.block<3, 3>(idx::v, ref::v).setIdentity();
-    J.block<3, 3>(idx::ba, ref::ba) = -Eigen::Matrix3d::Identity();
-    J.block<3, 3>(idx::bg, ref::bg) = -Eigen::Matrix3d::Identity();
-    return true;
+  bool J_this_ref(const PreintIncrement& x, Mat15& J) const noexcept override {
+    return ThisRef(J, {{Block::theta, so3::JrInv(so3::Log(x.dR))}});
   }
 };
 
 }  // namespace
 
-IMUCONV_PLUGIN(PreintConvention, GtsamTangent, "gtsam_tangent", "1.0.0",
+IMUCONV_PLUGIN(IncrementConvention, GtsamTangent, "gtsam_tangent", "1.0.0",
                "GTSAM TangentPreintegration: Exp(Log dR + dtheta), dp + dp, dv + dv, Db - db; [theta,p,v,ba,bg]")

@@ -7,64 +7,44 @@
 // R^ (the paper writes R, equal to first order), the velocity in the world frame.
 //
 // Against `left`: dtheta_l = R^ dtheta and dp_l = R^ dp exactly, dv_l = dv.
+#include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
-#include "imuconv/reference_charts.h"
 #include "imuconv/so3.h"
 
 namespace {
 
+using imuconv::Block;
 using imuconv::ImuState;
 using imuconv::Mat15;
 using imuconv::Mat3;
 using imuconv::Vec15;
 namespace so3 = imuconv::so3;
-namespace ref = imuconv::left_idx;
 
-namespace idx {
-constexpr int theta = 0, p = 3, v = 6, bg = 9, ba = 12;
-}
+constexpr imuconv::BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::bg, Block::ba};
 
-class Forster final : public imuconv::ErrorState {
+class Forster : public imuconv::plugin::StateChart<kOrder> {
  public:
-  const char* id() const noexcept override { return "forster"; }
-  imuconv::BlockLabels labels() const noexcept override { return {"theta", "p", "v", "bg", "ba"}; }
-
   void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
-    y.R = x.R * so3::Exp(d.segment<3>(idx::theta));
-    y.p = x.p + x.R * d.segment<3>(idx::p);
-    y.v = x.v + d.segment<3>(idx::v);
-    y.bg = x.bg + d.segment<3>(idx::bg);
-    y.ba = x.ba + d.segment<3>(idx::ba);
+    y.R = x.R * so3::Exp(d.segment<3>(theta));
+    y.p = x.p + x.R * d.segment<3>(p);
+    y.v = x.v + d.segment<3>(v);
+    RetractBiases(x, d, y);
   }
 
   void local(const ImuState& x, const ImuState& y, Vec15& d) const noexcept override {
     const Mat3 Rt = x.R.transpose();
-    d.segment<3>(idx::theta) = so3::Log(Rt * y.R);
-    d.segment<3>(idx::p) = Rt * (y.p - x.p);
-    d.segment<3>(idx::v) = y.v - x.v;
-    d.segment<3>(idx::bg) = y.bg - x.bg;
-    d.segment<3>(idx::ba) = y.ba - x.ba;
+    d.segment<3>(theta) = so3::Log(Rt * y.R);
+    d.segment<3>(p) = Rt * (y.p - x.p);
+    d.segment<3>(v) = y.v - x.v;
+    LocalBiases(x, y, d);
   }
 
-  bool jacobian_to_reference(const ImuState& x, Mat15& J) const noexcept override {
-    J.setZero();
-    J.block<3, 3>(ref::theta, idx::theta) = x.R;
-    J.block<3, 3>(ref::p, idx::p) = x.R;
-    J.block<3, 3>(ref::v, idx::v).setIdentity();
-    J.block<3, 3>(ref::bg, idx::bg).setIdentity();
-    J.block<3, 3>(ref::ba, idx::ba).setIdentity();
-    return true;
+  bool J_ref_this(const ImuState& x, Mat15& J) const noexcept override {
+    return RefThis(J, {{Block::theta, x.R}, {Block::p, x.R}});
   }
-
-  bool jacobian_from_reference(const ImuState& x, Mat15& J) const noexcept override {
+  bool J_this_ref(const ImuState& x, Mat15& J) const noexcept override {
     const Mat3 Rt = x.R.transpose();
-    J.setZero();
-    J.block<3, 3>(idx::theta, ref::theta) = Rt;
-    J.block<3, 3>(idx::p, ref::p) = Rt;
-    J.block<3, 3>(idx::v, ref::v).setIdentity();
-    J.block<3, 3>(idx::bg, ref::bg).setIdentity();
-    J.block<3, 3>(idx::ba, ref::ba).setIdentity();
-    return true;
+    return ThisRef(J, {{Block::theta, Rt}, {Block::p, Rt}});
   }
 };
 

@@ -10,67 +10,46 @@
 // Against `left` (p + dp_l, Exp(dtheta_l) R, v + dv_l): R^ Exp(dtheta) = Exp(R^ dtheta) R^,
 // so dtheta_l = R^ dtheta, dp_l = R^ dp, dv_l = R^ dv exactly; the Jacobians are
 // block-diagonal rotations plus a bias permutation.
+#include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
-#include "imuconv/reference_charts.h"
 #include "imuconv/so3.h"
 
 namespace {
 
+using imuconv::Block;
 using imuconv::ImuState;
 using imuconv::Mat15;
 using imuconv::Mat3;
 using imuconv::Vec15;
+using imuconv::Vec3;
 namespace so3 = imuconv::so3;
-namespace ref = imuconv::left_idx;
 
-// Block offsets of this chart.
-namespace idx {
-constexpr int theta = 0, p = 3, v = 6, ba = 9, bg = 12;
-}
+constexpr imuconv::BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
 
-class GtsamNavState final : public imuconv::ErrorState {
+class GtsamNavState : public imuconv::plugin::StateChart<kOrder> {
  public:
-  const char* id() const noexcept override { return "gtsam_navstate"; }
-  imuconv::BlockLabels labels() const noexcept override { return {"theta", "p", "v", "ba", "bg"}; }
-
   void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
-    y.R = x.R * so3::Exp(d.segment<3>(idx::theta));
-    y.p = x.p + x.R * d.segment<3>(idx::p);
-    y.v = x.v + x.R * d.segment<3>(idx::v);
-    y.ba = x.ba + d.segment<3>(idx::ba);
-    y.bg = x.bg + d.segment<3>(idx::bg);
+    y.R = x.R * so3::Exp(d.segment<3>(theta));
+    y.p = x.p + x.R * d.segment<3>(p);
+    y.v = x.v + x.R * d.segment<3>(v);
+    RetractBiases(x, d, y);
   }
 
   void local(const ImuState& x, const ImuState& y, Vec15& d) const noexcept override {
     const Mat3 Rt = x.R.transpose();
-    d.segment<3>(idx::theta) = so3::Log(Rt * y.R);
-    d.segment<3>(idx::p) = Rt * (y.p - x.p);
-    d.segment<3>(idx::v) = Rt * (y.v - x.v);
-    d.segment<3>(idx::ba) = y.ba - x.ba;
-    d.segment<3>(idx::bg) = y.bg - x.bg;
+    d.segment<3>(theta) = so3::Log(Rt * y.R);
+    d.segment<3>(p) = Rt * (y.p - x.p);
+    d.segment<3>(v) = Rt * (y.v - x.v);
+    LocalBiases(x, y, d);
   }
 
-  // dtheta_l = R^ dtheta, dp_l = R^ dp, dv_l = R^ dv, biases permuted.
-  bool jacobian_to_reference(const ImuState& x, Mat15& J) const noexcept override {
-    J.setZero();
-    J.block<3, 3>(ref::theta, idx::theta) = x.R;
-    J.block<3, 3>(ref::p, idx::p) = x.R;
-    J.block<3, 3>(ref::v, idx::v) = x.R;
-    J.block<3, 3>(ref::ba, idx::ba).setIdentity();
-    J.block<3, 3>(ref::bg, idx::bg).setIdentity();
-    return true;
+  // dtheta_l = R^ dtheta, dp_l = R^ dp, dv_l = R^ dv, biases permuted; the inverse has R^T.
+  bool J_ref_this(const ImuState& x, Mat15& J) const noexcept override {
+    return RefThis(J, {{Block::theta, x.R}, {Block::p, x.R}, {Block::v, x.R}});
   }
-
-  // The inverse: R^T on the three motion blocks.
-  bool jacobian_from_reference(const ImuState& x, Mat15& J) const noexcept override {
+  bool J_this_ref(const ImuState& x, Mat15& J) const noexcept override {
     const Mat3 Rt = x.R.transpose();
-    J.setZero();
-    J.block<3, 3>(idx::theta, ref::theta) = Rt;
-    J.block<3, 3>(idx::p, ref::p) = Rt;
-    J.block<3, 3>(idx::v, ref::v) = Rt;
-    J.block<3, 3>(idx::ba, ref::ba).setIdentity();
-    J.block<3, 3>(idx::bg, ref::bg).setIdentity();
-    return true;
+    return ThisRef(J, {{Block::theta, Rt}, {Block::p, Rt}, {Block::v, Rt}});
   }
 };
 

@@ -4,7 +4,8 @@
 // GTSAM_POSE3_EXPMAP and GTSAM_ROT3_EXPMAP, its default options; without them Pose3
 // retracts differently beyond first order and only the Jacobians below still agree):
 //   R = R^ Exp(theta),  p = p^ + R^ Jl(theta) t,  v = v^ + dv (world frame),
-//   ba = ba^ + dba,  bg = bg^ + dbg,                      order [theta, t, v, ba, bg].
+//   ba = ba^ + dba,  bg = bg^ + dbg,                      order [theta, t, v, ba, bg], where t, Pose3's
+// translation coordinate, is the block that perturbs p (labelled "p").
 // Jl is SO(3)'s left Jacobian, which is the V matrix of Pose3::Expmap(theta, t) =
 // (Exp(theta), V(theta) t). local inverts it: theta = Log(R^T R_y),
 // t = Jl^{-1}(theta) R^T (p_y - p^).
@@ -14,67 +15,48 @@
 //
 // Against `left`: dtheta_l = R^ theta exactly; dp_l = R^ Jl(theta) t, whose derivative at
 // 0 is R^ (Jl(0) = I and the theta-derivative multiplies t = 0); dv_l = dv.
+#include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
-#include "imuconv/reference_charts.h"
 #include "imuconv/so3.h"
 
 namespace {
 
+using imuconv::Block;
 using imuconv::ImuState;
 using imuconv::Mat15;
 using imuconv::Mat3;
 using imuconv::Vec15;
 using imuconv::Vec3;
 namespace so3 = imuconv::so3;
-namespace ref = imuconv::left_idx;
 
-namespace idx {
-constexpr int theta = 0, t = 3, v = 6, ba = 9, bg = 12;
-}
+// t is the p block.
+constexpr imuconv::BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
 
-class GtsamPose3Vel final : public imuconv::ErrorState {
+class GtsamPose3Vel : public imuconv::plugin::StateChart<kOrder> {
  public:
-  const char* id() const noexcept override { return "gtsam_pose3_vel"; }
-  imuconv::BlockLabels labels() const noexcept override { return {"theta", "p", "v", "ba", "bg"}; }
-
   void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
-    const Vec3 theta = d.segment<3>(idx::theta);
-    y.R = x.R * so3::Exp(theta);
-    y.p = x.p + x.R * (so3::Jl(theta) * d.segment<3>(idx::t));
-    y.v = x.v + d.segment<3>(idx::v);
-    y.ba = x.ba + d.segment<3>(idx::ba);
-    y.bg = x.bg + d.segment<3>(idx::bg);
+    const Vec3 th = d.segment<3>(theta);
+    y.R = x.R * so3::Exp(th);
+    y.p = x.p + x.R * (so3::Jl(th) * d.segment<3>(p));
+    y.v = x.v + d.segment<3>(v);
+    RetractBiases(x, d, y);
   }
 
   void local(const ImuState& x, const ImuState& y, Vec15& d) const noexcept override {
     const Mat3 Rt = x.R.transpose();
-    const Vec3 theta = so3::Log(Rt * y.R);
-    d.segment<3>(idx::theta) = theta;
-    d.segment<3>(idx::t) = so3::JlInv(theta) * (Rt * (y.p - x.p));
-    d.segment<3>(idx::v) = y.v - x.v;
-    d.segment<3>(idx::ba) = y.ba - x.ba;
-    d.segment<3>(idx::bg) = y.bg - x.bg;
+    const Vec3 th = so3::Log(Rt * y.R);
+    d.segment<3>(theta) = th;
+    d.segment<3>(p) = so3::JlInv(th) * (Rt * (y.p - x.p));
+    d.segment<3>(v) = y.v - x.v;
+    LocalBiases(x, y, d);
   }
 
-  bool jacobian_to_reference(const ImuState& x, Mat15& J) const noexcept override {
-    J.setZero();
-    J.block<3, 3>(ref::theta, idx::theta) = x.R;
-    J.block<3, 3>(ref::p, idx::t) = x.R;
-    J.block<3, 3>(ref::v, idx::v).setIdentity();
-    J.block<3, 3>(ref::ba, idx::ba).setIdentity();
-    J.block<3, 3>(ref::bg, idx::bg).setIdentity();
-    return true;
+  bool J_ref_this(const ImuState& x, Mat15& J) const noexcept override {
+    return RefThis(J, {{Block::theta, x.R}, {Block::p, x.R}});
   }
-
-  bool jacobian_from_reference(const ImuState& x, Mat15& J) const noexcept override {
+  bool J_this_ref(const ImuState& x, Mat15& J) const noexcept override {
     const Mat3 Rt = x.R.transpose();
-    J.setZero();
-    J.block<3, 3>(idx::theta, ref::theta) = Rt;
-    J.block<3, 3>(idx::t, ref::p) = Rt;
-    J.block<3, 3>(idx::v, ref::v).setIdentity();
-    J.block<3, 3>(idx::ba, ref::ba).setIdentity();
-    J.block<3, 3>(idx::bg, ref::bg).setIdentity();
-    return true;
+    return ThisRef(J, {{Block::theta, Rt}, {Block::p, Rt}});
   }
 };
 

@@ -10,30 +10,28 @@
 //   R = R^ Exp(phi),  phi = 2 atan(|dtheta| / 2) dtheta / |dtheta|,
 //   p = p^ + dp,  v = v^ + dv,  b = b^ + db.
 // local inverts it: phi = Log(R^T R_y), dtheta = 2 tan(|phi| / 2) phi / |phi| (|phi| < pi).
-// (tests/conventions/openvins_jpl.cpp checks this against an independent JPL implementation.)
+// (its test file checks this against an independent JPL implementation.)
 //
 // Against `left`: phi = dtheta + O(|dtheta|^3), so dtheta_l = R^ dtheta to first order;
 // dp_l = dp, dv_l = dv. The Jacobians equal those of the first-order error state OpenVINS
 // linearises its filter in (R_GtoI ~ (I - [dtheta]x) R^_GtoI).
 #include <cmath>
 
+#include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
-#include "imuconv/reference_charts.h"
 #include "imuconv/so3.h"
 
 namespace {
 
+using imuconv::Block;
 using imuconv::ImuState;
 using imuconv::Mat15;
 using imuconv::Mat3;
 using imuconv::Vec15;
 using imuconv::Vec3;
 namespace so3 = imuconv::so3;
-namespace ref = imuconv::left_idx;
 
-namespace idx {
-constexpr int theta = 0, p = 3, v = 6, bg = 9, ba = 12;
-}
+constexpr imuconv::BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::bg, Block::ba};
 
 // Below this angle the ratios use their Taylor series (next term < 1e-18).
 constexpr double kSeriesBelow = 1e-3;
@@ -56,47 +54,27 @@ double TanRatio(double t) {
   return 2.0 * std::tan(0.5 * t) / t;
 }
 
-class OpenVinsJpl final : public imuconv::ErrorState {
+class OpenVinsJpl : public imuconv::plugin::StateChart<kOrder> {
  public:
-  const char* id() const noexcept override { return "openvins_jpl"; }
-  imuconv::BlockLabels labels() const noexcept override { return {"theta", "p", "v", "bg", "ba"}; }
-
   void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
-    const Vec3 dtheta = d.segment<3>(idx::theta);
+    const Vec3 dtheta = d.segment<3>(theta);
     y.R = x.R * so3::Exp(AtanRatio(dtheta.norm()) * dtheta);
-    y.p = x.p + d.segment<3>(idx::p);
-    y.v = x.v + d.segment<3>(idx::v);
-    y.bg = x.bg + d.segment<3>(idx::bg);
-    y.ba = x.ba + d.segment<3>(idx::ba);
+    y.p = x.p + d.segment<3>(p);
+    y.v = x.v + d.segment<3>(v);
+    RetractBiases(x, d, y);
   }
 
   void local(const ImuState& x, const ImuState& y, Vec15& d) const noexcept override {
     const Vec3 phi = so3::Log(x.R.transpose() * y.R);
-    d.segment<3>(idx::theta) = TanRatio(phi.norm()) * phi;
-    d.segment<3>(idx::p) = y.p - x.p;
-    d.segment<3>(idx::v) = y.v - x.v;
-    d.segment<3>(idx::bg) = y.bg - x.bg;
-    d.segment<3>(idx::ba) = y.ba - x.ba;
+    d.segment<3>(theta) = TanRatio(phi.norm()) * phi;
+    d.segment<3>(p) = y.p - x.p;
+    d.segment<3>(v) = y.v - x.v;
+    LocalBiases(x, y, d);
   }
 
-  bool jacobian_to_reference(const ImuState& x, Mat15& J) const noexcept override {
-    J.setZero();
-    J.block<3, 3>(ref::theta, idx::theta) = x.R;
-    J.block<3, 3>(ref::p, idx::p).setIdentity();
-    J.block<3, 3>(ref::v, idx::v).setIdentity();
-    J.block<3, 3>(ref::bg, idx::bg).setIdentity();
-    J.block<3, 3>(ref::ba, idx::ba).setIdentity();
-    return true;
-  }
-
-  bool jacobian_from_reference(const ImuState& x, Mat15& J) const noexcept override {
-    J.setZero();
-    J.block<3, 3>(idx::theta, ref::theta) = x.R.transpose();
-    J.block<3, 3>(idx::p, ref::p).setIdentity();
-    J.block<3, 3>(idx::v, ref::v).setIdentity();
-    J.block<3, 3>(idx::bg, ref::bg).setIdentity();
-    J.block<3, 3>(idx::ba, ref::ba).setIdentity();
-    return true;
+  bool J_ref_this(const ImuState& x, Mat15& J) const noexcept override { return RefThis(J, {{Block::theta, x.R}}); }
+  bool J_this_ref(const ImuState& x, Mat15& J) const noexcept override {
+    return ThisRef(J, {{Block::theta, x.R.transpose()}});
   }
 };
 

@@ -13,74 +13,57 @@
 //
 // Against `left` (same rotation perturbation): dtheta_l = phi exactly, and to first order
 // dv_l = [phi]x v^ + nu = nu - [v^]x phi, dp_l = rho - [p^]x phi.
+#include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
-#include "imuconv/reference_charts.h"
 #include "imuconv/so3.h"
 
 namespace {
 
+using imuconv::Block;
 using imuconv::ImuState;
 using imuconv::Mat15;
 using imuconv::Mat3;
 using imuconv::Vec15;
 using imuconv::Vec3;
 namespace so3 = imuconv::so3;
-namespace ref = imuconv::left_idx;
 
-namespace idx {
-constexpr int theta = 0, v = 3, p = 6, bg = 9, ba = 12;
-}
+constexpr imuconv::BlockOrder kOrder{Block::theta, Block::v, Block::p, Block::bg, Block::ba};
 
-class RightInvariantSe23 final : public imuconv::ErrorState {
+class RightInvariantSe23 : public imuconv::plugin::StateChart<kOrder> {
  public:
-  const char* id() const noexcept override { return "right_invariant_se23"; }
-  imuconv::BlockLabels labels() const noexcept override { return {"theta", "v", "p", "bg", "ba"}; }
-
   void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
-    const Vec3 phi = d.segment<3>(idx::theta);
+    const Vec3 phi = d.segment<3>(theta);
     const Mat3 E = so3::Exp(phi);
     const Mat3 V = so3::Jl(phi);
     y.R = E * x.R;
-    y.v = E * x.v + V * d.segment<3>(idx::v);
-    y.p = E * x.p + V * d.segment<3>(idx::p);
-    y.bg = x.bg + d.segment<3>(idx::bg);
-    y.ba = x.ba + d.segment<3>(idx::ba);
+    y.v = E * x.v + V * d.segment<3>(v);
+    y.p = E * x.p + V * d.segment<3>(p);
+    RetractBiases(x, d, y);
   }
 
   void local(const ImuState& x, const ImuState& y, Vec15& d) const noexcept override {
     const Mat3 E = y.R * x.R.transpose();  // = Exp(phi)
     const Vec3 phi = so3::Log(E);
     const Mat3 Vinv = so3::JlInv(phi);
-    d.segment<3>(idx::theta) = phi;
-    d.segment<3>(idx::v) = Vinv * (y.v - E * x.v);
-    d.segment<3>(idx::p) = Vinv * (y.p - E * x.p);
-    d.segment<3>(idx::bg) = y.bg - x.bg;
-    d.segment<3>(idx::ba) = y.ba - x.ba;
+    d.segment<3>(theta) = phi;
+    d.segment<3>(v) = Vinv * (y.v - E * x.v);
+    d.segment<3>(p) = Vinv * (y.p - E * x.p);
+    LocalBiases(x, y, d);
   }
 
   // dtheta_l = phi, dv_l = nu - [v^]x phi, dp_l = rho - [p^]x phi.
-  bool jacobian_to_reference(const ImuState& x, Mat15& J) const noexcept override {
-    J.setZero();
-    J.block<3, 3>(ref::theta, idx::theta).setIdentity();
-    J.block<3, 3>(ref::v, idx::theta) = -so3::skew(x.v);
-    J.block<3, 3>(ref::v, idx::v).setIdentity();
-    J.block<3, 3>(ref::p, idx::theta) = -so3::skew(x.p);
-    J.block<3, 3>(ref::p, idx::p).setIdentity();
-    J.block<3, 3>(ref::bg, idx::bg).setIdentity();
-    J.block<3, 3>(ref::ba, idx::ba).setIdentity();
+  bool J_ref_this(const ImuState& x, Mat15& J) const noexcept override {
+    RefThis(J, {});
+    RefThisBlock(J, Block::v, Block::theta) = -so3::skew(x.v);
+    RefThisBlock(J, Block::p, Block::theta) = -so3::skew(x.p);
     return true;
   }
 
   // The inverse: phi = dtheta_l, nu = dv_l + [v^]x dtheta_l, rho = dp_l + [p^]x dtheta_l.
-  bool jacobian_from_reference(const ImuState& x, Mat15& J) const noexcept override {
-    J.setZero();
-    J.block<3, 3>(idx::theta, ref::theta).setIdentity();
-    J.block<3, 3>(idx::v, ref::v).setIdentity();
-    J.block<3, 3>(idx::p, ref::p).setIdentity();
-    J.block<3, 3>(idx::v, ref::theta) = so3::skew(x.v);
-    J.block<3, 3>(idx::p, ref::theta) = so3::skew(x.p);
-    J.block<3, 3>(idx::bg, ref::bg).setIdentity();
-    J.block<3, 3>(idx::ba, ref::ba).setIdentity();
+  bool J_this_ref(const ImuState& x, Mat15& J) const noexcept override {
+    ThisRef(J, {});
+    ThisRefBlock(J, Block::v, Block::theta) = so3::skew(x.v);
+    ThisRefBlock(J, Block::p, Block::theta) = so3::skew(x.p);
     return true;
   }
 };

@@ -165,7 +165,7 @@ Preintegrated ByPropagation(const PreintegrationMethod& method, const SampleWind
 }
 
 // A measurement in `cov` (J_bias rows in the chart of `jc`) brought into `ref`.
-Preintegrated FromResolved(const PreintConvention& cov, const PreintConvention& jc, const PreintConvention& ref,
+Preintegrated FromResolved(const IncrementConvention& cov, const IncrementConvention& jc, const IncrementConvention& ref,
                            const PreintegratedIn& in) {
   Preintegrated m;
   m.dt = in.dt;
@@ -224,7 +224,7 @@ PreintegratedIn Express(const Registry& reg, const Preintegrated& m, std::string
   const auto conv = reg.preint_convention(convention);
   PreintegratedIn out;
   out.convention = conv->id();
-  out.jacobian_convention = conv->bias_jacobian_chart();
+  out.jacobian_convention = conv->jacobian_convention();
   out.dt = m.dt;
   out.delta = m.delta;
   out.bg_hat = m.bg_hat;
@@ -242,7 +242,7 @@ PreintegratedIn Express(const Registry& reg, const Preintegrated& m, std::string
 
 Preintegrated FromConvention(const Registry& reg, const PreintegratedIn& in) {
   const auto cov = reg.preint_convention(in.convention);
-  const auto jc = reg.preint_convention(in.jacobian_convention.empty() ? std::string_view(cov->bias_jacobian_chart())
+  const auto jc = reg.preint_convention(in.jacobian_convention.empty() ? std::string_view(cov->jacobian_convention())
                                                                        : std::string_view(in.jacobian_convention));
   return FromResolved(*cov, *jc, *reg.preint_convention(kRef), in);
 }

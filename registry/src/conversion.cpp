@@ -4,6 +4,7 @@
 #include <string>
 
 #include "imuconv/numeric.h"
+#include "numeric_jacobian.h"
 #include "imuconv/printable.h"
 #include "imuconv/reference_charts.h"
 #include "imuconv/registry.h"
@@ -33,61 +34,44 @@ Mat15 BlockSparseProduct(const Mat15& A, const Mat15& B) {
   return C;
 }
 
-// The same four functions for both kinds: Conv's reference chart is RefRetract/RefLocal.
-template <typename Conv, typename Value, typename RefLocal>
-Mat15 ToReferenceOf(const Conv& c, const Value& x, RefLocal ref_local) {
-  Mat15 J;
-  if (c.jacobian_to_reference(x, J)) return J;
-  return RiddersJacobian([&](const Vec15& d, Vec15& out) {
-    Value y;
-    c.retract(x, d, y);
-    ref_local(x, y, out);
-  });
-}
-
-template <typename Conv, typename Value, typename RefRetract>
-Mat15 FromReferenceOf(const Conv& c, const Value& x, RefRetract ref_retract) {
-  Mat15 J;
-  if (c.jacobian_from_reference(x, J)) return J;
-  return RiddersJacobian([&](const Vec15& e, Vec15& out) {
-    Value y;
-    ref_retract(x, e, y);
-    c.local(x, y, out);
-  });
-}
-
 }  // namespace
 
-Mat15 ToReference(const ErrorState& c, const ImuState& x) { return ToReferenceOf(c, x, LeftLocal); }
-Mat15 ToReference(const PreintConvention& c, const PreintIncrement& x) {
-  return ToReferenceOf(c, x, PreintReferenceLocal);
-}
-Mat15 FromReference(const ErrorState& c, const ImuState& x) { return FromReferenceOf(c, x, LeftRetract); }
-Mat15 FromReference(const PreintConvention& c, const PreintIncrement& x) {
-  return FromReferenceOf(c, x, PreintReferenceRetract);
+template <class Value>
+Mat15 ToReference(const Chart<Value>& c, const Value& x) {
+  Mat15 J;
+  if (c.J_ref_this(x, J)) return J;
+  return detail::NumericJacobian(c, ReferenceChart<Value>{}, x);
 }
 
-Mat15 Conversion(const ErrorState& from, const ErrorState& to, const ImuState& x) {
+template <class Value>
+Mat15 FromReference(const Chart<Value>& c, const Value& x) {
+  Mat15 J;
+  if (c.J_this_ref(x, J)) return J;
+  return detail::NumericJacobian(ReferenceChart<Value>{}, c, x);
+}
+
+template <class Value>
+Mat15 Conversion(const Chart<Value>& from, const Chart<Value>& to, const Value& x) {
   if (SameId(from.id(), to.id())) return Mat15::Identity();
   return BlockSparseProduct(FromReference(to, x), ToReference(from, x));
 }
-Mat15 Conversion(const PreintConvention& from, const PreintConvention& to, const PreintIncrement& x) {
-  if (SameId(from.id(), to.id())) return Mat15::Identity();
-  return BlockSparseProduct(FromReference(to, x), ToReference(from, x));
-}
 
-Mat15 ConvertCovariance(const ErrorState& from, const ErrorState& to, const ImuState& x, const Mat15& S) {
+template <class Value>
+Mat15 ConvertCovariance(const Chart<Value>& from, const Chart<Value>& to, const Value& x, const Mat15& S) {
   const Mat15 J = Conversion(from, to, x);
   Mat15 out = J * S * J.transpose();
   return 0.5 * (out + out.transpose());
 }
 
-Mat15 ConvertTransition(const ErrorState& from, const ErrorState& to, const ImuState& x_s, const ImuState& x_e,
+IMUCONV_CONVERSION_INSTANCES(, ImuState)
+IMUCONV_CONVERSION_INSTANCES(, PreintIncrement)
+
+Mat15 ConvertTransition(const StateConvention& from, const StateConvention& to, const ImuState& x_s, const ImuState& x_e,
                         const Mat15& Phi) {
   return Conversion(from, to, x_e) * Phi * Conversion(to, from, x_s);
 }
 
-PropagationResult PropagateIn(const Propagator& prop, const ErrorState& native, const ErrorState& convention,
+PropagationResult PropagateIn(const Propagator& prop, const StateConvention& native, const StateConvention& convention,
                               const PropagationInput& in) {
   PropagationInput nin = in;
   const bool convert = !SameId(convention.id(), native.id());

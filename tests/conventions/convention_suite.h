@@ -1,8 +1,9 @@
 // The generic test suite every perturbation convention runs, manif-style: one macro defines
-// the suite for a kind of convention (states or increments), one line per convention
-// instantiates it:
-//   IMUCONV_DEFINE_CONVENTION_SUITE(StateConventionSuite, StateKind)
-//   IMUCONV_CONVENTION_SUITE(StateConventionSuite, gtsam_navstate)
+// the suite for a kind of convention (states or increments), one line in each convention's
+// own test file instantiates it:
+//   IMUCONV_DECLARE_CONVENTION_SUITE(StateConventionSuite);           (state/suite.h)
+//   IMUCONV_DEFINE_CONVENTION_SUITE(StateConventionSuite, StateKind)   (state/all.cpp)
+//   IMUCONV_CONVENTION_SUITE(StateConventionSuite, gtsam_navstate);    (state/gtsam_navstate.cpp)
 //
 // Everything is checked against the convention's own retract/local and the kind's reference
 // chart (`left` or `preint_reference`), never against the registry's derived results, so a
@@ -72,7 +73,7 @@ class PrintWorstErrors : public ::testing::Environment {
 
 struct StateKind {
   using Value = ImuState;
-  using Convention = ErrorState;
+  using Convention = StateConvention;
   static constexpr PluginKind kKind = PluginKind::StateConvention;
   static constexpr const char* kReference = "left";
 
@@ -101,8 +102,8 @@ struct StateKind {
 
 struct PreintKind {
   using Value = PreintIncrement;
-  using Convention = PreintConvention;
-  static constexpr PluginKind kKind = PluginKind::PreintConvention;
+  using Convention = IncrementConvention;
+  static constexpr PluginKind kKind = PluginKind::IncrementConvention;
   static constexpr const char* kReference = "preint_reference";
 
   static std::shared_ptr<const Convention> Get(const std::string& id) { return Plugins().preint_convention(id); }
@@ -215,8 +216,8 @@ void CheckAnalyticJacobians(const std::string& id, bool ridders) {
   for (std::size_t k = 0; k < xs.size(); ++k) {
     const auto& x = xs[k];
     Mat15 Jto, Jfrom;
-    ASSERT_TRUE(c->jacobian_to_reference(x, Jto)) << id << " gives no analytic jacobian_to_reference";
-    ASSERT_TRUE(c->jacobian_from_reference(x, Jfrom)) << id << " gives no analytic jacobian_from_reference";
+    ASSERT_TRUE(c->J_ref_this(x, Jto)) << id << " gives no analytic J_ref_this";
+    ASSERT_TRUE(c->J_this_ref(x, Jfrom)) << id << " gives no analytic J_this_ref";
     const Map15 to = ToReferenceMap<K>(*c, x), from = FromReferenceMap<K>(*c, x);
     const Mat15 Nto = ridders ? RiddersJacobian(to) : CentralJacobian(to, kCentralStep);
     const Mat15 Nfrom = ridders ? RiddersJacobian(from) : CentralJacobian(from, kCentralStep);
@@ -224,9 +225,9 @@ void CheckAnalyticJacobians(const std::string& id, bool ridders) {
     const std::string how = ridders ? "Ridders" : "central h=1e-6";
     const double eto = RelErr(Jto, Nto), efrom = RelErr(Jfrom, Nfrom);
     Record("analytic vs " + how, std::max(eto, efrom));
-    EXPECT_LE(eto, tol) << id << " jacobian_to_reference at point " << k << "\nanalytic\n" << Jto << "\n" << how
+    EXPECT_LE(eto, tol) << id << " J_ref_this at point " << k << "\nanalytic\n" << Jto << "\n" << how
                         << "\n" << Nto;
-    EXPECT_LE(efrom, tol) << id << " jacobian_from_reference at point " << k << "\nanalytic\n" << Jfrom << "\n"
+    EXPECT_LE(efrom, tol) << id << " J_this_ref at point " << k << "\nanalytic\n" << Jfrom << "\n"
                           << how << "\n" << Nfrom;
   }
 }
@@ -236,8 +237,8 @@ void CheckJacobiansInverse(const std::string& id) {
   const auto c = K::Get(id);
   for (const auto& x : K::Points()) {
     Mat15 Jto, Jfrom;
-    ASSERT_TRUE(c->jacobian_to_reference(x, Jto));
-    ASSERT_TRUE(c->jacobian_from_reference(x, Jfrom));
+    ASSERT_TRUE(c->J_ref_this(x, Jto));
+    ASSERT_TRUE(c->J_this_ref(x, Jfrom));
     const double e = std::max(RelErr(Jto * Jfrom, Mat15::Identity()), RelErr(Jfrom * Jto, Mat15::Identity()));
     Record("J_to_ref J_from_ref - I", e);
     EXPECT_LE(e, kInverseTol) << id;
@@ -323,9 +324,13 @@ class BlockBuilder {
 
 }  // namespace imuconv::test
 
-/// Defines the full per-convention suite SUITE for a kind (StateKind or PreintKind).
+/// Declares the suite class SUITE (in a header every convention's test file includes).
+#define IMUCONV_DECLARE_CONVENTION_SUITE(SUITE) \
+  class SUITE : public ::testing::TestWithParam<std::string> {}
+
+/// Defines the full per-convention suite SUITE for a kind (StateKind or PreintKind), once per
+/// test executable.
 #define IMUCONV_DEFINE_CONVENTION_SUITE(SUITE, KIND)                                                      \
-  class SUITE : public ::testing::TestWithParam<std::string> {};                                          \
   TEST_P(SUITE, LabelsAndAnalyticJacobiansRegistered) { ::imuconv::test::CheckLabels<KIND>(GetParam()); } \
   TEST_P(SUITE, RetractOfZeroIsTheEstimate) { ::imuconv::test::CheckRetractZero<KIND>(GetParam()); }      \
   TEST_P(SUITE, LocalInvertsRetract) { ::imuconv::test::CheckRoundTrip<KIND>(GetParam()); }                \

@@ -71,7 +71,16 @@ TEST(Loading, DuplicateIdNamesBothFiles) {
 TEST(Loading, WrongAnalyticJacobianIsRefused) {
   Registry r;
   const std::string msg = ErrorOf(r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_bad_jacobian.so");
-  EXPECT_NE(msg.find("analytic jacobian_to_reference differs"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("analytic J_ref_this differs"), std::string::npos) << msg;
+}
+
+TEST(Loading, BlockOrderThatIsNoPermutationIsRefused) {
+  Registry r;
+  const std::string msg = ErrorOf(r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_bad_order.so");
+  EXPECT_NE(msg.find("state convention 'bad_order'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("block order must be a permutation of p, theta, v, bg, ba (got theta, theta, v, bg, ba)"),
+            std::string::npos)
+      << msg;
 }
 
 TEST(Loading, RegistryStaysUsableAfterFailures) {

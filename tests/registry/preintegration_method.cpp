@@ -3,6 +3,8 @@
 // a native scheme's output brought into preint_reference by FromConvention.
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include "../bridge/synthetic.h"
 #include "imuconv/bridge.h"
 #include "imuconv_test.h"
@@ -12,9 +14,13 @@ namespace {
 using namespace imuconv;
 using imuconv::test::Plugins;
 
-SampleWindow Window(const std::vector<ImuSample>& s) {
+// A window over samples that live as long as the test binary (a window points into them).
+SampleWindow Window(double seconds) {
+  static std::map<double, std::vector<ImuSample>> kept;
+  const auto& s = kept.emplace(seconds, test::SmoothImu(seconds)).first->second;
   SampleWindow w;
-  EXPECT_TRUE(MakeWindow(s.data(), s.size(), s.front().t, s.back().t, w).ok());
+  const bool made = MakeWindow(s.data(), s.size(), s.front().t, s.back().t, w).ok();
+  EXPECT_TRUE(made) << seconds << " s window";
   return w;
 }
 
@@ -46,7 +52,7 @@ TEST(PreintegrationMethod, PropagatorResolvedWithItsNativeConvention) {
     EXPECT_STREQ(m.reference_state->id(), "left") << id;
 
     // The end state of Registry::propagate from the identity is the increment itself.
-    const SampleWindow w = Window(test::SmoothImu(0.5));
+    const SampleWindow w = Window(0.5);
     PropagationInput in;
     in.x_s.bg = kBg;
     in.x_s.ba = kBa;
@@ -67,7 +73,7 @@ TEST(PreintegrationMethod, PreintegratorMatchesFromConvention) {
     EXPECT_STREQ(m.cov_convention->id(), m.preintegrator->cov_convention()) << id;
     EXPECT_STREQ(m.jacobian_convention->id(), m.preintegrator->jacobian_convention()) << id;
 
-    const SampleWindow w = Window(test::SmoothImu(0.5));
+    const SampleWindow w = Window(0.5);
     PreintegrationInput in;
     in.bg = kBg;
     in.ba = kBa;
@@ -75,15 +81,8 @@ TEST(PreintegrationMethod, PreintegratorMatchesFromConvention) {
     in.window = w;
     NativePreintegration n;
     ASSERT_TRUE(m.preintegrator->integrate(in, n).ok());
-    PreintegratedIn native;
-    native.convention = m.preintegrator->cov_convention();
-    native.jacobian_convention = m.preintegrator->jacobian_convention();
-    native.dt = n.dt;
-    native.delta = n.delta;
-    native.bg_hat = n.bg_hat;
-    native.ba_hat = n.ba_hat;
-    native.J_bias = n.J_bias;
-    native.cov = n.cov;
+    const PreintegratedIn native{m.preintegrator->cov_convention(), m.preintegrator->jacobian_convention(), n.dt, n.delta,
+                                 n.bg_hat, n.ba_hat, n.J_bias, n.cov};
     ExpectSame(Preintegrate(Plugins(), m, w, kBg, kBa, test::TestNoise()), FromConvention(Plugins(), native));
   }
 }
@@ -106,7 +105,7 @@ TEST(PreintegrationMethod, ConventionIsNotAMethod) {
 TEST(PreintegrationMethod, UnresolvedMethodIsAnError) {
   PreintegrationMethod m;
   m.id = "rk4";
-  const SampleWindow w = Window(test::SmoothImu(0.1));
+  const SampleWindow w = Window(0.1);
   EXPECT_THROW(Preintegrate(Plugins(), m, w, kBg, kBa, test::TestNoise()), Error);
 }
 

@@ -1,4 +1,5 @@
-// The plugin ABI: what every imuconv plugin shared object exports through Boost.DLL.
+// The plugin ABI: what every imuconv plugin shared object exports through Boost.DLL
+// (CMake target imuconv::plugin_abi; the layout facts are in plugin_kind.h).
 //
 // Each plugin exports four aliases (BOOST_DLL_ALIAS):
 //   imuconv_plugin_abi      int() noexcept                    -> kPluginAbiVersion
@@ -13,75 +14,44 @@
 #include <boost/config.hpp>
 #include <boost/dll/alias.hpp>
 #include <new>
+#include <type_traits>
 
-#include "imuconv/error_state.h"
-#include "imuconv/preintegrator.h"
-#include "imuconv/propagator.h"
+#include "imuconv/plugin_kind.h"
 
-namespace imuconv {
+namespace imuconv::detail {
 
-/// Bumped whenever a base class, value type or this descriptor changes layout.
-constexpr int kPluginAbiVersion = 1;
-
-enum class PluginKind : int {
-  StateConvention = 1,   ///< ErrorState
-  PreintConvention = 2,  ///< PreintConvention
-  Propagator = 3,        ///< Propagator
-  Preintegrator = 4,     ///< Preintegrator
+/// The object a plugin creates: IMPL with id() returning the id the IMUCONV_PLUGIN line
+/// declares, so that the id is written once. A final IMPL (which must then return that id
+/// itself; the host checks) is used as it is.
+template <class Impl, const char* Id, bool = std::is_final_v<Impl>>
+struct PluginObject final : Impl {
+  const char* id() const noexcept override { return Id; }
 };
+template <class Impl, const char* Id>
+struct PluginObject<Impl, Id, true> {};
+template <class Impl, const char* Id>
+using PluginObjectT = std::conditional_t<std::is_final_v<Impl>, Impl, PluginObject<Impl, Id>>;
 
-inline const char* KindName(PluginKind k) noexcept {
-  switch (k) {
-    case PluginKind::StateConvention: return "state_convention";
-    case PluginKind::PreintConvention: return "preint_convention";
-    case PluginKind::Propagator: return "propagator";
-    case PluginKind::Preintegrator: return "preintegrator";
-  }
-  return "unknown";
-}
-
-/// Layout facts both sides must agree on before any object crosses the boundary.
-struct AbiFingerprint {
-  int abi_version = kPluginAbiVersion;
-  int eigen_max_static_align = EIGEN_MAX_STATIC_ALIGN_BYTES;
-  int sizeof_state = static_cast<int>(sizeof(ImuState));
-  int sizeof_window = static_cast<int>(sizeof(SampleWindow));
-  int gnu_major = __GNUC__;
-  int cxx_abi = _GLIBCXX_USE_CXX11_ABI;
-};
-
-struct PluginDescriptor {
-  AbiFingerprint fingerprint;
-  PluginKind kind;
-  const char* id;
-  const char* version;
-  const char* summary;
-};
-
-template <PluginKind K> struct PluginBase;
-template <> struct PluginBase<PluginKind::StateConvention> { using type = ErrorState; };
-template <> struct PluginBase<PluginKind::PreintConvention> { using type = PreintConvention; };
-template <> struct PluginBase<PluginKind::Propagator> { using type = Propagator; };
-template <> struct PluginBase<PluginKind::Preintegrator> { using type = Preintegrator; };
-
-}  // namespace imuconv
+}  // namespace imuconv::detail
 
 /// Defines and exports one plugin. Use once per plugin source file, at global scope:
 ///   IMUCONV_PLUGIN(StateConvention, MyConvention, "my_id", "1.0.0", "one line summary")
-/// The plugin's id() must return the same id.
+/// The id is declared here only: MyConvention leaves id() to this line.
 #define IMUCONV_PLUGIN(KIND, IMPL, ID, VERSION, SUMMARY)                                      \
   namespace imuconv_plugin_entry {                                                            \
   using Base = ::imuconv::PluginBase<::imuconv::PluginKind::KIND>::type;                      \
+  constexpr char kId[] = ID;                                                                  \
+  using Object = ::imuconv::detail::PluginObjectT<IMPL, kId>;                                 \
   int abi() noexcept { return ::imuconv::kPluginAbiVersion; }                                 \
   const ::imuconv::PluginDescriptor* describe() noexcept {                                    \
     static const ::imuconv::PluginDescriptor d{::imuconv::AbiFingerprint{},                   \
-                                               ::imuconv::PluginKind::KIND, ID, VERSION,      \
+                                               ::imuconv::PluginKind::KIND, kId, VERSION,     \
                                                SUMMARY};                                      \
     return &d;                                                                                \
   }                                                                                           \
   void* create() noexcept {                                                                   \
     try {                                                                                     \
-      Base* b = new IMPL();                                                                   \
+      Base* b = new Object();                                                                 \
       return static_cast<void*>(b);                                                           \
     } catch (...) {                                                                           \
       return nullptr;                                                                         \

@@ -8,50 +8,76 @@
 // (The paper's j perturbation with the bias entry taken with a plus sign.)
 #pragma once
 
+#include "imuconv/block_order.h"
 #include "imuconv/so3.h"
 #include "imuconv/types.h"
 
 namespace imuconv {
 
-/// Block offsets of the state reference chart.
+/// Block offsets of the state reference chart (derived from kLeftOrder).
 namespace left_idx {
-constexpr int p = 0, theta = 3, v = 6, bg = 9, ba = 12;
+constexpr int p = kLeftOrder.offset(Block::p), theta = kLeftOrder.offset(Block::theta),
+              v = kLeftOrder.offset(Block::v), bg = kLeftOrder.offset(Block::bg), ba = kLeftOrder.offset(Block::ba);
 }
-/// Block offsets of the increment reference chart.
+/// Block offsets of the increment reference chart (derived from kPreintReferenceOrder).
 namespace pref_idx {
-constexpr int theta = 0, p = 3, v = 6, bg = 9, ba = 12;
+constexpr int theta = kPreintReferenceOrder.offset(Block::theta), p = kPreintReferenceOrder.offset(Block::p),
+              v = kPreintReferenceOrder.offset(Block::v), bg = kPreintReferenceOrder.offset(Block::bg),
+              ba = kPreintReferenceOrder.offset(Block::ba);
 }
 
 inline void LeftRetract(const ImuState& x, const Vec15& d, ImuState& y) {
-  y.p = x.p + d.segment<3>(0);
-  y.R = so3::Exp(d.segment<3>(3)) * x.R;
-  y.v = x.v + d.segment<3>(6);
-  y.bg = x.bg + d.segment<3>(9);
-  y.ba = x.ba + d.segment<3>(12);
+  y.p = x.p + d.segment<3>(left_idx::p);
+  y.R = so3::Exp(d.segment<3>(left_idx::theta)) * x.R;
+  y.v = x.v + d.segment<3>(left_idx::v);
+  y.bg = x.bg + d.segment<3>(left_idx::bg);
+  y.ba = x.ba + d.segment<3>(left_idx::ba);
 }
 
 inline void LeftLocal(const ImuState& x, const ImuState& y, Vec15& d) {
-  d.segment<3>(0) = y.p - x.p;
-  d.segment<3>(3) = so3::Log(y.R * x.R.transpose());
-  d.segment<3>(6) = y.v - x.v;
-  d.segment<3>(9) = y.bg - x.bg;
-  d.segment<3>(12) = y.ba - x.ba;
+  d.segment<3>(left_idx::p) = y.p - x.p;
+  d.segment<3>(left_idx::theta) = so3::Log(y.R * x.R.transpose());
+  d.segment<3>(left_idx::v) = y.v - x.v;
+  d.segment<3>(left_idx::bg) = y.bg - x.bg;
+  d.segment<3>(left_idx::ba) = y.ba - x.ba;
 }
 
 inline void PreintReferenceRetract(const PreintIncrement& x, const Vec15& d, PreintIncrement& y) {
-  y.dR = x.dR * so3::Exp(d.segment<3>(0));
-  y.dp = x.dp + d.segment<3>(3);
-  y.dv = x.dv + d.segment<3>(6);
-  y.dbg = x.dbg + d.segment<3>(9);
-  y.dba = x.dba + d.segment<3>(12);
+  y.dR = x.dR * so3::Exp(d.segment<3>(pref_idx::theta));
+  y.dp = x.dp + d.segment<3>(pref_idx::p);
+  y.dv = x.dv + d.segment<3>(pref_idx::v);
+  y.dbg = x.dbg + d.segment<3>(pref_idx::bg);
+  y.dba = x.dba + d.segment<3>(pref_idx::ba);
 }
 
 inline void PreintReferenceLocal(const PreintIncrement& x, const PreintIncrement& y, Vec15& d) {
-  d.segment<3>(0) = so3::Log(x.dR.transpose() * y.dR);
-  d.segment<3>(3) = y.dp - x.dp;
-  d.segment<3>(6) = y.dv - x.dv;
-  d.segment<3>(9) = y.dbg - x.dbg;
-  d.segment<3>(12) = y.dba - x.dba;
+  d.segment<3>(pref_idx::theta) = so3::Log(x.dR.transpose() * y.dR);
+  d.segment<3>(pref_idx::p) = y.dp - x.dp;
+  d.segment<3>(pref_idx::v) = y.dv - x.dv;
+  d.segment<3>(pref_idx::bg) = y.dbg - x.dbg;
+  d.segment<3>(pref_idx::ba) = y.dba - x.dba;
 }
+
+/// The reference chart of each kind, for code written once over the value type.
+template <class Value>
+struct ReferenceChart;
+
+template <>
+struct ReferenceChart<ImuState> {
+  static constexpr const char* id = "left";
+  static constexpr BlockOrder order = kLeftOrder;
+  static void retract(const ImuState& x, const Vec15& d, ImuState& y) { LeftRetract(x, d, y); }
+  static void local(const ImuState& x, const ImuState& y, Vec15& d) { LeftLocal(x, y, d); }
+};
+
+template <>
+struct ReferenceChart<PreintIncrement> {
+  static constexpr const char* id = "preint_reference";
+  static constexpr BlockOrder order = kPreintReferenceOrder;
+  static void retract(const PreintIncrement& x, const Vec15& d, PreintIncrement& y) {
+    PreintReferenceRetract(x, d, y);
+  }
+  static void local(const PreintIncrement& x, const PreintIncrement& y, Vec15& d) { PreintReferenceLocal(x, y, d); }
+};
 
 }  // namespace imuconv

@@ -27,7 +27,7 @@ struct Preintegrated {
 
 /// A preintegrated measurement expressed in a named increment convention, in that
 /// convention's block order. J_bias rows are the (theta, p, v) blocks of the convention's
-/// bias-Jacobian chart (PreintConvention::bias_jacobian_chart()), in its order; columns are
+/// bias-Jacobian chart (IncrementConvention::jacobian_convention()), in its order; columns are
 /// an additive change of the bias estimate in the convention's bias order.
 struct PreintegratedIn {
   std::string convention;           ///< chart of cov
@@ -48,11 +48,11 @@ struct PreintegrationMethod {
   /// Wrapped by propagation (paper, section 3.1), with its native state convention and the
   /// state reference chart `left` it is run in.
   std::shared_ptr<const Propagator> propagator;
-  std::shared_ptr<const ErrorState> native_state, reference_state;
+  std::shared_ptr<const StateConvention> native_state, reference_state;
   /// A native scheme, with its covariance and bias-Jacobian conventions and the increment
   /// reference chart `preint_reference` its output is brought into.
   std::shared_ptr<const Preintegrator> preintegrator;
-  std::shared_ptr<const PreintConvention> cov_convention, jacobian_convention, reference_increment;
+  std::shared_ptr<const IncrementConvention> cov_convention, jacobian_convention, reference_increment;
 };
 
 /// Resolves `id` as a plugin of `kind` (Propagator or Preintegrator) with the conventions its

@@ -8,31 +8,43 @@
 // retract/local against the reference chart. Registry's id-based accessors call these.
 #pragma once
 
-#include "imuconv/error_state.h"
+#include "imuconv/chart.h"
 #include "imuconv/export.h"
 #include "imuconv/propagator.h"
 #include "imuconv/types.h"
 
 namespace imuconv {
 
-/// J_{ref <- c}(x) = d local_ref(x, retract_c(x, d)) / d d at d = 0.
-IMUCONV_API Mat15 ToReference(const ErrorState& c, const ImuState& x);
-IMUCONV_API Mat15 ToReference(const PreintConvention& c, const PreintIncrement& x);
-/// J_{c <- ref}(x) = d local_c(x, retract_ref(x, e)) / d e at e = 0.
-IMUCONV_API Mat15 FromReference(const ErrorState& c, const ImuState& x);
-IMUCONV_API Mat15 FromReference(const PreintConvention& c, const PreintIncrement& x);
-/// J_{to <- from}(x); the identity when both are one convention (same id).
-IMUCONV_API Mat15 Conversion(const ErrorState& from, const ErrorState& to, const ImuState& x);
-IMUCONV_API Mat15 Conversion(const PreintConvention& from, const PreintConvention& to, const PreintIncrement& x);
+/// J_ref_this(x) = d local_ref(x, retract_c(x, d)) / d d at d = 0: the chart's analytic
+/// Jacobian, or Ridders' differences when it gives none.
+template <class Value>
+IMUCONV_API Mat15 ToReference(const Chart<Value>& c, const Value& x);
+/// J_this_ref(x) = d local_c(x, retract_ref(x, e)) / d e at e = 0.
+template <class Value>
+IMUCONV_API Mat15 FromReference(const Chart<Value>& c, const Value& x);
+/// J_to_from(x) = J_to_ref(x) J_ref_from(x); the identity when both are one convention (same id).
+template <class Value>
+IMUCONV_API Mat15 Conversion(const Chart<Value>& from, const Chart<Value>& to, const Value& x);
 /// J S J^T (symmetrized) with J = Conversion(from, to, x).
-IMUCONV_API Mat15 ConvertCovariance(const ErrorState& from, const ErrorState& to, const ImuState& x, const Mat15& S);
+template <class Value>
+IMUCONV_API Mat15 ConvertCovariance(const Chart<Value>& from, const Chart<Value>& to, const Value& x, const Mat15& S);
+
 /// J_e Phi J_s^{-1}, with J_s^{-1} = Conversion(to, from, x_s).
-IMUCONV_API Mat15 ConvertTransition(const ErrorState& from, const ErrorState& to, const ImuState& x_s,
+IMUCONV_API Mat15 ConvertTransition(const StateConvention& from, const StateConvention& to, const ImuState& x_s,
                                     const ImuState& x_e, const Mat15& Phi);
 
 /// Runs `prop` (whose native state convention is `native`) with in.cov_s in `convention`, and
 /// returns Phi and cov in `convention`. Throws Error naming the propagator when it fails.
-IMUCONV_API PropagationResult PropagateIn(const Propagator& prop, const ErrorState& native,
-                                          const ErrorState& convention, const PropagationInput& in);
+IMUCONV_API PropagationResult PropagateIn(const Propagator& prop, const StateConvention& native,
+                                          const StateConvention& convention, const PropagationInput& in);
+
+// Compiled for the two kinds in the registry library.
+#define IMUCONV_CONVERSION_INSTANCES(EXTERN, V)                                                            \
+  EXTERN template IMUCONV_API Mat15 ToReference<V>(const Chart<V>&, const V&);                             \
+  EXTERN template IMUCONV_API Mat15 FromReference<V>(const Chart<V>&, const V&);                           \
+  EXTERN template IMUCONV_API Mat15 Conversion<V>(const Chart<V>&, const Chart<V>&, const V&);             \
+  EXTERN template IMUCONV_API Mat15 ConvertCovariance<V>(const Chart<V>&, const Chart<V>&, const V&, const Mat15&);
+IMUCONV_CONVERSION_INSTANCES(extern, ImuState)
+IMUCONV_CONVERSION_INSTANCES(extern, PreintIncrement)
 
 }  // namespace imuconv

@@ -16,9 +16,10 @@
 #include <string_view>
 #include <vector>
 
+#include "imuconv/chart.h"
 #include "imuconv/error_state.h"
 #include "imuconv/export.h"
-#include "imuconv/plugin_abi.h"
+#include "imuconv/plugin_kind.h"
 #include "imuconv/preintegrator.h"
 #include "imuconv/propagator.h"
 
@@ -38,7 +39,7 @@ struct PluginInfo {
   std::string summary;
   std::vector<std::string> blocks;  ///< block order, for conventions
   std::string native_convention;    ///< propagators: native state convention; preintegrators: covariance convention
-  std::string jacobian_convention;  ///< preintegrators: bias-Jacobian chart; preint conventions: bias_jacobian_chart()
+  std::string jacobian_convention;  ///< preintegrators and increment conventions: the chart of the bias Jacobian
   bool analytic_jacobians = false;  ///< conventions: analytic Jacobians given (and verified)
 };
 
@@ -101,8 +102,10 @@ class IMUCONV_API Registry {
   std::vector<std::string> ids(PluginKind kind) const;
 
   // ---- access (throw Error for an unknown id, listing the known ones) --------------
-  std::shared_ptr<const ErrorState> state_convention(std::string_view id) const;
-  std::shared_ptr<const PreintConvention> preint_convention(std::string_view id) const;
+  std::shared_ptr<const StateConvention> state_convention(std::string_view id) const;
+  std::shared_ptr<const IncrementConvention> increment_convention(std::string_view id) const;
+  /// The former name of increment_convention.
+  std::shared_ptr<const IncrementConvention> preint_convention(std::string_view id) const;
   std::shared_ptr<const Propagator> propagator(std::string_view id) const;
   std::shared_ptr<const Preintegrator> preintegrator(std::string_view id) const;
 
@@ -134,7 +137,7 @@ class IMUCONV_API Registry {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Index of each label's block in a convention's order, e.g. for {"theta","p","v","ba","bg"}
+/// Offset of each label's block in a convention's order, e.g. for {"theta","p","v","ba","bg"}
 /// BlockOffset(labels, "bg") = 12. Throws Error for an unknown label.
 IMUCONV_API int BlockOffset(const BlockLabels& labels, std::string_view label);
 

@@ -1,15 +1,15 @@
 // A user's convention with no analytic Jacobians: R = R^ Exp(dtheta), p = p^ + dp,
 // v = v^ + R^ dv (velocity error in the body frame), biases additive; [theta, p, v, bg, ba].
-// The registry derives its conversions numerically.
+// The registry derives its conversions numerically. Its id is declared once, on the
+// IMUCONV_PLUGIN line.
 #include <imuconv/plugin_abi.h>
 #include <imuconv/so3.h>
 
 namespace {
 using namespace imuconv;
-class BodyVelocity final : public ErrorState {
+class BodyVelocity : public StateConvention {
  public:
-  const char* id() const noexcept override { return "body_velocity"; }
-  BlockLabels labels() const noexcept override { return {"theta", "p", "v", "bg", "ba"}; }
+  BlockOrder order() const noexcept override { return {Block::theta, Block::p, Block::v, Block::bg, Block::ba}; }
   void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
     y.R = x.R * so3::Exp(d.segment<3>(0));
     y.p = x.p + d.segment<3>(3);

@@ -1,4 +1,5 @@
-// openvins_jpl against an independent JPL quaternion implementation (Trawny and
+// `openvins_jpl`: the generic suite, its conversion from `left` derived by hand, and the chart
+// against an independent JPL quaternion implementation (Trawny and
 // Roumeliotis, "Indirect Kalman Filter for 3D Attitude Estimation", 2005, the convention
 // OpenVINS follows): q = [q_v; q_4] with the vector part first, the JPL product and
 // C(q) = R_GtoI. The plugin's retract is written in body-to-world Hamilton terms
@@ -9,15 +10,13 @@
 #include <cmath>
 
 #include "imuconv/so3.h"
-#include "imuconv_test.h"
+
+#include "suite.h"
 
 namespace {
 
-using imuconv::ImuState;
-using imuconv::Mat3;
-using imuconv::Vec15;
-using imuconv::Vec3;
-using imuconv::test::Plugins;
+using namespace imuconv::test::state;
+
 using Quat = Eigen::Vector4d;  // JPL: [x, y, z, w], vector part first
 
 // JPL product (Trawny & Roumeliotis eq. 8): q (x) p = [q4 p + p4 q - q x p; q4 p4 - q . p].
@@ -52,6 +51,23 @@ Quat RandomJpl() {
 
 // 3x3 products of unit-size entries along two different routes: a few ulps.
 constexpr double kRotTol = 1e-14;
+
+IMUCONV_CONVENTION_SUITE(StateConventionSuite, openvins_jpl);
+
+TEST(StateStructure, LeftToOpenVinsJpl) {
+  for (const ImuState& x : StateKind::Points()) {
+    // JPL's left update of q_GtoI is a right update of R = R_GtoI^T (R^T dtheta_l to first
+    // order: 2 atan(s/2)/s = 1 + O(s^2)); p and v are global-frame additive like left's.
+    ExpectConversion("left", "openvins_jpl", x,
+                     Expect("left", "openvins_jpl")
+                         .set("theta", "theta", x.R.transpose())
+                         .set("p", "p", I3)
+                         .set("v", "v", I3)
+                         .set("bg", "bg", I3)
+                         .set("ba", "ba", I3)
+                         .matrix());
+  }
+}
 
 TEST(OpenVinsJpl, IndependentJplImplementationIsConsistent) {
   // The product is the one whose matrices compose in the same order, C(q (x) p) = C(q) C(p),

@@ -1,0 +1,64 @@
+// What the host and a plugin agree on before any object crosses: the ABI version, the kinds
+// of plugin and the descriptor each plugin exports. Free of Boost, so that the registry's
+// public header can name a PluginKind without making Boost.DLL everyone's dependency (the
+// exporting side is plugin_abi.h, target imuconv::plugin_abi).
+#pragma once
+
+#include "imuconv/chart.h"
+#include "imuconv/preintegrator.h"
+#include "imuconv/propagator.h"
+#include "imuconv/types.h"
+#include "imuconv/window.h"
+
+namespace imuconv {
+
+/// Bumped whenever a base class, value type or the descriptor changes layout. 2: the two
+/// convention interfaces became Chart<Value> (order(), J_ref_this, J_this_ref,
+/// jacobian_convention()).
+constexpr int kPluginAbiVersion = 2;
+
+enum class PluginKind : int {
+  StateConvention = 1,      ///< StateConvention (Chart<ImuState>)
+  IncrementConvention = 2,  ///< IncrementConvention (Chart<PreintIncrement>)
+  Propagator = 3,           ///< Propagator
+  Preintegrator = 4,        ///< Preintegrator
+  PreintConvention = IncrementConvention,  ///< deprecated name of IncrementConvention
+};
+
+/// The kind's name in messages and outputs.
+inline const char* KindName(PluginKind k) noexcept {
+  switch (k) {
+    case PluginKind::StateConvention: return "state_convention";
+    case PluginKind::IncrementConvention: return "preint_convention";
+    case PluginKind::Propagator: return "propagator";
+    case PluginKind::Preintegrator: return "preintegrator";
+  }
+  return "unknown";
+}
+
+/// Layout facts both sides must agree on before any object crosses the boundary.
+struct AbiFingerprint {
+  int abi_version = kPluginAbiVersion;
+  int eigen_max_static_align = EIGEN_MAX_STATIC_ALIGN_BYTES;
+  int sizeof_state = static_cast<int>(sizeof(ImuState));
+  int sizeof_window = static_cast<int>(sizeof(SampleWindow));
+  int gnu_major = __GNUC__;
+  int cxx_abi = _GLIBCXX_USE_CXX11_ABI;
+};
+
+struct PluginDescriptor {
+  AbiFingerprint fingerprint;
+  PluginKind kind;
+  const char* id;
+  const char* version;
+  const char* summary;
+};
+
+/// The base class a plugin of kind K derives from.
+template <PluginKind K> struct PluginBase;
+template <> struct PluginBase<PluginKind::StateConvention> { using type = StateConvention; };
+template <> struct PluginBase<PluginKind::IncrementConvention> { using type = IncrementConvention; };
+template <> struct PluginBase<PluginKind::Propagator> { using type = Propagator; };
+template <> struct PluginBase<PluginKind::Preintegrator> { using type = Preintegrator; };
+
+}  // namespace imuconv

@@ -1,0 +1,4 @@
+// `left`, the state reference chart: the generic suite (its Jacobians are the identity).
+#include "suite.h"
+
+IMUCONV_CONVENTION_SUITE(StateConventionSuite, left);
