@@ -9,15 +9,10 @@
 // Exp(-dtheta) = Exp(dtheta_r) with dtheta_r = -dtheta.
 #include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
-#include "imuconv/so3.h"
 
 namespace {
 
-using imuconv::Block;
-using imuconv::Mat15;
-using imuconv::PreintIncrement;
-using imuconv::Vec15;
-namespace so3 = imuconv::so3;
+using namespace imuconv::plugin::prelude;
 
 // -I, written as a fill (Eigen's -Mat15::Identity() expression is several times slower).
 bool MinusIdentity(Mat15& J) {

@@ -16,19 +16,13 @@
 // bias blocks are -I (sign) with ba and bg swapped (order).
 #include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
-#include "imuconv/so3.h"
 
 namespace {
 
-using imuconv::Block;
-using imuconv::Mat15;
-using imuconv::Mat3;
-using imuconv::PreintIncrement;
-using imuconv::Vec15;
-namespace so3 = imuconv::so3;
+using namespace imuconv::plugin::prelude;
 
 // GTSAM's order, accelerometer bias first.
-constexpr imuconv::BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
+constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
 
 class GtsamTangent : public imuconv::plugin::IncrementChart<kOrder, -1> {
  public:

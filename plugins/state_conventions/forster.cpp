@@ -9,18 +9,12 @@
 // Against `left`: dtheta_l = R^ dtheta and dp_l = R^ dp exactly, dv_l = dv.
 #include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
-#include "imuconv/so3.h"
 
 namespace {
 
-using imuconv::Block;
-using imuconv::ImuState;
-using imuconv::Mat15;
-using imuconv::Mat3;
-using imuconv::Vec15;
-namespace so3 = imuconv::so3;
+using namespace imuconv::plugin::prelude;
 
-constexpr imuconv::BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::bg, Block::ba};
+constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::bg, Block::ba};
 
 class Forster : public imuconv::plugin::StateChart<kOrder> {
  public:

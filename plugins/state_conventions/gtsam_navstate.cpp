@@ -12,19 +12,12 @@
 // block-diagonal rotations plus a bias permutation.
 #include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
-#include "imuconv/so3.h"
 
 namespace {
 
-using imuconv::Block;
-using imuconv::ImuState;
-using imuconv::Mat15;
-using imuconv::Mat3;
-using imuconv::Vec15;
-using imuconv::Vec3;
-namespace so3 = imuconv::so3;
+using namespace imuconv::plugin::prelude;
 
-constexpr imuconv::BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
+constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
 
 class GtsamNavState : public imuconv::plugin::StateChart<kOrder> {
  public:

@@ -17,20 +17,13 @@
 // 0 is R^ (Jl(0) = I and the theta-derivative multiplies t = 0); dv_l = dv.
 #include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
-#include "imuconv/so3.h"
 
 namespace {
 
-using imuconv::Block;
-using imuconv::ImuState;
-using imuconv::Mat15;
-using imuconv::Mat3;
-using imuconv::Vec15;
-using imuconv::Vec3;
-namespace so3 = imuconv::so3;
+using namespace imuconv::plugin::prelude;
 
 // t is the p block.
-constexpr imuconv::BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
+constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
 
 class GtsamPose3Vel : public imuconv::plugin::StateChart<kOrder> {
  public:

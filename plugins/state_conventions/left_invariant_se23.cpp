@@ -12,19 +12,12 @@
 // whose derivatives at 0 are R^ (the phi-derivative multiplies nu = rho = 0).
 #include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
-#include "imuconv/so3.h"
 
 namespace {
 
-using imuconv::Block;
-using imuconv::ImuState;
-using imuconv::Mat15;
-using imuconv::Mat3;
-using imuconv::Vec15;
-using imuconv::Vec3;
-namespace so3 = imuconv::so3;
+using namespace imuconv::plugin::prelude;
 
-constexpr imuconv::BlockOrder kOrder{Block::theta, Block::v, Block::p, Block::bg, Block::ba};
+constexpr BlockOrder kOrder{Block::theta, Block::v, Block::p, Block::bg, Block::ba};
 
 class LeftInvariantSe23 : public imuconv::plugin::StateChart<kOrder> {
  public:

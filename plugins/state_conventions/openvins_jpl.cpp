@@ -19,19 +19,12 @@
 
 #include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
-#include "imuconv/so3.h"
 
 namespace {
 
-using imuconv::Block;
-using imuconv::ImuState;
-using imuconv::Mat15;
-using imuconv::Mat3;
-using imuconv::Vec15;
-using imuconv::Vec3;
-namespace so3 = imuconv::so3;
+using namespace imuconv::plugin::prelude;
 
-constexpr imuconv::BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::bg, Block::ba};
+constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::bg, Block::ba};
 
 // Below this angle the ratios use their Taylor series (next term < 1e-18).
 constexpr double kSeriesBelow = 1e-3;

@@ -15,19 +15,12 @@
 // dv_l = [phi]x v^ + nu = nu - [v^]x phi, dp_l = rho - [p^]x phi.
 #include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
-#include "imuconv/so3.h"
 
 namespace {
 
-using imuconv::Block;
-using imuconv::ImuState;
-using imuconv::Mat15;
-using imuconv::Mat3;
-using imuconv::Vec15;
-using imuconv::Vec3;
-namespace so3 = imuconv::so3;
+using namespace imuconv::plugin::prelude;
 
-constexpr imuconv::BlockOrder kOrder{Block::theta, Block::v, Block::p, Block::bg, Block::ba};
+constexpr BlockOrder kOrder{Block::theta, Block::v, Block::p, Block::bg, Block::ba};
 
 class RightInvariantSe23 : public imuconv::plugin::StateChart<kOrder> {
  public:

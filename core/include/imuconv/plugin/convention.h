@@ -17,6 +17,7 @@
 
 #include "imuconv/chart.h"
 #include "imuconv/reference_charts.h"
+#include "imuconv/so3.h"
 
 namespace imuconv::plugin {
 
@@ -128,5 +129,18 @@ class IncrementChart : public ConventionChart<PreintIncrement, Order> {
     }
   }
 };
+
+/// The names a convention plugin is written in: `using namespace imuconv::plugin::prelude;`.
+namespace prelude {
+using imuconv::Block;
+using imuconv::BlockOrder;
+using imuconv::ImuState;
+using imuconv::Mat15;
+using imuconv::Mat3;
+using imuconv::PreintIncrement;
+using imuconv::Vec15;
+using imuconv::Vec3;
+namespace so3 = imuconv::so3;
+}  // namespace prelude
 
 }  // namespace imuconv::plugin
