@@ -12,20 +12,12 @@
 namespace imuconv::pipeline {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
-// Two statements of one rotation (q_wxyz, R, rotation_angle_deg) agree within this many
-// degrees: well above the round-off of written numbers (1e-13 deg), well below any real
-// disagreement.
-constexpr double kRotationAgreementDeg = 1e-6;
-
 std::string Num(double v, int precision = 10) {
   std::ostringstream o;
   o.precision(precision);
   o << v;
   return o.str();
 }
-
-double AngleDeg(const Mat3& R) { return so3::Log(R).norm() * kRadToDeg; }
 
 }  // namespace
 
@@ -51,33 +43,6 @@ std::optional<Mat3> RotationFromMatrix(const Node& n) {
     return std::nullopt;
   }
   return so3::Exp(so3::Log(M));
-}
-
-std::optional<PreintIncrement> IncrementFromJson(const Node& n) {
-  if (!n.expect_object({"q_wxyz", "R", "dp", "dv", "dbg", "dba", "rotation_angle_deg"})) return std::nullopt;
-  const std::size_t before = n.checker().count();
-  PreintIncrement d;
-  std::optional<Mat3> Rq, Rm;
-  if (auto qn = n.get("q_wxyz", false)) Rq = RotationFromQuaternion(*qn);
-  if (auto rn = n.get("R", false)) Rm = RotationFromMatrix(*rn);
-  if (!n.has("q_wxyz") && !n.has("R")) n.checker().error(n.child_pointer("q_wxyz"), "required key is missing (give q_wxyz or R)");
-  if (Rq && Rm) {
-    const double disagree = AngleDeg(Rq->transpose() * *Rm);
-    if (disagree > kRotationAgreementDeg)
-      n.checker().error(n.child_pointer("R"), "R and q_wxyz disagree by " + Num(disagree, 6) + " deg (tolerance 1e-6 deg)");
-  }
-  const std::optional<Mat3> R = Rq ? Rq : Rm;
-  if (auto an = n.get("rotation_angle_deg", false))
-    if (auto a = an->number(); a && R && std::abs(*a - AngleDeg(*R)) > kRotationAgreementDeg)
-      an->fail("rotation_angle_deg = " + Num(*a, 12) + " does not match the rotation's angle " + Num(AngleDeg(*R), 12) +
-               " deg (tolerance 1e-6 deg)");
-  if (R) d.dR = *R;
-  if (auto v = n.vec3("dp", true)) d.dp = *v;
-  if (auto v = n.vec3("dv", true)) d.dv = *v;
-  if (auto v = n.vec3("dbg", false)) d.dbg = *v;
-  if (auto v = n.vec3("dba", false)) d.dba = *v;
-  if (n.checker().count() != before) return std::nullopt;
-  return d;
 }
 
 std::string CovarianceInputProblem(const Mat15& C) {

@@ -24,11 +24,6 @@ std::optional<Mat3> RotationFromQuaternion(const Node& n);
 /// A 3x3 rotation matrix at `n`, re-orthonormalised, or nothing (the error reported).
 std::optional<Mat3> RotationFromMatrix(const Node& n);
 
-/// A preintegrated increment {q_wxyz and/or R, dp, dv, dbg?, dba?, rotation_angle_deg?}.
-/// Every statement of the rotation is checked and they must agree (1e-6 deg): none silently
-/// wins over another. Nothing (errors reported) if anything is wrong.
-std::optional<PreintIncrement> IncrementFromJson(const Node& n);
-
 /// "" or what is wrong with C as a covariance input: imuconv::CovarianceProblem with
 /// kCovarianceTol, plus the smallest eigenvalue when the problem does not already give it.
 std::string CovarianceInputProblem(const Mat15& C);

@@ -1,12 +1,15 @@
-#include "measurement_file.h"
+// The measurement form, read (measurements files) and written (measurement.h).
+#include "measurement.h"
 
 #include <cmath>
 #include <tuple>
 
-#include "imuconv/pipeline/json_io.h"
+#include "../input_checks.h"
+#include "../run_util.h"
+#include "chart_matrix.h"
 #include "imuconv/printable.h"
-#include "input_checks.h"
-#include "run_util.h"
+#include "increment.h"
+#include "state.h"
 
 namespace imuconv::pipeline {
 namespace {
@@ -160,6 +163,57 @@ std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::stri
 
 std::vector<MeasRecord> ReadMeasurementFile(const std::string& path, const Registry& reg, std::optional<std::int64_t> origin_ns) {
   return ReadMeasurementDocument(ParseJsonFile(path), path, reg, origin_ns);
+}
+
+void WriteMeasurement(JsonWriter& w, const MeasRecord& r, std::size_t k, const std::vector<std::string>& conventions,
+                      const Registry& reg, const OmitSpec& omit, const std::optional<TimeOrigin>& origin) {
+  static const std::string kRef = "preint_reference";
+  const Preintegrated& m = r.m;
+  w.begin_object();
+  w.key("index");
+  w.unsigned_integer(k);
+  WriteTimes(w, r.t_s, r.t_e, origin);
+  w.key("dt");
+  w.number(m.dt);
+  if (r.n_knots) {
+    w.key("n_knots");
+    w.unsigned_integer(r.n_knots);
+  }
+  w.key("bias_estimate");
+  WriteBias(w, m.bg_hat, m.ba_hat);
+  w.key("delta");
+  WriteIncrement(w, m.delta, !omit.R);
+  const bool reference = conventions.empty() || !omit.reference;
+  const auto& ref_blocks = reg.info(PluginKind::PreintConvention, kRef).blocks;
+  if (reference && !omit.J_bias) {
+    w.key("J_bias");
+    WriteMixed(w, m.J_bias, kRef, NavLabels(ref_blocks), kRef, BiasLabels(ref_blocks));
+  }
+  if (reference && !omit.cov) {
+    w.key("cov");
+    WriteCovariance(w, m.cov, kRef, ref_blocks);
+  }
+  if (!conventions.empty() && !(omit.J_bias && omit.cov)) {
+    w.key("expressed");
+    w.begin_object();
+    for (const auto& c : conventions) {
+      const PreintegratedIn in = Express(reg, m, c);
+      const auto& jb = reg.info(PluginKind::PreintConvention, in.jacobian_convention).blocks;
+      w.key(c);
+      w.begin_object();
+      if (!omit.J_bias) {
+        w.key("J_bias");
+        WriteMixed(w, in.J_bias, in.jacobian_convention, NavLabels(jb), in.jacobian_convention, BiasLabels(jb));
+      }
+      if (!omit.cov) {
+        w.key("cov");
+        WriteCovariance(w, in.cov, in.convention, reg.info(PluginKind::PreintConvention, in.convention).blocks);
+      }
+      w.end_object();
+    }
+    w.end_object();
+  }
+  w.end_object();
 }
 
 }  // namespace imuconv::pipeline

@@ -1,7 +1,8 @@
-// Measurements files (schemas/measurements.schema.json): preintegrated measurements in any
-// registered increment convention, e.g. numbers dumped from GTSAM, imported into the
-// reference charts with FromConvention (internal to imuconv_pipeline; the fuzz target of the
-// measurements import calls ReadMeasurementDocument).
+// The measurement form: one preintegrated measurement with its times, bias estimate, increment,
+// bias Jacobian and covariance, in preint_reference and in any registered increment
+// convention. The reader takes measurements files (schemas/measurements.schema.json), e.g.
+// numbers dumped from GTSAM, into the reference charts with FromConvention; the writer gives
+// a preintegrate task's measurements in the same form (internal to imuconv_pipeline).
 #pragma once
 
 #include <cstdint>
@@ -11,6 +12,8 @@
 
 #include "imuconv/bridge.h"
 #include "imuconv/pipeline/json_check.h"
+#include "imuconv/pipeline/json_writer.h"
+#include "task_common.h"
 
 namespace imuconv::pipeline {
 
@@ -36,5 +39,11 @@ std::vector<MeasRecord> ReadMeasurementFile(const std::string& path, const Regis
 /// The same from a parsed document; `file` names it in messages.
 std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::string& file, const Registry& reg,
                                                 std::optional<std::int64_t> origin_ns);
+
+/// Writes measurement `k`: index, times, dt, n_knots, bias_estimate, delta, then J_bias and
+/// cov in preint_reference and "expressed" in each of `conventions`, less what `omit` leaves
+/// out. Computed covariances are checked before they are written (WriteCovariance).
+void WriteMeasurement(JsonWriter& w, const MeasRecord& r, std::size_t k, const std::vector<std::string>& conventions,
+                      const Registry& reg, const OmitSpec& omit, const std::optional<TimeOrigin>& origin);
 
 }  // namespace imuconv::pipeline

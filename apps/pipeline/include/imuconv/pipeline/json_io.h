@@ -1,4 +1,6 @@
-// JSON forms of states, noise and matrices.
+// JSON forms of states, noise and matrices, as json values and read from a Node (used by the
+// conversion and refcase commands too). Implemented one form per file in src/forms/ (state,
+// noise, chart_matrix), beside each form's streaming writer.
 //
 //   state:  {"p":[3], "q_wxyz":[4] (Hamilton, body to world), "v":[3], "bg":[3], "ba":[3]}
 //   noise:  {"gyro_noise_density", "accel_noise_density", "gyro_random_walk", "accel_random_walk"}
@@ -23,8 +25,6 @@ json Vec3ToJson(const Vec3& v);
 json MatrixToJson(const Eigen::MatrixXd& m);
 json StateToJson(const ImuState& x);
 json NoiseToJson(const ImuNoise& n);
-/// {"convention": id, "blocks": blocks, "matrix": m}.
-json ChartMatrixToJson(const Eigen::MatrixXd& m, const std::string& convention, const std::vector<std::string>& blocks);
 /// {"rows": {...}, "cols": {...}, "matrix": m}.
 json MixedMatrixToJson(const Eigen::MatrixXd& m, const std::string& row_convention,
                        const std::vector<std::string>& row_blocks, const std::string& col_convention,

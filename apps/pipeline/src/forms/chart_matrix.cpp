@@ -1,0 +1,90 @@
+// The chart-matrix forms, read and written (json_io.h, chart_matrix.h).
+#include "chart_matrix.h"
+
+#include <tuple>
+
+#include "../input_checks.h"
+
+namespace imuconv::pipeline {
+
+json MatrixToJson(const Eigen::MatrixXd& m) {
+  json rows = json::array();
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    json r = json::array();
+    for (Eigen::Index k = 0; k < m.cols(); ++k) r.push_back(m(i, k));
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
+json MixedMatrixToJson(const Eigen::MatrixXd& m, const std::string& row_convention,
+                       const std::vector<std::string>& row_blocks, const std::string& col_convention,
+                       const std::vector<std::string>& col_blocks) {
+  return {{"rows", {{"convention", row_convention}, {"blocks", row_blocks}}},
+          {"cols", {{"convention", col_convention}, {"blocks", col_blocks}}},
+          {"matrix", MatrixToJson(m)}};
+}
+
+void WriteMixedCharts(JsonWriter& w, const std::string& row_convention, const std::vector<std::string>& row_blocks,
+                      const std::string& col_convention, const std::vector<std::string>& col_blocks) {
+  for (auto [k, c, b] : {std::tuple<const char*, const std::string*, const std::vector<std::string>*>{"rows", &row_convention, &row_blocks},
+                         {"cols", &col_convention, &col_blocks}}) {
+    w.key(k);
+    w.begin_object();
+    w.key("convention");
+    w.string(*c);
+    w.key("blocks");
+    w.string_list(*b);
+    w.end_object();
+  }
+}
+
+void WriteCovariance(JsonWriter& w, const Mat15& m, const std::string& convention, const std::vector<std::string>& blocks) {
+  CheckOutputCovariance(m, w.pointer() + "/matrix");
+  WriteChart(w, m, convention, blocks);
+}
+
+std::vector<std::string> Blocks(const Registry& reg, PluginKind kind, const std::string& id) {
+  return reg.info(kind, id).blocks;
+}
+
+std::optional<Matrix15In> Matrix15FromJson(const Node& n) {
+  Matrix15In out;
+  out.pointer = n.pointer();
+  const std::size_t before = n.checker().count();
+  if (n.is_array()) {
+    if (auto m = n.matrix(15, 15)) out.m = *m;
+  } else if (n.is_object() && n.has("diagonal")) {
+    n.expect_object({"diagonal", "convention", "blocks"});
+    if (auto d = n["diagonal"].vector(15)) out.m = d->asDiagonal();
+  } else if (n.is_object() && n.has("sigma")) {
+    n.expect_object({"sigma", "convention", "blocks"});
+    if (auto d = n["sigma"].vector(15)) out.m = d->cwiseAbs2().asDiagonal();
+  } else if (n.is_object()) {
+    n.expect_object({"matrix", "convention", "blocks"});
+    if (auto mn = n.get("matrix", true))
+      if (auto m = mn->matrix(15, 15)) out.m = *m;
+  } else {
+    n.fail("expected a 15x15 matrix (an array of 15 rows), {\"diagonal\": [15 numbers]}, {\"sigma\": [15 numbers]} or {\"convention\", \"blocks\", \"matrix\"}; found " +
+           TypeName(n.value()));
+    return std::nullopt;
+  }
+  if (n.is_object()) {
+    if (auto c = n.string("convention", false)) out.convention = *c;
+    if (auto b = n.get("blocks", false)) {
+      auto labels = b->string_list();
+      if (labels && labels->size() != 5)
+        b->fail("expected 5 block labels");
+      else if (labels)
+        out.blocks = *labels;
+    }
+  }
+  if (n.checker().count() != before) return std::nullopt;
+  if (!out.m.allFinite()) {
+    n.fail("matrix has non-finite entries");
+    return std::nullopt;
+  }
+  return out;
+}
+
+}  // namespace imuconv::pipeline
