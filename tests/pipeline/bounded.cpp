@@ -113,7 +113,8 @@ TEST(Keyframes, GeneratedKeyframesStoreNothingPerKeyframe) {
   json doc = Doc(json::array({Keyframes()}));
   doc["tasks"][0]["keyframes"]["step"] = 1e-7;
   const Pipeline p = Pipeline::FromJson(doc, kFile, IMUCONV_SOURCE_DIR);
-  const auto& iv = std::get<PreintegrateTask>(p.spec().tasks[0].body).intervals;
+  ASSERT_NE(p.spec().tasks[0]->intervals(), nullptr);
+  const IntervalsSpec& iv = *p.spec().tasks[0]->intervals();
   EXPECT_EQ(iv.form, IntervalsSpec::Form::Generated);
   EXPECT_TRUE(iv.times.empty());
   EXPECT_EQ(iv.size(), 10000001u);

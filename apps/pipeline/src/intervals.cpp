@@ -1,4 +1,5 @@
-// Keyframes from {start, end, step}, generated on demand (nothing stored per keyframe).
+// Intervals and keyframes, read; keyframes from {start, end, step} generated on demand
+// (nothing stored per keyframe).
 #include <algorithm>
 #include <cmath>
 
@@ -55,6 +56,80 @@ std::optional<std::string> GenerateKeyframes(double a, double b, double h, Inter
   for (std::size_t k = 1; k < iv.count; ++k)
     if (!(iv.time(k) > iv.time(k - 1)))
       return "step is too small to tell keyframes " + std::to_string(k - 1) + " and " + std::to_string(k) + " apart";
+  return std::nullopt;
+}
+
+/// "interval": {"t_start", "t_end"} and/or "keyframes": [...] | {"start","end","step"}.
+std::optional<IntervalsSpec> ReadIntervals(const Node& task, bool allow_keyframes) {
+  const bool has_i = task.has("interval"), has_k = task.has("keyframes");
+  if (!allow_keyframes && has_k) return std::nullopt;  // reported as an unknown key
+  if (has_i && has_k) {
+    task.checker().error(task.child_pointer("keyframes"), "give either \"interval\" or \"keyframes\", not both");
+    return std::nullopt;
+  }
+  if (!has_i && !has_k) {
+    task.checker().error(task.child_pointer("interval"),
+                         allow_keyframes ? "required key is missing (give \"interval\" or \"keyframes\")"
+                                         : "required key is missing");
+    return std::nullopt;
+  }
+  IntervalsSpec iv;
+  if (has_i) {
+    const Node in = task["interval"];
+    iv.pointer = in.pointer();
+    if (!in.expect_object({"t_start", "t_end"})) return std::nullopt;
+    const auto ts = in.number("t_start", true);
+    const auto te = in.number("t_end", true);
+    if (!ts || !te) return std::nullopt;
+    if (!(*te > *ts)) {
+      in.checker().error(in.child_pointer("t_end"), "t_end must be after t_start");
+      return std::nullopt;
+    }
+    iv.form = IntervalsSpec::Form::Interval;
+    iv.times = {*ts, *te};
+    return iv;
+  }
+  const Node kn = task["keyframes"];
+  iv.pointer = kn.pointer();
+  if (kn.is_array()) {
+    if (kn.size() < 2) {
+      kn.fail("expected at least 2 keyframe times");
+      return std::nullopt;
+    }
+    if (kn.size() > kMaxKeyframes) {
+      kn.fail("too many keyframes (more than 1e7, the limit of one task)");
+      return std::nullopt;
+    }
+    auto ts = kn.number_list(2);
+    if (!ts) return std::nullopt;
+    for (std::size_t i = 1; i < ts->size(); ++i)
+      if (!((*ts)[i] > (*ts)[i - 1])) {
+        kn[i].fail("keyframe times must be strictly increasing");
+        return std::nullopt;
+      }
+    iv.form = IntervalsSpec::Form::Array;
+    iv.times = std::move(*ts);
+    return iv;
+  }
+  if (kn.is_object()) {
+    kn.expect_object({"start", "end", "step"});
+    const auto a = kn.number("start", true), b = kn.number("end", true), h = kn.number("step", true);
+    if (!a || !b || !h) return std::nullopt;
+    if (!(*h > 0.0)) {
+      kn.checker().error(kn.child_pointer("step"), "expected a positive step");
+      return std::nullopt;
+    }
+    if (!(*b > *a)) {
+      kn.checker().error(kn.child_pointer("end"), "end must be after start");
+      return std::nullopt;
+    }
+    if (auto problem = GenerateKeyframes(*a, *b, *h, iv)) {
+      kn.checker().error(kn.child_pointer("step"), *problem);
+      return std::nullopt;
+    }
+    return iv;
+  }
+  kn.fail("expected an array of keyframe times or {\"start\", \"end\", \"step\"}, found " + TypeName(kn.value()));
   return std::nullopt;
 }
 

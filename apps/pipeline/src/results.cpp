@@ -4,6 +4,7 @@
 
 #include "imuconv/pipeline/errors.h"
 #include "imuconv/printable.h"
+#include "spec.h"
 
 namespace imuconv::pipeline {
 namespace {
@@ -32,15 +33,8 @@ std::size_t KeptBytes(const PropRecord& r) { return sizeof(PropRecord) + StringB
 
 std::unordered_map<std::string, std::string> ReferencedTasks(const PipelineSpec& s) {
   std::unordered_map<std::string, std::string> refs;
-  for (const auto& t : s.tasks) {
-    const MeasurementsSpec* m = nullptr;
-    if (const auto* x = std::get_if<PropByPreintTask>(&t.body)) m = &x->meas;
-    if (const auto* x = std::get_if<ResidualTask>(&t.body)) m = &x->meas;
-    if (const auto* x = std::get_if<BiasUpdateTask>(&t.body)) m = &x->meas;
-    if (m && !m->task.empty()) refs.emplace(m->task, m->pointer);
-    if (const auto* x = std::get_if<ConvertTask>(&t.body))
-      if (x->source_task) refs.emplace(*x->source_task, x->source_pointer + "/task");
-  }
+  for (const auto& t : s.tasks)
+    t->references([&](const std::string& name, const std::string& pointer) { refs.emplace(name, pointer); });
   return refs;
 }
 
@@ -57,28 +51,16 @@ std::size_t CheckKeptMemory(const PipelineSpec& s, const std::unordered_map<std:
   };
   double total = 0;  // double: a product of two large counts must not wrap
   for (const auto& t : s.tasks) {
-    std::size_t n = 0, each = 0;
-    const char* what = "";
-    if (std::holds_alternative<PropagateTask>(t.body)) {
-      n = 1;
-      each = sizeof(PropRecord);
-      what = "propagation";
-    } else if (const auto* x = std::get_if<PreintegrateTask>(&t.body)) {
-      n = x->intervals.size() < 2 ? 0 : x->intervals.size() - 1;
-      each = sizeof(MeasRecord);
-      what = "measurement";
-    } else if (const auto* x = std::get_if<PropByPreintTask>(&t.body)) {
-      n = measurements(x->meas);
-      each = sizeof(PropRecord);
-      what = "step";
-    }
-    count[t.name] = n;
-    const auto ref = referenced.find(t.name);
+    const KeptRecords kept = t->kept_records(measurements);
+    const std::size_t n = kept.count, each = kept.bytes_each;
+    const char* what = kept.what;
+    count[t->name] = n;
+    const auto ref = referenced.find(t->name);
     if (ref == referenced.end() || n == 0) continue;
     const double bytes = static_cast<double>(n) * static_cast<double>(each);
     if (total + bytes > static_cast<double>(limit))
       throw ConfigError(s.file,
-                        {{t.pointer, "task " + Quoted(t.name) + " has " + std::to_string(n) + " " + what +
+                        {{t->pointer, "task " + Quoted(t->name) + " has " + std::to_string(n) + " " + what +
                                          "(s), and a later task uses them (" + Printable(ref->second) +
                                          "), so they are kept in memory: " + std::to_string(n) + " x " +
                                          std::to_string(each) + " bytes = " + Bytes(bytes) +

@@ -13,10 +13,11 @@
 #include <unordered_map>
 #include <vector>
 
-#include "measurement_file.h"
-#include "spec.h"
+#include "forms/measurement.h"
 
 namespace imuconv::pipeline {
+
+struct PipelineSpec;
 
 struct PropRecord {
   ImuState x_s, x_e;
@@ -27,9 +28,10 @@ struct PropRecord {
 
 struct TaskResult {
   std::string type;
-  const PreintegrateTask* preint = nullptr;
-  std::vector<MeasRecord> meas;
-  std::vector<PropRecord> props;
+  std::vector<MeasRecord> meas;   ///< preintegrate: its measurements
+  std::vector<PropRecord> props;  ///< propagate, propagate_by_preintegration: the propagations
+  /// preintegrate: integrates a window again with another bias, as the task did (bias_update).
+  std::function<Preintegrated(const SampleWindow& w, const Vec3& bg, const Vec3& ba)> reintegrate;
 };
 
 /// The tasks a later task names: name -> the pointer of the first reference.

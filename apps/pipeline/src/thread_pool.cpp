@@ -54,48 +54,6 @@ void ThreadPool::wait_workers() {
   job_ = nullptr;
 }
 
-void ThreadPool::parallel_for(std::size_t n, const std::function<void(std::size_t)>& f,
-                              const std::function<void()>& meanwhile) {
-  if (threads_.empty() || n <= 1) {
-    if (meanwhile) meanwhile();
-    for (std::size_t i = 0; i < n; ++i) f(i);
-    return;
-  }
-  std::atomic<std::size_t> next{0}, first_failure{n};
-  std::mutex error_m;
-  std::exception_ptr error;
-  const std::function<void()> loop = [&] {
-    while (true) {
-      const std::size_t i = next.fetch_add(1, std::memory_order_relaxed);
-      if (i >= n) return;
-      if (i > first_failure.load(std::memory_order_relaxed)) continue;  // a serial loop stops earlier
-      try {
-        f(i);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(error_m);
-        if (i < first_failure.load(std::memory_order_relaxed)) {
-          first_failure.store(i, std::memory_order_relaxed);
-          error = std::current_exception();
-        }
-      }
-    }
-  };
-  start_workers(loop);
-  std::exception_ptr own;
-  if (meanwhile) {
-    try {
-      meanwhile();
-    } catch (...) {
-      own = std::current_exception();
-      first_failure.store(0);  // the items are not needed any more
-    }
-  }
-  loop();
-  wait_workers();
-  if (own) std::rethrow_exception(own);
-  if (error) std::rethrow_exception(error);
-}
-
 void ThreadPool::ordered_for(std::size_t n, std::size_t window, const std::function<void(std::size_t)>& produce,
                              const std::function<void(std::size_t)>& consume) {
   if (threads_.empty() || n <= 1) {

@@ -1,11 +1,10 @@
 // A small fixed thread pool for independent work items (internal to imuconv_pipeline).
 //
-// parallel_for(n, f) calls f(i) once for every i in [0, n); the calling thread takes part.
 // ordered_for(n, window, produce, consume) calls produce(i) on the pool and consume(i) on the
 // calling thread in index order, as soon as item i is produced, with at most `window` items
 // produced ahead of consumption (so that their results stay small).
 //
-// Results must go to slots owned by i (produce/f write nothing shared), so that the outcome
+// Results must go to slots owned by i (produce writes nothing shared), so that the outcome
 // does not depend on which thread ran which item. When items throw, the exception of the
 // lowest failing index is rethrown (items after it may be skipped): the same error a serial
 // loop would have stopped at. With one thread, items run in order on the caller and the
@@ -34,12 +33,6 @@ class ThreadPool {
   ThreadPool& operator=(const ThreadPool&) = delete;
 
   unsigned size() const noexcept { return size_; }
-
-  void parallel_for(std::size_t n, const std::function<void(std::size_t)>& f) { parallel_for(n, f, nullptr); }
-  /// The same, with `meanwhile` run first on the calling thread while the other threads
-  /// start on the items. An exception from it is rethrown once the items are done (it wins
-  /// over theirs).
-  void parallel_for(std::size_t n, const std::function<void(std::size_t)>& f, const std::function<void()>& meanwhile);
 
   /// produce(i) for every i on the pool (the caller helps while it waits), consume(i) on the
   /// caller in order 0, 1, ..., each once its item is produced; item i is not started before

@@ -97,7 +97,7 @@ using TextSink = std::function<void(std::string_view)>;
 /// Runs and streams the output document (pretty-printed as PrettyJson lays it out; numbers in
 /// the shortest form that reads back exactly) into `sink` while the tasks run, so that a large
 /// document never has to be held in memory. The registry is loaded as by Run. On any error
-/// the sink has received an incomplete document: write it to a temporary (AtomicFile) and
+/// the sink has received an incomplete document: write it to a temporary (OutputFile) and
 /// discard it on failure.
 void RunToText(const Pipeline& p, const RunOptions& options, const TextSink& sink);
 void RunToText(const Pipeline& p, const Registry& reg, const RunOptions& options, const TextSink& sink);

@@ -1,0 +1,97 @@
+// What the stages and the tasks share while a pipeline runs (internal to imuconv_pipeline):
+// the registry and the plugin handles resolved from it, the IMU data, the ground truth and
+// the time origin, the measurement files, and the results of the tasks a later task names.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "forms/measurement.h"
+#include "imuconv/bridge.h"
+#include "imuconv/pipeline/pipeline.h"
+#include "output.h"
+#include "results.h"
+#include "spec.h"
+
+namespace imuconv::pipeline {
+
+/// The "FILE: POINTER: message" error of one task at run time.
+class TaskFailure : public Error {
+ public:
+  using Error::Error;
+};
+
+class RunContext {
+ public:
+  RunContext(const PipelineSpec& s, const Registry& r, const RunOptions& o, Output& out);
+
+  const PipelineSpec& spec;
+  const Registry& reg;
+  const RunOptions& opt;
+  Output& out;
+
+  // ---- data, filled by the load stage ----
+  ImuData imu;
+  bool have_imu = false;
+  std::optional<std::int64_t> origin_ns;
+  std::optional<GroundTruth> gt;
+  std::optional<std::pair<double, double>> imu_keep, gt_keep;  ///< the time ranges read into memory
+  std::map<std::string, std::vector<MeasRecord>> files;        ///< measurement files by resolved path
+
+  // ---- results and resolved plugins ----
+  /// The tasks a later task names: name -> the pointer of the first reference.
+  std::unordered_map<std::string, std::string> referenced;
+  /// Results of the referenced tasks, and nothing else.
+  std::map<std::string, TaskResult> results;
+  /// Each preintegrate task's method, resolved once when the registry is checked.
+  std::unordered_map<const Task*, PreintegrationMethod> methods;
+
+  std::ostream* summary() const { return opt.summary; }
+  /// Throws TaskFailure "FILE: POINTER: message".
+  [[noreturn]] void fail(const std::string& pointer, const std::string& message) const;
+  /// A later task names task `name`: its results are kept (else written and dropped).
+  bool kept(const std::string& name) const { return referenced.count(name) > 0; }
+  /// The type of the task `name` ("?" when there is none).
+  const std::string& type_of(const std::string& name) const;
+
+  /// The IMU samples over [ts, te].
+  SampleWindow window(double ts, double te) const;
+  /// The ground-truth state at t (TaskFailure at `pointer` when it has none there).
+  ImuState gt_at(double t, const std::string& pointer) const;
+  /// Whether there is ground truth at t.
+  bool gt_covers(double t) const { return gt && gt->at(t).has_value(); }
+  const std::vector<MeasRecord>& measurements(const MeasurementsSpec& m) const;
+  /// The indices of the measurements a task uses: all of them, or the one at `index`
+  /// (TaskFailure at task_pointer/index when out of range; `what` names the measurements).
+  std::vector<std::size_t> select(const std::vector<MeasRecord>& ms, const std::optional<std::size_t>& index,
+                                  const std::string& task_pointer, const std::string& what) const;
+  /// Block labels of a registered plugin.
+  const std::vector<std::string>& blocks(PluginKind kind, const std::string& id) const { return reg.info(kind, id).blocks; }
+  /// A start covariance in the chart `conv` at x (zero when none is given).
+  Mat15 start_cov(const CovSpec& cov, const std::string& conv, const ImuState& x) const;
+  /// WriteTimes with the data's time origin.
+  void write_times(JsonWriter& w, std::optional<double> ts, std::optional<double> te) const;
+
+  // ---- checks (the stages "check ids" and "check times") ----
+  void check_id(Checker& c, PluginKind kind, const std::string& id, const std::string& pointer) const;
+  /// The chart a given covariance names (and its block order) against the registry.
+  void check_cov_convention(Checker& c, const CovSpec& cov, PluginKind kind, const std::string& target) const;
+  /// t within the IMU data.
+  void check_time(Checker& c, double t, const std::string& pointer) const;
+  /// t within the ground truth, when there is one.
+  void check_gt(Checker& c, double t, const std::string& pointer) const;
+  /// Every keyframe within the IMU data (one message for generated keyframes).
+  void check_interval_times(Checker& c, const IntervalsSpec& iv) const;
+
+ private:
+  std::string gt_uncovered(double t) const;
+  std::unordered_map<std::string, const Task*> by_name_;
+};
+
+}  // namespace imuconv::pipeline
