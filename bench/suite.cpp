@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "imuconv/bridge.h"
-#include "imuconv/kernels/gtsam_preintegration.h"
+#include "imuconv/kernels/preintegration.h"
 #include "imuconv/kernels/rk4.h"
 #include "imuconv/printable.h"
 #include "imuconv/registry.h"

@@ -2,8 +2,8 @@
 // PreintegratedCombinedMeasurements (15x15, [theta, p, v, ba, bg], NavState chart of the
 // increment, paper eq. residual-error) and the bias Jacobian in dR Exp(dtheta), additive
 // dp, dv (paper, "GTSAM Peculiarities", eq. preint-error-dr..db).
-// The numerics live in imuconv/kernels/gtsam_preintegration.h.
-#include "imuconv/kernels/gtsam_preintegration.h"
+// The numerics live in imuconv/kernels/preintegration.h (compiled into imuconv_core).
+#include "imuconv/kernels/preintegration.h"
 #include "imuconv/plugin_abi.h"
 
 namespace {

@@ -2,8 +2,8 @@
 // PreintegratedCombinedMeasurements (15x15, [theta, p, v, ba, bg]) and the bias Jacobian,
 // both additive on the tangent 9-vector [theta, p, v] with dR = Exp(theta) (paper,
 // "GTSAM Peculiarities": the tangent covariance follows the j perturbation).
-// The numerics live in imuconv/kernels/gtsam_preintegration.h.
-#include "imuconv/kernels/gtsam_preintegration.h"
+// The numerics live in imuconv/kernels/preintegration.h (compiled into imuconv_core).
+#include "imuconv/kernels/preintegration.h"
 #include "imuconv/plugin_abi.h"
 
 namespace {

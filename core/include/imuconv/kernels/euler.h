@@ -23,8 +23,8 @@
 #pragma once
 
 #include "imuconv/kernels/common.h"
-#include "imuconv/kernels/gtsam_preintegration.h"
 #include "imuconv/kernels/left_transition.h"
+#include "imuconv/kernels/preintegration.h"
 
 namespace imuconv::kernels {
 
@@ -125,11 +125,8 @@ inline void EulerCovarianceStep(const EulerStepJacobian& s, const NoiseVariances
   P.block<3, 3>(ba, ba).diagonal().array() += q.accel_walk * dt;
 }
 
-/// How the held value over [t_k, t_k+1] is formed from the knots.
-enum class Hold {
-  Euler,     ///< knot k
-  Midpoint,  ///< mean of knots k and k+1
-};
+// Hold (how the value held over [t_k, t_k+1] is formed from the knots) is declared with the
+// preintegration kernel, which runs both holds.
 
 /// Integrates over the whole window one step at a time, without checking the input (see
 /// PropagateHeld): the recursion above, in plain Eigen. Fills out.x_e, and out.Phi and
@@ -173,14 +170,14 @@ inline void IntegrateHeldPerSample(const PropagationInput& in, PropagationResult
 /// with R_s fixed, R_k = R_s dR_k, v_k = v_s + g (t_k - t_s) + R_s dv_k and
 /// p_k = p_s + v_s (t_k - t_s) + g (t_k - t_s)^2/2 + R_s dp_k turn one into the other, and
 /// the noise and bias random walk enter both identically. So the preintegration kernel's
-/// per-sample recursion (4-lane SIMD, kernels/gtsam_preintegration.h) does the per-sample
+/// per-sample recursion (4-lane SIMD, kernels/preintegration.h) does the per-sample
 /// work, and the prediction runs once per interval:
 ///   start-frame increment errors (Exp(phi) dR, dp + e_p, dv + e_v; bias Jacobian H):
 ///     dtheta_e = dtheta_s + R_s phi,
 ///     dv_e = dv_s - [R_s dv]x dtheta_s + R_s e_v,
 ///     dp_e = dp_s + T dv_s - [R_s dp]x dtheta_s + R_s e_p,
 ///   with (phi, e_p, e_v) = H db_s + noise part, and db_e = db_s - delta b_k (the kernel's
-///   bias error is minus the random walk, see gtsam_preintegration.h). Hence
+///   bias error is minus the random walk, see kernels/preintegration.h). Hence
 ///     Phi = the left transition with th_bg = R_s H_tg, v_bg = R_s H_vg, v_ba = R_s H_va,
 ///           p_bg = R_s H_pg, p_ba = R_s H_pa and the theta columns from the state,
 ///     Sigma_e = Phi Sigma_s Phi^T + M Sigma_k M^T,  M = blockdiag(R_s, R_s, R_s, -I, -I)
@@ -188,8 +185,7 @@ inline void IntegrateHeldPerSample(const PropagationInput& in, PropagationResult
 ///   with b_hat = b_s, where the bias-correction curvature vanishes).
 /// kCov = false computes the state and Phi only (out.cov untouched).
 template <Hold kHold, bool kCov>
-inline void IntegrateHeldByPreintegration(const PropagationInput& in, PropagationResult& out,
-                                          detail::IsaLevel isa) {
+inline Status IntegrateHeldByPreintegration(const PropagationInput& in, PropagationResult& out, Isa isa) {
   using namespace left_idx;
   const ImuState& x_s = in.x_s;
   PreintegrationInput pin;
@@ -197,9 +193,9 @@ inline void IntegrateHeldByPreintegration(const PropagationInput& in, Propagatio
   pin.ba = x_s.ba;
   pin.noise = in.noise;
   pin.window = in.window;
-  ManifoldIncrement inc;
-  detail::Blocks r;
-  detail::RunManifold<kCov, kHold == Hold::Midpoint>(isa, pin, inc, r);
+  StartFrameManifold pre;
+  if (Status st = IntegrateManifoldStartFrame(pin, kHold, kCov, isa, pre); !st.ok()) return st;
+  const ManifoldIncrement& inc = pre.increment;
 
   const double T = in.window.t_end() - in.window.t_start();
   const Mat3& Rs = x_s.R;
@@ -210,7 +206,7 @@ inline void IntegrateHeldByPreintegration(const PropagationInput& in, Propagatio
   x_e.bg = x_s.bg;
   x_e.ba = x_s.ba;
 
-  const Mat96 H = detail::AssembleBiasJacobian(r);  // rows [theta, p, v], columns [ba, bg]
+  const Mat96& H = pre.J_inc_bias;  // rows [theta, p, v], columns [ba, bg]
   LeftTransition Phi;
   Phi.th_bg.noalias() = Rs * H.block<3, 3>(0, 3);
   Phi.p_bg.noalias() = Rs * H.block<3, 3>(3, 3);
@@ -222,7 +218,7 @@ inline void IntegrateHeldByPreintegration(const PropagationInput& in, Propagatio
 
   if constexpr (kCov) {
     // M Sigma_k M^T: reorder and flip the bias rows and columns, then rotate the first nine.
-    const Mat15 K = detail::AssembleCovariance(r);
+    const Mat15& K = pre.cov;
     constexpr int kFrom[5] = {3, 0, 6, 12, 9};        // kernel block of left blocks p, theta, v, bg, ba
     constexpr double kSign[5] = {1, 1, 1, -1, -1};
     Mat15 S;
@@ -235,6 +231,7 @@ inline void IntegrateHeldByPreintegration(const PropagationInput& in, Propagatio
     if (!in.cov_s.isZero(0.0)) S += Congruence(Phi, in.cov_s);
     out.cov = 0.5 * (S + S.transpose());
   }
+  return Status::Ok();
 }
 
 /// Integrates over the whole window without checking the input (see PropagateHeld). Fills
@@ -247,8 +244,11 @@ inline void IntegrateHeldByPreintegration(const PropagationInput& in, Propagatio
 /// Carlo, not speed.
 template <Hold kHold, Outputs kOut = Outputs::All>
 inline void IntegrateHeld(const PropagationInput& in, PropagationResult& out) {
-  const detail::IsaLevel isa = detail::BestIsaLevel();
-  if (isa != detail::IsaLevel::kBaseline) return IntegrateHeldByPreintegration<kHold, true>(in, out, isa);
+  const Isa isa = BestIsa();
+  if (isa != Isa::kBaseline) {
+    (void)IntegrateHeldByPreintegration<kHold, true>(in, out, isa);  // the best instance always runs
+    return;
+  }
   IntegrateHeldPerSample<kHold, kOut>(in, out);
 }
 

@@ -1,0 +1,17 @@
+// The avx2 instance of the preintegration kernel's SIMD recursion: interval.h with its
+// interval functions compiled for AVX2, FMA (see kernel_config.h), its helpers in the
+// inline namespace detail::avx2. dispatch.cpp runs it only on a CPU that has them.
+//
+// The 4-lane values passed between the always-inline helpers would change the ABI of any
+// function that took them by value out of line; none is (GCC's -Wpsabi note is moot).
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+#define IMUCONV_KERNEL_TARGET __attribute__((target("avx2,fma")))
+#include "instances.h"
+#include "interval.h"
+
+namespace imuconv::kernels::detail {
+
+extern const Instance kAvx2Instance = {&RunManifoldInstance<simd::d4x2>, &RunTangentInstance<simd::d4x2>};
+
+}  // namespace imuconv::kernels::detail
