@@ -22,6 +22,17 @@ bool GroundTruthString(const ParseContext& ctx, const Node& n, const std::string
   return true;
 }
 
+/// A state or bias at `n`: its object form, read by read(spec), or "ground_truth".
+template <typename Spec, typename Read>
+std::optional<Spec> GroundTruthOr(const ParseContext& ctx, const Node& n, const std::string& expected, const Read& read) {
+  Spec s;
+  s.pointer = n.pointer();
+  if (!n.value().is_string()) return read(s) ? std::optional<Spec>(s) : std::nullopt;
+  if (!GroundTruthString(ctx, n, expected)) return std::nullopt;
+  s.ground_truth = true;
+  return s;
+}
+
 }  // namespace
 
 std::string ParseContext::resolve(const std::string& p) const {
@@ -52,34 +63,23 @@ std::string ParseContext::earlier_preintegrate_names() const {
 }
 
 std::optional<StateSpec> ReadStateSpec(const ParseContext& ctx, const Node& n) {
-  StateSpec s;
-  s.pointer = n.pointer();
-  if (n.value().is_string()) {
-    if (!GroundTruthString(ctx, n, "a state object {p, q_wxyz, v, bg, ba}")) return std::nullopt;
-    s.ground_truth = true;
-    return s;
-  }
-  auto x = StateFromJson(n);
-  if (!x) return std::nullopt;
-  s.x = *x;
-  return s;
+  return GroundTruthOr<StateSpec>(ctx, n, "a state object {p, q_wxyz, v, bg, ba}", [&](StateSpec& s) {
+    const auto x = StateFromJson(n);
+    if (x) s.x = *x;
+    return x.has_value();
+  });
 }
 
 std::optional<BiasSpec> ReadBiasSpec(const ParseContext& ctx, const Node& n) {
-  BiasSpec b;
-  b.pointer = n.pointer();
-  if (n.value().is_string()) {
-    if (!GroundTruthString(ctx, n, "{\"bg\": [3], \"ba\": [3]}")) return std::nullopt;
-    b.ground_truth = true;
-    return b;
-  }
-  if (!n.expect_object({"bg", "ba"})) return std::nullopt;
-  const auto bg = n.vec3("bg", true);
-  const auto ba = n.vec3("ba", true);
-  if (!bg || !ba) return std::nullopt;
-  b.bg = *bg;
-  b.ba = *ba;
-  return b;
+  return GroundTruthOr<BiasSpec>(ctx, n, "{\"bg\": [3], \"ba\": [3]}", [&](BiasSpec& b) {
+    if (!n.expect_object({"bg", "ba"})) return false;
+    const auto bg = n.vec3("bg", true);
+    const auto ba = n.vec3("ba", true);
+    if (!bg || !ba) return false;
+    b.bg = *bg;
+    b.ba = *ba;
+    return true;
+  });
 }
 
 std::optional<CovSpec> ReadCovSpec(const Node& n) {
