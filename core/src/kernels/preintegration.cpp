@@ -34,8 +34,6 @@ Status UnavailableIsa(Isa isa) {
 
 }  // namespace
 
-/// Checks what the drivers rely on: at least two knots, finite data, strictly increasing
-/// time, non-negative finite noise. Allocates only to report an error.
 Status CheckPreintegrationInput(const PreintegrationInput& in) {
   const SampleWindow& w = in.window;
   if (w.end < w.begin || w.size() < 2) return Status::Error("window has fewer than 2 knots");
@@ -67,13 +65,21 @@ Status CheckPreintegrationInput(const PreintegrationInput& in) {
   return Status::Error("window data are not finite");  // not reached: the scan above finds it
 }
 
+namespace {
+/// What both schemes check before integrating: an instance this CPU runs, then the input.
+/// `simd` is set to the instance to run (null: the portable path).
+Status Admit(const PreintegrationInput& in, Isa isa, const detail::Instance*& simd) {
+  if (!IsaAvailable(isa)) return UnavailableIsa(isa);
+  simd = detail::SimdInstance(detail::ResolveIsa(isa), false);
+  return CheckPreintegrationInput(in);
+}
+}  // namespace
+
 Status IntegrateManifold(const PreintegrationInput& in, NativePreintegration& out, ManifoldIncrement* increment,
                          Isa isa, bool covariance) {
-  if (!IsaAvailable(isa)) return UnavailableIsa(isa);
-  Status st = CheckPreintegrationInput(in);
-  if (!st.ok()) return st;
+  const detail::Instance* simd = nullptr;
+  if (Status st = Admit(in, isa, simd); !st.ok()) return st;
   ManifoldIncrement inc;
-  const detail::Instance* simd = detail::SimdInstance(detail::ResolveIsa(isa), false);
   if (!simd) {
     detail::ManifoldPortable(in, covariance, inc, out.J_bias, out.cov);
     if (!covariance) out.cov.setZero();
@@ -102,11 +108,9 @@ Status IntegrateManifold(const PreintegrationInput& in, NativePreintegration& ou
 
 Status IntegrateTangent(const PreintegrationInput& in, NativePreintegration& out, TangentIncrement* increment,
                         Isa isa, bool covariance) {
-  if (!IsaAvailable(isa)) return UnavailableIsa(isa);
-  Status st = CheckPreintegrationInput(in);
-  if (!st.ok()) return st;
+  const detail::Instance* simd = nullptr;
+  if (Status st = Admit(in, isa, simd); !st.ok()) return st;
   TangentIncrement inc;
-  const detail::Instance* simd = detail::SimdInstance(detail::ResolveIsa(isa), false);
   if (!simd) detail::TangentPortable(in, covariance, inc, out.J_bias, out.cov);
   else simd->tangent(in, inc, out.J_bias, covariance ? &out.cov : nullptr);
   if (!covariance) out.cov.setZero();
