@@ -1,7 +1,9 @@
 // The step specification of the preintegration kernel (kernels/preintegration.h) in plain
 // Eigen: what the SIMD block recursion implements, what the portable path runs, and what
 // the tests difference. Compiled for the baseline instruction set.
+#if defined(__GNUC__)
 #pragma GCC diagnostic ignored "-Wpsabi"  // so3_fast.h's 4-lane helpers are never out of line
+#endif
 
 #include "so3_fast.h"
 #include "imuconv/kernels/preintegration.h"
