@@ -1,6 +1,7 @@
 // The avx512 instance of the preintegration kernel's SIMD recursion: interval.h with its
 // interval functions compiled for AVX512F, AVX512VL, AVX512DQ, AVX512BW, AVX2, FMA (see
-// kernel_config.h), its helpers in the inline namespace detail::avx512. dispatch.cpp runs it only on a CPU that has them.
+// kernel_config.h), its helpers in the inline namespace detail::avx512. dispatch.cpp runs
+// it only on a CPU that has them.
 //
 // The 4-lane values passed between the always-inline helpers would change the ABI of any
 // function that took them by value out of line; none is (GCC's -Wpsabi note is moot).
