@@ -134,7 +134,10 @@ TEST(IncrementReader, WhatEitherOldPathRefusedBothRefuseAlike) {
       {{{"q_wxyz", kQ}, {"dp", dp}}, "/dv: required key is missing"},
       {{{"q_wxyz", kQ}, {"dp", dp}, {"dv", dv}, {"dq", 1}}, "/dq: unknown key"},
   };
-  for (const auto& [d, expected] : refused) {
+  // Not a structured binding: a lambda may capture one only from C++20 on (clang 14 refuses).
+  for (const auto& entry : refused) {
+    const json& d = entry.first;
+    const std::string& expected = entry.second;
     SCOPED_TRACE(d.dump());
     const std::string a = Refusal([&] { ViaConvertTask(d); }, "/tasks/0/increment");
     const std::string b = Refusal([&] { ViaMeasurementFile(d); }, "/measurements/0/delta");
