@@ -30,7 +30,7 @@ int Run(const CommandContext& ctx, const Options& o) {
     std::string known;
     for (const auto& k : reg.ids(PluginKind::StateConvention)) known += (known.empty() ? "" : ", ") + k;
     std::string msg = "unknown state convention " + Quoted(id) + "; known: " + known;
-    if (reg.has(PluginKind::PreintConvention, id)) msg += " (" + Quoted(id) + " is an increment convention)";
+    if (reg.has(PluginKind::IncrementConvention, id)) msg += " (" + Quoted(id) + " is an increment convention)";
     if (!issues.empty()) msg += "\n" + std::to_string(issues.size()) + " plugin file(s) failed to load; see 'imuconv plugins'";
     PrintError(msg);
     return 1;

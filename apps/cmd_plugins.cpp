@@ -43,7 +43,7 @@ int List(const CommandContext& ctx, bool as_json) {
                           {"summary", Printable(p.summary)}, {"blocks", blocks}};
       if (!p.native_convention.empty()) e["native_convention"] = Printable(p.native_convention);
       if (!p.jacobian_convention.empty()) e["jacobian_convention"] = Printable(p.jacobian_convention);
-      if (p.kind == PluginKind::StateConvention || p.kind == PluginKind::PreintConvention)
+      if (p.kind == PluginKind::StateConvention || p.kind == PluginKind::IncrementConvention)
         e["analytic_jacobians"] = p.analytic_jacobians;
       j["plugins"].push_back(e);
     }
@@ -56,7 +56,7 @@ int List(const CommandContext& ctx, bool as_json) {
   }
   std::cout << "search path:\n";
   for (const auto& d : path) std::cout << "  " << Printable(d) << "\n";
-  for (PluginKind kind : {PluginKind::StateConvention, PluginKind::PreintConvention, PluginKind::Propagator,
+  for (PluginKind kind : {PluginKind::StateConvention, PluginKind::IncrementConvention, PluginKind::Propagator,
                           PluginKind::Preintegrator}) {
     std::cout << "\n" << KindName(kind) << ":\n";
     bool any = false;

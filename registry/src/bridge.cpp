@@ -117,9 +117,9 @@ PreintegrationMethod ResolvePreintegrationMethod(const Registry& reg, PluginKind
     m.reference_state = reg.state_convention("left");
   } else if (kind == PluginKind::Preintegrator) {
     m.preintegrator = reg.preintegrator(id);
-    m.cov_convention = reg.preint_convention(m.preintegrator->cov_convention());
-    m.jacobian_convention = reg.preint_convention(m.preintegrator->jacobian_convention());
-    m.reference_increment = reg.preint_convention(kRef);
+    m.cov_convention = reg.increment_convention(m.preintegrator->cov_convention());
+    m.jacobian_convention = reg.increment_convention(m.preintegrator->jacobian_convention());
+    m.reference_increment = reg.increment_convention(kRef);
   } else {
     throw Error("method " + Quoted(id) + ": a preintegration method is a propagator or a preintegrator, not a " +
                 KindName(kind));
@@ -221,7 +221,7 @@ Preintegrated PreintegrateNative(const Registry& reg, std::string_view preintegr
 }
 
 PreintegratedIn Express(const Registry& reg, const Preintegrated& m, std::string_view convention) {
-  const auto conv = reg.preint_convention(convention);
+  const auto conv = reg.increment_convention(convention);
   PreintegratedIn out;
   out.convention = conv->id();
   out.jacobian_convention = conv->jacobian_convention();
@@ -229,22 +229,22 @@ PreintegratedIn Express(const Registry& reg, const Preintegrated& m, std::string
   out.delta = m.delta;
   out.bg_hat = m.bg_hat;
   out.ba_hat = m.ba_hat;
-  const Mat15 J = reg.preint_conversion(kRef, out.convention, m.delta);
+  const Mat15 J = reg.increment_conversion(kRef, out.convention, m.delta);
   out.cov = Symmetrized(J * m.cov * J.transpose());
 
-  const auto jc = reg.preint_convention(out.jacobian_convention);
+  const auto jc = reg.increment_convention(out.jacobian_convention);
   Eigen::Matrix<double, 15, 6> ref_full = Eigen::Matrix<double, 15, 6>::Zero();
   ref_full.topRows<9>() = m.J_bias;
-  const Eigen::Matrix<double, 15, 6> chart_full = reg.preint_conversion(kRef, out.jacobian_convention, m.delta) * ref_full;
+  const Eigen::Matrix<double, 15, 6> chart_full = reg.increment_conversion(kRef, out.jacobian_convention, m.delta) * ref_full;
   out.J_bias = ExtractChartJacobian(chart_full, Layout(jc->labels()));
   return out;
 }
 
 Preintegrated FromConvention(const Registry& reg, const PreintegratedIn& in) {
-  const auto cov = reg.preint_convention(in.convention);
-  const auto jc = reg.preint_convention(in.jacobian_convention.empty() ? std::string_view(cov->jacobian_convention())
+  const auto cov = reg.increment_convention(in.convention);
+  const auto jc = reg.increment_convention(in.jacobian_convention.empty() ? std::string_view(cov->jacobian_convention())
                                                                        : std::string_view(in.jacobian_convention));
-  return FromResolved(*cov, *jc, *reg.preint_convention(kRef), in);
+  return FromResolved(*cov, *jc, *reg.increment_convention(kRef), in);
 }
 
 PropagationResult PropagateByPreintegration(const Registry& reg, const Preintegrated& m, const ImuState& x_s,
@@ -270,11 +270,11 @@ PropagationResult PropagateByPreintegration(const Registry& reg, const Preintegr
 
 PreintIncrement BiasCorrectedDelta(const Registry& reg, const Preintegrated& m, std::string_view jacobian_convention,
                                    const Vec3& bg, const Vec3& ba) {
-  const auto jc = reg.preint_convention(jacobian_convention);
+  const auto jc = reg.increment_convention(jacobian_convention);
   const ChartLayout l = Layout(jc->labels());
   Eigen::Matrix<double, 15, 6> ref_full = Eigen::Matrix<double, 15, 6>::Zero();
   ref_full.topRows<9>() = m.J_bias;
-  const Eigen::Matrix<double, 15, 6> chart_full = reg.preint_conversion(kRef, jacobian_convention, m.delta) * ref_full;
+  const Eigen::Matrix<double, 15, 6> chart_full = reg.increment_conversion(kRef, jacobian_convention, m.delta) * ref_full;
   Eigen::Matrix<double, 6, 1> db;  // [bg, ba]
   db << bg - m.bg_hat, ba - m.ba_hat;
   Vec15 w = chart_full * db;

@@ -53,9 +53,6 @@ std::shared_ptr<const StateConvention> Registry::state_convention(std::string_vi
 std::shared_ptr<const IncrementConvention> Registry::increment_convention(std::string_view id) const {
   return impl_->get(impl_->increments, PluginKind::IncrementConvention, id);
 }
-std::shared_ptr<const IncrementConvention> Registry::preint_convention(std::string_view id) const {
-  return increment_convention(id);
-}
 std::shared_ptr<const Propagator> Registry::propagator(std::string_view id) const {
   return impl_->get(impl_->propagators, PluginKind::Propagator, id);
 }
@@ -83,13 +80,13 @@ Mat15 Registry::convert_transition(std::string_view from, std::string_view to, c
   return ConvertTransition(impl_->chart<ImuState>(from), impl_->chart<ImuState>(to), x_s, x_e, Phi);
 }
 
-Mat15 Registry::preint_to_reference(std::string_view from, const PreintIncrement& x) const {
+Mat15 Registry::increment_to_reference(std::string_view from, const PreintIncrement& x) const {
   return ToReference(impl_->chart<PreintIncrement>(from), x);
 }
-Mat15 Registry::preint_from_reference(std::string_view to, const PreintIncrement& x) const {
+Mat15 Registry::increment_from_reference(std::string_view to, const PreintIncrement& x) const {
   return FromReference(impl_->chart<PreintIncrement>(to), x);
 }
-Mat15 Registry::preint_conversion(std::string_view from, std::string_view to, const PreintIncrement& x) const {
+Mat15 Registry::increment_conversion(std::string_view from, std::string_view to, const PreintIncrement& x) const {
   return Conversion(impl_->chart<PreintIncrement>(from), impl_->chart<PreintIncrement>(to), x);
 }
 

@@ -46,7 +46,7 @@ TEST_P(ByPropagation, ExpressAndBackIsLossless) {
   const auto imu = test::SmoothImu(1.0);
   const Preintegrated m = PreintegrateByPropagation(Plugins(), GetParam(), Window(imu), Vec3(0.01, 0, 0),
                                                     Vec3(0, 0.1, 0), test::TestNoise());
-  for (const auto& id : Plugins().ids(PluginKind::PreintConvention)) {
+  for (const auto& id : Plugins().ids(PluginKind::IncrementConvention)) {
     const Preintegrated back = FromConvention(Plugins(), Express(Plugins(), m, id));
     // Two conversions by exactly inverse Jacobians: rounding only.
     EXPECT_LT(test::RelErr(back.cov, m.cov), 1e-12) << id;

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "../pipeline/pipeline_test_util.h"
-#include "imuconv/kernels/gtsam_preintegration.h"
+#include "imuconv/kernels/preintegration.h"
 #include "imuconv/pipeline/json_io.h"
 #include "imuconv_test.h"
 

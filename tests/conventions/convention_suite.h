@@ -106,11 +106,11 @@ struct PreintKind {
   static constexpr PluginKind kKind = PluginKind::IncrementConvention;
   static constexpr const char* kReference = "preint_reference";
 
-  static std::shared_ptr<const Convention> Get(const std::string& id) { return Plugins().preint_convention(id); }
+  static std::shared_ptr<const Convention> Get(const std::string& id) { return Plugins().increment_convention(id); }
   static void RefRetract(const Value& x, const Vec15& d, Value& y) { PreintReferenceRetract(x, d, y); }
   static void RefLocal(const Value& x, const Value& y, Vec15& d) { PreintReferenceLocal(x, y, d); }
   static Mat15 Conversion(const std::string& a, const std::string& b, const Value& x) {
-    return Plugins().preint_conversion(a, b, x);
+    return Plugins().increment_conversion(a, b, x);
   }
   static const std::vector<Value>& Points() {
     static const std::vector<Value> xs = [] {

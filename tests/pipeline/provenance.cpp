@@ -51,7 +51,7 @@ TEST(Provenance, EveryPluginUsedIsListedWithItsFileAndVersion) {
     const PluginInfo& info = imuconv::test::Plugins().info(
         e["kind"] == "propagator" ? PluginKind::Propagator
         : e["kind"] == "preintegrator" ? PluginKind::Preintegrator
-        : e["kind"] == "state_convention" ? PluginKind::StateConvention : PluginKind::PreintConvention,
+        : e["kind"] == "state_convention" ? PluginKind::StateConvention : PluginKind::IncrementConvention,
         e["id"].get<std::string>());
     EXPECT_EQ(e["file"], info.file);
     EXPECT_EQ(e["version"], info.version);

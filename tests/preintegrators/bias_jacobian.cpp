@@ -10,7 +10,7 @@
 
 #include <cstdio>
 
-#include "imuconv/kernels/gtsam_preintegration.h"
+#include "imuconv/kernels/preintegration.h"
 #include "imuconv/numeric.h"
 #include "imuconv_test.h"
 #include "reference_cases.h"

@@ -19,7 +19,7 @@
 #include <string>
 #include <utility>
 
-#include "imuconv/kernels/gtsam_preintegration.h"
+#include "imuconv/kernels/preintegration.h"
 #include "imuconv_test.h"
 #include "reference_cases.h"
 #include "scale_aware.h"

@@ -44,10 +44,10 @@ TEST(PreintegratorPlugins, NamedConventionsUseGtsamBlockOrder) {
   const std::vector<std::string> gtsam_order = {"theta", "p", "v", "ba", "bg"};
   for (const char* conv : {"gtsam_tangent", "gtsam_manifold", "gtsam_manifold_jacobian"}) {
     SCOPED_TRACE(conv);
-    ASSERT_TRUE(Plugins().has(PluginKind::PreintConvention, conv));
-    EXPECT_EQ(Plugins().info(PluginKind::PreintConvention, conv).blocks, gtsam_order);
+    ASSERT_TRUE(Plugins().has(PluginKind::IncrementConvention, conv));
+    EXPECT_EQ(Plugins().info(PluginKind::IncrementConvention, conv).blocks, gtsam_order);
   }
-  EXPECT_EQ(Plugins().info(PluginKind::PreintConvention, "gtsam_manifold").jacobian_convention,
+  EXPECT_EQ(Plugins().info(PluginKind::IncrementConvention, "gtsam_manifold").jacobian_convention,
             "gtsam_manifold_jacobian");
 }
 

@@ -24,7 +24,7 @@ TEST(Loading, BuiltPluginsLoad) {
   const auto issues = r.load_directory(Registry::default_plugin_dir());
   EXPECT_TRUE(issues.empty());
   EXPECT_TRUE(r.has(PluginKind::StateConvention, "left"));
-  EXPECT_TRUE(r.has(PluginKind::PreintConvention, "preint_reference"));
+  EXPECT_TRUE(r.has(PluginKind::IncrementConvention, "preint_reference"));
   EXPECT_EQ(r.info(PluginKind::StateConvention, "left").blocks,
             (std::vector<std::string>{"p", "theta", "v", "bg", "ba"}));
 }

@@ -81,7 +81,7 @@ void CheckOutputCovariance(const Mat15& C, const std::string& pointer) {
 void CheckPluginId(Checker& c, const Registry& reg, PluginKind kind, const std::string& id, const std::string& pointer) {
   if (reg.has(kind, id)) return;
   const char* what = kind == PluginKind::StateConvention    ? "state convention"
-                     : kind == PluginKind::PreintConvention ? "increment (preintegration) convention"
+                     : kind == PluginKind::IncrementConvention ? "increment (preintegration) convention"
                      : kind == PluginKind::Propagator       ? "propagator"
                                                             : "preintegrator";
   std::string known;
@@ -89,7 +89,7 @@ void CheckPluginId(Checker& c, const Registry& reg, PluginKind kind, const std::
   std::string msg = std::string("unknown ") + what + " " + Quoted(id) + "; known: " + known;
   // A known id of another kind is a frequent slip: say so.
   for (PluginKind k :
-       {PluginKind::StateConvention, PluginKind::PreintConvention, PluginKind::Propagator, PluginKind::Preintegrator})
+       {PluginKind::StateConvention, PluginKind::IncrementConvention, PluginKind::Propagator, PluginKind::Preintegrator})
     if (k != kind && reg.has(k, id)) msg += " (" + Quoted(id) + " is a " + KindName(k) + ")";
   c.error(pointer, msg);
 }

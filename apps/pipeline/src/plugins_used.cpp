@@ -9,9 +9,9 @@ void PluginUse::add(PluginKind kind, const std::string& id) {
 }
 
 void PluginUse::increment(const std::string& id) {
-  add(PluginKind::PreintConvention, id);
-  if (reg_.has(PluginKind::PreintConvention, id))
-    add(PluginKind::PreintConvention, reg_.info(PluginKind::PreintConvention, id).jacobian_convention);
+  add(PluginKind::IncrementConvention, id);
+  if (reg_.has(PluginKind::IncrementConvention, id))
+    add(PluginKind::IncrementConvention, reg_.info(PluginKind::IncrementConvention, id).jacobian_convention);
 }
 
 void PluginUse::propagator(const std::string& id) {
@@ -28,10 +28,10 @@ std::vector<const PluginInfo*> PluginUse::list() {
   bool any_state = false, any_preint = measurements_;
   for (const auto& [kind, id] : used_) {
     any_state = any_state || kind == PluginKind::StateConvention;
-    any_preint = any_preint || kind == PluginKind::PreintConvention;
+    any_preint = any_preint || kind == PluginKind::IncrementConvention;
   }
   if (any_state) state("left");
-  if (any_preint) add(PluginKind::PreintConvention, "preint_reference");
+  if (any_preint) add(PluginKind::IncrementConvention, "preint_reference");
   std::vector<const PluginInfo*> out;
   out.reserve(used_.size());
   for (const auto& [kind, id] : used_) out.push_back(&reg_.info(kind, id));

@@ -22,10 +22,10 @@ enum class PluginKind : int {
   IncrementConvention = 2,  ///< IncrementConvention (Chart<PreintIncrement>)
   Propagator = 3,           ///< Propagator
   Preintegrator = 4,        ///< Preintegrator
-  PreintConvention = IncrementConvention,  ///< deprecated name of IncrementConvention
 };
 
-/// The kind's name in messages and outputs.
+/// The kind's name in messages and outputs. An increment convention is "preint_convention"
+/// there: the name is part of the output format (plugins_used, `imuconv plugins`).
 inline const char* KindName(PluginKind k) noexcept {
   switch (k) {
     case PluginKind::StateConvention: return "state_convention";

@@ -109,7 +109,7 @@ struct Residual {
   Mat15 cov = Mat15::Zero();
   /// d r / d dx_se: the derivative with respect to a perturbation of the measured increment
   /// (before bias correction) in preint_reference; multiply by
-  /// preint_conversion(conv, "preint_reference", m.delta) for another increment convention.
+  /// increment_conversion(conv, "preint_reference", m.delta) for another increment convention.
   Mat15 H_increment = Mat15::Zero();
 };
 

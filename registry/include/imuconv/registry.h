@@ -17,7 +17,6 @@
 #include <vector>
 
 #include "imuconv/chart.h"
-#include "imuconv/error_state.h"
 #include "imuconv/export.h"
 #include "imuconv/plugin_kind.h"
 #include "imuconv/preintegrator.h"
@@ -104,8 +103,6 @@ class IMUCONV_API Registry {
   // ---- access (throw Error for an unknown id, listing the known ones) --------------
   std::shared_ptr<const StateConvention> state_convention(std::string_view id) const;
   std::shared_ptr<const IncrementConvention> increment_convention(std::string_view id) const;
-  /// The former name of increment_convention.
-  std::shared_ptr<const IncrementConvention> preint_convention(std::string_view id) const;
   std::shared_ptr<const Propagator> propagator(std::string_view id) const;
   std::shared_ptr<const Preintegrator> preintegrator(std::string_view id) const;
 
@@ -123,9 +120,9 @@ class IMUCONV_API Registry {
                            const ImuState& x_e, const Mat15& Phi) const;
 
   // ---- increment conventions -------------------------------------------------------
-  Mat15 preint_conversion(std::string_view from, std::string_view to, const PreintIncrement& x) const;
-  Mat15 preint_to_reference(std::string_view from, const PreintIncrement& x) const;
-  Mat15 preint_from_reference(std::string_view to, const PreintIncrement& x) const;
+  Mat15 increment_conversion(std::string_view from, std::string_view to, const PreintIncrement& x) const;
+  Mat15 increment_to_reference(std::string_view from, const PreintIncrement& x) const;
+  Mat15 increment_from_reference(std::string_view to, const PreintIncrement& x) const;
 
   // ---- propagation in any state convention -----------------------------------------
   /// Runs the propagator; in.cov_s and the result's Phi and cov are in `convention`.

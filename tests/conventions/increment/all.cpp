@@ -22,7 +22,7 @@ TEST(PreintConventions, EveryLoadedConventionRunsTheSuite) {
 
 TEST(PreintConventions, AllFourPlusReferenceAreLoaded) {
   for (const char* id : {"preint_reference", "gtsam_tangent", "gtsam_manifold", "gtsam_manifold_jacobian", "forster"})
-    EXPECT_TRUE(Plugins().has(imuconv::PluginKind::PreintConvention, id)) << id;
+    EXPECT_TRUE(Plugins().has(imuconv::PluginKind::IncrementConvention, id)) << id;
 }
 
 TEST(PreintConventionPairs, ConversionsInvertAndMatchTheChartsDirectly) {
@@ -35,7 +35,7 @@ TEST(PreintConventionPairs, RiddersComposedConversionMatchesAnalytic) {
 
 TEST(PreintConventions, BlockOrders) {
   using V = std::vector<std::string>;
-  const auto blocks = [](const char* id) { return Plugins().info(imuconv::PluginKind::PreintConvention, id).blocks; };
+  const auto blocks = [](const char* id) { return Plugins().info(imuconv::PluginKind::IncrementConvention, id).blocks; };
   EXPECT_EQ(blocks("preint_reference"), (V{"theta", "p", "v", "bg", "ba"}));
   EXPECT_EQ(blocks("gtsam_tangent"), (V{"theta", "p", "v", "ba", "bg"}));
   EXPECT_EQ(blocks("gtsam_manifold"), (V{"theta", "p", "v", "ba", "bg"}));
@@ -46,13 +46,13 @@ TEST(PreintConventions, BlockOrders) {
 // GTSAM's ManifoldPreintegration states its covariance in c (gtsam_manifold) and its bias
 // Jacobians in j (gtsam_manifold_jacobian); every other convention uses its own chart.
 TEST(PreintConventions, BiasJacobianCharts) {
-  const auto chart = [](const char* id) { return std::string(Plugins().preint_convention(id)->jacobian_convention()); };
+  const auto chart = [](const char* id) { return std::string(Plugins().increment_convention(id)->jacobian_convention()); };
   EXPECT_EQ(chart("gtsam_manifold"), "gtsam_manifold_jacobian");
   EXPECT_EQ(chart("gtsam_manifold_jacobian"), "gtsam_manifold_jacobian");
   EXPECT_EQ(chart("gtsam_tangent"), "gtsam_tangent");
   EXPECT_EQ(chart("forster"), "forster");
   EXPECT_EQ(chart("preint_reference"), "preint_reference");
-  EXPECT_EQ(Plugins().info(imuconv::PluginKind::PreintConvention, "gtsam_manifold").jacobian_convention,
+  EXPECT_EQ(Plugins().info(imuconv::PluginKind::IncrementConvention, "gtsam_manifold").jacobian_convention,
             "gtsam_manifold_jacobian");
 }
 

@@ -10,7 +10,7 @@ IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, gtsam_manifold_jacobian);
 
 TEST(PreintStructure, ReferenceToManifoldJacobianFlipsAndSwapsBiases) {
   for (const PreintIncrement& x : PreintKind::Points()) {
-    const Mat15 J = Plugins().preint_conversion("preint_reference", "gtsam_manifold_jacobian", x);
+    const Mat15 J = Plugins().increment_conversion("preint_reference", "gtsam_manifold_jacobian", x);
     ExpectConversion("preint_reference", "gtsam_manifold_jacobian", x,
                      Expect("preint_reference", "gtsam_manifold_jacobian")
                          .set("theta", "theta", I3)

@@ -29,7 +29,7 @@ TEST(PreintStructure, TangentToManifoldJacobianIsTheRightJacobian) {
 // gtsam_tangent parameterises dR by Log(dR) in (-pi, pi]: it is a chart only while
 // |Log(dR^) + dtheta| < pi. Near the limit it still inverts; past it Log wraps around.
 TEST(PreintStructure, TangentChartHoldsUpToPiAndWrapsBeyond) {
-  const auto tangent = Plugins().preint_convention("gtsam_tangent");
+  const auto tangent = Plugins().increment_convention("gtsam_tangent");
   const Vec3 axis = Vec3(0.3, -0.5, 0.8).normalized();
   PreintIncrement x;
   x.dR = so3::Exp(3.0 * axis);

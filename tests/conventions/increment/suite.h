@@ -19,15 +19,15 @@ using imuconv::test::PreintKind;
 using imuconv::test::RelErr;
 namespace so3 = imuconv::so3;
 
-/// Expected preint_conversion(from, to, x) built block by block; compares with the registry's.
+/// Expected increment_conversion(from, to, x) built block by block; compares with the registry's.
 inline void ExpectConversion(const char* from, const char* to, const PreintIncrement& x, const Mat15& expected) {
-  const Mat15 J = Plugins().preint_conversion(from, to, x);
+  const Mat15 J = Plugins().increment_conversion(from, to, x);
   EXPECT_LE(RelErr(J, expected), kStructureTol) << from << " -> " << to << "\ngot\n"
                                                                 << J << "\nexpected\n" << expected;
 }
 
 inline BlockBuilder Expect(const char* from, const char* to) {
-  return BlockBuilder(Plugins().preint_convention(to)->labels(), Plugins().preint_convention(from)->labels());
+  return BlockBuilder(Plugins().increment_convention(to)->labels(), Plugins().increment_convention(from)->labels());
 }
 
 inline const Mat3 I3 = Mat3::Identity();

@@ -36,14 +36,14 @@ void ReadJBias(const Node& n, const Registry& reg, const std::string& cov_conv, 
     }
   }
   if (!chart.empty()) {
-    CheckPluginId(n.checker(), reg, PluginKind::PreintConvention, chart, n.child_pointer("convention"));
-    if (!reg.has(PluginKind::PreintConvention, chart)) return;
+    CheckPluginId(n.checker(), reg, PluginKind::IncrementConvention, chart, n.child_pointer("convention"));
+    if (!reg.has(PluginKind::IncrementConvention, chart)) return;
   } else if (!cov_conv.empty()) {
-    chart = reg.info(PluginKind::PreintConvention, cov_conv).jacobian_convention;
+    chart = reg.info(PluginKind::IncrementConvention, cov_conv).jacobian_convention;
     if (chart.empty()) chart = cov_conv;
   }
   if (!chart.empty()) {
-    const auto labels = Blocks(reg, PluginKind::PreintConvention, chart);
+    const auto labels = Blocks(reg, PluginKind::IncrementConvention, chart);
     if (rows && *rows != NavLabels(labels))
       n.checker().error(n.child_pointer("rows") + "/blocks", "rows [" + Printable(Join(*rows)) + "] do not match the order of '" +
                                                                  chart + "': [" + Join(NavLabels(labels)) + "]");
@@ -124,8 +124,8 @@ std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::stri
     if (auto cn = e.get("cov", true)) {
       if (cn->expect_object({"convention", "blocks", "matrix"})) {
         if (auto cv = cn->string("convention", true)) {
-          CheckPluginId(c, reg, PluginKind::PreintConvention, *cv, cn->child_pointer("convention"));
-          if (reg.has(PluginKind::PreintConvention, *cv)) cov_conv = *cv;
+          CheckPluginId(c, reg, PluginKind::IncrementConvention, *cv, cn->child_pointer("convention"));
+          if (reg.has(PluginKind::IncrementConvention, *cv)) cov_conv = *cv;
         }
         if (auto mn = cn->get("matrix", true))
           if (auto m = mn->matrix(15, 15)) {
@@ -134,7 +134,7 @@ std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::stri
           }
         if (auto bn = cn->get("blocks", false))
           if (auto b = bn->string_list(); b && !cov_conv.empty()) {
-            const auto expect = Blocks(reg, PluginKind::PreintConvention, cov_conv);
+            const auto expect = Blocks(reg, PluginKind::IncrementConvention, cov_conv);
             if (*b != expect)
               bn->fail("blocks [" + Printable(Join(*b)) + "] do not match the block order of '" + cov_conv + "': [" +
                        Join(expect) + "]");
@@ -184,7 +184,7 @@ void WriteMeasurement(JsonWriter& w, const MeasRecord& r, std::size_t k, const s
   w.key("delta");
   WriteIncrement(w, m.delta, !omit.R);
   const bool reference = conventions.empty() || !omit.reference;
-  const auto& ref_blocks = reg.info(PluginKind::PreintConvention, kRef).blocks;
+  const auto& ref_blocks = reg.info(PluginKind::IncrementConvention, kRef).blocks;
   if (reference && !omit.J_bias) {
     w.key("J_bias");
     WriteMixed(w, m.J_bias, kRef, NavLabels(ref_blocks), kRef, BiasLabels(ref_blocks));
@@ -198,7 +198,7 @@ void WriteMeasurement(JsonWriter& w, const MeasRecord& r, std::size_t k, const s
     w.begin_object();
     for (const auto& c : conventions) {
       const PreintegratedIn in = Express(reg, m, c);
-      const auto& jb = reg.info(PluginKind::PreintConvention, in.jacobian_convention).blocks;
+      const auto& jb = reg.info(PluginKind::IncrementConvention, in.jacobian_convention).blocks;
       w.key(c);
       w.begin_object();
       if (!omit.J_bias) {
@@ -207,7 +207,7 @@ void WriteMeasurement(JsonWriter& w, const MeasRecord& r, std::size_t k, const s
       }
       if (!omit.cov) {
         w.key("cov");
-        WriteCovariance(w, in.cov, in.convention, reg.info(PluginKind::PreintConvention, in.convention).blocks);
+        WriteCovariance(w, in.cov, in.convention, reg.info(PluginKind::IncrementConvention, in.convention).blocks);
       }
       w.end_object();
     }

@@ -31,7 +31,7 @@ class BiasUpdateTask : public Task {
 
   void check_plugins(RunContext& ctx, Checker& c) const override {
     for (std::size_t i = 0; i < charts.size(); ++i)
-      ctx.check_id(c, PluginKind::PreintConvention, charts[i], charts_pointer + "/" + std::to_string(i));
+      ctx.check_id(c, PluginKind::IncrementConvention, charts[i], charts_pointer + "/" + std::to_string(i));
   }
 
   /// The largest differences between the first-order corrections and re-integration.

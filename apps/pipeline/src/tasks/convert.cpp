@@ -30,7 +30,7 @@ class ConvertTask : public Task {
 
   bool state_kind() const { return what == What::StateJacobian || what == What::StateCovariance || what == What::StateTransition; }
   bool covariance() const { return what == What::StateCovariance || what == What::IncrementCovariance; }
-  PluginKind kind() const { return state_kind() ? PluginKind::StateConvention : PluginKind::PreintConvention; }
+  PluginKind kind() const { return state_kind() ? PluginKind::StateConvention : PluginKind::IncrementConvention; }
 
   void references(const std::function<void(const std::string&, const std::string&)>& f) const override {
     if (source_task) f(*source_task, source_pointer + "/task");
@@ -120,9 +120,9 @@ class ConvertTask : public Task {
       case What::StateJacobian: result = reg.conversion(in.from, to, x_at); break;
       case What::StateCovariance: result = reg.convert_covariance(in.from, to, x_at, in.M); break;
       case What::StateTransition: result = reg.convert_transition(in.from, to, in.xs, in.xe, in.M); break;
-      case What::IncrementJacobian: result = reg.preint_conversion(in.from, to, in.d); break;
+      case What::IncrementJacobian: result = reg.increment_conversion(in.from, to, in.d); break;
       case What::IncrementCovariance: {
-        const Mat15 J = reg.preint_conversion(in.from, to, in.d);
+        const Mat15 J = reg.increment_conversion(in.from, to, in.d);
         result = J * in.M * J.transpose();
         result = (0.5 * (result + result.transpose())).eval();
         break;

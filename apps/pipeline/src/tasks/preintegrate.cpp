@@ -58,7 +58,7 @@ class PreintegrateTask : public Task {
       }
     }
     for (std::size_t i = 0; i < conventions.size(); ++i)
-      ctx.check_id(c, PluginKind::PreintConvention, conventions[i], conventions_pointer + "/" + std::to_string(i));
+      ctx.check_id(c, PluginKind::IncrementConvention, conventions[i], conventions_pointer + "/" + std::to_string(i));
   }
 
   void check_times(const RunContext& ctx, Checker& c) const override {

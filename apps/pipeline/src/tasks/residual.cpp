@@ -47,7 +47,7 @@ class ResidualTask : public Task {
     static const std::vector<std::string> rblocks = {"theta", "p", "v", "bg", "ba"};
     const std::string rconv = "residual_" + kind_name;
     const auto& sb = ctx.blocks(PluginKind::StateConvention, convention);
-    const auto& ib = ctx.blocks(PluginKind::PreintConvention, "preint_reference");
+    const auto& ib = ctx.blocks(PluginKind::IncrementConvention, "preint_reference");
     w.key("kind");
     w.string(kind_name);
     WriteMeasurementsSource(w, meas);
