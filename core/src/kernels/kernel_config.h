@@ -9,12 +9,17 @@
 // gives each instance its own symbols while the code still says kernels::detail::Foo.
 //
 // Why a target attribute on each instance's interval functions (IMUCONV_KERNEL_TARGET,
-// interval.h) and not -mavx2 -mfma for the whole file: the helpers are then compiled for
-// the baseline and inlined into the wider function, as they always were. Compiled with the
-// flags for the whole file, GCC 12 shapes the same source differently and fuses other
-// multiply-adds: the bias Jacobian and covariance move by ~1e-12 relative, within every
-// test's tolerance but not the bitwise-unchanged outputs this split must keep. A change of
-// the numbers that size is a separate, deliberate step.
+// interval.h) and not -mavx2 -mfma for the whole file:
+// - Safety. The inline namespace covers imuconv's own helpers, not Eigen's or core's inline
+//   functions, which every unit shares as weak symbols. Built with the flags for the whole
+//   file, any of those the compiler emits out of line is an AVX2 copy, and the linker keeps
+//   one copy for the whole library: a CPU without AVX2 would then die of SIGILL outside the
+//   kernel. GCC 12 emits 616 such symbols from instance_avx2.cpp at -O0 (none at -O1 and
+//   above, by inlining luck, not by rule). With the attribute only the interval functions
+//   are wide; whatever they do not inline stays baseline code.
+// - Numbers. With the flags GCC 12 also fuses other multiply-adds: the bias Jacobian and
+//   covariance move by ~1e-12 relative, within every test's tolerance but a change of the
+//   outputs for no gain.
 #pragma once
 
 #ifndef IMUCONV_KERNEL_ISA
