@@ -1,6 +1,8 @@
+#include <cstdio>
 #include <iostream>
 
 #include "commands.h"
+#include "imuconv/printable.h"
 
 namespace imuconv::cli {
 
@@ -35,6 +37,54 @@ void PrintError(const std::string& message) {
     if (c == '\n') out += "  ";
   }
   std::cerr << out << "\n";
+}
+
+void PrintLabelledMatrix(std::ostream& out, const Mat15& m, const std::vector<std::string>& row_blocks,
+                         const std::vector<std::string>& col_blocks) {
+  const auto axes = [](const std::vector<std::string>& blocks) {
+    std::vector<std::string> labels;
+    for (const auto& b : blocks)
+      for (const char* ax : {"x", "y", "z"}) labels.push_back(b + "." + ax);
+    return labels;
+  };
+  const auto rl = axes(row_blocks), cl = axes(col_blocks);
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%-10s", "");
+  out << buf;
+  for (int c = 0; c < 15; ++c) {
+    std::snprintf(buf, sizeof buf, "%10s", cl[static_cast<std::size_t>(c)].c_str());
+    out << buf;
+  }
+  out << "\n";
+  for (int r = 0; r < 15; ++r) {
+    if (r % 3 == 0 && r) out << "\n";
+    std::snprintf(buf, sizeof buf, "%-10s", rl[static_cast<std::size_t>(r)].c_str());
+    out << buf;
+    for (int c = 0; c < 15; ++c) {
+      const double v = m(r, c);
+      if (v == 0.0)
+        std::snprintf(buf, sizeof buf, "%10s", "0");
+      else
+        std::snprintf(buf, sizeof buf, "%10.4g", v);
+      out << buf;
+    }
+    out << "\n";
+  }
+  out.flush();
+}
+
+std::string UnknownConventionMessage(const Registry& reg, PluginKind kind, const std::string& id,
+                                 const std::vector<LoadIssue>& load_issues) {
+  if (reg.has(kind, id)) return "";
+  const bool state = kind == PluginKind::StateConvention;
+  std::string known;
+  for (const auto& k : reg.ids(kind)) known += (known.empty() ? "" : ", ") + k;
+  std::string msg = std::string("unknown ") + (state ? "state" : "increment") + " convention " + Quoted(id) + "; known: " + known;
+  const PluginKind other = state ? PluginKind::IncrementConvention : PluginKind::StateConvention;
+  if (reg.has(other, id)) msg += " (" + Quoted(id) + " is " + (state ? "an increment" : "a state") + " convention)";
+  if (!load_issues.empty())
+    msg += "\n" + std::to_string(load_issues.size()) + " plugin file(s) failed to load; see 'imuconv plugins'";
+  return msg;
 }
 
 }  // namespace imuconv::cli

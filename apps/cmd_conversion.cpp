@@ -1,6 +1,5 @@
 // imuconv conversion --from A --to B --state STATE.json [--json]: the 15x15 Jacobian
 // d dx_B / d dx_A of a state-convention change at a state, with block labels.
-#include <cstdio>
 #include <iostream>
 
 #include "commands.h"
@@ -15,24 +14,13 @@ struct Options {
   bool as_json = false;
 };
 
-std::vector<std::string> AxisLabels(const std::vector<std::string>& blocks) {
-  std::vector<std::string> out;
-  for (const auto& b : blocks)
-    for (const char* ax : {"x", "y", "z"}) out.push_back(b + "." + ax);
-  return out;
-}
-
 int Run(const CommandContext& ctx, const Options& o) {
   Registry reg;
   const auto issues = LoadRegistry(reg, ctx);
   for (const auto& id : {o.from, o.to}) {
-    if (reg.has(PluginKind::StateConvention, id)) continue;
-    std::string known;
-    for (const auto& k : reg.ids(PluginKind::StateConvention)) known += (known.empty() ? "" : ", ") + k;
-    std::string msg = "unknown state convention " + Quoted(id) + "; known: " + known;
-    if (reg.has(PluginKind::IncrementConvention, id)) msg += " (" + Quoted(id) + " is an increment convention)";
-    if (!issues.empty()) msg += "\n" + std::to_string(issues.size()) + " plugin file(s) failed to load; see 'imuconv plugins'";
-    PrintError(msg);
+    const std::string unknown = UnknownConventionMessage(reg, PluginKind::StateConvention, id, issues);
+    if (unknown.empty()) continue;
+    PrintError(unknown);
     return 1;
   }
   const ImuState x = pipeline::ReadStateFile(o.state);
@@ -47,25 +35,7 @@ int Run(const CommandContext& ctx, const Options& o) {
   }
   std::cout << "d dx[" << o.to << "] / d dx[" << o.from << "] at the state in " << o.state
             << "\nrows: " << o.to << " blocks, columns: " << o.from << " blocks\n\n";
-  const auto rl = AxisLabels(bt), cl = AxisLabels(bf);
-  char buf[64];
-  std::printf("%-10s", "");
-  for (int c = 0; c < 15; ++c) std::printf("%10s", cl[static_cast<std::size_t>(c)].c_str());
-  std::printf("\n");
-  for (int r = 0; r < 15; ++r) {
-    if (r % 3 == 0 && r) std::printf("\n");
-    std::printf("%-10s", rl[static_cast<std::size_t>(r)].c_str());
-    for (int c = 0; c < 15; ++c) {
-      const double v = J(r, c);
-      if (v == 0.0)
-        std::snprintf(buf, sizeof buf, "%10s", "0");
-      else
-        std::snprintf(buf, sizeof buf, "%10.4g", v);
-      std::printf("%s", buf);
-    }
-    std::printf("\n");
-  }
-  std::fflush(stdout);
+  PrintLabelledMatrix(std::cout, J, bt, bf);
   return 0;
 }
 

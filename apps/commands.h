@@ -5,6 +5,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -33,8 +34,19 @@ std::vector<LoadIssue> LoadRegistry(Registry& reg, const CommandContext& ctx, co
 /// Prints "imuconv: error: <message>" to stderr (each line of a multi-line message indented).
 void PrintError(const std::string& message);
 
+/// Prints a 15x15 matrix as a table whose rows and columns are labelled with the axes of the
+/// two conventions' blocks ("theta.x", ...), exact zeros as "0", the rest to 4 digits.
+void PrintLabelledMatrix(std::ostream& out, const Mat15& m, const std::vector<std::string>& row_blocks,
+                         const std::vector<std::string>& col_blocks);
+
+/// "unknown state (or increment) convention 'id'; known: ..." (and that the id is one of the
+/// other kind, if so) when `id` is not a convention of `kind`; "" when it is.
+std::string UnknownConventionMessage(const Registry& reg, PluginKind kind, const std::string& id,
+                                 const std::vector<LoadIssue>& load_issues);
+
 void RegisterPluginsCommand(CLI::App& app, CommandContext& ctx);
 void RegisterConversionCommand(CLI::App& app, CommandContext& ctx);
+void RegisterConvertCommand(CLI::App& app, CommandContext& ctx);
 void RegisterRunCommand(CLI::App& app, CommandContext& ctx);
 void RegisterRefcaseCommand(CLI::App& app, CommandContext& ctx);
 void RegisterBenchCommand(CLI::App& app, CommandContext& ctx);

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   // ---- subcommands (one file each) ----
   RegisterPluginsCommand(app, ctx);
   RegisterConversionCommand(app, ctx);
+  RegisterConvertCommand(app, ctx);
   RegisterRunCommand(app, ctx);
   RegisterRefcaseCommand(app, ctx);
   RegisterBenchCommand(app, ctx);

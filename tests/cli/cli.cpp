@@ -22,8 +22,8 @@ TEST(Cli, HelpEverywhere) {
   TempDir tmp;
   CommandResult r = RunImuconv("--help", tmp);
   EXPECT_EQ(r.exit_code, 0);
-  for (const char* sub : {"plugins", "conversion", "run", "--plugin-dir"}) EXPECT_TRUE(Has(r.out, sub)) << sub << "\n" << r.out;
-  for (const char* sub : {"plugins", "conversion", "run"}) {
+  for (const char* sub : {"plugins", "convert", "conversion", "run", "--plugin-dir"}) EXPECT_TRUE(Has(r.out, sub)) << sub << "\n" << r.out;
+  for (const char* sub : {"plugins", "convert", "conversion", "run"}) {
     r = RunImuconv(std::string(sub) + " --help", tmp);
     EXPECT_EQ(r.exit_code, 0) << sub;
     EXPECT_TRUE(Has(r.out, "--plugin-dir")) << sub << "\n" << r.out;

@@ -87,4 +87,13 @@ std::optional<Matrix15In> Matrix15FromJson(const Node& n) {
   return out;
 }
 
+Matrix15In ReadMatrixFile(const std::string& path, bool covariance) {
+  const json j = ParseJsonFile(path);
+  Checker c(path);
+  auto m = Matrix15FromJson(Node(j, "", c));
+  if (m && covariance) CheckCovarianceInput(c, m->pointer, m->m);
+  c.throw_if_errors();
+  return std::move(*m);
+}
+
 }  // namespace imuconv::pipeline

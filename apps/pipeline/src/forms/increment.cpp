@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "../input_checks.h"
+#include "imuconv/pipeline/json_io.h"
 #include "imuconv/so3.h"
 
 namespace imuconv::pipeline {
@@ -72,6 +73,14 @@ void WriteIncrement(JsonWriter& w, const PreintIncrement& d, bool with_R) {
   w.key("rotation_angle_deg");
   w.number(RotationAngleDeg(d.dR));
   w.end_object();
+}
+
+PreintIncrement ReadIncrementFile(const std::string& path) {
+  const json j = ParseJsonFile(path);
+  Checker c(path);
+  const auto d = IncrementFromJson(Node(j, "", c));
+  c.throw_if_errors();
+  return *d;
 }
 
 }  // namespace imuconv::pipeline

@@ -55,5 +55,13 @@ std::string PrettyJson(const json& j);
 /// Reads a state file (a JSON state object) with the checks of StateFromJson; throws
 /// ConfigError naming the file and pointer.
 ImuState ReadStateFile(const std::string& path);
+/// Reads an increment file (the form of a measurement's "delta": q_wxyz and/or R, dp, dv,
+/// dbg, dba) with every check of the pipeline's one increment reader; throws ConfigError
+/// naming the file and pointer.
+PreintIncrement ReadIncrementFile(const std::string& path);
+/// Reads a 15x15 matrix file in any Matrix15FromJson form. With `covariance` it must be one
+/// (symmetric and positive semi-definite within 1e-9 of its largest variance): nothing is
+/// repaired. Throws ConfigError naming the file and pointer.
+Matrix15In ReadMatrixFile(const std::string& path, bool covariance);
 
 }  // namespace imuconv::pipeline
