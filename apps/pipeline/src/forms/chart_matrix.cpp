@@ -88,12 +88,11 @@ std::optional<Matrix15In> Matrix15FromJson(const Node& n) {
 }
 
 Matrix15In ReadMatrixFile(const std::string& path, bool covariance) {
-  const json j = ParseJsonFile(path);
-  Checker c(path);
-  auto m = Matrix15FromJson(Node(j, "", c));
-  if (m && covariance) CheckCovarianceInput(c, m->pointer, m->m);
-  c.throw_if_errors();
-  return std::move(*m);
+  return ReadJsonFileAs(path, [covariance](const Node& n) {
+    auto m = Matrix15FromJson(n);
+    if (m && covariance && !CheckCovarianceInput(n.checker(), m->pointer, m->m)) m.reset();
+    return m;
+  });
 }
 
 }  // namespace imuconv::pipeline

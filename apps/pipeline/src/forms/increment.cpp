@@ -75,12 +75,6 @@ void WriteIncrement(JsonWriter& w, const PreintIncrement& d, bool with_R) {
   w.end_object();
 }
 
-PreintIncrement ReadIncrementFile(const std::string& path) {
-  const json j = ParseJsonFile(path);
-  Checker c(path);
-  const auto d = IncrementFromJson(Node(j, "", c));
-  c.throw_if_errors();
-  return *d;
-}
+PreintIncrement ReadIncrementFile(const std::string& path) { return ReadJsonFileAs(path, IncrementFromJson); }
 
 }  // namespace imuconv::pipeline

@@ -54,12 +54,6 @@ std::optional<ImuState> StateFromJson(const Node& n) {
   return x;
 }
 
-ImuState ReadStateFile(const std::string& path) {
-  const json j = ParseJsonFile(path);
-  Checker c(path);
-  const auto x = StateFromJson(Node(j, "", c));
-  c.throw_if_errors();
-  return *x;
-}
+ImuState ReadStateFile(const std::string& path) { return ReadJsonFileAs(path, StateFromJson); }
 
 }  // namespace imuconv::pipeline

@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "imuconv/pipeline/errors.h"
@@ -137,5 +138,20 @@ struct JsonLimits {
 /// duplicate key (at its pointer: with nlohmann the last one would silently win), or for
 /// nesting deeper than max_depth (at the pointer where it happens).
 json ParseJsonFile(const std::string& path, const JsonLimits& limits = {});
+
+/// A whole file read as one form: ParseJsonFile, then `read` (a form's reader, Node ->
+/// std::optional<T>, reporting at pointers) on the document. Throws ConfigError naming the
+/// file and every pointer reported, else returns the value.
+template <class Read>
+auto ReadJsonFileAs(const std::string& path, Read read) {
+  const json j = ParseJsonFile(path);
+  Checker c(path);
+  auto value = read(Node(j, "", c));
+  // A reader returns nothing only after reporting why; should one not, the file is still
+  // refused (never a default value given in silence).
+  if (!value && c.count() == 0) c.error("", "could not be read as expected");
+  c.throw_if_errors();
+  return std::move(*value);
+}
 
 }  // namespace imuconv::pipeline
