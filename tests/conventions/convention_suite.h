@@ -100,7 +100,7 @@ struct StateKind {
   }
 };
 
-struct PreintKind {
+struct IncrementKind {
   using Value = PreintIncrement;
   using Convention = IncrementConvention;
   static constexpr PluginKind kKind = PluginKind::IncrementConvention;
@@ -328,7 +328,7 @@ class BlockBuilder {
 #define IMUCONV_DECLARE_CONVENTION_SUITE(SUITE) \
   class SUITE : public ::testing::TestWithParam<std::string> {}
 
-/// Defines the full per-convention suite SUITE for a kind (StateKind or PreintKind), once per
+/// Defines the full per-convention suite SUITE for a kind (StateKind or IncrementKind), once per
 /// test executable.
 #define IMUCONV_DEFINE_CONVENTION_SUITE(SUITE, KIND)                                                      \
   TEST_P(SUITE, LabelsAndAnalyticJacobiansRegistered) { ::imuconv::test::CheckLabels<KIND>(GetParam()); } \

@@ -6,18 +6,18 @@
 namespace {
 
 using imuconv::test::Plugins;
-using imuconv::test::PreintKind;
+using imuconv::test::IncrementKind;
 
 const auto* const kPrintWorst = ::testing::AddGlobalTestEnvironment(new imuconv::test::PrintWorstErrors);
 
 }  // namespace
 
-IMUCONV_DEFINE_CONVENTION_SUITE(IncrementConventionSuite, PreintKind)
+IMUCONV_DEFINE_CONVENTION_SUITE(IncrementConventionSuite, IncrementKind)
 
 namespace {
 
 TEST(PreintConventions, EveryLoadedConventionRunsTheSuite) {
-  imuconv::test::CheckEveryConventionHasSuite<PreintKind>("IncrementConventionSuite");
+  imuconv::test::CheckEveryConventionHasSuite<IncrementKind>("IncrementConventionSuite");
 }
 
 TEST(PreintConventions, AllFourPlusReferenceAreLoaded) {
@@ -26,11 +26,11 @@ TEST(PreintConventions, AllFourPlusReferenceAreLoaded) {
 }
 
 TEST(PreintConventionPairs, ConversionsInvertAndMatchTheChartsDirectly) {
-  imuconv::test::CheckAllPairs<PreintKind>();
+  imuconv::test::CheckAllPairs<IncrementKind>();
 }
 
 TEST(PreintConventionPairs, RiddersComposedConversionMatchesAnalytic) {
-  imuconv::test::CheckNumericalComposition<PreintKind>();
+  imuconv::test::CheckNumericalComposition<IncrementKind>();
 }
 
 TEST(PreintConventions, BlockOrders) {

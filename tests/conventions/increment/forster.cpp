@@ -9,7 +9,7 @@ using namespace imuconv::test::increment;
 IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, forster);
 
 TEST(PreintStructure, ForsterIsMinusTheReference) {
-  for (const PreintIncrement& x : PreintKind::Points()) {
+  for (const PreintIncrement& x : IncrementKind::Points()) {
     // Every block of eq. preint-error-forster enters with a minus sign, in the reference's
     // order, so the permutation is the identity and the conversion -I.
     EXPECT_TRUE(Plugins().increment_conversion("preint_reference", "forster", x).isApprox(-Mat15::Identity(), 0.0));
@@ -18,7 +18,7 @@ TEST(PreintStructure, ForsterIsMinusTheReference) {
 }
 
 TEST(PreintStructure, ForsterToManifoldJacobianFlipsMotionKeepsBias) {
-  for (const PreintIncrement& x : PreintKind::Points()) {
+  for (const PreintIncrement& x : IncrementKind::Points()) {
     // f and j have the same bias sign (Delta b = Delta b^ - db) but opposite motion signs.
     ExpectConversion("forster", "gtsam_manifold_jacobian", x,
                      Expect("forster", "gtsam_manifold_jacobian")

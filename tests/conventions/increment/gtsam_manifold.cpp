@@ -9,7 +9,7 @@ using namespace imuconv::test::increment;
 IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, gtsam_manifold);
 
 TEST(PreintStructure, ManifoldToManifoldJacobianRotatesTranslations) {
-  for (const PreintIncrement& x : PreintKind::Points()) {
+  for (const PreintIncrement& x : IncrementKind::Points()) {
     // eq. residual-error vs subeq:preint-error-dp: dp_j = dR^ dp_c, dv_j = dR^ dv_c.
     ExpectConversion("gtsam_manifold", "gtsam_manifold_jacobian", x,
                      Expect("gtsam_manifold", "gtsam_manifold_jacobian")

@@ -9,7 +9,7 @@ using namespace imuconv::test::increment;
 IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, gtsam_manifold_jacobian);
 
 TEST(PreintStructure, ReferenceToManifoldJacobianFlipsAndSwapsBiases) {
-  for (const PreintIncrement& x : PreintKind::Points()) {
+  for (const PreintIncrement& x : IncrementKind::Points()) {
     const Mat15 J = Plugins().increment_conversion("preint_reference", "gtsam_manifold_jacobian", x);
     ExpectConversion("preint_reference", "gtsam_manifold_jacobian", x,
                      Expect("preint_reference", "gtsam_manifold_jacobian")

@@ -11,7 +11,7 @@ using namespace imuconv::test::increment;
 IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, gtsam_tangent);
 
 TEST(PreintStructure, TangentToManifoldJacobianIsTheRightJacobian) {
-  for (const PreintIncrement& x : PreintKind::Points()) {
+  for (const PreintIncrement& x : IncrementKind::Points()) {
     // Exp(psi + dtheta) = Exp(psi) Exp(Jr(psi) dtheta + ...), psi = Log(dR^): the tangent
     // perturbation is Jr(psi) dtheta in the right-perturbation chart; dp, dv, Delta b (same
     // sign and order) pass through.

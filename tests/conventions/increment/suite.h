@@ -15,7 +15,7 @@ using imuconv::PreintIncrement;
 using imuconv::Vec15;
 using imuconv::Vec3;
 using imuconv::test::Plugins;
-using imuconv::test::PreintKind;
+using imuconv::test::IncrementKind;
 using imuconv::test::RelErr;
 namespace so3 = imuconv::so3;
 
