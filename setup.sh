@@ -17,7 +17,7 @@ if [ "${1:-}" = "--sanitizers" ]; then
 fi
 
 packages=(g++ cmake make pkg-config libeigen3-dev libboost-dev nlohmann-json3-dev libgtest-dev
-          libbenchmark-dev libcli11-dev python3 python3-jsonschema)
+          libbenchmark-dev libcli11-dev libyaml-cpp-dev python3 python3-jsonschema)
 if [ "$sanitizers" = 1 ]; then
   packages+=(clang libclang-rt-14-dev llvm)
 fi

@@ -5,6 +5,7 @@
 
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/printable.h"
+#include "data/kalibr_yaml.h"
 #include "spec.h"
 
 namespace imuconv::pipeline {
@@ -106,8 +107,23 @@ std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file
     }
   }
   if (auto g = root.vec3("gravity", false)) spec->gravity = *g;
-  if (auto nn = root.get("noise", true))
-    if (auto q = NoiseFromJson(*nn)) spec->noise = *q;
+  if (auto nn = root.get("noise", true)) {
+    if (nn->is_object() && nn->has("kalibr")) {
+      // {"kalibr": "imu.yaml"}: the four densities of a Kalibr IMU file, read now (a few
+      // hundred bytes), so that its problems are reported with the pipeline's.
+      nn->expect_object({"kalibr"});
+      if (auto f = nn->string("kalibr", true)) {
+        try {
+          spec->noise_file = ctx.resolve(*f);
+          spec->noise = data::ReadKalibrImuYaml(spec->noise_file);
+        } catch (const ReadError& e) {
+          c.error(nn->child_pointer("kalibr"), e.what());
+        }
+      }
+    } else if (auto q = NoiseFromJson(*nn)) {
+      spec->noise = *q;
+    }
+  }
   if (auto in = root.get("imu", false)) {
     ctx.has_imu = true;
     spec->imu = ReadImuSource(ctx, *in);

@@ -35,6 +35,7 @@ std::vector<std::string> Pipeline::input_files() const {
     if (!f.empty() && seen.insert(f).second) files.push_back(f);
   };
   add(spec_->file);
+  add(spec_->noise_file);
   if (spec_->imu && spec_->imu->format != ImuSourceSpec::Format::Inline) add(spec_->imu->path);
   if (spec_->gt) add(spec_->gt->path);
   for (const auto& t : spec_->tasks)

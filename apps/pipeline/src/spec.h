@@ -43,6 +43,7 @@ struct PipelineSpec {
   std::optional<std::string> output;
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
   ImuNoise noise;
+  std::string noise_file;  ///< the Kalibr imu.yaml the noise was read from (resolved), if any
   std::optional<ImuSourceSpec> imu;
   std::optional<GroundTruthSpec> gt;
   std::vector<std::unique_ptr<const Task>> tasks;

@@ -47,8 +47,8 @@ class Pipeline {
   const std::vector<std::string>& plugin_dirs() const;
   /// The pipeline's "output" key, resolved against its directory.
   const std::optional<std::string>& output_path() const;
-  /// Every file the pipeline reads: the pipeline itself, the IMU and ground-truth files and
-  /// the measurement files, each once, as resolved paths. An output must be none of them.
+  /// Every file the pipeline reads: the pipeline itself, the Kalibr noise file, the IMU and
+  /// ground-truth files and the measurement files, each once, as resolved paths. An output must be none of them.
   std::vector<std::string> input_files() const;
   const PipelineSpec& spec() const { return *spec_; }
 
