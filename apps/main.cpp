@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "imuconv/plugin_kind.h"
 #include "imuconv/pipeline/output_file.h"
 
 int main(int argc, char** argv) {
@@ -16,6 +17,9 @@ int main(int argc, char** argv) {
       "preintegrators as plugins.",
       "imuconv"};
   app.require_subcommand(1);
+  // The version and the plugin ABI it loads: what a bug report and a plugin author need.
+  app.set_version_flag("--version", std::string("imuconv ") + IMUCONV_VERSION + " (plugin ABI " +
+                                        std::to_string(imuconv::kPluginAbiVersion) + ")");
   CommandContext ctx;
   app.add_option("--plugin-dir", ctx.plugin_dirs_main,
                  "Extra plugin directory, searched before IMUCONV_PLUGIN_PATH and the built-in one (repeatable)")

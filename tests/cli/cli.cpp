@@ -30,6 +30,14 @@ TEST(Cli, HelpEverywhere) {
   }
 }
 
+TEST(Cli, VersionNamesTheReleaseAndThePluginAbi) {
+  TempDir tmp;
+  const CommandResult r = RunImuconv("--version", tmp);
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.out, std::string("imuconv ") + IMUCONV_PROJECT_VERSION + " (plugin ABI " +
+                       std::to_string(imuconv::kPluginAbiVersion) + ")\n");
+}
+
 TEST(Cli, UsageErrorsExitWith2) {
   TempDir tmp;
   CommandResult r = RunImuconv("", tmp);
