@@ -97,6 +97,22 @@ TEST(PipelineConfig, WrongTypes) {
   EXPECT_ISSUE(is, "/tasks/4/bias/delta_bg", "expected an array of 3 numbers, found an array of 4");
 }
 
+TEST(PipelineConfig, NoiseIsRequiredOnlyByTasksThatIntegrateSamples) {
+  json d = Base();
+  d.erase("noise");
+  EXPECT_ISSUE(Issues(d), "/noise", "required key is missing: task 'prop' (/tasks/0, propagate) integrates IMU samples with it");
+  // The same pipeline without its propagate and preintegrate tasks (and those that use their
+  // results) has no use for the noise: it runs, and its output records none.
+  json conversions = {{"tasks", {{{"type", "convert"}, {"name", "cv"}, {"what", "state_jacobian"}, {"from", "left"},
+                                  {"to", "gtsam_navstate"}, {"state", Base()["tasks"][0]["start"]["state"]}}}}};
+  EXPECT_TRUE(Issues(conversions).empty());
+  const Pipeline p = Pipeline::FromJson(conversions, kFile, IMUCONV_SOURCE_DIR);
+  const json out = pipeline::Run(p, imuconv::test::Plugins(), RunOptions{});
+  EXPECT_FALSE(out.contains("noise"));
+  ASSERT_EQ(out["tasks"].size(), 1u);
+  EXPECT_EQ(out["tasks"][0]["name"], "cv");
+}
+
 TEST(PipelineConfig, MissingRequiredKeys) {
   json d = Base();
   d["tasks"][0].erase("propagator");

@@ -107,7 +107,8 @@ std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file
     }
   }
   if (auto g = root.vec3("gravity", false)) spec->gravity = *g;
-  if (auto nn = root.get("noise", true)) {
+  if (auto nn = root.get("noise", false)) {
+    spec->has_noise = true;
     if (nn->is_object() && nn->has("kalibr")) {
       // {"kalibr": "imu.yaml"}: the four densities of a Kalibr IMU file, read now (a few
       // hundred bytes), so that its problems are reported with the pipeline's.
@@ -143,6 +144,15 @@ std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file
         if (auto t = ReadTask(ctx, (*tn)[i])) spec->tasks.push_back(std::move(t));
     }
   }
+  // The noise is required by the tasks that integrate IMU samples, and only by them (a
+  // pipeline of conversions, or of residuals of measurement files, has none to give).
+  if (!spec->has_noise)
+    for (const auto& t : spec->tasks)
+      if (t->intervals()) {
+        c.error("/noise", "required key is missing: task '" + Printable(t->name) + "' (" + t->pointer + ", " + t->type +
+                              ") integrates IMU samples with it");
+        break;
+      }
   c.throw_if_errors();
   return spec;
 }

@@ -157,8 +157,10 @@ void WriteHead(const RunContext& ctx, JsonWriter& w) {
   w.string(ctx.origin_ns ? "seconds relative to time_origin_ns; *_abs_ns are absolute nanoseconds" : "seconds, as given");
   w.key("gravity");
   w.vector(s.gravity);
-  w.key("noise");
-  w.value(NoiseToJson(s.noise));
+  if (s.has_noise) {
+    w.key("noise");
+    w.value(NoiseToJson(s.noise));
+  }
   // Provenance: which file (and version) each plugin the tasks used came from, so that a
   // plugin overriding another's id is visible in the output.
   w.key("plugins");

@@ -43,6 +43,7 @@ struct PipelineSpec {
   std::optional<std::string> output;
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
   ImuNoise noise;
+  bool has_noise = false;  ///< the document gives "noise" (required only by tasks that integrate samples)
   std::string noise_file;  ///< the Kalibr imu.yaml the noise was read from (resolved), if any
   std::optional<ImuSourceSpec> imu;
   std::optional<GroundTruthSpec> gt;

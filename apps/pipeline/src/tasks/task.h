@@ -39,7 +39,7 @@ class Task {
   std::string pointer;  ///< /tasks/N
 
   /// The interval or keyframes it integrates IMU samples over, if any: only the range the
-  /// tasks span is read into memory.
+  /// tasks span is read into memory. A task that integrates samples needs the noise too.
   virtual const IntervalsSpec* intervals() const { return nullptr; }
   /// The measurements it reads (an earlier task's or a file's), if any.
   virtual const MeasurementsSpec* measurements() const { return nullptr; }
