@@ -11,7 +11,7 @@ namespace {
 
 struct Options {
   std::string pipeline, output;
-  bool quiet = false;
+  bool quiet = false, every_row = false;
   unsigned threads = 0;
 };
 
@@ -32,6 +32,7 @@ int Run(const CommandContext& ctx, const Options& o) {
   ro.log = &std::cerr;
   ro.summary = o.quiet ? nullptr : (file.is_stdout() ? &std::cerr : &std::cout);
   ro.threads = o.threads;
+  ro.every_row = o.every_row;
   // The runner loads the plugins and hands text to the sink only once the plugins, the data and
   // the times have been checked. Then, before a file's temporary is created, the destination
   // must not be a plugin (or library) the run has loaded. The text for a device, a FIFO or
@@ -63,6 +64,8 @@ void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
                   "followed to it); a device or FIFO is written through; '-' is stdout. Never one of the inputs")
       ->type_name("OUT.json");
   sub->add_flag("-q,--quiet", o.quiet, "Do not print the summary");
+  sub->add_flag("--table", o.every_row,
+                "Print every row of a step table (by default one of more than 50 steps shows its totals and worst steps)");
   sub->add_option("-j,--threads", o.threads,
                   "Threads for independent intervals (0 = every core, the default; 1 = serial). The output is the "
                   "same, byte for byte, for any number")

@@ -3,6 +3,9 @@
 
 #include <cmath>
 #include <map>
+#include <numeric>
+#include <set>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -138,6 +141,57 @@ TEST(Cli, ConversionErrors) {
   r = RunImuconv("conversion --from left --to gtsam_navstate --state " + ShellQuote(tmp.file("none.json")), tmp);
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_TRUE(Has(r.err, tmp.file("none.json") + ": cannot open the file for reading")) << r.err;
+}
+
+// A table of 200 steps: by default its totals and the worst steps, which must be exactly the
+// rows with the 5 largest position and the 5 largest rotation errors of the full table.
+TEST(Cli, LongStepTablesShowTheWorstSteps) {
+  TempDir tmp;
+  const std::string p = SourcePath("examples/euroc_v1_01_keyframes.json");
+  const CommandResult full = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(tmp.file("a.json")) + " --table", tmp);
+  const CommandResult brief = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(tmp.file("b.json")), tmp);
+  ASSERT_EQ(full.exit_code, 0) << full.err;
+  ASSERT_EQ(brief.exit_code, 0) << brief.err;
+  EXPECT_EQ(ReadText(tmp.file("a.json")), ReadText(tmp.file("b.json")));  // the output does not change
+  // The first step table of each summary: rows are lines that start with a right-aligned index.
+  const auto rows_of = [](const std::string& text) {
+    std::vector<std::string> rows;
+    std::istringstream in(text.substr(text.find("propagate_by_preintegration")));
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line) && line.find(" total (") != 0)
+      if (line.size() > 6 && line[5] >= '0' && line[5] <= '9') rows.push_back(line);
+    return rows;
+  };
+  const auto all = rows_of(full.out);
+  ASSERT_EQ(all.size(), 200u) << full.out;
+  EXPECT_TRUE(Has(brief.out, "200 steps: the totals and the worst steps against the ground truth (--table prints every row)"))
+      << brief.out;
+  const std::string after = brief.out.substr(brief.out.find("worst steps (the 5 largest"));
+  std::vector<std::string> shown;
+  std::istringstream in(after);
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line) && line.size() > 6 && line[5] >= '0' && line[5] <= '9') shown.push_back(line);
+  // Expected: from the full table, the indices of the 5 largest of each error column.
+  const auto column = [](const std::string& row, int from_end) {
+    std::istringstream r(row);
+    std::vector<double> v;
+    double x;
+    while (r >> x) v.push_back(x);
+    return v[v.size() - static_cast<std::size_t>(from_end)];
+  };
+  std::set<std::size_t> expect;
+  for (int col : {2, 1}) {  // pos.err, rot.err
+    std::vector<std::size_t> idx(all.size());
+    std::iota(idx.begin(), idx.end(), 0);
+    std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return column(all[a], col) > column(all[b], col); });
+    expect.insert(idx.begin(), idx.begin() + 5);
+  }
+  std::vector<std::string> expect_rows;
+  for (std::size_t k : expect) expect_rows.push_back(all[k]);
+  EXPECT_EQ(shown, expect_rows) << brief.out;
+  EXPECT_LT(brief.out.size(), full.out.size() / 4);
 }
 
 TEST(Cli, RunWritesOutputAndSummary) {

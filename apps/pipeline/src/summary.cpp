@@ -8,8 +8,12 @@
 
 namespace imuconv::pipeline {
 
-StepTable::StepTable(std::ostream* o, bool gt_columns) : o_(o) {
+StepTable::StepTable(std::ostream* o, bool gt_columns, std::size_t steps, bool every_row)
+    : o_(o), every_row_(every_row || steps <= kFullTableRows) {
   if (!o_) return;
+  if (!every_row_)
+    *o_ << steps << " steps: the totals" << (gt_columns ? " and the worst steps against the ground truth" : "")
+        << " (--table prints every row)\n";
   *o_ << "     k   t_start[s]   dt[s]    |dp|[m]   angle[deg]";
   if (gt_columns) *o_ << "   pos.err[m]   rot.err[deg]";
   *o_ << "\n";
@@ -37,7 +41,20 @@ void StepTable::row(std::size_t k, std::optional<double> t_start, double dt, dou
     std::snprintf(buf, sizeof buf, " %12.3e %14.3e", gt->pos, gt->rot);
     line += buf;
   }
-  *o_ << line << "\n";
+  if (every_row_) {
+    *o_ << line << "\n";
+  } else if (gt) {
+    keep_if_worse(worst_pos_, {k, line, gt->pos, gt->rot}, &Row::pos);
+    keep_if_worse(worst_rot_, {k, std::move(line), gt->pos, gt->rot}, &Row::rot);
+  }
+}
+
+void StepTable::keep_if_worse(std::vector<Row>& worst, Row r, double Row::*by) const {
+  // The kWorstRows largest by `by`, ties to the earlier step: a bounded insertion.
+  auto at = std::find_if(worst.begin(), worst.end(), [&](const Row& w) { return r.*by > w.*by; });
+  if (at == worst.end() && worst.size() >= kWorstRows) return;
+  worst.insert(at, std::move(r));
+  if (worst.size() > kWorstRows) worst.pop_back();
 }
 
 void StepTable::write_ground_truth_summary(JsonWriter& w) const {
@@ -74,6 +91,15 @@ void StepTable::print_totals(std::size_t n) const {
   } else {
     *o_ << "\n";
   }
+  if (every_row_ || worst_pos_.empty()) return;
+  // The union of the worst by position and by rotation error, in step order.
+  std::vector<const Row*> shown;
+  for (const auto* list : {&worst_pos_, &worst_rot_})
+    for (const Row& r : *list)
+      if (std::none_of(shown.begin(), shown.end(), [&](const Row* s) { return s->k == r.k; })) shown.push_back(&r);
+  std::sort(shown.begin(), shown.end(), [](const Row* a, const Row* b) { return a->k < b->k; });
+  *o_ << "worst steps (the " << kWorstRows << " largest position and the " << kWorstRows << " largest rotation errors):\n";
+  for (const Row* r : shown) *o_ << r->text << "\n";
 }
 
 }  // namespace imuconv::pipeline

@@ -106,7 +106,7 @@ class PropagateByPreintegrationTask : public Task {
                                 : (chain ? "chained from the given start state" : "each interval from the given start state"))
          << "\n";
     }
-    StepTable table(o, ctx.gt && compare_gt.value_or(true));
+    StepTable table(o, ctx.gt && compare_gt.value_or(true), n, ctx.opt.every_row);
     const auto row = [&](std::size_t k, const std::optional<GtComparison>& cmp) {
       const MeasRecord& r = ms[k];
       table.row(k, r.t_s, r.m.dt, r.m.delta.dp.norm(), RotationAngleDeg(r.m.delta.dR), cmp ? &cmp->e : nullptr);

@@ -64,6 +64,9 @@ struct RunOptions {
   std::ostream* log = nullptr;
   /// The human-readable summary tables are printed here (may be null).
   std::ostream* summary = nullptr;
+  /// Print every row of a step table; by default a table of more than 50 steps is cut to its
+  /// totals and worst steps (the JSON output always has every step).
+  bool every_row = false;
   /// Threads for independent intervals (the caller's included): 0 = every core
   /// (std::thread::hardware_concurrency()), 1 = serial. The output does not depend on it:
   /// it is the same, byte for byte, for any number of threads.
