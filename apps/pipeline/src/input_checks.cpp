@@ -21,15 +21,33 @@ std::string Num(double v, int precision = 10) {
 
 }  // namespace
 
-std::optional<Mat3> RotationFromQuaternion(const Node& n) {
+namespace {
+/// Four numbers of unit norm (within kUnitQuaternionTol) at n, laid out as `layout` says.
+std::optional<Eigen::Vector4d> UnitQuaternion(const Node& n, const char* layout) {
   const auto q = n.vector(4);
   if (!q) return std::nullopt;
   const double norm = q->norm();
   if (!(std::abs(norm - 1.0) <= kUnitQuaternionTol)) {
-    n.fail("expected a unit quaternion [w, x, y, z] (norm within 1e-6 of 1), found one of norm " + Num(norm));
+    n.fail(std::string("expected a unit quaternion ") + layout + " (norm within 1e-6 of 1), found one of norm " + Num(norm));
     return std::nullopt;
   }
+  return Eigen::Vector4d(*q);
+}
+}  // namespace
+
+std::optional<Mat3> RotationFromQuaternion(const Node& n) {
+  const auto q = UnitQuaternion(n, "[w, x, y, z]");
+  if (!q) return std::nullopt;
   return so3::FromQuaternionWxyz((*q)[0], (*q)[1], (*q)[2], (*q)[3]);
+}
+
+std::optional<Mat3> RotationFromJplQuaternion(const Node& n) {
+  const auto q = UnitQuaternion(n, "[x, y, z, w]");
+  if (!q) return std::nullopt;
+  // JPL C(q) = (2 q4^2 - 1) I - 2 q4 [qv]x + 2 qv qv^T is the transpose of the Hamilton
+  // matrix of the same four numbers: q_GtoI (JPL) and q_ItoG (Hamilton, body to world) are
+  // one quaternion, reordered.
+  return so3::FromQuaternionWxyz((*q)[3], (*q)[0], (*q)[1], (*q)[2]);
 }
 
 std::optional<Mat3> RotationFromMatrix(const Node& n) {

@@ -21,6 +21,8 @@ constexpr double kRotationMatrixTol = 1e-6;
 
 /// [w, x, y, z] at `n` as a rotation matrix, or nothing (the error reported at n's pointer).
 std::optional<Mat3> RotationFromQuaternion(const Node& n);
+/// OpenVINS's JPL q_GtoI [x, y, z, w] at `n` as the body-to-world rotation matrix, or nothing.
+std::optional<Mat3> RotationFromJplQuaternion(const Node& n);
 /// A 3x3 rotation matrix at `n`, re-orthonormalised, or nothing (the error reported).
 std::optional<Mat3> RotationFromMatrix(const Node& n);
 

@@ -41,12 +41,22 @@ void WriteBias(JsonWriter& w, const Vec3& bg, const Vec3& ba) {
 }
 
 std::optional<ImuState> StateFromJson(const Node& n) {
-  if (!n.expect_object({"p", "q_wxyz", "v", "bg", "ba"})) return std::nullopt;
+  if (!n.expect_object({"p", "q_wxyz", "q_GtoI_xyzw", "v", "bg", "ba"})) return std::nullopt;
   const std::size_t before = n.checker().count();
   ImuState x;
   if (auto p = n.vec3("p", true)) x.p = *p;
-  if (auto qn = n.get("q_wxyz", true))
+  // The rotation as imuconv writes it (Hamilton, body to world) or as OpenVINS stores it (JPL,
+  // global to IMU): one of the two, never both (neither silently wins).
+  if (n.has("q_wxyz") && n.has("q_GtoI_xyzw")) {
+    n.checker().error(n.child_pointer("q_GtoI_xyzw"), "give either q_wxyz or q_GtoI_xyzw, not both");
+  } else if (auto jn = n.get("q_GtoI_xyzw", false)) {
+    if (auto R = RotationFromJplQuaternion(*jn)) x.R = *R;
+  } else if (!n.has("q_wxyz")) {
+    n.checker().error(n.child_pointer("q_wxyz"),
+                      "required key is missing (the body-to-world Hamilton q_wxyz, or OpenVINS's JPL q_GtoI_xyzw)");
+  } else if (auto qn = n.get("q_wxyz", true)) {
     if (auto R = RotationFromQuaternion(*qn)) x.R = *R;
+  }
   if (auto v = n.vec3("v", true)) x.v = *v;
   if (auto bg = n.vec3("bg", false)) x.bg = *bg;
   if (auto ba = n.vec3("ba", false)) x.ba = *ba;
