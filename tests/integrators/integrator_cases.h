@@ -22,18 +22,11 @@ struct ImuCase {
   Vec3 gravity = Vec3::Zero();
 };
 
-inline Vec3 JsonVec3(const nlohmann::json& j) { return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>()); }
 
 inline ImuCase LoadCase(const std::string& name) {
   const nlohmann::json j = ReadJson(DataPath("reference/cases/" + name + ".json"));
   ImuCase c;
-  for (const auto& row : j.at("imu")) {
-    ImuSample s;
-    s.t = row[0].get<double>();
-    s.gyro = Vec3(row[1].get<double>(), row[2].get<double>(), row[3].get<double>());
-    s.accel = Vec3(row[4].get<double>(), row[5].get<double>(), row[6].get<double>());
-    c.samples.push_back(s);
-  }
+  c.samples = CaseSamples(j);
   const auto& st = j.at("state_s");
   const auto& q = st.at("q_wxyz");
   c.x_s.R = so3::FromQuaternionWxyz(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>());

@@ -62,19 +62,12 @@ struct ReferenceCase {
   }
 };
 
-inline Vec3 JsonVec3(const nlohmann::json& j) { return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>()); }
 
 inline ReferenceCase LoadReferenceCase(const std::string& id) {
   const nlohmann::json j = ReadJson(DataPath("reference/cases/" + id + ".json"));
   ReferenceCase c;
   c.id = id;
-  for (const auto& row : j.at("imu")) {
-    ImuSample s;
-    s.t = row[0].get<double>();
-    s.gyro = Vec3(row[1].get<double>(), row[2].get<double>(), row[3].get<double>());
-    s.accel = Vec3(row[4].get<double>(), row[5].get<double>(), row[6].get<double>());
-    c.samples.push_back(s);
-  }
+  c.samples = CaseSamples(j);
   const auto& n = j.at("noise");
   c.noise.gyro_noise_density = n.at("gyro_noise_density").get<double>();
   c.noise.accel_noise_density = n.at("accel_noise_density").get<double>();

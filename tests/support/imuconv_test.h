@@ -11,6 +11,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "imuconv/registry.h"
 #include "imuconv/so3.h"
@@ -113,6 +114,21 @@ inline Eigen::MatrixXd JsonMatrix(const nlohmann::json& j) {
 }
 
 inline std::string DataPath(const std::string& rel) { return std::string(IMUCONV_TEST_DATA_DIR) + "/" + rel; }
+
+inline Vec3 JsonVec3(const nlohmann::json& j) { return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>()); }
+
+/// The "imu" rows [t, wx, wy, wz, ax, ay, az] of a reference case file (tests/data/reference/cases).
+inline std::vector<ImuSample> CaseSamples(const nlohmann::json& c) {
+  std::vector<ImuSample> samples;
+  for (const auto& row : c.at("imu")) {
+    ImuSample s;
+    s.t = row[0].get<double>();
+    s.gyro = Vec3(row[1].get<double>(), row[2].get<double>(), row[3].get<double>());
+    s.accel = Vec3(row[4].get<double>(), row[5].get<double>(), row[6].get<double>());
+    samples.push_back(s);
+  }
+  return samples;
+}
 
 }  // namespace imuconv::test
 
