@@ -19,6 +19,18 @@ if(rc)
   message(FATAL_ERROR "consumer run failed")
 endif()
 
+# The user's tool does not need Google Benchmark at run time (imuconv-bench does).
+execute_process(COMMAND readelf -d ${WORK}/prefix/bin/imuconv OUTPUT_VARIABLE dyn RESULT_VARIABLE rc)
+if(rc OR NOT dyn MATCHES "NEEDED")
+  message(FATAL_ERROR "readelf -d on the installed imuconv failed")
+endif()
+if(dyn MATCHES "libbenchmark")
+  message(FATAL_ERROR "the installed imuconv needs Google Benchmark at run time:\n${dyn}")
+endif()
+if(NOT EXISTS ${WORK}/prefix/bin/imuconv-bench)
+  message(FATAL_ERROR "imuconv-bench is not installed beside imuconv")
+endif()
+
 # The same package without CMake: compiler flags from the installed imuconv.pc only.
 file(GLOB_RECURSE pc_files ${WORK}/prefix/imuconv.pc)
 list(LENGTH pc_files n_pc)
