@@ -1,22 +1,102 @@
-// imuconv run PIPELINE.json [-o OUT.json]: runs a JSON pipeline.
+// imuconv run PIPELINE.json [-o OUT.json] [--tum TRAJ.txt] [--errors ERRORS.csv]: runs a JSON
+// pipeline; optionally also writes one propagate_by_preintegration task's predictions as a TUM
+// trajectory (what evo reads) and its per-step errors against the ground truth as CSV.
+#include <algorithm>
+#include <charconv>
+#include <cinttypes>
+#include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <optional>
+#include <tuple>
+#include <utility>
 
 #include "commands.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/printable.h"
+#include "imuconv/so3.h"
 
 namespace imuconv::cli {
 namespace {
 
 struct Options {
-  std::string pipeline, output;
+  std::string pipeline, output, tum, errors, trajectory_task;
   bool quiet = false, every_row = false;
   unsigned threads = 0;
 };
 
+/// A usage mistake found once the pipeline is read (exit 2, as CLI11's own).
+struct UsageError {
+  std::string message;
+};
+
+/// The task whose steps --tum / --errors write: --trajectory-task, or the only one there is.
+std::string TrajectoryTask(const pipeline::Pipeline& p, const Options& o) {
+  const std::vector<std::string> tasks = p.step_tasks();
+  std::string list;
+  for (const auto& t : tasks) list += (list.empty() ? "'" : ", '") + Printable(t) + "'";
+  if (!o.trajectory_task.empty()) {
+    if (std::find(tasks.begin(), tasks.end(), o.trajectory_task) == tasks.end())
+      throw UsageError{"--trajectory-task: no propagate_by_preintegration task named '" + Printable(o.trajectory_task) +
+                       "'" + (tasks.empty() ? std::string(" (the pipeline has none)") : " (there are " + list + ")")};
+    return o.trajectory_task;
+  }
+  if (tasks.empty()) throw UsageError{"--tum and --errors write a propagate_by_preintegration task's steps; the pipeline has none"};
+  if (tasks.size() > 1) throw UsageError{"the pipeline has several propagate_by_preintegration tasks (" + list + "): name one with --trajectory-task"};
+  return tasks.front();
+}
+
+/// Whether two outputs name one file: the same file when it exists (OutputFile's check), and
+/// also before it does, by the normalised absolute path (symbolic links resolved as far as
+/// they exist).
+bool SameDestination(const std::string& a, const std::string& b) {
+  std::error_code ea, eb;
+  const auto ca = std::filesystem::weakly_canonical(a, ea), cb = std::filesystem::weakly_canonical(b, eb);
+  return !ea && !eb && ca == cb;
+}
+
+/// The shortest text that reads back as x (as the JSON output writes numbers).
+std::string Shortest(double x) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, r.ptr);
+}
+
+/// "seconds" for TUM: absolute (from the integer nanoseconds, exactly) when known.
+std::string TumTime(const pipeline::StepOut& s) {
+  char buf[64];
+  if (s.t_end_abs_ns) {
+    const std::int64_t ns = *s.t_end_abs_ns;
+    std::snprintf(buf, sizeof buf, "%s%" PRId64 ".%09" PRId64, ns < 0 ? "-" : "", (ns < 0 ? -ns : ns) / 1000000000,
+                  (ns < 0 ? -ns : ns) % 1000000000);
+  } else {
+    return Shortest(s.t_end.value_or(0.0));
+  }
+  return buf;
+}
+
+std::string TumLine(const pipeline::StepOut& s) {
+  // Hamilton, body to world, as the JSON output's q_wxyz; TUM orders it qx qy qz qw.
+  const Eigen::Vector4d q = so3::ToQuaternionWxyz(s.x_e.R);
+  std::string line = TumTime(s);
+  for (double v : {s.x_e.p.x(), s.x_e.p.y(), s.x_e.p.z(), q[1], q[2], q[3], q[0]}) line += " " + Shortest(v);
+  return line + "\n";
+}
+
+std::string ErrorsLine(const pipeline::StepOut& s) {
+  return std::to_string(s.k) + "," + Shortest(s.t_end.value_or(0.0)) + "," +
+         (s.t_end_abs_ns ? std::to_string(*s.t_end_abs_ns) : "") + "," + Shortest(*s.position_error_m) + "," +
+         Shortest(*s.rotation_error_deg) + "," + Shortest(*s.velocity_error_mps) + "\n";
+}
+
 int Run(const CommandContext& ctx, const Options& o) {
   const pipeline::Pipeline p = pipeline::Pipeline::Load(o.pipeline);
+  std::string trajectory_task;
+  if (!o.tum.empty() || !o.errors.empty()) trajectory_task = TrajectoryTask(p, o);
+  else if (!o.trajectory_task.empty()) throw UsageError{"--trajectory-task is for --tum and --errors"};
+  if (!o.errors.empty() && !p.has_ground_truth())
+    throw UsageError{"--errors writes the steps' errors against the ground truth; the pipeline has no /ground_truth"};
   std::string out = o.output;
   if (out.empty() && p.output_path()) out = *p.output_path();
   if (out.empty()) out = "-";
@@ -26,6 +106,24 @@ int Run(const CommandContext& ctx, const Options& o) {
   const std::vector<std::string> inputs = p.input_files();
   for (std::size_t i = 0; i < inputs.size(); ++i)
     file.refuse_if_same(inputs[i], inputs[i] == p.file() ? "the pipeline" : "the input file");
+  // The trajectory files: examined like the output, before any work; none may be an input
+  // or another output.
+  std::optional<pipeline::OutputFile> tum, errors;
+  for (auto [path, f, what] : {std::tuple{&o.tum, &tum, "--tum"}, std::tuple{&o.errors, &errors, "--errors"}}) {
+    if (path->empty()) continue;
+    f->emplace(*path);
+    for (const auto& in : inputs) (*f)->refuse_if_same(in, in == p.file() ? "the pipeline" : "the input file");
+    (*f)->refuse_if_same(out, "the output");
+    if (SameDestination(*path, out)) throw UsageError{std::string(what) + " names the same file as the output"};
+    if ((*f)->is_stdout())
+      throw UsageError{std::string(what) + ": give a file, not stdout (stdout carries the summary or the JSON output)"};
+  }
+  if (tum && errors) {
+    errors->refuse_if_same(o.tum, "the --tum file");
+    if (SameDestination(o.tum, o.errors)) throw UsageError{"--tum and --errors name the same file"};
+  }
+  std::string tum_text, errors_text;
+  if (errors) errors_text = "k,t_end,t_end_abs_ns,position_error_m,rotation_error_deg,velocity_error_mps\n";
   pipeline::RunOptions ro;
   ro.plugin_dirs = ctx.plugin_dirs();
   ro.allow_plugin_override = ctx.allow_plugin_override;
@@ -33,6 +131,12 @@ int Run(const CommandContext& ctx, const Options& o) {
   ro.summary = o.quiet ? nullptr : (file.is_stdout() ? &std::cerr : &std::cout);
   ro.threads = o.threads;
   ro.every_row = o.every_row;
+  if (tum || errors)
+    ro.on_step = [&](const pipeline::StepOut& s) {
+      if (s.task != trajectory_task) return;
+      if (tum) tum_text += TumLine(s);
+      if (errors && s.position_error_m) errors_text += ErrorsLine(s);
+    };
   // The runner loads the plugins and hands text to the sink only once the plugins, the data and
   // the times have been checked. Then, before a file's temporary is created, the destination
   // must not be a plugin (or library) the run has loaded. The text for a device, a FIFO or
@@ -45,6 +149,11 @@ int Run(const CommandContext& ctx, const Options& o) {
   });
   std::cout.flush();
   file.commit();
+  for (auto [f, text] : {std::pair{&tum, &tum_text}, std::pair{&errors, &errors_text}}) {
+    if (!*f) continue;
+    (*f)->write(*text);
+    (*f)->commit();
+  }
   if (!o.quiet && !file.is_stdout()) std::cout << "\nwrote " << Printable(out) << "\n";
   return 0;
 }
@@ -64,6 +173,17 @@ void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
                   "followed to it); a device or FIFO is written through; '-' is stdout. Never one of the inputs")
       ->type_name("OUT.json");
   sub->add_flag("-q,--quiet", o.quiet, "Do not print the summary");
+  sub->add_option("--tum", o.tum,
+                  "Also write a propagate_by_preintegration task's predicted end states as a TUM trajectory "
+                  "(t x y z qx qy qz qw; t absolute seconds when the data's time origin is known), as evo reads it")
+      ->type_name("TRAJ.txt");
+  sub->add_option("--errors", o.errors,
+                  "Also write that task's per-step errors against the ground truth as CSV "
+                  "(k, t_end, t_end_abs_ns, position_error_m, rotation_error_deg, velocity_error_mps)")
+      ->type_name("ERRORS.csv");
+  sub->add_option("--trajectory-task", o.trajectory_task,
+                  "The propagate_by_preintegration task --tum and --errors write (needed when there are several)")
+      ->type_name("NAME");
   sub->add_flag("--table", o.every_row,
                 "Print every row of a step table (by default one of more than 50 steps shows its totals and worst steps)");
   sub->add_option("-j,--threads", o.threads,
@@ -71,7 +191,13 @@ void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
                   "same, byte for byte, for any number")
       ->type_name("N");
   AddPluginDirOption(*sub, ctx);
-  sub->callback([&ctx] { ctx.exit_code = Run(ctx, o); });
+  sub->callback([&ctx] {
+    try {
+      ctx.exit_code = Run(ctx, o);
+    } catch (const UsageError& e) {
+      throw CLI::ValidationError(e.message);
+    }
+  });
 }
 
 }  // namespace imuconv::cli

@@ -28,6 +28,15 @@ const std::string& Pipeline::file() const { return spec_->file; }
 const std::vector<std::string>& Pipeline::plugin_dirs() const { return spec_->plugin_dirs; }
 const std::optional<std::string>& Pipeline::output_path() const { return spec_->output; }
 
+std::vector<std::string> Pipeline::step_tasks() const {
+  std::vector<std::string> names;
+  for (const auto& t : spec_->tasks)
+    if (t->type == "propagate_by_preintegration") names.push_back(t->name);
+  return names;
+}
+
+bool Pipeline::has_ground_truth() const { return spec_->gt.has_value(); }
+
 std::vector<std::string> Pipeline::input_files() const {
   std::vector<std::string> files;
   std::unordered_set<std::string> seen;  // linear in the number of tasks

@@ -107,9 +107,20 @@ class PropagateByPreintegrationTask : public Task {
          << "\n";
     }
     StepTable table(o, ctx.gt && compare_gt.value_or(true), n, ctx.opt.every_row);
-    const auto row = [&](std::size_t k, const std::optional<GtComparison>& cmp) {
+    const auto row = [&](std::size_t k, const ImuState& x_e, const std::optional<GtComparison>& cmp) {
       const MeasRecord& r = ms[k];
       table.row(k, r.t_s, r.m.dt, r.m.delta.dp.norm(), RotationAngleDeg(r.m.delta.dR), cmp ? &cmp->e : nullptr);
+      if (ctx.opt.on_step) {
+        std::optional<std::int64_t> abs_ns;
+        if (r.t_e && ctx.imu.origin) abs_ns = ctx.imu.origin->absolute_ns(*r.t_e);
+        StepOut s{name, k, r.t_e, abs_ns, x_e, std::nullopt, std::nullopt, std::nullopt};
+        if (cmp) {
+          s.position_error_m = cmp->e.pos;
+          s.rotation_error_deg = cmp->e.rot;
+          s.velocity_error_mps = cmp->e.vel;
+        }
+        ctx.opt.on_step(s);
+      }
     };
     WriteMeasurementsSource(w, meas);
     w.key("state_convention");
@@ -138,7 +149,7 @@ class PropagateByPreintegrationTask : public Task {
         }
         write_step(ctx, w, ms[k], k, pr, cmp);
         ctx.out.count_record();
-        row(k, cmp);
+        row(k, pr.x_e, cmp);
         if (keep) res.props[k] = pr;
         prev = std::move(pr);
         ctx.out.flush(false);
@@ -146,6 +157,7 @@ class PropagateByPreintegrationTask : public Task {
     } else {
       const std::size_t window = ctx.out.window();
       std::vector<std::optional<GtComparison>> cmps(std::min(window, n));
+      std::vector<ImuState> ends(std::min(window, n));  // each step's prediction, until its row is printed
       ctx.out.write_elements(
           w, n,
           [&](JsonWriter& sw, std::size_t k) {
@@ -155,9 +167,10 @@ class PropagateByPreintegrationTask : public Task {
             cmp.reset();
             const ImuState x = start_state(ctx, ms, k);
             step(ctx, ms, k, x, ctx.start_cov(cov, convention, x), pr, cmp);
+            ends[k % window] = pr.x_e;
             write_step(ctx, sw, ms[k], k, pr, cmp);
           },
-          [&](std::size_t k) { row(k, cmps[k % window]); });
+          [&](std::size_t k) { row(k, ends[k % window], cmps[k % window]); });
     }
     w.end_array();
     table.write_ground_truth_summary(w);

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <iosfwd>
 #include <memory>
@@ -50,11 +51,26 @@ class Pipeline {
   /// Every file the pipeline reads: the pipeline itself, the Kalibr noise file, the IMU and
   /// ground-truth files and the measurement files, each once, as resolved paths. An output must be none of them.
   std::vector<std::string> input_files() const;
+  /// The names of the tasks whose steps RunOptions::on_step receives (propagate_by_preintegration).
+  std::vector<std::string> step_tasks() const;
+  /// Whether the pipeline has a ground-truth source (its steps can be compared).
+  bool has_ground_truth() const;
   const PipelineSpec& spec() const { return *spec_; }
 
  private:
   explicit Pipeline(std::unique_ptr<PipelineSpec> s);
   std::unique_ptr<PipelineSpec> spec_;
+};
+
+/// One step of a propagate_by_preintegration task: its prediction and, when it was compared,
+/// its errors against the ground truth (for trajectory files: imuconv run --tum, --errors).
+struct StepOut {
+  const std::string& task;
+  std::size_t k;
+  std::optional<double> t_end;               ///< seconds on the output's time axis
+  std::optional<std::int64_t> t_end_abs_ns;  ///< when the data has an absolute time origin
+  const ImuState& x_e;
+  std::optional<double> position_error_m, rotation_error_deg, velocity_error_mps;
 };
 
 struct RunOptions {
@@ -64,6 +80,9 @@ struct RunOptions {
   std::ostream* log = nullptr;
   /// The human-readable summary tables are printed here (may be null).
   std::ostream* summary = nullptr;
+  /// Called for every step of every propagate_by_preintegration task, in step order (also
+  /// with threads), from the thread that writes the output. May be empty.
+  std::function<void(const StepOut&)> on_step;
   /// Print every row of a step table; by default a table of more than 50 steps is cut to its
   /// totals and worst steps (the JSON output always has every step).
   bool every_row = false;
