@@ -21,8 +21,10 @@ using namespace imuconv::plugin::prelude;
 
 // GTSAM's order, accelerometer bias first.
 constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
+constexpr std::array kBodyFrame{Block::p, Block::v};  // the reference's blocks rotated by Delta R^T
 
-class GtsamManifold : public imuconv::plugin::IncrementChart<kOrder, -1> {
+class GtsamManifold
+    : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::IncrementChart<kOrder, -1>, kBodyFrame> {
  public:
   const char* jacobian_convention() const noexcept override { return "gtsam_manifold_jacobian"; }
 
@@ -39,14 +41,6 @@ class GtsamManifold : public imuconv::plugin::IncrementChart<kOrder, -1> {
     d.segment<3>(p) = Rt * (y.dp - x.dp);
     d.segment<3>(v) = Rt * (y.dv - x.dv);
     LocalBiases(x, y, d);
-  }
-
-  bool J_ref_this(const PreintIncrement& x, Mat15& J) const noexcept override {
-    return RefThis(J, {{Block::p, x.dR}, {Block::v, x.dR}});
-  }
-  bool J_this_ref(const PreintIncrement& x, Mat15& J) const noexcept override {
-    const Mat3 Rt = x.dR.transpose();
-    return ThisRef(J, {{Block::p, Rt}, {Block::v, Rt}});
   }
 };
 

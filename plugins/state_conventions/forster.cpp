@@ -15,8 +15,9 @@ namespace {
 using namespace imuconv::plugin::prelude;
 
 constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::bg, Block::ba};
+constexpr std::array kBodyFrame{Block::theta, Block::p};  // left's blocks rotated by R^T
 
-class Forster : public imuconv::plugin::StateChart<kOrder> {
+class Forster : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::StateChart<kOrder>, kBodyFrame> {
  public:
   void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
     y.R = x.R * so3::Exp(d.segment<3>(theta));
@@ -31,14 +32,6 @@ class Forster : public imuconv::plugin::StateChart<kOrder> {
     d.segment<3>(p) = Rt * (y.p - x.p);
     d.segment<3>(v) = y.v - x.v;
     LocalBiases(x, y, d);
-  }
-
-  bool J_ref_this(const ImuState& x, Mat15& J) const noexcept override {
-    return RefThis(J, {{Block::theta, x.R}, {Block::p, x.R}});
-  }
-  bool J_this_ref(const ImuState& x, Mat15& J) const noexcept override {
-    const Mat3 Rt = x.R.transpose();
-    return ThisRef(J, {{Block::theta, Rt}, {Block::p, Rt}});
   }
 };
 

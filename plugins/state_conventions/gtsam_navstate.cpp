@@ -18,8 +18,9 @@ namespace {
 using namespace imuconv::plugin::prelude;
 
 constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
+constexpr std::array kBodyFrame{Block::theta, Block::p, Block::v};  // left's blocks rotated by R^T
 
-class GtsamNavState : public imuconv::plugin::StateChart<kOrder> {
+class GtsamNavState : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::StateChart<kOrder>, kBodyFrame> {
  public:
   void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
     y.R = x.R * so3::Exp(d.segment<3>(theta));
@@ -34,15 +35,6 @@ class GtsamNavState : public imuconv::plugin::StateChart<kOrder> {
     d.segment<3>(p) = Rt * (y.p - x.p);
     d.segment<3>(v) = Rt * (y.v - x.v);
     LocalBiases(x, y, d);
-  }
-
-  // dtheta_l = R^ dtheta, dp_l = R^ dp, dv_l = R^ dv, biases permuted; the inverse has R^T.
-  bool J_ref_this(const ImuState& x, Mat15& J) const noexcept override {
-    return RefThis(J, {{Block::theta, x.R}, {Block::p, x.R}, {Block::v, x.R}});
-  }
-  bool J_this_ref(const ImuState& x, Mat15& J) const noexcept override {
-    const Mat3 Rt = x.R.transpose();
-    return ThisRef(J, {{Block::theta, Rt}, {Block::p, Rt}, {Block::v, Rt}});
   }
 };
 

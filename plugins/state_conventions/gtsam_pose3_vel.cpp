@@ -24,8 +24,9 @@ using namespace imuconv::plugin::prelude;
 
 // t is the p block.
 constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
+constexpr std::array kBodyFrame{Block::theta, Block::p};  // left's blocks rotated by R^T (to first order)
 
-class GtsamPose3Vel : public imuconv::plugin::StateChart<kOrder> {
+class GtsamPose3Vel : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::StateChart<kOrder>, kBodyFrame> {
  public:
   void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
     const Vec3 th = d.segment<3>(theta);
@@ -42,14 +43,6 @@ class GtsamPose3Vel : public imuconv::plugin::StateChart<kOrder> {
     d.segment<3>(p) = so3::JlInv(th) * (Rt * (y.p - x.p));
     d.segment<3>(v) = y.v - x.v;
     LocalBiases(x, y, d);
-  }
-
-  bool J_ref_this(const ImuState& x, Mat15& J) const noexcept override {
-    return RefThis(J, {{Block::theta, x.R}, {Block::p, x.R}});
-  }
-  bool J_this_ref(const ImuState& x, Mat15& J) const noexcept override {
-    const Mat3 Rt = x.R.transpose();
-    return ThisRef(J, {{Block::theta, Rt}, {Block::p, Rt}});
   }
 };
 

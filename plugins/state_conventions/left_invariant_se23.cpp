@@ -18,8 +18,9 @@ namespace {
 using namespace imuconv::plugin::prelude;
 
 constexpr BlockOrder kOrder{Block::theta, Block::v, Block::p, Block::bg, Block::ba};
+constexpr std::array kBodyFrame{Block::theta, Block::v, Block::p};  // left's blocks rotated by R^T (to first order)
 
-class LeftInvariantSe23 : public imuconv::plugin::StateChart<kOrder> {
+class LeftInvariantSe23 : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::StateChart<kOrder>, kBodyFrame> {
  public:
   void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
     const Vec3 phi = d.segment<3>(theta);
@@ -38,14 +39,6 @@ class LeftInvariantSe23 : public imuconv::plugin::StateChart<kOrder> {
     d.segment<3>(v) = VinvRt * (y.v - x.v);
     d.segment<3>(p) = VinvRt * (y.p - x.p);
     LocalBiases(x, y, d);
-  }
-
-  bool J_ref_this(const ImuState& x, Mat15& J) const noexcept override {
-    return RefThis(J, {{Block::theta, x.R}, {Block::v, x.R}, {Block::p, x.R}});
-  }
-  bool J_this_ref(const ImuState& x, Mat15& J) const noexcept override {
-    const Mat3 Rt = x.R.transpose();
-    return ThisRef(J, {{Block::theta, Rt}, {Block::v, Rt}, {Block::p, Rt}});
   }
 };
 

@@ -72,10 +72,11 @@ constexpr bool BlockFromName(std::string_view label, Block& out) noexcept {
   return false;
 }
 
-/// The state reference chart `left`: [p, theta, v, bg, ba].
-constexpr BlockOrder kLeftOrder{Block::p, Block::theta, Block::v, Block::bg, Block::ba};
+/// The state reference chart `left`: [p, theta, v, bg, ba]. (inline: one object in every
+/// translation unit, so that a chart template instantiated on it in a header is one type.)
+inline constexpr BlockOrder kLeftOrder{Block::p, Block::theta, Block::v, Block::bg, Block::ba};
 /// The increment reference chart `preint_reference`: [theta, p, v, bg, ba].
-constexpr BlockOrder kPreintReferenceOrder{Block::theta, Block::p, Block::v, Block::bg, Block::ba};
+inline constexpr BlockOrder kPreintReferenceOrder{Block::theta, Block::p, Block::v, Block::bg, Block::ba};
 
 static_assert(kLeftOrder.is_permutation() && kPreintReferenceOrder.is_permutation());
 static_assert(kLeftOrder.offset(Block::bg) == 9 && kPreintReferenceOrder.offset(Block::theta) == 0);

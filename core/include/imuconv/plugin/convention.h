@@ -10,8 +10,15 @@
 //     }
 //   };
 //   IMUCONV_PLUGIN(StateConvention, MyChart, "my_chart", "1.0.0", "...")
+//
+// A chart whose Jacobians are those of a body-frame perturbation of some of the reference's
+// blocks states only which, and writes retract and local alone:
+//   constexpr std::array kBodyFrame{Block::theta, Block::p};
+//   class MyChart : public RotatedBlocksChart<StateChart<kOrder>, kBodyFrame> { retract, local };
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <initializer_list>
 #include <utility>
 
@@ -25,9 +32,12 @@ namespace imuconv::plugin {
 /// maps `block` of one chart to the same `block` of the other.
 using BlockMap = std::pair<Block, Mat3>;
 
-template <class Value, const BlockOrder& Order>
+/// BiasSign: the bias entry is b^ + db (+1, every state chart) or, with the sign of the
+/// paper's eq. preint-error-db and of GTSAM's increments, Delta b^ - db (-1).
+template <class Value, const BlockOrder& Order, int BiasSign>
 class ConventionChart : public Chart<Value> {
   static_assert(Order.is_permutation(), "a block order names p, theta, v, bg and ba once each");
+  static_assert(BiasSign == 1 || BiasSign == -1, "the bias entry is added or subtracted");
 
  public:
   BlockOrder order() const noexcept final { return Order; }
@@ -38,8 +48,9 @@ class ConventionChart : public Chart<Value> {
   static constexpr int p = Order.offset(Block::p), theta = Order.offset(Block::theta), v = Order.offset(Block::v),
                        bg = Order.offset(Block::bg), ba = Order.offset(Block::ba);
 
-  /// J_ref_this as the permutation between the two orders (identity blocks), with the given
-  /// blocks replaced: J(ref(b), this(b)) = M. Always returns true (analytic Jacobian given).
+  /// J_ref_this as the permutation between the two orders (identity blocks, BiasSign * I on
+  /// the biases), with the given blocks replaced: J(ref(b), this(b)) = M. Always returns true
+  /// (analytic Jacobian given).
   static bool RefThis(Mat15& J, std::initializer_list<BlockMap> blocks) noexcept {
     Permutation(J, Ref::order, Order, blocks);
     return true;
@@ -47,6 +58,21 @@ class ConventionChart : public Chart<Value> {
   /// J_this_ref likewise: J(this(b), ref(b)) = M.
   static bool ThisRef(Mat15& J, std::initializer_list<BlockMap> blocks) noexcept {
     Permutation(J, Order, Ref::order, blocks);
+    return true;
+  }
+  /// The Jacobians of a chart whose blocks `rotated` are the reference's seen in the frame
+  /// of R (d_b = R^T d_ref_b: a body-frame perturbation against a world-frame one) and whose
+  /// other blocks are the reference's: R on those blocks of J_ref_this, R^T on J_this_ref's.
+  template <std::size_t N>
+  static bool RefThisRotated(Mat15& J, const Mat3& R, const std::array<Block, N>& rotated) noexcept {
+    Permutation(J, Ref::order, Order, {});
+    for (const Block b : rotated) RefThisBlock(J, b, b) = R;
+    return true;
+  }
+  template <std::size_t N>
+  static bool ThisRefRotated(Mat15& J, const Mat3& R, const std::array<Block, N>& rotated) noexcept {
+    Permutation(J, Order, Ref::order, {});
+    for (const Block b : rotated) ThisRefBlock(J, b, b) = R.transpose();
     return true;
   }
   /// The 3x3 block of J_ref_this at (reference block `row`, this chart's block `col`), for
@@ -64,7 +90,8 @@ class ConventionChart : public Chart<Value> {
     J.setZero();
     for (int k = 0; k < kBlockCount; ++k) {
       const Block b = static_cast<Block>(k);
-      J.template block<3, 3>(rows.offset(b), cols.offset(b)).setIdentity();
+      const double sign = (b == Block::bg || b == Block::ba) ? BiasSign : 1;
+      J.template block<3, 3>(rows.offset(b), cols.offset(b)).diagonal().setConstant(sign);
     }
     for (const BlockMap& m : blocks) J.template block<3, 3>(rows.offset(m.first), cols.offset(m.first)) = m.second;
   }
@@ -72,9 +99,9 @@ class ConventionChart : public Chart<Value> {
 
 /// A state convention with additive biases, b = b^ + db (all but exotic ones).
 template <const BlockOrder& Order>
-class StateChart : public ConventionChart<ImuState, Order> {
+class StateChart : public ConventionChart<ImuState, Order, 1> {
  protected:
-  using Base = ConventionChart<ImuState, Order>;
+  using Base = ConventionChart<ImuState, Order, 1>;
   static void RetractBiases(const ImuState& x, const Vec15& d, ImuState& y) noexcept {
     y.bg = x.bg + d.template segment<3>(Base::bg);
     y.ba = x.ba + d.template segment<3>(Base::ba);
@@ -85,48 +112,40 @@ class StateChart : public ConventionChart<ImuState, Order> {
   }
 };
 
-/// An increment convention; its bias entry is Delta b = Delta b^ + db (BiasSign +1) or, with
-/// the sign of the paper's eq. preint-error-db and of GTSAM, Delta b^ - db (BiasSign -1).
+/// An increment convention; its bias entry is Delta b = Delta b^ + BiasSign db. (Negation
+/// is exact, so x + (-1) d and x - d are the same double, as are -(y - x) and x - y.)
 template <const BlockOrder& Order, int BiasSign>
-class IncrementChart : public ConventionChart<PreintIncrement, Order> {
-  static_assert(BiasSign == 1 || BiasSign == -1, "the bias entry is added or subtracted");
-
+class IncrementChart : public ConventionChart<PreintIncrement, Order, BiasSign> {
  protected:
-  using Base = ConventionChart<PreintIncrement, Order>;
-  /// As ConventionChart's, with the bias blocks BiasSign * I.
-  static bool RefThis(Mat15& J, std::initializer_list<BlockMap> blocks) noexcept {
-    Base::RefThis(J, blocks);
-    if (BiasSign < 0) {
-      Base::RefThisBlock(J, Block::bg, Block::bg) = -Mat3::Identity();
-      Base::RefThisBlock(J, Block::ba, Block::ba) = -Mat3::Identity();
-    }
-    return true;
-  }
-  static bool ThisRef(Mat15& J, std::initializer_list<BlockMap> blocks) noexcept {
-    Base::ThisRef(J, blocks);
-    if (BiasSign < 0) {
-      Base::ThisRefBlock(J, Block::bg, Block::bg) = -Mat3::Identity();
-      Base::ThisRefBlock(J, Block::ba, Block::ba) = -Mat3::Identity();
-    }
-    return true;
-  }
+  using Base = ConventionChart<PreintIncrement, Order, BiasSign>;
+  static constexpr double kSign = BiasSign;
   static void RetractBiases(const PreintIncrement& x, const Vec15& d, PreintIncrement& y) noexcept {
-    if (BiasSign > 0) {
-      y.dbg = x.dbg + d.template segment<3>(Base::bg);
-      y.dba = x.dba + d.template segment<3>(Base::ba);
-    } else {
-      y.dbg = x.dbg - d.template segment<3>(Base::bg);
-      y.dba = x.dba - d.template segment<3>(Base::ba);
-    }
+    y.dbg = x.dbg + kSign * d.template segment<3>(Base::bg);
+    y.dba = x.dba + kSign * d.template segment<3>(Base::ba);
   }
   static void LocalBiases(const PreintIncrement& x, const PreintIncrement& y, Vec15& d) noexcept {
-    if (BiasSign > 0) {
-      d.template segment<3>(Base::bg) = y.dbg - x.dbg;
-      d.template segment<3>(Base::ba) = y.dba - x.dba;
-    } else {
-      d.template segment<3>(Base::bg) = x.dbg - y.dbg;
-      d.template segment<3>(Base::ba) = x.dba - y.dba;
-    }
+    d.template segment<3>(Base::bg) = kSign * (y.dbg - x.dbg);
+    d.template segment<3>(Base::ba) = kSign * (y.dba - x.dba);
+  }
+};
+
+/// The rotation a chart's body frame is that of: the state's R, or the increment's Delta R.
+inline const Mat3& RotationOf(const ImuState& x) noexcept { return x.R; }
+inline const Mat3& RotationOf(const PreintIncrement& x) noexcept { return x.dR; }
+
+/// A chart (Chart, a StateChart or IncrementChart) whose blocks `Rotated` are the reference
+/// chart's seen in the frame of the estimate's rotation (d_b = R^T d_ref_b, at least to first
+/// order) and whose other blocks are the reference's: its Jacobians follow from that list,
+/// so the plugin writes only retract and local.
+template <class ChartBase, const auto& Rotated>
+class RotatedBlocksChart : public ChartBase {
+ public:
+  using Value = typename ChartBase::value_type;
+  bool J_ref_this(const Value& x, Mat15& J) const noexcept override {
+    return ChartBase::RefThisRotated(J, RotationOf(x), Rotated);
+  }
+  bool J_this_ref(const Value& x, Mat15& J) const noexcept override {
+    return ChartBase::ThisRefRotated(J, RotationOf(x), Rotated);
   }
 };
 
