@@ -4,26 +4,20 @@
 // dp, dv (paper, "GTSAM Peculiarities", eq. preint-error-dr..db).
 // The numerics live in imuconv/kernels/preintegration.h (compiled into imuconv_core).
 #include "imuconv/kernels/preintegration.h"
+#include "imuconv/plugin/kernel_plugin.h"
 #include "imuconv/plugin_abi.h"
 
 namespace {
 
-class ManifoldPreintegrator final : public imuconv::Preintegrator {
- public:
-  const char* id() const noexcept override { return "manifold"; }
-  const char* cov_convention() const noexcept override { return "gtsam_manifold"; }
-  const char* jacobian_convention() const noexcept override { return "gtsam_manifold_jacobian"; }
-  imuconv::Status integrate(const imuconv::PreintegrationInput& in,
-                            imuconv::NativePreintegration& out) const noexcept override {
-    try {
-      return imuconv::kernels::IntegrateManifold(in, out);
-    } catch (...) {  // only an allocation failure while reporting an error can get here
-      return imuconv::Status::Error("manifold: out of memory");
-    }
+struct Manifold {
+  static constexpr const char* kCovConvention = "gtsam_manifold";
+  static constexpr const char* kJacobianConvention = "gtsam_manifold_jacobian";
+  imuconv::Status operator()(const imuconv::PreintegrationInput& in, imuconv::NativePreintegration& out) const {
+    return imuconv::kernels::IntegrateManifold(in, out);
   }
 };
 
 }  // namespace
 
-IMUCONV_PLUGIN(Preintegrator, ManifoldPreintegrator, "manifold", "1.0.0",
+IMUCONV_PLUGIN(Preintegrator, imuconv::plugin::KernelPreintegrator<Manifold>, "manifold", "1.0.0",
                "GTSAM ManifoldPreintegration + combined 15x15 covariance, zero-order hold")

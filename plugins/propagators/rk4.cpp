@@ -5,29 +5,21 @@
 // variation of constants. It agrees with the classical RK4 (kept in the tests as the
 // cross-check) to O(h^4); the id keeps its name so that configurations keep working.
 // The kernel is core/include/imuconv/kernels/rk4.h.
-#include <exception>
-#include <string>
-
 #include "imuconv/kernels/rk4.h"
+
+#include "imuconv/plugin/kernel_plugin.h"
 #include "imuconv/plugin_abi.h"
 
 namespace {
 
-class Rk4Propagator final : public imuconv::Propagator {
- public:
-  const char* id() const noexcept override { return "rk4"; }
-  const char* native_convention() const noexcept override { return "left"; }
-  imuconv::Status propagate(const imuconv::PropagationInput& in,
-                            imuconv::PropagationResult& out) const noexcept override {
-    try {
-      return imuconv::kernels::PropagateRk4(in, out, 1);
-    } catch (const std::exception& e) {  // only std::bad_alloc while formatting an error
-      return imuconv::Status::Error(std::string("rk4: ") + e.what());
-    }
+struct Rk4 {  // one step per knot interval
+  imuconv::Status operator()(const imuconv::PropagationInput& in, imuconv::PropagationResult& out) const {
+    return imuconv::kernels::PropagateRk4(in, out, 1);
   }
 };
 
 }  // namespace
 
-IMUCONV_PLUGIN(Propagator, Rk4Propagator, "rk4", "1.1.0",
-               "4th-order (Magnus + node quadratures) state, Phi and covariance, linearly interpolated input; native left")
+IMUCONV_PLUGIN(
+    Propagator, imuconv::plugin::KernelPropagator<Rk4>, "rk4", "1.1.0",
+    "4th-order (Magnus + node quadratures) state, Phi and covariance, linearly interpolated input; native left")
