@@ -1,7 +1,7 @@
 // The generic test suite every perturbation convention runs, manif-style: one macro defines
 // the suite for a kind of convention (states or increments), one line in each convention's
 // own test file instantiates it:
-//   IMUCONV_DECLARE_CONVENTION_SUITE(StateConventionSuite);           (state/suite.h)
+//   IMUCONV_DECLARE_CONVENTION_SUITE(StateConventionSuite);           (below)
 //   IMUCONV_DEFINE_CONVENTION_SUITE(StateConventionSuite, StateKind)   (state/all.cpp)
 //   IMUCONV_CONVENTION_SUITE(StateConventionSuite, gtsam_navstate);    (state/gtsam_navstate.cpp)
 //
@@ -15,13 +15,17 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <set>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "imuconv/numeric.h"
+#include "imuconv/plugin/convention.h"
 #include "imuconv/reference_charts.h"
 #include "imuconv_test.h"
 
@@ -71,59 +75,54 @@ class PrintWorstErrors : public ::testing::Environment {
 
 // ---- the two kinds ---------------------------------------------------------------------
 
-struct StateKind {
-  using Value = ImuState;
-  using Convention = StateConvention;
-  static constexpr PluginKind kKind = PluginKind::StateConvention;
-  static constexpr const char* kReference = "left";
+/// The points a kind is tested at: Draw()'s identity, tiny and random values and one more
+/// random value from a second call (Draw() makes fresh random values each time), drawn once.
+template <auto Draw>
+const auto& FixedPoints() {
+  static const auto xs = [] {
+    auto v = Draw();
+    v.push_back(Draw()[2]);
+    return v;
+  }();
+  return xs;
+}
+/// Max |entry| over differences of the members of two values (a kind's Distance).
+template <typename... Diff>
+double MaxAbs(const Diff&... diffs) {
+  return std::max({static_cast<double>(diffs.cwiseAbs().maxCoeff())...});
+}
 
-  static std::shared_ptr<const Convention> Get(const std::string& id) { return Plugins().state_convention(id); }
-  static void RefRetract(const Value& x, const Vec15& d, Value& y) { LeftRetract(x, d, y); }
-  static void RefLocal(const Value& x, const Value& y, Vec15& d) { LeftLocal(x, y, d); }
+/// What both kinds share: the value, its chart interface and its reference chart.
+template <class V>
+struct ChartKind {
+  using Value = V;
+  using Convention = Chart<V>;
+  static constexpr const char* kReference = ReferenceChart<V>::id;
+  static void RefRetract(const V& x, const Vec15& d, V& y) { ReferenceChart<V>::retract(x, d, y); }
+  static void RefLocal(const V& x, const V& y, Vec15& d) { ReferenceChart<V>::local(x, y, d); }
+};
+
+struct StateKind : ChartKind<ImuState> {
+  static constexpr PluginKind kKind = PluginKind::StateConvention;
+  static auto Get(const std::string& id) { return Plugins().state_convention(id); }
   static Mat15 Conversion(const std::string& a, const std::string& b, const Value& x) {
     return Plugins().conversion(a, b, x);
   }
-  /// Identity, tiny, and two random states (TestStates draws fresh random ones per call).
-  static const std::vector<Value>& Points() {
-    static const std::vector<Value> xs = [] {
-      std::vector<Value> v = TestStates();
-      v.push_back(TestStates()[2]);
-      return v;
-    }();
-    return xs;
-  }
-  /// Max |a - b| over all entries of two values.
+  static const std::vector<Value>& Points() { return FixedPoints<TestStates>(); }
   static double Distance(const Value& a, const Value& b) {
-    return std::max({(a.R - b.R).cwiseAbs().maxCoeff(), (a.p - b.p).cwiseAbs().maxCoeff(),
-                     (a.v - b.v).cwiseAbs().maxCoeff(), (a.bg - b.bg).cwiseAbs().maxCoeff(),
-                     (a.ba - b.ba).cwiseAbs().maxCoeff()});
+    return MaxAbs(a.R - b.R, a.p - b.p, a.v - b.v, a.ba - b.ba, a.bg - b.bg);
   }
 };
 
-struct IncrementKind {
-  using Value = PreintIncrement;
-  using Convention = IncrementConvention;
+struct IncrementKind : ChartKind<PreintIncrement> {
   static constexpr PluginKind kKind = PluginKind::IncrementConvention;
-  static constexpr const char* kReference = "preint_reference";
-
-  static std::shared_ptr<const Convention> Get(const std::string& id) { return Plugins().increment_convention(id); }
-  static void RefRetract(const Value& x, const Vec15& d, Value& y) { PreintReferenceRetract(x, d, y); }
-  static void RefLocal(const Value& x, const Value& y, Vec15& d) { PreintReferenceLocal(x, y, d); }
+  static auto Get(const std::string& id) { return Plugins().increment_convention(id); }
   static Mat15 Conversion(const std::string& a, const std::string& b, const Value& x) {
     return Plugins().increment_conversion(a, b, x);
   }
-  static const std::vector<Value>& Points() {
-    static const std::vector<Value> xs = [] {
-      std::vector<Value> v = TestIncrements();
-      v.push_back(TestIncrements()[2]);
-      return v;
-    }();
-    return xs;
-  }
+  static const std::vector<Value>& Points() { return FixedPoints<TestIncrements>(); }
   static double Distance(const Value& a, const Value& b) {
-    return std::max({(a.dR - b.dR).cwiseAbs().maxCoeff(), (a.dp - b.dp).cwiseAbs().maxCoeff(),
-                     (a.dv - b.dv).cwiseAbs().maxCoeff(), (a.dbg - b.dbg).cwiseAbs().maxCoeff(),
-                     (a.dba - b.dba).cwiseAbs().maxCoeff()});
+    return MaxAbs(a.dR - b.dR, a.dp - b.dp, a.dv - b.dv, a.dba - b.dba, a.dbg - b.dbg);
   }
 };
 
@@ -294,6 +293,18 @@ void CheckNumericalComposition() {
     }
 }
 
+/// The built-in conventions of the kind are loaded with the block orders their documentation
+/// states, given as {id, "labels in order"}.
+template <typename K>
+void CheckBuiltInBlockOrders(std::initializer_list<std::pair<const char*, const char*>> expected) {
+  for (const auto& [id, order] : expected) {
+    ASSERT_TRUE(Plugins().has(K::kKind, id)) << id;
+    std::string got;
+    for (const std::string& label : Plugins().info(K::kKind, id).blocks) got += (got.empty() ? "" : " ") + label;
+    EXPECT_EQ(got, order) << id;
+  }
+}
+
 /// Every loaded convention of the kind has an instantiation of the suite named
 /// "<id>/<suite>" (so a new plugin without its one line is noticed).
 template <typename K>
@@ -306,40 +317,90 @@ void CheckEveryConventionHasSuite(const std::string& suite) {
                                                       << suite << ", " << id << ") line";
 }
 
-/// Writes M into the (row_label, col_label) block of J, where rows are in convention `to`'s
-/// order and columns in `from`'s: a hand-built expected conversion reads like its derivation.
-class BlockBuilder {
- public:
-  BlockBuilder(const BlockLabels& to, const BlockLabels& from) : to_(to), from_(from) { J_.setZero(); }
-  BlockBuilder& set(const char* row_label, const char* col_label, const Mat3& M) {
-    J_.block<3, 3>(BlockOffset(to_, row_label), BlockOffset(from_, col_label)) = M;
-    return *this;
-  }
-  const Mat15& matrix() const { return J_; }
-
- private:
-  BlockLabels to_, from_;
-  Mat15 J_;
+/// One block of a conversion derived by hand: the 3x3 map from block `col` of the source
+/// chart to block `row` of the target chart; {label, M} names a diagonal block.
+struct BlockEntry {
+  BlockEntry(const char* block, const Mat3& map) : row(block), col(block), M(map) {}
+  BlockEntry(const char* row_block, const char* col_block, const Mat3& map) : row(row_block), col(col_block), M(map) {}
+  const char* row;
+  const char* col;
+  Mat3 M;
 };
+using BlockEntries = std::vector<BlockEntry>;
+
+/// At every test point x, the registry's conversion `from` -> `to` equals the matrix built
+/// from its derivation: each block mapped to the same block of the other chart by the
+/// identity, overwritten by the entries blocks(x) names, placed at the offsets of each
+/// chart's own labels (so the expectation reads like the derivation, in either order).
+template <typename K, typename BlocksAt>
+void ExpectConversionByBlocks(const char* from, const char* to, BlocksAt blocks) {
+  const BlockLabels rows = K::Get(to)->labels(), cols = K::Get(from)->labels();
+  const auto block = [&](Mat15& J, const char* row, const char* col) {
+    return J.block<3, 3>(BlockOffset(rows, row), BlockOffset(cols, col));
+  };
+  for (const auto& x : K::Points()) {
+    Mat15 expected = Mat15::Zero();
+    for (const char* b : rows) block(expected, b, b).setIdentity();
+    for (const BlockEntry& e : blocks(x)) block(expected, e.row, e.col) = e.M;
+    const Mat15 J = K::Conversion(from, to, x);
+    EXPECT_LE(RelErr(J, expected), kStructureTol) << from << " -> " << to << "\ngot\n"
+                                                  << J << "\nexpected\n"
+                                                  << expected;
+  }
+}
 
 }  // namespace imuconv::test
+
+/// The names every convention's test file is written in.
+namespace imuconv::test::conventions {
+using namespace imuconv::plugin::prelude;  // the names the plugins are written in
+using imuconv::test::BlockEntries;
+using imuconv::test::IncrementKind;
+using imuconv::test::kStructureTol;
+using imuconv::test::Plugins;
+using imuconv::test::RelErr;
+using imuconv::test::StateKind;
+inline const Mat3 I3 = Mat3::Identity();
+
+/// The registry's conversion `from` -> `to` against the blocks derived by hand, for the kind
+/// whose value blocks(x) takes (identity on every block not named; ExpectConversionByBlocks).
+template <typename BlocksAt>
+void ExpectConversion(const char* from, const char* to, BlocksAt blocks) {
+  using Kind = std::conditional_t<std::is_invocable_v<BlocksAt, const ImuState&>, StateKind, IncrementKind>;
+  ExpectConversionByBlocks<Kind>(from, to, blocks);
+}
+}  // namespace imuconv::test::conventions
 
 /// Declares the suite class SUITE (in a header every convention's test file includes).
 #define IMUCONV_DECLARE_CONVENTION_SUITE(SUITE) \
   class SUITE : public ::testing::TestWithParam<std::string> {}
 
 /// Defines the full per-convention suite SUITE for a kind (StateKind or IncrementKind), once per
-/// test executable.
-#define IMUCONV_DEFINE_CONVENTION_SUITE(SUITE, KIND)                                                      \
-  TEST_P(SUITE, LabelsAndAnalyticJacobiansRegistered) { ::imuconv::test::CheckLabels<KIND>(GetParam()); } \
-  TEST_P(SUITE, RetractOfZeroIsTheEstimate) { ::imuconv::test::CheckRetractZero<KIND>(GetParam()); }      \
-  TEST_P(SUITE, LocalInvertsRetract) { ::imuconv::test::CheckRoundTrip<KIND>(GetParam()); }                \
-  TEST_P(SUITE, AnalyticJacobiansMatchCentralDifferences) {                                               \
-    ::imuconv::test::CheckAnalyticJacobians<KIND>(GetParam(), false);                                     \
-  }                                                                                                       \
-  TEST_P(SUITE, AnalyticJacobiansMatchRidders) { ::imuconv::test::CheckAnalyticJacobians<KIND>(GetParam(), true); } \
-  TEST_P(SUITE, ToAndFromReferenceAreInverse) { ::imuconv::test::CheckJacobiansInverse<KIND>(GetParam()); }
+/// test executable, with the kind-wide checks: every loaded convention runs it, and every
+/// ordered pair converts through the registry as the two charts say.
+#define IMUCONV_DEFINE_CONVENTION_SUITE(SUITE, KIND)                                                                   \
+  TEST_P(SUITE, LabelsAndAnalyticJacobiansRegistered) { ::imuconv::test::CheckLabels<KIND>(GetParam()); }              \
+  TEST_P(SUITE, RetractOfZeroIsTheEstimate) { ::imuconv::test::CheckRetractZero<KIND>(GetParam()); }                   \
+  TEST_P(SUITE, LocalInvertsRetract) { ::imuconv::test::CheckRoundTrip<KIND>(GetParam()); }                            \
+  TEST_P(SUITE, AnalyticJacobiansMatchCentralDifferences) {                                                            \
+    ::imuconv::test::CheckAnalyticJacobians<KIND>(GetParam(), false);                                                  \
+  }                                                                                                                    \
+  TEST_P(SUITE, AnalyticJacobiansMatchRidders) { ::imuconv::test::CheckAnalyticJacobians<KIND>(GetParam(), true); }    \
+  TEST_P(SUITE, ToAndFromReferenceAreInverse) { ::imuconv::test::CheckJacobiansInverse<KIND>(GetParam()); }            \
+  TEST(SUITE##Kind, EveryLoadedConventionRunsTheSuite) {                                                               \
+    ::imuconv::test::CheckEveryConventionHasSuite<KIND>(#SUITE);                                                       \
+  }                                                                                                                    \
+  TEST(SUITE##Pairs, ConversionsInvertAndMatchTheChartsDirectly) { ::imuconv::test::CheckAllPairs<KIND>(); }           \
+  TEST(SUITE##Pairs, RiddersComposedConversionMatchesAnalytic) { ::imuconv::test::CheckNumericalComposition<KIND>(); } \
+  static const auto* const SUITE##PrintWorst =                                                                         \
+      ::testing::AddGlobalTestEnvironment(new ::imuconv::test::PrintWorstErrors)
 
 /// Runs the suite SUITE for the convention with id ID (an identifier-like id).
 #define IMUCONV_CONVENTION_SUITE(SUITE, ID) \
   INSTANTIATE_TEST_SUITE_P(ID, SUITE, ::testing::Values(std::string(#ID)))
+
+// Each convention's test file includes this header, instantiates its kind's suite in one
+// line and writes its hand-derived conversions in the names of imuconv::test::conventions.
+IMUCONV_DECLARE_CONVENTION_SUITE(StateConventionSuite);
+IMUCONV_DECLARE_CONVENTION_SUITE(IncrementConventionSuite);
+using namespace imuconv::test::conventions;  // NOLINT: the vocabulary of the convention tests

@@ -1,4 +1,4 @@
 // `preint_reference`, the increment reference chart (built in): the generic suite.
-#include "suite.h"
+#include "../convention_suite.h"
 
 IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, preint_reference);

@@ -1,53 +1,24 @@
 // `forster` (state): the generic suite and its conversions derived by hand.
-#include "suite.h"
-
-namespace {
-
-using namespace imuconv::test::state;
+#include "../convention_suite.h"
 
 IMUCONV_CONVENTION_SUITE(StateConventionSuite, forster);
 
 TEST(StateStructure, LeftToForster) {
-  for (const ImuState& x : StateKind::Points()) {
+  // Right rotation and body-frame position (R^T), world velocity, biases in place.
+  ExpectConversion("left", "forster", [](const ImuState& x) -> BlockEntries {
     const Mat3 Rt = x.R.transpose();
-    // Right rotation and body-frame position (R^T), world velocity, biases in place.
-    ExpectConversion("left", "forster", x,
-                     Expect("left", "forster")
-                         .set("theta", "theta", Rt)
-                         .set("p", "p", Rt)
-                         .set("v", "v", I3)
-                         .set("bg", "bg", I3)
-                         .set("ba", "ba", I3)
-                         .matrix());
-  }
+    return {{"theta", Rt}, {"p", Rt}};
+  });
 }
 
 TEST(StateStructure, ForsterToNavStateDiffersInVelocityFrame) {
-  for (const ImuState& x : StateKind::Points()) {
-    // Same rotation and position perturbation; Forster's world-frame dv is R^ dv_nav.
-    ExpectConversion("forster", "gtsam_navstate", x,
-                     Expect("forster", "gtsam_navstate")
-                         .set("theta", "theta", I3)
-                         .set("p", "p", I3)
-                         .set("v", "v", x.R.transpose())
-                         .set("ba", "ba", I3)
-                         .set("bg", "bg", I3)
-                         .matrix());
-  }
+  // Same rotation and position perturbation; Forster's world-frame dv is R^ dv_nav.
+  ExpectConversion("forster", "gtsam_navstate", [](const ImuState& x) -> BlockEntries {
+    return {{"v", x.R.transpose()}};
+  });
 }
 
 TEST(StateStructure, ForsterToOpenVinsJplAgreeOnRotation) {
-  for (const ImuState& x : StateKind::Points()) {
-    // Both perturb R on the right; OpenVINS's position is global (R^ dp_forster).
-    ExpectConversion("forster", "openvins_jpl", x,
-                     Expect("forster", "openvins_jpl")
-                         .set("theta", "theta", I3)
-                         .set("p", "p", x.R)
-                         .set("v", "v", I3)
-                         .set("bg", "bg", I3)
-                         .set("ba", "ba", I3)
-                         .matrix());
-  }
+  // Both perturb R on the right; OpenVINS's position is global (R^ dp_forster).
+  ExpectConversion("forster", "openvins_jpl", [](const ImuState& x) -> BlockEntries { return {{"p", x.R}}; });
 }
-
-}  // namespace

@@ -1,4 +1,4 @@
 // `left`, the state reference chart: the generic suite (its Jacobians are the identity).
-#include "suite.h"
+#include "../convention_suite.h"
 
 IMUCONV_CONVENTION_SUITE(StateConventionSuite, left);
