@@ -1,5 +1,6 @@
 #include <cstdio>
 #include <iostream>
+#include <utility>
 
 #include "commands.h"
 #include "imuconv/printable.h"
@@ -10,6 +11,16 @@ std::vector<std::string> CommandContext::plugin_dirs() const {
   std::vector<std::string> d = plugin_dirs_main;
   d.insert(d.end(), plugin_dirs_sub.begin(), plugin_dirs_sub.end());
   return d;
+}
+
+void SetCommandAction(CLI::App& sub, CommandContext& ctx, std::function<int()> run) {
+  sub.callback([&ctx, run = std::move(run)] {
+    try {
+      ctx.exit_code = run();
+    } catch (const UsageError& e) {
+      throw CLI::ValidationError(e.message);
+    }
+  });
 }
 
 void AddPluginDirOption(CLI::App& sub, CommandContext& ctx) {

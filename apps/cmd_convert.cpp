@@ -47,11 +47,6 @@ Request Classify(const std::string& what) {
   return r;
 }
 
-/// A usage mistake the option parser cannot see (exit 2, as CLI11's own).
-struct UsageError {
-  std::string message;
-};
-
 void CheckOptions(const Options& o, const Request& q) {
   const bool increment = q.kind == PluginKind::IncrementConvention;
   if (increment && o.increment.empty()) throw UsageError{"--what " + o.what + " needs --increment"};
@@ -172,13 +167,7 @@ void RegisterConvertCommand(CLI::App& app, CommandContext& ctx) {
       ->type_name("M.json");
   sub->add_flag("--json", o.as_json, "Print JSON: the input and the result, each with its convention and blocks");
   AddPluginDirOption(*sub, ctx);
-  sub->callback([&ctx] {
-    try {
-      ctx.exit_code = Run(ctx, o);
-    } catch (const UsageError& e) {
-      throw CLI::ValidationError(e.message);
-    }
-  });
+  SetCommandAction(*sub, ctx, [&ctx] { return Run(ctx, o); });
 }
 
 }  // namespace imuconv::cli

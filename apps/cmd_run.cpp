@@ -26,11 +26,6 @@ struct Options {
   unsigned threads = 0;
 };
 
-/// A usage mistake found once the pipeline is read (exit 2, as CLI11's own).
-struct UsageError {
-  std::string message;
-};
-
 /// The task whose steps --tum / --errors write: --trajectory-task, or the only one there is.
 std::string TrajectoryTask(const pipeline::Pipeline& p, const Options& o) {
   const std::vector<std::string> tasks = p.step_tasks();
@@ -191,13 +186,7 @@ void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
                   "same, byte for byte, for any number")
       ->type_name("N");
   AddPluginDirOption(*sub, ctx);
-  sub->callback([&ctx] {
-    try {
-      ctx.exit_code = Run(ctx, o);
-    } catch (const UsageError& e) {
-      throw CLI::ValidationError(e.message);
-    }
-  });
+  SetCommandAction(*sub, ctx, [&ctx] { return Run(ctx, o); });
 }
 
 }  // namespace imuconv::cli

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -22,6 +23,16 @@ struct CommandContext {
   /// Every --plugin-dir, in the order given (searched before the default path).
   std::vector<std::string> plugin_dirs() const;
 };
+
+/// A usage mistake the option parser cannot see, found by a command's own checks (exit 2,
+/// reported as CLI11 reports its own).
+struct UsageError {
+  std::string message;
+};
+
+/// Makes run() the subcommand's action: its return value is the exit code, and a UsageError
+/// it throws is reported as a usage error.
+void SetCommandAction(CLI::App& sub, CommandContext& ctx, std::function<int()> run);
 
 /// Adds the repeatable --plugin-dir option and the --allow-plugin-override flag to a subcommand.
 void AddPluginDirOption(CLI::App& sub, CommandContext& ctx);

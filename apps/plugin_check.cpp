@@ -77,12 +77,8 @@ std::vector<ImuSample> TestSamples() {
 }
 
 ImuNoise TestNoise() {
-  ImuNoise q;
-  q.gyro_noise_density = 1.7e-4;
-  q.accel_noise_density = 2e-3;
-  q.gyro_random_walk = 1.9e-5;
-  q.accel_random_walk = 3e-3;
-  return q;
+  // gyro and accelerometer noise densities, then gyro and accelerometer random walks
+  return ImuNoise{1.7e-4, 2e-3, 1.9e-5, 3e-3};
 }
 
 // The child's work: everything that calls plugin code. Returns the "ok" description; throws

@@ -54,12 +54,8 @@ SampleWindow Window() {
 const Vec3 kBiasGyro(1e-3, -2e-3, 5e-4), kBiasAccel(0.02, -0.01, 0.03);
 
 ImuNoise Noise() {
-  ImuNoise q;
-  q.gyro_noise_density = 1.7e-4;
-  q.accel_noise_density = 2.0e-3;
-  q.gyro_random_walk = 1.9e-5;
-  q.accel_random_walk = 3.0e-3;
-  return q;
+  // gyro and accelerometer noise densities, then gyro and accelerometer random walks
+  return ImuNoise{1.7e-4, 2.0e-3, 1.9e-5, 3.0e-3};
 }
 
 PropagationInput Input() {

@@ -25,12 +25,8 @@ inline std::vector<ImuSample> SmoothImu(double duration, double rate = 200.0, do
 }
 
 inline ImuNoise TestNoise() {
-  ImuNoise q;
-  q.gyro_noise_density = 2e-3;
-  q.accel_noise_density = 3e-2;
-  q.gyro_random_walk = 4e-4;
-  q.accel_random_walk = 6e-3;
-  return q;
+  // gyro and accelerometer noise densities, then gyro and accelerometer random walks
+  return ImuNoise{2e-3, 3e-2, 4e-4, 6e-3};
 }
 
 }  // namespace imuconv::test
