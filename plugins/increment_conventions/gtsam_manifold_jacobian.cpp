@@ -20,26 +20,9 @@ using namespace imuconv::plugin::prelude;
 // GTSAM's order, accelerometer bias first.
 constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
 
-class GtsamManifoldJacobian : public imuconv::plugin::IncrementChart<kOrder, -1> {
- public:
-  void retract(const PreintIncrement& x, const Vec15& d, PreintIncrement& y) const noexcept override {
-    y.dR = x.dR * so3::Exp(d.segment<3>(theta));
-    y.dp = x.dp + d.segment<3>(p);
-    y.dv = x.dv + d.segment<3>(v);
-    RetractBiases(x, d, y);
-  }
-
-  void local(const PreintIncrement& x, const PreintIncrement& y, Vec15& d) const noexcept override {
-    d.segment<3>(theta) = so3::Log(x.dR.transpose() * y.dR);
-    d.segment<3>(p) = y.dp - x.dp;
-    d.segment<3>(v) = y.dv - x.dv;
-    LocalBiases(x, y, d);
-  }
-
-  // The same permutation-with-sign both ways: it is its own inverse.
-  bool J_ref_this(const PreintIncrement&, Mat15& J) const noexcept override { return RefThis(J, {}); }
-  bool J_this_ref(const PreintIncrement&, Mat15& J) const noexcept override { return ThisRef(J, {}); }
-};
+// The reference's perturbations with GTSAM's order and bias sign: the Jacobians are the
+// permutation with -I on the swapped bias blocks, each its own inverse.
+using GtsamManifoldJacobian = imuconv::plugin::RightPerturbedIncrementChart<kOrder, -1>;
 
 }  // namespace
 

@@ -23,19 +23,13 @@
 #include "imuconv/kernels/preintegration.h"
 #include "imuconv_test.h"
 #include "reference_cases.h"
+#include "whitened.h"
 
 namespace {
 
 using namespace imuconv;
 using namespace imuconv::test;
 namespace k = imuconv::kernels;
-
-constexpr int kRuns = 4000;
-// 5 standard deviations: with ~120 distinct entries the chance that a correct covariance
-// fails is ~1e-4 (and the seed is fixed).
-const double kDiagTol = 5.0 * std::sqrt(2.0 / kRuns);  // 0.112
-const double kOffTol = 5.0 * std::sqrt(1.0 / kRuns);   // 0.079
-const double kNeesTol = 5.0 * std::sqrt(30.0 / kRuns);  // 0.433
 
 using Vec9 = imuconv::Vec9;
 
@@ -77,28 +71,6 @@ Vec9 ChartError(const std::string& scheme, const Nominal& x0, const Preintegrati
   k::TangentIncrement x;
   (void)k::IntegrateTangent<false>(noisy, o, &x);
   return x.xi - x0.tangent.xi;
-}
-
-struct Whitened {
-  double diag = 0.0, off = 0.0, nees = 0.0;
-};
-
-Whitened WhitenedStats(const Mat15& Sigma, const std::vector<Vec15>& errors) {
-  const Eigen::LLT<Mat15> llt(Sigma);
-  EXPECT_EQ(llt.info(), Eigen::Success);
-  Mat15 W = Mat15::Zero();
-  for (const Vec15& e : errors) {
-    const Vec15 z = llt.matrixL().solve(e);
-    W.noalias() += z * z.transpose();
-  }
-  W /= static_cast<double>(errors.size());
-  Whitened w;
-  w.nees = W.trace();
-  for (int i = 0; i < 15; ++i)
-    for (int j = 0; j < 15; ++j)
-      if (i == j) w.diag = std::max(w.diag, std::abs(W(i, i) - 1.0));
-      else w.off = std::max(w.off, std::abs(W(i, j)));
-  return w;
 }
 
 void CheckMonteCarlo(const std::string& scheme, const std::string& id) {

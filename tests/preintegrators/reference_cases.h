@@ -2,6 +2,7 @@
 // imuconv inputs, and the max entrywise difference bookkeeping.
 #pragma once
 
+#include <iterator>
 #include <map>
 #include <string>
 #include <vector>
@@ -13,8 +14,7 @@
 namespace imuconv::test {
 
 inline const std::vector<std::string>& ReferenceCaseIds() {
-  static const std::vector<std::string> ids = {"aggressive-0", "aggressive-1", "jitter-0", "jitter-1", "smooth-0",
-                                               "smooth-1",     "smooth-2",     "smooth-3", "static-0", "white-0"};
+  static const std::vector<std::string> ids(std::begin(kReferenceCaseIds), std::end(kReferenceCaseIds));
   return ids;
 }
 

@@ -27,9 +27,6 @@ using imuconv::test::EntryDiff;
 using imuconv::test::Plugins;
 using imuconv::test::ReadJson;
 
-const char* kCases[] = {"aggressive-0", "aggressive-1", "jitter-0", "jitter-1", "smooth-0",
-                        "smooth-1",     "smooth-2",     "smooth-3", "static-0", "white-0"};
-
 struct Stat {
   double max = 0.0, sum = 0.0;
   std::size_t n = 0;
@@ -238,7 +235,7 @@ TEST_P(GtsamCase, EulerPropagationEqualsPropagationByItsPreintegration) {
   ExpectMaxBelow(stats, 1e-8, id + " euler vs by-preint");
 }
 
-INSTANTIATE_TEST_SUITE_P(Reference, GtsamCase, ::testing::ValuesIn(kCases),
+INSTANTIATE_TEST_SUITE_P(Reference, GtsamCase, ::testing::ValuesIn(imuconv::test::kReferenceCaseIds),
                          [](const auto& info) {
                            std::string s = info.param;
                            for (char& c : s)

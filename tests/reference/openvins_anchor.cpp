@@ -18,7 +18,7 @@
 
 #include <cstdio>
 
-#include "../integrators/integrator_cases.h"
+#include "anchors.h"
 #include "imuconv/bridge.h"
 #include "imuconv_test.h"
 #include "scale_aware.h"
@@ -28,17 +28,7 @@ namespace {
 using imuconv::Mat15;
 using imuconv::PropagationInput;
 using imuconv::PropagationResult;
-using imuconv::test::DataPath;
-using imuconv::test::JsonMatrix;
-using imuconv::test::MaxEntryDiff;
-using imuconv::test::Plugins;
-using imuconv::test::ReadJson;
-
-const char* kCases[] = {"aggressive-0", "aggressive-1", "jitter-0", "jitter-1", "smooth-0",
-                        "smooth-1",     "smooth-2",     "smooth-3", "static-0", "white-0"};
-
-constexpr double kPaperMetricTol = 1e-8;
-constexpr double kScaledTol = 1e-9;
+using namespace imuconv::test;  // DataPath, JsonMatrix, MaxEntryDiff, Plugins, the anchors' bounds
 
 class OpenVinsAnchor : public ::testing::TestWithParam<const char*> {};
 
@@ -47,7 +37,7 @@ TEST_P(OpenVinsAnchor, DiscretePropagationIsOpenVinsOwn) {
   const nlohmann::json anchor = ReadJson(DataPath("reference/anchors/openvins/" + id + ".json"));
   const nlohmann::json& in_json = anchor.at("inputs");
   const nlohmann::json& ov = anchor.at("discrete");
-  const imuconv::test::ImuCase c = imuconv::test::LoadCase(id);
+  const ImuCase c = LoadCase(id);
 
   // OpenVINS propagates from its first to its last sample with the case's densities and
   // gravity magnitude; P0 is the case's start covariance in its error state.
@@ -57,8 +47,7 @@ TEST_P(OpenVinsAnchor, DiscretePropagationIsOpenVinsOwn) {
   ASSERT_EQ(in_json.at("sigma_wb").get<double>(), c.noise.gyro_random_walk);
   ASSERT_EQ(in_json.at("sigma_ab").get<double>(), c.noise.accel_random_walk);
   ASSERT_EQ(-in_json.at("gravity_mag").get<double>(), c.gravity.z());
-  PropagationInput in =
-      imuconv::test::MakeInput(c, in_json.at("t_start").get<double>(), in_json.at("t_end").get<double>());
+  PropagationInput in = MakeInput(c, in_json.at("t_start").get<double>(), in_json.at("t_end").get<double>());
   in.cov_s = JsonMatrix(in_json.at("P0"));
   const PropagationResult r = Plugins().propagate("openvins_discrete", "openvins_jpl", in);
   // Qd_summed is the noise alone: the same propagation from a zero covariance.
@@ -74,15 +63,14 @@ TEST_P(OpenVinsAnchor, DiscretePropagationIsOpenVinsOwn) {
   const Mat15 cov = JsonMatrix(ov.at("covariance")), Phi = JsonMatrix(ov.at("Phi_summed")),
               Qd = JsonMatrix(ov.at("Qd_summed"));
   const double d_cov = MaxEntryDiff(cov, r.cov), d_Phi = MaxEntryDiff(Phi, r.Phi), d_Qd = MaxEntryDiff(Qd, q.cov);
-  const auto s_cov = imuconv::test::CorrelationScaleDiff(cov, r.cov),
-             s_Qd = imuconv::test::CorrelationScaleDiff(Qd, q.cov);
-  const auto s_Phi = imuconv::test::RelativeAboveFloorDiff(Phi, r.Phi);
+  const auto s_cov = CorrelationScaleDiff(cov, r.cov), s_Qd = CorrelationScaleDiff(Qd, q.cov);
+  const auto s_Phi = RelativeAboveFloorDiff(Phi, r.Phi);
   std::printf("  %-13s p %.2g v %.2g R %.2g b %.2g | cov %.2g Phi %.2g Qd %.2g | scaled cov %.2g Phi %.2g Qd %.2g\n",
               id.c_str(), d_p, d_v, d_R, d_b, d_cov, d_Phi, d_Qd, s_cov.d, s_Phi.d, s_Qd.d);
-  for (const double d : {d_p, d_v, d_R, d_b, d_cov, d_Phi, d_Qd}) EXPECT_LE(d, kPaperMetricTol);
-  EXPECT_LE(s_cov.d, kScaledTol) << "covariance at (" << s_cov.row << "," << s_cov.col << ")";
-  EXPECT_LE(s_Qd.d, kScaledTol) << "Qd at (" << s_Qd.row << "," << s_Qd.col << ")";
-  EXPECT_LE(s_Phi.d, kScaledTol) << "Phi at (" << s_Phi.row << "," << s_Phi.col << ")";
+  for (const double d : {d_p, d_v, d_R, d_b, d_cov, d_Phi, d_Qd}) EXPECT_LE(d, kAnchorMetricTol);
+  EXPECT_LE(s_cov.d, kAnchorScaledTol) << "covariance at (" << s_cov.row << "," << s_cov.col << ")";
+  EXPECT_LE(s_Qd.d, kAnchorScaledTol) << "Qd at (" << s_Qd.row << "," << s_Qd.col << ")";
+  EXPECT_LE(s_Phi.d, kAnchorScaledTol) << "Phi at (" << s_Phi.row << "," << s_Phi.col << ")";
   EXPECT_NEAR(ov.at("dt_summed").get<double>(), c.samples.back().t - c.samples.front().t, 1e-12);
 }
 
@@ -94,8 +82,8 @@ TEST_P(OpenVinsAnchor, DiscretePropagationIsOpenVinsOwn) {
 TEST_P(OpenVinsAnchor, PreintegrationByItsPropagationIsGtsamManifoldOnMidInput) {
   const std::string id = GetParam();
   const nlohmann::json g = ReadJson(DataPath("reference/gtsam/" + id + ".gtsam.json")).at("mid").at("manifold");
-  const imuconv::test::ImuCase c = imuconv::test::LoadCase(id);
-  const PropagationInput in = imuconv::test::MakeInput(c, c.samples.front().t, c.samples.back().t);
+  const ImuCase c = LoadCase(id);
+  const PropagationInput in = MakeInput(c, c.samples.front().t, c.samples.back().t);
   const imuconv::Preintegrated m =
       imuconv::PreintegrateByPropagation(Plugins(), "openvins_discrete", in.window, c.x_s.bg, c.x_s.ba, c.noise);
   const imuconv::PreintegratedIn gtsam = imuconv::Express(Plugins(), m, "gtsam_manifold");
@@ -106,16 +94,16 @@ TEST_P(OpenVinsAnchor, PreintegrationByItsPropagationIsGtsamManifoldOnMidInput) 
   const double d_p = MaxEntryDiff(JsonMatrix(g.at("deltaP")), gtsam.delta.dp);
   const double d_v = MaxEntryDiff(JsonMatrix(g.at("deltaV")), gtsam.delta.dv);
   const double d_J = MaxEntryDiff(J_bias, gtsam.J_bias), d_cov = MaxEntryDiff(cov15, gtsam.cov);
-  const auto s_J = imuconv::test::RelativeAboveFloorDiff(J_bias, gtsam.J_bias);
-  const auto s_cov = imuconv::test::CorrelationScaleDiff(cov15, gtsam.cov);
+  const auto s_J = RelativeAboveFloorDiff(J_bias, gtsam.J_bias);
+  const auto s_cov = CorrelationScaleDiff(cov15, gtsam.cov);
   std::printf("  %-13s dR %.2g dp %.2g dv %.2g J_bias %.2g cov15 %.2g | scaled J_bias %.2g cov15 %.2g\n", id.c_str(),
               d_R, d_p, d_v, d_J, d_cov, s_J.d, s_cov.d);
-  for (const double d : {d_R, d_p, d_v, d_J, d_cov}) EXPECT_LE(d, kPaperMetricTol);
-  EXPECT_LE(s_J.d, kScaledTol) << "J_bias at (" << s_J.row << "," << s_J.col << ")";
-  EXPECT_LE(s_cov.d, kScaledTol) << "cov15 at (" << s_cov.row << "," << s_cov.col << ")";
+  for (const double d : {d_R, d_p, d_v, d_J, d_cov}) EXPECT_LE(d, kAnchorMetricTol);
+  EXPECT_LE(s_J.d, kAnchorScaledTol) << "J_bias at (" << s_J.row << "," << s_J.col << ")";
+  EXPECT_LE(s_cov.d, kAnchorScaledTol) << "cov15 at (" << s_cov.row << "," << s_cov.col << ")";
   EXPECT_EQ(g.at("deltaT").get<double>(), m.dt);
 }
 
-INSTANTIATE_TEST_SUITE_P(Reference, OpenVinsAnchor, ::testing::ValuesIn(kCases), imuconv::test::CaseTestName);
+INSTANTIATE_TEST_SUITE_P(Reference, OpenVinsAnchor, ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
 
 }  // namespace

@@ -115,6 +115,10 @@ inline Eigen::MatrixXd JsonMatrix(const nlohmann::json& j) {
 
 inline std::string DataPath(const std::string& rel) { return std::string(IMUCONV_TEST_DATA_DIR) + "/" + rel; }
 
+/// The ten reference cases of tests/data/reference/cases (and of every folder of outputs on them).
+inline constexpr const char* kReferenceCaseIds[] = {"aggressive-0", "aggressive-1", "jitter-0", "jitter-1", "smooth-0",
+                                                    "smooth-1",     "smooth-2",     "smooth-3", "static-0", "white-0"};
+
 inline Vec3 JsonVec3(const nlohmann::json& j) { return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>()); }
 
 /// The "imu" rows [t, wx, wy, wz, ax, ay, az] of a reference case file (tests/data/reference/cases).

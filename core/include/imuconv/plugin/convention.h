@@ -129,6 +129,31 @@ class IncrementChart : public ConventionChart<PreintIncrement, Order, BiasSign> 
   }
 };
 
+/// An increment chart with the reference's perturbations, Delta R = Delta R^ Exp(dtheta) and
+/// additive dp, dv, in another block order and bias sign: its Jacobians to and from the
+/// reference are the permutation with that sign, both ways. Declared with a `using` (a
+/// template's comma cannot stand in the IMUCONV_PLUGIN line).
+template <const BlockOrder& Order, int BiasSign>
+class RightPerturbedIncrementChart : public IncrementChart<Order, BiasSign> {
+  using Base = IncrementChart<Order, BiasSign>;
+
+ public:
+  void retract(const PreintIncrement& x, const Vec15& d, PreintIncrement& y) const noexcept override {
+    y.dR = x.dR * so3::Exp(d.template segment<3>(Base::theta));
+    y.dp = x.dp + d.template segment<3>(Base::p);
+    y.dv = x.dv + d.template segment<3>(Base::v);
+    Base::RetractBiases(x, d, y);
+  }
+  void local(const PreintIncrement& x, const PreintIncrement& y, Vec15& d) const noexcept override {
+    d.template segment<3>(Base::theta) = so3::Log(x.dR.transpose() * y.dR);
+    d.template segment<3>(Base::p) = y.dp - x.dp;
+    d.template segment<3>(Base::v) = y.dv - x.dv;
+    Base::LocalBiases(x, y, d);
+  }
+  bool J_ref_this(const PreintIncrement&, Mat15& J) const noexcept override { return Base::RefThis(J, {}); }
+  bool J_this_ref(const PreintIncrement&, Mat15& J) const noexcept override { return Base::ThisRef(J, {}); }
+};
+
 /// The rotation a chart's body frame is that of: the state's R, or the increment's Delta R.
 inline const Mat3& RotationOf(const ImuState& x) noexcept { return x.R; }
 inline const Mat3& RotationOf(const PreintIncrement& x) noexcept { return x.dR; }
