@@ -9,14 +9,15 @@ namespace {
 
 using imuconv::test::Plugins;
 
-// The five built-in conventions and the reference, each in the block order it documents.
+// The six built-in conventions and the reference, each in the block order it documents.
 TEST(PreintConventions, BuiltInsAndTheirBlockOrders) {
   imuconv::test::CheckBuiltInBlockOrders<imuconv::test::IncrementKind>({{"preint_reference", "theta p v bg ba"},
                                                                         {"gtsam_tangent", "theta p v ba bg"},
                                                                         {"gtsam_manifold", "theta p v ba bg"},
                                                                         {"gtsam_manifold_jacobian", "theta p v ba bg"},
                                                                         {"forster", "theta p v bg ba"},
-                                                                        {"vins_fusion", "p theta v ba bg"}});
+                                                                        {"vins_fusion", "p theta v ba bg"},
+                                                                        {"basalt", "p theta v bg ba"}});
 }
 
 // GTSAM's ManifoldPreintegration states its covariance in c (gtsam_manifold) and its bias
@@ -28,6 +29,7 @@ TEST(PreintConventions, BiasJacobianCharts) {
   EXPECT_EQ(chart("gtsam_tangent"), "gtsam_tangent");
   EXPECT_EQ(chart("forster"), "forster");
   EXPECT_EQ(chart("vins_fusion"), "vins_fusion");
+  EXPECT_EQ(chart("basalt"), "basalt");
   EXPECT_EQ(chart("preint_reference"), "preint_reference");
   EXPECT_EQ(Plugins().info(imuconv::PluginKind::IncrementConvention, "gtsam_manifold").jacobian_convention,
             "gtsam_manifold_jacobian");

@@ -1,0 +1,26 @@
+// `basalt` (increment; Basalt's delta state, left rotation error): the generic suite and its
+// conversions derived by hand.
+#include "../convention_suite.h"
+
+IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, basalt);
+
+TEST(PreintStructure, BasaltRotatesTheRotationBlockByTheIncrement) {
+  // Exp(dtheta) dR^ = dR^ Exp(dR^T dtheta): the reference's rotation error is dR^T times
+  // Basalt's; everything else is the reference's, reordered.
+  ExpectConversion("basalt", "preint_reference", [](const PreintIncrement& x) -> BlockEntries {
+    return {{"theta", x.dR.transpose()}};
+  });
+  ExpectConversion("preint_reference", "basalt", [](const PreintIncrement& x) -> BlockEntries {
+    return {{"theta", x.dR}};
+  });
+}
+
+TEST(PreintStructure, BasaltToGtsamManifoldCovarianceChart) {
+  // GTSAM's covariance chart c rotates p and v into the increment's frame as well (NavState
+  // retract: dp^ + dR^ dp_c) and takes Delta b = Delta b^ - db: from Basalt's left error,
+  // dtheta_c = dR^T dtheta, dp_c = dR^T dp, dv_c = dR^T dv, and -I on the biases.
+  ExpectConversion("basalt", "gtsam_manifold", [](const PreintIncrement& x) -> BlockEntries {
+    const Mat3 Rt = x.dR.transpose();
+    return {{"theta", Rt}, {"p", Rt}, {"v", Rt}, {"ba", -I3}, {"bg", -I3}};
+  });
+}
