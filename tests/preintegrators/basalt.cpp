@@ -64,7 +64,7 @@ void CheckMonteCarlo(const std::string& id, k::BasaltFeeding feeding) {
     PreintegrationInput noisy_in = in;
     noisy_in.window = WindowOver(noisy);
     k::BasaltPreintegration x;
-    ASSERT_TRUE(k::IntegrateBasalt(noisy_in, feeding, std::nullopt, x).ok());
+    ASSERT_TRUE(k::IntegrateBasalt(noisy_in, feeding, std::nullopt, x, /*jacobians=*/false).ok());
     errors.push_back(ChartError(nominal, x));
   }
   const Whitened w = WhitenedStats<9>(nominal.cov, errors);
@@ -100,7 +100,7 @@ void CheckBiasJacobians(const std::string& id, k::BasaltFeeding feeding) {
   ASSERT_TRUE(k::IntegrateBasalt(in, feeding, std::nullopt, x0).ok());
   const Mat96 numeric = BiasCentralDifferences(in, /*accel_first=*/false, 1e-6, [&](const PreintegrationInput& moved) {
     k::BasaltPreintegration x;
-    EXPECT_TRUE(k::IntegrateBasalt(moved, feeding, std::nullopt, x).ok());
+    EXPECT_TRUE(k::IntegrateBasalt(moved, feeding, std::nullopt, x, /*jacobians=*/false).ok());
     return ChartError(x0, x);
   });
   Mat96 analytic;

@@ -61,7 +61,7 @@ void CheckMonteCarlo(const std::string& id) {
     PreintegrationInput noisy_in = in;
     noisy_in.window = WindowOver(noisy);
     k::VinsFusionPreintegration x;
-    ASSERT_TRUE(k::IntegrateVinsFusion(noisy_in, k::VinsNoiseMapping::kFromDensities, x).ok());
+    ASSERT_TRUE(k::IntegrateVinsFusion(noisy_in, k::VinsNoiseMapping::kFromDensities, x, /*jacobians=*/false).ok());
     Vec15 e;
     e << x.delta_p - nominal.delta_p, so3::Log(R0t * x.delta_q.toRotationMatrix()), x.delta_v - nominal.delta_v, beta_a,
         beta_g;
@@ -106,7 +106,7 @@ void CheckBiasJacobian(const std::string& id, double gyro_bound) {
   const Mat3 R0t = x0.delta_q.toRotationMatrix().transpose();
   const Mat96 numeric = BiasCentralDifferences(in, /*accel_first=*/true, 1e-6, [&](const PreintegrationInput& moved) {
     k::VinsFusionPreintegration x;
-    EXPECT_TRUE(k::IntegrateVinsFusion(moved, k::VinsNoiseMapping::kFromDensities, x).ok());
+    EXPECT_TRUE(k::IntegrateVinsFusion(moved, k::VinsNoiseMapping::kFromDensities, x, /*jacobians=*/false).ok());
     Vec9 e;
     e << x.delta_p - x0.delta_p, so3::Log(R0t * x.delta_q.toRotationMatrix()), x.delta_v - x0.delta_v;
     return e;

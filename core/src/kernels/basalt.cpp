@@ -31,7 +31,8 @@ long long Nanoseconds(double t) { return std::llround(t * 1e9); }
 }  // namespace
 
 Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding,
-                       const std::optional<BasaltSampleVariances>& variances, BasaltPreintegration& out) {
+                       const std::optional<BasaltSampleVariances>& variances, BasaltPreintegration& out,
+                       bool jacobians) {
   if (Status s = CheckPreintegrationInput(in); !s.ok()) return s;
   const SampleWindow& w = in.window;
   out = BasaltPreintegration{};
@@ -53,26 +54,29 @@ Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding,
     const Mat3 R_half = out.R * so3::Exp((0.5 * dt) * omega);
     const Vec3 a_w = R_half * a;
     const Mat3 R_next = out.R * so3::Exp(dt * omega);
-    const Mat3 F_vt = so3::skew(-dt * a_w), F_pt = (0.5 * dt) * F_vt;
+    if (jacobians) {
+      const Mat3 F_vt = so3::skew(-dt * a_w), F_pt = (0.5 * dt) * F_vt;
 
-    A.middleRows<3>(kP) = (0.5 * dt * dt) * R_half;
-    A.middleRows<3>(kV) = dt * R_half;
-    G.middleRows<3>(kTheta) = R_next * so3::Jr(dt * omega) * dt;
-    G.middleRows<3>(kV) = F_vt * R_half * so3::Jr((0.5 * dt) * omega) * (0.5 * dt);
-    G.middleRows<3>(kP) = (0.5 * dt) * G.middleRows<3>(kV);
+      A.middleRows<3>(kP) = (0.5 * dt * dt) * R_half;
+      A.middleRows<3>(kV) = dt * R_half;
+      G.middleRows<3>(kTheta) = R_next * so3::Jr(dt * omega) * dt;
+      G.middleRows<3>(kV) = F_vt * R_half * so3::Jr((0.5 * dt) * omega) * (0.5 * dt);
+      G.middleRows<3>(kP) = (0.5 * dt) * G.middleRows<3>(kV);
 
-    const Vec3 accel_var =
-        variances ? variances->accel : Vec3::Constant(n.accel_noise_density * n.accel_noise_density / dt);
-    const Vec3 gyro_var =
-        variances ? variances->gyro : Vec3::Constant(n.gyro_noise_density * n.gyro_noise_density / dt);
-    // cov' = F cov F^T = (F (F cov)^T)^T, cov symmetric.
-    ApplyStep<9>(F_pt, F_vt, dt, out.cov, FM);
-    ApplyStep<9>(F_pt, F_vt, dt, FM.transpose(), FMt);
-    out.cov = FMt.transpose() + A * accel_var.asDiagonal() * A.transpose() + G * gyro_var.asDiagonal() * G.transpose();
-    ApplyStep<3>(F_pt, F_vt, dt, out.d_state_d_ba, FJ);
-    out.d_state_d_ba = FJ - A;
-    ApplyStep<3>(F_pt, F_vt, dt, out.d_state_d_bg, FJ);
-    out.d_state_d_bg = FJ - G;
+      const Vec3 accel_var =
+          variances ? variances->accel : Vec3::Constant(n.accel_noise_density * n.accel_noise_density / dt);
+      const Vec3 gyro_var =
+          variances ? variances->gyro : Vec3::Constant(n.gyro_noise_density * n.gyro_noise_density / dt);
+      // cov' = F cov F^T = (F (F cov)^T)^T, cov symmetric.
+      ApplyStep<9>(F_pt, F_vt, dt, out.cov, FM);
+      ApplyStep<9>(F_pt, F_vt, dt, FM.transpose(), FMt);
+      out.cov =
+          FMt.transpose() + A * accel_var.asDiagonal() * A.transpose() + G * gyro_var.asDiagonal() * G.transpose();
+      ApplyStep<3>(F_pt, F_vt, dt, out.d_state_d_ba, FJ);
+      out.d_state_d_ba = FJ - A;
+      ApplyStep<3>(F_pt, F_vt, dt, out.d_state_d_bg, FJ);
+      out.d_state_d_bg = FJ - G;
+    }
 
     out.p += out.v * dt + (0.5 * dt * dt) * a_w;
     out.v += dt * a_w;

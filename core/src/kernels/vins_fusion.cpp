@@ -83,7 +83,8 @@ void AddStepNoise(const Mat3& R0, const Mat3& R1, const Mat3& a1_x, double dt, c
 
 }  // namespace
 
-Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mapping, VinsFusionPreintegration& out) {
+Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mapping, VinsFusionPreintegration& out,
+                           bool jacobians) {
   if (Status s = CheckPreintegrationInput(in); !s.ok()) return s;
   const SampleWindow& w = in.window;
   out = VinsFusionPreintegration{};
@@ -100,26 +101,28 @@ Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mappi
     const Eigen::Quaterniond q1 =
         q * Eigen::Quaterniond(1.0, omega.x() * dt / 2, omega.y() * dt / 2, omega.z() * dt / 2);
     const Vec3 acc = 0.5 * (q * a0 + q1 * a1);
-    const Mat3 R0 = q.toRotationMatrix(), R1 = q1.toRotationMatrix();
-    const Mat3 w_x = so3::skew(omega), a0_x = so3::skew(a0), a1_x = so3::skew(a1);
-    const Mat3 E = I - dt * w_x;  // first-order Exp(-omega dt): upstream's rotation block
+    if (jacobians) {
+      const Mat3 R0 = q.toRotationMatrix(), R1 = q1.toRotationMatrix();
+      const Mat3 w_x = so3::skew(omega), a0_x = so3::skew(a0), a1_x = so3::skew(a1);
+      const Mat3 E = I - dt * w_x;  // first-order Exp(-omega dt): upstream's rotation block
 
-    F.dt = dt;
-    F.F_tt = E;
-    F.F_pt = (-0.25 * dt * dt) * (R0 * a0_x + R1 * a1_x * E);
-    F.F_vt = (-0.5 * dt) * (R0 * a0_x + R1 * a1_x * E);
-    F.F_pa = (-0.25 * dt * dt) * (R0 + R1);
-    F.F_va = (-0.5 * dt) * (R0 + R1);
-    F.F_pg = (0.25 * dt * dt * dt) * (R1 * a1_x);
-    F.F_vg = (0.5 * dt * dt) * (R1 * a1_x);
+      F.dt = dt;
+      F.F_tt = E;
+      F.F_pt = (-0.25 * dt * dt) * (R0 * a0_x + R1 * a1_x * E);
+      F.F_vt = (-0.5 * dt) * (R0 * a0_x + R1 * a1_x * E);
+      F.F_pa = (-0.25 * dt * dt) * (R0 + R1);
+      F.F_va = (-0.5 * dt) * (R0 + R1);
+      F.F_pg = (0.25 * dt * dt * dt) * (R1 * a1_x);
+      F.F_vg = (0.5 * dt * dt) * (R1 * a1_x);
 
-    ApplyStep(F, out.jacobian, FM);
-    out.jacobian = FM;
-    // cov' = F cov F^T = (F (F cov)^T)^T, cov symmetric.
-    ApplyStep(F, out.covariance, FM);
-    ApplyStep(F, FM.transpose(), FMt);
-    out.covariance = FMt.transpose();
-    AddStepNoise(R0, R1, a1_x, dt, VariancesAt(in.noise, mapping, dt), out.covariance);
+      ApplyStep(F, out.jacobian, FM);
+      out.jacobian = FM;
+      // cov' = F cov F^T = (F (F cov)^T)^T, cov symmetric.
+      ApplyStep(F, out.covariance, FM);
+      ApplyStep(F, FM.transpose(), FMt);
+      out.covariance = FMt.transpose();
+      AddStepNoise(R0, R1, a1_x, dt, VariancesAt(in.noise, mapping, dt), out.covariance);
+    }
 
     out.delta_p += out.delta_v * dt + (0.5 * dt * dt) * acc;
     out.delta_v += dt * acc;

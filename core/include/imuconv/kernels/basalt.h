@@ -57,9 +57,11 @@ struct BasaltPreintegration {
 /// Integrates the window's knots as IntegratedImuMeasurement(t_0, bg, ba) with one
 /// integrate() per step, fed as `feeding` says; `variances` as Basalt's caller gives them,
 /// or, unset, the densities of in.noise over each step's dt. Checks the input as
-/// CheckPreintegrationInput does, and that every step is at least 1 ns.
+/// CheckPreintegrationInput does, and that every step is at least 1 ns. Without
+/// `jacobians`, only the delta state is computed (covariance and bias Jacobians stay 0).
 IMUCONV_API Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding,
-                                   const std::optional<BasaltSampleVariances>& variances, BasaltPreintegration& out);
+                                   const std::optional<BasaltSampleVariances>& variances, BasaltPreintegration& out,
+                                   bool jacobians = true);
 
 /// The same as a native preintegration (densities over each step's dt): covariance and bias
 /// Jacobian in `basalt` ([p, theta, v, bg, ba]); the bias blocks of the covariance are the

@@ -59,9 +59,10 @@ struct VinsFusionPreintegration {
 
 /// Integrates the window's knots as IntegrationBase(a_0, w_0, ba, bg) followed by
 /// push_back(t_k - t_k-1, a_k, w_k) for every later knot. Checks the input as
-/// CheckPreintegrationInput does.
+/// CheckPreintegrationInput does. Without `jacobians`, only the increment is computed
+/// (jacobian stays I and covariance 0): for re-integrations that need the mean alone.
 IMUCONV_API Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mapping,
-                                       VinsFusionPreintegration& out);
+                                       VinsFusionPreintegration& out, bool jacobians = true);
 
 /// The same, as a native preintegration: covariance in `vins_fusion`, bias Jacobian in the
 /// chart of `vins_fusion` (rows [p, theta, v], columns [ba, bg]).
