@@ -167,11 +167,7 @@ TEST_P(BasaltAnchor, BasaltInGtsamConvention) {
   const Mat9 cov9 = JsonMatrix(g.at("cov9"));  // PreintegratedImuMeasurements: no bias walk, as Basalt
   const double rot = imuconv::so3::Log(dR.transpose() * b.delta.dR).norm();
   const double rel_pv = std::max((b.delta.dp - dp).norm() / dp.norm(), (b.delta.dv - dv).norm() / dv.norm());
-  double J_block = 0.0;  // worst 3x3 block, relative
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 2; ++j)
-      J_block = std::max(J_block, (J.block<3, 3>(3 * i, 3 * j) - b.J_bias.block<3, 3>(3 * i, 3 * j)).norm() /
-                                      J.block<3, 3>(3 * i, 3 * j).norm());
+  const double J_block = WorstBlockRelativeDiff(J, b.J_bias).d;  // worst 3x3 block, relative
   const auto d_cov9 = CorrelationScaleDiff(cov9, b.cov.topLeftCorner<9, 9>());
   const auto cov15 = CorrelationScaleDiff(cov, b.cov);
   std::printf(

@@ -8,10 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <iterator>
-#include <sstream>
 #include <string>
-#include <vector>
 
 #include "anchors.h"
 #include "imuconv/bridge.h"
@@ -44,24 +41,15 @@ void ExpectIntegrationBase(const nlohmann::json& j, const VinsFusionPreintegrati
   EXPECT_NEAR(j.at("sum_dt").get<double>(), r.sum_dt, 1e-12) << label;  // 2000 additions of dt
 }
 
-/// The worst 3x3 block of a 9x6 bias Jacobian, relative: |dJ_b|_F / |J_b|_F, with the
-/// block's name from the row and column labels.
+/// The worst 3x3 block of a 9x6 bias Jacobian (WorstBlockRelativeDiff), with its name from
+/// the row and column block labels.
 struct BlockDiff {
   double d = 0.0;
   std::string where;
 };
-BlockDiff WorstBlock(const imuconv::Mat96& ref, const imuconv::Mat96& est, const std::string& rows,
-                     const std::string& cols) {
-  std::istringstream rs(rows), cs(cols);
-  std::vector<std::string> r{std::istream_iterator<std::string>(rs), {}}, c{std::istream_iterator<std::string>(cs), {}};
-  BlockDiff worst;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 2; ++j) {
-      const double d =
-          (ref.block<3, 3>(3 * i, 3 * j) - est.block<3, 3>(3 * i, 3 * j)).norm() / ref.block<3, 3>(3 * i, 3 * j).norm();
-      if (!(d <= worst.d)) worst = {d, "d" + r[i] + "/d" + c[j]};
-    }
-  return worst;
+BlockDiff WorstBlock(const Mat96& ref, const Mat96& est, const char* const (&rows)[3], const char* const (&cols)[2]) {
+  const ScaledDiff w = WorstBlockRelativeDiff(ref, est);
+  return {w.d, std::string("d") + rows[w.row] + "/d" + cols[w.col]};
 }
 
 /// The correlation-scale difference over the state-bias cross blocks of two covariances in
@@ -165,8 +153,8 @@ TEST_P(VinsFusionAnchor, VinsFusionAndGtsamInEachOthersConvention) {
   const double rot = imuconv::so3::Log(gtsam.delta.dR.transpose() * as_gtsam.delta.dR).norm();
   const double rel_p = (as_gtsam.delta.dp - gtsam.delta.dp).norm() / gtsam.delta.dp.norm();
   const double rel_v = (as_gtsam.delta.dv - gtsam.delta.dv).norm() / gtsam.delta.dv.norm();
-  const BlockDiff J_in_gtsam = WorstBlock(gtsam.J_bias, as_gtsam.J_bias, "theta p v", "ba bg");
-  const BlockDiff J_in_vins = WorstBlock(vins.J_bias, as_vins.J_bias, "p theta v", "ba bg");
+  const BlockDiff J_in_gtsam = WorstBlock(gtsam.J_bias, as_gtsam.J_bias, {"theta", "p", "v"}, {"ba", "bg"});
+  const BlockDiff J_in_vins = WorstBlock(vins.J_bias, as_vins.J_bias, {"p", "theta", "v"}, {"ba", "bg"});
   const auto cov_in_gtsam = CorrelationScaleDiff(gtsam.cov, as_gtsam.cov);
   const auto cov_in_vins = CorrelationScaleDiff(vins.cov, as_vins.cov);
   // The commonest mistake: taking VINS's bias entry with GTSAM's sign (state-bias blocks flipped).

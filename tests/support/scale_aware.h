@@ -72,4 +72,25 @@ ScaledDiff RelativeAboveFloorDiff(const Eigen::MatrixBase<A>& ref, const Eigen::
   return worst;
 }
 
+/// |ref_b - est_b|_F / |ref_b|_F for the 3x3 block at block row i, block column j. A zero
+/// block of the reference (d theta / d ba, say) has no scale: 0 if the estimate's is zero too,
+/// infinity if not.
+template <typename A, typename B>
+double BlockRelativeDiff(const Eigen::MatrixBase<A>& ref, const Eigen::MatrixBase<B>& est, int i, int j) {
+  const double diff = (ref.template block<3, 3>(3 * i, 3 * j) - est.template block<3, 3>(3 * i, 3 * j)).norm();
+  const double scale = ref.template block<3, 3>(3 * i, 3 * j).norm();
+  if (scale > 0.0) return diff / scale;
+  return diff == 0.0 ? 0.0 : std::numeric_limits<double>::infinity();
+}
+
+/// The worst 3x3 block by BlockRelativeDiff; row and col are block indices.
+template <typename A, typename B>
+ScaledDiff WorstBlockRelativeDiff(const Eigen::MatrixBase<A>& ref, const Eigen::MatrixBase<B>& est) {
+  ScaledDiff worst;
+  for (Eigen::Index i = 0; i < ref.rows() / 3; ++i)
+    for (Eigen::Index j = 0; j < ref.cols() / 3; ++j)
+      scale_aware_detail::Keep(worst, BlockRelativeDiff(ref, est, static_cast<int>(i), static_cast<int>(j)), i, j);
+  return worst;
+}
+
 }  // namespace imuconv::test

@@ -44,23 +44,25 @@ struct StepVariances {
   double acc_n2, gyr_n2, acc_w2, gyr_w2;
 };
 
-StepVariances VariancesAt(const ImuNoise& n, VinsNoiseMapping mapping, double dt) {
-  if (mapping == VinsNoiseMapping::kAsConfigured) {
-    return {n.accel_noise_density * n.accel_noise_density, n.gyro_noise_density * n.gyro_noise_density,
-            n.accel_random_walk * n.accel_random_walk, n.gyro_random_walk * n.gyro_random_walk};
-  }
-  // acc_n^2 = 2 sigma_a^2 / dt, acc_w^2 = sigma_wa^2 / dt (header): the per-step variances
-  // of continuous white noise through V's dt factors.
-  return {2.0 * n.accel_noise_density * n.accel_noise_density / dt,
-          2.0 * n.gyro_noise_density * n.gyro_noise_density / dt, n.accel_random_walk * n.accel_random_walk / dt,
-          n.gyro_random_walk * n.gyro_random_walk / dt};
+/// The four numbers squared, once per interval.
+StepVariances Squares(const ImuNoise& n) {
+  return {n.accel_noise_density * n.accel_noise_density, n.gyro_noise_density * n.gyro_noise_density,
+          n.accel_random_walk * n.accel_random_walk, n.gyro_random_walk * n.gyro_random_walk};
 }
 
-/// Adds V diag(noise) V^T to the covariance, block by block (V as in the file comment).
-void AddStepNoise(const Mat3& R0, const Mat3& R1, const Mat3& a1_x, double dt, const StepVariances& s, Mat15& cov) {
+StepVariances VariancesAt(const StepVariances& squares, VinsNoiseMapping mapping, double dt) {
+  if (mapping == VinsNoiseMapping::kAsConfigured) return squares;
+  // acc_n^2 = 2 sigma_a^2 / dt, acc_w^2 = sigma_wa^2 / dt (header): the per-step variances
+  // of continuous white noise through V's dt factors.
+  return {2.0 * squares.acc_n2 / dt, 2.0 * squares.gyr_n2 / dt, squares.acc_w2 / dt, squares.gyr_w2 / dt};
+}
+
+/// Adds V diag(noise) V^T to the covariance, block by block (V as in the file comment);
+/// R1_a1_x = R1 [a_1]x.
+void AddStepNoise(const Mat3& R0, const Mat3& R1, const Mat3& R1_a1_x, double dt, const StepVariances& s, Mat15& cov) {
   const double dt2 = dt * dt;
   const Mat3 V_pa0 = (0.25 * dt2) * R0, V_pa1 = (0.25 * dt2) * R1, V_va0 = (0.5 * dt) * R0, V_va1 = (0.5 * dt) * R1;
-  const Mat3 V_pg = (-0.125 * dt2 * dt) * (R1 * a1_x), V_vg = (-0.25 * dt2) * (R1 * a1_x);
+  const Mat3 V_pg = (-0.125 * dt2 * dt) * R1_a1_x, V_vg = (-0.25 * dt2) * R1_a1_x;
   // The two gyro noises enter every row through the same block, so they add as 2 gyr_n^2.
   const double g2 = 2.0 * s.gyr_n2;
   const Mat3 Q_pp = s.acc_n2 * (V_pa0 * V_pa0.transpose() + V_pa1 * V_pa1.transpose()) + g2 * (V_pg * V_pg.transpose());
@@ -88,6 +90,7 @@ Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mappi
   if (Status s = CheckPreintegrationInput(in); !s.ok()) return s;
   const SampleWindow& w = in.window;
   out = VinsFusionPreintegration{};
+  const StepVariances squares = Squares(in.noise);
   Mat15 FM, FMt;
   StepMatrix F;
   const Mat3 I = Mat3::Identity();
@@ -103,17 +106,20 @@ Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mappi
     const Vec3 acc = 0.5 * (q * a0 + q1 * a1);
     if (jacobians) {
       const Mat3 R0 = q.toRotationMatrix(), R1 = q1.toRotationMatrix();
-      const Mat3 w_x = so3::skew(omega), a0_x = so3::skew(a0), a1_x = so3::skew(a1);
-      const Mat3 E = I - dt * w_x;  // first-order Exp(-omega dt): upstream's rotation block
+      const Mat3 E = I - dt * so3::skew(omega);  // first-order Exp(-omega dt): upstream's rotation block
+      // The products F and V share, formed once: R1 [a_1]x, the rotation column's
+      // R0 [a_0]x + R1 [a_1]x E and the accelerometer column's R0 + R1.
+      const Mat3 R1_a1_x = R1 * so3::skew(a1);
+      const Mat3 K = R0 * so3::skew(a0) + R1_a1_x * E, R_sum = R0 + R1;
 
       F.dt = dt;
       F.F_tt = E;
-      F.F_pt = (-0.25 * dt * dt) * (R0 * a0_x + R1 * a1_x * E);
-      F.F_vt = (-0.5 * dt) * (R0 * a0_x + R1 * a1_x * E);
-      F.F_pa = (-0.25 * dt * dt) * (R0 + R1);
-      F.F_va = (-0.5 * dt) * (R0 + R1);
-      F.F_pg = (0.25 * dt * dt * dt) * (R1 * a1_x);
-      F.F_vg = (0.5 * dt * dt) * (R1 * a1_x);
+      F.F_pt = (-0.25 * dt * dt) * K;
+      F.F_vt = (-0.5 * dt) * K;
+      F.F_pa = (-0.25 * dt * dt) * R_sum;
+      F.F_va = (-0.5 * dt) * R_sum;
+      F.F_pg = (0.25 * dt * dt * dt) * R1_a1_x;
+      F.F_vg = (0.5 * dt * dt) * R1_a1_x;
 
       ApplyStep(F, out.jacobian, FM);
       out.jacobian = FM;
@@ -121,7 +127,7 @@ Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mappi
       ApplyStep(F, out.covariance, FM);
       ApplyStep(F, FM.transpose(), FMt);
       out.covariance = FMt.transpose();
-      AddStepNoise(R0, R1, a1_x, dt, VariancesAt(in.noise, mapping, dt), out.covariance);
+      AddStepNoise(R0, R1, R1_a1_x, dt, VariancesAt(squares, mapping, dt), out.covariance);
     }
 
     out.delta_p += out.delta_v * dt + (0.5 * dt * dt) * acc;
