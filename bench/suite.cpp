@@ -181,7 +181,7 @@ void BM_PluginOverhead(benchmark::State& st, const char* id, DirectKernel direct
 }  // namespace
 
 void RegisterAll() {
-  for (const char* id : {"manifold", "tangent"})
+  for (const char* id : {"manifold", "tangent", "vins_fusion", "basalt"})
     benchmark::RegisterBenchmark((std::string("BM_Preintegrate/") + id).c_str(), BM_Preintegrate, id);
   const struct {
     const char* name;
@@ -192,7 +192,7 @@ void RegisterAll() {
       if (kernels::IsaAvailable(i.isa))
         benchmark::RegisterBenchmark((std::string("BM_PreintegrateInstance/") + scheme_name + "/" + i.name).c_str(),
                                      BM_PreintegrateInstance, scheme, i.isa);
-  for (const char* id : {"euler", "midpoint", "rk4"})
+  for (const char* id : {"euler", "midpoint", "rk4", "openvins_discrete"})
     benchmark::RegisterBenchmark((std::string("BM_Propagate/") + id).c_str(), BM_Propagate, id);
   benchmark::RegisterBenchmark("BM_PreintegrateByPropagation/rk4", BM_PreintegrateByPropagation, "rk4");
   benchmark::RegisterBenchmark("BM_Conversion/left/gtsam_navstate", BM_Conversion, "left", "gtsam_navstate");

@@ -259,8 +259,10 @@ TEST(Cli, BenchRunsTheWholeSet) {
   std::map<std::string, json> ran;
   for (const auto& b : j.at("benchmarks")) ran[b.at("name").get<std::string>()] = b;
   std::vector<std::string> names{"BM_Preintegrate/manifold",         "BM_Preintegrate/tangent",
+                                 "BM_Preintegrate/vins_fusion",      "BM_Preintegrate/basalt",
                                  "BM_Propagate/euler",               "BM_Propagate/midpoint",
-                                 "BM_Propagate/rk4",                 "BM_PreintegrateByPropagation/rk4",
+                                 "BM_Propagate/rk4",                 "BM_Propagate/openvins_discrete",
+                                 "BM_PreintegrateByPropagation/rk4",
                                  "BM_Conversion/left/gtsam_navstate", "BM_PluginOverhead/rk4/manual_time"};
   const std::pair<imuconv::kernels::Isa, const char*> instances[] = {{imuconv::kernels::Isa::kBaseline, "baseline"},
                                                                      {imuconv::kernels::Isa::kAvx2, "avx2"},
