@@ -52,3 +52,21 @@ execute_process(COMMAND ${CMAKE_COMMAND} -E env LD_LIBRARY_PATH=${pc_dir}/.. ${W
 if(rc)
   message(FATAL_ERROR "the pkg-config consumer failed")
 endif()
+
+# The installed Python module (when built): it imports from the prefix alone and its Registry
+# loads the installed plugins, not the build tree's.
+if(PYTHON)
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env PYTHONPATH=${WORK}/prefix/${PYTHON_DIR} IMUCONV_PLUGIN_PATH=
+                          ${PYTHON} -c "import imuconv, os, sys
+r = imuconv.Registry()
+files = {p['file'] for p in r.plugins() if p['file'] != 'built-in'}
+assert imuconv.__file__.startswith(sys.argv[1]), imuconv.__file__
+assert files and all(f.startswith(sys.argv[1]) for f in files), files
+assert 'euler' in r.ids('propagator'), r.ids('propagator')
+print('installed module:', imuconv.__file__, len(files), 'plugins')" ${WORK}/prefix
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(rc)
+    message(FATAL_ERROR "the installed Python module failed:\n${out}\n${err}")
+  endif()
+  message(STATUS "${out}")
+endif()
