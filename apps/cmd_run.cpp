@@ -82,7 +82,8 @@ std::string TumLine(const pipeline::StepOut& s) {
 std::string ErrorsLine(const pipeline::StepOut& s) {
   return std::to_string(s.k) + "," + Shortest(s.t_end.value_or(0.0)) + "," +
          (s.t_end_abs_ns ? std::to_string(*s.t_end_abs_ns) : "") + "," + Shortest(*s.position_error_m) + "," +
-         Shortest(*s.rotation_error_deg) + "," + Shortest(*s.velocity_error_mps) + "\n";
+         Shortest(*s.rotation_error_deg) + "," +
+         (s.velocity_error_mps ? Shortest(*s.velocity_error_mps) : "") + "\n";  // empty: pose-only ground truth
 }
 
 int Run(const CommandContext& ctx, const Options& o) {

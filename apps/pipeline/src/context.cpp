@@ -37,11 +37,27 @@ std::string RunContext::gt_uncovered(double t) const {
          " s)";
 }
 
+namespace {
+std::string PoseOnly(const GroundTruth& gt) {
+  return "the ground truth (" + Printable(gt.source) + ", format \"" + gt.format +
+         "\") has poses only: a start state or bias estimate from it would need velocity and biases; give them "
+         "in the task instead";
+}
+}  // namespace
+
 ImuState RunContext::gt_at(double t, const std::string& pointer) const {
   if (!gt) fail(pointer, "there is no /ground_truth");
+  if (!gt->full_state) fail(pointer, PoseOnly(*gt));
   auto x = gt->at(t);
   if (!x) fail(pointer, gt_uncovered(t));
   return *x;
+}
+
+GtComparison RunContext::compare_gt(const ImuState& predicted, double t, const std::string& pointer) const {
+  if (!gt) fail(pointer, "there is no /ground_truth");
+  auto x = gt->at(t);
+  if (!x) fail(pointer, gt_uncovered(t));
+  return Compare(predicted, *x, gt->full_state);
 }
 
 const std::vector<MeasRecord>& RunContext::measurements(const MeasurementsSpec& m) const {
@@ -102,6 +118,14 @@ void RunContext::check_time(Checker& c, double t, const std::string& pointer) co
 void RunContext::check_gt(Checker& c, double t, const std::string& pointer) const {
   if (!gt) return;
   if (!(t >= gt->t.front() && t <= gt->t.back())) c.error(pointer, gt_uncovered(t));
+}
+
+void RunContext::check_gt_state(Checker& c, double t, const std::string& pointer) const {
+  if (!gt) return;
+  if (!gt->full_state)
+    c.error(pointer, PoseOnly(*gt));
+  else
+    check_gt(c, t, pointer);
 }
 
 void RunContext::check_interval_times(Checker& c, const IntervalsSpec& iv) const {

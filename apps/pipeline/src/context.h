@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "forms/comparison.h"
 #include "forms/measurement.h"
 #include "imuconv/bridge.h"
 #include "imuconv/pipeline/pipeline.h"
@@ -64,6 +65,9 @@ class RunContext {
   SampleWindow window(double ts, double te) const;
   /// The ground-truth state at t (TaskFailure at `pointer` when it has none there).
   ImuState gt_at(double t, const std::string& pointer) const;
+  /// A prediction at t against the ground truth: position and rotation errors, and the
+  /// velocity error and left-chart error vector when the ground truth is a full state.
+  GtComparison compare_gt(const ImuState& predicted, double t, const std::string& pointer) const;
   /// Whether there is ground truth at t.
   bool gt_covers(double t) const { return gt && gt->at(t).has_value(); }
   const std::vector<MeasRecord>& measurements(const MeasurementsSpec& m) const;
@@ -86,6 +90,9 @@ class RunContext {
   void check_time(Checker& c, double t, const std::string& pointer) const;
   /// t within the ground truth, when there is one.
   void check_gt(Checker& c, double t, const std::string& pointer) const;
+  /// check_gt for a use of the whole state (a start state, a bias estimate): also that the
+  /// ground truth has velocity and biases.
+  void check_gt_state(Checker& c, double t, const std::string& pointer) const;
   /// Every keyframe within the IMU data (one message for generated keyframes).
   void check_interval_times(Checker& c, const IntervalsSpec& iv) const;
 

@@ -100,7 +100,8 @@ void LoadData(RunContext& ctx) {
     ReadOptions ro;
     ro.timing = s.gt->timing;
     ro.keep = range;
-    ctx.gt = ReadEurocGroundTruth(s.gt->path, o, ro);
+    ctx.gt = s.gt->format == "euroc" ? ReadEurocGroundTruth(s.gt->path, o, ro)
+                                     : ReadPoseGroundTruth(s.gt->path, s.gt->format, o, ro, s.gt->sensor);
     ctx.gt_keep = range;
   }
 }

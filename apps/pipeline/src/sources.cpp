@@ -1,8 +1,10 @@
 // The top-level sources of a pipeline: "imu" (euroc, csv or inline samples) and
 // "ground_truth" (spec.h).
+#include <Eigen/Geometry>
 #include <algorithm>
 
 #include "imuconv/pipeline/timing.h"
+#include "run_util.h"
 #include "spec.h"
 
 namespace imuconv::pipeline {
@@ -194,12 +196,36 @@ std::optional<ImuSourceSpec> ReadImuSource(const ParseContext& ctx, const Node& 
 }
 
 std::optional<GroundTruthSpec> ReadGroundTruthSource(const ParseContext& ctx, const Node& gn) {
-  if (!gn.expect_object({"format", "path", "max_gap_factor", "allow_gaps"})) return std::nullopt;
-  if (auto fn = gn.get("format", true)) fn->one_of({"euroc"});
+  if (!gn.expect_object({"format", "path", "max_gap_factor", "allow_gaps", "T_BS"})) return std::nullopt;
   GroundTruthSpec g;
+  if (auto fn = gn.get("format", true))
+    if (auto f = fn->one_of({"euroc", "euroc_pose", "tum"})) g.format = *f;
   g.pointer = gn.pointer();
   g.timing = Timing(gn);
   if (auto p = gn.string("path", true)) g.path = ctx.resolve(*p);
+  if (auto tn = gn.get("T_BS", false)) {
+    if (g.format == "euroc") {
+      tn->checker().error(tn->pointer(),
+                          "T_BS is for pose files (\"euroc_pose\", \"tum\"): \"euroc\" ground truth is "
+                          "already the body's state");
+    } else if (auto T = tn->matrix(4, 4)) {
+      // EuRoC's sensor.yaml gives T_BS with 5 significant digits: its rotation is orthonormal
+      // to about 1e-5. Within 1e-4 it is taken as the nearest rotation (by the normalised
+      // quaternion); a bottom row other than [0, 0, 0, 1] or a worse rotation is refused.
+      const Mat3 R = T->topLeftCorner<3, 3>();
+      const double err = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
+      const bool bottom = (T->row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() == 0.0;
+      if (!bottom)
+        tn->checker().error(tn->pointer() + "/3", "the last row of T_BS must be [0, 0, 0, 1]");
+      else if (!(err <= 1e-4) || R.determinant() <= 0.0)
+        tn->checker().error(tn->pointer(), "the rotation of T_BS is not a rotation (|R^T R - I| = " + Num(err, 3) +
+                                               ", allowed 1e-4, and det > 0)");
+      else {
+        g.sensor.R_BS = Eigen::Quaterniond(R).normalized().toRotationMatrix();
+        g.sensor.p_BS = T->topRightCorner<3, 1>();
+      }
+    }
+  }
   return g;
 }
 

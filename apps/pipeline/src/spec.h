@@ -30,6 +30,8 @@ struct ImuSourceSpec {
 
 struct GroundTruthSpec {
   std::string path;  // resolved
+  std::string format = "euroc";  ///< "euroc" (full state), "euroc_pose" or "tum" (poses only)
+  SensorInBody sensor;           ///< T_BS of a pose file's sensor (identity by default)
   TimingPolicy timing;
   std::string pointer;
 };

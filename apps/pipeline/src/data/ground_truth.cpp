@@ -4,9 +4,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include "imuconv/pipeline/errors.h"
 #include "imuconv/pipeline/imu_reader.h"
-#include "row_loop.h"
 #include "imuconv/so3.h"
+#include "row_loop.h"
 
 namespace imuconv::pipeline {
 
@@ -73,6 +74,63 @@ GroundTruth ReadEurocGroundTruth(const std::string& path, const TimeOrigin& orig
   });
   GroundTruth gt;
   gt.source = path;
+  gt.t = std::move(kept.times());
+  gt.x = std::move(kept.rows());
+  return gt;
+}
+
+GroundTruth ReadPoseGroundTruth(const std::string& path, const std::string& format, const TimeOrigin& origin,
+                                const ReadOptions& options, const SensorInBody& sensor) {
+  const bool tum = format == "tum";
+  if (!tum && format != "euroc_pose") throw ReadError(path, 0, "unknown pose ground-truth format '" + format + "'");
+  data::LineReader lr(path);
+  data::RowFormat rf;
+  rf.comment = "#";
+  rf.n_fields = 8;
+  rf.source = TimeSource::ground_truth;
+  rf.row_noun = "row";
+  rf.empty = "contains no ground-truth rows";
+  // Field indices of p xyz and of the quaternion's w, x, y, z in each format.
+  std::size_t ip = 1, iw, ix;
+  if (tum) {
+    rf.whitespace_delimited = true;
+    rf.fields_what = " (TUM: t x y z qx qy qz qw)";
+    rf.time_label = "t";
+    rf.time_what = "a time in seconds";
+    rf.unit = TimeUnit::s;
+    iw = 7;
+    ix = 4;
+  } else {
+    rf.fields_what = " (EuRoC vicon0: timestamp [ns], p xyz, q wxyz)";
+    rf.time_label = "timestamp [ns]";
+    rf.integer_time = true;
+    rf.time_what = "an integer timestamp in nanoseconds";
+    rf.unit = TimeUnit::ns;
+    iw = 4;
+    ix = 5;
+  }
+  static const char* const kNames[8] = {"t", "p_x", "p_y", "p_z", "q", "q", "q", "q"};
+  data::RowLoop loop(path, lr, std::move(rf), origin);
+  const Mat3 R_SB = sensor.R_BS.transpose();
+  auto kept = data::ReadRows<ImuState>(loop, options, [&](const data::RowLoop& row) {
+    double v[8];
+    for (std::size_t k = 1; k < 8; ++k) v[k] = row.number(k, kNames[k]);
+    const double qw = v[iw], qx = v[ix], qy = v[ix + 1], qz = v[ix + 2];
+    const double qn = std::sqrt(qw * qw + qx * qx + qy * qy + qz * qz);
+    // 1e-3, as for EuRoC's state files: quaternions written with 6 significant digits.
+    if (!(std::abs(qn - 1.0) <= 1e-3))
+      row.fail(std::string("quaternion ") + (tum ? "(qx, qy, qz, qw)" : "(q_w, q_x, q_y, q_z)") + " has norm " +
+               Fixed(qn) + ", expected 1 (to 1e-3)");
+    // The sensor's pose T_RS, then the body's: R_RB = R_RS R_SB, p_RB = p_RS - R_RB p_BS.
+    ImuState s;
+    s.R = so3::FromQuaternionWxyz(qw, qx, qy, qz) * R_SB;
+    s.p = Vec3(v[ip], v[ip + 1], v[ip + 2]) - s.R * sensor.p_BS;
+    return s;
+  });
+  GroundTruth gt;
+  gt.source = path;
+  gt.full_state = false;
+  gt.format = format;
   gt.t = std::move(kept.times());
   gt.x = std::move(kept.rows());
   return gt;

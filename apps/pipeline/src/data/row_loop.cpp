@@ -43,6 +43,15 @@ TimeValue RowLoop::parse_time() const {
 
 double RowLoop::relative(const TimeValue& tv) const {
   if (origin_.unit == f_.unit) return origin_.relative_seconds(tv);
+  if (NanosPerUnit(f_.unit) > NanosPerUnit(origin_.unit)) {
+    // A coarser file on a finer axis (TUM seconds on EuRoC's nanoseconds): the stamp in the
+    // origin's unit, whole units exactly where they fit in int64.
+    const std::int64_t ratio = NanosPerUnit(f_.unit) / NanosPerUnit(origin_.unit);
+    std::int64_t whole = 0;
+    if (__builtin_mul_overflow(tv.whole, ratio, &whole)) fail("timestamp is out of range on the IMU's time axis");
+    const double scaled = tv.frac * static_cast<double>(ratio), floor_scaled = std::floor(scaled);
+    return origin_.relative_seconds(TimeValue{whole + static_cast<std::int64_t>(floor_scaled), scaled - floor_scaled});
+  }
   // The stamp in the origin's (coarser) unit first, so that the difference stays exact:
   // whole units and the remainder as the fraction.
   const std::int64_t ratio = NanosPerUnit(origin_.unit) / NanosPerUnit(f_.unit);

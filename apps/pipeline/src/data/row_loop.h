@@ -47,9 +47,9 @@ struct RowFormat {
 
 class RowLoop {
  public:
-  /// Times are made relative to `origin`, whose unit must be the file's or a coarser one
-  /// (ground truth in ns on an IMU axis in s); with no origin, the first row's time is the
-  /// origin, in the file's unit.
+  /// Times are made relative to `origin`, in any unit (ground truth in ns on an IMU axis in
+  /// s, or in s on an axis in ns: the difference is taken exactly either way); with no origin, the first row's time is
+  /// the origin, in the file's unit.
   RowLoop(std::string path, LineReader& lines, RowFormat format, std::optional<TimeOrigin> origin);
 
   /// Moves to the next data row; false at the end of the file.

@@ -67,7 +67,7 @@ class PreintegrateTask : public Task {
     // The bias at every interval start: the ground truth spans one range, so the first and
     // the last start decide.
     if (bias.ground_truth) {
-      ctx.check_gt(c, keyframes.front(), bias.pointer);
+      ctx.check_gt_state(c, keyframes.front(), bias.pointer);
       if (keyframes.size() > 2) ctx.check_gt(c, keyframes.time(keyframes.size() - 2), bias.pointer);
     }
   }

@@ -44,7 +44,7 @@ class PropagateTask : public Task {
       ctx.check_gt(c, interval.back(), interval.pointer_of(interval.size() - 1));
     if (interval.size() < 2 || !ctx.have_imu) return;  // (no /imu is reported by the parser)
     ctx.check_interval_times(c, interval);
-    if (start.ground_truth) ctx.check_gt(c, interval.front(), start.pointer);
+    if (start.ground_truth) ctx.check_gt_state(c, interval.front(), start.pointer);
   }
 
   void run(RunContext& ctx, JsonWriter& w, TaskResult& res) const override {
@@ -57,7 +57,7 @@ class PropagateTask : public Task {
     in.window = ctx.window(ts, te);
     const PropagationResult r = ctx.reg.propagate(propagator, convention, in);
     std::optional<GtComparison> cmp;
-    if (compare_gt.value_or(ctx.gt_covers(te))) cmp = Compare(r.x_e, ctx.gt_at(te, pointer + "/interval/t_end"));
+    if (compare_gt.value_or(ctx.gt_covers(te))) cmp = ctx.compare_gt(r.x_e, te, pointer + "/interval/t_end");
     const OmitSpec& omit = ctx.spec.omit;
     const auto& blocks = ctx.blocks(PluginKind::StateConvention, convention);
     w.key("propagator");

@@ -48,7 +48,7 @@ class PropagateByPreintegrationTask : public Task {
     const PropagationResult out = PropagateByPreintegration(ctx.reg, r.m, x_s, cov_s, convention, ctx.spec.gravity);
     if (compare_gt.value_or(r.t_e && ctx.gt_covers(*r.t_e))) {
       if (!r.t_e) ctx.fail(where, "comparing with ground truth needs t_end");
-      cmp = Compare(out.x_e, ctx.gt_at(*r.t_e, where));
+      cmp = ctx.compare_gt(out.x_e, *r.t_e, where);
     }
     pr = {x_s, out.x_e, out.Phi, out.cov, convention, r.t_s, r.t_e};
   }

@@ -91,6 +91,10 @@ struct GroundTruth {
   std::vector<double> t;  ///< seconds relative to the IMU origin, strictly increasing
   std::vector<ImuState> x;
   std::string source;
+  /// False for pose-only ground truth (TUM, EuRoC vicon0): x holds R and p, its v and biases
+  /// are zero and must not be used (RunContext::gt_at refuses them).
+  bool full_state = true;
+  std::string format = "euroc";  ///< the pipeline's /ground_truth/format, for messages
   /// The state at t: p, v, bg, ba interpolated linearly, R by slerp. Nothing outside [t0, tN].
   std::optional<ImuState> at(double t) const;
 };
@@ -100,5 +104,20 @@ struct GroundTruth {
 /// `origin` (the IMU data's origin). Gaps between rows are judged by options.timing like IMU
 /// gaps: they would be interpolated across and used as start states.
 GroundTruth ReadEurocGroundTruth(const std::string& path, const TimeOrigin& origin, const ReadOptions& options = {});
+
+/// A pose of the ground-truth sensor S (e.g. a Vicon marker) in the body (IMU) frame B:
+/// EuRoC's sensor.yaml T_BS. The body's pose is then T_RB = T_RS T_BS^-1.
+struct SensorInBody {
+  Mat3 R_BS = Mat3::Identity();
+  Vec3 p_BS = Vec3::Zero();
+};
+
+/// Pose-only ground truth, read with full_state = false:
+///   "tum":        `t x y z qx qy qz qw`, t in seconds, separated by blanks ('#' comments);
+///   "euroc_pose": EuRoC vicon0/data.csv, `#timestamp [ns], p xyz, q wxyz` (8 fields).
+/// Quaternions are Hamilton, sensor to world, unit within 1e-3 (files with 6 digits).
+/// `sensor` (T_BS) maps the sensor's poses to the body's.
+GroundTruth ReadPoseGroundTruth(const std::string& path, const std::string& format, const TimeOrigin& origin,
+                                const ReadOptions& options = {}, const SensorInBody& sensor = {});
 
 }  // namespace imuconv::pipeline
