@@ -192,7 +192,7 @@ void RegisterAll() {
       if (kernels::IsaAvailable(i.isa))
         benchmark::RegisterBenchmark((std::string("BM_PreintegrateInstance/") + scheme_name + "/" + i.name).c_str(),
                                      BM_PreintegrateInstance, scheme, i.isa);
-  for (const char* id : {"euler", "midpoint", "rk4", "openvins_discrete"})
+  for (const char* id : {"euler", "midpoint", "rk4", "openvins_discrete", "openvins_rk4", "openvins_analytical"})
     benchmark::RegisterBenchmark((std::string("BM_Propagate/") + id).c_str(), BM_Propagate, id);
   benchmark::RegisterBenchmark("BM_PreintegrateByPropagation/rk4", BM_PreintegrateByPropagation, "rk4");
   benchmark::RegisterBenchmark("BM_Conversion/left/gtsam_navstate", BM_Conversion, "left", "gtsam_navstate");

@@ -262,6 +262,7 @@ TEST(Cli, BenchRunsTheWholeSet) {
                                  "BM_Preintegrate/vins_fusion",      "BM_Preintegrate/basalt",
                                  "BM_Propagate/euler",               "BM_Propagate/midpoint",
                                  "BM_Propagate/rk4",                 "BM_Propagate/openvins_discrete",
+                                 "BM_Propagate/openvins_rk4",        "BM_Propagate/openvins_analytical",
                                  "BM_PreintegrateByPropagation/rk4",
                                  "BM_Conversion/left/gtsam_navstate", "BM_PluginOverhead/rk4/manual_time"};
   const std::pair<imuconv::kernels::Isa, const char*> instances[] = {{imuconv::kernels::Isa::kBaseline, "baseline"},
