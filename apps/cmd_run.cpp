@@ -1,12 +1,22 @@
-// imuconv run PIPELINE.json [-o OUT.json] [--tum TRAJ.txt] [--errors ERRORS.csv]: runs a JSON
-// pipeline; optionally also writes one propagate_by_preintegration task's predictions as a TUM
-// trajectory (what evo reads) and its per-step errors against the ground truth as CSV.
+// imuconv run PIPELINE.json [-o OUT.json|OUT.npz] [--format json|npz] [--tum TRAJ.txt]
+// [--errors ERRORS.csv]: runs a JSON pipeline; the result as JSON or as a NumPy .npz of its
+// arrays (imuconv/pipeline/result_arrays.h); optionally also writes one
+// propagate_by_preintegration task's predictions as a TUM trajectory (what evo reads) and its
+// per-step errors against the ground truth as CSV.
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <charconv>
 #include <cinttypes>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <tuple>
 #include <utility>
@@ -14,6 +24,7 @@
 #include "commands.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/pipeline/pipeline.h"
+#include "imuconv/pipeline/result_arrays.h"
 #include "imuconv/printable.h"
 #include "imuconv/so3.h"
 
@@ -21,7 +32,7 @@ namespace imuconv::cli {
 namespace {
 
 struct Options {
-  std::string pipeline, output, tum, errors, trajectory_task;
+  std::string pipeline, output, format, tum, errors, trajectory_task;
   bool quiet = false, every_row = false;
   unsigned threads = 0;
 };
@@ -86,6 +97,45 @@ std::string ErrorsLine(const pipeline::StepOut& s) {
          (s.velocity_error_mps ? Shortest(*s.velocity_error_mps) : "") + "\n";  // empty: pose-only ground truth
 }
 
+bool EndsWithNpz(const std::string& path) {
+  if (path.size() < 4) return false;
+  std::string ext = path.substr(path.size() - 4);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".npz";
+}
+
+/// Whether the output is a terminal: stdout ("-" and its other names) or a path that is one.
+bool IsTerminal(const pipeline::OutputFile& file) {
+  if (file.is_stdout()) return isatty(STDOUT_FILENO) == 1;
+  struct stat st {};
+  if (stat(file.path().c_str(), &st) != 0 || !S_ISCHR(st.st_mode)) return false;
+  const int fd = open(file.path().c_str(), O_WRONLY | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return false;  // then the output's own open reports it
+  const bool tty = isatty(fd) == 1;
+  close(fd);
+  return tty;
+}
+
+/// The result as NPZ: the JSON text goes to an unnamed temporary file while the tasks run (so
+/// it is never held in memory), is read back keeping only its numbers, and the archive is
+/// written into `file` (not committed).
+void RunToNpz(const pipeline::Pipeline& p, const pipeline::RunOptions& ro, pipeline::OutputFile& file) {
+  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> text(std::tmpfile(), &std::fclose);
+  if (!text) throw Error(std::string("cannot create a temporary file for the JSON text: ") + std::strerror(errno));
+  bool first = true;
+  pipeline::RunToText(p, ro, [&](std::string_view s) {
+    if (first) file.refuse_if_loaded_object();
+    first = false;
+    if (std::fwrite(s.data(), 1, s.size(), text.get()) != s.size())
+      throw Error(std::string("writing the JSON text to a temporary file failed: ") + std::strerror(errno));
+  });
+  if (std::fflush(text.get()) != 0 || std::fseek(text.get(), 0, SEEK_SET) != 0)
+    throw Error(std::string("writing the JSON text to a temporary file failed: ") + std::strerror(errno));
+  const pipeline::ResultArrays arrays =
+      pipeline::CollectResultArrays(text.get(), "the output of " + Printable(p.file()));
+  pipeline::WriteResultNpz(arrays, [&](std::string_view s) { file.write(s); });
+}
+
 int Run(const CommandContext& ctx, const Options& o) {
   const pipeline::Pipeline p = pipeline::Pipeline::Load(o.pipeline);
   std::string trajectory_task;
@@ -96,9 +146,17 @@ int Run(const CommandContext& ctx, const Options& o) {
   std::string out = o.output;
   if (out.empty() && p.output_path()) out = *p.output_path();
   if (out.empty()) out = "-";
+  // NPZ by --format, else by the destination's extension.
+  if (!o.format.empty() && o.format != "json" && o.format != "npz")
+    throw UsageError{"--format: expected json or npz, found '" + Printable(o.format) + "'"};
+  const bool npz = o.format == "npz" || (o.format.empty() && EndsWithNpz(out));
+  if (npz && o.output.empty() && !p.output_path())
+    throw UsageError{"--format npz: give the output file with -o OUT.npz (-o - writes it to stdout, not a terminal)"};
   // The destination is examined before any work (nothing is created yet): what kind of file
   // it is, and that it is none of the files the run reads or loads.
   pipeline::OutputFile file(out);
+  if (npz && IsTerminal(file))
+    throw UsageError{"NPZ is binary: not written to a terminal (" + Printable(out) + "); give a file with -o OUT.npz"};
   const std::vector<std::string> inputs = p.input_files();
   for (std::size_t i = 0; i < inputs.size(); ++i)
     file.refuse_if_same(inputs[i], inputs[i] == p.file() ? "the pipeline" : "the input file");
@@ -137,12 +195,16 @@ int Run(const CommandContext& ctx, const Options& o) {
   // the times have been checked. Then, before a file's temporary is created, the destination
   // must not be a plugin (or library) the run has loaded. The text for a device, a FIFO or
   // stdout is held until the run has succeeded: a failing run writes nothing anywhere.
-  bool first = true;
-  pipeline::RunToText(p, ro, [&](std::string_view s) {
-    if (first) file.refuse_if_loaded_object();
-    first = false;
-    file.write(s);
-  });
+  if (npz) {
+    RunToNpz(p, ro, file);
+  } else {
+    bool first = true;
+    pipeline::RunToText(p, ro, [&](std::string_view s) {
+      if (first) file.refuse_if_loaded_object();
+      first = false;
+      file.write(s);
+    });
+  }
   std::cout.flush();
   file.commit();
   for (auto [f, text] : {std::pair{&tum, &tum_text}, std::pair{&errors, &errors_text}}) {
@@ -159,15 +221,22 @@ int Run(const CommandContext& ctx, const Options& o) {
 void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
   auto* sub = app.add_subcommand(
       "run",
-      "Run a JSON pipeline (schemas/pipeline.schema.json). The result JSON goes to -o, else to the pipeline's "
-      "\"output\", else to stdout; the summary goes to stdout (stderr when the JSON does). A failing run writes "
+      "Run a JSON pipeline (schemas/pipeline.schema.json). The result goes to -o, else to the pipeline's "
+      "\"output\", else to stdout, as JSON or (--format npz, or an output named *.npz) as a NumPy .npz of its "
+      "arrays (docs/interop.md); the summary goes to stdout (stderr when the result does). A failing run writes "
       "nothing.");
   static Options o;
   sub->add_option("pipeline", o.pipeline, "Pipeline file")->required()->type_name("PIPELINE.json");
   sub->add_option("-o,--output", o.output,
                   "Output file: a regular file is replaced atomically (keeping its permissions; a symbolic link is "
                   "followed to it); a device or FIFO is written through; '-' is stdout. Never one of the inputs")
-      ->type_name("OUT.json");
+      ->type_name("OUT.json|OUT.npz");
+  sub->add_option("--format", o.format,
+                  "json (the default) or npz: every array of the result in one NumPy .npz (uncompressed; keys are "
+                  "the JSON pointers with the indices of arrays of objects removed, values stacked over them; a "
+                  "JSON sidecar \"meta\" holds the rest; see docs/interop.md). An output named *.npz means npz. "
+                  "npz needs -o (or the pipeline's \"output\") and is never written to a terminal")
+      ->type_name("FORMAT");
   sub->add_flag("-q,--quiet", o.quiet, "Do not print the summary");
   sub->add_option("--tum", o.tum,
                   "Also write a propagate_by_preintegration task's predicted end states as a TUM trajectory "

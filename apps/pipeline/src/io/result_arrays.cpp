@@ -1,0 +1,675 @@
+// The output document's numbers as N-d arrays: a SAX reading of the text (nlohmann::json's
+// sax_parse) that keeps only the numbers (8 bytes each) and the sidecar's values. The rule is
+// stated in imuconv/pipeline/result_arrays.h.
+//
+// How it streams: objects and arrays of objects are frames; a value's key is its frame's key
+// and the member name. An array that is not an array of objects (a vector, a matrix, a list of
+// block labels) is buffered as events until it closes, then replayed: into an N-d array when
+// it is a rectangular array of numbers, else into a JSON value for the sidecar. The indices of
+// the enclosing arrays of objects are kept per value, so that the end can tell whether a key's
+// values fill their grid (one N-d array) or not (one array per value, named by its pointer).
+#include "imuconv/pipeline/result_arrays.h"
+
+#include <algorithm>
+#include <istream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <streambuf>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "imuconv/printable.h"
+#include "imuconv/registry.h"
+#include "npz_writer.h"
+
+namespace imuconv::pipeline {
+namespace {
+
+using ojson = nlohmann::ordered_json;
+
+/// The deepest nesting of objects and arrays read.
+constexpr std::size_t kMaxDepth = 256;
+
+/// |i| <= 2^53: every such integer is a double exactly.
+constexpr std::int64_t kExactInDouble = std::int64_t{1} << 53;
+
+/// A member name as a JSON pointer segment (RFC 6901: '~' -> "~0", '/' -> "~1").
+std::string Escape(const std::string& s) {
+  std::string e;
+  for (char c : s) e += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
+  return e;
+}
+
+std::string Join(const std::string& prefix, const std::string& segment) {
+  return prefix.empty() ? segment : prefix + "/" + segment;
+}
+
+/// The events of an array that is not an array of objects, replayed when it closes.
+class ValueBuffer {
+ public:
+  enum Event : std::uint8_t { kBeginArray, kEndArray, kBeginObject, kEndObject, kKey, kInt, kBigUInt, kFloat, kString,
+                              kTrue, kFalse, kNull };
+  void clear() {
+    events.clear();
+    ints.clear();
+    big.clear();
+    floats.clear();
+    strings.clear();
+  }
+
+  /// The shape when the events are a rectangular array of numbers (numbers at one depth only,
+  /// every array at a depth of one length, at least one number); nothing otherwise.
+  bool Rectangular(std::vector<std::size_t>& shape) const {
+    std::vector<std::size_t> counts;  // elements so far of each open array
+    std::vector<long long> dims;      // each depth's length, -1 until an array there closes
+    std::size_t leaf_depth = 0, max_array_depth = 0;
+    for (Event e : events) {
+      switch (e) {
+        case kBeginArray:
+          if (!counts.empty()) ++counts.back();
+          max_array_depth = std::max(max_array_depth, counts.size());
+          counts.push_back(0);
+          if (dims.size() < counts.size()) dims.push_back(-1);
+          break;
+        case kEndArray: {
+          const long long c = static_cast<long long>(counts.back());
+          counts.pop_back();
+          long long& d = dims[counts.size()];
+          if (d >= 0 && d != c) return false;
+          d = c;
+          break;
+        }
+        case kInt:
+        case kFloat:
+          ++counts.back();
+          if (leaf_depth == 0) leaf_depth = counts.size();
+          else if (leaf_depth != counts.size()) return false;
+          break;
+        default:
+          return false;
+      }
+    }
+    if (leaf_depth == 0 || max_array_depth >= leaf_depth) return false;
+    shape.assign(dims.begin(), dims.begin() + static_cast<std::ptrdiff_t>(leaf_depth));
+    return true;
+  }
+
+  /// The events as a JSON value (numbers as they were read: integers stay integers).
+  ojson ToJson() const {
+    ojson root;
+    std::vector<ojson*> open;
+    std::string key;
+    std::size_t i_int = 0, i_big = 0, i_float = 0, i_string = 0;
+    auto place = [&](ojson v) -> ojson* {
+      if (open.empty()) {
+        root = std::move(v);
+        return &root;
+      }
+      ojson& parent = *open.back();
+      if (parent.is_array()) {
+        parent.push_back(std::move(v));
+        return &parent.back();
+      }
+      parent[key] = std::move(v);
+      return &parent[key];
+    };
+    for (Event e : events) {
+      switch (e) {
+        case kBeginArray: open.push_back(place(ojson::array())); break;
+        case kBeginObject: open.push_back(place(ojson::object())); break;
+        case kEndArray:
+        case kEndObject: open.pop_back(); break;
+        case kKey: key = strings[i_string++]; break;
+        case kInt: place(ints[i_int++]); break;
+        case kBigUInt: place(big[i_big++]); break;
+        case kFloat: place(floats[i_float++]); break;
+        case kString: place(strings[i_string++]); break;
+        case kTrue: place(true); break;
+        case kFalse: place(false); break;
+        case kNull: place(nullptr); break;
+      }
+    }
+    return root;
+  }
+
+  std::vector<Event> events;
+  std::vector<std::int64_t> ints;
+  std::vector<std::uint64_t> big;  ///< integers beyond int64: sidecar values, never arrays
+  std::vector<double> floats;
+  std::vector<std::string> strings;
+};
+
+/// Where a value goes: its key (indices of arrays of objects removed) and its pointer.
+struct Destination {
+  std::string key, pointer;
+};
+
+class Collector {
+ public:
+  explicit Collector(std::string what) : what_(std::move(what)) {}
+
+  // ---- nlohmann::json's SAX interface ----
+  bool null() {
+    if (Buffered()) return Add(ValueBuffer::kNull);
+    EmitValue(Here("null"), nullptr);
+    return true;
+  }
+  bool boolean(bool b) {
+    if (Buffered()) return Add(b ? ValueBuffer::kTrue : ValueBuffer::kFalse);
+    EmitValue(Here("a boolean"), b);
+    return true;
+  }
+  bool number_integer(std::int64_t i) {
+    if (Buffered()) {
+      buf_.ints.push_back(i);
+      return Add(ValueBuffer::kInt);
+    }
+    EmitNumbers(Here("a number"), {}, {}, {i}, false);
+    return true;
+  }
+  bool number_unsigned(std::uint64_t u) {
+    if (u <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+      return number_integer(static_cast<std::int64_t>(u));
+    if (Buffered()) {
+      buf_.big.push_back(u);
+      return Add(ValueBuffer::kBigUInt);
+    }
+    EmitValue(Here("a number"), u);
+    return true;
+  }
+  bool number_float(double v, const std::string&) {
+    if (Buffered()) {
+      buf_.floats.push_back(v);
+      return Add(ValueBuffer::kFloat);
+    }
+    EmitNumbers(Here("a number"), {}, {v}, {}, true);
+    return true;
+  }
+  bool string(std::string& s) {
+    if (Buffered()) {
+      buf_.strings.push_back(s);
+      return Add(ValueBuffer::kString);
+    }
+    if (!frames_.empty() && frames_.back().task && !frames_.back().named) {
+      // A task's name (its first member, checked in key()) names its frame.
+      Frame& task = frames_.back();
+      task.named = true;
+      task.key = task.pointer = "tasks/" + Escape(s);
+      if (!task_names_.insert(s).second) Fail(task.pointer, "a second task named '" + Printable(s) + "'");
+    }
+    EmitValue(Here("a string"), s);
+    return true;
+  }
+  bool binary(nlohmann::json::binary_t&) { Fail("", "binary values are not JSON text"); }
+  bool start_object(std::size_t) {
+    CheckDepth();
+    if (buffer_depth_ > 0) {
+      ++buffer_depth_;
+      return Add(ValueBuffer::kBeginObject);
+    }
+    if (pending_array_) StartArrayOfObjects();
+    if (frames_.empty()) {
+      if (done_) Fail("", "text after the document");
+      frames_.push_back(Frame{});
+      return true;
+    }
+    Frame& f = frames_.back();
+    Frame child;
+    if (f.aoo) {
+      if (f.tasks) {
+        child.task = true;
+        child.key = child.pointer = "tasks/" + std::to_string(f.count);  // until its name is read
+      } else {
+        index_.push_back(f.count);
+        levels_.push_back(f.aoo_id);
+        child.key = f.key;
+        child.pointer = f.pointer + "/" + std::to_string(f.count);
+        child.element = true;
+      }
+    } else {
+      const Destination d = Here("an object");
+      child.key = d.key;
+      child.pointer = d.pointer;
+    }
+    frames_.push_back(std::move(child));
+    return true;
+  }
+  bool key(std::string& k) {
+    if (buffer_depth_ > 0) {
+      buf_.strings.push_back(k);
+      return Add(ValueBuffer::kKey);
+    }
+    Frame& f = frames_.back();
+    if (f.task && !f.named && k != "name")
+      Fail(f.pointer, "expected the task's \"name\" as its first member, found \"" + Printable(k) + "\"");
+    f.member = Escape(k);
+    ++f.count;
+    return true;
+  }
+  bool end_object() {
+    if (buffer_depth_ > 0) {
+      --buffer_depth_;
+      return Add(ValueBuffer::kEndObject);
+    }
+    Frame f = std::move(frames_.back());
+    frames_.pop_back();
+    if (f.task && !f.named) Fail(f.pointer, "a task without a \"name\"");
+    // An empty object has no values to carry it: the sidecar records it.
+    if (f.count == 0 && !frames_.empty()) EmitValue({f.key, f.pointer}, ojson::object());
+    if (f.element) {
+      index_.pop_back();
+      levels_.pop_back();
+    }
+    if (frames_.empty()) done_ = true;
+    else if (frames_.back().aoo) ++frames_.back().count;
+    return true;
+  }
+  bool start_array(std::size_t) {
+    CheckDepth();
+    if (buffer_depth_ > 0) {
+      ++buffer_depth_;
+      return Add(ValueBuffer::kBeginArray);
+    }
+    if (pending_array_) {
+      StartBuffer();
+      ++buffer_depth_;
+      return Add(ValueBuffer::kBeginArray);
+    }
+    array_dest_ = Here("an array");
+    pending_array_ = true;  // an array of objects or a value: its first element tells
+    return true;
+  }
+  bool end_array() {
+    if (buffer_depth_ > 0) {
+      Add(ValueBuffer::kEndArray);
+      if (--buffer_depth_ == 0) FlushBuffer();
+      return true;
+    }
+    if (pending_array_) {
+      pending_array_ = false;
+      EmitValue(array_dest_, ojson::array());
+      return true;
+    }
+    const Frame a = std::move(frames_.back());
+    frames_.pop_back();
+    if (!a.tasks) {
+      ArrayOfObjects& info = aoos_[static_cast<std::size_t>(a.aoo_id)];
+      if (info.instances++ == 0) info.length = a.count;
+      else if (info.length != a.count) info.ragged = true;
+    }
+    return true;
+  }
+  bool parse_error(std::size_t position, const std::string&, const nlohmann::json::exception& e) {
+    Fail("", "not a JSON document (byte " + std::to_string(position) + "): " + e.what());
+  }
+
+  ResultArrays Finish();
+
+ private:
+  struct Frame {
+    bool aoo = false;      ///< an array of objects; else an object
+    std::string key;       ///< the frame's key (indices of arrays of objects removed)
+    std::string pointer;   ///< its pointer, indices kept, without the leading '/'
+    std::string member;    ///< object: the current member's name, escaped
+    std::size_t count = 0; ///< object: members so far; array: elements so far
+    bool element = false;  ///< an object that is an element of an array of objects (not /tasks)
+    bool task = false, named = false;  ///< an element of /tasks, and whether its name was read
+    bool tasks = false;    ///< the /tasks array: elements named, not stacked
+    int aoo_id = -1;       ///< an array of objects' entry in aoos_
+  };
+  /// What is known of an array of objects, by key: how many instances (one per element of the
+  /// enclosing array of objects, when it is present in each), and their common length.
+  struct ArrayOfObjects {
+    std::string key;
+    int parent;
+    std::size_t instances = 0, length = 0;
+    bool ragged = false;
+  };
+  /// Where a key was found: the arrays of objects above it and, per value, their indices.
+  struct Occurrences {
+    std::string key;
+    std::vector<int> levels;
+    std::vector<std::uint32_t> indices;  ///< levels.size() per value
+    std::size_t count = 0;
+  };
+  struct NumericKey : Occurrences {
+    NdArray::Type type = NdArray::Type::kInt64;
+    std::vector<double> data;
+    std::vector<std::int64_t> integers;
+    std::vector<std::vector<std::size_t>> shapes;  ///< the distinct shapes of its values
+    std::vector<std::uint32_t> shape_of;           ///< per value
+    std::vector<std::size_t> offset;               ///< per value, into data / integers
+  };
+  struct ValueKey : Occurrences {
+    ojson first;
+    std::vector<std::pair<std::size_t, ojson>> other;  ///< values that differ from the first
+  };
+
+  [[noreturn]] void Fail(const std::string& pointer, const std::string& message) const {
+    throw Error(what_ + ": /" + Printable(pointer) + ": " + message);
+  }
+
+  /// Nesting is bounded (an output document is a few levels deep): JSON values are copied and
+  /// written recursively, and a hostile text must not exhaust the stack.
+  void CheckDepth() const {
+    const std::size_t depth = frames_.size() + static_cast<std::size_t>(buffer_depth_) + (pending_array_ ? 1 : 0);
+    if (depth >= kMaxDepth)
+      Fail(frames_.empty() ? std::string() : frames_.back().pointer,
+           "nested deeper than " + std::to_string(kMaxDepth) + " levels");
+  }
+
+  bool Add(ValueBuffer::Event e) {
+    buf_.events.push_back(e);
+    return true;
+  }
+  /// Whether the current value goes into the buffer (it is inside, or is the first element
+  /// of, an array that is not an array of objects).
+  bool Buffered() {
+    if (buffer_depth_ > 0) return true;
+    if (!pending_array_) return false;
+    StartBuffer();
+    return true;
+  }
+  void StartBuffer() {
+    pending_array_ = false;
+    buf_.clear();
+    buf_.events.push_back(ValueBuffer::kBeginArray);
+    buffer_depth_ = 1;
+  }
+  void StartArrayOfObjects() {
+    pending_array_ = false;
+    Frame a;
+    a.aoo = true;
+    a.key = array_dest_.key;
+    a.pointer = array_dest_.pointer;
+    a.tasks = frames_.size() == 1 && array_dest_.pointer == "tasks";
+    if (!a.tasks) {
+      const int parent = levels_.empty() ? -1 : levels_.back();
+      const auto [it, added] = aoo_ids_.emplace(a.key, static_cast<int>(aoos_.size()));
+      if (added) aoos_.push_back({a.key, parent});
+      else if (aoos_[static_cast<std::size_t>(it->second)].parent != parent)
+        Fail(a.pointer, "an array of objects nested differently from an earlier one of the same key");
+      a.aoo_id = it->second;
+    }
+    frames_.push_back(std::move(a));
+  }
+  /// The destination of a value that is not in a buffer: the current object's member.
+  Destination Here(const char* found) const {
+    if (frames_.empty()) Fail("", std::string("expected an object at the top, found ") + found);
+    const Frame& f = frames_.back();
+    if (f.aoo)
+      Fail(f.pointer + "/" + std::to_string(f.count),
+           std::string("expected an object (the array's first element is one), found ") + found);
+    if (f.task && !f.named)
+      Fail(f.pointer + "/name", std::string("expected the task's name (a string), found ") + found);
+    return {Join(f.key, f.member), Join(f.pointer, f.member)};
+  }
+
+  void FlushBuffer() {
+    std::vector<std::size_t> shape;
+    if (!buf_.Rectangular(shape)) {
+      EmitValue(array_dest_, buf_.ToJson());
+      return;
+    }
+    if (buf_.floats.empty()) {
+      EmitNumbers(array_dest_, shape, {}, std::move(buf_.ints), false);
+      return;
+    }
+    // Reals, and integers too when there are any (in the order of the text).
+    std::vector<double> v;
+    v.reserve(buf_.floats.size() + buf_.ints.size());
+    std::size_t i_int = 0, i_float = 0;
+    for (ValueBuffer::Event e : buf_.events) {
+      if (e == ValueBuffer::kFloat) v.push_back(buf_.floats[i_float++]);
+      else if (e == ValueBuffer::kInt) v.push_back(ExactDouble(buf_.ints[i_int++], array_dest_));
+    }
+    EmitNumbers(array_dest_, shape, std::move(v), {}, true);
+  }
+
+  double ExactDouble(std::int64_t i, const Destination& d) const {
+    if (i > kExactInDouble || i < -kExactInDouble)
+      Fail(d.pointer, "mixes integers and reals, and the integer " + std::to_string(i) + " is not exact as a double");
+    return static_cast<double>(i);
+  }
+
+  /// Records one more value of the key `o` at the current indices (they must come after the
+  /// last value's: two at the same indices are a duplicate key).
+  void Record(Occurrences& o, const Destination& d) {
+    if (o.count == 0) {
+      o.levels = levels_;
+    } else {
+      if (o.levels != levels_)
+        Fail(d.pointer, "reached through other arrays of objects than earlier values of its key");
+      const std::size_t n = levels_.size();
+      if (!std::lexicographical_compare(o.indices.end() - static_cast<std::ptrdiff_t>(n), o.indices.end(),
+                                        index_.begin(), index_.end()))
+        Fail(d.pointer, "a duplicate key");
+    }
+    o.indices.insert(o.indices.end(), index_.begin(), index_.end());
+    ++o.count;
+  }
+
+  void EmitNumbers(const Destination& d, const std::vector<std::size_t>& shape, std::vector<double> reals,
+                   std::vector<std::int64_t> integers, bool real) {
+    if (shape.empty() && levels_.empty()) {  // a number alone, in no array of objects
+      EmitValue(d, real ? ojson(reals[0]) : ojson(integers[0]));
+      return;
+    }
+    const auto [it, added] = numeric_ids_.emplace(d.key, numeric_.size());
+    if (added) {
+      numeric_.emplace_back();
+      numeric_.back().key = d.key;
+      numeric_.back().type = real ? NdArray::Type::kFloat64 : NdArray::Type::kInt64;
+    }
+    NumericKey& k = numeric_[it->second];
+    Record(k, d);
+    if (real && k.type == NdArray::Type::kInt64) {  // the key's integers so far become reals
+      k.data.reserve(k.integers.size() + reals.size());
+      for (std::int64_t i : k.integers) k.data.push_back(ExactDouble(i, d));
+      k.integers = {};
+      k.type = NdArray::Type::kFloat64;
+    }
+    const auto s = std::find(k.shapes.begin(), k.shapes.end(), shape);
+    k.shape_of.push_back(static_cast<std::uint32_t>(s - k.shapes.begin()));
+    if (s == k.shapes.end()) k.shapes.push_back(shape);
+    if (k.type == NdArray::Type::kFloat64) {
+      k.offset.push_back(k.data.size());
+      if (real) k.data.insert(k.data.end(), reals.begin(), reals.end());
+      else
+        for (std::int64_t i : integers) k.data.push_back(ExactDouble(i, d));
+    } else {
+      k.offset.push_back(k.integers.size());
+      k.integers.insert(k.integers.end(), integers.begin(), integers.end());
+    }
+  }
+
+  void EmitValue(const Destination& d, ojson v) {
+    const auto [it, added] = value_ids_.emplace(d.key, values_.size());
+    if (added) {
+      values_.emplace_back();
+      values_.back().key = d.key;
+    }
+    ValueKey& k = values_[it->second];
+    Record(k, d);
+    if (k.count == 1) k.first = std::move(v);
+    else if (v != k.first) k.other.emplace_back(k.count - 1, std::move(v));
+  }
+
+  /// Whether the values of `o` fill the grid of its arrays of objects exactly; their lengths.
+  bool FillsGrid(const Occurrences& o, std::vector<std::size_t>& dims) const {
+    std::size_t cells = 1;
+    for (int id : o.levels) {
+      const ArrayOfObjects& a = aoos_[static_cast<std::size_t>(id)];
+      // Present once in every element of the enclosing array, with one length.
+      if (a.ragged || a.instances != cells) return false;
+      dims.push_back(a.length);
+      cells *= a.length;
+    }
+    return o.count == cells;  // distinct, in order and within the grid (Record): every cell
+  }
+
+  /// The pointer of value `n` of `o`: its key with the indices put back.
+  std::string PointerOf(const Occurrences& o, std::size_t n) const {
+    std::string p = o.key;
+    const std::size_t depth = o.levels.size();
+    for (std::size_t j = depth; j-- > 0;) {
+      const std::size_t at = aoos_[static_cast<std::size_t>(o.levels[j])].key.size();
+      p.insert(at, "/" + std::to_string(o.indices[n * depth + j]));
+    }
+    return p;
+  }
+
+  std::string what_;
+  std::vector<Frame> frames_;
+  bool done_ = false;
+  bool pending_array_ = false;
+  int buffer_depth_ = 0;
+  Destination array_dest_;
+  ValueBuffer buf_;
+  std::vector<std::uint32_t> index_;  ///< indices of the enclosing arrays of objects
+  std::vector<int> levels_;           ///< and their entries in aoos_
+  std::vector<ArrayOfObjects> aoos_;
+  std::unordered_map<std::string, int> aoo_ids_;
+  std::unordered_set<std::string> task_names_;
+  std::vector<NumericKey> numeric_;
+  std::unordered_map<std::string, std::size_t> numeric_ids_;
+  std::vector<ValueKey> values_;
+  std::unordered_map<std::string, std::size_t> value_ids_;
+};
+
+ResultArrays Collector::Finish() {
+  if (!done_) Fail("", "the document is incomplete");
+  ResultArrays r;
+  std::unordered_set<std::string> names{kSidecarKey};
+  auto add = [&](std::string name, NdArray a) {
+    if (!names.insert(name).second)
+      Fail(name, name == kSidecarKey ? "an array would take the sidecar's name" : "two arrays would have this name");
+    r.arrays.emplace_back(std::move(name), std::move(a));
+  };
+  ojson stacked = ojson::object(), values = ojson::object();
+  for (NumericKey& k : numeric_) {
+    std::vector<std::size_t> dims;
+    if (k.shapes.size() == 1 && FillsGrid(k, dims)) {
+      NdArray a;
+      a.type = k.type;
+      a.shape = dims;
+      a.shape.insert(a.shape.end(), k.shapes[0].begin(), k.shapes[0].end());
+      a.data = std::move(k.data);
+      a.integers = std::move(k.integers);
+      if (!k.levels.empty()) {
+        ojson over = ojson::array();
+        for (int id : k.levels) over.push_back(aoos_[static_cast<std::size_t>(id)].key);
+        stacked[k.key] = std::move(over);
+      }
+      add(k.key, std::move(a));
+    } else {
+      for (std::size_t n = 0; n < k.count; ++n) {
+        NdArray a;
+        a.type = k.type;
+        a.shape = k.shapes[k.shape_of[n]];
+        std::size_t size = 1;
+        for (std::size_t e : a.shape) size *= e;
+        const auto from = static_cast<std::ptrdiff_t>(k.offset[n]), to = from + static_cast<std::ptrdiff_t>(size);
+        if (k.type == NdArray::Type::kFloat64) a.data.assign(k.data.begin() + from, k.data.begin() + to);
+        else a.integers.assign(k.integers.begin() + from, k.integers.begin() + to);
+        add(PointerOf(k, n), std::move(a));
+      }
+    }
+    k = NumericKey{};  // its numbers now live in r
+  }
+  std::unordered_set<std::string> value_names;
+  auto put = [&](const std::string& name, const ojson& v) {
+    if (!value_names.insert(name).second) Fail(name, "two sidecar values would have this name");
+    values[name] = v;
+  };
+  for (const ValueKey& k : values_) {
+    std::vector<std::size_t> dims;
+    if (k.other.empty() && FillsGrid(k, dims)) {
+      put(k.key, k.first);
+      continue;
+    }
+    std::size_t next_other = 0;
+    for (std::size_t n = 0; n < k.count; ++n) {
+      const bool differs = next_other < k.other.size() && k.other[next_other].first == n;
+      put(PointerOf(k, n), differs ? k.other[next_other++].second : k.first);
+    }
+  }
+  ojson sidecar = ojson::object();
+  sidecar["format"] = "imuconv-npz";
+  sidecar["format_version"] = 1;
+  sidecar["values"] = std::move(values);
+  sidecar["stacked_over"] = std::move(stacked);
+  r.sidecar = sidecar.dump(-1, ' ', true);
+  return r;
+}
+
+/// A std::streambuf reading a FILE* in blocks (nlohmann's own FILE* adapter calls fgetc once
+/// per character).
+class FileReader : public std::streambuf {
+ public:
+  explicit FileReader(std::FILE* f) : file_(f), block_(1 << 16) {}
+
+ protected:
+  int_type underflow() override {
+    const std::size_t n = std::fread(block_.data(), 1, block_.size(), file_);
+    if (n == 0) return traits_type::eof();
+    setg(block_.data(), block_.data(), block_.data() + n);
+    return traits_type::to_int_type(block_[0]);
+  }
+
+ private:
+  std::FILE* file_;
+  std::vector<char> block_;
+};
+
+/// The array's values as little-endian bytes: its own memory on a little-endian machine.
+std::string_view LittleEndianBytes(const NdArray& a, std::vector<unsigned char>& swapped) {
+  const void* p = a.type == NdArray::Type::kFloat64 ? static_cast<const void*>(a.data.data())
+                                                     : static_cast<const void*>(a.integers.data());
+  const std::size_t bytes = a.size() * 8;
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+  swapped.resize(bytes);
+  const auto* in = static_cast<const unsigned char*>(p);
+  for (std::size_t i = 0; i < bytes; i += 8)
+    for (std::size_t b = 0; b < 8; ++b) swapped[i + b] = in[i + 7 - b];
+  p = swapped.data();
+#else
+  (void)swapped;
+#endif
+  return {static_cast<const char*>(p), bytes};
+}
+
+}  // namespace
+
+ResultArrays CollectResultArrays(std::FILE* text, const std::string& what) {
+  FileReader reader(text);
+  std::istream in(&reader);
+  Collector c(what);
+  nlohmann::json::sax_parse(in, &c);
+  if (std::ferror(text)) throw Error(what + ": reading the text back failed");
+  return c.Finish();
+}
+
+ResultArrays CollectResultArrays(std::string_view text, const std::string& what) {
+  Collector c(what);
+  nlohmann::json::sax_parse(text.begin(), text.end(), &c);
+  return c.Finish();
+}
+
+void WriteResultNpz(const ResultArrays& r, const std::function<void(std::string_view)>& sink, bool force_zip64) {
+  NpzWriter npz(sink, force_zip64);
+  std::vector<unsigned char> swapped;
+  for (const auto& [name, a] : r.arrays)
+    npz.add(name, a.type == NdArray::Type::kFloat64 ? "<f8" : "<i8", a.shape, LittleEndianBytes(a, swapped));
+  // The sidecar as a 0-d "<U{n}" array: UTF-32LE, one code unit per (ASCII) character.
+  std::string utf32;
+  utf32.reserve(4 * r.sidecar.size());
+  for (char c : r.sidecar) {
+    utf32 += c;
+    utf32.append(3, '\0');
+  }
+  npz.add(kSidecarKey, "<U" + std::to_string(r.sidecar.size()), {}, utf32);
+  npz.finish();
+}
+
+}  // namespace imuconv::pipeline
