@@ -30,6 +30,7 @@ from ._imuconv import (  # noqa: F401
     propagate,
     propagate_by_preintegration,
     residual,
+    run,
 )
 
 try:
@@ -41,5 +42,5 @@ except ImportError:  # pragma: no cover
 __all__ = [
     "Error", "Expressed", "Increment", "Preintegrated", "Propagation", "Registry", "Residual", "State",
     "bias_corrected_delta", "from_convention", "preintegrate", "propagate", "propagate_by_preintegration",
-    "residual",
+    "residual", "run",
 ]

@@ -1,0 +1,81 @@
+// Pipelines from Python: imuconv.run(path) runs a JSON pipeline as `imuconv run` does and
+// returns its result as NumPy arrays, the same arrays and keys `imuconv run -o OUT.npz` writes
+// (apps/pipeline's result_arrays.h, the rule in docs/interop.md), bit for bit the JSON
+// output's numbers. The document's text goes to an unnamed temporary file while the tasks run
+// and is read back holding only the numbers, so memory is that of the arrays.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bindings.h"
+#include "imuconv/pipeline/pipeline.h"
+#include "imuconv/pipeline/result_arrays.h"
+
+namespace imuconv::python {
+namespace {
+
+py::array ToNumpy(const pipeline::NdArray& a) {
+  std::vector<py::ssize_t> shape(a.shape.begin(), a.shape.end());
+  if (a.type == pipeline::NdArray::Type::kInt64) {
+    py::array_t<std::int64_t> out(shape);
+    std::copy(a.integers.begin(), a.integers.end(), out.mutable_data());
+    return std::move(out);
+  }
+  py::array_t<double> out(shape);
+  std::copy(a.data.begin(), a.data.end(), out.mutable_data());
+  return std::move(out);
+}
+
+struct FileCloser {
+  void operator()(std::FILE* f) const { std::fclose(f); }
+};
+
+}  // namespace
+
+void BindPipeline(py::module_& m) {
+  m.def(
+      "run",
+      [](const std::string& path, const std::vector<std::string>& plugin_dirs, unsigned threads) {
+        pipeline::ResultArrays result;
+        std::string log_text;
+        {
+          py::gil_scoped_release release;
+          const pipeline::Pipeline p = pipeline::Pipeline::Load(path);
+          std::unique_ptr<std::FILE, FileCloser> text(std::tmpfile());
+          if (!text) throw Error("imuconv.run: cannot create a temporary file for the output of " + path);
+          std::ostringstream log;
+          pipeline::RunOptions o;
+          o.plugin_dirs = plugin_dirs;
+          o.threads = threads;
+          o.log = &log;
+          pipeline::RunToText(p, o, [&](std::string_view s) {
+            if (std::fwrite(s.data(), 1, s.size(), text.get()) != s.size())
+              throw Error("imuconv.run: writing the temporary output of " + path + " failed (disk full?)");
+          });
+          if (std::fflush(text.get()) != 0 || std::fseek(text.get(), 0, SEEK_SET) != 0)
+            throw Error("imuconv.run: reading back the temporary output of " + path + " failed");
+          result = pipeline::CollectResultArrays(text.get(), "the output of " + path);
+          log_text = log.str();
+        }
+        if (!log_text.empty() && PyErr_WarnEx(PyExc_RuntimeWarning, ("imuconv: " + log_text).c_str(), 1) != 0)
+          throw py::error_already_set();
+        py::dict out;
+        for (const auto& [key, array] : result.arrays) out[py::str(key)] = ToNumpy(array);
+        out[pipeline::kSidecarKey] = py::module_::import("json").attr("loads")(result.sidecar);
+        return out;
+      },
+      py::arg("pipeline"), py::kw_only(), py::arg("plugin_dirs") = std::vector<std::string>{},
+      py::arg("threads") = 0u,
+      "Runs a JSON pipeline file and returns its result as a dict of NumPy arrays, keyed as `imuconv run -o "
+      "OUT.npz` keys them (e.g. 'tasks/kf_rk4/measurements/J_bias/matrix', shape (n, 9, 6)), with the sidecar "
+      "(conventions, block orders, scalars) as a dict under 'meta'. The numbers are the JSON output's, bit for bit; "
+      "threads: 0 = every core (the result does not depend on it).");
+}
+
+}  // namespace imuconv::python
