@@ -112,6 +112,8 @@ void CheckCovariance(const Mat15& C, const std::string& ptr) {
   throw Error(ptr + ": not a valid covariance: " + p + "; nothing is repaired, fix the input");
 }
 
+}  // namespace
+
 json ToJson(const Eigen::MatrixXd& m) {
   json rows = json::array();
   for (Eigen::Index i = 0; i < m.rows(); ++i) {
@@ -128,6 +130,8 @@ json ToJsonVec(const Eigen::VectorXd& v) {
   return a;
 }
 
+namespace {
+
 json NavJson(const ImuState& x) { return {{"R", ToJson(x.R)}, {"p", ToJsonVec(x.p)}, {"v", ToJsonVec(x.v)}}; }
 
 json FullStateJson(const ImuState& x) {
@@ -135,17 +139,6 @@ json FullStateJson(const ImuState& x) {
           {"p", ToJsonVec(x.p)}, {"v", ToJsonVec(x.v)},
           {"bg", ToJsonVec(x.bg)}, {"ba", ToJsonVec(x.ba)}};
 }
-
-struct Case {
-  std::vector<ImuSample> samples;
-  std::vector<ImuSample> mid_samples;  // not used by the integrators; kept for clarity of the zoh/mid input
-  Vec3 gravity;
-  ImuNoise noise;
-  ImuState x_s;
-  Mat15 cov_s_left;
-  Vec15 end_perturbation;
-  Vec3 dbg, dba;
-};
 
 /// The timing rules of `imuconv run`, by the pipeline's own check (FindTimingIssue with the
 /// default policy): the median period must give a plausible IMU rate, 1 Hz to 100 kHz (else
@@ -167,7 +160,9 @@ void CheckTiming(const std::vector<ImuSample>& s) {
               " x median = " + Num(issue->limit) + " s): a reference case must be sampled without gaps");
 }
 
-Case Parse(const json& c) {
+}  // namespace
+
+Case ParseCase(const json& c) {
   Case k;
   Object(c, "", {"case_id", "kind", "gravity", "noise", "imu_columns", "imu", "state_s", "cov_s_left", "end_perturbation",
                  "bias_delta"});
@@ -202,6 +197,7 @@ Case Parse(const json& c) {
   k.noise.accel_random_walk = NonNegative(At(n, "accel_random_walk", "/noise"), "/noise/accel_random_walk");
   const json& s = Object(At(c, "state_s", ""), "/state_s", {"p", "q_wxyz", "v", "bg", "ba"});
   k.x_s.R = Rotation(At(s, "q_wxyz", "/state_s"), "/state_s/q_wxyz");
+  for (std::size_t i = 0; i < 4; ++i) k.q_s_wxyz[static_cast<Eigen::Index>(i)] = s.at("q_wxyz").at(i).get<double>();
   k.x_s.p = Vector3(At(s, "p", "/state_s"), "/state_s/p");
   k.x_s.v = Vector3(At(s, "v", "/state_s"), "/state_s/v");
   k.x_s.bg = Vector3(At(s, "bg", "/state_s"), "/state_s/bg");
@@ -234,7 +230,7 @@ void CheckResults(const json& j, const std::string& ptr) {
     throw Error("produced a non-finite number (output " + ptr + "); no output is written");
   if (j.is_object()) {
     for (auto it = j.begin(); it != j.end(); ++it) CheckResults(it.value(), ptr + "/" + Token(it.key()));
-    for (const char* key : {"cov15", "cov9", "cov"}) {
+    for (const char* key : {"cov15", "cov9", "cov", "covariance", "Qd_summed"}) {
       if (!j.contains(key)) continue;
       const json& m = j.at(key);
       if (!m.is_array() || !std::all_of(m.begin(), m.end(), [&](const json& r) { return r.is_array() && r.size() == m.size(); }))
@@ -255,6 +251,8 @@ void CheckResults(const json& j, const std::string& ptr) {
     for (std::size_t i = 0; i < j.size(); ++i) CheckResults(j[i], ptr + "/" + std::to_string(i));
   }
 }
+
+namespace {
 
 // GTSAM's `mid` input: the mean of samples k and k+1 held over [t_k, t_k+1]. For the native
 // zero-order-hold scheme this is fed as a new sample sequence with the same timestamps.
@@ -374,7 +372,7 @@ json PropagationBlock(const Registry& reg, const Case& k, const std::string& pro
 }  // namespace
 
 json Run(const Registry& reg, const json& case_json) {
-  const Case k = Parse(case_json);
+  const Case k = ParseCase(case_json);
   SampleWindow zoh, mid_zoh;
   const std::vector<ImuSample> mid = MidSamples(k.samples);
   const double t_s = k.samples.front().t, t_e = k.samples.back().t;

@@ -10,10 +10,36 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "imuconv/registry.h"
 
 namespace imuconv::refcase {
+
+/// A reference case, read and checked by ParseCase.
+struct Case {
+  std::vector<ImuSample> samples;
+  Vec3 gravity;
+  ImuNoise noise;
+  ImuState x_s;
+  Eigen::Vector4d q_s_wxyz;  ///< state_s's quaternion as written (sign kept; unit within 1e-6)
+  Mat15 cov_s_left;
+  Vec15 end_perturbation;
+  Vec3 dbg, dba;
+};
+
+/// Reads a case with the rules of Run below; throws imuconv::Error naming the JSON pointer.
+Case ParseCase(const nlohmann::json& case_json);
+
+/// Refuses a computed document with a non-finite number or a covariance ("cov15", "cov9",
+/// "cov", "covariance", "Qd_summed") with a variance below -1e-9 of the largest, naming the
+/// output pointer under `ptr`.
+void CheckResults(const nlohmann::json& out, const std::string& ptr);
+
+/// A matrix as an array of rows, a vector as an array.
+nlohmann::json ToJson(const Eigen::MatrixXd& m);
+nlohmann::json ToJsonVec(const Eigen::VectorXd& v);
 
 /// Throws imuconv::Error naming the JSON pointer of a missing, unknown or malformed field,
 /// with the rules of `imuconv run`: finite numbers, a unit quaternion (within 1e-6), a valid
