@@ -205,76 +205,42 @@ class ResidualTask : public Task {
           "with curr_bg/ba = x_s's biases, state1 = x_e; the measurement expressed in basalt");
   }
 
+  /// One residual of kind gtsam or forster: the generic form, Jacobians in `convention`.
+  std::optional<double> run_generic(RunContext& ctx, JsonWriter& w, const MeasRecord& r, const ImuState& xs,
+                                    const ImuState& xe) const {
+    static const std::vector<std::string> rblocks = {"theta", "p", "v", "bg", "ba"};
+    const std::string rconv = "residual_" + kind_name;
+    const auto& sb = ctx.blocks(PluginKind::StateConvention, convention);
+    const auto& ib = ctx.blocks(PluginKind::IncrementConvention, "preint_reference");
+    const Residual res = ComputeResidual(ctx.reg, kind, r.m, xs, xe, convention, ctx.spec.gravity);
+    w.key("r");
+    WriteChartVector(w, res.r, rconv, rblocks);
+    w.key("H_start");
+    WriteMixed(w, res.H_start, rconv, rblocks, convention, sb);
+    w.key("H_end");
+    WriteMixed(w, res.H_end, rconv, rblocks, convention, sb);
+    w.key("H_increment");
+    WriteMixed(w, res.H_increment, rconv, rblocks, "preint_reference", ib);
+    w.key("cov");
+    WriteCovariance(w, res.cov, rconv, rblocks);
+    return Mahalanobis<15>(res.r, res.cov);
+  }
+
   void run(RunContext& ctx, JsonWriter& w, TaskResult&) const override {
     const auto& ms = ctx.measurements(meas);
     const auto sel = ctx.select(ms, index, pointer, MeasurementsName(meas));
     if ((!start.ground_truth || !end.ground_truth) && sel.size() > 1)
       ctx.fail(pointer, "explicit start/end states go with one measurement; give \"index\" (" + MeasurementsName(meas) +
                             " has " + std::to_string(ms.size()) + ")");
-    if (native != NativeKind::kNone) return run_native_task(ctx, w, ms, sel);
-    static const std::vector<std::string> rblocks = {"theta", "p", "v", "bg", "ba"};
-    const std::string rconv = "residual_" + kind_name;
-    const auto& sb = ctx.blocks(PluginKind::StateConvention, convention);
-    const auto& ib = ctx.blocks(PluginKind::IncrementConvention, "preint_reference");
     w.key("kind");
     w.string(kind_name);
     WriteMeasurementsSource(w, meas);
-    w.key("state_convention");
-    w.string(convention);
-    w.key("residuals");
-    w.begin_array();
-    double sum_m2 = 0;
-    std::size_t n_m2 = 0;
-    for (std::size_t k : sel) {
-      const MeasRecord& r = ms[k];
-      const ImuState xs = state_at(ctx, start, r.t_s, "start"), xe = state_at(ctx, end, r.t_e, "end");
-      const Residual res = ComputeResidual(ctx.reg, kind, r.m, xs, xe, convention, ctx.spec.gravity);
-      w.begin_object();
-      w.key("index");
-      w.unsigned_integer(k);
-      ctx.write_times(w, r.t_s, r.t_e);
-      w.key("x_s");
-      WriteState(w, xs);
-      w.key("x_e");
-      WriteState(w, xe);
-      w.key("r");
-      WriteChartVector(w, res.r, rconv, rblocks);
-      w.key("H_start");
-      WriteMixed(w, res.H_start, rconv, rblocks, convention, sb);
-      w.key("H_end");
-      WriteMixed(w, res.H_end, rconv, rblocks, convention, sb);
-      w.key("H_increment");
-      WriteMixed(w, res.H_increment, rconv, rblocks, "preint_reference", ib);
-      w.key("cov");
-      WriteCovariance(w, res.cov, rconv, rblocks);
-      const Eigen::LDLT<Mat15> ldlt(res.cov);
-      if (ldlt.info() == Eigen::Success && ldlt.isPositive() && ldlt.vectorD().minCoeff() > 0.0) {
-        const double m2 = res.r.dot(ldlt.solve(res.r));
-        w.key("mahalanobis_squared");
-        w.number(m2);
-        sum_m2 += m2;
-        ++n_m2;
-      }
-      w.end_object();
+    if (native == NativeKind::kNone) {
+      w.key("state_convention");
+      w.string(convention);
+    } else {
+      write_native_layout(w);
     }
-    w.end_array();
-    if (n_m2) {
-      w.key("mean_mahalanobis_squared");
-      w.number(sum_m2 / static_cast<double>(n_m2));
-    }
-    if (std::ostream* o = ctx.summary()) {
-      *o << "residual '" << name << "' (" << kind_name << "): " << sel.size() << " residual(s)";
-      if (n_m2) *o << ", mean r^T cov^-1 r = " << Num(sum_m2 / static_cast<double>(n_m2), 4) << " (15 dof)";
-      *o << "\n";
-    }
-  }
-
-  template <typename Records, typename Selection>
-  void run_native_task(RunContext& ctx, JsonWriter& w, const Records& ms, const Selection& sel) const {
-    w.key("kind");
-    w.string(kind_name);
-    WriteMeasurementsSource(w, meas);
-    write_native_layout(w);
     w.key("residuals");
     w.begin_array();
     double sum_m2 = 0;
@@ -290,7 +256,9 @@ class ResidualTask : public Task {
       WriteState(w, xs);
       w.key("x_e");
       WriteState(w, xe);
-      if (const auto m2 = run_native(ctx, w, r, xs, xe)) {
+      const std::optional<double> m2 =
+          native == NativeKind::kNone ? run_generic(ctx, w, r, xs, xe) : run_native(ctx, w, r, xs, xe);
+      if (m2) {
         w.key("mahalanobis_squared");
         w.number(*m2);
         sum_m2 += *m2;
@@ -307,7 +275,7 @@ class ResidualTask : public Task {
       *o << "residual '" << name << "' (" << kind_name << "): " << sel.size() << " residual(s)";
       if (n_m2)
         *o << ", mean r^T cov^-1 r = " << Num(sum_m2 / static_cast<double>(n_m2), 4) << " ("
-           << (native == NativeKind::kVinsFusion ? 15 : 9) << " dof)";
+           << (native == NativeKind::kBasalt ? 9 : 15) << " dof)";
       *o << "\n";
     }
   }
