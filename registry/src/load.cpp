@@ -10,15 +10,27 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <set>
 
 #include "convention_check.h"
+#include "imuconv/plugin_kind.h"
 #include "plugin_boundary.h"
 #include "registry_impl.h"
-#include "imuconv/plugin_kind.h"
 
 namespace imuconv {
 namespace fs = std::filesystem;
+
+/// A plugin's four entry points, from a shared object or compiled in (plugin_kind.h).
+struct Registry::EntryPoints {
+  std::function<int()> abi;
+  std::function<const PluginDescriptor*()> describe;
+  std::function<void*()> create;
+  std::function<void(void*)> destroy;
+};
+
+/// PluginInfo::file of a compiled-in plugin.
+const char* const Registry::kCompiledIn = "compiled-in";
 
 namespace {
 
@@ -66,6 +78,25 @@ std::string WithOverrideHint(const std::vector<std::string>& duplicates) {
 
 // Loads every imuconv_plugin_*.so in dir into reg. Failures become issues; duplicate ids are
 // issues with an override, else collected in `duplicates` for the caller to throw.
+/// One plugin of a search path, loaded by `load`: a failure becomes a LoadIssue, a duplicate
+/// id an override warning or a fatal duplicate, as LoadOptions says.
+template <typename Load>
+void LoadOne(const std::string& what, const LoadOptions& options, std::vector<LoadIssue>& issues,
+             std::vector<std::string>& duplicates, const Load& load) {
+  try {
+    load();
+  } catch (const DuplicateId& d) {
+    if (options.allow_override)
+      issues.push_back({what, d.override_message(), true});
+    else
+      duplicates.push_back(d.what());
+  } catch (const std::exception& e) {
+    issues.push_back({what, e.what()});
+  } catch (...) {
+    issues.push_back({what, "failed to load with an exception that is not a std::exception"});
+  }
+}
+
 void ScanDirectory(Registry& reg, const std::string& dir, const LoadOptions& options, std::vector<LoadIssue>& issues,
                    std::vector<std::string>& duplicates) {
   std::error_code ec;
@@ -95,20 +126,7 @@ void ScanDirectory(Registry& reg, const std::string& dir, const LoadOptions& opt
   }
   if (ec) issues.push_back({dir, "listing the plugin directory stopped early: " + ec.message()});
   std::sort(files.begin(), files.end());  // deterministic order
-  for (const auto& f : files) {
-    try {
-      reg.load_file(f);
-    } catch (const DuplicateId& d) {
-      if (options.allow_override)
-        issues.push_back({f, d.override_message(), true});
-      else
-        duplicates.push_back(d.what());
-    } catch (const std::exception& e) {
-      issues.push_back({f, e.what()});
-    } catch (...) {
-      issues.push_back({f, "failed to load with an exception that is not a std::exception"});
-    }
-  }
+  for (const auto& f : files) LoadOne(f, options, issues, duplicates, [&] { reg.load_file(f); });
 }
 
 }  // namespace
@@ -144,15 +162,43 @@ void Registry::load_file(const std::string& path) {
     if (!lib->has(sym)) throw Error(where + " is not an imuconv plugin: it does not export '" + sym + "'");
   }
   // The entry points are fetched without noexcept: one that throws anyway is caught by
-  // CallPlugin and named, instead of reaching std::terminate through a noexcept call.
+  // CallPlugin and named, instead of reaching std::terminate through a noexcept call. The
+  // library stays loaded while any object created from it lives (the destroy function holds it).
+  EntryPoints e;
+  e.abi = [lib] { return lib->get_alias<int()>("imuconv_plugin_abi")(); };
+  e.describe = [lib] { return lib->get_alias<const PluginDescriptor*()>("imuconv_plugin_describe")(); };
+  e.create = [lib] { return lib->get_alias<void*()>("imuconv_plugin_create")(); };
+  auto destroy = lib->get_alias<void(void*)>("imuconv_plugin_destroy");
+  e.destroy = [lib, destroy](void* p) { destroy(p); };
+  adopt(path, e);
+  impl_->loaded_files.emplace(identity, path);
+}
+
+void Registry::adopt_compiled_in(std::size_t k) {
+  const detail::CompiledInPlugin plugin = detail::CompiledInPlugins().at(k);
+  EntryPoints e;
+  e.abi = [plugin] { return plugin.abi(); };
+  e.describe = [plugin] { return plugin.describe(); };
+  e.create = [plugin] { return plugin.create(); };
+  e.destroy = [plugin](void* p) { plugin.destroy(p); };
+  adopt(kCompiledIn, e);
+}
+
+void Registry::load_compiled_in() {
+  const std::size_t n = detail::CompiledInPlugins().size();
+  while (impl_->compiled_in_adopted < n) adopt_compiled_in(impl_->compiled_in_adopted++);
+}
+
+bool Registry::has_compiled_in() { return !detail::CompiledInPlugins().empty(); }
+
+void Registry::adopt(const std::string& path, const EntryPoints& e) {
+  const std::string where = Quoted(path);
   // 1. ABI handshake before anything else is called.
-  const int abi = detail::CallPlugin(path, "imuconv_plugin_abi()", [&] { return lib->get_alias<int()>("imuconv_plugin_abi")(); });
+  const int abi = detail::CallPlugin(path, "imuconv_plugin_abi()", e.abi);
   if (abi != kPluginAbiVersion)
     throw Error(where + " was built for imuconv plugin ABI version " + std::to_string(abi) +
                 "; this imuconv speaks version " + std::to_string(kPluginAbiVersion) + ": rebuild the plugin");
-  const PluginDescriptor* d = detail::CallPlugin(path, "imuconv_plugin_describe()", [&] {
-    return lib->get_alias<const PluginDescriptor*()>("imuconv_plugin_describe")();
-  });
+  const PluginDescriptor* d = detail::CallPlugin(path, "imuconv_plugin_describe()", e.describe);
   if (d == nullptr) throw Error(where + " returned no plugin descriptor");
   const AbiFingerprint want;
   const AbiFingerprint& got = d->fingerprint;
@@ -176,10 +222,8 @@ void Registry::load_file(const std::string& path) {
     throw Error("plugin " + where + " (" + Quoted(id) + "): its descriptor's summary is a null pointer (expected a one-line description)");
   if (const PluginInfo* other = impl_->find(d->kind, id)) throw DuplicateId(d->kind, id, other->file, path);
 
-  // 2. Create inside the plugin; destroy inside the plugin; the deleter keeps lib alive.
-  auto create = lib->get_alias<void*()>("imuconv_plugin_create");
-  auto destroy = lib->get_alias<void(void*)>("imuconv_plugin_destroy");
-  void* raw = detail::CallPlugin(path, "imuconv_plugin_create()", [&] { return create(); });
+  // 2. Create inside the plugin; destroy inside the plugin; the deleter keeps it alive.
+  void* raw = detail::CallPlugin(path, "imuconv_plugin_create()", e.create);
   if (raw == nullptr) throw Error(where + " failed to create its " + Quoted(id) + " object");
 
   PluginInfo info;
@@ -191,7 +235,7 @@ void Registry::load_file(const std::string& path) {
 
   auto wrap = [&](auto* typed) {
     using T = std::remove_pointer_t<decltype(typed)>;
-    return std::shared_ptr<const T>(typed, [lib, destroy](const T* p) {
+    return std::shared_ptr<const T>(typed, [destroy = e.destroy](const T* p) {
       // A destroy() that throws has no one left to tell (this runs in a destructor); the
       // object may leak, the host carries on.
       try {
@@ -251,7 +295,6 @@ void Registry::load_file(const std::string& path) {
     }
   }
   impl_->infos.push_back(std::move(info));
-  impl_->loaded_files.emplace(identity, path);
 }
 
 std::vector<LoadIssue> Registry::load_directory(const std::string& dir, const LoadOptions& options) {
@@ -302,7 +345,21 @@ std::vector<LoadIssue> Registry::load_search_path(const std::vector<std::string>
                                                   const LoadOptions& options) {
   std::vector<LoadIssue> issues;
   std::vector<std::string> duplicates;
-  for (const auto& dir : search_path(extra_dirs)) ScanDirectory(*this, dir, options, issues, duplicates);
+  // With compiled-in plugins (IMUCONV_STATIC_PLUGINS), they take the built-in directory's place.
+  std::error_code ec;
+  const std::string builtin = fs::weakly_canonical(default_plugin_dir(), ec).string();
+  for (const auto& dir : search_path(extra_dirs)) {
+    std::error_code dec;
+    if (has_compiled_in() && fs::weakly_canonical(dir, dec).string() == builtin) {
+      const std::size_t n = detail::CompiledInPlugins().size();
+      while (impl_->compiled_in_adopted < n) {
+        const std::size_t k = impl_->compiled_in_adopted++;
+        LoadOne(kCompiledIn, options, issues, duplicates, [&] { adopt_compiled_in(k); });
+      }
+      continue;
+    }
+    ScanDirectory(*this, dir, options, issues, duplicates);
+  }
   if (!duplicates.empty()) throw Error(WithOverrideHint(duplicates));
   return issues;
 }

@@ -34,10 +34,8 @@ using PluginObjectT = std::conditional_t<std::is_final_v<Impl>, Impl, PluginObje
 
 }  // namespace imuconv::detail
 
-/// Defines and exports one plugin. Use once per plugin source file, at global scope:
-///   IMUCONV_PLUGIN(StateConvention, MyConvention, "my_id", "1.0.0", "one line summary")
-/// The id is declared here only: MyConvention leaves id() to this line.
-#define IMUCONV_PLUGIN(KIND, IMPL, ID, VERSION, SUMMARY)                                      \
+// The entry points of one plugin (internal to IMUCONV_PLUGIN).
+#define IMUCONV_PLUGIN_ENTRY_POINTS_(KIND, IMPL, ID, VERSION, SUMMARY)                       \
   namespace imuconv_plugin_entry {                                                            \
   using Base = ::imuconv::PluginBase<::imuconv::PluginKind::KIND>::type;                      \
   constexpr char kId[] = ID;                                                                  \
@@ -58,8 +56,28 @@ using PluginObjectT = std::conditional_t<std::is_final_v<Impl>, Impl, PluginObje
     }                                                                                         \
   }                                                                                           \
   void destroy(void* p) noexcept { delete static_cast<Base*>(p); }                            \
-  }                                                                                           \
+  }
+
+/// Defines and exports one plugin. Use once per plugin source file, at global scope:
+///   IMUCONV_PLUGIN(StateConvention, MyConvention, "my_id", "1.0.0", "one line summary")
+/// The id is declared here only: MyConvention leaves id() to this line. Compiled with
+/// IMUCONV_PLUGIN_STATIC defined, the same file adds the plugin to the process's table of
+/// compiled-in plugins instead of exporting it (IMUCONV_STATIC_PLUGINS builds the built-in
+/// plugins into the registry library that way); the entry points are then internal, so many
+/// plugins link into one library.
+#if defined(IMUCONV_PLUGIN_STATIC)
+#define IMUCONV_PLUGIN(KIND, IMPL, ID, VERSION, SUMMARY)                                      \
+  namespace {                                                                                 \
+  IMUCONV_PLUGIN_ENTRY_POINTS_(KIND, IMPL, ID, VERSION, SUMMARY)                              \
+  [[maybe_unused]] const bool imuconv_plugin_added = ::imuconv::detail::AddCompiledInPlugin(   \
+      {&imuconv_plugin_entry::abi, &imuconv_plugin_entry::describe, &imuconv_plugin_entry::create, \
+       &imuconv_plugin_entry::destroy});                                                      \
+  }
+#else
+#define IMUCONV_PLUGIN(KIND, IMPL, ID, VERSION, SUMMARY)                                      \
+  IMUCONV_PLUGIN_ENTRY_POINTS_(KIND, IMPL, ID, VERSION, SUMMARY)                              \
   BOOST_DLL_ALIAS(imuconv_plugin_entry::abi, imuconv_plugin_abi)                              \
   BOOST_DLL_ALIAS(imuconv_plugin_entry::describe, imuconv_plugin_describe)                    \
   BOOST_DLL_ALIAS(imuconv_plugin_entry::create, imuconv_plugin_create)                        \
   BOOST_DLL_ALIAS(imuconv_plugin_entry::destroy, imuconv_plugin_destroy)
+#endif

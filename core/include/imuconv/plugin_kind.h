@@ -4,7 +4,10 @@
 // exporting side is plugin_abi.h, target imuconv::plugin_abi).
 #pragma once
 
+#include <vector>
+
 #include "imuconv/chart.h"
+#include "imuconv/export.h"
 #include "imuconv/preintegrator.h"
 #include "imuconv/propagator.h"
 #include "imuconv/types.h"
@@ -60,5 +63,23 @@ template <> struct PluginBase<PluginKind::StateConvention> { using type = StateC
 template <> struct PluginBase<PluginKind::IncrementConvention> { using type = IncrementConvention; };
 template <> struct PluginBase<PluginKind::Propagator> { using type = Propagator; };
 template <> struct PluginBase<PluginKind::Preintegrator> { using type = Preintegrator; };
+
+namespace detail {
+
+/// The four entry points of one plugin compiled into a program or library instead of a shared
+/// object (IMUCONV_PLUGIN_STATIC): the registry adopts them as it adopts a file's, with the
+/// same checks (Registry::load_compiled_in).
+struct CompiledInPlugin {
+  int (*abi)() noexcept;
+  const PluginDescriptor* (*describe)() noexcept;
+  void* (*create)() noexcept;
+  void (*destroy)(void*) noexcept;
+};
+/// Adds a compiled-in plugin to the process's table (at static initialisation); always true.
+IMUCONV_API bool AddCompiledInPlugin(const CompiledInPlugin& plugin) noexcept;
+/// The table, in the order the plugins were added.
+IMUCONV_API const std::vector<CompiledInPlugin>& CompiledInPlugins() noexcept;
+
+}  // namespace detail
 
 }  // namespace imuconv

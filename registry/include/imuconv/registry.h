@@ -92,6 +92,16 @@ class IMUCONV_API Registry {
   std::vector<LoadIssue> load_search_path(const std::vector<std::string>& extra_dirs = {},
                                           const LoadOptions& options = {});
   static std::vector<std::string> search_path(const std::vector<std::string>& extra_dirs = {});
+  /// Adopts the plugins compiled into this process (plugin_abi.h, IMUCONV_PLUGIN_STATIC; the
+  /// build option IMUCONV_STATIC_PLUGINS compiles the built-in ones into this library) with
+  /// the checks a file's plugin gets; their PluginInfo::file is kCompiledIn. load_search_path
+  /// adopts them in place of the built-in plugin directory. Throws Error as load_file does;
+  /// plugins adopted before are not adopted again.
+  void load_compiled_in();
+  /// Whether this process has compiled-in plugins.
+  static bool has_compiled_in();
+  /// PluginInfo::file of a compiled-in plugin: "compiled-in".
+  static const char* const kCompiledIn;
   /// The built-in plugin directory (next to the installed library, else the build tree).
   static std::string default_plugin_dir();
 
@@ -131,6 +141,11 @@ class IMUCONV_API Registry {
 
  private:
   struct Impl;
+  struct EntryPoints;
+  /// The checks and the adoption of one plugin, from its entry points (`path` names it).
+  void adopt(const std::string& path, const EntryPoints& entry);
+  /// adopt() for entry k of detail::CompiledInPlugins().
+  void adopt_compiled_in(std::size_t k);
   std::unique_ptr<Impl> impl_;
 };
 
