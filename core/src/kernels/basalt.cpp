@@ -86,9 +86,16 @@ Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding,
   return Status::Ok();
 }
 
-Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding, NativePreintegration& out) {
+Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding, NativePreintegration& out,
+                       BasaltNoiseMapping noise) {
+  std::optional<BasaltSampleVariances> variances;
+  if (noise == BasaltNoiseMapping::kAsConfigured) {
+    variances.emplace();
+    variances->gyro.setConstant(in.noise.gyro_noise_density * in.noise.gyro_noise_density);
+    variances->accel.setConstant(in.noise.accel_noise_density * in.noise.accel_noise_density);
+  }
   BasaltPreintegration r;
-  if (Status s = IntegrateBasalt(in, feeding, std::nullopt, r); !s.ok()) return s;
+  if (Status s = IntegrateBasalt(in, feeding, variances, r); !s.ok()) return s;
   out.dt = static_cast<double>(r.dt_ns) * 1e-9;
   out.delta = PreintIncrement{};
   out.delta.dR = r.R;

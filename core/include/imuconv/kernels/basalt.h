@@ -39,6 +39,14 @@ namespace imuconv::kernels {
 
 enum class BasaltFeeding { kNative, kForwardZoh };
 
+/// How a preintegrator reads the four noise numbers:
+///   kFromDensities: continuous densities, per-sample variances sigma^2 / dt at each step's dt;
+///   kAsConfigured:  gyro_noise_density and accel_noise_density are the per-sample standard
+///                   deviations Basalt's integrate() is given (its VIO's
+///                   dicrete_time_*_noise_std(), sigma_c sqrt(imu_update_rate)), constant over
+///                   steps whatever their dt, as Basalt uses them; the random walks stay densities.
+enum class BasaltNoiseMapping { kFromDensities, kAsConfigured };
+
 /// The per-sample variances Basalt's integrate() is given (per axis).
 struct BasaltSampleVariances {
   Vec3 accel = Vec3::Zero(), gyro = Vec3::Zero();
@@ -67,16 +75,17 @@ IMUCONV_API Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding 
 /// Jacobian in `basalt` ([p, theta, v, bg, ba]); the bias blocks of the covariance are the
 /// random walks over the interval, sigma_b^2 T, uncorrelated with the rest, as Basalt's
 /// separate random-walk factors model them.
-IMUCONV_API Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding, NativePreintegration& out);
+IMUCONV_API Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding, NativePreintegration& out,
+                                   BasaltNoiseMapping noise = BasaltNoiseMapping::kFromDensities);
 
 /// The scheme with one feeding as a preintegrator's kernel (plugin/kernel_plugin.h): its
 /// outputs are in the `basalt` increment convention.
-template <BasaltFeeding kFeeding>
+template <BasaltFeeding kFeeding, BasaltNoiseMapping kNoise = BasaltNoiseMapping::kFromDensities>
 struct BasaltScheme {
   static constexpr const char* kCovConvention = "basalt";
   static constexpr const char* kJacobianConvention = "basalt";
   Status operator()(const PreintegrationInput& in, NativePreintegration& out) const {
-    return IntegrateBasalt(in, kFeeding, out);
+    return IntegrateBasalt(in, kFeeding, out, kNoise);
   }
 };
 
