@@ -63,3 +63,4 @@ void RegisterRefcaseCommand(CLI::App& app, CommandContext& ctx);
 void RegisterBenchCommand(CLI::App& app, CommandContext& ctx);
 
 }  // namespace imuconv::cli
+void RegisterCheckCommand(CLI::App& app, CommandContext& ctx);

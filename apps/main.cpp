@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);  // prints help (stdout) or the usage error (stderr)
     return code == 0 ? 0 : 2;
   } catch (const std::exception& e) {
+  RegisterCheckCommand(app, ctx);
     PrintError(e.what());
     return 1;
   } catch (...) {

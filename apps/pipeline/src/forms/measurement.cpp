@@ -1,6 +1,7 @@
 // The measurement form, read (measurements files) and written (measurement.h).
 #include "measurement.h"
 
+#include <algorithm>
 #include <cmath>
 #include <tuple>
 
@@ -79,47 +80,157 @@ void ReadTimes(const Node& e, std::optional<std::int64_t> file_origin, std::opti
 
 }  // namespace
 
+namespace {
+
+const std::vector<std::string> kMeasurementKeys = {"index",        "t_start", "t_end",   "t_start_abs_ns",
+                                                   "t_end_abs_ns", "dt",      "n_knots", "bias_estimate",
+                                                   "delta",        "J_bias",  "cov",     "expressed"};
+
+/// The envelope every measurements file shares: the root object, its optional origin and the
+/// non-empty "measurements" array (nullopt after reporting what is wrong).
+std::optional<Node> MeasurementArray(const Node& root, std::optional<std::int64_t>& file_origin) {
+  if (!root.expect_object({"$schema", "description", "time_origin_ns", "measurements"})) return std::nullopt;
+  if (auto o = root.integer("time_origin_ns", false)) file_origin = *o;
+  const auto ms = root.get("measurements", true);
+  if (ms && (!ms->is_array() || ms->size() == 0)) ms->fail("expected a non-empty array of measurements");
+  if (!ms || !ms->is_array()) return std::nullopt;
+  return ms;
+}
+
+/// The fields whose meaning does not depend on a chart: times, index, dt, bias estimate and
+/// increment.
+void ReadChartFreeFields(const Node& e, std::size_t i, std::optional<std::int64_t> file_origin,
+                         std::optional<std::int64_t> origin_ns, MeasRecord& r, PreintegratedIn& in) {
+  ReadTimes(e, file_origin, origin_ns, r);
+  // Tasks refer to a measurement by its position ("index" of residual and bias_update
+  // tasks): an "index" that says otherwise would be silently wrong.
+  if (auto in = e.get("index", false))
+    if (auto k = in->integer(); k && *k != static_cast<std::int64_t>(i))
+      in->fail("index " + std::to_string(*k) + " is not the measurement's position " + std::to_string(i) +
+               " in the array (tasks refer to measurements by position)");
+  if (auto dt = e.number("dt", true)) {
+    if (!(*dt > 0.0))
+      e.checker().error(e.child_pointer("dt"), "expected a positive duration");
+    else
+      in.dt = *dt;
+  }
+  if (auto bn = e.get("bias_estimate", true)) {
+    if (bn->expect_object({"bg", "ba"})) {
+      if (auto v = bn->vec3("bg", true)) in.bg_hat = *v;
+      if (auto v = bn->vec3("ba", true)) in.ba_hat = *v;
+    }
+  }
+  if (auto dn = e.get("delta", true))
+    if (auto d = IncrementFromJson(*dn)) in.delta = *d;
+}
+
+void CheckDtAgainstTimes(const Node& e, const MeasRecord& r, double dt) {
+  if (r.t_s && r.t_e && std::abs((*r.t_e - *r.t_s) - dt) > kTimeAgreement)
+    e.checker().error(e.child_pointer("dt"), "dt = " + Num(dt, 10) + " s does not match t_end - t_start = " +
+                                                 Num(*r.t_e - *r.t_s, 10) + " s (tolerance 1e-6 s)");
+}
+
+// ---- the declared form (imuconv check): any chart may be missing or "unknown" ----
+
+constexpr const char* kUnknown = "unknown";
+
+/// A convention id as declared: "" when missing or "unknown", else a registered increment
+/// convention (an unknown id is reported: a typo is not "unknown").
+std::string DeclaredConvention(const Node& n, const char* key, const Registry& reg) {
+  const auto cv = n.string(key, false);
+  if (!cv || *cv == kUnknown) return "";
+  CheckPluginId(n.checker(), reg, PluginKind::IncrementConvention, *cv, n.child_pointer(key));
+  return reg.has(PluginKind::IncrementConvention, *cv) ? *cv : "";
+}
+
+/// A declared block order: {} when missing or "unknown" (then `unknown` is set), else an
+/// ordering of `labels` (each once; reported otherwise).
+std::vector<std::string> DeclaredBlocks(const Node& parent, const char* key, std::vector<std::string> labels,
+                                        bool* unknown = nullptr) {
+  const auto bn = parent.get(key, false);
+  if (!bn) return {};
+  if (bn->is_string() && bn->value().get<std::string>() == kUnknown) {
+    if (unknown) *unknown = true;
+    return {};
+  }
+  const auto b = bn->string_list();
+  if (!b) return {};
+  std::vector<std::string> sorted = *b;
+  std::sort(sorted.begin(), sorted.end());
+  std::sort(labels.begin(), labels.end());
+  if (sorted != labels) {
+    bn->fail("blocks [" + Printable(Join(*b)) + "] are not an ordering of [" + Join(labels) + "] (or \"unknown\")");
+    return {};
+  }
+  return *b;
+}
+
+void ReadDeclaredCov(const Node& cn, const Registry& reg, DeclaredMeasurement& out) {
+  if (!cn.expect_object({"convention", "blocks", "matrix"})) return;
+  out.in.convention = DeclaredConvention(cn, "convention", reg);
+  out.cov_blocks = DeclaredBlocks(cn, "blocks", {"theta", "p", "v", "bg", "ba"}, &out.cov_blocks_unknown);
+  if (auto mn = cn.get("matrix", true))
+    if (auto m = mn->matrix(15, 15)) {
+      out.in.cov = *m;
+      CheckCovarianceInput(cn.checker(), mn->pointer(), out.in.cov);
+    }
+}
+
+void ReadDeclaredJBias(const Node& n, const Registry& reg, DeclaredMeasurement& out) {
+  if (!n.expect_object({"convention", "rows", "cols", "matrix"})) return;
+  std::string chart = DeclaredConvention(n, "convention", reg);
+  bool chart_written = n.has("convention");  // an id or "unknown"
+  for (const char* key : {"rows", "cols"}) {
+    const auto rn = n.get(key, false);
+    if (!rn || !rn->expect_object({"convention", "blocks"})) continue;
+    chart_written = chart_written || rn->has("convention");
+    const std::string cv = DeclaredConvention(*rn, "convention", reg);
+    if (!cv.empty() && !chart.empty() && cv != chart)
+      rn->checker().error(rn->child_pointer("convention"),
+                          Quoted(cv) + " differs from the J_bias chart " + Quoted(chart));
+    if (!cv.empty()) chart = cv;
+    if (std::string(key) == "rows")
+      out.J_bias_rows = DeclaredBlocks(*rn, "blocks", {"theta", "p", "v"});
+    else
+      out.J_bias_cols = DeclaredBlocks(*rn, "blocks", {"bg", "ba"}, &out.J_bias_cols_unknown);
+  }
+  // As ReadMeasurementFile: with no chart of its own, J_bias is in the chart the covariance's
+  // convention names for its bias Jacobian.
+  if (!chart_written && !out.in.convention.empty()) {
+    chart = reg.info(PluginKind::IncrementConvention, out.in.convention).jacobian_convention;
+    if (chart.empty()) chart = out.in.convention;
+    out.jacobian_convention_implied = true;
+  }
+  if (!chart.empty() && !out.J_bias_rows.empty()) {
+    const auto labels = NavLabels(Blocks(reg, PluginKind::IncrementConvention, chart));
+    if (out.J_bias_rows != labels)
+      n.checker().error(
+          n.child_pointer("rows") + "/blocks",
+          "rows [" + Join(out.J_bias_rows) + "] do not match the order of '" + chart + "': [" + Join(labels) + "]");
+  }
+  out.in.jacobian_convention = chart;
+  if (auto mn = n.get("matrix", true))
+    if (auto m = mn->matrix(9, 6)) out.in.J_bias = *m;
+}
+
+}  // namespace
+
 std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::string& file, const Registry& reg,
                                                 std::optional<std::int64_t> origin_ns) {
   Checker c(file);
   const Node root(doc, "", c);
   std::vector<MeasRecord> out;
-  if (!root.expect_object({"$schema", "description", "time_origin_ns", "measurements"})) c.throw_if_errors();
   std::optional<std::int64_t> file_origin;
-  if (auto o = root.integer("time_origin_ns", false)) file_origin = *o;
-  const auto ms = root.get("measurements", true);
-  if (ms && (!ms->is_array() || ms->size() == 0)) ms->fail("expected a non-empty array of measurements");
-  if (!ms || !ms->is_array()) c.throw_if_errors();
+  const auto ms = MeasurementArray(root, file_origin);
+  if (!ms) c.throw_if_errors();
   for (std::size_t i = 0; i < ms->size(); ++i) {
     const Node e = (*ms)[i];
-    if (!e.expect_object({"index", "t_start", "t_end", "t_start_abs_ns", "t_end_abs_ns", "dt", "n_knots", "bias_estimate",
-                          "delta", "J_bias", "cov", "expressed"}))
-      continue;
+    if (!e.expect_object(kMeasurementKeys)) continue;
     const std::size_t before = c.count();
     MeasRecord r;
     r.pointer = e.pointer();
     PreintegratedIn in;
-    ReadTimes(e, file_origin, origin_ns, r);
-    // Tasks refer to a measurement by its position ("index" of residual and bias_update
-    // tasks): an "index" that says otherwise would be silently wrong.
-    if (auto in = e.get("index", false))
-      if (auto k = in->integer(); k && *k != static_cast<std::int64_t>(i))
-        in->fail("index " + std::to_string(*k) + " is not the measurement's position " + std::to_string(i) +
-                 " in the array (tasks refer to measurements by position)");
-    if (auto dt = e.number("dt", true)) {
-      if (!(*dt > 0.0))
-        e.checker().error(e.child_pointer("dt"), "expected a positive duration");
-      else
-        in.dt = *dt;
-    }
-    if (auto bn = e.get("bias_estimate", true)) {
-      if (bn->expect_object({"bg", "ba"})) {
-        if (auto v = bn->vec3("bg", true)) in.bg_hat = *v;
-        if (auto v = bn->vec3("ba", true)) in.ba_hat = *v;
-      }
-    }
-    if (auto dn = e.get("delta", true))
-      if (auto d = IncrementFromJson(*dn)) in.delta = *d;
+    ReadChartFreeFields(e, i, file_origin, origin_ns, r, in);
     std::string cov_conv;
     if (auto cn = e.get("cov", true)) {
       if (cn->expect_object({"convention", "blocks", "matrix"})) {
@@ -152,10 +263,37 @@ std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::stri
       e.fail(std::string("cannot bring the measurement into the reference chart: ") + ex.what());
       continue;
     }
-    if (r.t_s && r.t_e && std::abs((*r.t_e - *r.t_s) - in.dt) > kTimeAgreement)
-      e.checker().error(e.child_pointer("dt"), "dt = " + Num(in.dt, 10) + " s does not match t_end - t_start = " +
-                                                   Num(*r.t_e - *r.t_s, 10) + " s (tolerance 1e-6 s)");
+    CheckDtAgainstTimes(e, r, in.dt);
     out.push_back(std::move(r));
+  }
+  c.throw_if_errors();
+  return out;
+}
+
+std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(const std::string& path, const Registry& reg) {
+  const json doc = ParseJsonFile(path);
+  Checker c(path);
+  const Node root(doc, "", c);
+  std::vector<DeclaredMeasurement> out;
+  std::optional<std::int64_t> file_origin;
+  const auto ms = MeasurementArray(root, file_origin);
+  if (!ms) c.throw_if_errors();
+  for (std::size_t i = 0; i < ms->size(); ++i) {
+    const Node e = (*ms)[i];
+    if (!e.expect_object(kMeasurementKeys)) continue;
+    const std::size_t before = c.count();
+    MeasRecord r;
+    DeclaredMeasurement d;
+    d.pointer = e.pointer();
+    // No pipeline origin: times stay on the file's own axis, in seconds as written.
+    ReadChartFreeFields(e, i, std::nullopt, std::nullopt, r, d.in);
+    if (auto cn = e.get("cov", true)) ReadDeclaredCov(*cn, reg, d);
+    if (auto jn = e.get("J_bias", true)) ReadDeclaredJBias(*jn, reg, d);
+    CheckDtAgainstTimes(e, r, d.in.dt);
+    if (c.count() != before) continue;
+    d.t_s = r.t_s;
+    d.t_e = r.t_e;
+    out.push_back(std::move(d));
   }
   c.throw_if_errors();
   return out;

@@ -40,6 +40,31 @@ std::vector<MeasRecord> ReadMeasurementFile(const std::string& path, const Regis
 std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::string& file, const Registry& reg,
                                                 std::optional<std::int64_t> origin_ns);
 
+/// A measurement as a file declares it, before anything is assumed about its charts: what
+/// `imuconv check` reads (apps/check). Each declaration may be missing or "unknown" (then
+/// empty here); the matrices are kept as written, in whatever charts and orders they are.
+struct DeclaredMeasurement {
+  std::string pointer;  // "/measurements/<i>", for messages
+  std::optional<double> t_s, t_e;
+  PreintegratedIn in;  // in.convention / in.jacobian_convention: as declared ("" = not declared)
+  std::vector<std::string> cov_blocks;     // the declared order of the five blocks of cov ({} = not declared)
+  std::vector<std::string> J_bias_rows;    // the declared row blocks of J_bias ({} = not declared)
+  std::vector<std::string> J_bias_cols;    // the declared column order of J_bias, e.g. {"ba", "bg"} ({} = not declared)
+  bool jacobian_convention_implied = false;  // the J_bias chart is the one the cov convention implies, not written
+  // "unknown" written for cov.blocks / J_bias cols.blocks. A missing order, by contrast, means
+  // the chart's own order when the chart is declared (as ReadMeasurementFile takes it).
+  bool cov_blocks_unknown = false, J_bias_cols_unknown = false;
+};
+
+/// Reads a measurements file as ReadMeasurementFile does (same envelope, times, dt, bias
+/// estimate, increment and the same checks of the covariance), except that `cov.convention`,
+/// `cov.blocks`, J_bias's chart (`convention`, `rows.convention`, `cols.convention`) and its
+/// column order (`cols.blocks`) may be missing or "unknown", and that declared block orders
+/// need only be orderings of the labels (the check says whether they are right). t_start and
+/// t_end are taken as written, in seconds on the file's own axis (a reference case's axis).
+/// Problems are reported as ReadMeasurementFile reports them (ConfigError with pointers).
+std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(const std::string& path, const Registry& reg);
+
 /// Writes measurement `k`: index, times, dt, n_knots, bias_estimate, delta, then J_bias and
 /// cov in preint_reference and "expressed" in each of `conventions`, less what `omit` leaves
 /// out. Computed covariances are checked before they are written (WriteCovariance).

@@ -1,0 +1,39 @@
+// imuconv check, as a library: each measurement of a measurements file against the reference
+// schemes over a reference case's samples (references.h), explained (explain.h) and judged
+// (verdict.h). The command line is apps/cmd_check.cpp; the output forms are report.h.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "case_input.h"
+#include "explain.h"
+#include "verdict.h"
+
+namespace imuconv::pipeline {
+struct DeclaredMeasurement;
+}
+
+namespace imuconv::check {
+
+struct MeasurementCheck {
+  std::size_t index = 0;
+  std::string pointer;
+  double t_start = 0.0, t_end = 0.0;
+  Constraints declared;  // J_bias_sign is +1: a measurements file holds d/d(bias estimate)
+  bool jacobian_convention_implied = false;
+  Explanation under_declaration, best;
+  Judgement judgement;
+};
+
+struct CheckResult {
+  Verdict verdict = Verdict::consistent;
+  std::vector<MeasurementCheck> measurements;
+};
+
+/// Checks every measurement. Throws pipeline::ConfigError naming `measurements_file` and the
+/// measurement's pointer when its interval is not inside the case's samples.
+CheckResult RunCheck(const Registry& reg, const CaseInput& input, const std::vector<pipeline::DeclaredMeasurement>& ms,
+                     const std::string& measurements_file);
+
+}  // namespace imuconv::check

@@ -1,0 +1,93 @@
+#include "report.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace imuconv::check {
+namespace {
+
+using json = nlohmann::json;
+
+const char* Word(Verdict v) { return v == Verdict::consistent ? "consistent" : "inconsistent"; }
+
+json OrUnknown(const std::string& s) { return s.empty() ? json("unknown") : json(s); }
+json OrUnknown(const std::vector<std::string>& v) { return v.empty() ? json("unknown") : json(v); }
+
+// JSON has no infinity: a difference that is not finite (a non-finite user entry) is written
+// as null.
+json Number(double d) { return std::isfinite(d) ? json(d) : json(nullptr); }
+
+json Diff(const EntryDiff& d) { return {{"max_d", Number(d.max)}, {"mean_d", Number(d.mean)}}; }
+
+json ExplanationJson(const Explanation& e) {
+  return {{"scheme", e.scheme},
+          {"convention", e.convention},
+          {"blocks", e.blocks},
+          {"jacobian_convention", e.jacobian_convention},
+          {"J_bias_columns", e.J_bias_columns},
+          {"J_bias_sign", e.J_bias_sign},
+          {"delta", Diff(e.delta)},
+          {"J_bias", Diff(e.J_bias)},
+          {"cov", Diff(e.cov)}};
+}
+
+std::string Short(double d) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.1e", d);
+  return b;
+}
+
+}  // namespace
+
+json ReportJson(const CheckResult& r) {
+  const Tolerances& tol = CheckTolerances();
+  json out;
+  out["verdict"] = Word(r.verdict);
+  out["tolerances"] = {{"delta", tol.delta}, {"J_bias", tol.J_bias}, {"cov", tol.cov}};
+  out["measurements"] = json::array();
+  for (const auto& m : r.measurements) {
+    json j;
+    j["index"] = m.index;
+    j["pointer"] = m.pointer;
+    j["t_start"] = m.t_start;
+    j["t_end"] = m.t_end;
+    j["verdict"] = Word(m.judgement.verdict);
+    j["declared"] = {{"convention", OrUnknown(m.declared.convention)},
+                     {"blocks", OrUnknown(m.declared.blocks)},
+                     {"jacobian_convention", OrUnknown(m.declared.jacobian_convention)},
+                     {"jacobian_convention_implied", m.jacobian_convention_implied},
+                     {"J_bias_columns", OrUnknown(m.declared.J_bias_columns)},
+                     {"J_bias_sign", m.declared.J_bias_sign}};
+    j["under_declaration"] = ExplanationJson(m.under_declaration);
+    j["best"] = ExplanationJson(m.best);
+    j["findings"] = m.judgement.findings;
+    out["measurements"].push_back(std::move(j));
+  }
+  return out;
+}
+
+void PrintTable(std::ostream& out, const CheckResult& r) {
+  const Tolerances& tol = CheckTolerances();
+  out << "  #  interval [s]           verdict       scheme    covariance                          J_bias              "
+         "max d: delta    J_bias   cov\n";
+  for (const auto& m : r.measurements) {
+    const Explanation& b = m.best;
+    char head[64];
+    std::snprintf(head, sizeof head, "%3zu  %9.3f .. %9.3f", m.index, m.t_start, m.t_end);
+    std::string cov = b.convention + " " + BlockList(b.blocks);
+    std::string jac = b.jacobian_convention + (b.J_bias_columns.front() == "bg" ? " bg,ba" : " ba,bg") +
+                      (b.J_bias_sign > 0 ? " +" : " -");
+    char line[400];
+    std::snprintf(line, sizeof line, "%s  %-12s  %-8s  %-34s  %-18s  %-8s  %-8s %-8s\n", head,
+                  m.judgement.verdict == Verdict::consistent ? "consistent" : "INCONSISTENT", b.scheme.c_str(),
+                  cov.c_str(), jac.c_str(), Short(b.delta.max).c_str(), Short(b.J_bias.max).c_str(),
+                  Short(b.cov.max).c_str());
+    out << line;
+    for (const auto& f : m.judgement.findings) out << "       - " << f << "\n";
+  }
+  out << "verdict: " << Word(r.verdict) << " (tolerances on max d: delta " << tol.delta << ", J_bias " << tol.J_bias
+      << ", cov " << tol.cov << "; docs/check.md)\n";
+}
+
+}  // namespace imuconv::check
