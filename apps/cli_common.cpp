@@ -38,7 +38,21 @@ std::vector<LoadIssue> LoadRegistry(Registry& reg, const CommandContext& ctx, co
   dirs.insert(dirs.end(), extra.begin(), extra.end());
   LoadOptions options;
   options.allow_override = ctx.allow_plugin_override;
-  return reg.load_search_path(dirs, options);
+  PrintSearchPath(ctx, dirs);
+  std::vector<LoadIssue> issues = reg.load_search_path(dirs, options);
+  if (ctx.verbose())
+    for (const auto& p : reg.plugins())
+      std::cerr << "imuconv: loaded " << KindName(p.kind) << " " << Printable(p.id) << " " << Printable(p.version)
+                << " from " << Printable(p.file) << "\n";
+  return issues;
+}
+
+void PrintSearchPath(const CommandContext& ctx, const std::vector<std::string>& dirs) {
+  if (!ctx.verbose()) return;
+  std::cerr << "imuconv: plugin search path:";
+  for (const auto& d : Registry::search_path(dirs)) std::cerr << " " << Printable(d);
+  if (Registry::has_compiled_in()) std::cerr << " (the built-in directory's plugins compiled in)";
+  std::cerr << "\n";
 }
 
 void PrintError(const std::string& message) {

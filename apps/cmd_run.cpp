@@ -180,9 +180,15 @@ int Run(const CommandContext& ctx, const Options& o) {
   if (errors) errors_text = "k,t_end,t_end_abs_ns,position_error_m,rotation_error_deg,velocity_error_mps\n";
   pipeline::RunOptions ro;
   ro.plugin_dirs = ctx.plugin_dirs();
+  {
+    std::vector<std::string> dirs = ro.plugin_dirs;
+    dirs.insert(dirs.end(), p.plugin_dirs().begin(), p.plugin_dirs().end());
+    PrintSearchPath(ctx, dirs);
+  }
   ro.allow_plugin_override = ctx.allow_plugin_override;
   ro.log = &std::cerr;
-  ro.summary = o.quiet ? nullptr : (file.is_stdout() ? &std::cerr : &std::cout);
+  const bool quiet = o.quiet || ctx.quiet();
+  ro.summary = quiet ? nullptr : (file.is_stdout() ? &std::cerr : &std::cout);
   ro.threads = o.threads;
   ro.every_row = o.every_row;
   if (tum || errors)
@@ -212,7 +218,7 @@ int Run(const CommandContext& ctx, const Options& o) {
     (*f)->write(*text);
     (*f)->commit();
   }
-  if (!o.quiet && !file.is_stdout()) std::cout << "\nwrote " << Printable(out) << "\n";
+  if (!quiet && !file.is_stdout()) std::cout << "\nwrote " << Printable(out) << "\n";
   return 0;
 }
 

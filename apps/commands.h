@@ -19,6 +19,12 @@ struct CommandContext {
   std::vector<std::string> plugin_dirs_sub;   ///< --plugin-dir after it
   bool allow_plugin_override = false;         ///< --allow-plugin-override: a duplicate id is a warning, the first wins
   int exit_code = 0;                          ///< set by the subcommand that ran
+  /// -q before the subcommand: -1, only the results, warnings and errors (no summaries, no
+  /// "wrote" lines); -v: 1, also the plugin search path, each plugin loaded and the time taken,
+  /// on stderr; 0 otherwise. Warnings and errors are never silenced.
+  int verbosity = 0;
+  bool quiet() const { return verbosity < 0; }
+  bool verbose() const { return verbosity > 0; }
 
   /// Every --plugin-dir, in the order given (searched before the default path).
   std::vector<std::string> plugin_dirs() const;
@@ -41,6 +47,9 @@ void AddPluginDirOption(CLI::App& sub, CommandContext& ctx);
 /// default directory) and returns what failed to load. Throws Error for a duplicate plugin id
 /// unless --allow-plugin-override was given.
 std::vector<LoadIssue> LoadRegistry(Registry& reg, const CommandContext& ctx, const std::vector<std::string>& extra = {});
+
+/// With -v: the plugin search path of `dirs` (then IMUCONV_PLUGIN_PATH and the default), on stderr.
+void PrintSearchPath(const CommandContext& ctx, const std::vector<std::string>& dirs);
 
 /// Prints "imuconv: error: <message>" to stderr (each line of a multi-line message indented).
 void PrintError(const std::string& message);

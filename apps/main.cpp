@@ -1,5 +1,6 @@
 // imuconv: IMU propagation and preintegration with conventions as plugins.
 // Each subcommand is registered here and implemented in its own cmd_<name>.cpp.
+#include <chrono>
 #include <exception>
 #include <iostream>
 
@@ -27,6 +28,12 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);
   app.add_flag("--allow-plugin-override", ctx.allow_plugin_override,
                "Two plugins with one id: use the one earlier on the search path (a warning) instead of failing");
+  auto* quiet = app.add_flag_callback("-q,--quiet", [&ctx] { ctx.verbosity = -1; },
+                                      "Print only results, warnings and errors (no summaries, no \"wrote\" lines)");
+  auto* verbose = app.add_flag_callback(
+      "-v,--verbose", [&ctx] { ctx.verbosity = 1; },
+      "Also print the plugin search path, each plugin loaded and the time taken, on stderr");
+  quiet->excludes(verbose);
 
   // ---- subcommands (one file each) ----
   RegisterPluginsCommand(app, ctx);
@@ -38,6 +45,7 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);  // runs the chosen subcommand's callback
+  const auto start = std::chrono::steady_clock::now();
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);  // prints help (stdout) or the usage error (stderr)
     return code == 0 ? 0 : 2;
@@ -50,4 +58,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   return ctx.exit_code;
+  if (ctx.verbose())
+    std::cerr << "imuconv: " << app.get_subcommands().front()->get_name() << " took "
+              << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s\n";
 }
