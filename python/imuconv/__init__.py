@@ -25,6 +25,7 @@ from ._imuconv import (  # noqa: F401
     Residual,
     State,
     bias_corrected_delta,
+    check,
     from_convention,
     preintegrate,
     propagate,
@@ -41,6 +42,6 @@ except ImportError:  # pragma: no cover
 
 __all__ = [
     "Error", "Expressed", "Increment", "Preintegrated", "Propagation", "Registry", "Residual", "State",
-    "bias_corrected_delta", "from_convention", "preintegrate", "propagate", "propagate_by_preintegration",
+    "bias_corrected_delta", "check", "from_convention", "preintegrate", "propagate", "propagate_by_preintegration",
     "residual", "run",
 ]
