@@ -70,6 +70,7 @@ void RegisterConvertCommand(CLI::App& app, CommandContext& ctx);
 void RegisterRunCommand(CLI::App& app, CommandContext& ctx);
 void RegisterRefcaseCommand(CLI::App& app, CommandContext& ctx);
 void RegisterBenchCommand(CLI::App& app, CommandContext& ctx);
+void RegisterCheckCommand(CLI::App& app, CommandContext& ctx);
+void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx);
 
 }  // namespace imuconv::cli
-void RegisterCheckCommand(CLI::App& app, CommandContext& ctx);

@@ -42,23 +42,24 @@ int main(int argc, char** argv) {
   RegisterRunCommand(app, ctx);
   RegisterRefcaseCommand(app, ctx);
   RegisterBenchCommand(app, ctx);
+  RegisterCheckCommand(app, ctx);
+  RegisterMontecarloCommand(app, ctx);
 
+  const auto start = std::chrono::steady_clock::now();
   try {
     app.parse(argc, argv);  // runs the chosen subcommand's callback
-  const auto start = std::chrono::steady_clock::now();
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);  // prints help (stdout) or the usage error (stderr)
     return code == 0 ? 0 : 2;
   } catch (const std::exception& e) {
-  RegisterCheckCommand(app, ctx);
     PrintError(e.what());
     return 1;
   } catch (...) {
     PrintError("unknown failure");
     return 1;
   }
-  return ctx.exit_code;
   if (ctx.verbose())
     std::cerr << "imuconv: " << app.get_subcommands().front()->get_name() << " took "
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s\n";
+  return ctx.exit_code;
 }

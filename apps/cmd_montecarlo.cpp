@@ -1,0 +1,146 @@
+// imuconv montecarlo --case CASE.json --method M [--convention C] --trials N --seed S [--json]:
+// N noisy re-integrations of a reference case's samples with one propagator (preintegration by
+// propagation) or preintegrator, their end errors against the covariance it predicts
+// (docs/montecarlo.md; the logic is apps/montecarlo/).
+// Exit code: 0 consistent, 1 inconsistent, 2 unusable input (the message names the file, the
+// JSON pointer or the option).
+#include <unistd.h>
+
+#include <iostream>
+#include <thread>
+
+#include "commands.h"
+#include "imuconv/bridge.h"
+#include "imuconv/pipeline/json_check.h"
+#include "imuconv/printable.h"
+#include "montecarlo.h"
+#include "montecarlo_report.h"
+#include "refcase.h"
+
+namespace imuconv::cli {
+namespace {
+
+std::string KnownMethods(const Registry& reg) {
+  std::string s = "propagators: ";
+  for (const auto& id : reg.ids(PluginKind::Propagator)) s += id + " ";
+  s += "; preintegrators: ";
+  for (const auto& id : reg.ids(PluginKind::Preintegrator)) s += id + " ";
+  return s;
+}
+
+}  // namespace
+
+void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
+  auto* sub = app.add_subcommand(
+      "montecarlo",
+      "Re-integrate a case's samples N times with noise and compare the errors with the predicted covariance");
+  static std::string case_path, method_id, convention;
+  static int trials = 0;
+  static std::uint64_t seed = 0;
+  static int threads = 0;
+  static double duration = 0.0, noise_scale = 1.0;
+  static bool as_json = false;
+  sub->add_option("--case", case_path,
+                  "Reference case with the IMU samples, noise and bias estimate (tests/data/reference/FORMAT.md)")
+      ->required();
+  sub->add_option("--method", method_id, "A propagator (preintegration by propagation) or a preintegrator id")
+      ->required();
+  sub->add_option(
+      "--convention", convention,
+      "Increment convention the end error is scored in (default: the preintegrator's covariance convention, "
+      "or preint_reference for a propagator)");
+  sub->add_option("--trials", trials,
+                  "Number of noisy trials N (at least 16: 15-dim errors need 16 for a full-rank sample covariance)")
+      ->required();
+  sub->add_option("--seed", seed, "Seed; trial i draws from (seed, i), so the result does not depend on --threads")
+      ->required();
+  sub->add_option("--threads", threads, "Worker threads (default: every core)")->check(CLI::PositiveNumber);
+  sub->add_option("--duration", duration, "Use only the case's first SECONDS (default: all of it)")
+      ->type_name("SECONDS")
+      ->check(CLI::PositiveNumber);
+  // Hidden: scales the simulated densities only, against the unscaled prediction, to show that
+  // a wrong noise model is detected (tests/cli/montecarlo.cpp).
+  sub->add_option("--noise-scale", noise_scale, "")->group("")->check(CLI::PositiveNumber);
+  sub->add_flag("--json", as_json,
+                "Print one JSON object (schemas/montecarlo_output.schema.json) instead of the summary");
+  AddPluginDirOption(*sub, ctx);
+  sub->callback([&ctx] {
+    montecarlo::Result result;
+    try {
+      if (trials > montecarlo::kMaxTrials)
+        throw Error("--trials " + std::to_string(trials) + ": at most " + std::to_string(montecarlo::kMaxTrials) +
+                    " (each trial's 15-dim error is kept for the statistics)");
+      if (trials < montecarlo::kDim + 1)
+        throw Error("--trials " + std::to_string(trials) +
+                    ": need at least 16 (the sample covariance of 15-dim errors is singular below, its KL divergence "
+                    "infinite)");
+      Registry reg;
+      std::vector<LoadIssue> issues = LoadRegistry(reg, ctx);
+      for (const auto& i : issues)
+        std::cerr << "imuconv: warning: " << Printable(i.file) << ": " << Printable(i.message) << "\n";
+
+      PreintegrationMethod method;
+      if (reg.has(PluginKind::Propagator, method_id))
+        method = ResolvePreintegrationMethod(reg, PluginKind::Propagator, method_id);
+      else if (reg.has(PluginKind::Preintegrator, method_id))
+        method = ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, method_id);
+      else
+        throw Error("--method: unknown method " + Printable(method_id) + "; known " + KnownMethods(reg));
+      const std::string conv = convention.empty() ? montecarlo::DefaultConvention(method) : convention;
+      const std::string unknown = UnknownConventionMessage(reg, PluginKind::IncrementConvention, conv, issues);
+      if (!unknown.empty()) throw Error("--convention: " + unknown);
+
+      const nlohmann::json case_json = pipeline::ParseJsonFile(case_path);
+      refcase::Case c;
+      try {
+        c = refcase::ParseCase(case_json);
+      } catch (const std::exception& e) {
+        throw Error(Printable(case_path) + ": " + e.what());
+      }
+      montecarlo::Input input;
+      input.noise = c.noise;
+      input.bg = c.x_s.bg;
+      input.ba = c.x_s.ba;
+      const double t_end = duration > 0 ? c.samples.front().t + duration : c.samples.back().t;
+      for (const ImuSample& s : c.samples)
+        if (s.t <= t_end + 1e-9) input.samples.push_back(s);
+      if (input.samples.size() < 2)
+        throw Error(Printable(case_path) + ": --duration " + std::to_string(duration) +
+                    " s holds fewer than two samples; nothing to integrate");
+
+      montecarlo::Options options;
+      options.trials = trials;
+      options.seed = seed;
+      options.threads = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+      options.noise_scale = noise_scale;
+      // A progress bar on stderr for a person watching: only when stderr is a terminal, never
+      // with --json (a program reads that) nor with -q.
+      const bool show_progress = !as_json && !ctx.quiet() && isatty(STDERR_FILENO) == 1;
+      if (show_progress)
+        options.progress = [](int done, int total) {
+          const int width = 40, filled = static_cast<int>(static_cast<long long>(width) * done / total);
+          std::cerr << "\rmontecarlo [" << std::string(filled, '#') << std::string(width - filled, '.') << "] " << done
+                    << "/" << total << std::flush;
+        };
+      struct ClearLine {
+        bool on;
+        ~ClearLine() {
+          if (on) std::cerr << "\r\033[K" << std::flush;
+        }
+      } clear_line{show_progress};
+      result = montecarlo::RunMonteCarlo(reg, method, conv, input, options);
+    } catch (const std::exception& e) {
+      // Nothing could be judged: neither consistent (0) nor inconsistent (1).
+      PrintError(e.what());
+      ctx.exit_code = 2;
+      return;
+    }
+    if (as_json)
+      std::cout << montecarlo::ReportJson(result).dump(1) << "\n";
+    else
+      montecarlo::PrintSummary(std::cout, result);
+    ctx.exit_code = result.verdict == montecarlo::Verdict::consistent ? 0 : 1;
+  });
+}
+
+}  // namespace imuconv::cli

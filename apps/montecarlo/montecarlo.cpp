@@ -1,0 +1,257 @@
+// The simulation of imuconv montecarlo (docs/montecarlo.md). Truth model, for the continuous
+// noise model (the paper, section 2.1; tests/integrators/monte_carlo.cpp and
+// tests/preintegrators/monte_carlo.cpp draw it the same way):
+//   the case's samples z_k are the measurements; the truth is z_k - n_k - beta_k with white
+//   noise n_k ~ N(0, sigma^2/dt_k I) and the accumulated bias walk beta_k (beta_0 = 0,
+//   beta_{k+1} = beta_k + N(0, sigma_b^2 dt I) over the step k -> k+1). Integrating the truth
+//   with the same bias estimate gives the true increment, whose bias entry is beta_K (the
+//   bias grew by it over the interval). The end error is conv.local(nominal, truth): the
+//   predicted covariance is that of the truth about the estimate.
+// dt_k is the step over which sample k is held: the one it starts (forward), or for Basalt's
+// feeding, which holds each sample over the step that ends at it, the one it ends.
+#include "montecarlo.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <mutex>
+#include <random>
+#include <system_error>
+#include <thread>
+
+#include "imuconv/printable.h"
+#include "imuconv/status.h"
+#include "imuconv/window.h"
+
+namespace imuconv::montecarlo {
+namespace {
+
+/// SplitMix64's finaliser: decorrelates consecutive trial indices into unrelated seeds.
+std::uint64_t Mix(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+/// Standard normals by Box-Muller from mt19937_64's 53-bit uniforms: the standard library's
+/// normal_distribution is implementation-defined, this is not (only libm's log, sin, cos).
+class Normal {
+ public:
+  explicit Normal(std::uint64_t seed) : rng_(seed) {}
+  double operator()() {
+    if (has_spare_) {
+      has_spare_ = false;
+      return spare_;
+    }
+    const double u1 = (static_cast<double>(rng_() >> 11) + 1.0) * 0x1.0p-53;  // (0, 1]
+    const double u2 = static_cast<double>(rng_() >> 11) * 0x1.0p-53;          // [0, 1)
+    const double r = std::sqrt(-2.0 * std::log(u1)), a = 2.0 * M_PI * u2;
+    spare_ = r * std::sin(a);
+    has_spare_ = true;
+    return r * std::cos(a);
+  }
+  Vec3 vec3(double sd) {
+    const double x = (*this)(), y = (*this)(), z = (*this)();
+    return Vec3(sd * x, sd * y, sd * z);
+  }
+
+ private:
+  std::mt19937_64 rng_;
+  double spare_ = 0.0;
+  bool has_spare_ = false;
+};
+
+enum class Feeding { forward, backward };
+
+/// Preintegrates over all of `samples` with the method (the case's noise, for the prediction).
+Preintegrated PreintegrateAll(const Registry& reg, const PreintegrationMethod& method, const std::vector<ImuSample>& s,
+                              const Input& in) {
+  SampleWindow window;
+  const Status st = MakeWindow(s.data(), s.size(), s.front().t, s.back().t, window);
+  if (!st.ok()) throw Error("montecarlo: cannot window the samples: " + st.message());
+  return Preintegrate(reg, method, window, in.bg, in.ba, in.noise);
+}
+
+}  // namespace
+
+NoiseModel NoiseModelFor(const PreintegrationMethod& method) {
+  NoiseModel m;
+  if (method.id == "basalt" || method.id == "basalt_forward_zoh") {
+    m.simulated = "basalt";
+    m.note =
+        "white noise sigma^2/dt per sample; bias random walk in the increment's bias entries only, the samples "
+        "integrated at the constant bias estimate, as Basalt's preintegration assumes (docs/basalt.md)";
+    return m;
+  }
+  if (method.id == "basalt_as_configured") {
+    m.simulated = "basalt_per_sample";
+    m.note =
+        "white noise with the two white-noise numbers as per-sample standard deviations (not divided by sqrt dt), "
+        "as basalt_as_configured reads them (Basalt's dicrete_time_*_noise_std), each sample held over the step "
+        "ending at it; bias random walk (densities) in the increment's bias entries only (docs/basalt.md)";
+    return m;
+  }
+  m.simulated = "continuous";
+  m.note = "white noise sigma^2/dt per sample and a bias random walk sigma_b^2 dt per step, folded into the samples";
+  if (method.id == "vins_fusion_as_configured") {
+    m.matches = false;
+    m.note +=
+        "; MISMATCH: vins_fusion_as_configured reads the four numbers as VINS-Fusion's per-step standard deviations "
+        "(docs/vins-fusion.md), a model no per-sample noise reproduces (it takes the two ends of a step as "
+        "independent); with continuous densities its covariance is about dt/2 of the simulated one, so the "
+        "verdict measures that reading, not the scheme. Use `vins_fusion` for densities";
+  }
+  return m;
+}
+
+std::string DefaultConvention(const PreintegrationMethod& method) {
+  if (method.kind == PluginKind::Preintegrator && method.cov_convention) return method.cov_convention->id();
+  return "preint_reference";
+}
+
+Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method, const std::string& convention,
+                     const Input& input, const Options& options) {
+  const auto conv = reg.increment_convention(convention);
+  const std::vector<ImuSample>& z = input.samples;
+  const std::size_t K = z.size() - 1;
+
+  Result res;
+  res.method = method.id;
+  res.method_kind = method.kind == PluginKind::Propagator ? "propagator" : "preintegrator";
+  res.convention = conv->id();
+  res.trials = options.trials;
+  res.seed = options.seed;
+  res.noise_scale = options.noise_scale;
+  res.duration = z.back().t - z.front().t;
+  res.samples = z.size();
+  res.noise_model = NoiseModelFor(method);
+  if (options.noise_scale != 1.0) {
+    res.noise_model.matches = false;
+    res.noise_model.note += "; the simulated densities are scaled by " + std::to_string(options.noise_scale) +
+                            " against the prediction's (--noise-scale), deliberately";
+  }
+  const bool walk_in_samples = res.noise_model.simulated == "continuous";
+  const bool per_sample_std = res.noise_model.simulated == "basalt_per_sample";
+  const Feeding feeding =
+      method.id == "basalt" || method.id == "basalt_as_configured" ? Feeding::backward : Feeding::forward;
+
+  const Preintegrated nominal = PreintegrateAll(reg, method, z, input);
+  res.predicted = Express(reg, nominal, res.convention).cov;
+
+  // Per-sample white-noise and per-step walk standard deviations, computed once.
+  std::vector<double> white_dt(K + 1), step_dt(K);
+  for (std::size_t k = 0; k < K; ++k) step_dt[k] = z[k + 1].t - z[k].t;
+  for (std::size_t k = 0; k <= K; ++k) {
+    if (feeding == Feeding::forward)
+      white_dt[k] = step_dt[std::min(k, K - 1)];
+    else
+      white_dt[k] = step_dt[k == 0 ? 0 : k - 1];
+  }
+  const double s = options.noise_scale;
+  const ImuNoise& q = input.noise;
+
+  std::vector<Vec15> errors(static_cast<std::size_t>(options.trials));
+  std::atomic<int> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex, progress_mutex;
+  int done = 0;
+  long long shown = -1;
+  auto worker = [&] {
+    std::vector<ImuSample> truth(z);
+    for (int i = next++; i < options.trials; i = next++) {
+      try {
+        Normal normal(Mix(Mix(options.seed) ^ static_cast<std::uint64_t>(i)));
+        Vec3 beta_g = Vec3::Zero(), beta_a = Vec3::Zero();
+        for (std::size_t k = 0; k <= K; ++k) {
+          const double white = per_sample_std ? 1.0 : 1.0 / std::sqrt(white_dt[k]);
+          truth[k].gyro = z[k].gyro - normal.vec3(s * q.gyro_noise_density * white);
+          truth[k].accel = z[k].accel - normal.vec3(s * q.accel_noise_density * white);
+          if (walk_in_samples) {
+            truth[k].gyro -= beta_g;
+            truth[k].accel -= beta_a;
+          }
+          if (k < K) {
+            beta_g += normal.vec3(s * q.gyro_random_walk * std::sqrt(step_dt[k]));
+            beta_a += normal.vec3(s * q.accel_random_walk * std::sqrt(step_dt[k]));
+          }
+        }
+        Preintegrated m = PreintegrateAll(reg, method, truth, input);
+        m.delta.dbg = nominal.delta.dbg + beta_g;
+        m.delta.dba = nominal.delta.dba + beta_a;
+        Vec15 e;
+        conv->local(nominal.delta, m.delta, e);
+        errors[static_cast<std::size_t>(i)] = e;
+        if (options.progress) {
+          const std::lock_guard<std::mutex> lock(progress_mutex);
+          ++done;
+          if (done * 100LL / options.trials != shown) {
+            shown = done * 100LL / options.trials;
+            options.progress(done, options.trials);
+          }
+        }
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+        next = options.trials;
+      }
+    }
+  };
+  // At most kMaxThreads workers: more than the cores only adds switching, and a thread that
+  // cannot be started leaves the trials to the ones that did.
+  const int threads = std::max(1, std::min({options.threads, options.trials, kMaxThreads}));
+  std::vector<std::thread> pool;
+  try {
+    for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  } catch (const std::system_error&) {
+  }
+  worker();
+  for (auto& th : pool) th.join();
+  if (failure) std::rethrow_exception(failure);
+
+  for (const Vec15& e : errors)
+    if (!e.allFinite())
+      throw Error("montecarlo: a trial's end error is not finite (method " + Printable(method.id) + ")");
+  if (!ComputeStatistics(errors, res.predicted, res.stats))
+    throw Error("montecarlo: the covariance " + Printable(method.id) + " predicts in " + Printable(res.convention) +
+                " is not positive definite (are all four noise densities of the case positive?); nothing to "
+                "compare the trials with");
+
+  const auto labels = conv->order().labels();
+  for (int b = 0; b < kBlockCount; ++b) {
+    BlockRatio r;
+    r.block = labels[b];
+    const Mat3 S = res.stats.sample_cov.block<3, 3>(3 * b, 3 * b), P = res.predicted.block<3, 3>(3 * b, 3 * b);
+    r.variance_ratio = S.trace() / P.trace();
+    for (int a = 0; a < 3; ++a) r.axes[a] = S(a, a) / P(a, a);
+    res.blocks.push_back(r);
+  }
+
+  // The verdict: both tests at their stated levels (statistics.h).
+  const Statistics& st = res.stats;
+  const bool nees_ok = st.nees_mean >= st.nees_bounds[0] && st.nees_mean <= st.nees_bounds[1];
+  const bool kl_ok = st.kl <= st.kl_bound;
+  res.verdict = nees_ok && kl_ok ? Verdict::consistent : Verdict::inconsistent;
+  auto fmt = [](double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", x);
+    return std::string(buf);
+  };
+  if (!nees_ok)
+    res.reasons.push_back("NEES mean " + fmt(st.nees_mean) + " outside its 95% chi-square bounds [" +
+                          fmt(st.nees_bounds[0]) + ", " + fmt(st.nees_bounds[1]) + "]: the predicted covariance is " +
+                          (st.nees_mean > st.nees_bounds[1] ? "too small" : "too large"));
+  if (!kl_ok)
+    res.reasons.push_back("KL divergence " + fmt(st.kl) + " above its 99% bound " + fmt(st.kl_bound) +
+                          " for N = " + std::to_string(st.trials) + ": the shape of the covariance differs");
+  if (nees_ok && kl_ok) res.reasons.push_back("NEES mean within its 95% bounds and KL divergence below its 99% bound");
+  if (!res.noise_model.matches)
+    res.reasons.push_back(
+        "the simulated noise is not the model the prediction assumes (noise_model.note): the "
+        "verdict judges that mismatch");
+  return res;
+}
+
+}  // namespace imuconv::montecarlo

@@ -1,0 +1,70 @@
+#include "montecarlo_report.h"
+
+#include <cstdio>
+#include <string>
+
+namespace imuconv::montecarlo {
+namespace {
+
+std::string Fmt(const char* f, double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, x);
+  return buf;
+}
+
+const char* VerdictName(Verdict v) { return v == Verdict::consistent ? "consistent" : "inconsistent"; }
+
+}  // namespace
+
+nlohmann::json ReportJson(const Result& r) {
+  using nlohmann::json;
+  const Statistics& st = r.stats;
+  json blocks = json::array();
+  for (const BlockRatio& b : r.blocks)
+    blocks.push_back(
+        {{"block", b.block}, {"variance_ratio", b.variance_ratio}, {"axes", {b.axes[0], b.axes[1], b.axes[2]}}});
+  return json{{"method", r.method},
+              {"method_kind", r.method_kind},
+              {"convention", r.convention},
+              {"trials", r.trials},
+              {"seed", r.seed},
+              {"samples", r.samples},
+              {"duration", r.duration},
+              {"noise_model",
+               {{"simulated", r.noise_model.simulated},
+                {"matches_prediction", r.noise_model.matches},
+                {"noise_scale", r.noise_scale},
+                {"note", r.noise_model.note}}},
+              {"relative_frobenius", st.relative_frobenius},
+              {"nees_mean", st.nees_mean},
+              {"nees_bounds", {st.nees_bounds[0], st.nees_bounds[1]}},
+              {"nees_confidence", kNeesConfidence},
+              {"kl", st.kl},
+              {"kl_bound", st.kl_bound},
+              {"kl_level", kKlLevel},
+              {"blocks", blocks},
+              {"verdict", VerdictName(r.verdict)},
+              {"reasons", r.reasons}};
+}
+
+void PrintSummary(std::ostream& out, const Result& r) {
+  const Statistics& st = r.stats;
+  out << "montecarlo: " << r.method << " (" << r.method_kind << "), scored in " << r.convention << "\n"
+      << "  " << r.trials << " trials, seed " << r.seed << ", " << r.samples << " samples over "
+      << Fmt("%.6g", r.duration) << " s\n"
+      << "  noise model: " << r.noise_model.simulated << (r.noise_model.matches ? "" : " (NOT the prediction's)")
+      << ": " << r.noise_model.note << "\n\n"
+      << "  relative Frobenius error  " << Fmt("%.4g", st.relative_frobenius) << "   (|S - Sigma|_F / |Sigma|_F)\n"
+      << "  NEES mean                 " << Fmt("%.4g", st.nees_mean) << "   (95% bounds ["
+      << Fmt("%.4g", st.nees_bounds[0]) << ", " << Fmt("%.4g", st.nees_bounds[1]) << "], expected 15)\n"
+      << "  KL divergence             " << Fmt("%.4g", st.kl) << "   (99% bound " << Fmt("%.4g", st.kl_bound) << ")\n\n"
+      << "  block   sample/predicted variance   (x, y, z)\n";
+  for (const BlockRatio& b : r.blocks)
+    out << "  " << b.block << std::string(8 - std::min<std::size_t>(b.block.size(), 7), ' ')
+        << Fmt("%-28.4g", b.variance_ratio) << Fmt("%.3g, ", b.axes[0]) << Fmt("%.3g, ", b.axes[1])
+        << Fmt("%.3g", b.axes[2]) << "\n";
+  out << "\n  verdict: " << VerdictName(r.verdict) << "\n";
+  for (const std::string& reason : r.reasons) out << "    - " << reason << "\n";
+}
+
+}  // namespace imuconv::montecarlo
