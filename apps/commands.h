@@ -72,5 +72,6 @@ void RegisterRefcaseCommand(CLI::App& app, CommandContext& ctx);
 void RegisterBenchCommand(CLI::App& app, CommandContext& ctx);
 void RegisterCheckCommand(CLI::App& app, CommandContext& ctx);
 void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx);
+void RegisterNeesCommand(CLI::App& app, CommandContext& ctx);
 
 }  // namespace imuconv::cli

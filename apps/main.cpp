@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
   RegisterBenchCommand(app, ctx);
   RegisterCheckCommand(app, ctx);
   RegisterMontecarloCommand(app, ctx);
+  RegisterNeesCommand(app, ctx);
 
   const auto start = std::chrono::steady_clock::now();
   try {

@@ -1,0 +1,125 @@
+// The windows of imuconv nees, their errors and statistics (nees.h).
+#include "nees.h"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <numeric>
+
+#include "chi_square.h"
+#include "imuconv/printable.h"
+#include "imuconv/window.h"
+#include "order_statistics.h"
+
+namespace imuconv::nees {
+
+ChiSquareReference ChiSquare9() {
+  ChiSquareReference r;
+  r.median = ChiSquareQuantile(kDof, 0.5);
+  r.lower = ChiSquareQuantile(kDof, (1.0 - kConfidence) / 2.0);
+  r.upper = ChiSquareQuantile(kDof, (1.0 + kConfidence) / 2.0);
+  return r;
+}
+
+namespace {
+
+std::string Seconds(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g s", s);
+  return buf;
+}
+
+// The NEES of one window [t_s, t_e].
+double WindowNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline::GroundTruth& gt,
+                  const Options& options, const int (&offsets)[3], double t_s, double t_e) {
+  const auto x_s = gt.at(t_s), x_gt = gt.at(t_e);
+  if (!x_s || !x_gt) throw Error("window [" + Seconds(t_s) + ", " + Seconds(t_e) + "] leaves the ground truth");
+  PropagationInput in;
+  in.x_s = *x_s;  // the ground truth's biases included: the error measures the noise model only
+  in.cov_s = Mat15::Zero();
+  in.noise = options.noise;
+  in.gravity = options.gravity;
+  const Status st = MakeWindow(imu.samples.data(), imu.samples.size(), t_s, t_e, in.window);
+  if (!st.ok()) throw Error("window [" + Seconds(t_s) + ", " + Seconds(t_e) + "]: " + st.message());
+  const PropagationResult out = reg.propagate(options.method, options.convention, in);
+  Vec15 d;
+  reg.state_convention(options.convention)->local(*x_gt, out.x_e, d);
+  // The [p, theta, v] blocks of the chart's error and of the covariance, by label.
+  Vec9 e;
+  Mat9 P;
+  for (int i = 0; i < 3; ++i) {
+    e.segment<3>(3 * i) = d.segment<3>(offsets[i]);
+    for (int j = 0; j < 3; ++j) P.block<3, 3>(3 * i, 3 * j) = out.cov.block<3, 3>(offsets[i], offsets[j]);
+  }
+  const Eigen::LLT<Mat9> llt(0.5 * (P + P.transpose()));
+  if (llt.info() != Eigen::Success)
+    throw Error("window [" + Seconds(t_s) + ", " + Seconds(t_e) +
+                "]: the propagated [p, theta, v] covariance is not positive definite");
+  return llt.matrixL().solve(e).squaredNorm();
+}
+
+}  // namespace
+
+Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline::GroundTruth& gt,
+               const Options& options) {
+  if (!reg.has(PluginKind::Propagator, options.method)) {
+    std::string known;
+    for (const auto& id : reg.ids(PluginKind::Propagator)) known += (known.empty() ? "" : ", ") + id;
+    const std::string hint = reg.has(PluginKind::Preintegrator, options.method)
+                                 ? " (it is a preintegrator; nees propagates states from the ground truth)"
+                                 : "";
+    throw Error("--method: unknown propagator " + Printable(options.method) + hint + "; known: " + known);
+  }
+  const ImuNoise& q = options.noise;
+  if (q.gyro_noise_density == 0 && q.accel_noise_density == 0 && q.gyro_random_walk == 0 && q.accel_random_walk == 0)
+    throw Error("--noise: all four densities are zero; the propagated covariance would be zero and NEES undefined");
+  const BlockLabels labels = reg.state_convention(options.convention)->labels();
+  const int offsets[3] = {BlockOffset(labels, "p"), BlockOffset(labels, "theta"), BlockOffset(labels, "v")};
+
+  Result r;
+  r.method = options.method;
+  r.convention = options.convention;
+  r.noise = options.noise;
+  r.chi2 = ChiSquare9();
+  if (imu.samples.size() < 2 || gt.t.size() < 2) throw Error("fewer than two IMU samples or ground-truth rows");
+  r.t_begin = std::max(imu.samples.front().t, gt.t.front());
+  r.t_end = std::min(imu.samples.back().t, gt.t.back());
+  const double span = r.t_end - r.t_begin;
+  // Times are relative seconds of ~1e2 magnitude: 1 ns absorbs their rounding (the data's
+  // stamps are integer nanoseconds), so a window ending exactly at the last row still counts.
+  constexpr double kTimeSlack = 1e-9;
+  for (const double length : options.window_lengths) {
+    if (!(length > 0) || !std::isfinite(length))
+      throw Error("--windows: " + Seconds(length) + " is not a positive length");
+    if (length > span + kTimeSlack)
+      throw Error("--windows: " + Seconds(length) + " is longer than the " + Seconds(span) +
+                  " the IMU data and the ground truth share");
+    WindowLengthResult w;
+    w.length = length;
+    w.stride = options.stride > 0 ? options.stride : length;
+    // A stride far below the sample period only repeats windows; a bound keeps a typo (1e-9)
+    // from running for hours.
+    if ((span - length) / w.stride + 1 > static_cast<double>(kMaxWindows))
+      throw Error("--stride " + Seconds(w.stride) + ": more than " + std::to_string(kMaxWindows) + " windows of " +
+                  Seconds(length));
+    for (std::size_t i = 0;; ++i) {
+      // Starts by multiplication, not accumulation, so they carry no drift.
+      const double t_s = r.t_begin + static_cast<double>(i) * w.stride;
+      double t_e = t_s + length;
+      if (t_e > r.t_end + kTimeSlack) break;
+      t_e = std::min(t_e, r.t_end);
+      w.t_start.push_back(t_s);
+      w.nees.push_back(WindowNees(reg, imu, gt, options, offsets, t_s, t_e));
+    }
+    w.median = SampleMedian(w.nees);
+    w.mean = std::accumulate(w.nees.begin(), w.nees.end(), 0.0) / static_cast<double>(w.nees.size());
+    w.p95 = SampleQuantile(w.nees, 0.95);
+    std::size_t inside = 0;
+    for (const double v : w.nees) inside += (v >= r.chi2.lower && v <= r.chi2.upper) ? 1 : 0;
+    w.fraction_inside = static_cast<double>(inside) / static_cast<double>(w.nees.size());
+    w.factor = std::sqrt(w.median / r.chi2.median);
+    r.windows.push_back(std::move(w));
+  }
+  return r;
+}
+
+}  // namespace imuconv::nees

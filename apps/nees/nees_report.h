@@ -1,0 +1,15 @@
+// The two faces of a nees result: one JSON object (schemas/nees_output.schema.json) and a
+// human table.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <ostream>
+
+#include "nees.h"
+
+namespace imuconv::nees {
+
+nlohmann::json ReportJson(const Result& r);
+void PrintSummary(std::ostream& out, const Result& r);
+
+}  // namespace imuconv::nees
