@@ -1,5 +1,5 @@
 # Shared fixtures of the Python suite: the registry (built-in plugins of this build) and the
-# ten reference cases with GTSAM's outputs, from tests/data/reference (no ../shared needed).
+# ten reference cases with GTSAM's outputs, copied into tests/data/reference, so the suite needs nothing outside the repository.
 import json
 import os
 import pathlib

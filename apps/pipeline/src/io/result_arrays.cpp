@@ -11,6 +11,7 @@
 #include "imuconv/pipeline/result_arrays.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <istream>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -18,131 +19,23 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "file_streambuf.h"
 #include "imuconv/printable.h"
 #include "imuconv/registry.h"
-#include "npz_writer.h"
+#include "result_keys.h"
+#include "value_buffer.h"
 
 namespace imuconv::pipeline {
 namespace {
 
 using ojson = nlohmann::ordered_json;
+using detail::ValueBuffer;
 
-/// The deepest nesting of objects and arrays read.
-constexpr std::size_t kMaxDepth = 256;
-
-/// |i| <= 2^53: every such integer is a double exactly.
-constexpr std::int64_t kExactInDouble = std::int64_t{1} << 53;
-
-/// A member name as a JSON pointer segment (RFC 6901: '~' -> "~0", '/' -> "~1").
-std::string Escape(const std::string& s) {
-  std::string e;
-  for (char c : s) e += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
-  return e;
-}
-
-std::string Join(const std::string& prefix, const std::string& segment) {
-  return prefix.empty() ? segment : prefix + "/" + segment;
-}
-
-/// The events of an array that is not an array of objects, replayed when it closes.
-class ValueBuffer {
- public:
-  enum Event : std::uint8_t { kBeginArray, kEndArray, kBeginObject, kEndObject, kKey, kInt, kBigUInt, kFloat, kString,
-                              kTrue, kFalse, kNull };
-  void clear() {
-    events.clear();
-    ints.clear();
-    big.clear();
-    floats.clear();
-    strings.clear();
-  }
-
-  /// The shape when the events are a rectangular array of numbers (numbers at one depth only,
-  /// every array at a depth of one length, at least one number); nothing otherwise.
-  bool Rectangular(std::vector<std::size_t>& shape) const {
-    std::vector<std::size_t> counts;  // elements so far of each open array
-    std::vector<long long> dims;      // each depth's length, -1 until an array there closes
-    std::size_t leaf_depth = 0, max_array_depth = 0;
-    for (Event e : events) {
-      switch (e) {
-        case kBeginArray:
-          if (!counts.empty()) ++counts.back();
-          max_array_depth = std::max(max_array_depth, counts.size());
-          counts.push_back(0);
-          if (dims.size() < counts.size()) dims.push_back(-1);
-          break;
-        case kEndArray: {
-          const long long c = static_cast<long long>(counts.back());
-          counts.pop_back();
-          long long& d = dims[counts.size()];
-          if (d >= 0 && d != c) return false;
-          d = c;
-          break;
-        }
-        case kInt:
-        case kFloat:
-          ++counts.back();
-          if (leaf_depth == 0) leaf_depth = counts.size();
-          else if (leaf_depth != counts.size()) return false;
-          break;
-        default:
-          return false;
-      }
-    }
-    if (leaf_depth == 0 || max_array_depth >= leaf_depth) return false;
-    shape.assign(dims.begin(), dims.begin() + static_cast<std::ptrdiff_t>(leaf_depth));
-    return true;
-  }
-
-  /// The events as a JSON value (numbers as they were read: integers stay integers).
-  ojson ToJson() const {
-    ojson root;
-    std::vector<ojson*> open;
-    std::string key;
-    std::size_t i_int = 0, i_big = 0, i_float = 0, i_string = 0;
-    auto place = [&](ojson v) -> ojson* {
-      if (open.empty()) {
-        root = std::move(v);
-        return &root;
-      }
-      ojson& parent = *open.back();
-      if (parent.is_array()) {
-        parent.push_back(std::move(v));
-        return &parent.back();
-      }
-      parent[key] = std::move(v);
-      return &parent[key];
-    };
-    for (Event e : events) {
-      switch (e) {
-        case kBeginArray: open.push_back(place(ojson::array())); break;
-        case kBeginObject: open.push_back(place(ojson::object())); break;
-        case kEndArray:
-        case kEndObject: open.pop_back(); break;
-        case kKey: key = strings[i_string++]; break;
-        case kInt: place(ints[i_int++]); break;
-        case kBigUInt: place(big[i_big++]); break;
-        case kFloat: place(floats[i_float++]); break;
-        case kString: place(strings[i_string++]); break;
-        case kTrue: place(true); break;
-        case kFalse: place(false); break;
-        case kNull: place(nullptr); break;
-      }
-    }
-    return root;
-  }
-
-  std::vector<Event> events;
-  std::vector<std::int64_t> ints;
-  std::vector<std::uint64_t> big;  ///< integers beyond int64: sidecar values, never arrays
-  std::vector<double> floats;
-  std::vector<std::string> strings;
-};
-
-/// Where a value goes: its key (indices of arrays of objects removed) and its pointer.
-struct Destination {
-  std::string key, pointer;
-};
+using detail::Destination;
+using detail::Escape;
+using detail::Join;
+using detail::kExactInDouble;
+using detail::kMaxDepth;
 
 class Collector {
  public:
@@ -306,44 +199,11 @@ class Collector {
   ResultArrays Finish();
 
  private:
-  struct Frame {
-    bool aoo = false;      ///< an array of objects; else an object
-    std::string key;       ///< the frame's key (indices of arrays of objects removed)
-    std::string pointer;   ///< its pointer, indices kept, without the leading '/'
-    std::string member;    ///< object: the current member's name, escaped
-    std::size_t count = 0; ///< object: members so far; array: elements so far
-    bool element = false;  ///< an object that is an element of an array of objects (not /tasks)
-    bool task = false, named = false;  ///< an element of /tasks, and whether its name was read
-    bool tasks = false;    ///< the /tasks array: elements named, not stacked
-    int aoo_id = -1;       ///< an array of objects' entry in aoos_
-  };
-  /// What is known of an array of objects, by key: how many instances (one per element of the
-  /// enclosing array of objects, when it is present in each), and their common length.
-  struct ArrayOfObjects {
-    std::string key;
-    int parent;
-    std::size_t instances = 0, length = 0;
-    bool ragged = false;
-  };
-  /// Where a key was found: the arrays of objects above it and, per value, their indices.
-  struct Occurrences {
-    std::string key;
-    std::vector<int> levels;
-    std::vector<std::uint32_t> indices;  ///< levels.size() per value
-    std::size_t count = 0;
-  };
-  struct NumericKey : Occurrences {
-    NdArray::Type type = NdArray::Type::kInt64;
-    std::vector<double> data;
-    std::vector<std::int64_t> integers;
-    std::vector<std::vector<std::size_t>> shapes;  ///< the distinct shapes of its values
-    std::vector<std::uint32_t> shape_of;           ///< per value
-    std::vector<std::size_t> offset;               ///< per value, into data / integers
-  };
-  struct ValueKey : Occurrences {
-    ojson first;
-    std::vector<std::pair<std::size_t, ojson>> other;  ///< values that differ from the first
-  };
+  using Frame = detail::Frame;
+  using ArrayOfObjects = detail::ArrayOfObjects;
+  using Occurrences = detail::Occurrences;
+  using NumericKey = detail::NumericKey;
+  using ValueKey = detail::ValueKey;
 
   [[noreturn]] void Fail(const std::string& pointer, const std::string& message) const {
     throw Error(what_ + ": /" + Printable(pointer) + ": " + message);
@@ -603,46 +463,10 @@ ResultArrays Collector::Finish() {
   return r;
 }
 
-/// A std::streambuf reading a FILE* in blocks (nlohmann's own FILE* adapter calls fgetc once
-/// per character).
-class FileReader : public std::streambuf {
- public:
-  explicit FileReader(std::FILE* f) : file_(f), block_(1 << 16) {}
-
- protected:
-  int_type underflow() override {
-    const std::size_t n = std::fread(block_.data(), 1, block_.size(), file_);
-    if (n == 0) return traits_type::eof();
-    setg(block_.data(), block_.data(), block_.data() + n);
-    return traits_type::to_int_type(block_[0]);
-  }
-
- private:
-  std::FILE* file_;
-  std::vector<char> block_;
-};
-
-/// The array's values as little-endian bytes: its own memory on a little-endian machine.
-std::string_view LittleEndianBytes(const NdArray& a, std::vector<unsigned char>& swapped) {
-  const void* p = a.type == NdArray::Type::kFloat64 ? static_cast<const void*>(a.data.data())
-                                                     : static_cast<const void*>(a.integers.data());
-  const std::size_t bytes = a.size() * 8;
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
-  swapped.resize(bytes);
-  const auto* in = static_cast<const unsigned char*>(p);
-  for (std::size_t i = 0; i < bytes; i += 8)
-    for (std::size_t b = 0; b < 8; ++b) swapped[i + b] = in[i + 7 - b];
-  p = swapped.data();
-#else
-  (void)swapped;
-#endif
-  return {static_cast<const char*>(p), bytes};
-}
-
 }  // namespace
 
 ResultArrays CollectResultArrays(std::FILE* text, const std::string& what) {
-  FileReader reader(text);
+  detail::FileReader reader(text);
   std::istream in(&reader);
   Collector c(what);
   nlohmann::json::sax_parse(in, &c);
@@ -654,22 +478,6 @@ ResultArrays CollectResultArrays(std::string_view text, const std::string& what)
   Collector c(what);
   nlohmann::json::sax_parse(text.begin(), text.end(), &c);
   return c.Finish();
-}
-
-void WriteResultNpz(const ResultArrays& r, const std::function<void(std::string_view)>& sink, bool force_zip64) {
-  NpzWriter npz(sink, force_zip64);
-  std::vector<unsigned char> swapped;
-  for (const auto& [name, a] : r.arrays)
-    npz.add(name, a.type == NdArray::Type::kFloat64 ? "<f8" : "<i8", a.shape, LittleEndianBytes(a, swapped));
-  // The sidecar as a 0-d "<U{n}" array: UTF-32LE, one code unit per (ASCII) character.
-  std::string utf32;
-  utf32.reserve(4 * r.sidecar.size());
-  for (char c : r.sidecar) {
-    utf32 += c;
-    utf32.append(3, '\0');
-  }
-  npz.add(kSidecarKey, "<U" + std::to_string(r.sidecar.size()), {}, utf32);
-  npz.finish();
 }
 
 }  // namespace imuconv::pipeline

@@ -1,0 +1,82 @@
+// What the result-array collector (result_arrays.cpp) keeps of the output document while it
+// reads it: the frames it is in, where each key's values go (the key with the indices of
+// arrays of objects removed, the pointer with them kept), and per key the occurrences and values
+// that decide at the end whether they fill one N-d array. Internal to imuconv_pipeline; the
+// rule is stated in imuconv/pipeline/result_arrays.h.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "imuconv/pipeline/result_arrays.h"
+
+namespace imuconv::pipeline::detail {
+
+using ojson = nlohmann::ordered_json;
+
+/// The deepest nesting of objects and arrays read.
+constexpr std::size_t kMaxDepth = 256;
+
+/// |i| <= 2^53: every such integer is a double exactly.
+constexpr std::int64_t kExactInDouble = std::int64_t{1} << 53;
+
+/// A member name as a JSON pointer segment (RFC 6901: '~' -> "~0", '/' -> "~1").
+inline std::string Escape(const std::string& s) {
+  std::string e;
+  for (char c : s) e += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
+  return e;
+}
+
+inline std::string Join(const std::string& prefix, const std::string& segment) {
+  return prefix.empty() ? segment : prefix + "/" + segment;
+}
+
+/// Where a value goes: its key (indices of arrays of objects removed) and its pointer.
+struct Destination {
+  std::string key, pointer;
+};
+
+struct Frame {
+  bool aoo = false;                  ///< an array of objects; else an object
+  std::string key;                   ///< the frame's key (indices of arrays of objects removed)
+  std::string pointer;               ///< its pointer, indices kept, without the leading '/'
+  std::string member;                ///< object: the current member's name, escaped
+  std::size_t count = 0;             ///< object: members so far; array: elements so far
+  bool element = false;              ///< an object that is an element of an array of objects (not /tasks)
+  bool task = false, named = false;  ///< an element of /tasks, and whether its name was read
+  bool tasks = false;                ///< the /tasks array: elements named, not stacked
+  int aoo_id = -1;                   ///< an array of objects' entry in the collector's list of them
+};
+/// What is known of an array of objects, by key: how many instances (one per element of the
+/// enclosing array of objects, when it is present in each), and their common length.
+struct ArrayOfObjects {
+  std::string key;
+  int parent;
+  std::size_t instances = 0, length = 0;
+  bool ragged = false;
+};
+/// Where a key was found: the arrays of objects above it and, per value, their indices.
+struct Occurrences {
+  std::string key;
+  std::vector<int> levels;
+  std::vector<std::uint32_t> indices;  ///< levels.size() per value
+  std::size_t count = 0;
+};
+struct NumericKey : Occurrences {
+  NdArray::Type type = NdArray::Type::kInt64;
+  std::vector<double> data;
+  std::vector<std::int64_t> integers;
+  std::vector<std::vector<std::size_t>> shapes;  ///< the distinct shapes of its values
+  std::vector<std::uint32_t> shape_of;           ///< per value
+  std::vector<std::size_t> offset;               ///< per value, into data / integers
+};
+struct ValueKey : Occurrences {
+  ojson first;
+  std::vector<std::pair<std::size_t, ojson>> other;  ///< values that differ from the first
+};
+
+}  // namespace imuconv::pipeline::detail
