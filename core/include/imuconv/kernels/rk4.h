@@ -67,10 +67,23 @@
 
 #include "imuconv/kernels/common.h"
 #include "imuconv/kernels/left_transition.h"
+#include "imuconv/kernels/preintegration.h"  // Isa, IsaAvailable, BestIsa: the instance dispatch
 
 namespace imuconv::kernels {
 
 namespace rk4_detail {
+
+/// Psi's free bias columns stacked as one 12x3 block, Y = [Pg; Vg; Pa; Tg] (row blocks in
+/// that order): their step rules are the same for all four, so each is one pass over 36
+/// contiguous numbers, and the walks' products below are columns of Y Y^T (tall axpys that
+/// vectorise) instead of eight 3x3 products. [Pg; Vg] first: the one 6-row product then reads
+/// the start of a column, where the loop before stored a whole vector (a load that straddles
+/// two vector stores waits for both to reach the cache).
+constexpr int kYRows = 12, kYSize = 3 * kYRows;
+using MatY = Eigen::Matrix<double, kYRows, 3>;
+namespace y_row {
+constexpr int Pg = 0, Vg = 3, Pa = 6, Tg = 9;
+}
 
 /// M's accumulators: M = int Psi D Psi^T assembled from them once per window (AssembleM).
 struct NoiseSums {
@@ -80,21 +93,39 @@ struct NoiseSums {
   Vec3 a = Vec3::Zero(), U = Vec3::Zero();
   // Walk corrections of the c_v-type (closed-form) terms: sum h^3/12 {1, s_m, s_m^2}.
   double h3 = 0.0, h3_s = 0.0, h3_ss = 0.0;
-  // Sum over steps of h Xb Xb^T blocks (gyro walk) and of the accel walk's [Pa; Tg] blocks.
-  Mat3 PgPg = Mat3::Zero(), PgTg = Mat3::Zero(), PgVg = Mat3::Zero();
-  Mat3 TgTg = Mat3::Zero(), TgVg = Mat3::Zero(), VgVg = Mat3::Zero();
-  Mat3 PaPa = Mat3::Zero(), PaTg = Mat3::Zero();
-  // Sum over steps of h Xb: int Pg, int Tg, int Vg, int Pa.
-  Mat3 iPg = Mat3::Zero(), iTg = Mat3::Zero(), iVg = Mat3::Zero(), iPa = Mat3::Zero();
+  // Sums over steps of h Yb Yb^T, only the blocks M needs (rows of Y, then the Y block whose
+  // transpose is the column): YTg = [PgTg; VgTg; PaTg; TgTg], YPg = [PgPg; VgPg], VgVg, PaPa.
+  MatY YTg = MatY::Zero();
+  Eigen::Matrix<double, 6, 3> YPg = Eigen::Matrix<double, 6, 3>::Zero();
+  Mat3 VgVg = Mat3::Zero(), PaPa = Mat3::Zero();
+  MatY iY = MatY::Zero();  ///< sum over steps of h Yb: int Pg, int Vg, int Pa, int Tg
 
-  /// w g g'^T for g, g' in {alpha, U} (and w alpha, w U).
-  void AddWeighted(const Vec3& alpha, const Vec3& U_, double w) {
-    const Vec3 wa = w * alpha, wU = w * U_;
-    aa.noalias() += wa * alpha.transpose();
-    Ua.noalias() += wU * alpha.transpose();
-    UU.noalias() += wU * U_.transpose();
-    a += wa;
-    U += wU;
+  /// Adds h Yb Yb^T (the blocks kept above) and h Yb, given hYb = h Yb. Column j of a block
+  /// (A, B) is sum_k (h A).col(k) B(j, k): three axpys over the rows of A. Written as plain
+  /// loops over the column-major storage so that each instance vectorises them at its own
+  /// width (Eigen's packets are fixed at 128 bits by the default target).
+  void AddWalks(const MatY& hYb, const MatY& Yb) {
+    using namespace y_row;
+    const double* hy = hYb.data();  // column k starts at hy + kYRows k
+    const double* y = Yb.data();
+    for (int j = 0; j < 3; ++j) {
+      constexpr int c1 = kYRows, c2 = 2 * kYRows;  // offsets of columns 1 and 2
+      const double t0 = y[Tg + j], t1 = y[c1 + Tg + j], t2 = y[c2 + Tg + j];
+      double* yt = YTg.data() + kYRows * j;
+      for (int i = 0; i < kYRows; ++i) yt[i] += hy[i] * t0 + hy[c1 + i] * t1 + hy[c2 + i] * t2;
+      const double g0 = y[Pg + j], g1 = y[c1 + Pg + j], g2 = y[c2 + Pg + j];
+      double* yp = YPg.data() + 6 * j;
+      for (int i = 0; i < 6; ++i) yp[i] += hy[Pg + i] * g0 + hy[c1 + Pg + i] * g1 + hy[c2 + Pg + i] * g2;
+      const double v0 = y[Vg + j], v1 = y[c1 + Vg + j], v2 = y[c2 + Vg + j];
+      double* vv = VgVg.data() + 3 * j;
+      for (int i = 0; i < 3; ++i) vv[i] += hy[Vg + i] * v0 + hy[c1 + Vg + i] * v1 + hy[c2 + Vg + i] * v2;
+      const double a0 = y[Pa + j], a1 = y[c1 + Pa + j], a2 = y[c2 + Pa + j];
+      double* aa_ = PaPa.data() + 3 * j;
+      for (int i = 0; i < 3; ++i) aa_[i] += hy[Pa + i] * a0 + hy[c1 + Pa + i] * a1 + hy[c2 + Pa + i] * a2;
+    }
+    double* iy = iY.data();
+    for (int k = 0; k < 3; ++k)
+      for (int i = 0; i < kYRows; ++i) iy[kYRows * k + i] += hy[kYRows * k + i];
   }
 };
 
@@ -105,18 +136,76 @@ inline Mat3 SkewTimes(const Vec3& x, const Mat3& B) {
   return out;
 }
 
+/// Exp(phi) for phi = (x, y, z): I + a [phi]x + b [phi]x^2 (so3.h), written out entry by entry with
+/// [phi]x^2 = phi phi^T - |phi|^2 I. Below so3's series threshold the series of a and b are
+/// evaluated with multiplications by the reciprocals (no division, no square root): a step's
+/// rotation is a few milliradians, so this is the branch every step takes.
+inline Mat3 ExpOfStep(double x, double y, double z) {
+  const double t2 = x * x + y * y + z * z;
+  double a, b;
+  constexpr double kSeries2 = so3::detail::kSeriesBelow * so3::detail::kSeriesBelow;
+  if (t2 < kSeries2) {
+    a = 1.0 - t2 * (1.0 / 6.0) * (1.0 - t2 * (1.0 / 20.0) * (1.0 - t2 * (1.0 / 42.0) * (1.0 - t2 * (1.0 / 72.0))));
+    b = 0.5 *
+        (1.0 - t2 * (1.0 / 12.0) * (1.0 - t2 * (1.0 / 30.0) * (1.0 - t2 * (1.0 / 56.0) * (1.0 - t2 * (1.0 / 90.0)))));
+  } else {
+    const double t = std::sqrt(t2);
+    a = so3::detail::coefA(t, t2);
+    b = so3::detail::coefB(t, t2);
+  }
+  const double bx = b * x, by = b * y, bz = b * z, ax = a * x, ay = a * y, az = a * z;
+  const double d = 1.0 - b * t2;
+  const double xy = bx * y, xz = bx * z, yz = by * z;
+  Mat3 E;
+  E << d + bx * x, xy - az, xz + ay,  //
+      xy + az, d + by * y, yz - ax,   //
+      xz - ay, yz + ax, d + bz * z;
+  return E;
+}
+
 /// Everything the integration carries from one step to the next (values at the step's start).
 struct Rk4Carry {
   // State: R, and U, W of the file comment; s = t - t_s at the step's start.
   Mat3 R;
   Vec3 U = Vec3::Zero(), W = Vec3::Zero();
   Vec3 Ra;  ///< R a at the node
-  // Psi (as kOut asks): X = [Pg; Tg; Vg], Pa, and X' at the node (Tg' = R needs no copy).
-  Mat3 Pg = Mat3::Zero(), Tg = Mat3::Zero(), Vg = Mat3::Zero(), Pa = Mat3::Zero();
-  Mat3 dPg = Mat3::Zero(), dVg = Mat3::Zero();
+  // Psi (as kOut asks): Y = [Pg; Vg; Pa; Tg] and Y' = [[alpha]x R; [U]x R; -s R; R] at the node.
+  MatY Y = MatY::Zero(), dY = MatY::Zero();
   Vec3 alpha = Vec3::Zero();
   NoiseSums sums;
+
+  Mat3 Tg() const { return Y.middleRows<3>(y_row::Tg); }
+  Mat3 Pg() const { return Y.middleRows<3>(y_row::Pg); }
+  Mat3 Vg() const { return Y.middleRows<3>(y_row::Vg); }
+  Mat3 Pa() const { return Y.middleRows<3>(y_row::Pa); }
 };
+
+/// Y' = [[alpha]x R; [U]x R; -s R; R] at a node, column k of Y' (kYRows numbers) from column k
+/// of R (column-major, 3 numbers): [alpha x r; U x r; -s r; r].
+inline void FillDerivative(const double* R, double s, const double* alpha, const double* U, double* dY) {
+  for (int k = 0; k < 3; ++k) {
+    const double* r = R + 3 * k;
+    double* d = dY + kYRows * k;
+    for (int i = 0; i < 3; ++i) {
+      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+      d[y_row::Pa + i] = -(s * r[i]);
+      d[y_row::Tg + i] = r[i];
+      d[y_row::Pg + i] = alpha[i1] * r[i2] - alpha[i2] * r[i1];
+      d[y_row::Vg + i] = U[i1] * r[i2] - U[i2] * r[i1];
+    }
+  }
+}
+
+/// C = A B for column-major 3x3 arrays.
+inline void Mul3(const double* A, const double* B, double* C) {
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) C[i + 3 * j] = A[i] * B[3 * j] + A[i + 3] * B[3 * j + 1] + A[i + 6] * B[3 * j + 2];
+}
+
+/// A x for a column-major 3x3 array.
+inline void MulVec3(const double* A, const double* x, double* y) {
+  for (int i = 0; i < 3; ++i) y[i] = A[i] * x[0] + A[i + 3] * x[1] + A[i + 6] * x[2];
+}
 
 }  // namespace rk4_detail
 
@@ -131,87 +220,129 @@ struct Rk4StepInput {
 template <Outputs kOut>
 inline void Rk4Step(rk4_detail::Rk4Carry& c, const Rk4StepInput& u, double h, double s0, const NoiseVariances& q) {
   constexpr bool kPhi = WantsTransition(kOut), kCov = WantsCovariance(kOut);
+  // The step is written over plain arrays (3-vectors, column-major 3x3 and 12x3 blocks) rather
+  // than Eigen expressions: Eigen stores a 3-vector element by element and then loads it in
+  // pairs, which defeats store-to-load forwarding at every temporary, and its packets are
+  // fixed at 128 bits by the default target, where the loops below vectorise at each
+  // instance's width. Divisions by constants are multiplications by their reciprocals (a
+  // division costs several multiplications, and these sit on the step's critical path).
+  const double h2 = h * h, h6 = h * (1.0 / 6.0);
+  const double *w0 = u.w0.data(), *w1 = u.w1.data(), *a0 = u.a0.data(), *a1 = u.a1.data();
   // Rotation at the middle and the end (Magnus, linear rate).
-  const Vec3 wxw = u.w0.cross(u.w1);
-  const double h2 = h * h;
-  Mat3 dRm, dR1;
-  ExpAndJr((0.125 * h) * (3.0 * u.w0 + u.w1) + (h2 / 96.0) * wxw, dRm, nullptr);
-  ExpAndJr((0.5 * h) * (u.w0 + u.w1) + (h2 / 12.0) * wxw, dR1, nullptr);
-  const Mat3 R0 = c.R;
-  Mat3 Rm, R1;
-  Rm.noalias() = R0 * dRm;
-  R1.noalias() = R0 * dR1;
-  const Vec3 Ra0 = c.Ra;
-  const Vec3 Ram = Rm * (0.5 * (u.a0 + u.a1));
-  const Vec3 Ra1 = R1 * u.a1;
-  const double h6 = h / 6.0;
-  const Vec3 U0 = c.U;
-  const Vec3 U1 = U0 + h6 * (Ra0 + 4.0 * Ram + Ra1);
-  const Vec3 W1 = c.W + h * U0 + (h2 / 6.0) * (Ra0 + 2.0 * Ram);
+  double phi_m[3], phi_1[3];
+  {
+    const double cm = 0.125 * h, c1 = 0.5 * h, km = h2 * (1.0 / 96.0), k1 = h2 * (1.0 / 12.0);
+    for (int i = 0; i < 3; ++i) {
+      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+      const double wxw = w0[i1] * w1[i2] - w0[i2] * w1[i1];
+      phi_m[i] = cm * (3.0 * w0[i] + w1[i]) + km * wxw;
+      phi_1[i] = c1 * (w0[i] + w1[i]) + k1 * wxw;
+    }
+  }
+  const Mat3 dRm = rk4_detail::ExpOfStep(phi_m[0], phi_m[1], phi_m[2]);
+  const Mat3 dR1 = rk4_detail::ExpOfStep(phi_1[0], phi_1[1], phi_1[2]);
+  double Rm[9], R1[9];
+  rk4_detail::Mul3(c.R.data(), dRm.data(), Rm);
+  rk4_detail::Mul3(c.R.data(), dR1.data(), R1);
+  double a_m[3], Ram[3], Ra1[3], U1[3], W1[3];
+  for (int i = 0; i < 3; ++i) a_m[i] = 0.5 * (a0[i] + a1[i]);
+  rk4_detail::MulVec3(Rm, a_m, Ram);
+  rk4_detail::MulVec3(R1, a1, Ra1);
+  const double* Ra0 = c.Ra.data();
+  const double* U0 = c.U.data();
+  const double* W0 = c.W.data();
+  const double k_w1 = h2 * (1.0 / 6.0);
+  for (int i = 0; i < 3; ++i) {
+    U1[i] = U0[i] + h6 * (Ra0[i] + 4.0 * Ram[i] + Ra1[i]);
+    W1[i] = W0[i] + h * U0[i] + k_w1 * (Ra0[i] + 2.0 * Ram[i]);
+  }
 
   if constexpr (kPhi) {
-    using rk4_detail::SkewTimes;
+    using rk4_detail::kYRows;
     const double sm = s0 + 0.5 * h, s1 = s0 + h;
-    const Vec3 Um = U0 + (h / 24.0) * (5.0 * Ra0 + 8.0 * Ram - Ra1);
-    const Vec3 Wm = c.W + (0.5 * h) * U0 + (h2 / 96.0) * (7.0 * Ra0 + 6.0 * Ram - Ra1);
-    const Vec3 alpha0 = c.alpha, alpha_m = Wm - sm * Um, alpha1 = W1 - s1 * U1;
-    // X' = G_theta R at the middle and the end.
-    const Mat3 dPgm = SkewTimes(alpha_m, Rm), dVgm = SkewTimes(Um, Rm);
-    const Mat3 dPg1 = SkewTimes(alpha1, R1), dVg1 = SkewTimes(U1, R1);
-    // Step means Xb = X0 + h/6 (X'_0 + 2 X'_m) (Pa' = -s R likewise), then the end values
-    // X1 = Xb + h/6 (2 X'_m + X'_1) = X0 + h/6 (X'_0 + 4 X'_m + X'_1) (Simpson). The means are
+    const double k_um = h * (1.0 / 24.0), k_wm = h2 * (1.0 / 96.0), half_h = 0.5 * h;
+    double Um[3], alpha_m[3], alpha1[3];
+    for (int i = 0; i < 3; ++i) {
+      Um[i] = U0[i] + k_um * (5.0 * Ra0[i] + 8.0 * Ram[i] - Ra1[i]);
+      const double Wm = W0[i] + half_h * U0[i] + k_wm * (7.0 * Ra0[i] + 6.0 * Ram[i] - Ra1[i]);
+      alpha_m[i] = Wm - sm * Um[i];
+      alpha1[i] = W1[i] - s1 * U1[i];
+    }
+    // Y' at the middle and the end (Pa' = -s R, Tg' = R, X' = G_theta R: Pg' = [alpha]x R, Vg' = [U]x R).
+    double dYm[rk4_detail::kYSize], dY1[rk4_detail::kYSize];
+    rk4_detail::FillDerivative(Rm, sm, alpha_m, Um, dYm);
+    rk4_detail::FillDerivative(R1, s1, alpha1, U1, dY1);
+    // Step means Yb = Y0 + h/6 (Y'_0 + 2 Y'_m), then the end values
+    // Y1 = Yb + h/6 (2 Y'_m + Y'_1) = Y0 + h/6 (Y'_0 + 4 Y'_m + Y'_1) (Simpson). The means are
     // formed in both modes so that Phi is bitwise the same with and without the covariance.
-    const Mat3 Tgb = c.Tg + h6 * (R0 + 2.0 * Rm);
-    const Mat3 Pgb = c.Pg + h6 * (c.dPg + 2.0 * dPgm);
-    const Mat3 Vgb = c.Vg + h6 * (c.dVg + 2.0 * dVgm);
-    const Mat3 Pab = c.Pa - h6 * (s0 * R0 + (2.0 * sm) * Rm);
+    rk4_detail::MatY Yb;
+    double twice_dYm[rk4_detail::kYSize];
+    {
+      const double *y0 = c.Y.data(), *dy0 = c.dY.data();
+      double* yb = Yb.data();
+      for (int k = 0; k < 3; ++k)
+        for (int i = kYRows * k; i < kYRows * (k + 1); ++i) {
+          twice_dYm[i] = 2.0 * dYm[i];
+          yb[i] = y0[i] + h6 * (dy0[i] + twice_dYm[i]);
+        }
+    }
     if constexpr (kCov) {
       rk4_detail::NoiseSums& n = c.sums;
       // Walks: int_step X X^T = h Xb Xb^T + h^3/12 X'_m X'_m^T, the second term below.
-      const Mat3 hTgb = h * Tgb, hPgb = h * Pgb, hVgb = h * Vgb, hPab = h * Pab;
-      n.PgPg.noalias() += hPgb * Pgb.transpose();
-      n.PgTg.noalias() += hPgb * Tgb.transpose();
-      n.PgVg.noalias() += hPgb * Vgb.transpose();
-      n.TgTg.noalias() += hTgb * Tgb.transpose();
-      n.TgVg.noalias() += hTgb * Vgb.transpose();
-      n.VgVg.noalias() += hVgb * Vgb.transpose();
-      n.PaPa.noalias() += hPab * Pab.transpose();
-      n.PaTg.noalias() += hPab * Tgb.transpose();
-      n.iPg += hPgb;
-      n.iTg += hTgb;
-      n.iVg += hVgb;
-      n.iPa += hPab;
+      rk4_detail::MatY hYb;
+      for (int k = 0; k < 3; ++k)
+        for (int i = kYRows * k; i < kYRows * (k + 1); ++i) hYb.data()[i] = h * Yb.data()[i];
+      n.AddWalks(hYb, Yb);
       // q_g-type terms by the same step-mean rule on (alpha, U), alpha' = -s R a, U' = R a:
       //   int_step g g'^T = h gb gb'^T + h^3/12 g_m' g_m'^T for g, g' in {alpha, U}, so the
       //   derivative part is (R a)(R a)^T times s^2, -s, 1 (alpha alpha^T, U alpha^T, U U^T).
       // The walks' h^3/12 X'_m X'_m^T = h^3/12 G_theta G_theta^T joins the mean's weight
       // (G_theta at the mean instead of the middle: O(h^2) apart, O(h^5) in the step).
-      const double h3 = h2 * h / 12.0;
-      const Vec3 alpha_b = alpha0 - h6 * (s0 * Ra0 + (2.0 * sm) * Ram);
-      const Vec3 U_b = U0 + h6 * (Ra0 + 2.0 * Ram);
-      n.AddWeighted(alpha_b, U_b, q.gyro * h + q.gyro_walk * h3);
-      const Vec3 qRam = (q.gyro * h3) * Ram;
-      const Mat3 RaRa = qRam * Ram.transpose();
-      n.aa += (sm * sm) * RaRa;
-      n.Ua -= sm * RaRa;
-      n.UU += RaRa;
+      const double h3 = h2 * h * (1.0 / 12.0);
+      const double w = q.gyro * h + q.gyro_walk * h3, q_h3 = q.gyro * h3, sm2 = sm * sm;
+      const double* alpha0 = c.alpha.data();
+      double alpha_b[3], U_b[3], wa[3], wU[3], qRam[3];
+      for (int i = 0; i < 3; ++i) {
+        alpha_b[i] = alpha0[i] - h6 * (s0 * Ra0[i] + (2.0 * sm) * Ram[i]);
+        U_b[i] = U0[i] + h6 * (Ra0[i] + 2.0 * Ram[i]);
+        wa[i] = w * alpha_b[i];
+        wU[i] = w * U_b[i];
+        qRam[i] = q_h3 * Ram[i];
+      }
+      double *aa = n.aa.data(), *Ua = n.Ua.data(), *UU = n.UU.data();
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) {
+          const double RaRa = qRam[i] * Ram[j];
+          aa[i + 3 * j] += wa[i] * alpha_b[j] + sm2 * RaRa;
+          Ua[i + 3 * j] += wU[i] * alpha_b[j] - sm * RaRa;
+          UU[i + 3 * j] += wU[i] * U_b[j] + RaRa;
+        }
+      for (int i = 0; i < 3; ++i) {
+        n.a[i] += wa[i];
+        n.U[i] += wU[i];
+      }
       n.h3 += h3;
       n.h3_s += h3 * sm;
-      n.h3_ss += h3 * sm * sm;
+      n.h3_ss += h3 * sm2;
     }
-    c.Tg = Tgb + h6 * (2.0 * Rm + R1);
-    c.Pg = Pgb + h6 * (2.0 * dPgm + dPg1);
-    c.Vg = Vgb + h6 * (2.0 * dVgm + dVg1);
-    c.Pa = Pab - h6 * ((2.0 * sm) * Rm + s1 * R1);
-    c.dPg = dPg1;
-    c.dVg = dVg1;
-    c.alpha = alpha1;
+    {
+      double *y = c.Y.data(), *dy = c.dY.data();
+      const double* yb = Yb.data();
+      for (int k = 0; k < 3; ++k)
+        for (int i = kYRows * k; i < kYRows * (k + 1); ++i) {
+          y[i] = yb[i] + h6 * (twice_dYm[i] + dY1[i]);
+          dy[i] = dY1[i];
+        }
+    }
+    for (int i = 0; i < 3; ++i) c.alpha[i] = alpha1[i];
   }
 
-  c.R = R1;
-  c.Ra = Ra1;
-  c.U = U1;
-  c.W = W1;
+  for (int i = 0; i < 9; ++i) c.R.data()[i] = R1[i];
+  for (int i = 0; i < 3; ++i) {
+    c.Ra[i] = Ra1[i];
+    c.U[i] = U1[i];
+    c.W[i] = W1[i];
+  }
 }
 
 namespace rk4_detail {
@@ -220,34 +351,40 @@ namespace rk4_detail {
 ///   th_bg = -Tg, v_bg = [U]x Tg - Vg, p_bg = [alpha]x Tg + T v_bg - Pg, v_ba = -Tg,
 ///   p_ba = -T Tg - Pa. The theta and v columns come from the state (ThetaColumnsFromState).
 inline void PhiFromPsi(const Rk4Carry& c, double T, LeftTransition& Phi) {
-  Phi.th_bg = -c.Tg;
-  Phi.v_bg = SkewTimes(c.U, c.Tg) - c.Vg;
-  Phi.p_bg = SkewTimes(c.alpha, c.Tg) + T * Phi.v_bg - c.Pg;
-  Phi.v_ba = -c.Tg;
-  Phi.p_ba = -T * c.Tg - c.Pa;
+  const Mat3 Tg = c.Tg();
+  Phi.th_bg = -Tg;
+  Phi.v_bg = SkewTimes(c.U, Tg) - c.Vg();
+  Phi.p_bg = SkewTimes(c.alpha, Tg) + T * Phi.v_bg - c.Pg();
+  Phi.v_ba = -Tg;
+  Phi.p_ba = -T * Tg - c.Pa();
 }
 
 /// M = int_{t_s}^{t_e} Psi D Psi^T from the sums (lower triangle filled by symmetry).
 inline Mat15 AssembleM(const NoiseSums& n, const NoiseVariances& q, double T) {
   using namespace left_idx;
+  namespace y = y_row;
   const Mat3 I = Mat3::Identity();
+  // The walk blocks by name (see NoiseSums): (A, B) = sum h Ab Bb^T.
+  const Mat3 PgPg = n.YPg.topRows<3>(), PgVg = n.YPg.bottomRows<3>().transpose();
+  const Mat3 PaTg = n.YTg.middleRows<3>(y::Pa), TgTg = n.YTg.middleRows<3>(y::Tg);
+  const Mat3 PgTg = n.YTg.middleRows<3>(y::Pg), TgVg = n.YTg.middleRows<3>(y::Vg).transpose();
   // c_v-type scalars: q_a int {1, s, s^2} in closed form plus the accel walk's corrections.
   const double c1 = q.accel * T + q.accel_walk * n.h3;
   const double cs = q.accel * (0.5 * T * T) + q.accel_walk * n.h3_s;
   const double css = q.accel * (T * T * T / 3.0) + q.accel_walk * n.h3_ss;
   const double c_theta = q.gyro * T + q.gyro_walk * n.h3;  // the sum of the q_g-type weights
   Mat15 M = Mat15::Zero();
-  M.block<3, 3>(p, p) = (n.aa.trace() + css) * I - n.aa + q.gyro_walk * n.PgPg + q.accel_walk * n.PaPa;
-  M.block<3, 3>(p, theta) = so3::skew(n.a) + q.gyro_walk * n.PgTg;
-  M.block<3, 3>(p, v) = (n.Ua.trace() - cs) * I - n.Ua + q.gyro_walk * n.PgVg + q.accel_walk * n.PaTg;
-  M.block<3, 3>(p, bg) = q.gyro_walk * n.iPg;
-  M.block<3, 3>(p, ba) = q.accel_walk * n.iPa;
-  M.block<3, 3>(theta, theta) = c_theta * I + q.gyro_walk * n.TgTg;
-  M.block<3, 3>(theta, v) = -so3::skew(n.U) + q.gyro_walk * n.TgVg;
-  M.block<3, 3>(theta, bg) = q.gyro_walk * n.iTg;
-  M.block<3, 3>(v, v) = (n.UU.trace() + c1) * I - n.UU + q.gyro_walk * n.VgVg + q.accel_walk * n.TgTg;
-  M.block<3, 3>(v, bg) = q.gyro_walk * n.iVg;
-  M.block<3, 3>(v, ba) = q.accel_walk * n.iTg;
+  M.block<3, 3>(p, p) = (n.aa.trace() + css) * I - n.aa + q.gyro_walk * PgPg + q.accel_walk * n.PaPa;
+  M.block<3, 3>(p, theta) = so3::skew(n.a) + q.gyro_walk * PgTg;
+  M.block<3, 3>(p, v) = (n.Ua.trace() - cs) * I - n.Ua + q.gyro_walk * PgVg + q.accel_walk * PaTg;
+  M.block<3, 3>(p, bg) = q.gyro_walk * n.iY.middleRows<3>(y::Pg);
+  M.block<3, 3>(p, ba) = q.accel_walk * n.iY.middleRows<3>(y::Pa);
+  M.block<3, 3>(theta, theta) = c_theta * I + q.gyro_walk * TgTg;
+  M.block<3, 3>(theta, v) = -so3::skew(n.U) + q.gyro_walk * TgVg;
+  M.block<3, 3>(theta, bg) = q.gyro_walk * n.iY.middleRows<3>(y::Tg);
+  M.block<3, 3>(v, v) = (n.UU.trace() + c1) * I - n.UU + q.gyro_walk * n.VgVg + q.accel_walk * TgTg;
+  M.block<3, 3>(v, bg) = q.gyro_walk * n.iY.middleRows<3>(y::Vg);
+  M.block<3, 3>(v, ba) = q.accel_walk * n.iY.middleRows<3>(y::Tg);
   M.block<3, 3>(bg, bg) = (q.gyro_walk * T) * I;
   M.block<3, 3>(ba, ba) = (q.accel_walk * T) * I;
   M.triangularView<Eigen::StrictlyLower>() = M.transpose();
@@ -256,10 +393,11 @@ inline Mat15 AssembleM(const NoiseSums& n, const NoiseVariances& q, double T) {
 
 }  // namespace rk4_detail
 
-/// Integrates over the whole window with `substeps` steps per knot interval, without
-/// checking the input (see PropagateRk4). Fills out.x_e, and out.Phi and out.cov as asked.
-template <Outputs kOut = Outputs::All>
-inline void IntegrateRk4(const PropagationInput& in, PropagationResult& out, int substeps = 1) {
+namespace rk4_detail {
+
+/// The integration over the whole window (see IntegrateRk4), as every instance compiles it.
+template <Outputs kOut>
+inline void IntegrateWindow(const PropagationInput& in, PropagationResult& out, int substeps) {
   constexpr bool kPhi = WantsTransition(kOut), kCov = WantsCovariance(kOut);
   const SampleWindow& w = in.window;
   const NoiseVariances q(in.noise);
@@ -268,6 +406,7 @@ inline void IntegrateRk4(const PropagationInput& in, PropagationResult& out, int
   rk4_detail::Rk4Carry c;
   c.R = xs.R;
   c.Ra = xs.R * (w[0].accel - xs.ba);
+  c.dY.middleRows<3>(rk4_detail::y_row::Tg) = xs.R;  // Y' at s = 0: Tg' = R, the rest 0 (alpha = U = 0)
   const std::size_t intervals = w.size() - 1;
   const double inv_n = 1.0 / substeps;
   const ImuSample* k0 = &w[0];
@@ -313,12 +452,64 @@ inline void IntegrateRk4(const PropagationInput& in, PropagationResult& out, int
   }
 }
 
+// Instances. The step is 3x3 and 12x3 blocks over plain arrays; compiled for the plugins'
+// default x86-64 target (SSE2) its loops run two numbers at a time. So with GCC on x86-64 the
+// window's integration is also compiled for AVX2 + FMA and for AVX-512 (the instruction sets
+// of the preintegration kernel's instances, chosen the same way: the widest the CPU has,
+// BestIsa(), once per call). `flatten` inlines the whole step into the instance, so all of it
+// is compiled for that instruction set; anything not inlined stays default-target code, so
+// nothing wide runs on a CPU without it. fp-contract=off keeps GCC from fusing a * b + c into
+// one multiply-add (its default, -ffp-contract=fast, would): the fused forms round
+// differently, and which products get fused differs between the output modes, so the state
+// would no longer be bitwise the same with and without Phi and P. Without fusing, vector and
+// scalar code do the same operations in the same order: every instance gives the baseline's
+// outputs bitwise (tests/integrators/rk4_instances.cpp), at about 10 % of the instances' speed.
+// Clang decides contraction per statement in its front end, before inlining, so it gets the
+// default-target code only.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define IMUCONV_RK4_X86_INSTANCES 1
+template <Outputs kOut>
+__attribute__((target("avx2,fma"), optimize("fp-contract=off"), flatten, noinline)) inline void
+IntegrateWindowAvx2(const PropagationInput& in, PropagationResult& out, int substeps) {
+  IntegrateWindow<kOut>(in, out, substeps);
+}
+template <Outputs kOut>
+__attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,avx2,fma"), optimize("fp-contract=off"), flatten,
+               noinline)) inline void
+IntegrateWindowAvx512(const PropagationInput& in, PropagationResult& out, int substeps) {
+  IntegrateWindow<kOut>(in, out, substeps);
+}
+#else
+#define IMUCONV_RK4_X86_INSTANCES 0
+#endif
+
+}  // namespace rk4_detail
+
+/// Integrates over the whole window with `substeps` steps per knot interval, without
+/// checking the input (see PropagateRk4). Fills out.x_e, and out.Phi and out.cov as asked.
+/// `isa` forces an instance (tests and benchmarks; it must be available, IsaAvailable);
+/// kAuto runs the widest this CPU has. kBaseline is the default-target code.
+template <Outputs kOut = Outputs::All>
+inline void IntegrateRk4(const PropagationInput& in, PropagationResult& out, int substeps = 1, Isa isa = Isa::kAuto) {
+#if IMUCONV_RK4_X86_INSTANCES
+  switch (isa == Isa::kAuto ? BestIsa() : isa) {
+    case Isa::kAvx512: return rk4_detail::IntegrateWindowAvx512<kOut>(in, out, substeps);
+    case Isa::kAvx2: return rk4_detail::IntegrateWindowAvx2<kOut>(in, out, substeps);
+    default: break;
+  }
+#else
+  (void)isa;
+#endif
+  rk4_detail::IntegrateWindow<kOut>(in, out, substeps);
+}
+
 /// The propagator entry point: checks the input (and substeps >= 1), then integrates.
 template <Outputs kOut = Outputs::All>
-inline Status PropagateRk4(const PropagationInput& in, PropagationResult& out, int substeps = 1) {
+inline Status PropagateRk4(const PropagationInput& in, PropagationResult& out, int substeps = 1, Isa isa = Isa::kAuto) {
   if (substeps < 1) return Status::Error("rk4: substeps must be at least 1");
+  if (!IsaAvailable(isa)) return Status::Error("rk4: the requested instruction set is not available on this CPU");
   Status st = CheckPropagationInput(in);
-  if (st.ok()) IntegrateRk4<kOut>(in, out, substeps);
+  if (st.ok()) IntegrateRk4<kOut>(in, out, substeps, isa);
   return st;
 }
 
