@@ -52,8 +52,10 @@ void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--trials", trials,
                   "Number of noisy trials N (at least 16: 15-dim errors need 16 for a full-rank sample covariance)")
       ->required();
+  // NonNegativeNumber: CLI11 would otherwise read "-1" as 2^64 - 1, a wrong seed given in silence.
   sub->add_option("--seed", seed, "Seed; trial i draws from (seed, i), so the result does not depend on --threads")
-      ->required();
+      ->required()
+      ->check(CLI::NonNegativeNumber);
   sub->add_option("--threads", threads, "Worker threads (default: every core)")->check(CLI::PositiveNumber);
   sub->add_option("--duration", duration, "Use only the case's first SECONDS (default: all of it)")
       ->type_name("SECONDS")

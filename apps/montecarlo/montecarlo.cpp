@@ -11,58 +11,27 @@
 // feeding, which holds each sample over the step that ends at it, the one it ends.
 #include "montecarlo.h"
 
+#include "normal.h"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <exception>
+#include <limits>
 #include <mutex>
-#include <random>
+#include <optional>
 #include <system_error>
 #include <thread>
 
+#include "imuconv/kernels/mean_only.h"
 #include "imuconv/printable.h"
 #include "imuconv/status.h"
 #include "imuconv/window.h"
 
 namespace imuconv::montecarlo {
 namespace {
-
-/// SplitMix64's finaliser: decorrelates consecutive trial indices into unrelated seeds.
-std::uint64_t Mix(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
-/// Standard normals by Box-Muller from mt19937_64's 53-bit uniforms: the standard library's
-/// normal_distribution is implementation-defined, this is not (only libm's log, sin, cos).
-class Normal {
- public:
-  explicit Normal(std::uint64_t seed) : rng_(seed) {}
-  double operator()() {
-    if (has_spare_) {
-      has_spare_ = false;
-      return spare_;
-    }
-    const double u1 = (static_cast<double>(rng_() >> 11) + 1.0) * 0x1.0p-53;  // (0, 1]
-    const double u2 = static_cast<double>(rng_() >> 11) * 0x1.0p-53;          // [0, 1)
-    const double r = std::sqrt(-2.0 * std::log(u1)), a = 2.0 * M_PI * u2;
-    spare_ = r * std::sin(a);
-    has_spare_ = true;
-    return r * std::cos(a);
-  }
-  Vec3 vec3(double sd) {
-    const double x = (*this)(), y = (*this)(), z = (*this)();
-    return Vec3(sd * x, sd * y, sd * z);
-  }
-
- private:
-  std::mt19937_64 rng_;
-  double spare_ = 0.0;
-  bool has_spare_ = false;
-};
 
 enum class Feeding { forward, backward };
 
@@ -73,6 +42,39 @@ Preintegrated PreintegrateAll(const Registry& reg, const PreintegrationMethod& m
   const Status st = MakeWindow(s.data(), s.size(), s.front().t, s.back().t, window);
   if (!st.ok()) throw Error("montecarlo: cannot window the samples: " + st.message());
   return Preintegrate(reg, method, window, in.bg, in.ba, in.noise);
+}
+
+/// The core kernel that computes a method's mean on its own, for the methods whose plugin is
+/// that kernel (plugins/propagators/{euler,midpoint,rk4}.cpp, plugins/preintegrators/
+/// {manifold,tangent}.cpp); none for the others, whose trials run the full preintegration.
+std::optional<kernels::MeanKernel> MeanKernelOf(const PreintegrationMethod& method) {
+  using kernels::MeanKernel;
+  struct Entry {
+    const char* id;
+    PluginKind kind;
+    MeanKernel kernel;
+  };
+  static constexpr Entry kServed[] = {{"euler", PluginKind::Propagator, MeanKernel::kEuler},
+                                      {"midpoint", PluginKind::Propagator, MeanKernel::kMidpoint},
+                                      {"rk4", PluginKind::Propagator, MeanKernel::kRk4},
+                                      {"manifold", PluginKind::Preintegrator, MeanKernel::kManifold},
+                                      {"tangent", PluginKind::Preintegrator, MeanKernel::kTangent}};
+  for (const Entry& e : kServed)
+    if (method.id == e.id && method.kind == e.kind) return e.kernel;
+  return std::nullopt;
+}
+
+/// The largest offset, in standard deviations of the prediction (whitened), accepted between
+/// the mean-only path's nominal increment and the full path's. Every trial's error then
+/// carries an offset below 1e-6 sigma: it moves a trial's NEES (about 15) by about
+/// 2 sqrt(15) 1e-6 ~ 1e-5, far inside the NEES bounds even at 10^7 trials (15 -+ 0.003), and
+/// the sample covariance by 1e-12 relative. Rounding differences are ~1e-10 sigma and below.
+constexpr double kMeanOffsetSigmas = 1e-6;
+
+bool SameBits(const PreintIncrement& a, const PreintIncrement& b) {
+  return std::memcmp(a.dR.data(), b.dR.data(), sizeof(double) * 9) == 0 &&
+         std::memcmp(a.dp.data(), b.dp.data(), sizeof(double) * 3) == 0 &&
+         std::memcmp(a.dv.data(), b.dv.data(), sizeof(double) * 3) == 0;
 }
 
 }  // namespace
@@ -138,8 +140,38 @@ Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method, co
   const Feeding feeding =
       method.id == "basalt" || method.id == "basalt_as_configured" ? Feeding::backward : Feeding::forward;
 
+  // The prediction and the nominal increment: the full path, once.
   const Preintegrated nominal = PreintegrateAll(reg, method, z, input);
   res.predicted = Express(reg, nominal, res.convention).cov;
+
+  // The trials need only the mean. Where the method is a kernel of the core, they call that
+  // kernel's mean alone (kernels/mean_only.h), provided it reproduces the plugin's nominal
+  // increment: bit for bit where the two are the same compiled arithmetic, or to within
+  // kMeanOffsetSigmas of the prediction's standard deviations where a separate compilation
+  // only sums in another order (rounding, ~1e-15 relative). A plugin of the same id from
+  // another directory (an override) is another scheme and is not accepted; then, as for every
+  // other method, each trial runs the full path.
+  std::optional<kernels::MeanKernel> mean_kernel;
+  if (options.allow_mean_only) mean_kernel = MeanKernelOf(method);
+  if (mean_kernel) {
+    SampleWindow window;
+    PreintIncrement mean;
+    if (!MakeWindow(z.data(), z.size(), z.front().t, z.back().t, window).ok() ||
+        !kernels::IncrementMean(*mean_kernel, window, input.bg, input.ba, input.noise, mean).ok()) {
+      mean_kernel.reset();
+    } else if (!SameBits(mean, nominal.delta)) {
+      mean.dbg = nominal.delta.dbg;
+      mean.dba = nominal.delta.dba;
+      Vec15 offset;
+      conv->local(nominal.delta, mean, offset);
+      const Eigen::LLT<Mat15> llt(res.predicted);
+      res.mean_only_offset = llt.info() == Eigen::Success
+                                 ? Vec15(llt.matrixL().solve(offset)).norm()
+                                 : std::numeric_limits<double>::infinity();
+      if (!(res.mean_only_offset <= kMeanOffsetSigmas)) mean_kernel.reset();
+    }
+  }
+  res.trial_path = mean_kernel ? "mean_only" : "full";
 
   // Per-sample white-noise and per-step walk standard deviations, computed once.
   std::vector<double> white_dt(K + 1), step_dt(K);
@@ -150,8 +182,19 @@ Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method, co
     else
       white_dt[k] = step_dt[k == 0 ? 0 : k - 1];
   }
+  // Standard deviations of the white noise on each sample and of each step's walk increment.
   const double s = options.noise_scale;
   const ImuNoise& q = input.noise;
+  std::vector<double> sd_gyro(K + 1), sd_accel(K + 1), sd_walk_g(K), sd_walk_a(K);
+  for (std::size_t k = 0; k <= K; ++k) {
+    const double white = per_sample_std ? 1.0 : 1.0 / std::sqrt(white_dt[k]);
+    sd_gyro[k] = s * q.gyro_noise_density * white;
+    sd_accel[k] = s * q.accel_noise_density * white;
+    if (k < K) {
+      sd_walk_g[k] = s * q.gyro_random_walk * std::sqrt(step_dt[k]);
+      sd_walk_a[k] = s * q.accel_random_walk * std::sqrt(step_dt[k]);
+    }
+  }
 
   std::vector<Vec15> errors(static_cast<std::size_t>(options.trials));
   std::atomic<int> next{0};
@@ -161,24 +204,42 @@ Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method, co
   long long shown = -1;
   auto worker = [&] {
     std::vector<ImuSample> truth(z);
+    std::vector<double> draws(6 * (K + 1) + 6 * K);  // one trial's normals
+    SampleWindow window;  // over `truth`, whose storage stays put; the nominal run windowed the same times
+    const bool windowed = MakeWindow(truth.data(), truth.size(), truth.front().t, truth.back().t, window).ok();
     for (int i = next++; i < options.trials; i = next++) {
       try {
-        Normal normal(Mix(Mix(options.seed) ^ static_cast<std::uint64_t>(i)));
+        if (!windowed) throw Error("montecarlo: cannot window the samples");
+        // Trial i's own stream, from (seed, i) only: the same whatever thread runs it.
+        // Per sample: white gyro and accel noise (3 + 3), then, but for the last, the walk's
+        // step (3 + 3), in this order from one stream drawn at once.
+        Normal(SplitMix64(SplitMix64(options.seed) ^ static_cast<std::uint64_t>(i))).Fill(draws.data(), draws.size());
+        const double* n = draws.data();
+        auto draw3 = [&n](double sd) {
+          const Vec3 v(sd * n[0], sd * n[1], sd * n[2]);
+          n += 3;
+          return v;
+        };
         Vec3 beta_g = Vec3::Zero(), beta_a = Vec3::Zero();
         for (std::size_t k = 0; k <= K; ++k) {
-          const double white = per_sample_std ? 1.0 : 1.0 / std::sqrt(white_dt[k]);
-          truth[k].gyro = z[k].gyro - normal.vec3(s * q.gyro_noise_density * white);
-          truth[k].accel = z[k].accel - normal.vec3(s * q.accel_noise_density * white);
+          truth[k].gyro = z[k].gyro - draw3(sd_gyro[k]);
+          truth[k].accel = z[k].accel - draw3(sd_accel[k]);
           if (walk_in_samples) {
             truth[k].gyro -= beta_g;
             truth[k].accel -= beta_a;
           }
           if (k < K) {
-            beta_g += normal.vec3(s * q.gyro_random_walk * std::sqrt(step_dt[k]));
-            beta_a += normal.vec3(s * q.accel_random_walk * std::sqrt(step_dt[k]));
+            beta_g += draw3(sd_walk_g[k]);
+            beta_a += draw3(sd_walk_a[k]);
           }
         }
-        Preintegrated m = PreintegrateAll(reg, method, truth, input);
+        Preintegrated m;
+        if (mean_kernel) {
+          const Status st = kernels::IncrementMean(*mean_kernel, window, input.bg, input.ba, input.noise, m.delta);
+          if (!st.ok()) throw Error("montecarlo: trial " + std::to_string(i) + ": " + Printable(st.message()));
+        } else {
+          m = Preintegrate(reg, method, window, input.bg, input.ba, input.noise);
+        }
         m.delta.dbg = nominal.delta.dbg + beta_g;
         m.delta.dba = nominal.delta.dba + beta_a;
         Vec15 e;

@@ -41,6 +41,9 @@ struct Options {
   std::uint64_t seed = 1;
   int threads = 1;
   double noise_scale = 1.0;  ///< densities of the simulation only (the prediction keeps the case's)
+  /// false: every trial runs the method's full preintegration, even where a kernel of the core
+  /// would give its mean alone (the two are compared by tests/montecarlo/paths.cpp).
+  bool allow_mean_only = true;
   /// Called with (trials done, trials) from the worker that finished a trial, under a lock, at
   /// most once per percent; it only reports (the results do not depend on it).
   std::function<void(int, int)> progress;
@@ -73,14 +76,20 @@ struct Result {
   std::vector<BlockRatio> blocks;
   Verdict verdict = Verdict::inconsistent;
   std::vector<std::string> reasons;  ///< why the verdict, in words
+  /// How each trial was integrated: "mean_only" (the mean alone, by the method's kernel in the
+  /// core) or "full" (the method's whole preintegration); docs/montecarlo.md, "Speed".
+  std::string trial_path;
+  /// For "mean_only": how far the mean-only path's nominal increment is from the full path's,
+  /// in standard deviations of the prediction (0: bit for bit the same).
+  double mean_only_offset = 0.0;
 };
 
 /// The default scoring chart of a method: its covariance convention for a native
 /// preintegrator, `preint_reference` for preintegration by propagation.
 std::string DefaultConvention(const PreintegrationMethod& method);
 
-/// Runs the Monte Carlo. Trial i draws its noise from std::mt19937_64 seeded with a mix of
-/// (seed, i) and its own Box-Muller normals, so the result is the same bit for bit for any
+/// Runs the Monte Carlo. Trial i draws its noise from its own generator (normal.h: xoshiro256++
+/// seeded from (seed, i), ziggurat normals), so the result is the same bit for bit for any
 /// thread count. Throws imuconv::Error for a predicted covariance that is not positive definite
 /// or a trial that fails.
 Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method, const std::string& convention,

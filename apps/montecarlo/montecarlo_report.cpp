@@ -44,7 +44,8 @@ nlohmann::json ReportJson(const Result& r) {
               {"kl_level", kKlLevel},
               {"blocks", blocks},
               {"verdict", VerdictName(r.verdict)},
-              {"reasons", r.reasons}};
+              {"reasons", r.reasons},
+              {"trial_path", r.trial_path}};
 }
 
 void PrintSummary(std::ostream& out, const Result& r) {
@@ -53,7 +54,15 @@ void PrintSummary(std::ostream& out, const Result& r) {
       << "  " << r.trials << " trials, seed " << r.seed << ", " << r.samples << " samples over "
       << Fmt("%.6g", r.duration) << " s\n"
       << "  noise model: " << r.noise_model.simulated << (r.noise_model.matches ? "" : " (NOT the prediction's)")
-      << ": " << r.noise_model.note << "\n\n"
+      << ": " << r.noise_model.note << "\n"
+      << "  trials: "
+      << (r.trial_path == "mean_only"
+              ? "the mean only, by the core's " + r.method + " kernel (the covariance computed once; its nominal " +
+                    (r.mean_only_offset == 0.0 ? std::string("is the full path's bit for bit)")
+                                               : "is within " + Fmt("%.2g", r.mean_only_offset) +
+                                                     " standard deviations of the full path's)")
+              : std::string("the method's full preintegration each"))
+      << "\n\n"
       << "  relative Frobenius error  " << Fmt("%.4g", st.relative_frobenius) << "   (|S - Sigma|_F / |Sigma|_F)\n"
       << "  NEES mean                 " << Fmt("%.4g", st.nees_mean) << "   (95% bounds ["
       << Fmt("%.4g", st.nees_bounds[0]) << ", " << Fmt("%.4g", st.nees_bounds[1]) << "], expected 15)\n"

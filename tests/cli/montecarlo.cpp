@@ -114,6 +114,8 @@ TEST_P(MontecarloConsistent, Consistent) {
               j["nees_bounds"][1].get<double>(), j["kl"].get<double>(), j["kl_bound"].get<double>());
   EXPECT_EQ(j["verdict"], "consistent");
   EXPECT_EQ(j["trials"], 300);
+  // These five are kernels of the core: their trials integrate the mean only (docs/montecarlo.md, "Speed").
+  EXPECT_EQ(j["trial_path"], "mean_only");
   // The case's samples in its first 5 s (1001 at 200 Hz; fewer on the jittered times).
   const json c = ReadJson(DataPath("reference/cases/" + p.case_id + ".json"));
   const double t0 = c["imu"][0][0].get<double>();
@@ -206,6 +208,7 @@ TEST(Montecarlo, NoiseReadingMismatchIsDeclared) {
       Montecarlo("--case " + CasePath("smooth-0") + " --method basalt --trials 64 --seed 1 --duration 2 --json", tmp);
   ASSERT_NE(b.exit_code, 2) << b.err;
   EXPECT_EQ(json::parse(b.out)["noise_model"]["simulated"], "basalt");
+  EXPECT_EQ(json::parse(b.out)["trial_path"], "full");  // no mean-only kernel: the plugin per trial
   // basalt_as_configured reads the white-noise numbers as per-sample standard deviations: that
   // model is simulated, and against it the method is consistent (its variances are 1/200 of the
   // continuous model's at 200 Hz, so the continuous simulation would be off by NEES ~ 9 * 200).
@@ -259,6 +262,11 @@ TEST(Montecarlo, HostileInputExitsTwoWithAClearMessage) {
   }
 
   r = Montecarlo("--case " + ok_case + " --method rk4 --trials 32", tmp);  // no --seed
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(Has(r.err, "--seed")) << r.err;
+
+  // A negative seed is refused, not wrapped to 2^64 - 1.
+  r = Montecarlo("--case " + ok_case + " --method rk4 --trials 32 --seed -1", tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "--seed")) << r.err;
 

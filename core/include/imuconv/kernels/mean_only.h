@@ -1,0 +1,111 @@
+// The mean alone of the core's integration kernels, for re-integrations that need the end
+// value and nothing else (imuconv montecarlo's trials: the predicted covariance is computed
+// once, each noisy trial only integrates its samples, docs/montecarlo.md).
+//
+// Each function below gives, bit for bit, the increment that the kernel's full run gives
+// through its plugin and the bridge (registry/src/bridge.cpp), without the transition matrix,
+// the covariance or (for the propagators) the plugin call:
+//   propagators (euler, midpoint, rk4), preintegration by propagation (the paper, section
+//     3.1): propagated from the identity with zero gravity, the end state is the increment;
+//   native preintegrators (manifold, tangent): their increment, which the bridge copies
+//     unchanged into preint_reference (only the covariance and bias Jacobian change chart).
+// tests/integrators/mean_only.cpp compares each with the full path bit for bit.
+//
+// Why the same arithmetic: rk4's state recursion (kernels/rk4.h) is the same expressions in
+// every output mode. The held propagators and the native preintegrators run the
+// preintegration kernel's recursion (core/src/kernels/); its mean-only instance is a separate
+// compilation, which the test checks to round the same way on this build and CPU.
+#pragma once
+
+#include "imuconv/kernels/euler.h"
+#include "imuconv/kernels/preintegration.h"
+#include "imuconv/kernels/rk4.h"
+
+namespace imuconv::kernels {
+
+/// The kernels with a mean-only path, named as their plugins' ids (plugins/propagators/,
+/// plugins/preintegrators/).
+enum class MeanKernel { kEuler, kMidpoint, kRk4, kManifold, kTangent };
+
+namespace mean_only_detail {
+
+/// A held-input propagation's end state: IntegrateHeld's route (the preintegration kernel
+/// where the CPU has a SIMD instance, else per sample), its Phi and covariance left out.
+template <Hold kHold>
+inline void HeldEndState(const PropagationInput& in, ImuState& x_e) {
+  const Isa isa = BestIsa();
+  if (isa == Isa::kBaseline) {
+    PropagationResult r;
+    IntegrateHeldPerSample<kHold, Outputs::State>(in, r);
+    x_e = r.x_e;
+    return;
+  }
+  PreintegrationInput pin;
+  pin.bg = in.x_s.bg;
+  pin.ba = in.x_s.ba;
+  pin.noise = in.noise;
+  pin.window = in.window;
+  StartFrameManifold pre;
+  (void)IntegrateManifoldStartFrame(pin, kHold, /*covariance=*/false, isa, pre);  // isa is available
+  // The state composition of IntegrateHeldByPreintegration, expression for expression.
+  const ManifoldIncrement& inc = pre.increment;
+  const double T = in.window.t_end() - in.window.t_start();
+  const Mat3& Rs = in.x_s.R;
+  x_e.R = Rs * inc.dR;
+  x_e.v = in.x_s.v + T * in.gravity + Rs * inc.dv;
+  x_e.p = in.x_s.p + T * in.x_s.v + (0.5 * T * T) * in.gravity + Rs * inc.dp;
+  x_e.bg = in.x_s.bg;
+  x_e.ba = in.x_s.ba;
+}
+
+}  // namespace mean_only_detail
+
+/// The increment (dR, dp, dv; dbg = dba = 0) of `kernel` over `window` at the bias estimate
+/// (bg, ba), as the method's full preintegration gives it (see the file comment). `noise` is
+/// only checked (the mean does not depend on it). Checks the input as the full run does and
+/// returns its error; never throws except std::bad_alloc while building a message.
+inline Status IncrementMean(MeanKernel kernel, const SampleWindow& window, const Vec3& bg, const Vec3& ba,
+                            const ImuNoise& noise, PreintIncrement& delta) {
+  delta = PreintIncrement();
+  if (kernel == MeanKernel::kManifold || kernel == MeanKernel::kTangent) {
+    PreintegrationInput in;
+    in.bg = bg;
+    in.ba = ba;
+    in.noise = noise;
+    in.window = window;
+    NativePreintegration out;
+    const Status st = kernel == MeanKernel::kManifold ? IntegrateManifold<false>(in, out)
+                                                      : IntegrateTangent<false>(in, out);
+    if (!st.ok()) return st;
+    delta.dR = out.delta.dR;
+    delta.dp = out.delta.dp;
+    delta.dv = out.delta.dv;
+    return st;
+  }
+  // Preintegration by propagation: the bridge's start (ByPropagation).
+  PropagationInput in;
+  in.x_s.bg = bg;
+  in.x_s.ba = ba;
+  in.cov_s.setZero();
+  in.noise = noise;
+  in.gravity.setZero();
+  in.window = window;
+  Status st = CheckPropagationInput(in);
+  if (!st.ok()) return st;
+  ImuState x_e;
+  switch (kernel) {
+    case MeanKernel::kEuler: mean_only_detail::HeldEndState<Hold::Euler>(in, x_e); break;
+    case MeanKernel::kMidpoint: mean_only_detail::HeldEndState<Hold::Midpoint>(in, x_e); break;
+    default: {
+      PropagationResult r;
+      IntegrateRk4<Outputs::State>(in, r, 1);  // the plugin's one step per knot interval
+      x_e = r.x_e;
+    }
+  }
+  delta.dR = x_e.R;
+  delta.dp = x_e.p;
+  delta.dv = x_e.v;
+  return st;
+}
+
+}  // namespace imuconv::kernels

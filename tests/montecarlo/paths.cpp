@@ -1,0 +1,93 @@
+// imuconv montecarlo's two ways of integrating a trial (apps/montecarlo/montecarlo.cpp): the
+// mean alone by the method's kernel in the core, and the method's full preintegration through
+// its plugin. For every method the mean-only path serves, a run each way gives the same
+// statistics bit for bit (so the same trials' end errors), and the run says which path it took;
+// the other methods take the full path.
+//
+// Bit for bit where the mean-only path is the same compiled arithmetic (the run reports a zero
+// offset then). Where it only sums in another order (rk4's instances, kernels/rk4.h) the trials'
+// errors differ by rounding, ~1e-15 of the increment or ~1e-10 of a standard deviation; the
+// statistics are then compared on their own scale to 1e-8, 100x that, which any difference of
+// scheme (1e-6 and more) exceeds. tests/integrators/mean_only.cpp checks the increments.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+
+#include "imuconv_test.h"
+#include "montecarlo.h"
+
+namespace imuconv::montecarlo {
+namespace {
+
+using test::Plugins;
+
+Input CaseInput(const std::string& id, double seconds) {
+  const nlohmann::json c = test::ReadJson(test::DataPath("reference/cases/" + id + ".json"));
+  Input in;
+  for (const ImuSample& s : test::CaseSamples(c))
+    if (in.samples.empty() || s.t <= in.samples.front().t + seconds + 1e-9) in.samples.push_back(s);
+  const auto& n = c.at("noise");
+  in.noise.gyro_noise_density = n.at("gyro_noise_density").get<double>();
+  in.noise.accel_noise_density = n.at("accel_noise_density").get<double>();
+  in.noise.gyro_random_walk = n.at("gyro_random_walk").get<double>();
+  in.noise.accel_random_walk = n.at("accel_random_walk").get<double>();
+  in.bg = test::JsonVec3(c.at("state_s").at("bg"));
+  in.ba = test::JsonVec3(c.at("state_s").at("ba"));
+  return in;
+}
+
+Result RunMethod(const std::string& method_id, PluginKind kind, const Input& in, bool allow_mean_only) {
+  const PreintegrationMethod method = ResolvePreintegrationMethod(Plugins(), kind, method_id);
+  Options o;
+  o.trials = 40;
+  o.seed = 11;
+  o.threads = 2;
+  o.allow_mean_only = allow_mean_only;
+  return RunMonteCarlo(Plugins(), method, DefaultConvention(method), in, o);
+}
+
+bool SameBits(const Mat15& a, const Mat15& b) { return std::memcmp(a.data(), b.data(), sizeof(double) * 225) == 0; }
+
+TEST(MontecarloPaths, MeanOnlyGivesTheFullPathsTrialsBitForBit) {
+  for (const char* case_id : {"aggressive-0", "jitter-0"}) {
+    const Input in = CaseInput(case_id, 2.0);
+    for (const auto& [id, kind] : {std::pair<const char*, PluginKind>{"euler", PluginKind::Propagator},
+                                   {"midpoint", PluginKind::Propagator},
+                                   {"rk4", PluginKind::Propagator},
+                                   {"manifold", PluginKind::Preintegrator},
+                                   {"tangent", PluginKind::Preintegrator}}) {
+      const Result mean = RunMethod(id, kind, in, true), full = RunMethod(id, kind, in, false);
+      EXPECT_EQ(mean.trial_path, "mean_only") << id << " on " << case_id;
+      EXPECT_EQ(full.trial_path, "full") << id;
+      EXPECT_TRUE(SameBits(mean.predicted, full.predicted)) << id;
+      EXPECT_LE(mean.mean_only_offset, 1e-6) << id;
+      if (mean.mean_only_offset == 0.0) {
+        EXPECT_TRUE(SameBits(mean.stats.sample_cov, full.stats.sample_cov)) << id << " on " << case_id;
+        EXPECT_EQ(mean.stats.nees_mean, full.stats.nees_mean) << id;
+        EXPECT_EQ(mean.stats.kl, full.stats.kl) << id;
+      } else {
+        std::printf("[ measured ] %s on %s: nominal offset %.2g sigma (not bit for bit)\n", id, case_id,
+                    mean.mean_only_offset);
+        // Sample covariances on the correlation scale of the full path's.
+        const Eigen::Array<double, 15, 1> sd = full.stats.sample_cov.diagonal().array().sqrt();
+        const Mat15 diff = (mean.stats.sample_cov - full.stats.sample_cov).array() / (sd.matrix() * sd.matrix().transpose()).array();
+        EXPECT_LE(diff.cwiseAbs().maxCoeff(), 1e-8) << id << " on " << case_id;
+        EXPECT_NEAR(mean.stats.nees_mean, full.stats.nees_mean, 1e-8 * full.stats.nees_mean) << id;
+        EXPECT_NEAR(mean.stats.kl, full.stats.kl, 1e-8 * full.stats.kl) << id;
+      }
+    }
+  }
+}
+
+// Methods that are not kernels of the core run their plugin per trial.
+TEST(MontecarloPaths, OtherMethodsRunTheFullPath) {
+  const Input in = CaseInput("smooth-0", 1.0);
+  for (const auto& [id, kind] : {std::pair<const char*, PluginKind>{"openvins_rk4", PluginKind::Propagator},
+                                 {"vins_fusion", PluginKind::Preintegrator},
+                                 {"basalt", PluginKind::Preintegrator}})
+    EXPECT_EQ(RunMethod(id, kind, in, true).trial_path, "full") << id;
+}
+
+}  // namespace
+}  // namespace imuconv::montecarlo
