@@ -120,19 +120,7 @@ bool IsTerminal(const pipeline::OutputFile& file) {
 /// it is never held in memory), is read back keeping only its numbers, and the archive is
 /// written into `file` (not committed).
 void RunToNpz(const pipeline::Pipeline& p, const pipeline::RunOptions& ro, pipeline::OutputFile& file) {
-  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> text(std::tmpfile(), &std::fclose);
-  if (!text) throw Error(std::string("cannot create a temporary file for the JSON text: ") + std::strerror(errno));
-  bool first = true;
-  pipeline::RunToText(p, ro, [&](std::string_view s) {
-    if (first) file.refuse_if_loaded_object();
-    first = false;
-    if (std::fwrite(s.data(), 1, s.size(), text.get()) != s.size())
-      throw Error(std::string("writing the JSON text to a temporary file failed: ") + std::strerror(errno));
-  });
-  if (std::fflush(text.get()) != 0 || std::fseek(text.get(), 0, SEEK_SET) != 0)
-    throw Error(std::string("writing the JSON text to a temporary file failed: ") + std::strerror(errno));
-  const pipeline::ResultArrays arrays =
-      pipeline::CollectResultArrays(text.get(), "the output of " + Printable(p.file()));
+  const pipeline::ResultArrays arrays = pipeline::RunToArrays(p, ro, [&] { file.refuse_if_loaded_object(); });
   pipeline::WriteResultNpz(arrays, [&](std::string_view s) { file.write(s); });
 }
 

@@ -1,18 +1,27 @@
 #include "suite.h"
 
 #include <benchmark/benchmark.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "imuconv/bridge.h"
+#include "imuconv/pipeline/output_file.h"
+#include "imuconv/pipeline/pipeline.h"
+#include "imuconv/pipeline/result_arrays.h"
 #include "imuconv/kernels/preintegration.h"
 #include "imuconv/kernels/rk4.h"
 #include "imuconv/printable.h"
 #include "imuconv/registry.h"
 #include "imuconv/so3.h"
+#include "montecarlo.h"
 
 namespace imuconv::bench {
 namespace {
@@ -178,6 +187,114 @@ void BM_PluginOverhead(benchmark::State& st, const char* id, DirectKernel direct
   SetSamples(st);
 }
 
+// ---- The whole job: `imuconv run examples/euroc_v1_01_full.json -o OUT` in-process ----
+// Pipeline::Load, plugin loading (with the conventions' checks at load), reading the CSV
+// files, the tasks, and the output written and committed as the CLI does (a temporary in the
+// system's temporary directory, fsync'ed and renamed): JSON text, or the NPZ archive. Threads
+// as the CLI's default (every core). Reported per IMU sample of the file (wall time, manual),
+// with the RK4 kernel timed in the same iterations (BM_Propagate/rk4's call on its 2000-sample
+// interval, interleaved so both see the same machine state): `kernel_ns_per_sample` and
+// `x_kernel` = whole job / kernel, per sample. The data are found in the source tree
+// (IMUCONV_SOURCE_DIR); without them the benchmark reports an error, never a figure.
+std::string SourceFile(const std::string& rel) { return std::string(IMUCONV_SOURCE_DIR) + "/" + rel; }
+
+/// Data rows of an EuRoC CSV file (lines that are neither empty nor '#' comments); 0 if unreadable.
+std::size_t DataRows(const std::string& path) {
+  std::ifstream in(path);
+  std::size_t n = 0;
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty() && line[0] != '#' && line != "\r") ++n;
+  return n;
+}
+
+void BM_WholeJob(benchmark::State& st, const char* pipeline_file, const char* imu_file, bool npz) {
+  const std::string path = SourceFile(pipeline_file);
+  const std::size_t samples = DataRows(SourceFile(imu_file));
+  if (samples == 0) {
+    st.SkipWithError(("cannot read the IMU data " + SourceFile(imu_file) + " (the source tree's examples/data)").c_str());
+    return;
+  }
+  const std::string out = (std::filesystem::temp_directory_path() /
+                           ("imuconv_bench_whole_job_" + std::to_string(::getpid()) + (npz ? ".npz" : ".json")))
+                              .string();
+  const auto prop = Plugins().propagator("rk4");
+  const PropagationInput in = Input();
+  PropagationResult kernel_out;
+  double job = 0.0, kernel = 0.0;
+  for (auto _ : st) {
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      const pipeline::Pipeline p = pipeline::Pipeline::Load(path);
+      pipeline::OutputFile file(out);
+      pipeline::RunOptions ro;
+      if (npz) {
+        const pipeline::ResultArrays arrays = pipeline::RunToArrays(p, ro);
+        pipeline::WriteResultNpz(arrays, [&](std::string_view s) { file.write(s); });
+      } else {
+        pipeline::RunToText(p, ro, [&](std::string_view s) { file.write(s); });
+      }
+      file.commit();
+    } catch (const std::exception& e) {
+      st.SkipWithError(e.what());
+      break;
+    }
+    const auto t1 = std::chrono::steady_clock::now();
+    if (Failed(st, prop->propagate(in, kernel_out))) break;
+    benchmark::DoNotOptimize(kernel_out);
+    const auto t2 = std::chrono::steady_clock::now();
+    const double job_s = std::chrono::duration<double>(t1 - t0).count();
+    job += job_s;
+    kernel += std::chrono::duration<double>(t2 - t1).count();
+    st.SetIterationTime(job_s);
+  }
+  std::error_code ec;
+  std::filesystem::remove(out, ec);
+  if (st.iterations() == 0 || kernel <= 0.0) return;
+  const double job_ns = 1e9 * job / (static_cast<double>(st.iterations()) * static_cast<double>(samples));
+  const double kernel_ns = 1e9 * kernel / (static_cast<double>(st.iterations()) * static_cast<double>(Samples().size() - 1));
+  st.counters["kernel_ns_per_sample"] = kernel_ns;
+  st.counters["x_kernel"] = job_ns / kernel_ns;
+  st.SetItemsProcessed(static_cast<int64_t>(st.iterations()) * static_cast<int64_t>(samples));
+}
+
+// ---- imuconv montecarlo's trials (apps/montecarlo/), in-process, one thread ----
+// RunMonteCarlo on the 2000-step interval: the prediction once, then `kTrials` noisy trials,
+// each drawing 12 normals per sample and integrating the mean (BM_MonteCarlo/rk4: the core's
+// rk4 kernel, mean only) or the whole preintegration through the plugin
+// (BM_MonteCarlo/rk4_full_path: the path before the mean-only one, and still the path of the
+// methods that are not kernels of the core). Reported per sample per trial:
+// ns = 1e9 / items_per_second (the one prediction is amortised over the trials, ~1 %).
+// `imuconv montecarlo ... --trials 10000` on 2 cores costs about 10000 x 2000 x that / 2,
+// plus the process start (bench/README.md, "montecarlo").
+void BM_MonteCarlo(benchmark::State& st, const char* id, bool allow_mean_only) {
+  constexpr int kTrials = 256;
+  const PreintegrationMethod method = ResolvePreintegrationMethod(Plugins(), PluginKind::Propagator, id);
+  montecarlo::Input in;
+  in.samples = Samples();
+  in.bg = kBiasGyro;
+  in.ba = kBiasAccel;
+  in.noise = Noise();
+  montecarlo::Options o;
+  o.trials = kTrials;
+  o.seed = 1;
+  o.threads = 1;
+  o.allow_mean_only = allow_mean_only;
+  for (auto _ : st) {
+    try {
+      const montecarlo::Result r = montecarlo::RunMonteCarlo(Plugins(), method, "preint_reference", in, o);
+      if (allow_mean_only && r.trial_path != "mean_only") {
+        st.SkipWithError("the mean-only path was not taken (montecarlo.cpp: its nominal disagreed with the plugin's)");
+        break;
+      }
+      benchmark::DoNotOptimize(r.stats.nees_mean);
+    } catch (const std::exception& e) {
+      st.SkipWithError(e.what());
+      break;
+    }
+  }
+  st.SetItemsProcessed(static_cast<int64_t>(st.iterations()) * kTrials * static_cast<int64_t>(Samples().size() - 1));
+}
+
 }  // namespace
 
 void RegisterAll() {
@@ -197,6 +314,13 @@ void RegisterAll() {
   benchmark::RegisterBenchmark("BM_PreintegrateByPropagation/rk4", BM_PreintegrateByPropagation, "rk4");
   benchmark::RegisterBenchmark("BM_Conversion/left/gtsam_navstate", BM_Conversion, "left", "gtsam_navstate");
   benchmark::RegisterBenchmark("BM_PluginOverhead/rk4", BM_PluginOverhead, "rk4", &DirectRk4)->UseManualTime();
+  for (const bool npz : {false, true})
+    benchmark::RegisterBenchmark(npz ? "BM_WholeJob/euroc_full_npz" : "BM_WholeJob/euroc_full_json", BM_WholeJob,
+                                 "examples/euroc_v1_01_full.json", "examples/data/V1_01_easy_imu0.csv", npz)
+        ->UseManualTime()
+        ->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("BM_MonteCarlo/rk4", BM_MonteCarlo, "rk4", true)->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("BM_MonteCarlo/rk4_full_path", BM_MonteCarlo, "rk4", false)->Unit(benchmark::kMillisecond);
 }
 
 int Main(int argc, char** argv) {

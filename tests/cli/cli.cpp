@@ -271,6 +271,9 @@ TEST(Cli, BenchRunsTheWholeSet) {
   for (const char* scheme : {"manifold", "tangent"})
     for (const auto& [isa, name] : instances)
       if (imuconv::kernels::IsaAvailable(isa)) names.push_back(std::string("BM_PreintegrateInstance/") + scheme + "/" + name);
+  for (const char* name : {"BM_MonteCarlo/rk4", "BM_MonteCarlo/rk4_full_path"}) names.push_back(name);  // montecarlo's trials
+  for (const char* name : {"BM_WholeJob/euroc_full_json/manual_time", "BM_WholeJob/euroc_full_npz/manual_time"})
+    names.push_back(name);  // imuconv run on examples/euroc_v1_01_full.json, in-process
   for (const std::string& name : names) {
     ASSERT_TRUE(ran.count(name)) << name << " did not run\n" << r.out;
     const json& b = ran[name];

@@ -4,7 +4,8 @@
 // (about 1 MiB, or one interval's text), so that a large document is never held in memory.
 // Independent intervals are computed and formatted on a thread pool (write_elements): each
 // element's text depends on its index only and goes to the sink in index order, so the
-// document is the same byte for byte for any thread count.
+// document is the same byte for byte for any thread count. With JsonWriter::Form::kEvents the
+// pieces are value events instead of text (the NPZ output collects its arrays from them).
 #pragma once
 
 #include <algorithm>
@@ -27,7 +28,11 @@ class SinkFailure : public Error {
 
 class Output {
  public:
-  Output(const TextSink& sink, unsigned threads) : sink_(sink), pool_(threads) {}
+  Output(const TextSink& sink, unsigned threads, JsonWriter::Form form = JsonWriter::Form::kText)
+      : sink_(sink), pool_(threads), form_(form) {}
+
+  /// What the writers write: text, or value events.
+  JsonWriter::Form form() const noexcept { return form_; }
 
   /// Where the document is written (JsonWriter's string).
   std::string& text() { return buf_; }
@@ -52,7 +57,7 @@ class Output {
         [&](std::size_t k) {
           std::string& text = slots[k % slots_n];
           text = k == 0 ? first_sep : sep;
-          JsonWriter cw(text, depth, base + "/" + std::to_string(k));
+          JsonWriter cw(text, depth, base + "/" + std::to_string(k), JsonWriter::NonFinite::Throw, form_);
           write_one(cw, k);
         },
         [&](std::size_t k) {
@@ -76,6 +81,7 @@ class Output {
 
   const TextSink& sink_;
   ThreadPool pool_;
+  JsonWriter::Form form_;
   std::string buf_;  // output not yet handed to the sink
   std::size_t records_ = 0;
 };

@@ -7,7 +7,9 @@
 
 #include "context.h"
 #include "imuconv/pipeline/pipeline.h"
+#include "imuconv/pipeline/result_arrays.h"
 #include "imuconv/printable.h"
+#include "io/result_collector.h"
 #include "output.h"
 #include "plugins_used.h"
 #include "results.h"
@@ -206,7 +208,7 @@ void RunTask(RunContext& ctx, const Task& t, JsonWriter& w) {
 }
 
 void Execute(RunContext& ctx) {
-  JsonWriter w(ctx.out.text());
+  JsonWriter w(ctx.out.text(), 0, {}, JsonWriter::NonFinite::Throw, ctx.out.form());
   w.begin_object();
   WriteHead(ctx, w);
   w.key("tasks");
@@ -231,7 +233,7 @@ void Execute(RunContext& ctx) {
   }
   w.end_array();
   w.end_object();
-  ctx.out.text() += "\n";
+  if (ctx.out.form() == JsonWriter::Form::kText) ctx.out.text() += "\n";
   ctx.out.flush(true);
 }
 
@@ -245,10 +247,10 @@ void FillStats(const RunContext& ctx, RunOptions::Stats& stats) {
   }
 }
 
-}  // namespace
-
-void RunToText(const Pipeline& p, const Registry& reg, const RunOptions& options, const TextSink& sink) {
-  Output out(sink, options.threads);
+/// RunToText, in either of the writer's forms (text, or value events for RunToArrays).
+void RunToSink(const Pipeline& p, const Registry& reg, const RunOptions& options, const TextSink& sink,
+               JsonWriter::Form form) {
+  Output out(sink, options.threads, form);
   RunContext ctx(p.spec(), reg, options, out);
   ctx.referenced = ReferencedTasks(ctx.spec);
   CheckRegistry(ctx);
@@ -261,10 +263,9 @@ void RunToText(const Pipeline& p, const Registry& reg, const RunOptions& options
   if (options.stats) FillStats(ctx, *options.stats);
 }
 
-void RunToText(const Pipeline& p, const RunOptions& options, const TextSink& sink) {
+void LoadRegistry(const Pipeline& p, const RunOptions& options, Registry& reg) {
   std::vector<std::string> dirs = options.plugin_dirs;
   dirs.insert(dirs.end(), p.plugin_dirs().begin(), p.plugin_dirs().end());
-  Registry reg;
   // A plugin claiming another one's id is an error unless the user or the pipeline opts in;
   // the output's "plugins" list then names the file that won.
   LoadOptions lo;
@@ -272,7 +273,40 @@ void RunToText(const Pipeline& p, const RunOptions& options, const TextSink& sin
   const auto issues = reg.load_search_path(dirs, lo);
   if (options.log)
     for (const auto& i : issues) *options.log << "warning: plugin " << Printable(i.file) << ": " << i.message << "\n";
+}
+
+}  // namespace
+
+void RunToText(const Pipeline& p, const Registry& reg, const RunOptions& options, const TextSink& sink) {
+  RunToSink(p, reg, options, sink, JsonWriter::Form::kText);
+}
+
+void RunToText(const Pipeline& p, const RunOptions& options, const TextSink& sink) {
+  Registry reg;
+  LoadRegistry(p, options, reg);
   RunToText(p, reg, options, sink);
+}
+
+ResultArrays RunToArrays(const Pipeline& p, const Registry& reg, const RunOptions& options,
+                         const std::function<void()>& started) {
+  detail::EventCollector collector("the output of " + Printable(p.file()));
+  bool first = true;
+  RunToSink(
+      p, reg, options,
+      [&](std::string_view events) {
+        if (first && started) started();
+        first = false;
+        collector.feed(events);
+      },
+      JsonWriter::Form::kEvents);
+  if (options.check_only) return {};
+  return collector.finish();
+}
+
+ResultArrays RunToArrays(const Pipeline& p, const RunOptions& options, const std::function<void()>& started) {
+  Registry reg;
+  LoadRegistry(p, options, reg);
+  return RunToArrays(p, reg, options, started);
 }
 
 json Run(const Pipeline& p, const Registry& reg, const RunOptions& options) {

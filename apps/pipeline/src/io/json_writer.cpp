@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 #include "number_format.h"
+#include "value_events.h"
 #include "imuconv/registry.h"
 
 namespace imuconv::pipeline {
@@ -23,6 +25,22 @@ void AppendPad(std::string& out, int level) {
   }
 }
 
+// The texts of recently formatted doubles, by their bits, per thread. Covariances are symmetric
+// and Jacobians repeat entries: of the nonzero numbers of examples/euroc_v1_01_full.json's
+// output, 40 % were written a few hundred numbers earlier (a 512-entry table finds them), and a
+// look-up costs a few instructions where std::to_chars costs some 400. The text is the one
+// FormatShortest wrote for the same bits, so the output is unchanged.
+struct FormatMemo {
+  struct Entry {
+    std::uint64_t bits;  // 0 (+0.0) never matches: zeros are written before the look-up
+    std::uint8_t size;
+    char text[kMaxDoubleChars];
+  };
+  static constexpr int kBits = 9;
+  Entry entries[1 << kBits];
+};
+thread_local FormatMemo g_format_memo;
+
 // Shortest round-trip form, as nlohmann::json lays it out (integral values get ".0").
 inline char* FormatDouble(char* p, double v) {
   if (v == 0.0) {  // a third of a typical output (block-sparse Jacobians and covariances)
@@ -30,7 +48,18 @@ inline char* FormatDouble(char* p, double v) {
     std::memcpy(p, "0.0", 3);
     return p + 3;
   }
-  return FormatShortest(p, v);
+  std::uint64_t bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  FormatMemo::Entry& e = g_format_memo.entries[(bits * 0x9E3779B97F4A7C15ull) >> (64 - FormatMemo::kBits)];
+  if (e.bits == bits) {
+    std::memcpy(p, e.text, kMaxDoubleChars);  // the whole slot: p has room for kMaxDoubleChars
+    return p + e.size;
+  }
+  char* const end = FormatShortest(p, v);
+  e.bits = bits;
+  e.size = static_cast<std::uint8_t>(end - p);
+  std::memcpy(e.text, p, e.size);
+  return end;
 }
 
 // JSON string literal of s (quotes and escapes), as nlohmann::json writes it.
@@ -63,8 +92,13 @@ void AppendJsonString(std::string& out, std::string_view s) {
 
 }  // namespace
 
-JsonWriter::JsonWriter(std::string& out, int depth, std::string pointer, NonFinite non_finite)
-    : out_(out), depth_(depth), pointer_(std::move(pointer)), non_finite_(non_finite) {
+JsonWriter::JsonWriter(std::string& out, int depth, std::string pointer, NonFinite non_finite, Form form)
+    : out_(out),
+      depth_(depth),
+      pointer_(std::move(pointer)),
+      non_finite_(non_finite),
+      form_(form),
+      events_(form == Form::kEvents) {
   stack_.reserve(16);
 }
 
@@ -96,7 +130,8 @@ void JsonWriter::before_value() {
   if (stack_.empty()) return;
   Frame& f = stack_.back();
   if (f.object) return;  // key() wrote the separator
-  if (f.one_line) {
+  if (events_) {
+  } else if (f.one_line) {
     if (f.count) out_ += ", ";
   } else {
     out_ += f.count ? ",\n" : "\n";
@@ -107,7 +142,7 @@ void JsonWriter::before_value() {
 
 void JsonWriter::open(bool object, bool one_line, char c) {
   before_value();
-  out_.push_back(c);
+  out_.push_back(c);  // the text's bracket is also the event's tag
   Frame f;
   f.object = object;
   f.one_line = one_line;
@@ -120,7 +155,7 @@ void JsonWriter::close(char c) {
   stack_.pop_back();
   if (!f.one_line) {
     --open_lines_;
-    if (f.count) {
+    if (f.count && !events_) {
       out_.push_back('\n');
       AppendPad(out_, content_depth());
     }
@@ -136,10 +171,14 @@ void JsonWriter::end_array() { close(']'); }
 
 void JsonWriter::key(std::string_view k) {
   Frame& f = stack_.back();
-  out_ += f.count ? ",\n" : "\n";
-  AppendPad(out_, content_depth());
-  AppendJsonString(out_, k);
-  out_ += ": ";
+  if (events_) {
+    detail::PutEventString(out_, 'k', k);
+  } else {
+    out_ += f.count ? ",\n" : "\n";
+    AppendPad(out_, content_depth());
+    AppendJsonString(out_, k);
+    out_ += ": ";
+  }
   ++f.count;
   f.key.assign(k.data(), k.size());
 }
@@ -147,7 +186,12 @@ void JsonWriter::key(std::string_view k) {
 void JsonWriter::append_number(double v) {
   if (!std::isfinite(v)) {
     if (non_finite_ == NonFinite::Throw) non_finite();
-    out_ += "null";
+    if (events_) out_.push_back('n');
+    else out_ += "null";
+    return;
+  }
+  if (events_) {
+    detail::PutEventScalar(out_, 'd', v);
     return;
   }
   char buf[40];
@@ -161,33 +205,60 @@ void JsonWriter::number(double v) {
 
 void JsonWriter::integer(std::int64_t v) {
   before_value();
+  if (events_) {
+    detail::PutEventScalar(out_, 'i', v);
+    return;
+  }
   char buf[24];
   out_.append(buf, static_cast<std::size_t>(std::to_chars(buf, buf + sizeof buf, v).ptr - buf));
 }
 
 void JsonWriter::unsigned_integer(std::uint64_t v) {
   before_value();
+  if (events_) {
+    detail::PutEventScalar(out_, 'u', v);
+    return;
+  }
   char buf[24];
   out_.append(buf, static_cast<std::size_t>(std::to_chars(buf, buf + sizeof buf, v).ptr - buf));
 }
 
 void JsonWriter::boolean(bool b) {
   before_value();
-  out_ += b ? "true" : "false";
+  if (events_) out_.push_back(b ? 't' : 'f');
+  else out_ += b ? "true" : "false";
 }
 
 void JsonWriter::string(std::string_view s) {
   before_value();
-  AppendJsonString(out_, s);
+  if (events_) detail::PutEventString(out_, 's', s);
+  else AppendJsonString(out_, s);
 }
 
 void JsonWriter::null() {
   before_value();
-  out_ += "null";
+  if (events_) out_.push_back('n');
+  else out_ += "null";
 }
 
 void JsonWriter::numbers(const double* v, std::size_t n) {
   before_value();
+  if (events_) {
+    bool finite = true;
+    for (std::size_t i = 0; i < n; ++i) finite = finite && std::isfinite(v[i]);
+    if (finite) {
+      detail::PutEventScalar<std::uint64_t>(out_, 'v', n);
+      detail::PutEventBytes(out_, v, 8 * n);
+      return;
+    }
+    // As the text does: the pointer of the first non-finite element, or null in its place.
+    stack_.push_back(Frame{false, true, 0, {}});
+    out_.push_back('[');
+    for (std::size_t i = 0; i < n; ++i) number(v[i]);
+    out_.push_back(']');
+    stack_.pop_back();
+    return;
+  }
   // One formatting pass into a local buffer, one append.
   char buf[32 * 28 + 4];
   if (n > 32) {
@@ -262,6 +333,7 @@ void JsonWriter::value(const json& j) {
 }
 
 std::string JsonWriter::element_separator(bool first) const {
+  if (events_) return {};
   std::string sep = (first && stack_.back().count == 0) ? "\n" : ",\n";
   AppendPad(sep, content_depth());
   return sep;

@@ -8,6 +8,9 @@
 // it is a rectangular array of numbers, else into a JSON value for the sidecar. The indices of
 // the enclosing arrays of objects are kept per value, so that the end can tell whether a key's
 // values fill their grid (one N-d array) or not (one array per value, named by its pointer).
+//
+// The same collector takes the writer's value events (value_events.h) instead of text: the
+// NPZ output of a run (RunToArrays) is collected so, without the numbers going through text.
 #include "imuconv/pipeline/result_arrays.h"
 
 #include <algorithm>
@@ -22,20 +25,13 @@
 #include "file_streambuf.h"
 #include "imuconv/printable.h"
 #include "imuconv/registry.h"
+#include "result_collector.h"
 #include "result_keys.h"
 #include "value_buffer.h"
+#include "value_events.h"
 
 namespace imuconv::pipeline {
-namespace {
-
-using ojson = nlohmann::ordered_json;
-using detail::ValueBuffer;
-
-using detail::Destination;
-using detail::Escape;
-using detail::Join;
-using detail::kExactInDouble;
-using detail::kMaxDepth;
+namespace detail {
 
 class Collector {
  public:
@@ -266,13 +262,17 @@ class Collector {
   }
 
   void FlushBuffer() {
-    std::vector<std::size_t> shape;
+    std::vector<std::size_t>& shape = shape_;  // reused: one array per vector or matrix of the output
     if (!buf_.Rectangular(shape)) {
       EmitValue(array_dest_, buf_.ToJson());
       return;
     }
     if (buf_.floats.empty()) {
-      EmitNumbers(array_dest_, shape, {}, std::move(buf_.ints), false);
+      EmitNumbers(array_dest_, shape, {}, buf_.ints, false);
+      return;
+    }
+    if (buf_.ints.empty()) {  // reals only (nearly every array): the buffer's own
+      EmitNumbers(array_dest_, shape, buf_.floats, {}, true);
       return;
     }
     // Reals, and integers too when there are any (in the order of the text).
@@ -309,8 +309,8 @@ class Collector {
     ++o.count;
   }
 
-  void EmitNumbers(const Destination& d, const std::vector<std::size_t>& shape, std::vector<double> reals,
-                   std::vector<std::int64_t> integers, bool real) {
+  void EmitNumbers(const Destination& d, const std::vector<std::size_t>& shape, const std::vector<double>& reals,
+                   const std::vector<std::int64_t>& integers, bool real) {
     if (shape.empty() && levels_.empty()) {  // a number alone, in no array of objects
       EmitValue(d, real ? ojson(reals[0]) : ojson(integers[0]));
       return;
@@ -386,6 +386,7 @@ class Collector {
   int buffer_depth_ = 0;
   Destination array_dest_;
   ValueBuffer buf_;
+  std::vector<std::size_t> shape_;  ///< FlushBuffer's
   std::vector<std::uint32_t> index_;  ///< indices of the enclosing arrays of objects
   std::vector<int> levels_;           ///< and their entries in aoos_
   std::vector<ArrayOfObjects> aoos_;
@@ -463,7 +464,28 @@ ResultArrays Collector::Finish() {
   return r;
 }
 
-}  // namespace
+EventCollector::EventCollector(std::string what) : c_(std::make_unique<Collector>(std::move(what))) {}
+EventCollector::~EventCollector() = default;
+
+void EventCollector::feed(std::string_view events) {
+  if (carry_.empty()) {
+    const std::size_t used = ReplayEvents(events, *c_);
+    carry_.assign(events.substr(used));
+    return;
+  }
+  carry_.append(events.data(), events.size());
+  const std::size_t used = ReplayEvents(carry_, *c_);
+  carry_.erase(0, used);
+}
+
+ResultArrays EventCollector::finish() {
+  if (!carry_.empty()) throw std::logic_error("value events: a record was cut short");
+  return c_->Finish();
+}
+
+}  // namespace detail
+
+using detail::Collector;
 
 ResultArrays CollectResultArrays(std::FILE* text, const std::string& what) {
   detail::FileReader reader(text);

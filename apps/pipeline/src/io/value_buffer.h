@@ -42,8 +42,10 @@ class ValueBuffer {
   /// The shape when the events are a rectangular array of numbers (numbers at one depth only,
   /// every array at a depth of one length, at least one number); nothing otherwise.
   bool Rectangular(std::vector<std::size_t>& shape) const {
-    std::vector<std::size_t> counts;  // elements so far of each open array
-    std::vector<long long> dims;      // each depth's length, -1 until an array there closes
+    std::vector<std::size_t>& counts = counts_;  // elements so far of each open array
+    std::vector<long long>& dims = dims_;        // each depth's length, -1 until an array there closes
+    counts.clear();
+    dims.clear();
     std::size_t leaf_depth = 0, max_array_depth = 0;
     for (Event e : events) {
       switch (e) {
@@ -143,6 +145,11 @@ class ValueBuffer {
   std::vector<std::uint64_t> big;  ///< integers beyond int64: sidecar values, never arrays
   std::vector<double> floats;
   std::vector<std::string> strings;
+
+ private:
+  // Rectangular's working space, kept between calls (it runs once per vector or matrix).
+  mutable std::vector<std::size_t> counts_;
+  mutable std::vector<long long> dims_;
 };
 
 }  // namespace imuconv::pipeline::detail

@@ -12,6 +12,11 @@
 // and spliced in order: a writer made with the depth and pointer of the element it writes
 // produces exactly the text the parent writer would have produced; the parent writes the
 // separators (element_separator) and counts the elements (skip_elements).
+//
+// Form::kEvents writes the same calls as a compact binary record of values instead of text
+// (src/io/value_events.h; in-process only): what `imuconv run -o OUT.npz` collects its arrays
+// from, without formatting numbers as text and parsing them back. Splicing works the same way
+// (element_separator is then empty).
 #pragma once
 
 #include <Eigen/Core>
@@ -30,11 +35,16 @@ class JsonWriter {
     Throw,  ///< throw imuconv::Error naming the output pointer (pipeline outputs)
     Null,   ///< write null, as nlohmann::json's dump does
   };
+  enum class Form {
+    kText,    ///< JSON text
+    kEvents,  ///< value events (src/io/value_events.h), for the result-array collector
+  };
 
   /// Appends to `out`. `depth` is the indentation level of the first value's contents (0 for
   /// a whole document; JsonWriter::content_depth() of the parent for a spliced element) and
   /// `pointer` the JSON pointer of that value.
-  explicit JsonWriter(std::string& out, int depth = 0, std::string pointer = {}, NonFinite non_finite = NonFinite::Throw);
+  explicit JsonWriter(std::string& out, int depth = 0, std::string pointer = {}, NonFinite non_finite = NonFinite::Throw,
+                      Form form = Form::kText);
 
   // ---- containers -------------------------------------------------------------------------
   void begin_object();
@@ -97,6 +107,7 @@ class JsonWriter {
   /// array) and whose text goes straight to the output: what goes before the next element
   /// (`first`) or any later one, and then skip_elements(n) to count them.
   std::string element_separator(bool first) const;
+  Form form() const noexcept { return form_; }
   void skip_elements(std::size_t n);
   /// The indentation level of the open container's contents.
   int content_depth() const noexcept;
@@ -124,6 +135,8 @@ class JsonWriter {
   int open_lines_ = 0;  // multi-line containers open
   std::string pointer_;
   NonFinite non_finite_;
+  Form form_;
+  bool events_;  // form_ == Form::kEvents
   std::vector<Frame> stack_;
 };
 
