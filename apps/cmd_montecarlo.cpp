@@ -7,15 +7,18 @@
 #include <unistd.h>
 
 #include <iostream>
+#include <optional>
 #include <thread>
 
 #include "commands.h"
 #include "imuconv/bridge.h"
 #include "imuconv/pipeline/json_check.h"
 #include "imuconv/printable.h"
+#include "imuconv/report/report_output.h"
 #include "montecarlo.h"
 #include "montecarlo_report.h"
 #include "refcase.h"
+#include "report/pages/pages.h"
 
 namespace imuconv::cli {
 namespace {
@@ -65,10 +68,21 @@ void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--noise-scale", noise_scale, "")->group("")->check(CLI::PositiveNumber);
   sub->add_flag("--json", as_json,
                 "Print one JSON object (schemas/montecarlo_output.schema.json) instead of the summary");
+  static std::string report_path;
+  sub->add_option("--report", report_path,
+                  "Also write a self-contained HTML report: heatmaps of the sample covariance against the predicted "
+                  "one, and the summary (replaced atomically)")
+      ->type_name("OUT.html");
   AddPluginDirOption(*sub, ctx);
   sub->callback([&ctx] {
     montecarlo::Result result;
+    std::optional<report::ReportOutput> report_out;
     try {
+      // The report's destination is examined before any work (a directory or an input fails now).
+      if (!report_path.empty()) {
+        report_out.emplace(report_path);
+        report_out->RefuseIfSame(case_path, "the case file");
+      }
       if (trials > montecarlo::kMaxTrials)
         throw Error("--trials " + std::to_string(trials) + ": at most " + std::to_string(montecarlo::kMaxTrials) +
                     " (each trial's 15-dim error is kept for the statistics)");
@@ -131,6 +145,11 @@ void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
         }
       } clear_line{show_progress};
       result = montecarlo::RunMonteCarlo(reg, method, conv, input, options);
+      if (report_out) {
+        report_out->RefuseIfLoadedObject();
+        report_out->Write(report::MontecarloPage(result, {{"case", case_path}}));
+        if (!ctx.quiet()) std::cerr << "wrote " << Printable(report_path) << "\n";
+      }
     } catch (const std::exception& e) {
       // Nothing could be judged: neither consistent (0) nor inconsistent (1).
       PrintError(e.what());

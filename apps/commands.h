@@ -73,5 +73,6 @@ void RegisterBenchCommand(CLI::App& app, CommandContext& ctx);
 void RegisterCheckCommand(CLI::App& app, CommandContext& ctx);
 void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx);
 void RegisterNeesCommand(CLI::App& app, CommandContext& ctx);
+void RegisterExperimentCommand(CLI::App& app, CommandContext& ctx);
 
 }  // namespace imuconv::cli

@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
   RegisterCheckCommand(app, ctx);
   RegisterMontecarloCommand(app, ctx);
   RegisterNeesCommand(app, ctx);
+  RegisterExperimentCommand(app, ctx);
 
   const auto start = std::chrono::steady_clock::now();
   try {

@@ -15,6 +15,7 @@ namespace imuconv::check {
 struct CaseInput {
   std::vector<ImuSample> samples;  // strictly increasing times, seconds
   ImuNoise noise;                  // continuous-time densities (FORMAT.md)
+  std::string source = "the case's samples";  // for messages: where the samples came from
 };
 
 /// Throws pipeline::ConfigError naming the file and each pointer (a missing or malformed

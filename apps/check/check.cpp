@@ -33,6 +33,22 @@ Constraints Declared(const Registry& reg, const pipeline::DeclaredMeasurement& m
   return c;
 }
 
+// The differences of `e` entry by entry, computed as Explain scored it (explain.cpp): the
+// covariance candidate of its convention in its block order on the correlation scale, the
+// Jacobian candidate of its row chart with its columns and sign relative above the floor.
+BestEntries EntriesOf(const Registry& reg, const SchemeCandidates& s, const UserNumbers& user, const Explanation& e) {
+  BestEntries out;
+  for (const CovarianceCandidate& c : s.covariances)
+    if (c.convention == e.convention) out.cov = CorrelationScaleEntries(Reordered(c, e.blocks), user.cov);
+  for (const JacobianCandidate& j : s.jacobians)
+    if (j.chart == e.jacobian_convention)
+      out.J_bias = RelativeAboveFloorEntries(Arranged(j, e.J_bias_columns, e.J_bias_sign), user.J_bias);
+  if (reg.has(PluginKind::IncrementConvention, e.jacobian_convention))
+    for (const auto& b : reg.info(PluginKind::IncrementConvention, e.jacobian_convention).blocks)
+      if (b != "bg" && b != "ba") out.J_bias_rows.push_back(b);
+  return out;
+}
+
 }  // namespace
 
 CheckResult RunCheck(const Registry& reg, const CaseInput& input, const std::vector<pipeline::DeclaredMeasurement>& ms,
@@ -50,8 +66,8 @@ CheckResult RunCheck(const Registry& reg, const CaseInput& input, const std::vec
     // The interval must lie inside the samples: propagating beyond them would extrapolate.
     // 1e-6 s is the measurements form's own agreement of two statements of one time.
     if (*m.t_s < t_first - 1e-6 || *m.t_e > t_last + 1e-6)
-      fail("the interval [" + Seconds(*m.t_s) + ", " + Seconds(*m.t_e) + "] is not inside the case's samples [" +
-           Seconds(t_first) + ", " + Seconds(t_last) + "]: is this the case the measurement was made from?");
+      fail("the interval [" + Seconds(*m.t_s) + ", " + Seconds(*m.t_e) + "] is not inside " + input.source + " [" +
+           Seconds(t_first) + ", " + Seconds(t_last) + "]: are these the samples the measurement was made from?");
     std::vector<Preintegrated> refs;
     try {
       refs = schemes.compute(input.samples, std::max(*m.t_s, t_first), std::min(*m.t_e, t_last), m.in.bg_hat,
@@ -78,6 +94,7 @@ CheckResult RunCheck(const Registry& reg, const CaseInput& input, const std::vec
     if (Score(r.under_declaration, tol) <= 1.0) r.best = r.under_declaration;
     const auto nearest = std::find_if(candidates.begin(), candidates.end(),
                                       [&](const SchemeCandidates& c) { return c.scheme == r.best.scheme; });
+    r.best_entries = EntriesOf(reg, *nearest, user, r.best);
     r.judgement = Judge(r.declared, r.under_declaration, r.best, *nearest, user);
     if (r.judgement.verdict == Verdict::inconsistent) out.verdict = Verdict::inconsistent;
     out.measurements.push_back(std::move(r));

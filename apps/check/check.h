@@ -16,6 +16,14 @@ struct DeclaredMeasurement;
 
 namespace imuconv::check {
 
+/// The entrywise differences under the best explanation (difference.h, entry by entry): what
+/// the HTML report's heatmaps draw. Their max and mean are best.J_bias and best.cov.
+struct BestEntries {
+  Eigen::MatrixXd J_bias;                // 9x6: rows J_bias_rows, columns best.J_bias_columns
+  std::vector<std::string> J_bias_rows;  // the row chart's theta, p, v blocks, in its order
+  Eigen::MatrixXd cov;                   // 15x15: rows and columns best.blocks
+};
+
 struct MeasurementCheck {
   std::size_t index = 0;
   std::string pointer;
@@ -23,6 +31,7 @@ struct MeasurementCheck {
   Constraints declared;  // J_bias_sign is +1: a measurements file holds d/d(bias estimate)
   bool jacobian_convention_implied = false;
   Explanation under_declaration, best;
+  BestEntries best_entries;
   Judgement judgement;
 };
 

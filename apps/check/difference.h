@@ -33,4 +33,15 @@ double CorrelationStructureDiff(const Eigen::MatrixXd& ref, const Eigen::MatrixX
 /// Relative difference above the floor 1e-4 x max|ref|.
 EntryDiff RelativeAboveFloorDiff(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user);
 
+// The same differences entry by entry (what a heatmap draws; the EntryDiff functions above
+// are their max and mean), and the note's d exactly as it defines it: |r - e| / |r| where
+// |r| > 1e-4, else |r - e|, with an absolute threshold (the note's Figures 1 and 2). A
+// non-finite entry of `user`, or a NaN difference, is an infinite difference.
+Eigen::MatrixXd CorrelationScaleEntries(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user);
+Eigen::MatrixXd RelativeAboveFloorEntries(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user);
+Eigen::MatrixXd NoteEntries(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user);
+
+/// Max and mean of a matrix of entrywise differences (NaN counts as infinite).
+EntryDiff Summarize(const Eigen::MatrixXd& entries);
+
 }  // namespace imuconv::check

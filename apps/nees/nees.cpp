@@ -30,7 +30,8 @@ std::string Seconds(double s) {
 
 // The NEES of one window [t_s, t_e].
 double WindowNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline::GroundTruth& gt,
-                  const Options& options, const int (&offsets)[3], double t_s, double t_e) {
+                  const Options& options, const int (&offsets)[3], double t_s, double t_e, Vec9* error,
+                  Vec9* sigma) {
   const auto x_s = gt.at(t_s), x_gt = gt.at(t_e);
   if (!x_s || !x_gt) throw Error("window [" + Seconds(t_s) + ", " + Seconds(t_e) + "] leaves the ground truth");
   PropagationInput in;
@@ -54,6 +55,8 @@ double WindowNees(const Registry& reg, const pipeline::ImuData& imu, const pipel
   if (llt.info() != Eigen::Success)
     throw Error("window [" + Seconds(t_s) + ", " + Seconds(t_e) +
                 "]: the propagated [p, theta, v] covariance is not positive definite");
+  if (error) *error = e;
+  if (sigma) *sigma = P.diagonal().cwiseSqrt();
   return llt.matrixL().solve(e).squaredNorm();
 }
 
@@ -108,7 +111,13 @@ Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline
       if (t_e > r.t_end + kTimeSlack) break;
       t_e = std::min(t_e, r.t_end);
       w.t_start.push_back(t_s);
-      w.nees.push_back(WindowNees(reg, imu, gt, options, offsets, t_s, t_e));
+      Vec9 e, sigma;
+      w.nees.push_back(WindowNees(reg, imu, gt, options, offsets, t_s, t_e, options.keep_errors ? &e : nullptr,
+                                  options.keep_errors ? &sigma : nullptr));
+      if (options.keep_errors) {
+        w.error.push_back(e);
+        w.sigma.push_back(sigma);
+      }
     }
     w.median = SampleMedian(w.nees);
     w.mean = std::accumulate(w.nees.begin(), w.nees.end(), 0.0) / static_cast<double>(w.nees.size());

@@ -44,6 +44,9 @@ struct Options {
   double stride = 0.0;                 ///< seconds between window starts; 0: each window's length
   ImuNoise noise;
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
+  /// Keep every window's end error and standard deviations (WindowLengthResult::error, sigma),
+  /// for the HTML report's time series.
+  bool keep_errors = false;
 };
 
 /// One window length's windows and their statistics.
@@ -52,6 +55,10 @@ struct WindowLengthResult {
   double stride = 0.0;
   std::vector<double> t_start;  ///< seconds relative to the IMU data's origin
   std::vector<double> nees;     ///< one per window, in the order of t_start
+  /// With Options::keep_errors, per window: the end error [p, theta, v] (the chart's local
+  /// coordinates of the propagated state about the ground truth) and the square roots of the
+  /// diagonal of its propagated covariance.
+  std::vector<Vec9> error, sigma;
   double median = 0.0, mean = 0.0, p95 = 0.0;
   double fraction_inside = 0.0;  ///< of the NEES values within [lower, upper] of ChiSquare9()
   double factor = 0.0;           ///< k = sqrt(median / chi2_9 median)
