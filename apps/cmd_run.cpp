@@ -2,7 +2,8 @@
 // [--errors ERRORS.csv]: runs a JSON pipeline; the result as JSON or as a NumPy .npz of its
 // arrays (imuconv/pipeline/result_arrays.h); optionally also writes one
 // propagate_by_preintegration task's predictions as a TUM trajectory (what evo reads) and its
-// per-step errors against the ground truth as CSV.
+// per-step errors against the ground truth as CSV. Exit code: 0, or 3 when a check task found an
+// inconsistency (the output written all the same); 1 a failed run (nothing written), 2 a usage error.
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -116,9 +117,9 @@ bool IsTerminal(const pipeline::OutputFile& file) {
   return tty;
 }
 
-/// The result as NPZ: the JSON text goes to an unnamed temporary file while the tasks run (so
-/// it is never held in memory), is read back keeping only its numbers, and the archive is
-/// written into `file` (not committed).
+/// The result as NPZ: the arrays are collected from the values the tasks write (the document's
+/// numbers are never formatted as text and read back), and the archive is written into `file`
+/// (not committed).
 void RunToNpz(const pipeline::Pipeline& p, const pipeline::RunOptions& ro, pipeline::OutputFile& file) {
   const pipeline::ResultArrays arrays = pipeline::RunToArrays(p, ro, [&] { file.refuse_if_loaded_object(); });
   pipeline::WriteResultNpz(arrays, [&](std::string_view s) { file.write(s); });
@@ -167,6 +168,8 @@ int Run(const CommandContext& ctx, const Options& o) {
   std::string tum_text, errors_text;
   if (errors) errors_text = "k,t_end,t_end_abs_ns,position_error_m,rotation_error_deg,velocity_error_mps\n";
   pipeline::RunOptions ro;
+  std::vector<std::string> inconsistent;  // check tasks whose verdict is inconsistent
+  ro.inconsistent_checks = &inconsistent;
   ro.plugin_dirs = ctx.plugin_dirs();
   {
     std::vector<std::string> dirs = ro.plugin_dirs;
@@ -207,7 +210,12 @@ int Run(const CommandContext& ctx, const Options& o) {
     (*f)->commit();
   }
   if (!quiet && !file.is_stdout()) std::cout << "\nwrote " << Printable(out) << "\n";
-  return 0;
+  // The document is complete and written; a check task that found an inconsistency makes the
+  // run's exit code 3 (1 is a failed run, 2 a usage error), as imuconv check's 1 does.
+  for (const auto& name : inconsistent)
+    std::cerr << "imuconv: check task '" << Printable(name)
+              << "': inconsistent (see its \"measurements\" in the output)\n";
+  return inconsistent.empty() ? 0 : 3;
 }
 
 }  // namespace

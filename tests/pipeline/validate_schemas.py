@@ -129,6 +129,40 @@ def main():
         errs = errors_of(v["pipeline.schema.json"], light) + errors_of(v["output.schema.json"], result)
         failures += verdict(out, errs, "inline_basics.json with every matrix omitted, and its output")
 
+    # A check task's output (schemas/output.schema.json refers to check_output.schema.json):
+    # GTSAM's numbers for the reference case smooth-0 over its samples given inline, as they
+    # are (consistent: exit 0) and with the covariance doubled (inconsistent: exit 3, the
+    # document written all the same).
+    case = load(os.path.join(src, "tests", "data", "reference", "cases", "smooth-0.json"))
+    meas = load(os.path.join(src, "examples", "data", "gtsam_smooth0_manifold.measurements.json"))
+    for doubled in (False, True):
+        if doubled:
+            for m in meas["measurements"]:
+                m["cov"]["matrix"] = [[2.0 * x for x in row] for row in m["cov"]["matrix"]]
+        tag = "check_doubled" if doubled else "check"
+        meas_path = os.path.join(args.work_dir, tag + ".measurements.json")
+        with open(meas_path, "w") as f:
+            json.dump(meas, f)
+        doc = {"noise": case["noise"], "imu": {"format": "inline", "samples": case["imu"]},
+               "tasks": [{"type": "check", "name": tag, "measurements": {"file": meas_path}}]}
+        path = os.path.join(args.work_dir, tag + ".json")
+        with open(path, "w") as f:
+            json.dump(doc, f)
+        out = os.path.join(args.work_dir, tag + ".out.json")
+        if os.path.exists(out):
+            os.remove(out)
+        r = subprocess.run([args.binary, "run", path, "-o", out, "--quiet"], capture_output=True, text=True, timeout=240)
+        checked += 1
+        if r.returncode != (3 if doubled else 0) or not os.path.exists(out):
+            failures += 1
+            print(f"FAIL {path}: imuconv run exited with {r.returncode}: {r.stderr.strip()[:2000]}")
+            continue
+        result = load(out)
+        errs = errors_of(v["pipeline.schema.json"], doc) + errors_of(v["output.schema.json"], result)
+        if result["tasks"][0]["verdict"] != ("inconsistent" if doubled else "consistent"):
+            errs.append(f"verdict {result['tasks'][0]['verdict']}")
+        failures += verdict(out, errs, f"a check task ({tag}) and its output")
+
     # The hand checker's cases (tests/data/pipeline_cases/cases.json; the checker's verdicts
     # are asserted by tests/pipeline/schema_cases.cpp): the schema accepts accept/ and
     # semantic/ (rejected by the checker by design, for the reason each case gives) and

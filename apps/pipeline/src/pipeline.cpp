@@ -47,8 +47,10 @@ std::vector<std::string> Pipeline::input_files() const {
   add(spec_->noise_file);
   if (spec_->imu && spec_->imu->format != ImuSourceSpec::Format::Inline) add(spec_->imu->path);
   if (spec_->gt) add(spec_->gt->path);
-  for (const auto& t : spec_->tasks)
+  for (const auto& t : spec_->tasks) {
     if (const MeasurementsSpec* m = t->measurements()) add(m->file);
+    if (const std::string* f = t->input_file()) add(*f);
+  }
   return files;
 }
 

@@ -270,7 +270,8 @@ std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::stri
   return out;
 }
 
-std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(const std::string& path, const Registry& reg) {
+std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(const std::string& path, const Registry& reg,
+                                                             std::optional<std::int64_t> origin_ns) {
   const json doc = ParseJsonFile(path);
   Checker c(path);
   const Node root(doc, "", c);
@@ -285,8 +286,9 @@ std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(const std::string& 
     MeasRecord r;
     DeclaredMeasurement d;
     d.pointer = e.pointer();
-    // No pipeline origin: times stay on the file's own axis, in seconds as written.
-    ReadChartFreeFields(e, i, std::nullopt, std::nullopt, r, d.in);
+    // No pipeline origin: times stay on the file's own axis, in seconds as written (the file's
+    // own time_origin_ns then shifts nothing, as in ReadMeasurementFile without an origin).
+    ReadChartFreeFields(e, i, origin_ns ? file_origin : std::nullopt, origin_ns, r, d.in);
     if (auto cn = e.get("cov", true)) ReadDeclaredCov(*cn, reg, d);
     if (auto jn = e.get("J_bias", true)) ReadDeclaredJBias(*jn, reg, d);
     CheckDtAgainstTimes(e, r, d.in.dt);

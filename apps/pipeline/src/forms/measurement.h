@@ -61,9 +61,12 @@ struct DeclaredMeasurement {
 /// `cov.blocks`, J_bias's chart (`convention`, `rows.convention`, `cols.convention`) and its
 /// column order (`cols.blocks`) may be missing or "unknown", and that declared block orders
 /// need only be orderings of the labels (the check says whether they are right). t_start and
-/// t_end are taken as written, in seconds on the file's own axis (a reference case's axis).
+/// t_end are taken as written, in seconds on the file's own axis (a reference case's axis),
+/// unless `origin_ns` is given: then they are put on that pipeline's time axis as
+/// ReadMeasurementFile puts them (imuconv check --pipeline, the check task).
 /// Problems are reported as ReadMeasurementFile reports them (ConfigError with pointers).
-std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(const std::string& path, const Registry& reg);
+std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(const std::string& path, const Registry& reg,
+                                                             std::optional<std::int64_t> origin_ns = std::nullopt);
 
 /// Writes measurement `k`: index, times, dt, n_knots, bias_estimate, delta, then J_bias and
 /// cov in preint_reference and "expressed" in each of `conventions`, less what `omit` leaves

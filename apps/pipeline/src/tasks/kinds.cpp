@@ -9,7 +9,8 @@
   KIND("propagate_by_preintegration", ParsePropagateByPreintegration) \
   KIND("convert", ParseConvert)                                   \
   KIND("residual", ParseResidual)                                 \
-  KIND("bias_update", ParseBiasUpdate)
+  KIND("bias_update", ParseBiasUpdate)                            \
+  KIND("check", ParseCheck)
 
 namespace imuconv::pipeline {
 

@@ -43,6 +43,9 @@ class Task {
   virtual const IntervalsSpec* intervals() const { return nullptr; }
   /// The measurements it reads (an earlier task's or a file's), if any.
   virtual const MeasurementsSpec* measurements() const { return nullptr; }
+  /// A file it reads itself rather than through measurements() (the check task's declared
+  /// measurements), if any: an output must not be it (Pipeline::input_files).
+  virtual const std::string* input_file() const { return nullptr; }
   /// Calls f(name, pointer) for each earlier task whose results it uses (by default the task
   /// its measurements come from): those tasks keep their results.
   virtual void references(const std::function<void(const std::string& name, const std::string& pointer)>& f) const;

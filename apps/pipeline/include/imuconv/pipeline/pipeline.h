@@ -1,5 +1,5 @@
 // JSON pipelines: an IMU source, noise, gravity and an ordered list of named tasks
-// (propagate, preintegrate, propagate_by_preintegration, convert, residual, bias_update).
+// (propagate, preintegrate, propagate_by_preintegration, convert, residual, bias_update, check).
 // The format is described by schemas/pipeline.schema.json and docs in examples/README.md.
 //
 // Loading validates the structure by hand and reports every problem with its JSON pointer
@@ -101,6 +101,9 @@ struct RunOptions {
   /// NAME, convert "source") may take at most this many bytes in all (estimated before any
   /// task runs; ConfigError beyond it). Results no later task names are written and dropped.
   std::size_t max_kept_bytes = std::size_t{1} << 30;
+  /// When not null, receives the name of every check task whose verdict is "inconsistent"
+  /// (the document is complete all the same; imuconv run then exits 3).
+  std::vector<std::string>* inconsistent_checks = nullptr;
   /// Filled in by the run when not null (for tests and benchmarks).
   struct Stats {
     /// Interval results (measurements, propagations, steps) held for later tasks at the end.

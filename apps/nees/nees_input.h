@@ -1,0 +1,29 @@
+// The inputs of imuconv nees: the IMU samples, the full-state ground truth on their time axis,
+// and (from a pipeline) the noise and gravity. Either EuRoC/ASL files, or a pipeline file whose
+// /imu (EuRoC, generic CSV with its column map, time unit and origin, or inline samples),
+// /ground_truth and /noise are read as `imuconv run` reads them (imuconv/pipeline/pipeline_data.h).
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "imuconv/pipeline/imu_reader.h"
+
+namespace imuconv::nees {
+
+struct Input {
+  pipeline::ImuData imu;
+  pipeline::GroundTruth gt;
+  std::optional<ImuNoise> noise;  ///< the pipeline's /noise, when it has one
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);
+};
+
+/// EuRoC/ASL IMU and full-state ground truth (ReadEurocImu, ReadEurocGroundTruth).
+Input ReadEurocInput(const std::string& imu_path, const std::string& gt_path);
+
+/// A pipeline's /imu, /ground_truth, /noise and /gravity (its tasks are not run). Throws
+/// ConfigError naming the pipeline and the pointer when it has no /ground_truth, or one that
+/// is poses only (a window starts from the ground truth's velocity and biases too).
+Input ReadPipelineInput(const std::string& pipeline_path);
+
+}  // namespace imuconv::nees
