@@ -2,19 +2,29 @@
 # Idempotent set-up for a fresh Debian machine: installs the Debian packages imuconv needs
 # (only the missing ones) and configures the build in ./build (Release).
 #
-# Usage: ./setup.sh [--sanitizers] [extra cmake arguments for ./build]
+# Usage: ./setup.sh [--sanitizers] [--aarch64] [extra cmake arguments for ./build]
 #   --sanitizers  also installs clang and its sanitizer and libFuzzer runtimes and configures
 #                 ./build-san: the whole suite under AddressSanitizer and
 #                 UndefinedBehaviorSanitizer, plus the libFuzzer targets (tests/fuzz), which
 #                 ctest runs for IMUCONV_FUZZ_SECONDS each (60 by default).
+#   --aarch64     also installs the aarch64 cross compiler and qemu-user and configures
+#                 ./build-aarch64: the library, plugins and their tests cross-compiled for
+#                 64-bit ARM (GoogleTest built from Debian's sources), which ctest runs under
+#                 qemu-aarch64
+#                 (cmake/toolchains/aarch64-linux-gnu.cmake; README.md, "Cross-building for aarch64").
 set -euo pipefail
 cd "$(dirname "$0")"
 
 sanitizers=0
-if [ "${1:-}" = "--sanitizers" ]; then
-  sanitizers=1
+aarch64=0
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --sanitizers) sanitizers=1 ;;
+    --aarch64) aarch64=1 ;;
+    *) break ;;
+  esac
   shift
-fi
+done
 
 packages=(g++ cmake make pkg-config libeigen3-dev libboost-dev nlohmann-json3-dev libgtest-dev
           libbenchmark-dev libcli11-dev libyaml-cpp-dev python3 python3-jsonschema python3-numpy python3-pytest
@@ -24,6 +34,9 @@ packages=(g++ cmake make pkg-config libeigen3-dev libboost-dev nlohmann-json3-de
 packages+=(chromium)
 if [ "$sanitizers" = 1 ]; then
   packages+=(clang libclang-rt-14-dev llvm)
+fi
+if [ "$aarch64" = 1 ]; then
+  packages+=(g++-aarch64-linux-gnu qemu-user googletest)
 fi
 missing=()
 for p in "${packages[@]}"; do
@@ -49,4 +62,12 @@ if [ "$sanitizers" = 1 ]; then
     -DIMUCONV_SANITIZE=address,undefined -DIMUCONV_FUZZ=ON > build-san-configure.log 2>&1 ||
     { cat build-san-configure.log; exit 1; }
   echo "setup.sh: configured ./build-san, AddressSanitizer + UndefinedBehaviorSanitizer + libFuzzer (log: build-san-configure.log)"
+fi
+
+if [ "$aarch64" = 1 ]; then
+  cmake -S . -B build-aarch64 -DCMAKE_TOOLCHAIN_FILE=cmake/toolchains/aarch64-linux-gnu.cmake \
+    -DCMAKE_BUILD_TYPE=Release -DIMUCONV_LIBRARY_SUBSET=ON -DIMUCONV_INSTALL=OFF \
+    -DIMUCONV_GTEST_SOURCE_DIR=/usr/src/googletest > build-aarch64-configure.log 2>&1 ||
+    { cat build-aarch64-configure.log; exit 1; }
+  echo "setup.sh: configured ./build-aarch64, cross-compiled for aarch64, tests under qemu-aarch64 (log: build-aarch64-configure.log)"
 fi
