@@ -61,7 +61,9 @@ TEST(CompiledIn, TheyTakeTheBuiltInDirectorysPlaceAndComputeTheSame) {
   // Only the compiled-in three: the built-in directory's 24 shared objects are not scanned.
   EXPECT_EQ(Loaded(compiled), 3u);
   for (const auto& info : compiled.plugins()) {
-    if (info.file != "built-in") EXPECT_EQ(info.file, Registry::kCompiledIn) << info.id;
+    if (info.file != "built-in") {
+      EXPECT_EQ(info.file, Registry::kCompiledIn) << info.id;
+    }
   }
 
   Registry files;  // the same plugins from the build's shared objects
