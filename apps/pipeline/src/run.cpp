@@ -6,6 +6,7 @@
 #include <ostream>
 
 #include "context.h"
+#include "data/spec_data.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/pipeline/result_arrays.h"
 #include "imuconv/printable.h"
@@ -33,26 +34,6 @@ void CheckRegistry(RunContext& ctx) {
   Checker c(ctx.spec.file);
   for (const auto& t : ctx.spec.tasks) t->check_plugins(ctx, c);
   c.throw_if_errors();
-}
-
-/// Inline samples (timing checked when parsed, at their pointers) are all in memory.
-ImuData InlineImu(const PipelineSpec& s) {
-  const ImuSourceSpec& src = *s.imu;
-  TimeOrigin o;
-  o.unit = src.csv.time_unit;
-  if (src.csv.time_origin) o.value = *src.csv.time_origin;
-  ImuData imu;
-  imu.source = "inline";
-  for (std::size_t i = 0; i < src.inline_raw.size(); ++i) {
-    ImuSample smp = src.inline_raw[i];
-    smp.t = o.relative_seconds(src.inline_t[i]);
-    if (!imu.samples.empty() && !(smp.t > imu.samples.back().t))
-      throw ConfigError(s.file, {{src.pointer + "/samples/" + std::to_string(src.inline_index[i]) + "/0",
-                                  "time is too close to the previous sample's to be told apart in seconds"}});
-    imu.samples.push_back(smp);
-  }
-  if (src.csv.time_origin) imu.origin = o;
-  return imu;
 }
 
 /// Stage "load data". Only the samples the tasks integrate over are kept (the readers still

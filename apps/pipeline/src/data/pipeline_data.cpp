@@ -9,9 +9,9 @@ namespace {
 
 CheckEvaluator g_check_evaluator = nullptr;
 
-/// Inline samples on their time axis, as the run's load stage puts them (run.cpp, InlineImu:
-/// the same origin and the same refusal of two times that round to one).
-ImuData InlineSamples(const PipelineSpec& s) {
+}  // namespace
+
+ImuData InlineImu(const PipelineSpec& s) {
   const ImuSourceSpec& src = *s.imu;
   TimeOrigin o;
   o.unit = src.csv.time_unit;
@@ -30,8 +30,6 @@ ImuData InlineSamples(const PipelineSpec& s) {
   return imu;
 }
 
-}  // namespace
-
 ImuData ReadPipelineImu(const Pipeline& p) { return ReadSpecImu(p.spec()); }
 
 ImuData ReadSpecImu(const PipelineSpec& s) {
@@ -47,7 +45,7 @@ ImuData ReadSpecImu(const PipelineSpec& s) {
       imu = ReadCsvImu(s.imu->path, s.imu->csv, ro);
       break;
     case ImuSourceSpec::Format::Inline:
-      imu = InlineSamples(s);
+      imu = InlineImu(s);
       break;
   }
   if (imu.samples.size() < 2)
