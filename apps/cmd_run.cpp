@@ -1,7 +1,7 @@
 // imuconv run PIPELINE.json [-o OUT.json|OUT.npz] [--format json|npz] [--tum TRAJ.txt]
-// [--errors ERRORS.csv]: runs a JSON pipeline; the result as JSON or as a NumPy .npz of its
-// arrays (imuconv/pipeline/result_arrays.h); optionally also writes one
-// propagate_by_preintegration task's predictions as a TUM trajectory (what evo reads) and its
+// [--errors ERRORS.csv] [--shard K/N]: runs a JSON pipeline (or one shard of its tasks, which imuconv merge
+// joins); the result as JSON or as a NumPy .npz of its arrays (imuconv/pipeline/result_arrays.h); optionally also
+// writes one propagate_by_preintegration task's predictions as a TUM trajectory (what evo reads) and its
 // per-step errors against the ground truth as CSV. Exit code: 0, or 3 when a check task found an
 // inconsistency (the output written all the same); 1 a failed run (nothing written), 2 a usage error.
 #include <fcntl.h>
@@ -19,6 +19,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <string_view>
 #include <tuple>
 #include <utility>
 
@@ -33,7 +34,7 @@ namespace imuconv::cli {
 namespace {
 
 struct Options {
-  std::string pipeline, output, format, tum, errors, trajectory_task;
+  std::string pipeline, output, format, tum, errors, trajectory_task, shard;
   bool quiet = false, every_row = false;
   unsigned threads = 0;
 };
@@ -125,8 +126,29 @@ void RunToNpz(const pipeline::Pipeline& p, const pipeline::RunOptions& ro, pipel
   pipeline::WriteResultNpz(arrays, [&](std::string_view s) { file.write(s); });
 }
 
+/// --shard K/N: two decimal numbers, 0 <= K < N.
+pipeline::RunOptions::Shard ParseShard(const std::string& text) {
+  const auto slash = text.find('/');
+  const auto number = [&](std::string_view s, unsigned& v) {
+    const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+    return !s.empty() && r.ec == std::errc() && r.ptr == s.data() + s.size();
+  };
+  pipeline::RunOptions::Shard shard;
+  const std::string_view t(text);
+  if (slash == std::string::npos || !number(t.substr(0, slash), shard.index) ||
+      !number(t.substr(slash + 1), shard.count) || shard.count == 0 || shard.index >= shard.count)
+    throw UsageError{"--shard: expected K/N with 0 <= K < N (e.g. 0/4), found '" + Printable(text) + "'"};
+  return shard;
+}
+
 int Run(const CommandContext& ctx, const Options& o) {
   const pipeline::Pipeline p = pipeline::Pipeline::Load(o.pipeline);
+  std::optional<pipeline::RunOptions::Shard> shard;
+  if (!o.shard.empty()) {
+    shard = ParseShard(o.shard);
+    if (!o.tum.empty() || !o.errors.empty())
+      throw UsageError{"--shard: --tum and --errors are for a whole run (a shard may not hold the task)"};
+  }
   std::string trajectory_task;
   if (!o.tum.empty() || !o.errors.empty()) trajectory_task = TrajectoryTask(p, o);
   else if (!o.trajectory_task.empty()) throw UsageError{"--trajectory-task is for --tum and --errors"};
@@ -139,6 +161,7 @@ int Run(const CommandContext& ctx, const Options& o) {
   if (!o.format.empty() && o.format != "json" && o.format != "npz")
     throw UsageError{"--format: expected json or npz, found '" + Printable(o.format) + "'"};
   const bool npz = o.format == "npz" || (o.format.empty() && EndsWithNpz(out));
+  if (npz && shard) throw UsageError{"--shard writes JSON (imuconv merge joins the shards); not --format npz"};
   if (npz && o.output.empty() && !p.output_path())
     throw UsageError{"--format npz: give the output file with -o OUT.npz (-o - writes it to stdout, not a terminal)"};
   // The destination is examined before any work (nothing is created yet): what kind of file
@@ -181,6 +204,7 @@ int Run(const CommandContext& ctx, const Options& o) {
   const bool quiet = o.quiet || ctx.quiet();
   ro.summary = quiet ? nullptr : (file.is_stdout() ? &std::cerr : &std::cout);
   ro.threads = o.threads;
+  ro.shard = shard;
   ro.every_row = o.every_row;
   if (tum || errors)
     ro.on_step = [&](const pipeline::StepOut& s) {
@@ -257,6 +281,12 @@ void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
                   "Threads for independent intervals (0 = every core, the default; 1 = serial). The output is the "
                   "same, byte for byte, for any number")
       ->type_name("N");
+  sub->add_option("--shard", o.shard,
+                  "Run shard K of N (0 <= K < N): a contiguous block of the tasks (never splitting a task from an "
+                  "earlier one it names), written as the whole run's document with a first member \"shard\" and "
+                  "only the block's tasks; imuconv merge joins the N shards into the whole run's bytes "
+                  "(examples/batch/)")
+      ->type_name("K/N");
   AddPluginDirOption(*sub, ctx);
   SetCommandAction(*sub, ctx, [&ctx] { return Run(ctx, o); });
 }

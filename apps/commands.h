@@ -68,6 +68,7 @@ void RegisterPluginsCommand(CLI::App& app, CommandContext& ctx);
 void RegisterConversionCommand(CLI::App& app, CommandContext& ctx);
 void RegisterConvertCommand(CLI::App& app, CommandContext& ctx);
 void RegisterRunCommand(CLI::App& app, CommandContext& ctx);
+void RegisterMergeCommand(CLI::App& app, CommandContext& ctx);
 void RegisterRefcaseCommand(CLI::App& app, CommandContext& ctx);
 void RegisterBenchCommand(CLI::App& app, CommandContext& ctx);
 void RegisterCheckCommand(CLI::App& app, CommandContext& ctx);

@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   RegisterConversionCommand(app, ctx);
   RegisterConvertCommand(app, ctx);
   RegisterRunCommand(app, ctx);
+  RegisterMergeCommand(app, ctx);
   RegisterRefcaseCommand(app, ctx);
   RegisterBenchCommand(app, ctx);
   RegisterCheckCommand(app, ctx);

@@ -129,6 +129,29 @@ def main():
         errs = errors_of(v["pipeline.schema.json"], light) + errors_of(v["output.schema.json"], result)
         failures += verdict(out, errs, "inline_basics.json with every matrix omitted, and its output")
 
+    # The batch example (examples/batch/) and the outputs of imuconv run --shard K/N, whose
+    # first member "shard" the output schema describes.
+    batch = os.path.join(src, "examples", "batch", "euroc_v1_01_windows.json")
+    checked += 1
+    failures += verdict(batch, errors_of(v["pipeline.schema.json"], load(batch)), os.path.relpath(batch, src))
+    for k in (0, 1):
+        out = os.path.join(args.work_dir, f"inline_basics.shard{k}.out.json")
+        if os.path.exists(out):
+            os.remove(out)
+        r = subprocess.run([args.binary, "run", "inline_basics.json", "--shard", f"{k}/2", "-o", out, "--quiet"],
+                           capture_output=True, text=True, timeout=240, cwd=os.path.join(src, "examples"))
+        checked += 1
+        if r.returncode != 0:
+            failures += 1
+            print(f"FAIL inline_basics.json --shard {k}/2: imuconv run exited with {r.returncode}: "
+                  f"{r.stderr.strip()[:2000]}")
+            continue
+        result = load(out)
+        errs = errors_of(v["output.schema.json"], result)
+        if "shard" not in result:
+            errs.append("no \"shard\" member")
+        failures += verdict(out, errs, f"shard {k}/2 of inline_basics.json")
+
     # A check task's output (schemas/output.schema.json refers to check_output.schema.json):
     # GTSAM's numbers for the reference case smooth-0 over its samples given inline, as they
     # are (consistent: exit 0) and with the covariance doubled (inconsistent: exit 3, the

@@ -3,7 +3,13 @@
 // then execute and stream (each task writes its part of the output document as it runs).
 // The stages know no task kind: they ask each task (tasks/task.h).
 #include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <optional>
 #include <ostream>
+#include <tuple>
+#include <unordered_map>
 
 #include "context.h"
 #include "data/spec_data.h"
@@ -169,6 +175,95 @@ void WriteHead(const RunContext& ctx, JsonWriter& w) {
   if (ctx.gt) WriteSource(w, "ground_truth", ctx.gt->source, "rows", ctx.gt->t.size(), ctx.gt->t.front(), ctx.gt->t.back(), ctx.gt_keep);
 }
 
+/// What a shard writes in its "shard" member and which tasks it runs (RunOptions::Shard).
+struct ShardPlan {
+  RunOptions::Shard shard;
+  std::size_t first = 0, end = 0;  ///< its block of tasks [first, end)
+  struct Input {
+    std::string file;
+    std::uint64_t bytes = 0, fnv1a_64 = 0;
+  };
+  std::vector<Input> inputs;
+};
+
+/// The shard's block of tasks: units are the shortest runs of consecutive tasks that no
+/// reference to an earlier task crosses (a task's results stay in the process that computed
+/// them), and shard k of n takes units [k*U/n, (k+1)*U/n).
+std::pair<std::size_t, std::size_t> ShardBlock(const PipelineSpec& s, const RunOptions::Shard& shard) {
+  const std::size_t n = s.tasks.size();
+  std::unordered_map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < n; ++i) index.emplace(s.tasks[i]->name, i);
+  // earliest[i]: the earliest task that task i or a later one is or refers to.
+  std::vector<std::size_t> earliest(n + 1, n);
+  for (std::size_t j = n; j-- > 0;) {
+    std::size_t e = j;
+    s.tasks[j]->references([&](const std::string& name, const std::string&) {
+      if (const auto it = index.find(name); it != index.end()) e = std::min(e, it->second);
+    });
+    earliest[j] = std::min(e, earliest[j + 1]);
+  }
+  std::vector<std::size_t> starts;  // a unit starts at i when nothing from i on refers before i
+  for (std::size_t i = 0; i < n; ++i)
+    if (earliest[i] == i) starts.push_back(i);
+  starts.push_back(n);
+  const std::size_t units = starts.size() - 1;
+  const auto at = [&](std::size_t k) { return starts[k * units / shard.count]; };
+  return {at(shard.index), at(shard.index + 1)};
+}
+
+/// Size and FNV-1a 64 hash of a file: enough to tell shards made from other inputs apart
+/// by accident (not a defence against a forged shard).
+ShardPlan::Input DigestFile(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw ReadError(file, 0, "cannot be opened to record its hash in the shard");
+  ShardPlan::Input d;
+  d.file = file;
+  d.fnv1a_64 = 14695981039346656037ull;  // FNV-1a's 64-bit offset basis and prime
+  std::vector<char> buf(std::size_t{1} << 16);
+  while (in) {
+    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+    const auto got = static_cast<std::size_t>(in.gcount());
+    for (std::size_t i = 0; i < got; ++i) {
+      d.fnv1a_64 ^= static_cast<unsigned char>(buf[i]);
+      d.fnv1a_64 *= 1099511628211ull;
+    }
+    d.bytes += got;
+  }
+  if (in.bad()) throw ReadError(file, 0, "could not be read to the end to record its hash in the shard");
+  return d;
+}
+
+void WriteShard(JsonWriter& w, const ShardPlan& plan, std::size_t tasks) {
+  w.key("shard");
+  w.begin_object();
+  w.key("index");
+  w.unsigned_integer(plan.shard.index);
+  w.key("count");
+  w.unsigned_integer(plan.shard.count);
+  w.key("tasks");
+  w.unsigned_integer(tasks);
+  w.key("first_task");
+  w.unsigned_integer(plan.first);
+  w.key("end_task");
+  w.unsigned_integer(plan.end);
+  w.key("inputs");
+  w.begin_array();
+  for (const auto& in : plan.inputs) {
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(in.fnv1a_64));
+    w.begin_object();
+    w.key("file");
+    w.string(in.file);
+    w.key("bytes");
+    w.unsigned_integer(in.bytes);
+    w.key("fnv1a_64");
+    w.string(hex);
+    w.end_object();
+  }
+  w.end_array();
+  w.end_object();
+}
+
 /// Stage "execute and stream": one task's object; its results are kept when a later task
 /// names it.
 void RunTask(RunContext& ctx, const Task& t, JsonWriter& w) {
@@ -188,13 +283,16 @@ void RunTask(RunContext& ctx, const Task& t, JsonWriter& w) {
   if (ctx.kept(t.name)) ctx.results[t.name] = std::move(res);
 }
 
-void Execute(RunContext& ctx) {
+void Execute(RunContext& ctx, const ShardPlan* plan) {
   JsonWriter w(ctx.out.text(), 0, {}, JsonWriter::NonFinite::Throw, ctx.out.form());
   w.begin_object();
+  if (plan) WriteShard(w, *plan, ctx.spec.tasks.size());
   WriteHead(ctx, w);
   w.key("tasks");
   w.begin_array();
-  for (const auto& t : ctx.spec.tasks) {
+  for (std::size_t i = 0; i < ctx.spec.tasks.size(); ++i) {
+    if (plan && (i < plan->first || i >= plan->end)) continue;
+    const auto& t = ctx.spec.tasks[i];
     try {
       // JSON has no NaN or infinity: the writer fails a task that produced one (naming the
       // output pointer) rather than writing null.
@@ -231,6 +329,16 @@ void FillStats(const RunContext& ctx, RunOptions::Stats& stats) {
 /// RunToText, in either of the writer's forms (text, or value events for RunToArrays).
 void RunToSink(const Pipeline& p, const Registry& reg, const RunOptions& options, const TextSink& sink,
                JsonWriter::Form form) {
+  std::optional<ShardPlan> plan;
+  if (options.shard) {
+    if (options.shard->count == 0 || options.shard->index >= options.shard->count)
+      throw Error("shard " + std::to_string(options.shard->index) + "/" + std::to_string(options.shard->count) +
+                  ": expected K/N with 0 <= K < N");
+    if (form != JsonWriter::Form::kText) throw Error("a shard is written as JSON text only");
+    plan.emplace();
+    plan->shard = *options.shard;
+    std::tie(plan->first, plan->end) = ShardBlock(p.spec(), *options.shard);
+  }
   Output out(sink, options.threads, form);
   RunContext ctx(p.spec(), reg, options, out);
   ctx.referenced = ReferencedTasks(ctx.spec);
@@ -240,7 +348,9 @@ void RunToSink(const Pipeline& p, const Registry& reg, const RunOptions& options
   CheckKeptMemory(ctx.spec, ctx.referenced, [&](const std::string& f) { return ctx.files.at(f).size(); },
                   options.max_kept_bytes);
   if (options.check_only) return;
-  Execute(ctx);
+  if (plan)
+    for (const auto& f : p.input_files()) plan->inputs.push_back(DigestFile(f));
+  Execute(ctx, plan ? &*plan : nullptr);
   if (options.stats) FillStats(ctx, *options.stats);
 }
 

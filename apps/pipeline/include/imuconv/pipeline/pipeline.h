@@ -104,6 +104,17 @@ struct RunOptions {
   /// When not null, receives the name of every check task whose verdict is "inconsistent"
   /// (the document is complete all the same; imuconv run then exits 3).
   std::vector<std::string>* inconsistent_checks = nullptr;
+  /// Run one shard of the tasks (imuconv run --shard K/N; imuconv merge joins the shards).
+  /// The tasks are cut into units, the shortest runs of consecutive tasks that no task's
+  /// reference to an earlier one crosses, and shard `index` of `count` runs the contiguous
+  /// block of units [index*U/count, (index+1)*U/count) (possibly none). The document is the
+  /// whole run's, byte for byte (every check, the data loaded and the head are the same),
+  /// with a first member "shard" (the split, and each input file's size and FNV-1a 64 hash)
+  /// and only the block's tasks in "tasks".
+  struct Shard {
+    unsigned index = 0, count = 1;
+  };
+  std::optional<Shard> shard;
   /// Filled in by the run when not null (for tests and benchmarks).
   struct Stats {
     /// Interval results (measurements, propagations, steps) held for later tasks at the end.
