@@ -1,12 +1,11 @@
 // Pipelines from Python: imuconv.run(path) runs a JSON pipeline as `imuconv run` does and
 // returns its result as NumPy arrays, the same arrays and keys `imuconv run -o OUT.npz` writes
 // (apps/pipeline's result_arrays.h, the rule in docs/interop.md), bit for bit the JSON
-// output's numbers. The document's text goes to an unnamed temporary file while the tasks run
-// and is read back holding only the numbers, so memory is that of the arrays.
+// output's numbers: the arrays are collected from the values the tasks write (RunToArrays), as
+// `imuconv run -o OUT.npz` collects them; no text is formatted and read back.
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
-#include <cstdio>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -35,10 +34,6 @@ py::array ToNumpy(const pipeline::NdArray& a) {
   return std::move(out);
 }
 
-struct FileCloser {
-  void operator()(std::FILE* f) const { std::fclose(f); }
-};
-
 }  // namespace
 
 void BindPipeline(py::module_& m) {
@@ -50,20 +45,12 @@ void BindPipeline(py::module_& m) {
         {
           py::gil_scoped_release release;
           const pipeline::Pipeline p = pipeline::Pipeline::Load(path);
-          std::unique_ptr<std::FILE, FileCloser> text(std::tmpfile());
-          if (!text) throw Error("imuconv.run: cannot create a temporary file for the output of " + path);
           std::ostringstream log;
           pipeline::RunOptions o;
           o.plugin_dirs = plugin_dirs;
           o.threads = threads;
           o.log = &log;
-          pipeline::RunToText(p, o, [&](std::string_view s) {
-            if (std::fwrite(s.data(), 1, s.size(), text.get()) != s.size())
-              throw Error("imuconv.run: writing the temporary output of " + path + " failed (disk full?)");
-          });
-          if (std::fflush(text.get()) != 0 || std::fseek(text.get(), 0, SEEK_SET) != 0)
-            throw Error("imuconv.run: reading back the temporary output of " + path + " failed");
-          result = pipeline::CollectResultArrays(text.get(), "the output of " + path);
+          result = pipeline::RunToArrays(p, o);
           log_text = log.str();
         }
         if (!log_text.empty() && PyErr_WarnEx(PyExc_RuntimeWarning, ("imuconv: " + log_text).c_str(), 1) != 0)
