@@ -131,15 +131,7 @@ namespace {
 
 Preintegrated ByPropagation(const PreintegrationMethod& method, const SampleWindow& window, const Vec3& bg,
                             const Vec3& ba, const ImuNoise& noise) {
-  // Start at the identity with zero gravity: the end state is then the increment itself
-  // (paper, eq. prop-by-int-rot..b with R_s = I, p_s = v_s = 0, g = 0).
-  PropagationInput in;
-  in.x_s.bg = bg;
-  in.x_s.ba = ba;
-  in.cov_s.setZero();
-  in.noise = noise;
-  in.gravity.setZero();
-  in.window = window;
+  const PropagationInput in = PreintegrationByPropagationStart(window, bg, ba, noise);
   const PropagationResult r = PropagateIn(*method.propagator, *method.native_state, *method.reference_state, in);
 
   Preintegrated m;

@@ -11,7 +11,7 @@
 
 namespace imuconv::pipeline::detail {
 
-class Collector;  // result_arrays.cpp
+class Collector;  // sax_collector.h
 
 class EventCollector {
  public:

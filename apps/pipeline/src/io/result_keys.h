@@ -1,4 +1,4 @@
-// What the result-array collector (result_arrays.cpp) keeps of the output document while it
+// What the result-array collector (sax_collector.h) keeps of the output document while it
 // reads it: the frames it is in, where each key's values go (the key with the indices of
 // arrays of objects removed, the pointer with them kept), and per key the occurrences and values
 // that decide at the end whether they fill one N-d array. Internal to imuconv_pipeline; the

@@ -1,5 +1,5 @@
 // The events of one JSON array that is not an array of objects (a vector, a matrix, a list of
-// block labels), buffered by the result-array collector (result_arrays.cpp) while the array is
+// block labels), buffered by the result-array collector (sax_collector.h) while the array is
 // read and replayed when it closes: into an N-d array when it is a rectangular array of numbers,
 // else into a JSON value for the sidecar. Internal to imuconv_pipeline.
 #pragma once

@@ -1,5 +1,5 @@
 // The value events JsonWriter writes in Form::kEvents: the calls a document is written with, as
-// compact binary records, so that the result-array collector (result_arrays.cpp) receives the
+// compact binary records, so that the result-array collector (sax_collector.h) receives the
 // output's values (each number the double itself) without text in between. In-process only
 // (native byte order); internal to imuconv_pipeline.
 //

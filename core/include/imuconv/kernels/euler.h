@@ -184,27 +184,45 @@ inline void IntegrateHeldPerSample(const PropagationInput& in, PropagationResult
 ///   after reordering [theta, p, v, ba, bg] to [p, theta, v, bg, ba] (paper, eq. prop-cov
 ///   with b_hat = b_s, where the bias-correction curvature vanishes).
 /// kCov = false computes the state and Phi only (out.cov untouched).
-template <Hold kHold, bool kCov>
-inline Status IntegrateHeldByPreintegration(const PropagationInput& in, PropagationResult& out, Isa isa) {
-  using namespace left_idx;
-  const ImuState& x_s = in.x_s;
+namespace held_detail {
+
+/// The preintegration kernel's input for a held propagation: the window at the start state's
+/// biases.
+inline PreintegrationInput StartFrameInput(const PropagationInput& in) {
   PreintegrationInput pin;
-  pin.bg = x_s.bg;
-  pin.ba = x_s.ba;
+  pin.bg = in.x_s.bg;
+  pin.ba = in.x_s.ba;
   pin.noise = in.noise;
   pin.window = in.window;
-  StartFrameManifold pre;
-  if (Status st = IntegrateManifoldStartFrame(pin, kHold, kCov, isa, pre); !st.ok()) return st;
-  const ManifoldIncrement& inc = pre.increment;
+  return pin;
+}
 
+/// The end state from the start state and the start-frame increment (paper, eq.
+/// prop-by-int-rot..b): R_e = R_s dR, v_e = v_s + T g + R_s dv, p_e = p_s + T v_s + T^2/2 g + R_s dp.
+inline void ComposeEndState(const PropagationInput& in, const ManifoldIncrement& inc, ImuState& x_e) {
+  const ImuState& x_s = in.x_s;
   const double T = in.window.t_end() - in.window.t_start();
   const Mat3& Rs = x_s.R;
-  ImuState& x_e = out.x_e;
   x_e.R = Rs * inc.dR;
   x_e.v = x_s.v + T * in.gravity + Rs * inc.dv;
   x_e.p = x_s.p + T * x_s.v + (0.5 * T * T) * in.gravity + Rs * inc.dp;
   x_e.bg = x_s.bg;
   x_e.ba = x_s.ba;
+}
+
+}  // namespace held_detail
+
+template <Hold kHold, bool kCov>
+inline Status IntegrateHeldByPreintegration(const PropagationInput& in, PropagationResult& out, Isa isa) {
+  using namespace left_idx;
+  const ImuState& x_s = in.x_s;
+  StartFrameManifold pre;
+  if (Status st = IntegrateManifoldStartFrame(held_detail::StartFrameInput(in), kHold, kCov, isa, pre); !st.ok())
+    return st;
+  held_detail::ComposeEndState(in, pre.increment, out.x_e);
+  const ImuState& x_e = out.x_e;
+  const double T = in.window.t_end() - in.window.t_start();
+  const Mat3& Rs = x_s.R;
 
   const Mat96& H = pre.J_inc_bias;  // rows [theta, p, v], columns [ba, bg]
   LeftTransition Phi;

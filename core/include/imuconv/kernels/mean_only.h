@@ -40,22 +40,9 @@ inline void HeldEndState(const PropagationInput& in, ImuState& x_e) {
     x_e = r.x_e;
     return;
   }
-  PreintegrationInput pin;
-  pin.bg = in.x_s.bg;
-  pin.ba = in.x_s.ba;
-  pin.noise = in.noise;
-  pin.window = in.window;
-  StartFrameManifold pre;
-  (void)IntegrateManifoldStartFrame(pin, kHold, /*covariance=*/false, isa, pre);  // isa is available
-  // The state composition of IntegrateHeldByPreintegration, expression for expression.
-  const ManifoldIncrement& inc = pre.increment;
-  const double T = in.window.t_end() - in.window.t_start();
-  const Mat3& Rs = in.x_s.R;
-  x_e.R = Rs * inc.dR;
-  x_e.v = in.x_s.v + T * in.gravity + Rs * inc.dv;
-  x_e.p = in.x_s.p + T * in.x_s.v + (0.5 * T * T) * in.gravity + Rs * inc.dp;
-  x_e.bg = in.x_s.bg;
-  x_e.ba = in.x_s.ba;
+  StartFrameManifold pre;  // isa is available, so the kernel cannot refuse it
+  (void)IntegrateManifoldStartFrame(held_detail::StartFrameInput(in), kHold, /*covariance=*/false, isa, pre);
+  held_detail::ComposeEndState(in, pre.increment, x_e);  // as IntegrateHeldByPreintegration composes it
 }
 
 }  // namespace mean_only_detail
@@ -82,14 +69,7 @@ inline Status IncrementMean(MeanKernel kernel, const SampleWindow& window, const
     delta.dv = out.delta.dv;
     return st;
   }
-  // Preintegration by propagation: the bridge's start (ByPropagation).
-  PropagationInput in;
-  in.x_s.bg = bg;
-  in.x_s.ba = ba;
-  in.cov_s.setZero();
-  in.noise = noise;
-  in.gravity.setZero();
-  in.window = window;
+  const PropagationInput in = PreintegrationByPropagationStart(window, bg, ba, noise);  // the bridge's start
   Status st = CheckPropagationInput(in);
   if (!st.ok()) return st;
   ImuState x_e;
