@@ -43,17 +43,66 @@ inline std::string IdProblem(const char* id) {
   return {};
 }
 
-/// "" when `path` names a regular, non-empty file that starts like an ELF shared object, else
-/// what it is instead. Checked before dlopen, whose answer for these cases ("Bad file
-/// descriptor" through Boost.DLL, or "file too short") does not say what is wrong; never opens
-/// a FIFO or device (stat first, then open non-blocking and fstat again).
+/// The ELF class, byte order and machine this program was built for (e_ident[4], e_ident[5],
+/// e_machine), and the machine's name; machine 0 where the build's architecture is not one
+/// named here, which leaves the machine to dlopen.
+struct HostElf {
+  unsigned char elf_class = sizeof(void*) == 8 ? 2 : 1;
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+  unsigned char byte_order = 2;
+#else
+  unsigned char byte_order = 1;
+#endif
+#if defined(__x86_64__)
+  unsigned machine = 62;
+#elif defined(__aarch64__)
+  unsigned machine = 183;
+#elif defined(__i386__)
+  unsigned machine = 3;
+#elif defined(__arm__)
+  unsigned machine = 40;
+#elif defined(__riscv)
+  unsigned machine = 243;
+#elif defined(__powerpc64__)
+  unsigned machine = 21;
+#else
+  unsigned machine = 0;
+#endif
+};
+
+/// A readable name of an ELF machine number (e_machine), for messages.
+inline std::string ElfMachineName(unsigned machine) {
+  switch (machine) {
+    case 3:
+      return "x86 (32-bit)";
+    case 21:
+      return "PowerPC 64";
+    case 40:
+      return "ARM (32-bit)";
+    case 62:
+      return "x86-64";
+    case 183:
+      return "aarch64";
+    case 243:
+      return "RISC-V";
+    default:
+      return "ELF machine " + std::to_string(machine);
+  }
+}
+
+/// "" when `path` names a regular, non-empty file that starts like an ELF shared object built
+/// for this program's class, byte order and machine, else what it is instead. Checked before
+/// dlopen, whose answer for these cases ("Bad file descriptor" through Boost.DLL, "file too
+/// short", "wrong ELF class") does not say what is wrong; a plugin cross-built for another
+/// machine (build-aarch64's, say) is named for what it is. Never opens a FIFO or device (stat
+/// first, then open non-blocking and fstat again).
 inline std::string NotASharedObject(const std::string& path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) return std::string("cannot be examined: ") + std::strerror(errno);
   if (!S_ISREG(st.st_mode)) return S_ISDIR(st.st_mode) ? "is a directory, not a plugin file" : "is not a regular file";
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
   if (fd < 0) return std::string("cannot be opened: ") + std::strerror(errno);
-  unsigned char h[18] = {};
+  unsigned char h[20] = {};  // e_ident, e_type, e_machine
   ssize_t got = 0;
   const bool regular = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
   if (regular) {
@@ -72,6 +121,20 @@ inline std::string NotASharedObject(const std::string& path) {
   // e_type (offset 16) in the file's byte order (e_ident[5]: 1 little, 2 big endian).
   const unsigned type = h[5] == 2 ? (h[16] << 8 | h[17]) : (h[17] << 8 | h[16]);
   if (type != 3) return "is an ELF file but not a shared object (ELF type " + std::to_string(type) + ")";
+  const HostElf host;
+  const auto bits = [](unsigned char elf_class) {
+    return elf_class == 1 ? "32-bit" : elf_class == 2 ? "64-bit" : "unknown-class";
+  };
+  if (h[4] != host.elf_class)
+    return std::string("is a ") + bits(h[4]) + " ELF shared object; this program is " + bits(host.elf_class) +
+           " (rebuild the plugin for this machine)";
+  if (h[5] != host.byte_order)
+    return std::string("is an ELF shared object of the other byte order (") + (h[5] == 2 ? "big" : "little") +
+           " endian; rebuild the plugin for this machine)";
+  const unsigned machine = h[5] == 2 ? (h[18] << 8 | h[19]) : (h[19] << 8 | h[18]);
+  if (host.machine != 0 && machine != host.machine)
+    return "is an ELF shared object for " + ElfMachineName(machine) + "; this program runs on " +
+           ElfMachineName(host.machine) + " (rebuild the plugin for this machine)";
   return {};
 }
 

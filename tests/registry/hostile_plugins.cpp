@@ -182,6 +182,47 @@ TEST(HostilePlugins, FilesThatAreNotSharedObjectsAreNamedForWhatTheyAre) {
   for (const auto& i : issues) EXPECT_FALSE(Has(i.message, "Bad file descriptor")) << i.message;
 }
 
+TEST(HostilePlugins, SharedObjectsForAnotherMachineOrClassAreNamedForWhatTheyAre) {
+  // ELF headers of shared objects (e_type 3) this program cannot load: one for another machine
+  // (a plugin from the aarch64 cross build on x86-64, or the reverse), one of the other class.
+  // dlopen would say only "wrong ELF class" or "cannot open shared object file".
+#if defined(__x86_64__) || defined(__aarch64__)
+  TempDir tmp;
+#if defined(__x86_64__)
+  const unsigned char foreign_machine = 183;
+  const std::string foreign_name = "aarch64", host_name = "x86-64";
+#else
+  const unsigned char foreign_machine = 62;
+  const std::string foreign_name = "x86-64", host_name = "aarch64";
+#endif
+  std::string header(64, '\0');
+  header[0] = 0x7f, header[1] = 'E', header[2] = 'L', header[3] = 'F', header[4] = 2, header[5] = 1, header[6] = 1;
+  header[16] = 3;
+  header[18] = static_cast<char>(foreign_machine);
+  const std::string foreign = tmp.write("imuconv_plugin_foreign.so", header);
+  std::string narrow = header;
+  narrow[4] = 1;  // ELFCLASS32
+  const std::string bits32 = tmp.write("imuconv_plugin_bits32.so", narrow);
+
+  Registry r;
+  const auto issues = r.load_directory(tmp.path());
+  ASSERT_EQ(issues.size(), 2u);
+  for (const auto& i : issues) {
+    if (i.file == foreign) {
+      EXPECT_TRUE(Has(i.message, "'" + foreign + "': it is an ELF shared object for " + foreign_name +
+                                     "; this program runs on " + host_name + " (rebuild the plugin for this machine)"))
+          << i.message;
+    } else {
+      EXPECT_EQ(i.file, bits32);
+      EXPECT_TRUE(Has(i.message, "'" + bits32 + "': it is a 32-bit ELF shared object; this program is 64-bit"))
+          << i.message;
+    }
+  }
+#else
+  GTEST_SKIP() << "the test names x86-64 and aarch64 only";
+#endif
+}
+
 TEST(HostilePlugins, UnreadableOrMissingDirectoryIsAnIssue) {
   TempDir tmp;
   const std::string missing = tmp.file("missing");
