@@ -47,12 +47,20 @@ SchemeCandidates MakeCandidates(const Registry& reg, const std::string& scheme, 
   return out;
 }
 
+std::array<Eigen::Index, 15> ReorderedIndices(const CovarianceCandidate& c, const std::vector<std::string>& order) {
+  std::array<Eigen::Index, 15> from{};
+  for (int b = 0; b < 5; ++b) {
+    const int block = IndexOf(c.labels, order[b]);
+    for (int r = 0; r < 3; ++r) from[3 * b + r] = 3 * block + r;
+  }
+  return from;
+}
+
 Mat15 Reordered(const CovarianceCandidate& c, const std::vector<std::string>& order) {
-  int from[5];
-  for (int i = 0; i < 5; ++i) from[i] = IndexOf(c.labels, order[i]);
+  const auto from = ReorderedIndices(c, order);
   Mat15 out;
-  for (int i = 0; i < 5; ++i)
-    for (int j = 0; j < 5; ++j) out.block<3, 3>(3 * i, 3 * j) = c.cov.block<3, 3>(3 * from[i], 3 * from[j]);
+  for (int j = 0; j < 15; ++j)
+    for (int i = 0; i < 15; ++i) out(i, j) = c.cov(from[i], from[j]);
   return out;
 }
 

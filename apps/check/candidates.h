@@ -8,6 +8,7 @@
 //     derivative with respect to a bias correction (b_hat - b), which some code stores.
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,9 @@ SchemeCandidates MakeCandidates(const Registry& reg, const std::string& scheme, 
 
 /// The candidate's covariance with its blocks in `order` (an ordering of its labels).
 Mat15 Reordered(const CovarianceCandidate& c, const std::vector<std::string>& order);
+
+/// Row (and column) i of Reordered(c, order) is row (and column) ReorderedIndices(c, order)[i] of c.cov.
+std::array<Eigen::Index, 15> ReorderedIndices(const CovarianceCandidate& c, const std::vector<std::string>& order);
 
 /// The candidate's bias Jacobian with columns in `columns` ({"bg", "ba"} or {"ba", "bg"}) and
 /// multiplied by `sign`.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace imuconv::check {
 namespace {
@@ -21,18 +22,35 @@ void Add(EntryDiff& out, double d) {
   out.mean += d;
 }
 
-// One entry of each difference: the summaries and the entrywise matrices are computed by these
-// same two functions, so they cannot disagree.
-double CorrelationScaleEntry(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user, Eigen::Index i, Eigen::Index j,
-                             double largest) {
-  double scale = std::sqrt(std::abs(ref(i, i) * ref(j, j)));
+/// Column-major entries read in place (the views' own operator() is a call per entry in the
+/// sanitized build's -O1, where the search spent most of its time in it).
+struct Entries {
+  const double* data;
+  Eigen::Index stride;
+  explicit Entries(MatrixView m) : data(m.data()), stride(m.outerStride()) {}
+  /// The second matrix of a comparison, which must have the first's shape (every caller
+  /// compares a candidate with the user's matrix of the same block layout).
+  Entries(MatrixView m, MatrixView shape_of) : Entries(m) {
+    if (m.rows() != shape_of.rows() || m.cols() != shape_of.cols())
+      throw std::logic_error("check: compared matrices differ in shape");
+  }
+  double operator()(Eigen::Index i, Eigen::Index j) const { return data[i + j * stride]; }
+};
+
+// One entry of each difference: the summaries, the search and the entrywise matrices are
+// computed by these same functions, so they cannot disagree.
+double CorrelationScaleValue(double r, double u, double scale, double largest) {
   if (!(scale > 0.0)) scale = largest;
-  const double u = user(i, j);
-  return !std::isfinite(u) ? kInf : scale > 0.0 ? std::abs(ref(i, j) - u) / scale : (u == ref(i, j) ? 0.0 : kInf);
+  return !std::isfinite(u) ? kInf : scale > 0.0 ? std::abs(r - u) / scale : (u == r ? 0.0 : kInf);
+}
+double CorrelationScaleOf(double var_i, double var_j) { return std::sqrt(std::abs(var_i * var_j)); }
+/// rho_ij = C_ij / sqrt(C_ii C_jj), 0 where that product is not positive.
+double Correlation(double c_ij, double var_i, double var_j) {
+  const double s = var_i * var_j;
+  return s > 0.0 ? c_ij / std::sqrt(s) : 0.0;
 }
 
-double RelativeAboveFloorEntry(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user, Eigen::Index i,
-                               Eigen::Index j, double small) {
+double RelativeAboveFloorEntry(const Entries& ref, const Entries& user, Eigen::Index i, Eigen::Index j, double small) {
   const double u = user(i, j);
   const double scale = std::max(std::abs(ref(i, j)), small);
   return !std::isfinite(u) ? kInf : scale > 0.0 ? std::abs(ref(i, j) - u) / scale : ref(i, j) == u ? 0.0 : kInf;
@@ -40,55 +58,81 @@ double RelativeAboveFloorEntry(const Eigen::MatrixXd& ref, const Eigen::MatrixXd
 
 }  // namespace
 
-EntryDiff CorrelationScaleDiff(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user) {
-  EntryDiff out;
-  const double largest = ref.diagonal().cwiseAbs().maxCoeff();
-  for (Eigen::Index i = 0; i < ref.rows(); ++i)
-    for (Eigen::Index j = 0; j < ref.cols(); ++j) Add(out, CorrelationScaleEntry(ref, user, i, j, largest));
-  out.mean /= static_cast<double>(ref.size());
-  return out;
-}
-
-Eigen::MatrixXd CorrelationScaleEntries(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user) {
+Eigen::MatrixXd CorrelationScaleEntries(MatrixView ref, MatrixView user) {
   Eigen::MatrixXd out(ref.rows(), ref.cols());
   const double largest = ref.diagonal().cwiseAbs().maxCoeff();
+  const Entries r(ref), u(user, ref);
   for (Eigen::Index i = 0; i < ref.rows(); ++i)
-    for (Eigen::Index j = 0; j < ref.cols(); ++j) out(i, j) = NanToInf(CorrelationScaleEntry(ref, user, i, j, largest));
+    for (Eigen::Index j = 0; j < ref.cols(); ++j)
+      out(i, j) = NanToInf(CorrelationScaleValue(r(i, j), u(i, j), CorrelationScaleOf(r(i, i), r(j, j)), largest));
   return out;
 }
 
-double CorrelationStructureDiff(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user) {
-  const auto rho = [](const Eigen::MatrixXd& c, Eigen::Index i, Eigen::Index j) {
-    const double s = c(i, i) * c(j, j);
-    return s > 0.0 ? c(i, j) / std::sqrt(s) : 0.0;
-  };
+ReorderedCovarianceDiffs::ReorderedCovarianceDiffs(MatrixView ref, MatrixView user)
+    : ref_(ref),
+      user_(user),
+      scale_(ref.rows(), ref.cols()),
+      rho_ref_(ref.rows(), ref.cols()),
+      rho_user_(user.rows(), user.cols()) {
+  if (ref.rows() != ref.cols() || user.rows() != ref.rows() || user.cols() != ref.cols())
+    throw std::logic_error("check: compared covariances differ in shape");
+  largest_ = ref.diagonal().cwiseAbs().maxCoeff();
+  // K_ii K_jj of the reordered K is ref(a, a) ref(b, b) for its indices a, b: the same operands.
+  for (Eigen::Index j = 0; j < ref.cols(); ++j)
+    for (Eigen::Index i = 0; i < ref.rows(); ++i) {
+      scale_(i, j) = CorrelationScaleOf(ref(i, i), ref(j, j));
+      rho_ref_(i, j) = Correlation(ref(i, j), ref(i, i), ref(j, j));
+      rho_user_(i, j) = Correlation(user(i, j), user(i, i), user(j, j));
+    }
+}
+
+// The two loops below run 120 times per candidate and measurement: they index the column-major
+// storage directly (Eigen's operator() is a checked call per entry in the sanitized -O1 build).
+EntryDiff ReorderedCovarianceDiffs::CorrelationScale(const Eigen::Index* from) const {
+  EntryDiff out;
+  const Eigen::Index n = ref_.rows();
+  const double *ref = ref_.data(), *user = user_.data(), *scale = scale_.data();
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const Eigen::Index ab = from[i] + from[j] * n;
+      Add(out, CorrelationScaleValue(ref[ab], user[i + j * n], scale[ab], largest_));
+    }
+  out.mean /= static_cast<double>(ref_.size());
+  return out;
+}
+
+double ReorderedCovarianceDiffs::CorrelationStructure(const Eigen::Index* from) const {
   double worst = 0.0;
-  for (Eigen::Index i = 0; i < ref.rows(); ++i)
+  const Eigen::Index n = ref_.rows();
+  const double *rho_ref = rho_ref_.data(), *rho_user = rho_user_.data();
+  for (Eigen::Index i = 0; i < n; ++i)
     for (Eigen::Index j = 0; j < i; ++j) {
-      const double d = std::abs(rho(ref, i, j) - rho(user, i, j));
+      const double d = std::abs(rho_ref[from[i] + from[j] * n] - rho_user[i + j * n]);
       worst = std::isnan(d) ? kInf : std::max(worst, d);
     }
   return worst;
 }
 
-EntryDiff RelativeAboveFloorDiff(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user) {
+EntryDiff RelativeAboveFloorDiff(MatrixView ref, MatrixView user) {
   EntryDiff out;
   const double small = kFloor * ref.cwiseAbs().maxCoeff();
+  const Entries r(ref), u(user, ref);
   for (Eigen::Index i = 0; i < ref.rows(); ++i)
-    for (Eigen::Index j = 0; j < ref.cols(); ++j) Add(out, RelativeAboveFloorEntry(ref, user, i, j, small));
+    for (Eigen::Index j = 0; j < ref.cols(); ++j) Add(out, RelativeAboveFloorEntry(r, u, i, j, small));
   out.mean /= static_cast<double>(ref.size());
   return out;
 }
 
-Eigen::MatrixXd RelativeAboveFloorEntries(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user) {
+Eigen::MatrixXd RelativeAboveFloorEntries(MatrixView ref, MatrixView user) {
   Eigen::MatrixXd out(ref.rows(), ref.cols());
   const double small = kFloor * ref.cwiseAbs().maxCoeff();
+  const Entries r(ref), u(user, ref);
   for (Eigen::Index i = 0; i < ref.rows(); ++i)
-    for (Eigen::Index j = 0; j < ref.cols(); ++j) out(i, j) = NanToInf(RelativeAboveFloorEntry(ref, user, i, j, small));
+    for (Eigen::Index j = 0; j < ref.cols(); ++j) out(i, j) = NanToInf(RelativeAboveFloorEntry(r, u, i, j, small));
   return out;
 }
 
-Eigen::MatrixXd NoteEntries(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user) {
+Eigen::MatrixXd NoteEntries(MatrixView ref, MatrixView user) {
   Eigen::MatrixXd out(ref.rows(), ref.cols());
   for (Eigen::Index i = 0; i < ref.rows(); ++i)
     for (Eigen::Index j = 0; j < ref.cols(); ++j) {
@@ -98,7 +142,7 @@ Eigen::MatrixXd NoteEntries(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& u
   return out;
 }
 
-EntryDiff Summarize(const Eigen::MatrixXd& entries) {
+EntryDiff Summarize(MatrixView entries) {
   EntryDiff out;
   for (Eigen::Index i = 0; i < entries.rows(); ++i)
     for (Eigen::Index j = 0; j < entries.cols(); ++j) Add(out, entries(i, j));

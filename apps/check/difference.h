@@ -14,34 +14,52 @@
 
 namespace imuconv::check {
 
+/// A matrix read in place: a fixed-size one (Mat15, Mat96, a vector) binds without a copy,
+/// which matters in the search, which compares thousands of candidates per measurement.
+using MatrixView = const Eigen::Ref<const Eigen::MatrixXd>&;
+
 struct EntryDiff {
   double max = 0.0, mean = 0.0;
 };
 
-/// Correlation-scale difference of a covariance `user` from the reference covariance `ref`.
-/// A zero reference variance (a state no noise reaches) is judged against the largest one.
-EntryDiff CorrelationScaleDiff(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user);
+/// Two differences of a covariance `user` from a reference `ref` taken under symmetric
+/// reorderings of ref's rows and columns (imuconv check's search over the 120 orders of five
+/// blocks). The reference's scales sqrt|K_ii K_jj| and correlations, and the user's
+/// correlations, are computed once; each reordering reads them through its index map:
+///  - CorrelationScale: |K_ij - U_ij| / sqrt(K_ii K_jj), max and mean; a zero reference
+///    variance (a state no noise reaches) is judged against the largest one;
+///  - CorrelationStructure: max |rho_K - rho_U| of the two correlation matrices (rho_ij =
+///    C_ij / sqrt(C_ii C_jj); 0 where a variance is not positive): the covariance's structure
+///    with each variance's scale taken out. What ranks covariance explanations when none is
+///    within tolerance: a covariance scaled (x2), or with each noise source scaled by its own
+///    factor, keeps much of its correlation structure, while the max of CorrelationScale
+///    saturates near 1 for every candidate once the user's variances are far smaller than
+///    the reference's.
+class ReorderedCovarianceDiffs {
+ public:
+  ReorderedCovarianceDiffs(MatrixView ref, MatrixView user);
+  /// `from[i]`: the row and column of `ref` that row and column i of the reordering take
+  /// (ref.rows() entries).
+  EntryDiff CorrelationScale(const Eigen::Index* from) const;
+  double CorrelationStructure(const Eigen::Index* from) const;
 
-/// Max |rho_K - rho_U| of the two correlation matrices (rho_ij = C_ij / sqrt(C_ii C_jj); 0
-/// where a variance is not positive): the covariance's structure with each variance's scale
-/// taken out. What ranks covariance explanations when none is within tolerance: a
-/// covariance scaled (x2), or with each noise source scaled by its own factor, keeps much of
-/// its correlation structure, while the max of CorrelationScaleDiff saturates near 1 for
-/// every candidate once the user's variances are far smaller than the reference's.
-double CorrelationStructureDiff(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user);
+ private:
+  Eigen::MatrixXd ref_, user_, scale_, rho_ref_, rho_user_;
+  double largest_ = 0.0;
+};
 
 /// Relative difference above the floor 1e-4 x max|ref|.
-EntryDiff RelativeAboveFloorDiff(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user);
+EntryDiff RelativeAboveFloorDiff(MatrixView ref, MatrixView user);
 
-// The same differences entry by entry (what a heatmap draws; the EntryDiff functions above
-// are their max and mean), and the note's d exactly as it defines it: |r - e| / |r| where
-// |r| > 1e-4, else |r - e|, with an absolute threshold (the note's Figures 1 and 2). A
-// non-finite entry of `user`, or a NaN difference, is an infinite difference.
-Eigen::MatrixXd CorrelationScaleEntries(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user);
-Eigen::MatrixXd RelativeAboveFloorEntries(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user);
-Eigen::MatrixXd NoteEntries(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& user);
+// The same differences entry by entry (what a heatmap draws; ReorderedCovarianceDiffs's
+// CorrelationScale and RelativeAboveFloorDiff are their max and mean), and the note's d exactly as it defines it: |r -
+// e| / |r| where |r| > 1e-4, else |r - e|, with an absolute threshold (the note's Figures 1 and 2). A non-finite entry
+// of `user`, or a NaN difference, is an infinite difference.
+Eigen::MatrixXd CorrelationScaleEntries(MatrixView ref, MatrixView user);
+Eigen::MatrixXd RelativeAboveFloorEntries(MatrixView ref, MatrixView user);
+Eigen::MatrixXd NoteEntries(MatrixView ref, MatrixView user);
 
 /// Max and mean of a matrix of entrywise differences (NaN counts as infinite).
-EntryDiff Summarize(const Eigen::MatrixXd& entries);
+EntryDiff Summarize(MatrixView entries);
 
 }  // namespace imuconv::check

@@ -70,11 +70,12 @@ CovChoice BestCovariance(const SchemeCandidates& s, const Mat15& user, const Con
         orders.push_back(std::move(o));
       } while (std::next_permutation(idx.begin(), idx.end()));
     }
+    const ReorderedCovarianceDiffs diffs(cand->cov, user);
     for (const auto& order : orders) {
-      const Mat15 K = Reordered(*cand, order);
-      const EntryDiff d = CorrelationScaleDiff(K, user);
+      const auto from = ReorderedIndices(*cand, order);
+      const EntryDiff d = diffs.CorrelationScale(from.data());
       if (Better(d, best.d)) best = {cand->convention, order, d};
-      const double structure = CorrelationStructureDiff(K, user);
+      const double structure = diffs.CorrelationStructure(from.data());
       if (structure < best_structure) {
         best_structure = structure;
         nearest_structure = {cand->convention, order, d};
