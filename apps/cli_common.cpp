@@ -1,5 +1,7 @@
+#include <charconv>
 #include <cstdio>
 #include <iostream>
+#include <string_view>
 #include <utility>
 
 #include "commands.h"
@@ -53,6 +55,20 @@ void PrintSearchPath(const CommandContext& ctx, const std::vector<std::string>& 
   for (const auto& d : Registry::search_path(dirs)) std::cerr << " " << Printable(d);
   if (Registry::has_compiled_in()) std::cerr << " (the built-in directory's plugins compiled in)";
   std::cerr << "\n";
+}
+
+std::pair<unsigned, unsigned> ParseShardOption(const std::string& text) {
+  const auto slash = text.find('/');
+  const auto number = [](std::string_view s, unsigned& v) {
+    const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+    return !s.empty() && r.ec == std::errc() && r.ptr == s.data() + s.size();
+  };
+  unsigned index = 0, count = 0;
+  const std::string_view t(text);
+  if (slash == std::string::npos || !number(t.substr(0, slash), index) || !number(t.substr(slash + 1), count) ||
+      count == 0 || index >= count)
+    throw UsageError{"--shard: expected K/N with 0 <= K < N (e.g. 0/4), found '" + Printable(text) + "'"};
+  return {index, count};
 }
 
 void PrintError(const std::string& message) {

@@ -11,8 +11,9 @@
 //
 // Refused, each with the file named (exit 2, no output written): a file that is not a shard, a
 // truncated one, shards of different splits or of another pipeline, imuconv version, plugins,
-// data (the heads before "tasks" differ) or inputs (sizes and FNV-1a hashes differ), a shard
-// given twice, a missing one.
+// data (the heads before "tasks" differ) or inputs (sizes and FNV-1a hashes differ), shards
+// computed by kernel instances that round differently (/shard/kernel_instance), a shard given
+// twice, a missing one. A montecarlo shard is pointed to imuconv montecarlo --merge.
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -29,6 +30,7 @@
 #include "imuconv/pipeline/json_writer.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/printable.h"
+#include "shard.h"
 
 namespace imuconv::cli {
 namespace {
@@ -257,6 +259,11 @@ std::vector<const ShardHead*> CheckShards(const std::vector<ShardHead>& heads) {
       other(h, "their pipelines have " + std::to_string(h.tasks) + " and " + std::to_string(a.tasks) + " tasks");
     if (h.shard["inputs"] != a.shard["inputs"])
       other(h, "their input files (the pipeline, its data) differ in name, size or FNV-1a hash (/shard/inputs)");
+    if (h.shard.value("kernel_instance", json()) != a.shard.value("kernel_instance", json()))
+      other(h, "they were computed by different SIMD instances of the kernels (/shard/kernel_instance: " +
+                   Printable(h.shard.value("kernel_instance", json()).dump()) + " and " +
+                   Printable(a.shard.value("kernel_instance", json()).dump()) +
+                   "), which round the last bits differently; run every shard on one kind of CPU");
     if (!h.head_as_first && h.head != a.head)
       other(h, "their documents differ before \"tasks\" at line " +
                    std::to_string(1 + FirstDifferentLine(h.head, a.head)) +
@@ -297,6 +304,14 @@ int Merge(const CommandContext& ctx, const Options& o) {
   std::vector<ShardHead> heads;
   for (const auto& file : o.shards) {
     ShardReader r(file);
+    {
+      // A montecarlo shard has its own merge (it concludes statistics, it does not join text).
+      std::ifstream in(file, std::ios::binary);
+      std::string first(montecarlo::kShardMagic.size(), '\0');
+      if (in.read(first.data(), static_cast<std::streamsize>(first.size())) && first == montecarlo::kShardMagic)
+        throw UsageError{"merge: " + Printable(file) +
+                         " is a shard of imuconv montecarlo --shard K/N: join those with imuconv montecarlo --merge"};
+    }
     heads.push_back(ReadHead(r, file, layout));
     if (heads.size() > 1 && heads.back().head == heads.front().head) {
       heads.back().head_as_first = true;

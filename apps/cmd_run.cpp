@@ -126,26 +126,12 @@ void RunToNpz(const pipeline::Pipeline& p, const pipeline::RunOptions& ro, pipel
   pipeline::WriteResultNpz(arrays, [&](std::string_view s) { file.write(s); });
 }
 
-/// --shard K/N: two decimal numbers, 0 <= K < N.
-pipeline::RunOptions::Shard ParseShard(const std::string& text) {
-  const auto slash = text.find('/');
-  const auto number = [&](std::string_view s, unsigned& v) {
-    const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-    return !s.empty() && r.ec == std::errc() && r.ptr == s.data() + s.size();
-  };
-  pipeline::RunOptions::Shard shard;
-  const std::string_view t(text);
-  if (slash == std::string::npos || !number(t.substr(0, slash), shard.index) ||
-      !number(t.substr(slash + 1), shard.count) || shard.count == 0 || shard.index >= shard.count)
-    throw UsageError{"--shard: expected K/N with 0 <= K < N (e.g. 0/4), found '" + Printable(text) + "'"};
-  return shard;
-}
-
 int Run(const CommandContext& ctx, const Options& o) {
   const pipeline::Pipeline p = pipeline::Pipeline::Load(o.pipeline);
   std::optional<pipeline::RunOptions::Shard> shard;
   if (!o.shard.empty()) {
-    shard = ParseShard(o.shard);
+    const auto [index, count] = ParseShardOption(o.shard);
+    shard = pipeline::RunOptions::Shard{index, count};
     if (!o.tum.empty() || !o.errors.empty())
       throw UsageError{"--shard: --tum and --errors are for a whole run (a shard may not hold the task)"};
   }

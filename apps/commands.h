@@ -54,6 +54,10 @@ void PrintSearchPath(const CommandContext& ctx, const std::vector<std::string>& 
 /// Prints "imuconv: error: <message>" to stderr (each line of a multi-line message indented).
 void PrintError(const std::string& message);
 
+/// --shard K/N of imuconv run and imuconv montecarlo: two decimal numbers, 0 <= K < N; returns
+/// {K, N}. Throws UsageError quoting the text otherwise.
+std::pair<unsigned, unsigned> ParseShardOption(const std::string& text);
+
 /// Prints a 15x15 matrix as a table whose rows and columns are labelled with the axes of the
 /// two conventions' blocks ("theta.x", ...), exact zeros as "0", the rest to 4 digits.
 void PrintLabelledMatrix(std::ostream& out, const Mat15& m, const std::vector<std::string>& row_blocks,

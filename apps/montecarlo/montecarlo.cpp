@@ -116,6 +116,17 @@ std::string DefaultConvention(const PreintegrationMethod& method) {
 
 Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method, const std::string& convention,
                      const Input& input, const Options& options) {
+  std::vector<Vec15> errors;
+  Result res = RunTrials(reg, method, convention, input, options, 0, options.trials, errors);
+  Conclude(res, errors);
+  return res;
+}
+
+Result RunTrials(const Registry& reg, const PreintegrationMethod& method, const std::string& convention,
+                 const Input& input, const Options& options, int first, int end, std::vector<Vec15>& errors) {
+  if (first < 0 || first > end || end > options.trials)
+    throw Error("montecarlo: trials [" + std::to_string(first) + ", " + std::to_string(end) + ") are not within the " +
+                std::to_string(options.trials) + " trials of the run");
   const auto conv = reg.increment_convention(convention);
   const std::vector<ImuSample>& z = input.samples;
   const std::size_t K = z.size() - 1;
@@ -172,6 +183,9 @@ Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method, co
     }
   }
   res.trial_path = mean_kernel ? "mean_only" : "full";
+  // The blocks' names in the convention's order; Conclude fills their ratios.
+  const auto labels = conv->order().labels();
+  for (int b = 0; b < kBlockCount; ++b) res.blocks.push_back(BlockRatio{labels[b], 0.0, {}});
 
   // Per-sample white-noise and per-step walk standard deviations, computed once.
   std::vector<double> white_dt(K + 1), step_dt(K);
@@ -196,8 +210,9 @@ Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method, co
     }
   }
 
-  std::vector<Vec15> errors(static_cast<std::size_t>(options.trials));
-  std::atomic<int> next{0};
+  errors.assign(static_cast<std::size_t>(end - first), Vec15::Zero());
+  const int count = end - first;
+  std::atomic<int> next{first};
   std::exception_ptr failure;
   std::mutex failure_mutex, progress_mutex;
   int done = 0;
@@ -207,7 +222,7 @@ Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method, co
     std::vector<double> draws(6 * (K + 1) + 6 * K);  // one trial's normals
     SampleWindow window;  // over `truth`, whose storage stays put; the nominal run windowed the same times
     const bool windowed = MakeWindow(truth.data(), truth.size(), truth.front().t, truth.back().t, window).ok();
-    for (int i = next++; i < options.trials; i = next++) {
+    for (int i = next++; i < end; i = next++) {
       try {
         if (!windowed) throw Error("montecarlo: cannot window the samples");
         // Trial i's own stream, from (seed, i) only: the same whatever thread runs it.
@@ -244,25 +259,25 @@ Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method, co
         m.delta.dba = nominal.delta.dba + beta_a;
         Vec15 e;
         conv->local(nominal.delta, m.delta, e);
-        errors[static_cast<std::size_t>(i)] = e;
+        errors[static_cast<std::size_t>(i - first)] = e;
         if (options.progress) {
           const std::lock_guard<std::mutex> lock(progress_mutex);
           ++done;
-          if (done * 100LL / options.trials != shown) {
-            shown = done * 100LL / options.trials;
-            options.progress(done, options.trials);
+          if (done * 100LL / count != shown) {
+            shown = done * 100LL / count;
+            options.progress(done, count);
           }
         }
       } catch (...) {
         const std::lock_guard<std::mutex> lock(failure_mutex);
         if (!failure) failure = std::current_exception();
-        next = options.trials;
+        next = end;
       }
     }
   };
   // At most kMaxThreads workers: more than the cores only adds switching, and a thread that
   // cannot be started leaves the trials to the ones that did.
-  const int threads = std::max(1, std::min({options.threads, options.trials, kMaxThreads}));
+  const int threads = std::max(1, std::min({options.threads, count, kMaxThreads}));
   std::vector<std::thread> pool;
   try {
     for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
@@ -271,26 +286,36 @@ Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method, co
   worker();
   for (auto& th : pool) th.join();
   if (failure) std::rethrow_exception(failure);
-
   for (const Vec15& e : errors)
     if (!e.allFinite())
       throw Error("montecarlo: a trial's end error is not finite (method " + Printable(method.id) + ")");
+  return res;
+}
+
+void Conclude(Result& res, const std::vector<Vec15>& errors) {
+  if (errors.size() != static_cast<std::size_t>(res.trials))
+    throw Error("montecarlo: " + std::to_string(errors.size()) + " end errors for a run of " +
+                std::to_string(res.trials) + " trials");
+  for (const Vec15& e : errors)
+    if (!e.allFinite())
+      throw Error("montecarlo: a trial's end error is not finite (method " + Printable(res.method) + ")");
   if (!ComputeStatistics(errors, res.predicted, res.stats))
-    throw Error("montecarlo: the covariance " + Printable(method.id) + " predicts in " + Printable(res.convention) +
+    throw Error("montecarlo: the covariance " + Printable(res.method) + " predicts in " + Printable(res.convention) +
                 " is not positive definite (are all four noise densities of the case positive?); nothing to "
                 "compare the trials with");
 
-  const auto labels = conv->order().labels();
+  if (res.blocks.size() != static_cast<std::size_t>(kBlockCount))
+    throw Error("montecarlo: " + std::to_string(res.blocks.size()) + " block names, expected " +
+                std::to_string(kBlockCount));
   for (int b = 0; b < kBlockCount; ++b) {
-    BlockRatio r;
-    r.block = labels[b];
+    BlockRatio& r = res.blocks[static_cast<std::size_t>(b)];
     const Mat3 S = res.stats.sample_cov.block<3, 3>(3 * b, 3 * b), P = res.predicted.block<3, 3>(3 * b, 3 * b);
     r.variance_ratio = S.trace() / P.trace();
     for (int a = 0; a < 3; ++a) r.axes[a] = S(a, a) / P(a, a);
-    res.blocks.push_back(r);
   }
 
   // The verdict: both tests at their stated levels (statistics.h).
+  res.reasons.clear();
   const Statistics& st = res.stats;
   const bool nees_ok = st.nees_mean >= st.nees_bounds[0] && st.nees_mean <= st.nees_bounds[1];
   const bool kl_ok = st.kl <= st.kl_bound;
@@ -312,7 +337,6 @@ Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method, co
     res.reasons.push_back(
         "the simulated noise is not the model the prediction assumes (noise_model.note): the "
         "verdict judges that mismatch");
-  return res;
 }
 
 }  // namespace imuconv::montecarlo

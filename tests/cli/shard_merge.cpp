@@ -187,6 +187,19 @@ TEST(ShardMerge, HostileMergesAreRefused) {
     ExpectRefused(b, {s0, moved, s2}, "D1of3.json", "/shard/inputs");
   }
   {
+    SCOPED_TRACE("another CPU's kernel instance");
+    // As a shard from a node whose CPU runs another SIMD instance (FMA or not) would say.
+    std::string text = ReadText(s1);
+    const std::string key = "\"kernel_instance\": \"";
+    const std::size_t at = text.find(key);
+    ASSERT_NE(at, std::string::npos);
+    const std::size_t name = at + key.size(), name_end = text.find('"', name);
+    const std::string here = text.substr(name, name_end - name);
+    text.replace(name, here.size(), here == "baseline" ? "avx2" : "baseline");
+    const std::string edited = b.tmp.write("K1of3.json", text);
+    ExpectRefused(b, {s0, edited, s2}, "K1of3.json", "different SIMD instances of the kernels (/shard/kernel_instance");
+  }
+  {
     SCOPED_TRACE("another imuconv version");
     // The same inputs, a head that differs (as a shard written by another build would):
     // the version string edited in a copy of shard 1.

@@ -13,6 +13,7 @@
 
 #include "context.h"
 #include "data/spec_data.h"
+#include "imuconv/kernels/preintegration.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/pipeline/result_arrays.h"
 #include "imuconv/printable.h"
@@ -246,6 +247,10 @@ void WriteShard(JsonWriter& w, const ShardPlan& plan, std::size_t tasks) {
   w.unsigned_integer(plan.first);
   w.key("end_task");
   w.unsigned_integer(plan.end);
+  // The kernels' SIMD instance this CPU runs: instances round the last bits differently (FMA or
+  // not), so imuconv merge refuses shards computed by different ones.
+  w.key("kernel_instance");
+  w.string(kernels::IsaName(kernels::BestIsa()));
   w.key("inputs");
   w.begin_array();
   for (const auto& in : plan.inputs) {

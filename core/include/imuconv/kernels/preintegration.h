@@ -95,6 +95,20 @@ enum class Isa { kAuto, kBaseline, kAvx2, kAvx512 };
 IMUCONV_API bool IsaAvailable(Isa isa);
 /// The widest instance this CPU runs (never kAuto), decided once.
 IMUCONV_API Isa BestIsa();
+/// "auto", "baseline", "avx2", "avx512" (benchmark names; the shard files of run and montecarlo).
+inline const char* IsaName(Isa isa) {
+  switch (isa) {
+    case Isa::kBaseline:
+      return "baseline";
+    case Isa::kAvx2:
+      return "avx2";
+    case Isa::kAvx512:
+      return "avx512";
+    case Isa::kAuto:
+      break;
+  }
+  return "auto";
+}
 
 /// Checks what the drivers rely on: at least two knots, finite data, strictly increasing
 /// time, finite bias estimate, non-negative finite noise. Allocates only to report an error.
