@@ -36,26 +36,43 @@ std::uint16_t NameFlags(const std::string& name) {
   return 0;
 }
 
-const std::array<std::uint32_t, 256>& CrcTable() {
-  static const std::array<std::uint32_t, 256> table = [] {
-    std::array<std::uint32_t, 256> t{};
+// Slicing-by-8 (Kounavis and Berry, "A systematic approach to building high performance,
+// software-based, CRC generators", 2005): table k holds the CRC of a byte followed by k zero
+// bytes, so eight input bytes are folded into the register with eight independent lookups
+// instead of eight dependent ones. Table 0 is the classic byte-wise table. The arithmetic is the
+// byte-wise algorithm's, regrouped: the result is the same CRC for any split of the input.
+using CrcTables = std::array<std::array<std::uint32_t, 256>, 8>;
+
+const CrcTables& CrcTable() {
+  static const CrcTables tables = [] {
+    CrcTables t{};
     for (std::uint32_t n = 0; n < 256; ++n) {
       std::uint32_t c = n;
       for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-      t[n] = c;
+      t[0][n] = c;
     }
+    for (std::size_t k = 1; k < 8; ++k)
+      for (std::size_t n = 0; n < 256; ++n) t[k][n] = t[0][t[k - 1][n] & 0xFFu] ^ (t[k - 1][n] >> 8);
     return t;
   }();
-  return table;
+  return tables;
 }
 
 }  // namespace
 
 std::uint32_t Crc32(std::uint32_t crc, const void* data, std::size_t size) {
-  const auto& table = CrcTable();
+  const CrcTables& t = CrcTable();
   const auto* p = static_cast<const unsigned char*>(data);
   crc = ~crc;
-  for (std::size_t i = 0; i < size; ++i) crc = table[(crc ^ p[i]) & 0xFFu] ^ (crc >> 8);
+  // Eight bytes at a time; the bytes are assembled little-endian by hand, so the result does not
+  // depend on the machine's byte order.
+  for (; size >= 8; size -= 8, p += 8) {
+    const std::uint32_t lo =
+        crc ^ (std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 | std::uint32_t{p[2]} << 16 | std::uint32_t{p[3]} << 24);
+    crc = t[7][lo & 0xFFu] ^ t[6][(lo >> 8) & 0xFFu] ^ t[5][(lo >> 16) & 0xFFu] ^ t[4][lo >> 24] ^ t[3][p[4]] ^
+          t[2][p[5]] ^ t[1][p[6]] ^ t[0][p[7]];
+  }
+  for (; size > 0; --size, ++p) crc = t[0][(crc ^ *p) & 0xFFu] ^ (crc >> 8);
   return ~crc;
 }
 

@@ -7,12 +7,14 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "imuconv/pipeline/result_arrays.h"
+#include "value_buffer.h"
 
 namespace imuconv::pipeline::detail {
 
@@ -26,6 +28,7 @@ constexpr std::int64_t kExactInDouble = std::int64_t{1} << 53;
 
 /// A member name as a JSON pointer segment (RFC 6901: '~' -> "~0", '/' -> "~1").
 inline std::string Escape(const std::string& s) {
+  if (s.find_first_of("~/") == std::string::npos) return s;  // nearly every name
   std::string e;
   for (char c : s) e += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
   return e;
@@ -35,8 +38,29 @@ inline std::string Join(const std::string& prefix, const std::string& segment) {
   return prefix.empty() ? segment : prefix + "/" + segment;
 }
 
-/// Where a value goes: its key (indices of arrays of objects removed) and its pointer.
+/// A member name met in the objects of one frame key, resolved once: its escaped name, the key
+/// of its values and, once known, their entries in the collector's lists (elements of an array
+/// of objects repeat their members, so each value after the first finds these here instead of
+/// joining and hashing its key).
+struct MemberSlot {
+  std::string name;     ///< as read
+  std::string escaped;  ///< as a pointer segment
+  std::string key;      ///< the frame key joined with it
+  int child_key = -1;   ///< the entry of `key` in the collector's frame keys, once an object or array is there
+  int numeric = -1;     ///< its entry in the collector's numeric keys, once known
+  int value = -1;       ///< and in its sidecar keys
+};
+/// A frame key (objects and arrays of objects with one key share it) and the members met under it,
+/// in the order first met. A deque: slots are held by address while more are added.
+struct FrameKey {
+  std::string key;
+  std::deque<MemberSlot> members;
+};
+
+/// Where a value goes: the current member of the innermost frame (`slot`; its key and pointer
+/// are derived only when needed), or, with no slot, the key and pointer given.
 struct Destination {
+  MemberSlot* slot = nullptr;
   std::string key, pointer;
 };
 
@@ -44,7 +68,8 @@ struct Frame {
   bool aoo = false;                  ///< an array of objects; else an object
   std::string key;                   ///< the frame's key (indices of arrays of objects removed)
   std::string pointer;               ///< its pointer, indices kept, without the leading '/'
-  std::string member;                ///< object: the current member's name, escaped
+  int key_id = -1;                   ///< the frame key's entry in the collector's list of them
+  MemberSlot* member = nullptr;      ///< object: the current member
   std::size_t count = 0;             ///< object: members so far; array: elements so far
   bool element = false;              ///< an object that is an element of an array of objects (not /tasks)
   bool task = false, named = false;  ///< an element of /tasks, and whether its name was read
@@ -76,6 +101,8 @@ struct NumericKey : Occurrences {
 };
 struct ValueKey : Occurrences {
   ojson first;
+  ValueBuffer first_buffer;  ///< the events `first` was built from, when it was a buffered array
+  bool first_from_buffer = false;
   std::vector<std::pair<std::size_t, ojson>> other;  ///< values that differ from the first
 };
 

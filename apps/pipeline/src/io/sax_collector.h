@@ -13,8 +13,10 @@
 #pragma once
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -69,6 +71,16 @@ class Collector {
     EmitNumbers(Here("a number"), {}, {v}, {}, true);
     return true;
   }
+  /// `n` doubles (native byte order, unaligned) read as n number_float events, all at once: a
+  /// one-line array of the writer's value events (value_events.h), always buffered.
+  void number_row(const char* bytes, std::size_t n) {
+    if (n == 0) return;
+    Buffered();  // opens the buffer when this is the first element of the array
+    buf_.events.insert(buf_.events.end(), n, ValueBuffer::kFloat);
+    const std::size_t at = buf_.floats.size();
+    buf_.floats.resize(at + n);
+    std::memcpy(buf_.floats.data() + at, bytes, n * sizeof(double));
+  }
   bool string(std::string& s) {
     if (Buffered()) {
       buf_.strings.push_back(s);
@@ -79,6 +91,8 @@ class Collector {
       Frame& task = frames_.back();
       task.named = true;
       task.key = task.pointer = "tasks/" + Escape(s);
+      task.key_id = FrameKeyId(task.key);
+      task.member = &Slot(task.key_id, task.member->name, 0);  // "name", now under the task's own key
       if (!task_names_.insert(s).second) Fail(task.pointer, "a second task named '" + Printable(s) + "'");
     }
     EmitValue(Here("a string"), s);
@@ -95,6 +109,7 @@ class Collector {
     if (frames_.empty()) {
       if (done_) Fail("", "text after the document");
       frames_.push_back(Frame{});
+      frames_.back().key_id = FrameKeyId(frames_.back().key);
       return true;
     }
     Frame& f = frames_.back();
@@ -103,17 +118,20 @@ class Collector {
       if (f.tasks) {
         child.task = true;
         child.key = child.pointer = "tasks/" + std::to_string(f.count);  // until its name is read
+        child.key_id = FrameKeyId(child.key);
       } else {
         index_.push_back(f.count);
         levels_.push_back(f.aoo_id);
         child.key = f.key;
+        child.key_id = f.key_id;
         child.pointer = f.pointer + "/" + std::to_string(f.count);
         child.element = true;
       }
     } else {
       const Destination d = Here("an object");
-      child.key = d.key;
-      child.pointer = d.pointer;
+      child.key = KeyOf(d);
+      child.key_id = ChildKeyId(*d.slot);
+      child.pointer = PointerOf(d);
     }
     frames_.push_back(std::move(child));
     return true;
@@ -126,7 +144,7 @@ class Collector {
     Frame& f = frames_.back();
     if (f.task && !f.named && k != "name")
       Fail(f.pointer, "expected the task's \"name\" as its first member, found \"" + Printable(k) + "\"");
-    f.member = Escape(k);
+    f.member = &Slot(f.key_id, k, f.count);
     ++f.count;
     return true;
   }
@@ -139,7 +157,7 @@ class Collector {
     frames_.pop_back();
     if (f.task && !f.named) Fail(f.pointer, "a task without a \"name\"");
     // An empty object has no values to carry it: the sidecar records it.
-    if (f.count == 0 && !frames_.empty()) EmitValue({f.key, f.pointer}, ojson::object());
+    if (f.count == 0 && !frames_.empty()) EmitValue({nullptr, f.key, f.pointer}, ojson::object());
     if (f.element) {
       index_.pop_back();
       levels_.pop_back();
@@ -231,9 +249,10 @@ class Collector {
     pending_array_ = false;
     Frame a;
     a.aoo = true;
-    a.key = array_dest_.key;
-    a.pointer = array_dest_.pointer;
-    a.tasks = frames_.size() == 1 && array_dest_.pointer == "tasks";
+    a.key = KeyOf(array_dest_);
+    a.pointer = PointerOf(array_dest_);
+    a.key_id = array_dest_.slot ? ChildKeyId(*array_dest_.slot) : FrameKeyId(a.key);
+    a.tasks = frames_.size() == 1 && a.pointer == "tasks";
     if (!a.tasks) {
       const int parent = levels_.empty() ? -1 : levels_.back();
       const auto [it, added] = aoo_ids_.emplace(a.key, static_cast<int>(aoos_.size()));
@@ -253,13 +272,45 @@ class Collector {
            std::string("expected an object (the array's first element is one), found ") + found);
     if (f.task && !f.named)
       Fail(f.pointer + "/name", std::string("expected the task's name (a string), found ") + found);
-    return {Join(f.key, f.member), Join(f.pointer, f.member)};
+    if (f.member == nullptr) throw std::logic_error("result collector: a value in an object before its member name");
+    return {f.member, {}, {}};
+  }
+  /// A destination's key and pointer. A slot's pointer is the innermost frame's member: it is
+  /// asked for only while that frame is still the innermost one (a buffered array opens no frame).
+  const std::string& KeyOf(const Destination& d) const { return d.slot ? d.slot->key : d.key; }
+  std::string PointerOf(const Destination& d) const {
+    return d.slot ? Join(frames_.back().pointer, d.slot->escaped) : d.pointer;
+  }
+
+  /// The entry of a frame key in frame_keys_, added when new.
+  int FrameKeyId(const std::string& key) {
+    const auto [it, added] = frame_key_ids_.emplace(key, static_cast<int>(frame_keys_.size()));
+    if (added) frame_keys_.push_back(FrameKey{key, {}});
+    return it->second;
+  }
+  int ChildKeyId(MemberSlot& slot) {
+    if (slot.child_key < 0) slot.child_key = FrameKeyId(slot.key);
+    return slot.child_key;
+  }
+  /// The member `name` under the frame key `key_id`: looked for first where the previous object
+  /// of this key had its member number `position`, then among all its members; added when new.
+  MemberSlot& Slot(int key_id, const std::string& name, std::size_t position) {
+    FrameKey& fk = frame_keys_[static_cast<std::size_t>(key_id)];
+    if (position < fk.members.size() && fk.members[position].name == name) return fk.members[position];
+    for (MemberSlot& m : fk.members)
+      if (m.name == name) return m;
+    MemberSlot m;
+    m.name = name;
+    m.escaped = Escape(name);
+    m.key = Join(fk.key, m.escaped);
+    fk.members.push_back(std::move(m));
+    return fk.members.back();
   }
 
   void FlushBuffer() {
     std::vector<std::size_t>& shape = shape_;  // reused: one array per vector or matrix of the output
     if (!buf_.Rectangular(shape)) {
-      EmitValue(array_dest_, buf_.ToJson());
+      EmitBufferedValue(array_dest_);
       return;
     }
     if (buf_.floats.empty()) {
@@ -283,7 +334,8 @@ class Collector {
 
   double ExactDouble(std::int64_t i, const Destination& d) const {
     if (i > kExactInDouble || i < -kExactInDouble)
-      Fail(d.pointer, "mixes integers and reals, and the integer " + std::to_string(i) + " is not exact as a double");
+      Fail(PointerOf(d),
+           "mixes integers and reals, and the integer " + std::to_string(i) + " is not exact as a double");
     return static_cast<double>(i);
   }
 
@@ -294,11 +346,11 @@ class Collector {
       o.levels = levels_;
     } else {
       if (o.levels != levels_)
-        Fail(d.pointer, "reached through other arrays of objects than earlier values of its key");
+        Fail(PointerOf(d), "reached through other arrays of objects than earlier values of its key");
       const std::size_t n = levels_.size();
       if (!std::lexicographical_compare(o.indices.end() - static_cast<std::ptrdiff_t>(n), o.indices.end(),
                                         index_.begin(), index_.end()))
-        Fail(d.pointer, "a duplicate key");
+        Fail(PointerOf(d), "a duplicate key");
     }
     o.indices.insert(o.indices.end(), index_.begin(), index_.end());
     ++o.count;
@@ -310,13 +362,20 @@ class Collector {
       EmitValue(d, real ? ojson(reals[0]) : ojson(integers[0]));
       return;
     }
-    const auto [it, added] = numeric_ids_.emplace(d.key, numeric_.size());
-    if (added) {
-      numeric_.emplace_back();
-      numeric_.back().key = d.key;
-      numeric_.back().type = real ? NdArray::Type::kFloat64 : NdArray::Type::kInt64;
+    if (d.slot == nullptr || d.slot->numeric < 0) {
+      const auto [it, added] = numeric_ids_.emplace(KeyOf(d), numeric_.size());
+      if (added) {
+        numeric_.emplace_back();
+        numeric_.back().key = KeyOf(d);
+        numeric_.back().type = real ? NdArray::Type::kFloat64 : NdArray::Type::kInt64;
+      }
+      if (d.slot == nullptr) return AddNumbers(numeric_[it->second], d, shape, reals, integers, real);
+      d.slot->numeric = static_cast<int>(it->second);
     }
-    NumericKey& k = numeric_[it->second];
+    AddNumbers(numeric_[static_cast<std::size_t>(d.slot->numeric)], d, shape, reals, integers, real);
+  }
+  void AddNumbers(NumericKey& k, const Destination& d, const std::vector<std::size_t>& shape,
+                  const std::vector<double>& reals, const std::vector<std::int64_t>& integers, bool real) {
     Record(k, d);
     if (real && k.type == NdArray::Type::kInt64) {  // the key's integers so far become reals
       k.data.reserve(k.integers.size() + reals.size());
@@ -339,15 +398,45 @@ class Collector {
   }
 
   void EmitValue(const Destination& d, ojson v) {
-    const auto [it, added] = value_ids_.emplace(d.key, values_.size());
-    if (added) {
-      values_.emplace_back();
-      values_.back().key = d.key;
-    }
-    ValueKey& k = values_[it->second];
+    ValueKey& k = ValueKeyOf(d);
     Record(k, d);
     if (k.count == 1) k.first = std::move(v);
     else if (v != k.first) k.other.emplace_back(k.count - 1, std::move(v));
+  }
+  /// EmitValue of the buffered array (not a rectangular array of numbers: a list of labels, say).
+  /// The same list recurs once per element of an array of objects: when its events are those of
+  /// the key's first value, so is its JSON value (equal numbers compared as JSON compares them),
+  /// and it is neither built nor compared. Otherwise it is built and compared as EmitValue does.
+  void EmitBufferedValue(const Destination& d) {
+    ValueKey& k = ValueKeyOf(d);
+    if (k.count > 0 && k.first_from_buffer && buf_.SameEvents(k.first_buffer)) {
+      Record(k, d);
+      return;
+    }
+    ojson v = buf_.ToJson();
+    Record(k, d);
+    if (k.count == 1) {
+      k.first = std::move(v);
+      k.first_buffer = buf_;
+      k.first_from_buffer = true;
+    } else if (v != k.first) {
+      k.other.emplace_back(k.count - 1, std::move(v));
+    }
+  }
+  ValueKey& ValueKeyOf(const Destination& d) {
+    std::size_t id;
+    if (d.slot != nullptr && d.slot->value >= 0) {
+      id = static_cast<std::size_t>(d.slot->value);
+    } else {
+      const auto [it, added] = value_ids_.emplace(KeyOf(d), values_.size());
+      if (added) {
+        values_.emplace_back();
+        values_.back().key = KeyOf(d);
+      }
+      id = it->second;
+      if (d.slot != nullptr) d.slot->value = static_cast<int>(id);
+    }
+    return values_[id];
   }
 
   /// Whether the values of `o` fill the grid of its arrays of objects exactly; their lengths.
@@ -382,6 +471,8 @@ class Collector {
   Destination array_dest_;
   ValueBuffer buf_;
   std::vector<std::size_t> shape_;  ///< FlushBuffer's
+  std::deque<FrameKey> frame_keys_;  ///< every frame key met, and its members
+  std::unordered_map<std::string, int> frame_key_ids_;
   std::vector<std::uint32_t> index_;  ///< indices of the enclosing arrays of objects
   std::vector<int> levels_;           ///< and their entries in aoos_
   std::vector<ArrayOfObjects> aoos_;

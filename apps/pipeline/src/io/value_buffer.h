@@ -47,8 +47,9 @@ class ValueBuffer {
     counts.clear();
     dims.clear();
     std::size_t leaf_depth = 0, max_array_depth = 0;
-    for (Event e : events) {
-      switch (e) {
+    const std::size_t n = events.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      switch (events[i]) {
         case kBeginArray:
           if (!counts.empty()) ++counts.back();
           max_array_depth = std::max(max_array_depth, counts.size());
@@ -64,13 +65,18 @@ class ValueBuffer {
           break;
         }
         case kInt:
-        case kFloat:
-          ++counts.back();
+        case kFloat: {
+          // A run of numbers (a vector, a matrix row) is at one depth: counted at once.
+          std::size_t end = i + 1;
+          while (end < n && (events[end] == kFloat || events[end] == kInt)) ++end;
+          counts.back() += end - i;
+          i = end - 1;
           if (leaf_depth == 0)
             leaf_depth = counts.size();
           else if (leaf_depth != counts.size())
             return false;
           break;
+        }
         default:
           return false;
       }
@@ -78,6 +84,12 @@ class ValueBuffer {
     if (leaf_depth == 0 || max_array_depth >= leaf_depth) return false;
     shape.assign(dims.begin(), dims.begin() + static_cast<std::ptrdiff_t>(leaf_depth));
     return true;
+  }
+
+  /// Whether `o` holds the same events and values. Numbers compare with ==, as JSON values do
+  /// (0.0 equals -0.0, NaN equals nothing), so that equal buffers give equal JSON values.
+  bool SameEvents(const ValueBuffer& o) const {
+    return events == o.events && ints == o.ints && big == o.big && floats == o.floats && strings == o.strings;
   }
 
   /// The events as a JSON value (numbers as they were read: integers stay integers).

@@ -18,6 +18,8 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
+#include <utility>
 
 namespace imuconv::pipeline::detail {
 
@@ -37,6 +39,15 @@ inline void PutEventString(std::string& out, char tag, std::string_view s) {
   PutEventScalar<std::uint64_t>(out, tag, s.size());
   out.append(s.data(), s.size());
 }
+
+/// Whether `Sax` takes a 'v' record's numbers at once: `number_row(bytes, n)` for the n doubles
+/// between its start_array(n) and end_array(), the same as n calls of number_float.
+template <typename Sax, typename = void>
+struct TakesNumberRows : std::false_type {};
+template <typename Sax>
+struct TakesNumberRows<
+    Sax, std::void_t<decltype(std::declval<Sax&>().number_row(static_cast<const char*>(nullptr), std::size_t{0}))>>
+    : std::true_type {};
 
 /// Calls `sax` (nlohmann::json's SAX interface) for each whole record at the start of `events`;
 /// returns the bytes consumed. A 'v' record is start_array, its numbers, end_array.
@@ -101,6 +112,12 @@ std::size_t ReplayEvents(std::string_view events, Sax& sax) {
         read(n);
         if (!has(8 * n)) return static_cast<std::size_t>(record - begin);
         sax.start_array(n);
+        if constexpr (TakesNumberRows<Sax>::value) {
+          sax.number_row(p, static_cast<std::size_t>(n));
+          p += 8 * n;
+          sax.end_array();
+          break;
+        }
         for (std::uint64_t i = 0; i < n; ++i) {
           double v;
           read(v);
