@@ -15,15 +15,7 @@ namespace {
 using kernels::Hold;
 using kernels::Isa;
 
-const char* IsaName(Isa l) {
-  switch (l) {
-    case Isa::kBaseline: return "baseline";
-    case Isa::kAvx2: return "avx2";
-    case Isa::kAvx512: return "avx512";
-    case Isa::kAuto: break;
-  }
-  return "?";
-}
+using kernels::IsaName;  // the library's names ("baseline", "avx2", "avx512")
 
 struct Difference {
   double state = 0.0, phi = 0.0, cov = 0.0, variances = 0.0;

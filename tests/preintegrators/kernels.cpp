@@ -297,15 +297,7 @@ std::vector<ImuSample> SpinningSamples() {
   return v;
 }
 
-const char* IsaName(k::Isa isa) {
-  switch (isa) {
-    case k::Isa::kBaseline: return "baseline";
-    case k::Isa::kAvx2: return "avx2";
-    case k::Isa::kAvx512: return "avx512";
-    case k::Isa::kAuto: break;
-  }
-  return "auto";
-}
+using k::IsaName;  // the library's names ("baseline", "avx2", "avx512")
 
 /// max |a - b| / max|b|: relative to the matrix's own scale (covariances are ~1e-8..1e-1).
 template <typename A, typename B>

@@ -35,14 +35,14 @@ namespace detail {
 
 Isa ResolveIsa(Isa isa) { return isa == Isa::kAuto ? BestIsa() : isa; }
 
-const Instance* SimdInstance(Isa isa, bool for_start_frame) {
+const Instance* SimdInstance(Isa isa) {
   switch (isa) {
 #if defined(IMUCONV_KERNELS_X86)
     case Isa::kAvx512: return &kAvx512Instance;
     case Isa::kAvx2: return &kAvx2Instance;
 #endif
 #if defined(IMUCONV_KERNELS_SIMD)
-    case Isa::kBaseline: return for_start_frame ? &kBaselineInstance : nullptr;
+    case Isa::kBaseline: return &kBaselineInstance;
 #endif
     default: return nullptr;
   }

@@ -23,10 +23,9 @@ extern const Instance kBaselineInstance;  ///< x86-64 / the target's baseline
 extern const Instance kAvx2Instance;      ///< AVX2 + FMA
 extern const Instance kAvx512Instance;    ///< AVX-512 F, VL, DQ, BW
 
-/// The SIMD instance for a resolved `isa`, or null where the portable path is to run
-/// (kBaseline for the two schemes, and every isa on a build without SIMD instances).
-/// `for_start_frame`: the held-input route runs the baseline SIMD instance where it exists.
-const Instance* SimdInstance(Isa isa, bool for_start_frame);
+/// The SIMD instance for a resolved `isa`, or null where the portable path is to run (every
+/// isa on a build without SIMD instances, i.e. a compiler without vector extensions).
+const Instance* SimdInstance(Isa isa);
 
 /// `isa` with kAuto replaced by BestIsa().
 Isa ResolveIsa(Isa isa);

@@ -54,6 +54,23 @@ IMUCONV_KERNEL_INLINE const State<W>& RunHeldKnots(const PreintegrationInput& in
   const std::size_t steps = knots.steps();
   ImuSample tmp;
   std::size_t j = 0;
+#if IMUCONV_KERNEL_NARROW
+  // One step per iteration, the buffers swapped by pointer. On a 128-bit target a step is
+  // about 2000 (manifold) to 3000 (tangent) instructions; with two copies per iteration, as
+  // below, the tangent ran at half this speed for the same instruction count (SSE2 on the
+  // EPYC; a loop of ~30 KB of code, beyond the cores' decoded-instruction caches, is the
+  // likely cause).
+  State<W>* cur = &b0;
+  State<W>* next = &b1;
+  for (; j < steps; ++j) {
+    const ImuSample& s = knots.held<kMidpoint>(j, tmp);
+    step(s, knots.t_next(j) - s.t, *cur, *next);
+    State<W>* const t = cur;
+    cur = next;
+    next = t;
+  }
+  return *cur;
+#else
   for (; j + 1 < steps; j += 2) {
     const ImuSample& s0 = knots.held<kMidpoint>(j, tmp);
     step(s0, knots.t_next(j) - s0.t, b0, b1);
@@ -66,6 +83,7 @@ IMUCONV_KERNEL_INLINE const State<W>& RunHeldKnots(const PreintegrationInput& in
     return b1;
   }
   return b0;
+#endif
 }
 
 /// Bias-corrected inputs of a sample, as vectors and as broadcast entries (loads from the
@@ -191,9 +209,7 @@ struct TangentStepper {
     tv.ev = Splat(dt * c.e) * txtxw - Splat(2.0) * tv.dw;
     InMemory(tv);
     // theta's [.]x and theta theta^T, by columns (entries broadcast from memory).
-    const So3Basis basis{{{__builtin_shufflevector(th, -th, 3, 2, 5, 3), __builtin_shufflevector(th, -th, 6, 3, 0, 3),
-                           __builtin_shufflevector(th, -th, 1, 4, 3, 3)}},
-                         {{th * Splat(tv.theta[0]), th * Splat(tv.theta[1]), th * Splat(tv.theta[2])}}};
+    const So3Basis basis{Skew(th), {{th * Splat(tv.theta[0]), th * Splat(tv.theta[1]), th * Splat(tv.theta[2])}}};
     StepConsts<W> m;
     m.N = Poly(basis, 1.0 - c.b * t2, c.a, c.b);                   // R
     m.C = Poly(basis, dt * (1.0 - c.d * t2), 0.5 * dt, dt * c.d);  // dt Jr^{-1}
@@ -209,12 +225,11 @@ struct TangentStepper {
     // A_tt = I + dt D, D = (d theta.omega) I - 1/2 [omega]x + theta (d omega)^T
     //                      + (e theta x (theta x omega) - 2 d omega) theta^T.
     {
-      const d4 a0 = Splat(1.0 + dt * c.d * tw), hw = Splat(-0.5 * dt) * omega, mhw = -hw;
-      const d4 w0 = __builtin_shufflevector(hw, mhw, 3, 2, 5, 3), w1 = __builtin_shufflevector(hw, mhw, 6, 3, 0, 3),
-               w2 = __builtin_shufflevector(hw, mhw, 1, 4, 3, 3);
-      tr.A.c[0] = a0 * kE0 + w0 + th * Splat(tv.dw[0]) + tv.ev * Splat(tv.theta[0]);
-      tr.A.c[1] = a0 * kE1 + w1 + th * Splat(tv.dw[1]) + tv.ev * Splat(tv.theta[1]);
-      tr.A.c[2] = a0 * kE2 + w2 + th * Splat(tv.dw[2]) + tv.ev * Splat(tv.theta[2]);
+      const d4 a0 = Splat(1.0 + dt * c.d * tw);
+      const B w = Skew(Splat(-0.5 * dt) * omega);
+      tr.A.c[0] = a0 * kE0 + w.c[0] + th * Splat(tv.dw[0]) + tv.ev * Splat(tv.theta[0]);
+      tr.A.c[1] = a0 * kE1 + w.c[1] + th * Splat(tv.dw[1]) + tv.ev * Splat(tv.theta[1]);
+      tr.A.c[2] = a0 * kE2 + w.c[2] + th * Splat(tv.dw[2]) + tv.ev * Splat(tv.theta[2]);
     }
     InMemory(tr.A);
     InMemory(tr.K);

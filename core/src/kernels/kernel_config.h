@@ -26,6 +26,12 @@
 #define IMUCONV_KERNEL_ISA generic
 #endif
 
+// IMUCONV_KERNEL_NARROW (set by instance_baseline.cpp): the target's vectors are 128-bit
+// (SSE2, NEON), so simd::d4 is built from two native 2-lane halves (simd_block3.h).
+#ifndef IMUCONV_KERNEL_NARROW
+#define IMUCONV_KERNEL_NARROW 0
+#endif
+
 #define IMUCONV_KERNEL_BEGIN           \
   namespace imuconv::kernels::detail { \
   inline namespace IMUCONV_KERNEL_ISA {

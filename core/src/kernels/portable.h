@@ -1,7 +1,7 @@
 // The portable path of the preintegration kernel: the same recursion as the SIMD
-// instances, on Eigen 3x3 blocks, for any compiler and CPU. It is what Isa::kBaseline runs
-// for the two schemes (without AVX the 4-lane blocks are emulated poorly), and on compilers
-// without GCC/Clang vector extensions it is the only path.
+// instances, on Eigen 3x3 blocks, for any compiler and CPU. It runs only where the compiler
+// has no GCC/Clang vector extensions (dispatch.cpp); tests/preintegrators/portable_path.cpp
+// compares it with the baseline instance.
 #pragma once
 
 #include "imuconv/kernels/preintegration.h"

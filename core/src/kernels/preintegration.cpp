@@ -70,7 +70,7 @@ namespace {
 /// `simd` is set to the instance to run (null: the portable path).
 Status Admit(const PreintegrationInput& in, Isa isa, const detail::Instance*& simd) {
   if (!IsaAvailable(isa)) return UnavailableIsa(isa);
-  simd = detail::SimdInstance(detail::ResolveIsa(isa), false);
+  simd = detail::SimdInstance(detail::ResolveIsa(isa));
   return CheckPreintegrationInput(in);
 }
 }  // namespace
@@ -126,7 +126,7 @@ Status IntegrateManifoldStartFrame(const PreintegrationInput& in, Hold hold, boo
                                    StartFrameManifold& out) {
   if (!IsaAvailable(isa)) return UnavailableIsa(isa);
   out.increment = ManifoldIncrement();
-  const detail::Instance* simd = detail::SimdInstance(detail::ResolveIsa(isa), true);
+  const detail::Instance* simd = detail::SimdInstance(detail::ResolveIsa(isa));
   if (simd) simd->manifold(in, hold, out.increment, out.J_inc_bias, covariance ? &out.cov : nullptr);
   else detail::ManifoldStartFramePortable(in, hold, covariance, out);
   return Status::Ok();

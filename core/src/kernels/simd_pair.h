@@ -9,7 +9,9 @@
 IMUCONV_KERNEL_BEGIN
 namespace simd {
 
+#if !IMUCONV_KERNEL_NARROW
 typedef double d8 __attribute__((vector_size(64)));
+#endif
 struct d4x2 {
   d4 lo, hi;
 };
@@ -18,13 +20,16 @@ IMUCONV_KERNEL_INLINE d4x2 operator-(const d4x2& a, const d4x2& b) { return {a.l
 IMUCONV_KERNEL_INLINE d4x2 operator*(const d4x2& a, const d4x2& b) { return {a.lo * b.lo, a.hi * b.hi}; }
 IMUCONV_KERNEL_INLINE d4x2 operator-(const d4x2& a) { return {-a.lo, -a.hi}; }
 
+#if !IMUCONV_KERNEL_NARROW
 IMUCONV_KERNEL_INLINE d4 Lo(const d8& x) { return __builtin_shufflevector(x, x, 0, 1, 2, 3); }
 IMUCONV_KERNEL_INLINE d4 Hi(const d8& x) { return __builtin_shufflevector(x, x, 4, 5, 6, 7); }
+#endif
 IMUCONV_KERNEL_INLINE d4 Lo(const d4x2& x) { return x.lo; }
 IMUCONV_KERNEL_INLINE d4 Hi(const d4x2& x) { return x.hi; }
 
 template <class W>
 struct PairOps;
+#if !IMUCONV_KERNEL_NARROW
 template <>
 struct PairOps<d8> {
   static IMUCONV_KERNEL_INLINE d8 Cat(const d4& a, const d4& b) { return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7); }
@@ -47,6 +52,7 @@ struct PairOps<d8> {
   static IMUCONV_KERNEL_INLINE d8 Los(const d8& a, const d8& b) { return __builtin_shufflevector(a, b, 0, 1, 2, 3, 8, 9, 10, 11); }
   /// [second half of a | second half of a].
   static IMUCONV_KERNEL_INLINE d8 DupHi(const d8& a) { return __builtin_shufflevector(a, a, 4, 5, 6, 7, 4, 5, 6, 7); }};
+#endif
 template <>
 struct PairOps<d4x2> {
   static IMUCONV_KERNEL_INLINE d4x2 Cat(const d4& a, const d4& b) { return {a, b}; }
@@ -63,6 +69,61 @@ struct PairOps<d4x2> {
   static IMUCONV_KERNEL_INLINE d4x2 Los(const d4x2& a, const d4x2& b) { return {a.lo, b.lo}; }
   static IMUCONV_KERNEL_INLINE d4x2 DupHi(const d4x2& a) { return {a.hi, a.hi}; }
 };
+
+#if IMUCONV_KERNEL_NARROW
+/// Two 4-lane columns on a 128-bit target, by rows: r[k] = (row k of the first, row k of
+/// the second). A d4x2 there is four registers, one of them padding; this is three, and
+/// the per-half lane broadcasts and rotations (Lane, Yzx) are a choice of register instead
+/// of a shuffle. The lanes' arithmetic is the same, operation by operation, as d4x2's.
+struct d3x2 {
+  d2 r[3];
+};
+IMUCONV_KERNEL_INLINE d3x2 operator+(const d3x2& a, const d3x2& b) {
+  return {{a.r[0] + b.r[0], a.r[1] + b.r[1], a.r[2] + b.r[2]}};
+}
+IMUCONV_KERNEL_INLINE d3x2 operator-(const d3x2& a, const d3x2& b) {
+  return {{a.r[0] - b.r[0], a.r[1] - b.r[1], a.r[2] - b.r[2]}};
+}
+IMUCONV_KERNEL_INLINE d3x2 operator*(const d3x2& a, const d3x2& b) {
+  return {{a.r[0] * b.r[0], a.r[1] * b.r[1], a.r[2] * b.r[2]}};
+}
+IMUCONV_KERNEL_INLINE d3x2 operator-(const d3x2& a) { return {{-a.r[0], -a.r[1], -a.r[2]}}; }
+/// The column of the first block (Lo) and of the second (Hi), lane 3 zero.
+IMUCONV_KERNEL_INLINE d4 Lo(const d3x2& x) {
+  return {__builtin_shufflevector(x.r[0], x.r[1], 0, 2), __builtin_shufflevector(x.r[2], d2{}, 0, 2)};
+}
+IMUCONV_KERNEL_INLINE d4 Hi(const d3x2& x) {
+  return {__builtin_shufflevector(x.r[0], x.r[1], 1, 3), __builtin_shufflevector(x.r[2], d2{}, 1, 2)};
+}
+template <>
+struct PairOps<d3x2> {
+  static IMUCONV_KERNEL_INLINE d3x2 Cat(const d4& a, const d4& b) {
+    return {{__builtin_shufflevector(a.lo, b.lo, 0, 2), __builtin_shufflevector(a.lo, b.lo, 1, 3),
+             __builtin_shufflevector(a.hi, b.hi, 0, 2)}};
+  }
+  static IMUCONV_KERNEL_INLINE d3x2 Splat(double x) {
+    const d2 v = {x, x};
+    return {{v, v, v}};
+  }
+  template <int k>
+  static IMUCONV_KERNEL_INLINE d3x2 Lane(const d3x2& x) {
+    return {{x.r[k], x.r[k], x.r[k]}};
+  }
+  static IMUCONV_KERNEL_INLINE d3x2 Yzx(const d3x2& x) { return {{x.r[1], x.r[2], x.r[0]}}; }
+  static IMUCONV_KERNEL_INLINE d3x2 ShiftDown(const d3x2& x) {
+    return {{__builtin_shufflevector(x.r[0], d2{}, 1, 2), __builtin_shufflevector(x.r[1], d2{}, 1, 2),
+             __builtin_shufflevector(x.r[2], d2{}, 1, 2)}};
+  }
+  static IMUCONV_KERNEL_INLINE d3x2 Los(const d3x2& a, const d3x2& b) {
+    return {{__builtin_shufflevector(a.r[0], b.r[0], 0, 2), __builtin_shufflevector(a.r[1], b.r[1], 0, 2),
+             __builtin_shufflevector(a.r[2], b.r[2], 0, 2)}};
+  }
+  static IMUCONV_KERNEL_INLINE d3x2 DupHi(const d3x2& a) {
+    return {{__builtin_shufflevector(a.r[0], a.r[0], 1, 1), __builtin_shufflevector(a.r[1], a.r[1], 1, 1),
+             __builtin_shufflevector(a.r[2], a.r[2], 1, 1)}};
+  }
+};
+#endif
 
 /// Two 3x3 blocks side by side: column j is [column j of the first | of the second].
 template <class W>
@@ -133,6 +194,7 @@ template <class W>
 IMUCONV_KERNEL_INLINE BB<W> TimesSkew(const BB<W>& z, const W& b0, const W& b1, const W& b2) {
   return {{b2 * z.c[1] - b1 * z.c[2], b0 * z.c[2] - b2 * z.c[0], b1 * z.c[0] - b0 * z.c[1]}};
 }
+
 
 }  // namespace simd
 IMUCONV_KERNEL_END

@@ -117,7 +117,9 @@ IMUCONV_KERNEL_INLINE Lanes4 TangentSeriesABCE(double x) {
   };
   // Estrin's scheme (six FMA levels deep rather than Horner's nineteen: this sits on the
   // step's critical path, theta -> coefficients -> maps -> products).
-#if IMUCONV_KERNEL_HAS_VECTORS
+#if IMUCONV_KERNEL_NARROW
+  const Lanes4 v = simd::Splat(x);  // d4 is a struct of two 2-lane halves there
+#elif IMUCONV_KERNEL_HAS_VECTORS
   const Lanes4 x0 = {x, 0.0, 0.0, 0.0}, v = __builtin_shufflevector(x0, x0, 0, 0, 0, 0);
 #else
   const Lanes4 v = {{x, x, x, x}};

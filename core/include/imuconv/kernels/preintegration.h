@@ -88,7 +88,8 @@ IMUCONV_API Mat3 JrInvTimesVecDerivative(const Vec3& theta, const Vec3& omega);
 
 /// Which compiled instance of the interval kernels to run: kAuto picks the widest one the
 /// CPU supports (decided once); the others exist so tests and benchmarks can run each one.
-/// kBaseline is the portable Eigen path for the two schemes below.
+/// kBaseline is the target's 128-bit vector instance (x86-64: SSE2; aarch64: NEON), or the
+/// portable Eigen path on a compiler without GCC/Clang vector extensions.
 enum class Isa { kAuto, kBaseline, kAvx2, kAvx512 };
 
 /// Whether `isa` was compiled into this build and can run on this CPU (kAuto always can).
