@@ -29,19 +29,12 @@ enum class MeanKernel { kEuler, kMidpoint, kRk4, kManifold, kTangent };
 
 namespace mean_only_detail {
 
-/// A held-input propagation's end state: IntegrateHeld's route (the preintegration kernel
-/// where the CPU has a SIMD instance, else per sample), its Phi and covariance left out.
+/// A held-input propagation's end state: IntegrateHeld's route (the preintegration kernel's
+/// instance for this CPU), its Phi and covariance left out.
 template <Hold kHold>
 inline void HeldEndState(const PropagationInput& in, ImuState& x_e) {
-  const Isa isa = BestIsa();
-  if (isa == Isa::kBaseline) {
-    PropagationResult r;
-    IntegrateHeldPerSample<kHold, Outputs::State>(in, r);
-    x_e = r.x_e;
-    return;
-  }
-  StartFrameManifold pre;  // isa is available, so the kernel cannot refuse it
-  (void)IntegrateManifoldStartFrame(held_detail::StartFrameInput(in), kHold, /*covariance=*/false, isa, pre);
+  StartFrameManifold pre;  // BestIsa() is available, so the kernel cannot refuse it
+  (void)IntegrateManifoldStartFrame(held_detail::StartFrameInput(in), kHold, /*covariance=*/false, BestIsa(), pre);
   held_detail::ComposeEndState(in, pre.increment, x_e);  // as IntegrateHeldByPreintegration composes it
 }
 
