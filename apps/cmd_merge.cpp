@@ -259,10 +259,10 @@ std::vector<const ShardHead*> CheckShards(const std::vector<ShardHead>& heads) {
       other(h, "their pipelines have " + std::to_string(h.tasks) + " and " + std::to_string(a.tasks) + " tasks");
     if (h.shard["inputs"] != a.shard["inputs"])
       other(h, "their input files (the pipeline, its data) differ in name, size or FNV-1a hash (/shard/inputs)");
-    if (h.shard.value("kernel_instance", json()) != a.shard.value("kernel_instance", json()))
+    if (const json here = h.shard.value("kernel_instance", json()), there = a.shard.value("kernel_instance", json());
+        here != there)
       other(h, "they were computed by different SIMD instances of the kernels (/shard/kernel_instance: " +
-                   Printable(h.shard.value("kernel_instance", json()).dump()) + " and " +
-                   Printable(a.shard.value("kernel_instance", json()).dump()) +
+                   Printable(here.dump()) + " and " + Printable(there.dump()) +
                    "), which round the last bits differently; run every shard on one kind of CPU");
     if (!h.head_as_first && h.head != a.head)
       other(h, "their documents differ before \"tasks\" at line " +

@@ -300,15 +300,12 @@ void BM_MonteCarlo(benchmark::State& st, const char* id, bool allow_mean_only) {
 void RegisterAll() {
   for (const char* id : {"manifold", "tangent", "vins_fusion", "basalt"})
     benchmark::RegisterBenchmark((std::string("BM_Preintegrate/") + id).c_str(), BM_Preintegrate, id);
-  const struct {
-    const char* name;
-    kernels::Isa isa;
-  } instances[] = {{"baseline", kernels::Isa::kBaseline}, {"avx2", kernels::Isa::kAvx2}, {"avx512", kernels::Isa::kAvx512}};
   for (const auto& [scheme, scheme_name] : {std::pair{Scheme::kManifold, "manifold"}, std::pair{Scheme::kTangent, "tangent"}})
-    for (const auto& i : instances)
-      if (kernels::IsaAvailable(i.isa))
-        benchmark::RegisterBenchmark((std::string("BM_PreintegrateInstance/") + scheme_name + "/" + i.name).c_str(),
-                                     BM_PreintegrateInstance, scheme, i.isa);
+    for (const kernels::Isa isa : {kernels::Isa::kBaseline, kernels::Isa::kAvx2, kernels::Isa::kAvx512})
+      if (kernels::IsaAvailable(isa))
+        benchmark::RegisterBenchmark(
+            (std::string("BM_PreintegrateInstance/") + scheme_name + "/" + kernels::IsaName(isa)).c_str(),
+            BM_PreintegrateInstance, scheme, isa);
   for (const char* id : {"euler", "midpoint", "rk4", "openvins_discrete", "openvins_rk4", "openvins_analytical"})
     benchmark::RegisterBenchmark((std::string("BM_Propagate/") + id).c_str(), BM_Propagate, id);
   benchmark::RegisterBenchmark("BM_PreintegrateByPropagation/rk4", BM_PreintegrateByPropagation, "rk4");

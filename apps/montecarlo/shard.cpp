@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "imuconv/kernels/preintegration.h"
+#include "imuconv/pipeline/file_digest.h"
 #include "imuconv/printable.h"
 
 #ifndef IMUCONV_VERSION
@@ -24,24 +25,9 @@ namespace {
 
 using nlohmann::json;
 
-constexpr std::uint64_t kFnvBasis = 14695981039346656037ull;  // FNV-1a's 64-bit offset basis and prime
-constexpr std::uint64_t kFnvPrime = 1099511628211ull;
 constexpr std::size_t kBytesPerTrial = sizeof(double) * kDim;
 constexpr std::size_t kHeaderLimit = std::size_t{1} << 20;  // the header is ~8 KB (225 hex floats, a note)
 constexpr std::size_t kTrailerSize = 9 + 16 + 1;            // "fnv1a_64 " + 16 hex digits + "\n"
-
-void Fnv(std::uint64_t& h, const char* p, std::size_t n) {
-  for (std::size_t i = 0; i < n; ++i) {
-    h ^= static_cast<unsigned char>(p[i]);
-    h *= kFnvPrime;
-  }
-}
-
-std::string Hex64(std::uint64_t v) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
-  return buf;
-}
 
 /// A double as a C99 hexadecimal float: strtod reads it back to the same bits.
 std::string HexFloat(double x) {
@@ -122,31 +108,15 @@ std::pair<int, int> ShardTrials(int trials, int index, int count) {
   return {at(index), at(index + 1)};
 }
 
-void DigestFile(const std::string& file, std::uint64_t& bytes, std::uint64_t& fnv1a_64) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) FileFails(file, "cannot be opened to record its hash in the shard");
-  bytes = 0;
-  fnv1a_64 = kFnvBasis;
-  std::vector<char> buf(std::size_t{1} << 16);
-  while (in) {
-    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
-    const auto n = static_cast<std::size_t>(in.gcount());
-    Fnv(fnv1a_64, buf.data(), n);
-    bytes += n;
-  }
-  if (in.bad()) FileFails(file, "could not be read to the end to record its hash in the shard");
-}
-
 json ShardProvenance(const Registry& reg, const PreintegrationMethod& method, const std::string& convention,
                      const std::string& case_path) {
-  std::uint64_t case_bytes = 0, case_hash = 0;
-  DigestFile(case_path, case_bytes, case_hash);
+  const pipeline::FileDigest case_digest = pipeline::DigestFile(case_path);
   json plugins = json::array();
   for (const PluginInfo* info : {&reg.info(method.kind, method.id), &reg.info(PluginKind::IncrementConvention, convention)})
     plugins.push_back({{"id", info->id}, {"file", info->file}, {"version", info->version}});
   return {{"imuconv_version", IMUCONV_VERSION},
           {"kernel_instance", kernels::IsaName(kernels::BestIsa())},
-          {"case", {{"path", case_path}, {"bytes", case_bytes}, {"fnv1a_64", Hex64(case_hash)}}},
+          {"case", {{"path", case_path}, {"bytes", case_digest.bytes}, {"fnv1a_64", case_digest.hash.hex()}}},
           {"plugins", plugins}};
 }
 
@@ -220,9 +190,9 @@ void WriteShard(const std::function<void(std::string_view)>& sink, int index, in
   if (errors.size() != static_cast<std::size_t>(end - first))
     throw Error("montecarlo: " + std::to_string(errors.size()) + " end errors for trials [" + std::to_string(first) +
                 ", " + std::to_string(end) + ")");
-  std::uint64_t hash = kFnvBasis;
+  pipeline::Fnv1a64 hash;
   const std::string head = HeadText(index, count, first, end, run);
-  Fnv(hash, head.data(), head.size());
+  hash.add(head.data(), head.size());
   sink(head);
   std::string piece;
   piece.reserve(std::size_t{1} << 16);
@@ -231,14 +201,14 @@ void WriteShard(const std::function<void(std::string_view)>& sink, int index, in
     for (int j = 0; j < kDim; ++j) PutLittleEndian(e[j], bytes + 8 * j);
     piece.append(bytes, sizeof bytes);
     if (piece.size() + kBytesPerTrial > (std::size_t{1} << 16)) {
-      Fnv(hash, piece.data(), piece.size());
+      hash.add(piece.data(), piece.size());
       sink(piece);
       piece.clear();
     }
   }
-  Fnv(hash, piece.data(), piece.size());
+  hash.add(piece.data(), piece.size());
   sink(piece);
-  sink("fnv1a_64 " + Hex64(hash) + "\n");
+  sink("fnv1a_64 " + hash.hex() + "\n");
 }
 
 ShardHeader ReadShardHeader(const std::string& file) {
@@ -328,8 +298,8 @@ void ReadShardErrors(const ShardHeader& h, Vec15* out) {
   const std::string expected_head = HeadText(h.index, h.count, h.first, h.end, h.run);
   std::string head(static_cast<std::size_t>(h.payload_offset), '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  std::uint64_t hash = kFnvBasis;
-  Fnv(hash, head.data(), static_cast<std::size_t>(in.gcount()));
+  pipeline::Fnv1a64 hash;
+  hash.add(head.data(), static_cast<std::size_t>(in.gcount()));
   // The header as this imuconv writes it: a header with the same values in another layout is
   // not one of ours (and its hash was taken over other bytes).
   const bool head_ok = in && head == expected_head;
@@ -341,7 +311,7 @@ void ReadShardErrors(const ShardHeader& h, Vec15* out) {
     in.read(buf.data(), static_cast<std::streamsize>(n * kBytesPerTrial));
     if (static_cast<std::size_t>(in.gcount()) != n * kBytesPerTrial)
       FileFails(h.file, "ends early (a truncated shard, or one that changed while it was being merged?)");
-    Fnv(hash, buf.data(), n * kBytesPerTrial);
+    hash.add(buf.data(), n * kBytesPerTrial);
     for (std::size_t t = 0; t < n; ++t)
       for (int j = 0; j < kDim; ++j) out[trial + t][j] = GetLittleEndian(buf.data() + t * kBytesPerTrial + 8 * j);
     trial += n;
@@ -352,9 +322,9 @@ void ReadShardErrors(const ShardHeader& h, Vec15* out) {
     FileFails(h.file, "ends before its hash line (a truncated shard?)");
   if (trailer.rfind("fnv1a_64 ", 0) != 0 || trailer.back() != '\n')
     FileFails(h.file, "its last line is not \"fnv1a_64 <16 hex digits>\" (a corrupted shard?)");
-  if (!head_ok || trailer != "fnv1a_64 " + Hex64(hash) + "\n")
+  if (!head_ok || trailer != "fnv1a_64 " + hash.hex() + "\n")
     FileFails(h.file, "is corrupted: its content does not match the FNV-1a 64 hash on its last line (" +
-                          Printable(trailer.substr(9, 16)) + " written, " + Hex64(hash) + " read)");
+                          Printable(trailer.substr(9, 16)) + " written, " + hash.hex() + " read)");
   if (in.peek() != std::char_traits<char>::eof()) FileFails(h.file, "has bytes after its hash line");
 }
 

@@ -35,9 +35,6 @@ namespace imuconv::montecarlo {
 /// some are empty when count > T).
 std::pair<int, int> ShardTrials(int trials, int index, int count);
 
-/// Size and FNV-1a 64 hash of a file (the case, in the shard's identity). Throws Error naming it.
-void DigestFile(const std::string& file, std::uint64_t& bytes, std::uint64_t& fnv1a_64);
-
 /// What a shard file says of itself (its line 2).
 struct ShardHeader {
   std::string file;  ///< where it was read from

@@ -8,6 +8,7 @@
 // file, a null or malformed string is refused instead of being copied or echoed.
 #pragma once
 
+#include <elf.h>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -47,47 +48,38 @@ inline std::string IdProblem(const char* id) {
 /// e_machine), and the machine's name; machine 0 where the build's architecture is not one
 /// named here, which leaves the machine to dlopen.
 struct HostElf {
-  unsigned char elf_class = sizeof(void*) == 8 ? 2 : 1;
+  unsigned char elf_class = sizeof(void*) == 8 ? ELFCLASS64 : ELFCLASS32;
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
-  unsigned char byte_order = 2;
+  unsigned char byte_order = ELFDATA2MSB;
 #else
-  unsigned char byte_order = 1;
+  unsigned char byte_order = ELFDATA2LSB;
 #endif
+  unsigned machine =
 #if defined(__x86_64__)
-  unsigned machine = 62;
+      EM_X86_64;
 #elif defined(__aarch64__)
-  unsigned machine = 183;
+      EM_AARCH64;
 #elif defined(__i386__)
-  unsigned machine = 3;
+      EM_386;
 #elif defined(__arm__)
-  unsigned machine = 40;
+      EM_ARM;
 #elif defined(__riscv)
-  unsigned machine = 243;
+      EM_RISCV;
 #elif defined(__powerpc64__)
-  unsigned machine = 21;
+      EM_PPC64;
 #else
-  unsigned machine = 0;
+      0;
 #endif
 };
 
 /// A readable name of an ELF machine number (e_machine), for messages.
 inline std::string ElfMachineName(unsigned machine) {
-  switch (machine) {
-    case 3:
-      return "x86 (32-bit)";
-    case 21:
-      return "PowerPC 64";
-    case 40:
-      return "ARM (32-bit)";
-    case 62:
-      return "x86-64";
-    case 183:
-      return "aarch64";
-    case 243:
-      return "RISC-V";
-    default:
-      return "ELF machine " + std::to_string(machine);
-  }
+  static constexpr std::pair<unsigned, const char*> kNames[] = {{EM_386, "x86 (32-bit)"}, {EM_PPC64, "PowerPC 64"},
+                                                                {EM_ARM, "ARM (32-bit)"}, {EM_X86_64, "x86-64"},
+                                                                {EM_AARCH64, "aarch64"},  {EM_RISCV, "RISC-V"}};
+  for (const auto& [number, name] : kNames)
+    if (number == machine) return name;
+  return "ELF machine " + std::to_string(machine);
 }
 
 /// "" when `path` names a regular, non-empty file that starts like an ELF shared object built
@@ -118,20 +110,23 @@ inline std::string NotASharedObject(const std::string& path) {
     return "is not an ELF shared object (it does not start with the ELF magic bytes; expected a plugin built with "
            "imuconv_add_plugin)";
   if (got < static_cast<ssize_t>(sizeof h)) return "is a truncated ELF file (" + std::to_string(got) + " bytes)";
-  // e_type (offset 16) in the file's byte order (e_ident[5]: 1 little, 2 big endian).
-  const unsigned type = h[5] == 2 ? (h[16] << 8 | h[17]) : (h[17] << 8 | h[16]);
-  if (type != 3) return "is an ELF file but not a shared object (ELF type " + std::to_string(type) + ")";
+  // A 16-bit field in the file's byte order (e_ident[EI_DATA]): e_type at 16, e_machine at 18.
+  const auto half = [&h](int at) {
+    return h[EI_DATA] == ELFDATA2MSB ? unsigned(h[at] << 8 | h[at + 1]) : unsigned(h[at + 1] << 8 | h[at]);
+  };
+  const unsigned type = half(16);
+  if (type != ET_DYN) return "is an ELF file but not a shared object (ELF type " + std::to_string(type) + ")";
   const HostElf host;
   const auto bits = [](unsigned char elf_class) {
-    return elf_class == 1 ? "32-bit" : elf_class == 2 ? "64-bit" : "unknown-class";
+    return elf_class == ELFCLASS32 ? "32-bit" : elf_class == ELFCLASS64 ? "64-bit" : "unknown-class";
   };
-  if (h[4] != host.elf_class)
-    return std::string("is a ") + bits(h[4]) + " ELF shared object; this program is " + bits(host.elf_class) +
+  if (h[EI_CLASS] != host.elf_class)
+    return std::string("is a ") + bits(h[EI_CLASS]) + " ELF shared object; this program is " + bits(host.elf_class) +
            " (rebuild the plugin for this machine)";
-  if (h[5] != host.byte_order)
-    return std::string("is an ELF shared object of the other byte order (") + (h[5] == 2 ? "big" : "little") +
-           " endian; rebuild the plugin for this machine)";
-  const unsigned machine = h[5] == 2 ? (h[18] << 8 | h[19]) : (h[19] << 8 | h[18]);
+  if (h[EI_DATA] != host.byte_order)
+    return std::string("is an ELF shared object of the other byte order (") +
+           (h[EI_DATA] == ELFDATA2MSB ? "big" : "little") + " endian; rebuild the plugin for this machine)";
+  const unsigned machine = half(18);
   if (host.machine != 0 && machine != host.machine)
     return "is an ELF shared object for " + ElfMachineName(machine) + "; this program runs on " +
            ElfMachineName(host.machine) + " (rebuild the plugin for this machine)";

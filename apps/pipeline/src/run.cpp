@@ -4,8 +4,6 @@
 // The stages know no task kind: they ask each task (tasks/task.h).
 #include <algorithm>
 #include <cstdint>
-#include <cstdio>
-#include <fstream>
 #include <optional>
 #include <ostream>
 #include <tuple>
@@ -14,6 +12,7 @@
 #include "context.h"
 #include "data/spec_data.h"
 #include "imuconv/kernels/preintegration.h"
+#include "imuconv/pipeline/file_digest.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/pipeline/result_arrays.h"
 #include "imuconv/printable.h"
@@ -180,11 +179,7 @@ void WriteHead(const RunContext& ctx, JsonWriter& w) {
 struct ShardPlan {
   RunOptions::Shard shard;
   std::size_t first = 0, end = 0;  ///< its block of tasks [first, end)
-  struct Input {
-    std::string file;
-    std::uint64_t bytes = 0, fnv1a_64 = 0;
-  };
-  std::vector<Input> inputs;
+  std::vector<std::pair<std::string, FileDigest>> inputs;  ///< each input file and its digest
 };
 
 /// The shard's block of tasks: units are the shortest runs of consecutive tasks that no
@@ -212,28 +207,6 @@ std::pair<std::size_t, std::size_t> ShardBlock(const PipelineSpec& s, const RunO
   return {at(shard.index), at(shard.index + 1)};
 }
 
-/// Size and FNV-1a 64 hash of a file: enough to tell shards made from other inputs apart
-/// by accident (not a defence against a forged shard).
-ShardPlan::Input DigestFile(const std::string& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw ReadError(file, 0, "cannot be opened to record its hash in the shard");
-  ShardPlan::Input d;
-  d.file = file;
-  d.fnv1a_64 = 14695981039346656037ull;  // FNV-1a's 64-bit offset basis and prime
-  std::vector<char> buf(std::size_t{1} << 16);
-  while (in) {
-    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
-    const auto got = static_cast<std::size_t>(in.gcount());
-    for (std::size_t i = 0; i < got; ++i) {
-      d.fnv1a_64 ^= static_cast<unsigned char>(buf[i]);
-      d.fnv1a_64 *= 1099511628211ull;
-    }
-    d.bytes += got;
-  }
-  if (in.bad()) throw ReadError(file, 0, "could not be read to the end to record its hash in the shard");
-  return d;
-}
-
 void WriteShard(JsonWriter& w, const ShardPlan& plan, std::size_t tasks) {
   w.key("shard");
   w.begin_object();
@@ -253,16 +226,14 @@ void WriteShard(JsonWriter& w, const ShardPlan& plan, std::size_t tasks) {
   w.string(kernels::IsaName(kernels::BestIsa()));
   w.key("inputs");
   w.begin_array();
-  for (const auto& in : plan.inputs) {
-    char hex[17];
-    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(in.fnv1a_64));
+  for (const auto& [file, digest] : plan.inputs) {
     w.begin_object();
     w.key("file");
-    w.string(in.file);
+    w.string(file);
     w.key("bytes");
-    w.unsigned_integer(in.bytes);
+    w.unsigned_integer(digest.bytes);
     w.key("fnv1a_64");
-    w.string(hex);
+    w.string(digest.hash.hex());
     w.end_object();
   }
   w.end_array();
@@ -354,7 +325,7 @@ void RunToSink(const Pipeline& p, const Registry& reg, const RunOptions& options
                   options.max_kept_bytes);
   if (options.check_only) return;
   if (plan)
-    for (const auto& f : p.input_files()) plan->inputs.push_back(DigestFile(f));
+    for (const auto& f : p.input_files()) plan->inputs.emplace_back(f, DigestFile(f));
   Execute(ctx, plan ? &*plan : nullptr);
   if (options.stats) FillStats(ctx, *options.stats);
 }
