@@ -25,6 +25,16 @@ void SetCommandAction(CLI::App& sub, CommandContext& ctx, std::function<int()> r
   });
 }
 
+CLI::Validator OutputPathCheck() {
+  return CLI::Validator(
+      [](std::string& path) {
+        return path.empty() ? std::string("the output path is empty (an unset shell variable?); expected a file name, "
+                                          "or '-' for standard output")
+                            : std::string();
+      },
+      "", "OUTPUT");
+}
+
 void AddPluginDirOption(CLI::App& sub, CommandContext& ctx) {
   sub.add_option("--plugin-dir", ctx.plugin_dirs_sub,
                  "Extra plugin directory, searched before IMUCONV_PLUGIN_PATH and the built-in one (repeatable)")

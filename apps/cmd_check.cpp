@@ -39,7 +39,8 @@ void RegisterCheckCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--report", report_path,
                   "Also write a self-contained HTML report: per measurement, heatmaps of the entrywise differences "
                   "under the best explanation, and the summary (replaced atomically)")
-      ->type_name("OUT.html");
+      ->type_name("OUT.html")
+      ->check(OutputPathCheck());
   AddPluginDirOption(*sub, ctx);
   sub->callback([&ctx] {
     if (case_path.empty() == pipeline_path.empty())

@@ -56,7 +56,8 @@ void RegisterExperimentCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--report", report_path,
                   "Also write a self-contained HTML report: the note's Figures 1 and 2 as heatmaps of the mean "
                   "entrywise difference")
-      ->type_name("OUT.html");
+      ->type_name("OUT.html")
+      ->check(OutputPathCheck());
   AddPluginDirOption(*sub, ctx);
   sub->callback([&ctx] {
     experiment::Result result;

@@ -27,6 +27,7 @@
 
 #include "commands.h"
 #include "imuconv/pipeline/json_check.h"
+#include "imuconv/pipeline/input_registry.h"
 #include "imuconv/pipeline/json_writer.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/printable.h"
@@ -96,6 +97,7 @@ class ShardReader {
     if (!S_ISREG(st.st_mode)) fail("is not a regular file");
     in_.open(file, std::ios::binary);
     if (!in_) fail("cannot be opened");
+    pipeline::RegisterInputPath(file, "a shard");  // no output may replace it (input_registry.h)
   }
 
   [[noreturn]] void fail(const std::string& what) const {
@@ -365,7 +367,8 @@ void RegisterMergeCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_option("-o,--output", o.output,
                   "Output file (replaced atomically, as imuconv run writes it; '-' is stdout); never one of the shards")
       ->required()
-      ->type_name("OUT.json");
+      ->type_name("OUT.json")
+      ->check(OutputPathCheck());
   sub->add_option("shards", o.shards, "The shard outputs")->required()->type_name("SHARD.json");
   SetCommandAction(*sub, ctx, [&ctx] { return Merge(ctx, o); });
 }

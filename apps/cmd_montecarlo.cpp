@@ -80,7 +80,8 @@ void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--report", report_path,
                   "Also write a self-contained HTML report: heatmaps of the sample covariance against the predicted "
                   "one, and the summary (replaced atomically)")
-      ->type_name("OUT.html");
+      ->type_name("OUT.html")
+      ->check(OutputPathCheck());
   static std::string shard_text, shard_output;
   static std::vector<std::string> merge_files;
   auto* shard_opt =
@@ -90,7 +91,8 @@ void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
                       "files into the whole run's output (docs/montecarlo.md)")
           ->type_name("K/N");
   auto* output_opt = sub->add_option("-o,--output", shard_output, "With --shard: the shard file (replaced atomically)")
-                         ->type_name("FILE");
+                         ->type_name("FILE")
+                         ->check(OutputPathCheck());
   auto* merge_opt =
       sub->add_option("--merge", merge_files,
                       "Join the N shard files of one run (any order; every K once) and print, and exit with, what the "

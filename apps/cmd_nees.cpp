@@ -70,7 +70,8 @@ void RegisterNeesCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--report", report_path,
                   "Also write a self-contained HTML report: NEES per window against chi-square(9), each error "
                   "component with its +-3 sigma over time, and the summary (replaced atomically)")
-      ->type_name("OUT.html");
+      ->type_name("OUT.html")
+      ->check(OutputPathCheck());
   AddPluginDirOption(*sub, ctx);
   sub->callback([&ctx] {
     if (pipeline_path.empty() && (imu_path.empty() || gt_path.empty() || noise_path.empty()))

@@ -24,7 +24,8 @@ void RegisterRefcaseCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_option("-o,--output", out_path,
                   "Output JSON: a regular file is replaced atomically (a symbolic link is followed to it); a device or "
                   "FIFO is written through; '-' is stdout. Never the case file")
-      ->required();
+      ->required()
+      ->check(OutputPathCheck());
   AddPluginDirOption(*sub, ctx);
   sub->callback([&ctx] {
     // The destination is examined first (nothing is created): its kind, and that it is neither

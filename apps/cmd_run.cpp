@@ -141,7 +141,14 @@ int Run(const CommandContext& ctx, const Options& o) {
   if (!o.errors.empty() && !p.has_ground_truth())
     throw UsageError{"--errors writes the steps' errors against the ground truth; the pipeline has no /ground_truth"};
   std::string out = o.output;
-  if (out.empty() && p.output_path()) out = *p.output_path();
+  // The pipeline's own "output" (perhaps someone else's pipeline) is confined to its directory,
+  // links resolved (the parser's check is only lexical); -o, typed by the user, is not.
+  std::optional<pipeline::OutputFile::Confinement> within;
+  if (out.empty() && p.output_path()) {
+    out = *p.output_path();
+    const std::string dir = std::filesystem::path(p.file()).parent_path().string();
+    within = pipeline::OutputFile::Confinement{dir.empty() ? "." : dir, Printable(p.file()) + ": /output"};
+  }
   if (out.empty()) out = "-";
   // NPZ by --format, else by the destination's extension.
   if (!o.format.empty() && o.format != "json" && o.format != "npz")
@@ -152,7 +159,7 @@ int Run(const CommandContext& ctx, const Options& o) {
     throw UsageError{"--format npz: give the output file with -o OUT.npz (-o - writes it to stdout, not a terminal)"};
   // The destination is examined before any work (nothing is created yet): what kind of file
   // it is, and that it is none of the files the run reads or loads.
-  pipeline::OutputFile file(out);
+  pipeline::OutputFile file(out, within);
   if (npz && IsTerminal(file))
     throw UsageError{"NPZ is binary: not written to a terminal (" + Printable(out) + "); give a file with -o OUT.npz"};
   const std::vector<std::string> inputs = p.input_files();
@@ -242,7 +249,8 @@ void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_option("-o,--output", o.output,
                   "Output file: a regular file is replaced atomically (keeping its permissions; a symbolic link is "
                   "followed to it); a device or FIFO is written through; '-' is stdout. Never one of the inputs")
-      ->type_name("OUT.json|OUT.npz");
+      ->type_name("OUT.json|OUT.npz")
+      ->check(OutputPathCheck());
   sub->add_option("--format", o.format,
                   "json (the default) or npz: every array of the result in one NumPy .npz (uncompressed; keys are "
                   "the JSON pointers with the indices of arrays of objects removed, values stacked over them; a "
@@ -253,11 +261,13 @@ void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--tum", o.tum,
                   "Also write a propagate_by_preintegration task's predicted end states as a TUM trajectory "
                   "(t x y z qx qy qz qw; t absolute seconds when the data's time origin is known), as evo reads it")
-      ->type_name("TRAJ.txt");
+      ->type_name("TRAJ.txt")
+      ->check(OutputPathCheck());
   sub->add_option("--errors", o.errors,
                   "Also write that task's per-step errors against the ground truth as CSV "
                   "(k, t_end, t_end_abs_ns, position_error_m, rotation_error_deg, velocity_error_mps)")
-      ->type_name("ERRORS.csv");
+      ->type_name("ERRORS.csv")
+      ->check(OutputPathCheck());
   sub->add_option("--trajectory-task", o.trajectory_task,
                   "The propagate_by_preintegration task --tum and --errors write (needed when there are several)")
       ->type_name("NAME");

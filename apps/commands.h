@@ -40,6 +40,11 @@ struct UsageError {
 /// it throws is reported as a usage error.
 void SetCommandAction(CLI::App& sub, CommandContext& ctx, std::function<int()> run);
 
+/// The check on every option that names an output file (-o, --report, --tum, --errors): an
+/// empty value is refused, naming the option (exit 2), instead of meaning "not given" or
+/// standard output: `-o "$OUT"` with OUT unset must not write somewhere the user did not say.
+CLI::Validator OutputPathCheck();
+
 /// Adds the repeatable --plugin-dir option and the --allow-plugin-override flag to a subcommand.
 void AddPluginDirOption(CLI::App& sub, CommandContext& ctx);
 

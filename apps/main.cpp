@@ -7,9 +7,18 @@
 #include "commands.h"
 #include "imuconv/plugin_kind.h"
 #include "imuconv/pipeline/output_file.h"
+#include "imuconv/pipeline/standard_descriptors.h"
 
 int main(int argc, char** argv) {
   using namespace imuconv::cli;
+  // First of all: a closed standard descriptor is opened onto /dev/null, so that no file opened
+  // later takes its number (the summary printed to "stdout" would land in the output file).
+  try {
+    imuconv::pipeline::OpenClosedStandardDescriptors();
+  } catch (const std::exception& e) {
+    PrintError(e.what());
+    return 2;
+  }
   // An interrupted run (Ctrl-C, kill, a closed terminal or pipe) removes its temporary output
   // file before dying of the signal; the previous output, if any, is untouched.
   imuconv::pipeline::RemoveTemporariesOnSignal();

@@ -14,6 +14,7 @@
 
 #include "imuconv/kernels/preintegration.h"
 #include "imuconv/pipeline/file_digest.h"
+#include "imuconv/pipeline/input_registry.h"
 #include "imuconv/printable.h"
 
 #ifndef IMUCONV_VERSION
@@ -217,6 +218,7 @@ ShardHeader ReadShardHeader(const std::string& file) {
   if (!S_ISREG(st.st_mode)) FileFails(file, "is not a regular file");
   std::ifstream in(file, std::ios::binary);
   if (!in) FileFails(file, "cannot be opened");
+  pipeline::RegisterInputPath(file, "a shard");  // no output may replace it (input_registry.h)
   const std::string not_shard = "not a montecarlo shard: it does not begin with the line \"" +
                                 std::string(kShardMagic) + "\" that imuconv montecarlo --shard K/N -o FILE writes";
   std::string line;

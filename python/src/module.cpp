@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 
 #include "bindings.h"
+#include "imuconv/pipeline/standard_descriptors.h"
 #include "imuconv/registry.h"
 
 PYBIND11_MODULE(_imuconv, m) {
@@ -16,6 +17,9 @@ PYBIND11_MODULE(_imuconv, m) {
   // Every error of the library (its message names the file, id or value at fault) is
   // imuconv.Error, a RuntimeError; bad arguments are ValueError.
   py::register_exception<imuconv::Error>(m, "Error", PyExc_RuntimeError);
+  // A host process started with a standard descriptor closed: /dev/null in its place, so that
+  // no file the module opens takes descriptor 0-2 (standard_descriptors.h).
+  imuconv::pipeline::OpenClosedStandardDescriptors();
   imuconv::python::BindValues(m);
   imuconv::python::BindRegistry(m);
   imuconv::python::BindBridge(m);

@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <unordered_set>
 
+#include "imuconv/pipeline/input_registry.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "spec.h"
 
@@ -16,6 +17,7 @@ Pipeline::~Pipeline() = default;
 
 Pipeline Pipeline::Load(const std::string& path) {
   const json doc = ParseJsonFile(path);
+  RegisterInputPath(path, "the pipeline");  // named as such when an output would replace it
   const std::string base = fs::path(path).parent_path().string();
   return FromJson(doc, path, base.empty() ? "." : base);
 }

@@ -9,6 +9,8 @@
 #include <cstring>
 
 #include "imuconv/pipeline/errors.h"
+#include "imuconv/pipeline/input_registry.h"
+#include "imuconv/pipeline/standard_descriptors.h"
 
 namespace imuconv::pipeline::data {
 namespace {
@@ -39,7 +41,7 @@ InputFile::InputFile(const std::string& path) : path_(path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) CannotOpen(path, errno);
   CheckRegular(path, st);
-  fd_ = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+  fd_ = AboveStandardDescriptors(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC));
   if (fd_ < 0) CannotOpen(path, errno);
   try {
     if (::fstat(fd_, &st) != 0) CannotOpen(path, errno);
@@ -49,6 +51,9 @@ InputFile::InputFile(const std::string& path) : path_(path) {
     throw;
   }
   size_ = static_cast<std::uint64_t>(st.st_size);
+  // Every file read is an input, which no output may replace (input_registry.h): recorded by the
+  // identity of what was opened, whatever name or link led to it.
+  RegisterInputDescriptor(fd_, path);
   // Back to blocking reads: O_NONBLOCK only had to protect the open itself.
   const int flags = ::fcntl(fd_, F_GETFL);
   if (flags >= 0) ::fcntl(fd_, F_SETFL, flags & ~O_NONBLOCK);

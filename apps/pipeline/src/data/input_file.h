@@ -4,7 +4,8 @@
 // writer), never end (/dev/zero) or have side effects on open (a tape). The path is checked
 // with stat() before it is opened, then opened with O_NONBLOCK (so that even a FIFO swapped in
 // between the two calls cannot block the open) and checked again with fstat() on the open
-// descriptor, which is what is actually read.
+// descriptor, which is what is actually read. Every file opened here is recorded as an input
+// (imuconv/pipeline/input_registry.h), so that no output of this process can replace it.
 #pragma once
 
 #include <cstddef>

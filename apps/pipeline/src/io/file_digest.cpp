@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "imuconv/pipeline/errors.h"
+#include "imuconv/pipeline/input_registry.h"
 
 namespace imuconv::pipeline {
 
@@ -17,6 +18,7 @@ std::string Fnv1a64::hex() const {
 FileDigest DigestFile(const std::string& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw ReadError(file, 0, "cannot be opened to record its hash in the shard");
+  RegisterInputPath(file);  // an input like any other: no output may replace it (input_registry.h)
   FileDigest d;
   std::vector<char> buf(std::size_t{1} << 16);
   while (in) {

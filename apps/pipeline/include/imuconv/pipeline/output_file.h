@@ -8,23 +8,31 @@
 //     writing without O_CREAT or O_TRUNC; the node itself is never replaced;
 //   - a regular file, or a name that does not exist yet: a temporary in the same directory,
 //     created on the first write, flushed and renamed over it; an existing file keeps its
-//     permission bits (and its owner when we may set it), a new one gets 0666 & ~umask;
+//     whole mode, set-id and sticky bits included, its owner and group when we may set them,
+//     and its extended attributes (user.*, ACLs; those we may not set, such as security.* for
+//     a user, are named in a warning on stderr); a new one gets 0666 & ~umask;
 //   - a symbolic link: followed to its final target, which is then treated as above (the
 //     link stays a link);
 //   - anything else (a directory, a socket, a block device) is refused, and so is a regular
 //     file with more than one hard link: renaming over one name would silently split it from
 //     the others, and writing into it in place could leave every name with half a document.
-// Written-through text is held in memory until commit(), so that a run that fails writes
-// nothing anywhere (as for a file, whose temporary is then removed).
+// Written-through text is spooled to an unlinked temporary file ($TMPDIR, else /tmp) until
+// commit() copies it through, so that a run that fails writes nothing anywhere (as for a file,
+// whose temporary is then removed) and memory stays flat however large the document.
 //
-// refuse_if_same() compares the destination's device and inode with an input's, so an output
-// can never overwrite a file the run reads. Temporaries are removed by the destructor on every
-// failure path and, once RemoveTemporariesOnSignal() has been called, on SIGINT, SIGTERM,
-// SIGHUP and SIGPIPE too.
+// An output is never an input: when it is made and again at commit(), the destination (by
+// device and inode, links followed) is compared with every file this process has read
+// (imuconv/pipeline/input_registry.h) and every shared object it has loaded, and refused
+// naming the input. refuse_if_same() adds a file not read yet (checked before a run starts).
+// A file the output opens never takes descriptors 0-2 (standard_descriptors.h). The rules in
+// one place: docs/outputs.md. Temporaries are removed by the destructor on every failure path
+// and, once RemoveTemporariesOnSignal() has been called, on SIGINT, SIGTERM, SIGHUP and
+// SIGPIPE too.
 #pragma once
 
 #include <sys/types.h>
 
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -37,9 +45,19 @@ class OutputFile {
     WriteThrough,  ///< a character device, a FIFO, or one of our descriptors
   };
 
+  /// An output that must stay inside a directory (a pipeline's own "output"): the file written,
+  /// after every symbolic link is resolved, lies in `directory` or below it, and is not one of
+  /// our descriptors. `named_by` starts the message of a refusal ("P.json: /output").
+  struct Confinement {
+    std::string directory;
+    std::string named_by;
+  };
+
   /// Examines `path` and throws imuconv::Error naming it when it cannot be an output (the
-  /// kinds above, a missing or unwritable directory, a descriptor not open for writing).
-  explicit OutputFile(std::string path);
+  /// kinds above, a missing or unwritable directory, a descriptor not open for writing, an
+  /// input of this process, outside `within`). An empty path is refused: a caller that means
+  /// standard output says "-".
+  explicit OutputFile(std::string path, std::optional<Confinement> within = std::nullopt);
   /// An output that was not committed is discarded: the temporary is removed, held text
   /// dropped. A reader already waiting on a FIFO is sent end-of-file (no data) rather than
   /// left waiting for ever.
@@ -55,9 +73,9 @@ class OutputFile {
   /// loaded, the libraries): for a caller that does not hold the registry itself.
   void refuse_if_loaded_object() const;
 
-  /// Appends text: into the temporary (created on the first call) or held for commit().
+  /// Appends text: into the temporary (created on the first call) or the spool.
   void write(std::string_view text);
-  /// Completes the output: flush and rename, or write the held text through. Throws
+  /// Completes the output: flush and rename, or copy the spool through. Throws
   /// imuconv::Error naming the path on failure (the temporary is then removed). A caller that
   /// also prints to std::cout flushes it first when is_stdout().
   void commit();
@@ -72,23 +90,30 @@ class OutputFile {
 
  private:
   void create_temporary();
+  void create_spool();
+  void check_confined() const;
+  /// Throws (through fail()) when the file with this identity is an input or a loaded object.
+  void refuse_input(dev_t dev, ino_t ino);
+  void keep_attributes();
   void discard() noexcept;
   [[noreturn]] void fail(const std::string& what, int err);
 
   std::string path_, target_, dir_, tmp_;
+  std::optional<Confinement> within_;
+  int dir_fd_ = -1;  ///< the target's directory, held from examination to rename
   Mode mode_ = Mode::Replace;
   int fd_target_ = -1;  ///< our descriptor N when the path names one
   bool exists_ = false;
   bool fifo_ = false;
   dev_t dev_ = 0;
   ino_t ino_ = 0;
-  mode_t perms_ = 0;  ///< permission bits for the replaced file
+  mode_t perms_ = 0;  ///< the mode bits (07777) for the replaced file
   uid_t uid_ = 0;
   gid_t gid_ = 0;
   int fd_ = -1;    ///< the open temporary
   int slot_ = -1;  ///< its entry in the signal handler's list
   bool committed_ = false;
-  std::string held_;  ///< write-through text, until commit()
+  int spool_fd_ = -1;  ///< write-through text, until commit(): an unlinked temporary file
   std::size_t written_ = 0, synced_ = 0;
 };
 
