@@ -1,4 +1,5 @@
-// imuconv montecarlo --case CASE.json --method M [--convention C] --trials N --seed S [--json]:
+// imuconv montecarlo (--case CASE.json | --pipeline P.json [--from T] [--to T]) --method M
+//                    [--convention C] --trials N --seed S [--json]:
 // N noisy re-integrations of a reference case's samples with one propagator (preintegration by
 // propagation) or preintegrator, their end errors against the covariance it predicts
 // (docs/montecarlo.md; the logic is apps/montecarlo/).
@@ -9,6 +10,7 @@
 // names the file, the JSON pointer or the option).
 #include <unistd.h>
 
+#include <cmath>
 #include <iostream>
 #include <optional>
 #include <thread>
@@ -17,6 +19,8 @@
 #include "imuconv/bridge.h"
 #include "imuconv/pipeline/json_check.h"
 #include "imuconv/pipeline/output_file.h"
+#include "imuconv/pipeline/pipeline.h"
+#include "imuconv/pipeline/pipeline_data.h"
 #include "imuconv/printable.h"
 #include "imuconv/report/report_output.h"
 #include "montecarlo.h"
@@ -42,16 +46,27 @@ void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
   auto* sub = app.add_subcommand(
       "montecarlo",
       "Re-integrate a case's samples N times with noise and compare the errors with the predicted covariance");
-  static std::string case_path, method_id, convention;
+  static std::string case_path, pipeline_path, method_id, convention;
+  static double from_t = 0.0, to_t = 0.0;
   static int trials = 0;
   static std::uint64_t seed = 0;
   static int threads = 0;
   static double duration = 0.0, noise_scale = 1.0;
   static bool as_json = false;
   // --case, --method, --trials and --seed are required but for --merge (checked in the callback).
-  auto* case_opt =
-      sub->add_option("--case", case_path,
-                      "Reference case with the IMU samples, noise and bias estimate (tests/data/reference/FORMAT.md)");
+  auto* case_opt = sub->add_option(
+      "--case", case_path,
+      "Reference case with the IMU samples, noise and bias estimate (tests/data/reference/FORMAT.md); only /imu and "
+      "/noise are required, the rest takes its standard value (docs/montecarlo.md)");
+  auto* pipeline_opt = sub->add_option(
+      "--pipeline", pipeline_path,
+      "Instead of --case: a pipeline's IMU samples and noise (its /imu, /noise), over --from/--to; zero bias estimate");
+  auto* from_opt = sub->add_option("--from", from_t,
+                                   "Integrate from this time (seconds on the samples' time axis; default: the first)")
+                       ->type_name("T");
+  auto* to_opt =
+      sub->add_option("--to", to_t, "Integrate up to this time (seconds on the samples' time axis; default: the last)")
+          ->type_name("T");
   auto* method_opt =
       sub->add_option("--method", method_id, "A propagator (preintegration by propagation) or a preintegrator id");
   auto* convention_opt = sub->add_option(
@@ -100,10 +115,12 @@ void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
           ->type_name("SHARD...");
   AddPluginDirOption(*sub, ctx);
   // The options of a run or a shard, none of which a merge takes (its run is the shards').
-  const std::vector<const CLI::Option*> run_only = {case_opt,     method_opt,     trials_opt,     seed_opt,
-                                                    shard_opt,    output_opt,     convention_opt, threads_opt,
-                                                    duration_opt, noise_scale_opt};
-  sub->callback([&ctx, run_only, case_opt, method_opt, trials_opt, seed_opt, shard_opt, output_opt, merge_opt] {
+  const std::vector<const CLI::Option*> run_only = {case_opt,     pipeline_opt,    from_opt,       to_opt,
+                                                    method_opt,   trials_opt,      seed_opt,       shard_opt,
+                                                    output_opt,   convention_opt,  threads_opt,    duration_opt,
+                                                    noise_scale_opt};
+  sub->callback([&ctx, run_only, case_opt, pipeline_opt, from_opt, to_opt, method_opt, trials_opt, seed_opt, shard_opt,
+                 output_opt, merge_opt] {
     montecarlo::Result result;
     std::optional<report::ReportOutput> report_out;
     std::string report_case = case_path;
@@ -115,9 +132,16 @@ void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
           if (o->count() > 0)
             throw Error("--merge takes the run from its shards; " + o->get_name() + " is not used with it");
       } else {
-        for (const CLI::Option* o : {case_opt, method_opt, trials_opt, seed_opt})
-          if (o->count() == 0) throw Error(o->get_name() + " is required (or --merge SHARD...)");
+        std::string missing;
+        if (case_opt->count() == 0 && pipeline_opt->count() == 0) missing = "--case (or --pipeline)";
+        for (const CLI::Option* o : {method_opt, trials_opt, seed_opt})
+          if (o->count() == 0) missing += (missing.empty() ? "" : ", ") + o->get_name();
+        if (!missing.empty()) throw Error(missing + ": required (or --merge SHARD...)");
+        if (case_opt->count() > 0 && pipeline_opt->count() > 0)
+          throw Error("give the samples with one of --case CASE.json or --pipeline P.json, not both");
       }
+      const std::string& input_path = pipeline_path.empty() ? case_path : pipeline_path;
+      report_case = input_path;
       std::optional<std::pair<int, int>> shard;
       if (shard_opt->count() > 0) {
         try {
@@ -128,6 +152,9 @@ void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
         }
         if (shard_output.empty())
           throw Error("--shard K/N needs -o FILE: the shard file imuconv montecarlo --merge reads");
+        if (!pipeline_path.empty())
+          throw Error("--shard takes --case: a shard records its case file's digest, and a pipeline's samples are in "
+                      "other files");
         if (as_json || !report_path.empty())
           throw Error("--shard writes its trials' end errors, not statistics: --json and --report go with --merge");
       } else if (output_opt->count() > 0) {
@@ -139,7 +166,7 @@ void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
         if (merging)
           for (const std::string& f : merge_files) report_out->RefuseIfSame(f, "a shard");
         else
-          report_out->RefuseIfSame(case_path, "the case file");
+          report_out->RefuseIfSame(input_path, pipeline_path.empty() ? "the case file" : "the pipeline file");
       }
       if (merging) {
         try {
@@ -181,23 +208,50 @@ void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
         const std::string unknown = UnknownConventionMessage(reg, PluginKind::IncrementConvention, conv, issues);
         if (!unknown.empty()) throw Error("--convention: " + unknown);
 
-        const nlohmann::json case_json = pipeline::ParseJsonFile(case_path);
-        refcase::Case c;
-        try {
-          c = refcase::ParseCase(case_json);
-        } catch (const std::exception& e) {
-          throw Error(Printable(case_path) + ": " + e.what());
-        }
         montecarlo::Input input;
-        input.noise = c.noise;
-        input.bg = c.x_s.bg;
-        input.ba = c.x_s.ba;
-        const double t_end = duration > 0 ? c.samples.front().t + duration : c.samples.back().t;
-        for (const ImuSample& s : c.samples)
-          if (s.t <= t_end + 1e-9) input.samples.push_back(s);
+        std::vector<ImuSample> samples;
+        if (pipeline_path.empty()) {
+          const nlohmann::json case_json = pipeline::ParseJsonFile(case_path);
+          refcase::Case c;
+          std::vector<std::string> defaulted;
+          try {
+            c = refcase::ParseCase(case_json, refcase::CaseKeys::samples_and_noise, &defaulted);
+          } catch (const std::exception& e) {
+            throw Error(Printable(case_path) + ": " + e.what());
+          }
+          if (!defaulted.empty() && !ctx.quiet()) {
+            std::string list;
+            for (const std::string& d : defaulted) list += (list.empty() ? "" : ", ") + d;
+            std::cerr << "imuconv: note: " << Printable(case_path) << ": not given, standard values used: " << list
+                      << " (docs/montecarlo.md, \"Input\")\n";
+          }
+          input.noise = c.noise;
+          input.bg = c.x_s.bg;
+          input.ba = c.x_s.ba;
+          samples = std::move(c.samples);
+        } else {
+          const pipeline::Pipeline p = pipeline::Pipeline::Load(pipeline_path);
+          input.noise = pipeline::PipelineNoise(p, "imuconv montecarlo simulates and predicts with it");
+          samples = pipeline::ReadPipelineImu(p).samples;  // its timing checked as imuconv run checks it
+        }
+        // The interval: --from/--to, then --duration from its start.
+        const double t_from = from_opt->count() > 0 ? from_t : samples.front().t;
+        double t_to = to_opt->count() > 0 ? to_t : samples.back().t;
+        if (!std::isfinite(t_from) || !std::isfinite(t_to) || !(t_from < t_to))
+          throw Error("--from " + std::to_string(t_from) + " --to " + std::to_string(t_to) +
+                      ": expected finite times with --from before --to");
+        for (const ImuSample& smp : samples)
+          if (smp.t >= t_from - 1e-9) {
+            if (duration > 0) t_to = std::min(t_to, smp.t + duration);
+            break;
+          }
+        for (const ImuSample& smp : samples)
+          if (smp.t >= t_from - 1e-9 && smp.t <= t_to + 1e-9) input.samples.push_back(smp);
         if (input.samples.size() < 2)
-          throw Error(Printable(case_path) + ": --duration " + std::to_string(duration) +
-                      " s holds fewer than two samples; nothing to integrate");
+          throw Error(Printable(input_path) + ": the interval [" + std::to_string(t_from) + ", " +
+                      std::to_string(t_to) + "] s holds " + std::to_string(input.samples.size()) +
+                      " samples (the samples span [" + std::to_string(samples.front().t) + ", " +
+                      std::to_string(samples.back().t) + "] s); need at least two to integrate");
 
         montecarlo::Options options;
         options.trials = trials;
@@ -239,7 +293,9 @@ void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
         result = montecarlo::RunMonteCarlo(reg, method, conv, input, options);
         if (report_out) {
           report_out->RefuseIfLoadedObject();
-          report_out->Write(report::MontecarloPage(result, {{"case", case_path}}));
+          report_out->Write(report::MontecarloPage(
+              result, {pipeline_path.empty() ? report::Inputs::value_type{"case", case_path}
+                                             : report::Inputs::value_type{"pipeline", pipeline_path}}));
           if (!ctx.quiet()) std::cerr << "wrote " << Printable(report_path) << "\n";
         }
       }

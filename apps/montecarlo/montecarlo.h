@@ -75,6 +75,9 @@ struct Result {
   Mat15 predicted = Mat15::Zero();
   std::vector<BlockRatio> blocks;
   Verdict verdict = Verdict::inconsistent;
+  /// Bonferroni-adjusted p-value of the verdict, min(1, 2 min(nees_p_value, kl_p_value)): the
+  /// verdict is inconsistent when it is below kFalseAlarmRate.
+  double verdict_p_value = 1.0;
   std::vector<std::string> reasons;  ///< why the verdict, in words
   /// How each trial was integrated: "mean_only" (the mean alone, by the method's kernel in the
   /// core) or "full" (the method's whole preintegration); docs/montecarlo.md, "Speed".

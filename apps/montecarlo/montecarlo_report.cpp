@@ -39,11 +39,15 @@ nlohmann::json ReportJson(const Result& r) {
               {"nees_mean", st.nees_mean},
               {"nees_bounds", {st.nees_bounds[0], st.nees_bounds[1]}},
               {"nees_confidence", kNeesConfidence},
+              {"nees_p_value", st.nees_p_value},
               {"kl", st.kl},
               {"kl_bound", st.kl_bound},
               {"kl_level", kKlLevel},
+              {"kl_p_value", st.kl_p_value},
               {"blocks", blocks},
               {"verdict", VerdictName(r.verdict)},
+              {"verdict_p_value", r.verdict_p_value},
+              {"false_alarm_rate", kFalseAlarmRate},
               {"reasons", r.reasons},
               {"trial_path", r.trial_path}};
 }
@@ -64,15 +68,19 @@ void PrintSummary(std::ostream& out, const Result& r) {
               : std::string("the method's full preintegration each"))
       << "\n\n"
       << "  relative Frobenius error  " << Fmt("%.4g", st.relative_frobenius) << "   (|S - Sigma|_F / |Sigma|_F)\n"
-      << "  NEES mean                 " << Fmt("%.4g", st.nees_mean) << "   (95% bounds ["
-      << Fmt("%.4g", st.nees_bounds[0]) << ", " << Fmt("%.4g", st.nees_bounds[1]) << "], expected 15)\n"
-      << "  KL divergence             " << Fmt("%.4g", st.kl) << "   (99% bound " << Fmt("%.4g", st.kl_bound) << ")\n\n"
+      << "  NEES mean                 " << Fmt("%.4g", st.nees_mean) << "   (" << Fmt("%.3g", 100 * kNeesConfidence)
+      << "% bounds [" << Fmt("%.4g", st.nees_bounds[0]) << ", " << Fmt("%.4g", st.nees_bounds[1])
+      << "], expected 15; p = " << Fmt("%.3g", st.nees_p_value) << ")\n"
+      << "  KL divergence             " << Fmt("%.4g", st.kl) << "   (" << Fmt("%.3g", 100 * kKlLevel) << "% bound "
+      << Fmt("%.4g", st.kl_bound) << "; p = " << Fmt("%.3g", st.kl_p_value) << ")\n\n"
       << "  block   sample/predicted variance   (x, y, z)\n";
   for (const BlockRatio& b : r.blocks)
     out << "  " << b.block << std::string(8 - std::min<std::size_t>(b.block.size(), 7), ' ')
         << Fmt("%-28.4g", b.variance_ratio) << Fmt("%.3g, ", b.axes[0]) << Fmt("%.3g, ", b.axes[1])
         << Fmt("%.3g", b.axes[2]) << "\n";
-  out << "\n  verdict: " << VerdictName(r.verdict) << "\n";
+  out << "\n  verdict: " << VerdictName(r.verdict) << "   (false-alarm rate at most " << Fmt("%.3g", 100 * kFalseAlarmRate)
+      << "%: a right covariance is called inconsistent at most this often; p = " << Fmt("%.3g", r.verdict_p_value)
+      << ")\n";
   for (const std::string& reason : r.reasons) out << "    - " << reason << "\n";
 }
 

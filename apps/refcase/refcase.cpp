@@ -372,7 +372,7 @@ json PropagationBlock(const Registry& reg, const Case& k, const std::string& pro
 }  // namespace
 
 json Run(const Registry& reg, const json& case_json) {
-  const Case k = ParseCase(case_json);
+  const Case k = ParseCase(case_json, CaseKeys::all_required);  // every missing key named at once
   SampleWindow zoh, mid_zoh;
   const std::vector<ImuSample> mid = MidSamples(k.samples);
   const double t_s = k.samples.front().t, t_e = k.samples.back().t;

@@ -32,6 +32,20 @@ struct Case {
 /// Reads a case with the rules of Run below; throws imuconv::Error naming the JSON pointer.
 Case ParseCase(const nlohmann::json& case_json);
 
+/// Which keys ParseCase below must find.
+enum class CaseKeys {
+  all_required,  ///< every key (a reference computation uses them all)
+  /// /imu and /noise only; the others take their standard values (case_keys.cpp, FORMAT.md):
+  /// gravity [0, 0, -9.81], the identity start state with zero bias estimate, a zero start
+  /// covariance, end perturbation and bias_delta. For a command that does not use them.
+  samples_and_noise,
+};
+
+/// As ParseCase above, with every missing key named in one error (all of them at once,
+/// "/gravity, /state_s/q_wxyz: missing ..."), and under samples_and_noise the others filled
+/// with their standard values, their pointers appended to `defaulted` when given.
+Case ParseCase(const nlohmann::json& case_json, CaseKeys keys, std::vector<std::string>* defaulted = nullptr);
+
 /// Refuses a computed document with a non-finite number or a covariance ("cov15", "cov9",
 /// "cov", "covariance", "Qd_summed") with a variance below -1e-9 of the largest, naming the
 /// output pointer under `ptr`.

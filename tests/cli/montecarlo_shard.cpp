@@ -223,7 +223,7 @@ TEST(MontecarloShard, OptionsAreChecked) {
       {"montecarlo --merge " + Q(out) + " --seed 3", "--seed is not used with it"},
       {"montecarlo --merge " + Q(out) + " --threads 2", "--threads is not used with it"},
       {"montecarlo --merge " + Q(out) + " --duration 2", "--duration is not used with it"},
-      {"montecarlo --method rk4 --trials 20 --seed 1", "--case is required (or --merge SHARD...)"},
+      {"montecarlo --method rk4 --trials 20 --seed 1", "--case (or --pipeline): required (or --merge SHARD...)"},
   };
   for (const Case& c : cases) {
     const CommandResult r = RunImuconv(c.args, run.tmp);
