@@ -1,7 +1,10 @@
 #include "case_input.h"
 
+#include <algorithm>
+
 #include "imuconv/pipeline/json_check.h"
 #include "imuconv/pipeline/json_io.h"
+#include "imuconv/pipeline/sample_checks.h"
 #include "imuconv/pipeline/timing.h"
 
 namespace imuconv::check {
@@ -42,15 +45,14 @@ CaseInput ReadCaseFile(const std::string& path) {
       }
     }
   }
-  // The timing rules of `imuconv run` (and of imuconv refcase), by the pipeline's own check:
-  // a plausible IMU rate (the times are seconds), and no gap above 10 x the median period,
-  // which propagation would otherwise integrate across in silence.
+  // The checks every series of samples gets (imuconv/pipeline/sample_checks.h), as `imuconv
+  // run` and the Python module make them: a plausible IMU rate (the times are seconds), and
+  // no gap above 10 x the median period, which propagation would otherwise integrate across
+  // in silence.
   if (c.ok() && k.samples.size() >= 2) {
-    std::vector<double> t(k.samples.size());
-    for (std::size_t i = 0; i < t.size(); ++i) t[i] = k.samples[i].t;
-    if (const auto issue = pipeline::FindTimingIssue(t, pipeline::TimingPolicy{}))
-      c.error(issue->kind == pipeline::TimingIssue::Kind::gap ? "/imu/" + std::to_string(issue->index) + "/0" : "/imu",
-              issue->message);
+    if (const auto issue =
+            pipeline::FindSampleIssue(k.samples, pipeline::TimingPolicy{}, pipeline::TimeUnit::s, pipeline::TimeSource::imu))
+      c.error(issue->index ? "/imu/" + std::to_string(*issue->index) + "/0" : "/imu", issue->message);
   }
   if (auto n = root.get("noise", true)) {
     if (n->expect_object({"gyro_noise_density", "accel_noise_density", "gyro_random_walk", "accel_random_walk"})) {
@@ -66,6 +68,11 @@ CaseInput ReadCaseFile(const std::string& path) {
         }
       }
     }
+  }
+  if (c.ok() && k.samples.size() >= 2) {
+    double shortest = k.samples[1].t - k.samples[0].t;
+    for (std::size_t i = 2; i < k.samples.size(); ++i) shortest = std::min(shortest, k.samples[i].t - k.samples[i - 1].t);
+    if (const auto issue = pipeline::FindNoiseIssue(k.noise, shortest)) c.error("/noise", *issue);
   }
   c.throw_if_errors();
   return k;

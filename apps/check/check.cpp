@@ -68,18 +68,26 @@ CheckResult RunCheck(const Registry& reg, const CaseInput& input, const std::vec
     if (*m.t_s < t_first - 1e-6 || *m.t_e > t_last + 1e-6)
       fail("the interval [" + Seconds(*m.t_s) + ", " + Seconds(*m.t_e) + "] is not inside " + input.source + " [" +
            Seconds(t_first) + ", " + Seconds(t_last) + "]: are these the samples the measurement was made from?");
-    std::vector<Preintegrated> refs;
+    std::vector<ReferenceSchemes::Reference> refs;
     try {
       refs = schemes.compute(input.samples, std::max(*m.t_s, t_first), std::min(*m.t_e, t_last), m.in.bg_hat,
                              m.in.ba_hat, input.noise);
     } catch (const std::exception& e) {
       fail(std::string("cannot propagate over the interval: ") + e.what());
     }
+    MeasurementCheck r;
     std::vector<SchemeCandidates> candidates;
-    for (std::size_t s = 0; s < refs.size(); ++s) candidates.push_back(MakeCandidates(reg, schemes.ids()[s], refs[s]));
+    for (std::size_t s = 0; s < refs.size(); ++s) {
+      if (refs[s].m)
+        candidates.push_back(MakeCandidates(reg, schemes.ids()[s], *refs[s].m));
+      else
+        r.not_applicable.emplace_back(schemes.ids()[s], refs[s].not_applicable);
+    }
+    if (candidates.empty())
+      fail("no reference scheme can run over the interval: " + schemes.ids().front() + ": " +
+           refs.front().not_applicable);
     UserNumbers user{IncrementEntries(m.in.delta), m.in.J_bias, m.in.cov};
 
-    MeasurementCheck r;
     r.index = i;
     r.pointer = m.pointer;
     r.t_start = *m.t_s;

@@ -33,6 +33,9 @@ struct MeasurementCheck {
   Explanation under_declaration, best;
   BestEntries best_entries;
   Judgement judgement;
+  /// The schemes that could not run on this interval, each with the reason; the judgment is
+  /// made with the others.
+  std::vector<std::pair<std::string, std::string>> not_applicable;
 };
 
 struct CheckResult {

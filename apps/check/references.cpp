@@ -13,13 +13,20 @@ ReferenceSchemes::ReferenceSchemes(const Registry& reg) : reg_(reg) {
   }
 }
 
-std::vector<Preintegrated> ReferenceSchemes::compute(const std::vector<ImuSample>& samples, double t_s, double t_e,
-                                                     const Vec3& bg, const Vec3& ba, const ImuNoise& noise) const {
+std::vector<ReferenceSchemes::Reference> ReferenceSchemes::compute(const std::vector<ImuSample>& samples, double t_s,
+                                                                   double t_e, const Vec3& bg, const Vec3& ba,
+                                                                   const ImuNoise& noise) const {
   SampleWindow w;
   const Status st = MakeWindow(samples.data(), samples.size(), t_s, t_e, w);
   if (!st.ok()) throw Error(st.message());
-  std::vector<Preintegrated> out;
-  for (const auto& m : methods_) out.push_back(Preintegrate(reg_, m, w, bg, ba, noise));
+  std::vector<Reference> out(methods_.size());
+  for (std::size_t s = 0; s < methods_.size(); ++s) {
+    try {
+      out[s].m = Preintegrate(reg_, methods_[s], w, bg, ba, noise);
+    } catch (const Error& e) {  // the scheme's own refusal (a Status from its plugin)
+      out[s].not_applicable = e.what();
+    }
+  }
   return out;
 }
 

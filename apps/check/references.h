@@ -17,6 +17,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,10 +35,17 @@ class ReferenceSchemes {
   /// The schemes' ids: kPropagatorSchemes, then the registered preintegrators in the
   /// registry's order.
   const std::vector<std::string>& ids() const { return ids_; }
-  /// One reference per scheme, in ids() order, in the reference charts (Preintegrated).
-  /// Throws imuconv::Error when [t_s, t_e] is not covered by the samples.
-  std::vector<Preintegrated> compute(const std::vector<ImuSample>& samples, double t_s, double t_e, const Vec3& bg,
-                                     const Vec3& ba, const ImuNoise& noise) const;
+  /// One reference per scheme, in ids() order, in the reference charts (Preintegrated), or,
+  /// for a scheme that cannot run on this interval (Basalt's knots less than 1 ns apart, say),
+  /// nothing and in `not_applicable` the reason: one scheme that cannot run must not sink the
+  /// judgment by the others. Throws imuconv::Error when [t_s, t_e] is not covered by the
+  /// samples (then no scheme can run).
+  struct Reference {
+    std::optional<Preintegrated> m;
+    std::string not_applicable;  ///< why m is empty
+  };
+  std::vector<Reference> compute(const std::vector<ImuSample>& samples, double t_s, double t_e, const Vec3& bg,
+                                 const Vec3& ba, const ImuNoise& noise) const;
 
  private:
   const Registry& reg_;

@@ -62,6 +62,11 @@ json ReportJson(const CheckResult& r) {
     j["under_declaration"] = ExplanationJson(m.under_declaration);
     j["best"] = ExplanationJson(m.best);
     j["findings"] = m.judgement.findings;
+    if (!m.not_applicable.empty()) {
+      json na = json::array();
+      for (const auto& [scheme, reason] : m.not_applicable) na.push_back({{"scheme", scheme}, {"reason", reason}});
+      j["not_applicable"] = std::move(na);
+    }
     out["measurements"].push_back(std::move(j));
   }
   return out;
@@ -85,6 +90,8 @@ void PrintTable(std::ostream& out, const CheckResult& r) {
                   Short(b.cov.max).c_str());
     out << line;
     for (const auto& f : m.judgement.findings) out << "       - " << f << "\n";
+    for (const auto& [scheme, reason] : m.not_applicable)
+      out << "       - reference " << scheme << " not applicable: " << reason << "\n";
   }
   out << "verdict: " << Word(r.verdict) << " (tolerances on max d: delta " << tol.delta << ", J_bias " << tol.J_bias
       << ", cov " << tol.cov << "; docs/check.md)\n";

@@ -33,7 +33,13 @@ void BindPipeline(py::module_& m);
 ImuNoise ReadNoise(py::handle noise);
 
 /// IMU samples from an (N, 7) array of rows t, wx, wy, wz, ax, ay, az (seconds, rad/s, m/s^2),
-/// as the reference case files hold them: N >= 2, finite, strictly increasing t.
-std::vector<ImuSample> ReadSamples(py::handle samples);
+/// as the reference case files hold them: N >= 2, and the pipeline's checks of every sample
+/// series (imuconv/pipeline/sample_checks.h: finite, strictly increasing t, a plausible rate,
+/// no gap beyond 10 x the median period unless allow_gaps), each a ValueError "samples: row k:
+/// <the pipeline's sentence>".
+std::vector<ImuSample> ReadSamples(py::handle samples, bool allow_gaps);
+
+/// The noise must keep the covariance finite over these samples (FindNoiseIssue).
+void RequireUsableNoise(const ImuNoise& noise, const std::vector<ImuSample>& samples);
 
 }  // namespace imuconv::python

@@ -12,6 +12,7 @@
 
 #include "arrays.h"
 #include "bindings.h"
+#include "finite_results.h"
 #include "imuconv/so3.h"
 
 namespace imuconv::python {
@@ -55,7 +56,7 @@ struct Expressed : PreintegratedIn {
 
 Expressed ExpressIn(const LoadedRegistry& r, const Preintegrated& p, const std::string& convention) {
   Expressed e;
-  static_cast<PreintegratedIn&>(e) = Express(r, p, convention);
+  static_cast<PreintegratedIn&>(e) = FiniteMeasurement(Express(r, p, convention), "express");
   e.blocks = r.info(PluginKind::IncrementConvention, convention).blocks;
   return e;
 }
@@ -100,7 +101,8 @@ void BindBridge(py::module_& m) {
   in.def_readonly("delta", &Expressed::delta);
   in.def_readonly("blocks", &Expressed::blocks, "the block order of cov, e.g. ['theta', 'p', 'v', 'bg', 'ba']");
   in.def(
-      "to_preintegrated", [](const Expressed& e, const LoadedRegistry& r) { return FromConvention(r, e); },
+      "to_preintegrated",
+      [](const Expressed& e, const LoadedRegistry& r) { return FiniteMeasurement(FromConvention(r, e), "to_preintegrated"); },
       py::arg("reg"), "Back to the reference charts (the inverse of Preintegrated.express).");
 
   py::class_<PropagationResult> prop(m, "Propagation",
@@ -124,22 +126,24 @@ void BindBridge(py::module_& m) {
       "preintegrate",
       [](const LoadedRegistry& r, py::handle samples, py::handle bg, py::handle ba, py::handle noise,
          std::optional<std::string> propagator, std::optional<std::string> preintegrator, std::optional<double> t_start,
-         std::optional<double> t_end) {
+         std::optional<double> t_end, bool allow_gaps) {
         const PreintegrationMethod method = Method(r, propagator, preintegrator);
-        const std::vector<ImuSample> s = ReadSamples(samples);
+        const std::vector<ImuSample> s = ReadSamples(samples, allow_gaps);
         const SampleWindow w = Window(s, t_start, t_end);
         const Vec3 g = ToFixed<3, 1>(bg, "bg"), a = ToFixed<3, 1>(ba, "ba");
         const ImuNoise q = ReadNoise(noise);
+        RequireUsableNoise(q, s);
         py::gil_scoped_release release;
-        return Preintegrate(r, method, w, g, a, q);
+        return FiniteMeasurement(Preintegrate(r, method, w, g, a, q), "preintegrate");
       },
       py::arg("reg"), py::arg("samples"), py::kw_only(), py::arg("bg"), py::arg("ba"), py::arg("noise"),
       py::arg("propagator") = py::none(), py::arg("preintegrator") = py::none(), py::arg("t_start") = py::none(),
-      py::arg("t_end") = py::none(),
+      py::arg("t_end") = py::none(), py::arg("allow_gaps") = false,
       "Preintegrates samples (N, 7: t, wx, wy, wz, ax, ay, az) over [t_start, t_end] (the samples' span by "
       "default; ends between samples are interpolated) with bias estimates bg, ba: by propagation with "
       "propagator= (the note, section 3.1) or natively with preintegrator=. noise: the four continuous "
-      "densities.");
+      "densities. The samples get the pipeline's checks (finite, increasing t in seconds, a plausible rate, "
+      "no gap beyond 10 x the median period unless allow_gaps=True); a non-finite result is a ValueError.");
 
   m.def(
       "from_convention",
@@ -157,7 +161,7 @@ void BindBridge(py::module_& m) {
         in.ba_hat = ToFixed<3, 1>(ba_hat, "ba_hat");
         in.J_bias = ToFixed<9, 6>(J_bias, "J_bias");
         in.cov = CheckedCovariance(cov, "cov");
-        return FromConvention(r, in);
+        return FiniteMeasurement(FromConvention(r, in), "from_convention");
       },
       py::arg("reg"), py::arg("convention"), py::kw_only(), py::arg("dt"), py::arg("delta"), py::arg("bg_hat"),
       py::arg("ba_hat"), py::arg("J_bias"), py::arg("cov"), py::arg("jacobian_convention") = py::none(),
@@ -169,20 +173,21 @@ void BindBridge(py::module_& m) {
       "propagate",
       [](const LoadedRegistry& r, const std::string& propagator, const std::string& convention, const ImuState& x,
          py::handle cov, py::handle samples, py::handle noise, py::handle gravity, std::optional<double> t_start,
-         std::optional<double> t_end) {
+         std::optional<double> t_end, bool allow_gaps) {
         PropagationInput in;
         in.x_s = x;
         in.cov_s = CheckedCovariance(cov, "cov");
-        const std::vector<ImuSample> s = ReadSamples(samples);
+        const std::vector<ImuSample> s = ReadSamples(samples, allow_gaps);
         in.window = Window(s, t_start, t_end);
         in.noise = ReadNoise(noise);
+        RequireUsableNoise(in.noise, s);
         in.gravity = Gravity(gravity);
         py::gil_scoped_release release;
-        return r.propagate(propagator, convention, in);
+        return FinitePropagation(r.propagate(propagator, convention, in), "propagate");
       },
       py::arg("reg"), py::arg("propagator"), py::arg("convention"), py::arg("x"), py::arg("cov"), py::arg("samples"),
       py::kw_only(), py::arg("noise"), py::arg("gravity") = std::vector<double>{0.0, 0.0, -9.81},
-      py::arg("t_start") = py::none(), py::arg("t_end") = py::none(),
+      py::arg("t_start") = py::none(), py::arg("t_end") = py::none(), py::arg("allow_gaps") = false,
       "Propagates x with covariance cov (both in the state convention `convention`) over the samples with a "
       "propagator plugin: x_e, Phi and cov in that convention.");
 
@@ -193,7 +198,8 @@ void BindBridge(py::module_& m) {
         const Mat15 S = CheckedCovariance(cov_s, "cov_s");
         const Vec3 g = Gravity(gravity);
         py::gil_scoped_release release;
-        return PropagateByPreintegration(r, meas, x_s, S, convention, g);
+        return FinitePropagation(PropagateByPreintegration(r, meas, x_s, S, convention, g),
+                                 "propagate_by_preintegration");
       },
       py::arg("reg"), py::arg("m"), py::arg("x_s"), py::arg("cov_s"), py::arg("convention"), py::kw_only(),
       py::arg("gravity") = std::vector<double>{0.0, 0.0, -9.81},
@@ -213,7 +219,7 @@ void BindBridge(py::module_& m) {
           throw py::value_error("kind: unknown residual kind '" + kind + "' (expected gtsam or forster)");
         const Vec3 g = Gravity(gravity);
         py::gil_scoped_release release;
-        return ComputeResidual(r, k, meas, x_s, x_e, convention, g);
+        return FiniteResidual(ComputeResidual(r, k, meas, x_s, x_e, convention, g), "residual");
       },
       py::arg("reg"), py::arg("kind"), py::arg("m"), py::arg("x_s"), py::arg("x_e"), py::arg("convention"),
       py::kw_only(), py::arg("gravity") = std::vector<double>{0.0, 0.0, -9.81},

@@ -3,11 +3,13 @@
 // rotation matrix orthonormal within 1e-6 (nothing is silently normalised beyond round-off).
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "arrays.h"
 #include "bindings.h"
+#include "imuconv/pipeline/sample_checks.h"
 #include "imuconv/so3.h"
 
 namespace imuconv::python {
@@ -156,23 +158,32 @@ ImuNoise ReadNoise(py::handle noise) {
   return q;
 }
 
-std::vector<ImuSample> ReadSamples(py::handle samples) {
+std::vector<ImuSample> ReadSamples(py::handle samples, bool allow_gaps) {
   const Float64Array a = AsFloat64(samples, "samples");
   if (a.ndim() != 2 || a.shape(1) != 7 || a.shape(0) < 2)
     throw py::value_error("samples: expected shape (N, 7) with N >= 2 (rows t, wx, wy, wz, ax, ay, az), got " +
                           ShapeText(a));
-  RequireFinite(a.data(), a.size(), "samples");
   std::vector<ImuSample> out(static_cast<std::size_t>(a.shape(0)));
   const double* r = a.data();
   for (std::size_t k = 0; k < out.size(); ++k, r += 7) {
     out[k].t = r[0];
     out[k].gyro = Vec3(r[1], r[2], r[3]);
     out[k].accel = Vec3(r[4], r[5], r[6]);
-    if (k > 0 && !(out[k].t > out[k - 1].t))
-      throw py::value_error("samples: time must increase strictly; row " + std::to_string(k) +
-                            " has t = " + Num(out[k].t) + " after " + Num(out[k - 1].t));
   }
+  // The pipeline's checks (finite, increasing, rate, gaps), with its sentences.
+  pipeline::TimingPolicy policy;
+  policy.allow_gaps = allow_gaps;
+  if (const auto issue =
+          pipeline::FindSampleIssue(out, policy, pipeline::TimeUnit::s, pipeline::TimeSource::imu_array))
+    throw py::value_error("samples: " + (issue->index ? "row " + std::to_string(*issue->index) + ": " : std::string()) +
+                          issue->message);
   return out;
+}
+
+void RequireUsableNoise(const ImuNoise& noise, const std::vector<ImuSample>& samples) {
+  double shortest = samples.at(1).t - samples[0].t;
+  for (std::size_t k = 2; k < samples.size(); ++k) shortest = std::min(shortest, samples[k].t - samples[k - 1].t);
+  if (const auto issue = pipeline::FindNoiseIssue(noise, shortest)) throw py::value_error("noise: " + *issue);
 }
 
 }  // namespace imuconv::python

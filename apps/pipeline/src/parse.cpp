@@ -66,7 +66,7 @@ std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file
   Checker c(file);
   const Node root(doc, "", c);
   if (!root.expect_object({"$schema", "description", "plugin_dirs", "allow_plugin_override", "gravity", "noise", "imu",
-                           "ground_truth", "output", "omit", "tasks"}))
+                           "ground_truth", "output", "omit", "tasks", "allow_empty_intervals"}))
     c.throw_if_errors();
   ParseContext ctx(c, base_dir);
   if (auto d = root.string("description", false)) spec->description = *d;
@@ -75,6 +75,7 @@ std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file
     if (auto l = pn->string_list(true))
       for (const auto& d : *l) spec->plugin_dirs.push_back(ctx.resolve(d));
   if (auto b = root.boolean("allow_plugin_override", false)) spec->allow_plugin_override = *b;
+  if (auto b = root.boolean("allow_empty_intervals", false)) spec->allow_empty_intervals = *b;
   // A pipeline (perhaps someone else's) may only write inside its own directory; -o, typed by
   // the user, is not restricted. Lexical check: a symbolic link inside the directory is trusted.
   if (auto o = root.string("output", false)) {

@@ -93,6 +93,7 @@ void LoadData(RunContext& ctx) {
                                      : ReadPoseGroundTruth(s.gt->path, s.gt->format, o, ro, s.gt->sensor);
     ctx.gt_keep = range;
   }
+  CheckImuAgainstKnownData(s, ctx.imu, ctx.gt ? &*ctx.gt : nullptr);
 }
 
 /// Stage "check times".

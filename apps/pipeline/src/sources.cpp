@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 
+#include "imuconv/pipeline/sample_checks.h"
 #include "imuconv/pipeline/timing.h"
 #include "run_util.h"
 #include "spec.h"
@@ -44,19 +45,20 @@ TimingPolicy Timing(const Node& n) {
   return t;
 }
 
-/// Inline samples get the readers' timing checks (rate, gaps), reported at the sample.
+/// Inline samples get the checks every series of samples gets (sample_checks.h: finite,
+/// increasing, rate, gaps), reported at the sample.
 void CheckInlineTiming(const Node& n, const ImuSourceSpec& s) {
-  if (s.inline_t.size() < 2 || s.inline_t.size() != s.inline_index.size()) return;
+  if (s.inline_t.size() < 2 || s.inline_t.size() != s.inline_index.size() || s.inline_raw.size() != s.inline_t.size())
+    return;
   TimeOrigin o;
   o.unit = s.csv.time_unit;
   if (s.csv.time_origin) o.value = *s.csv.time_origin;
-  std::vector<double> t;
-  t.reserve(s.inline_t.size());
-  for (const auto& v : s.inline_t) t.push_back(o.relative_seconds(v));
-  const auto issue = FindTimingIssue(t, s.timing, s.csv.time_unit, TimeSource::imu);
+  std::vector<ImuSample> samples = s.inline_raw;
+  for (std::size_t k = 0; k < samples.size(); ++k) samples[k].t = o.relative_seconds(s.inline_t[k]);
+  const auto issue = FindSampleIssue(samples, s.timing, s.csv.time_unit, TimeSource::imu);
   if (!issue) return;
-  if (issue->kind == TimingIssue::Kind::gap && issue->index < s.inline_index.size())
-    n.checker().error(n.child_pointer("samples") + "/" + std::to_string(s.inline_index[issue->index]) + "/0",
+  if (issue->index && *issue->index < s.inline_index.size())
+    n.checker().error(n.child_pointer("samples") + "/" + std::to_string(s.inline_index[*issue->index]) + "/0",
                       issue->message);
   else
     n.checker().error(n.child_pointer(n.has("time_unit") ? "time_unit" : "samples"), issue->message);

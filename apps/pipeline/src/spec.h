@@ -42,6 +42,9 @@ struct PipelineSpec {
   std::string description;
   std::vector<std::string> plugin_dirs;
   bool allow_plugin_override = false;
+  /// Intervals holding no IMU sample (keyframes finer than the samples) are meant: see
+  /// RunContext::check_intervals_hold_samples.
+  bool allow_empty_intervals = false;
   std::optional<std::string> output;
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
   ImuNoise noise;

@@ -40,8 +40,18 @@ inline ImuSample InterpolateSample(const ImuSample& a, const ImuSample& b, doubl
   return s;
 }
 
+/// Two times closer than this are one instant: a knot (t_s or t_e) within it of a sample is
+/// that sample, its time and values, not an interpolation beside it. Every timestamp format
+/// read (EuRoC, Basalt, the pipeline's *_abs_ns) has a resolution of 1 ns; a keyframe computed
+/// as k x 0.1 s lies 4e-17 s off the sample at 0.3 s, and kept apart, the two would make a
+/// step of 4e-17 s (Basalt, which counts integer nanoseconds, refuses it; the others integrate
+/// a step that means nothing). IMU samples are at least 1e-5 s apart (100 kHz), so at most one
+/// sample is that close to a knot.
+inline constexpr double kSameInstant = 1e-9;
+
 /// Builds the window of [t_s, t_e] over samples sorted by strictly increasing time.
-/// Fails if the interval is empty or not covered by the samples.
+/// Fails if the interval is empty or not covered by the samples. t_s and t_e are first
+/// moved onto a sample within kSameInstant of them.
 IMUCONV_API Status MakeWindow(const ImuSample* samples, std::size_t n, double t_s, double t_e, SampleWindow& out);
 
 }  // namespace imuconv

@@ -1,7 +1,10 @@
 // A pipeline's data outside a run (imuconv/pipeline/pipeline_data.h).
 #include "imuconv/pipeline/pipeline_data.h"
 
+#include <algorithm>
+
 #include "../spec.h"
+#include "imuconv/pipeline/sample_checks.h"
 #include "spec_data.h"
 
 namespace imuconv::pipeline {
@@ -30,6 +33,26 @@ ImuData InlineImu(const PipelineSpec& s) {
   return imu;
 }
 
+void CheckImuAgainstKnownData(const PipelineSpec& s, const ImuData& imu, const GroundTruth* gt) {
+  if (!s.imu || imu.samples.size() < 2) return;
+  if (s.has_noise) {
+    double shortest = imu.samples[1].t - imu.samples[0].t;
+    for (std::size_t k = 2; k < imu.samples.size(); ++k)
+      shortest = std::min(shortest, imu.samples[k].t - imu.samples[k - 1].t);
+    if (const auto issue = FindNoiseIssue(s.noise, shortest))
+      throw ConfigError(s.file, {{"/noise", (s.noise_file.empty() ? "" : s.noise_file + ": ") + *issue}});
+  }
+  if (!gt || gt->t.size() < 2) return;
+  std::vector<double> t(imu.samples.size());
+  for (std::size_t k = 0; k < t.size(); ++k) t[k] = imu.samples[k].t;
+  const bool euroc = s.imu->format == ImuSourceSpec::Format::Euroc;
+  const auto issue = FindRateDisagreement(MedianPeriod(t), MedianPeriod(gt->t), euroc ? TimeUnit::ns : s.imu->csv.time_unit,
+                                          euroc ? TimeSource::imu_euroc : TimeSource::imu);
+  if (issue)
+    throw ConfigError(s.file, {{s.imu->pointer + (euroc || s.imu->csv.time_unit == TimeUnit::s ? "" : "/time_unit"),
+                                "IMU " + imu.source + " against ground truth " + gt->source + ": " + *issue}});
+}
+
 ImuData ReadPipelineImu(const Pipeline& p) { return ReadSpecImu(p.spec()); }
 
 ImuData ReadSpecImu(const PipelineSpec& s) {
@@ -51,6 +74,7 @@ ImuData ReadSpecImu(const PipelineSpec& s) {
   if (imu.samples.size() < 2)
     throw ReadError(imu.source, 0,
                     "has " + std::to_string(imu.samples.size()) + " IMU sample(s); at least 2 are needed");
+  CheckImuAgainstKnownData(s, imu, nullptr);  // the noise; the ground truth when it is read
   return imu;
 }
 
@@ -64,8 +88,10 @@ std::optional<GroundTruth> ReadPipelineGroundTruth(const Pipeline& p, const ImuD
     o.unit = TimeUnit::s;  // inline samples without an origin: stamps taken as absolute (as a run does)
   ReadOptions ro;
   ro.timing = s.gt->timing;
-  return s.gt->format == "euroc" ? ReadEurocGroundTruth(s.gt->path, o, ro)
-                                 : ReadPoseGroundTruth(s.gt->path, s.gt->format, o, ro, s.gt->sensor);
+  GroundTruth gt = s.gt->format == "euroc" ? ReadEurocGroundTruth(s.gt->path, o, ro)
+                                           : ReadPoseGroundTruth(s.gt->path, s.gt->format, o, ro, s.gt->sensor);
+  CheckImuAgainstKnownData(s, imu, &gt);
+  return gt;
 }
 
 ImuNoise PipelineNoise(const Pipeline& p, const std::string& why) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "imuconv/pipeline/imu_reader.h"
+#include "imuconv/pipeline/pipeline.h"
 
 namespace imuconv::pipeline {
 
@@ -14,5 +15,11 @@ ImuData InlineImu(const PipelineSpec& s);
 
 /// Every sample of /imu (no time range left out), as the run's load stage reads it.
 ImuData ReadSpecImu(const PipelineSpec& s);
+
+/// What the IMU samples are checked against once the rest of the data is known (the checks
+/// of imuconv/pipeline/sample_checks.h): the noise against the shortest sample period, and
+/// the IMU's rate against the ground truth's (a wrong time_unit). ConfigError at /noise or
+/// /imu naming both files. Called by the run's load stage and by ReadPipelineGroundTruth.
+void CheckImuAgainstKnownData(const PipelineSpec& s, const ImuData& imu, const GroundTruth* gt);
 
 }  // namespace imuconv::pipeline

@@ -53,6 +53,14 @@ const char* LongName(TimeUnit u) {
   return "?";
 }
 
+std::string GapAdvice(TimeSource source) {
+  switch (source) {
+    case TimeSource::ground_truth: return "set \"allow_gaps\": true in the ground_truth object to interpolate across it";
+    case TimeSource::imu_array: return "pass allow_gaps=True to integrate across it";
+    default: return "set \"allow_gaps\": true in the IMU source to integrate across it";
+  }
+}
+
 bool PlausibleRate(double hz) { return hz >= kMinRateHz && hz <= kMaxRateHz; }
 
 // The unit the stamps were most likely written in: among the units that turn the median
@@ -86,6 +94,7 @@ std::string RateMessage(double period, TimeUnit declared, TimeSource source) {
   if (!likely) {
     m += "no time unit (s, ms, us, ns) gives a plausible rate: check the time column";
     if (source == TimeSource::imu) m += " and time_unit";
+    if (source == TimeSource::imu_array) m += " (the samples' t must be in seconds)";
     return m + range;
   }
   m += std::string("the timestamps look like ") + LongName(*likely);
@@ -99,6 +108,9 @@ std::string RateMessage(double period, TimeUnit declared, TimeSource source) {
       break;
     case TimeSource::ground_truth:
       m += ", but ground-truth files are read in nanoseconds: convert them";
+      break;
+    case TimeSource::imu_array:
+      m += ", but the samples' t must be in seconds: convert them";
       break;
   }
   return m + range;
@@ -137,8 +149,7 @@ std::optional<TimingIssue> FindTimingIssue(const std::vector<double>& t, double 
     return TimingIssue{TimingIssue::Kind::gap, i,
                        "gap of " + Num(gap) + " s before this " + (gt ? "row" : "sample") + " (the median period is " +
                            Num(median) + " s; limit " + Num(factor) + " x median = " + Num(limit) +
-                           " s); set \"allow_gaps\": true in the " + (gt ? "ground_truth object to interpolate" : "IMU source to integrate") +
-                           " across it",
+                           " s); " + GapAdvice(source),
                        median, gap, limit};
   }
   return std::nullopt;

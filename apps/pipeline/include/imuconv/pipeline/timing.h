@@ -44,6 +44,7 @@ enum class TimeSource {
   imu,           ///< generic CSV or inline samples: the user chooses "time_unit"
   imu_euroc,     ///< EuRoC IMU file: always integer nanoseconds
   ground_truth,  ///< EuRoC / vicon2gt ground truth: always integer nanoseconds
+  imu_array,     ///< the Python module's sample arrays: seconds, no time_unit to set
 };
 
 struct TimingIssue {
