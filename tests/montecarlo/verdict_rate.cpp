@@ -6,8 +6,9 @@
 //   - its power for a 10 % error in one block's variance at the N the docs quote;
 //   - its false-alarm rate on whole runs of correct methods over 200 seeds.
 // Every count is compared with a binomial bound stated where it is used; the seeds are fixed,
-// so each test is deterministic. Under the old design (NEES at 95 %, KL at 99 %) the
-// false-alarm rate was about 6 %: 12 of 200 seeds expected, above every bound below.
+// so each test is deterministic. Under the old design's levels (NEES at 95 %, KL at 99 %) the
+// false-alarm rate is about 6 %: FalseAlarmRateOverSeeds then counts 16, 13 and 13 of 200
+// (measured with those two levels put back), above its bound of 6.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -119,7 +120,7 @@ TEST(MontecarloVerdict, PowerForATenPercentErrorInOneBlock) {
 // (forward cells, mean only), rk4 (centered cells, mean only) and vins_fusion (full
 // preintegration, the method of the 3-4 % report). With a false-alarm rate of at most
 // 1 % the count is at most Binomial(200, 0.01): mean 2, and 7 or more has probability 4.3e-3,
-// so at most 6 per method. The old design's ~6 % gives 12 expected.
+// so at most 6 per method. The old design's levels give 13 to 16 (file comment).
 TEST(MontecarloVerdict, FalseAlarmRateOverSeeds) {
   const nlohmann::json c = test::ReadJson(test::DataPath("reference/cases/smooth-0.json"));
   Input in;
