@@ -201,7 +201,8 @@ Judgement Judge(const Constraints& declared, const Explanation& e_d, const Expla
   if (Score(best, tol) <= 1.0) {
     j.findings.push_back((declared_words.empty() ? std::string("J_bias as d/d(bias estimate), what a measurements "
                                                                "file holds, does not fit (")
-                                                 : "the declared " + declared_words + " do not fit (") +
+                                                 : "the declaration (" + declared_words +
+                                                       ", J_bias as d/d(bias estimate)) does not fit (") +
                          Diffs(e_d) + "); " + SchemeWords(best.scheme) + " explains the numbers (" + Diffs(best) + ")");
     if (e_d.cov.max > tol.cov) CovarianceFindings(declared, best, j.findings);
     if (e_d.J_bias.max > tol.J_bias) JacobianFindings(declared, best, j.findings);
