@@ -38,10 +38,13 @@ SchemeCandidates MakeCandidates(const Registry& reg, const std::string& scheme, 
     // chart's non-bias blocks, in the chart's order (as Express does for a chart's bias
     // Jacobian, bridge.cpp).
     const Eigen::Matrix<double, 15, 6> J_chart = reg.increment_conversion(kReference, id, ref.delta) * J_ref;
-    JacobianCandidate j{id, Mat96::Zero()};
+    JacobianCandidate j{id, {}, Mat96::Zero()};
     int row = 0;
     for (int b = 0; b < 5; ++b)
-      if (labels[b] != "bg" && labels[b] != "ba") j.J_bg_ba.middleRows<3>(3 * row++) = J_chart.middleRows<3>(3 * b);
+      if (labels[b] != "bg" && labels[b] != "ba") {
+        j.J_bg_ba.middleRows<3>(3 * row++) = J_chart.middleRows<3>(3 * b);
+        j.rows.push_back(labels[b]);
+      }
     out.jacobians.push_back(std::move(j));
   }
   return out;

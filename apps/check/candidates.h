@@ -28,6 +28,7 @@ struct CovarianceCandidate {
 
 struct JacobianCandidate {
   std::string chart;
+  std::vector<std::string> rows;  // the chart's theta, p, v blocks in its order
   Mat96 J_bg_ba;  // rows: the chart's theta, p, v blocks in its order; columns [bg, ba]
 };
 

@@ -1,6 +1,7 @@
 #include "check.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "../pipeline/src/forms/measurement.h"
@@ -49,6 +50,56 @@ BestEntries EntriesOf(const Registry& reg, const SchemeCandidates& s, const User
   return out;
 }
 
+std::string Short(double v) {
+  std::ostringstream o;
+  o.precision(2);
+  o << v;
+  return o.str();
+}
+
+/// The precision and dt findings (issue 23: numbers in single precision are a normal input;
+/// a dt that differs is said, not refused). A sum of n steps in a precision of unit round-off
+/// u, each addition rounding by at most u times the running sum (at most T = t_end - t_start),
+/// differs from T by at most n u T: 2000 steps of 5 ms in float32 (u = 2^-24) by 1.2e-3 s, in
+/// double by 2e-12 s. A dt within that bound is what rounding does; one beyond it is wrong, and
+/// a factor built on it predicts with the wrong duration: inconsistent.
+void PrecisionFindings(MeasurementCheck& r, std::size_t steps) {
+  auto& f = r.judgement.findings;
+  if (r.float32)
+    f.push_back(std::string("the numbers are single precision (") +
+                (r.float32_inferred ? "inferred: every number is a float32 value"
+                                    : "declared \"precision\": \"float32\"") +
+                "): the covariance's symmetry and positive semi-definiteness were judged at 1e-4 on the correlation "
+                "scale, and dt against a float32 sum of the steps");
+  if (!r.dt_difference) return;
+  const double u = r.float32 ? std::ldexp(1.0, -24) : std::ldexp(1.0, -53);
+  const double T = r.t_end - r.t_start;
+  r.dt_rounding_bound = static_cast<double>(steps) * u * T;
+  const std::string what = "dt = " + Seconds(T + *r.dt_difference) + " differs from t_end - t_start = " + Seconds(T) +
+                           " by " + Short(*r.dt_difference) + " s";
+  if (std::abs(*r.dt_difference) <= r.dt_rounding_bound) {
+    f.push_back(what + ", within what a " + (r.float32 ? "float32" : "double") + " sum of the interval's " +
+                std::to_string(steps) + " steps can lose (" + Short(r.dt_rounding_bound) +
+                " s); check propagates over [t_start, t_end], and a factor using this dt predicts over it");
+  } else {
+    f.push_back(what + ", more than a " + std::string(r.float32 ? "float32" : "double") + " sum of the interval's " +
+                std::to_string(steps) + " steps can lose (" + Short(r.dt_rounding_bound) +
+                " s): dt is not the interval's duration; fix dt or the times");
+    r.judgement.verdict = Verdict::inconsistent;
+  }
+}
+
+/// The median step between the samples in [t_s, t_e] (0 with fewer than two; 1e-6 s: the
+/// measurements form's agreement of two statements of one time).
+double MedianPeriod(const std::vector<ImuSample>& samples, double t_s, double t_e) {
+  std::vector<double> dt;
+  for (std::size_t k = 1; k < samples.size(); ++k)
+    if (samples[k - 1].t >= t_s - 1e-6 && samples[k].t <= t_e + 1e-6) dt.push_back(samples[k].t - samples[k - 1].t);
+  if (dt.empty()) return 0.0;
+  std::nth_element(dt.begin(), dt.begin() + dt.size() / 2, dt.end());
+  return dt[dt.size() / 2];
+}
+
 }  // namespace
 
 CheckResult RunCheck(const Registry& reg, const CaseInput& input, const std::vector<pipeline::DeclaredMeasurement>& ms,
@@ -92,6 +143,7 @@ CheckResult RunCheck(const Registry& reg, const CaseInput& input, const std::vec
     r.pointer = m.pointer;
     r.t_start = *m.t_s;
     r.t_end = *m.t_e;
+    r.sample_period = MedianPeriod(input.samples, *m.t_s, *m.t_e);
     r.declared = Declared(reg, m);
     r.jacobian_convention_implied = m.jacobian_convention_implied;
     const Tolerances& tol = CheckTolerances();
@@ -103,7 +155,14 @@ CheckResult RunCheck(const Registry& reg, const CaseInput& input, const std::vec
     const auto nearest = std::find_if(candidates.begin(), candidates.end(),
                                       [&](const SchemeCandidates& c) { return c.scheme == r.best.scheme; });
     r.best_entries = EntriesOf(reg, *nearest, user, r.best);
-    r.judgement = Judge(r.declared, r.under_declaration, r.best, *nearest, user);
+    r.judgement = Judge(r.declared, r.under_declaration, r.best, *nearest, user, r.sample_period);
+    r.float32 = m.precision.float32;
+    r.float32_inferred = m.precision.inferred;
+    r.dt_difference = pipeline::DtDifference(m);
+    std::size_t steps = 0;
+    for (std::size_t k = 1; k < input.samples.size(); ++k)
+      if (input.samples[k - 1].t >= *m.t_s - 1e-6 && input.samples[k].t <= *m.t_e + 1e-6) ++steps;
+    PrecisionFindings(r, steps);
     if (r.judgement.verdict == Verdict::inconsistent) out.verdict = Verdict::inconsistent;
     out.measurements.push_back(std::move(r));
   }

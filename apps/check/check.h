@@ -3,6 +3,7 @@
 // (verdict.h). The command line is apps/cmd_check.cpp; the output forms are report.h.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,12 @@ struct MeasurementCheck {
   std::size_t index = 0;
   std::string pointer;
   double t_start = 0.0, t_end = 0.0;
+  double sample_period = 0.0;  // median over the interval's samples: what "x1/dt" is said of
+  bool float32 = false, float32_inferred = true;  // the precision of the numbers (NumberPrecision)
+  /// dt as written minus t_end - t_start, when they differ (DtDifference), and the most a sum
+  /// of the interval's steps in the numbers' precision can differ by (check.cpp).
+  std::optional<double> dt_difference;
+  double dt_rounding_bound = 0.0;
   Constraints declared;  // J_bias_sign is +1: a measurements file holds d/d(bias estimate)
   bool jacobian_convention_implied = false;
   Explanation under_declaration, best;

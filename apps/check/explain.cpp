@@ -2,37 +2,86 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <tuple>
 
 namespace imuconv::check {
 namespace {
 
-// Differences below this are round-off: one computation by two routes (euler and the native
-// manifold preintegrator; a bias Jacobian's rows through two charts whose theta, p, v blocks
-// are the same) differs by at most 2.1e-13 in the measured cases. Explanations whose
-// differences are all below it are equally good, and the first found is kept.
+// Two differences are the same number (a tie) when both are below kRoundOff, or when they
+// differ by at most kTieRelative of the larger.
+//  - Absolute: one computation by two routes (euler and the native manifold preintegrator; a
+//    bias Jacobian's rows through two charts whose theta, p, v blocks are the same) differs by
+//    at most 2.1e-13 in the measured cases, on differences that are themselves round-off.
+//  - Relative: on differences of order 1 round-off scales with them: the same J_bias with one
+//    block negated scores 2.0000000000000133 under its declared chart and 2.000000000000004
+//    with every block negated (5e-15 relative), and an absolute 1e-9 read that as a real
+//    difference (issue 23). 1e-9 is 1e4 times the double round-off these sums of a few
+//    hundred terms accumulate, and far below any real difference between two explanations
+//    (a wrong sign, chart or order changes d by order 1, two schemes by 1e-3 and more).
 constexpr double kRoundOff = 1e-9;
+constexpr double kTieRelative = 1e-9;
+
+/// -1: a is smaller, 0: tied, 1: b is smaller (infinities and NaNs are equal only to themselves).
+int Compare(double a, double b) {
+  if (a < kRoundOff && b < kRoundOff) return 0;
+  if (std::isfinite(a) && std::isfinite(b) && std::abs(a - b) <= kTieRelative * std::max(std::abs(a), std::abs(b)))
+    return 0;
+  if (a == b) return 0;
+  return a < b ? -1 : 1;
+}
+
+/// Lexicographic Compare of two keys of equal length.
+int CompareKeys(const std::vector<double>& a, const std::vector<double>& b) {
+  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i)
+    if (const int c = Compare(a[i], b[i]); c != 0) return c;
+  return 0;
+}
 
 double Significant(double d) { return d < kRoundOff ? 0.0 : d; }
 
-bool Better(const EntryDiff& a, const EntryDiff& b) {
-  const double am = Significant(a.max), bm = Significant(b.max);
-  return am < bm || (am == bm && Significant(a.mean) < Significant(b.mean));
+/// One scored candidate of a part.
+template <typename Choice>
+struct Scored {
+  Choice choice;
+  EntryDiff d;
+  double structure = 0.0;  // covariance only: CorrelationStructure
+  BlockAnalysis blocks;
+  std::vector<double> key;
+};
+
+/// The best of `all` by key (the first of the tied ones) and the others tied with it.
+template <typename Choice>
+std::pair<const Scored<Choice>*, std::vector<Choice>> Pick(const std::vector<Scored<Choice>>& all) {
+  const Scored<Choice>* best = nullptr;
+  for (const auto& x : all)
+    if (!best || CompareKeys(x.key, best->key) < 0) best = &x;
+  std::vector<Choice> tied;
+  if (best)
+    for (const auto& x : all)
+      if (&x != best && CompareKeys(x.key, best->key) == 0 && !(x.choice == best->choice) &&
+          std::find(tied.begin(), tied.end(), x.choice) == tied.end())
+        tied.push_back(x.choice);
+  return {best, std::move(tied)};
 }
 
-struct CovChoice {
-  std::string convention;
-  std::vector<std::string> blocks;
-  EntryDiff d{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
-};
+/// The key of a part when some candidate is within tolerance: max d, then mean d.
+std::vector<double> WithinKey(const EntryDiff& d) { return {0.0, 0.0, 0.0, 0.0, d.max, d.mean}; }
 
-struct JacChoice {
-  std::string chart;
-  std::vector<std::string> columns;
-  int sign = 1;
-  EntryDiff d{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
-};
+/// The key when none is: the fewest corrections, counting a block beyond tolerance that a
+/// block finding explains as one and one that none explains as two (it needs more than any one
+/// kind), then the fewest unexplained, the smallest sum of the blocks' max d, then `structure`
+/// (0 for J_bias), max d, mean d. Counting an unexplained block once would let a wrong block
+/// order win by fewer blocks beyond tolerance that nothing explains (a density used as a
+/// variance: 9 blocks, 2 unexplained, in a wrong order against 10, all explained by a scale, in
+/// the right one); counting only the unexplained would let a wrong order win by fitting
+/// meaningless scales (OKVIS2's covariance: 6 blocks, 3 unexplained in its own order against 9,
+/// 2 unexplained, with factors of 1e4 where its bias and rotation blocks are exchanged).
+std::vector<double> BlockKey(const BlockAnalysis& a, double structure, const EntryDiff& d) {
+  const double unexplained = static_cast<double>(a.unexplained.size());
+  return {a.mismatched + unexplained, unexplained, a.mismatch_sum, structure, d.max, d.mean};
+}
 
 // The candidates in search order: only `wanted` when it is set; else `preferred` first,
 // then the registry's order.
@@ -48,13 +97,25 @@ std::vector<const T*> Ordered(const std::vector<T>& all, const std::string& want
   return out;
 }
 
-// The candidate with the smallest difference; when none is within `tol`, the one whose
-// correlation structure is nearest (CorrelationStructureDiff), which is what "nearest" can
-// still mean for a covariance whose scale nothing explains.
-CovChoice BestCovariance(const SchemeCandidates& s, const Mat15& user, const Constraints& c, const Constraints& prefer,
+struct PartResult {
+  EntryDiff d;
+  BlockAnalysis blocks;
+};
+
+struct CovResult : PartResult {
+  CovarianceChoice choice;
+  std::vector<CovarianceChoice> tied;
+};
+struct JacResult : PartResult {
+  JacobianChoice choice;
+  std::vector<JacobianChoice> tied;
+};
+
+CovResult BestCovariance(const SchemeCandidates& s, const Mat15& user, const Constraints& c, const Constraints& prefer,
                          double tol) {
-  CovChoice best, nearest_structure;
-  double best_structure = std::numeric_limits<double>::infinity();
+  std::vector<Scored<CovarianceChoice>> all;
+  std::vector<std::pair<const CovarianceCandidate*, std::array<Eigen::Index, 15>>> sources;
+  bool any_within = false;
   for (const CovarianceCandidate* cand :
        Ordered(s.covariances, c.convention, prefer.convention, [](auto& x) { return x.convention; })) {
     std::vector<std::vector<std::string>> orders;
@@ -67,39 +128,80 @@ CovChoice BestCovariance(const SchemeCandidates& s, const Mat15& user, const Con
       do {
         std::vector<std::string> o;
         for (int i : idx) o.push_back(cand->labels[i]);
-        orders.push_back(std::move(o));
+        if (prefer.blocks.empty() || o != prefer.blocks) orders.push_back(std::move(o));  // not twice
       } while (std::next_permutation(idx.begin(), idx.end()));
     }
     const ReorderedCovarianceDiffs diffs(cand->cov, user);
     for (const auto& order : orders) {
       const auto from = ReorderedIndices(*cand, order);
-      const EntryDiff d = diffs.CorrelationScale(from.data());
-      if (Better(d, best.d)) best = {cand->convention, order, d};
-      const double structure = diffs.CorrelationStructure(from.data());
-      if (structure < best_structure) {
-        best_structure = structure;
-        nearest_structure = {cand->convention, order, d};
-      }
+      Scored<CovarianceChoice> x{{cand->convention, order}, diffs.CorrelationScale(from.data()),
+                                 diffs.CorrelationStructure(from.data()), {}, {}};
+      any_within = any_within || x.d.max <= tol;
+      all.push_back(std::move(x));
+      sources.emplace_back(cand, from);
     }
   }
-  return best.d.max <= tol ? best : nearest_structure;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    auto& x = all[i];
+    if (any_within) {
+      x.key = WithinKey(x.d);
+    } else {
+      // What is wrong block by block (block_findings.h), under this candidate.
+      Mat15 K;
+      const auto& [cand, from] = sources[i];
+      for (int b = 0; b < 15; ++b)
+        for (int a = 0; a < 15; ++a) K(a, b) = cand->cov(from[a], from[b]);
+      x.blocks = AnalyzeCovarianceBlocks(K, user, x.choice.blocks, tol);
+      x.key = BlockKey(x.blocks, x.structure, x.d);
+    }
+  }
+  auto [best, tied] = Pick(all);
+  CovResult out;
+  out.d = best->d;
+  out.blocks = best->blocks;
+  out.choice = best->choice;
+  out.tied = std::move(tied);
+  return out;
 }
 
-JacChoice BestJacobian(const SchemeCandidates& s, const Mat96& user, const Constraints& c, const Constraints& prefer) {
-  JacChoice best;
+JacResult BestJacobian(const SchemeCandidates& s, const Mat96& user, const Constraints& c, const Constraints& prefer,
+                       double tol) {
+  std::vector<Scored<JacobianChoice>> all;
+  std::vector<Mat96> arranged;
+  std::vector<const JacobianCandidate*> sources;
   std::vector<std::vector<std::string>> all_columns = {{"bg", "ba"}, {"ba", "bg"}};
   if (prefer.J_bias_columns == all_columns[1]) std::swap(all_columns[0], all_columns[1]);
+  bool any_within = false;
   for (const JacobianCandidate* cand :
        Ordered(s.jacobians, c.jacobian_convention, prefer.jacobian_convention, [](auto& x) { return x.chart; }))
     for (const auto& columns : all_columns) {
       if (!c.J_bias_columns.empty() && columns != c.J_bias_columns) continue;
       for (int sign : {1, -1}) {
         if (c.J_bias_sign != 0 && sign != c.J_bias_sign) continue;
-        const EntryDiff d = RelativeAboveFloorDiff(Arranged(*cand, columns, sign), user);
-        if (Better(d, best.d)) best = {cand->chart, columns, sign, d};
+        arranged.push_back(Arranged(*cand, columns, sign));
+        sources.push_back(cand);
+        Scored<JacobianChoice> x{
+            {cand->chart, columns, sign}, RelativeAboveFloorDiff(arranged.back(), user), 0.0, {}, {}};
+        any_within = any_within || x.d.max <= tol;
+        all.push_back(std::move(x));
       }
     }
-  return best;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    auto& x = all[i];
+    if (any_within) {
+      x.key = WithinKey(x.d);
+    } else {
+      x.blocks = AnalyzeJacobianBlocks(arranged[i], user, sources[i]->rows, x.choice.columns, tol);
+      x.key = BlockKey(x.blocks, 0.0, x.d);
+    }
+  }
+  auto [best, tied] = Pick(all);
+  JacResult out;
+  out.d = best->d;
+  out.blocks = best->blocks;
+  out.choice = best->choice;
+  out.tied = std::move(tied);
+  return out;
 }
 
 }  // namespace
@@ -110,8 +212,12 @@ double Score(const Explanation& e, const Tolerances& tol) {
 
 namespace {
 
-// The ranking of Explain (round-off counted as zero): (parts beyond tolerance, sum within, sum beyond), lexicographic.
-std::tuple<int, double, double> Rank(const Explanation& e, const Tolerances& tol) {
+// The ranking of Explain across schemes (round-off counted as zero): parts beyond tolerance,
+// the sum of the parts within it, then blocks beyond tolerance, unexplained blocks, the sum of
+// the parts beyond; compared as CompareKeys does. The parts a scheme explains come before the
+// block count: a scheme whose covariance lacks whole blocks (Basalt's has no bias random walk)
+// would otherwise "explain" a covariance by fewer, meaningless block findings.
+std::vector<double> Rank(const Explanation& e, const Tolerances& tol) {
   int beyond = 0;
   double within_sum = 0.0, beyond_sum = 0.0;
   for (double r : {Significant(e.delta.max) / tol.delta, Significant(e.J_bias.max) / tol.J_bias,
@@ -123,35 +229,52 @@ std::tuple<int, double, double> Rank(const Explanation& e, const Tolerances& tol
       beyond_sum += r;
     }
   }
-  return {beyond, within_sum, beyond_sum};
+  const double mismatched = static_cast<double>(e.J_bias_blocks.mismatched + e.cov_blocks.mismatched);
+  const double unexplained = static_cast<double>(e.J_bias_blocks.unexplained.size() + e.cov_blocks.unexplained.size());
+  return {static_cast<double>(beyond), within_sum, mismatched, unexplained, beyond_sum};
 }
 
 }  // namespace
 
 Explanation Explain(const std::vector<SchemeCandidates>& schemes, const UserNumbers& user, const Constraints& c,
                     const Tolerances& tol, const Constraints& prefer) {
-  Explanation best;
-  std::tuple<int, double, double> best_rank;
+  std::vector<Explanation> per_scheme;
+  std::vector<std::vector<double>> ranks;
   for (const auto& s : schemes) {
-    const CovChoice cov = BestCovariance(s, user.cov, c, prefer, tol.cov);
-    const JacChoice jac = BestJacobian(s, user.J_bias, c, prefer);
+    const CovResult cov = BestCovariance(s, user.cov, c, prefer, tol.cov);
+    const JacResult jac = BestJacobian(s, user.J_bias, c, prefer, tol.J_bias);
     Explanation e;
     e.scheme = s.scheme;
-    e.convention = cov.convention;
-    e.blocks = cov.blocks;
+    e.convention = cov.choice.convention;
+    e.blocks = cov.choice.blocks;
     e.cov = cov.d;
-    e.jacobian_convention = jac.chart;
-    e.J_bias_columns = jac.columns;
-    e.J_bias_sign = jac.sign;
+    e.cov_blocks = cov.blocks;
+    e.jacobian_convention = jac.choice.chart;
+    e.J_bias_columns = jac.choice.columns;
+    e.J_bias_sign = jac.choice.sign;
     e.J_bias = jac.d;
+    e.J_bias_blocks = jac.blocks;
+    e.equivalent.cov = cov.tied;
+    e.equivalent.J_bias = jac.tied;
     e.delta = RelativeAboveFloorDiff(s.delta, user.delta);
-    const auto rank = Rank(e, tol);
-    if (best.scheme.empty() || rank < best_rank) {
-      best = std::move(e);
-      best_rank = rank;
-    }
+    ranks.push_back(Rank(e, tol));
+    per_scheme.push_back(std::move(e));
   }
-  return best;
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < per_scheme.size(); ++i)
+    if (CompareKeys(ranks[i], ranks[best]) < 0) best = i;
+  Explanation out = per_scheme.at(best);
+  // Schemes tied with the pick whose numbers are the pick's to the tie tolerance in every
+  // part are the same numbers by another route (euler and manifold).
+  for (std::size_t i = 0; i < per_scheme.size(); ++i) {
+    if (i == best || CompareKeys(ranks[i], ranks[best]) != 0) continue;
+    const Explanation& e = per_scheme[i];
+    if (Compare(e.delta.max, out.delta.max) == 0 && Compare(e.J_bias.max, out.J_bias.max) == 0 &&
+        Compare(e.cov.max, out.cov.max) == 0 && Compare(e.J_bias.mean, out.J_bias.mean) == 0 &&
+        Compare(e.cov.mean, out.cov.mean) == 0)
+      out.equivalent.schemes.push_back(e.scheme);
+  }
+  return out;
 }
 
 }  // namespace imuconv::check

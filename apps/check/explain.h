@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "block_findings.h"
 #include "candidates.h"
 #include "difference.h"
 
@@ -23,6 +24,32 @@ struct Tolerances {
   double delta = 0.0, J_bias = 0.0, cov = 0.0;
 };
 
+/// A covariance explanation and a J_bias explanation, without their differences: what
+/// `Equivalents` lists.
+struct CovarianceChoice {
+  std::string convention;
+  std::vector<std::string> blocks;
+  bool operator==(const CovarianceChoice& o) const { return convention == o.convention && blocks == o.blocks; }
+};
+struct JacobianChoice {
+  std::string chart;
+  std::vector<std::string> columns;
+  int sign = 1;
+  bool operator==(const JacobianChoice& o) const {
+    return chart == o.chart && columns == o.columns && sign == o.sign;
+  }
+};
+
+/// The explanations other than the one picked that the search cannot tell from it: their
+/// differences (and block findings) are the pick's within the tie tolerance (explain.cpp), so
+/// they are the same numbers. The pick among them is the first in the search order.
+struct Equivalents {
+  std::vector<std::string> schemes;
+  std::vector<CovarianceChoice> cov;
+  std::vector<JacobianChoice> J_bias;
+  bool empty() const { return schemes.empty() && cov.empty() && J_bias.empty(); }
+};
+
 /// One explanation of a measurement and the differences under it.
 struct Explanation {
   std::string scheme;
@@ -32,6 +59,10 @@ struct Explanation {
   std::vector<std::string> J_bias_columns;
   int J_bias_sign = 1;
   EntryDiff delta, J_bias, cov;
+  /// What is wrong block by block when a part is beyond tolerance (block_findings.h); empty
+  /// for a part within it.
+  BlockAnalysis J_bias_blocks, cov_blocks;
+  Equivalents equivalent;
 };
 
 /// What a search may choose; an empty field (or no sign) is free.
@@ -50,12 +81,18 @@ struct UserNumbers {
   Mat15 cov;
 };
 
-/// The best explanation under `c`: per scheme the covariance candidate with the smallest max
-/// difference (then mean) and likewise the Jacobian, and the scheme with the fewest parts
-/// (increment, J_bias, covariance) beyond tolerance, then the smallest sum of the parts within
-/// tolerance (each divided by its tolerance), then of those beyond. Ties keep the first found:
-/// what `prefer` names (the declaration) first, then the registry's order, a chart's own block
-/// order first.
+/// The best explanation under `c`. Per scheme and part (covariance, J_bias): the candidate
+/// with the smallest max difference, then mean; when none is within tolerance, the one that
+/// needs the fewest corrections block by block (block_findings.h; a 3x3 block beyond tolerance
+/// counts one when a block finding explains it, two when none does), then the fewest blocks
+/// unexplained, the smallest sum of their max d (then, for the covariance, the nearest
+/// correlation structure), then max and mean d. Across schemes: the fewest parts (increment,
+/// J_bias, covariance) beyond tolerance, then the smallest sum of the parts within tolerance
+/// (each divided by its tolerance), the fewest blocks beyond tolerance and unexplained, then
+/// the smallest sum of the parts beyond. Every comparison treats values within the tie
+/// tolerance (explain.cpp) as equal, and ties keep the first found: what `prefer` names (the
+/// declaration) first, then the registry's order, a chart's own block order first, [bg, ba]
+/// before [ba, bg], + before -. The tied others are the explanation's `equivalent`.
 Explanation Explain(const std::vector<SchemeCandidates>& schemes, const UserNumbers& user, const Constraints& c,
                     const Tolerances& tol, const Constraints& prefer = {});
 

@@ -32,6 +32,35 @@ json ExplanationJson(const Explanation& e) {
           {"cov", Diff(e.cov)}};
 }
 
+json FindingJson(const BlockFinding& f) {
+  return {{"matrix", f.matrix}, {"rows", f.rows},     {"cols", f.cols},
+          {"kind", f.kind},     {"factor", f.factor}, {"max_d", Number(f.max_d)},
+          {"residual_d", Number(f.residual)}};
+}
+
+json BlockFindingsJson(const Explanation& e) {
+  json out = json::array();
+  for (const BlockAnalysis* a : {&e.J_bias_blocks, &e.cov_blocks})
+    for (const auto& f : a->findings) out.push_back(FindingJson(f));
+  return out;
+}
+
+json UnexplainedJson(const Explanation& e) {
+  json out = json::array();
+  for (const BlockAnalysis* a : {&e.J_bias_blocks, &e.cov_blocks})
+    for (const auto& u : a->unexplained)
+      out.push_back({{"matrix", u.matrix}, {"rows", u.rows}, {"cols", u.cols}, {"max_d", Number(u.max_d)}});
+  return out;
+}
+
+json EquivalentJson(const Equivalents& q) {
+  json cov = json::array(), jac = json::array();
+  for (const auto& c : q.cov) cov.push_back({{"convention", c.convention}, {"blocks", c.blocks}});
+  for (const auto& j : q.J_bias)
+    jac.push_back({{"jacobian_convention", j.chart}, {"J_bias_columns", j.columns}, {"J_bias_sign", j.sign}});
+  return {{"schemes", q.schemes}, {"cov", cov}, {"J_bias", jac}};
+}
+
 std::string Short(double d) {
   char b[32];
   std::snprintf(b, sizeof b, "%.1e", d);
@@ -61,6 +90,13 @@ json ReportJson(const CheckResult& r) {
                      {"J_bias_sign", m.declared.J_bias_sign}};
     j["under_declaration"] = ExplanationJson(m.under_declaration);
     j["best"] = ExplanationJson(m.best);
+    j["equivalent"] = EquivalentJson(m.best.equivalent);
+    j["block_findings"] = BlockFindingsJson(m.best);
+    j["unexplained_blocks"] = UnexplainedJson(m.best);
+    j["sample_period"] = m.sample_period;
+    j["precision"] = {{"numbers", m.float32 ? "float32" : "float64"}, {"inferred", m.float32_inferred}};
+    j["dt_difference"] = m.dt_difference ? json(*m.dt_difference) : json(nullptr);
+    j["dt_rounding_bound"] = m.dt_rounding_bound;
     j["findings"] = m.judgement.findings;
     if (!m.not_applicable.empty()) {
       json na = json::array();

@@ -118,6 +118,55 @@ void JacobianFindings(const Constraints& d, const Explanation& b, std::vector<st
   out.push_back("fix: " + f);
 }
 
+/// What the file declared, in words ("" when nothing: a measurements file's sign alone is not
+/// a declaration of charts).
+std::string DeclaredWords(const Constraints& d) {
+  std::vector<std::string> parts;
+  if (!d.convention.empty()) parts.push_back("covariance convention " + d.convention);
+  if (!d.blocks.empty()) parts.push_back("covariance blocks " + BlockList(d.blocks));
+  if (!d.jacobian_convention.empty()) parts.push_back("J_bias chart " + d.jacobian_convention);
+  if (!d.J_bias_columns.empty()) parts.push_back("J_bias columns " + BlockList(d.J_bias_columns));
+  std::string s;
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    s += (i == 0 ? "" : i + 1 == parts.size() ? " and " : ", ") + parts[i];
+  return s;
+}
+
+std::string JacobianChoiceWords(const JacobianChoice& j) {
+  return "J_bias in " + j.chart + " " + BlockList(j.columns) + (j.sign > 0 ? " +" : " -");
+}
+
+/// The explanations the search cannot tell from the one named (explain.h, Equivalents).
+void EquivalentFindings(const Explanation& e, std::vector<std::string>& out) {
+  if (e.equivalent.empty()) return;
+  std::string named, others;
+  const auto add = [&](const std::string& x) { others += (others.empty() ? "" : "; ") + x; };
+  if (!e.equivalent.schemes.empty()) {
+    named += "scheme " + e.scheme;
+    for (const auto& s : e.equivalent.schemes) add("scheme " + s);
+  }
+  if (!e.equivalent.cov.empty()) {
+    named += std::string(named.empty() ? "" : ", ") + "the covariance in " + e.convention + " " + BlockList(e.blocks);
+    for (const auto& c : e.equivalent.cov) add("the covariance in " + c.convention + " " + BlockList(c.blocks));
+  }
+  if (!e.equivalent.J_bias.empty()) {
+    named += std::string(named.empty() ? "" : ", ") +
+             JacobianChoiceWords({e.jacobian_convention, e.J_bias_columns, e.J_bias_sign});
+    for (const auto& j : e.equivalent.J_bias) add(JacobianChoiceWords(j));
+  }
+  out.push_back("equivalent explanations, these are the same numbers (within the tie tolerance): " + named + "; " +
+                others + "; the one named is the first in the search order (the declaration, then the registry's)");
+}
+
+void BlockFindingWords(const Explanation& e, double dt, std::vector<std::string>& out) {
+  for (const BlockAnalysis* a : {&e.J_bias_blocks, &e.cov_blocks}) {
+    for (const auto& f : a->findings) out.push_back(FindingWords(f, dt));
+    for (const auto& u : a->unexplained)
+      out.push_back(u.matrix + " block (rows " + u.rows[0] + ", cols " + u.cols[0] + ") differs (max d " + Num(u.max_d) +
+                    ") by no sign, scale, swap, transposition or missing terms");
+  }
+}
+
 }  // namespace
 
 const Tolerances& CheckTolerances() { return kCheckTolerances; }
@@ -129,26 +178,35 @@ std::string BlockList(const std::vector<std::string>& blocks) {
 }
 
 Judgement Judge(const Constraints& declared, const Explanation& e_d, const Explanation& best,
-                const SchemeCandidates& nearest, const UserNumbers& user) {
+                const SchemeCandidates& nearest, const UserNumbers& user, double sample_period) {
   const Tolerances& tol = kCheckTolerances;
   Judgement j;
+  const std::string declared_words = DeclaredWords(declared);
   if (Score(e_d, tol) <= 1.0) {
     j.verdict = Verdict::consistent;
-    j.findings.push_back("consistent with " + SchemeWords(e_d.scheme) + " under the declared charts; " + Diffs(e_d));
+    j.findings.push_back("consistent with " + SchemeWords(e_d.scheme) +
+                         (declared_words.empty() ? " (no chart was declared; the charts are those found)"
+                                                 : " under the declared " + declared_words) +
+                         "; " + Diffs(e_d));
     if (declared.convention.empty() || declared.blocks.empty())
       j.findings.push_back("the covariance's chart was not (fully) declared; it is " + e_d.convention +
                            " with blocks " + BlockList(e_d.blocks));
     if (declared.jacobian_convention.empty() || declared.J_bias_columns.empty())
       j.findings.push_back("J_bias's chart was not (fully) declared; its rows are " + e_d.jacobian_convention +
                            ", its columns " + BlockList(e_d.J_bias_columns));
+    EquivalentFindings(e_d, j.findings);
     return j;
   }
   j.verdict = Verdict::inconsistent;
   if (Score(best, tol) <= 1.0) {
-    j.findings.push_back("the declaration does not fit (" + Diffs(e_d) + "); " + SchemeWords(best.scheme) +
-                         " explains the numbers (" + Diffs(best) + ")");
+    j.findings.push_back((declared_words.empty() ? std::string("J_bias as d/d(bias estimate), what a measurements "
+                                                               "file holds, does not fit (")
+                                                 : "the declaration (" + declared_words +
+                                                       ", J_bias as d/d(bias estimate)) does not fit (") +
+                         Diffs(e_d) + "); " + SchemeWords(best.scheme) + " explains the numbers (" + Diffs(best) + ")");
     if (e_d.cov.max > tol.cov) CovarianceFindings(declared, best, j.findings);
     if (e_d.J_bias.max > tol.J_bias) JacobianFindings(declared, best, j.findings);
+    EquivalentFindings(best, j.findings);
     return j;
   }
   j.findings.push_back("nothing registered explains the numbers; the nearest explanation is " +
@@ -168,6 +226,8 @@ Judgement Judge(const Constraints& declared, const Explanation& e_d, const Expla
   else if (e_d.cov.max > tol.cov)
     CovarianceFindings(declared, best, j.findings);
   if (best.J_bias.max <= tol.J_bias && e_d.J_bias.max > tol.J_bias) JacobianFindings(declared, best, j.findings);
+  BlockFindingWords(best, sample_period, j.findings);
+  EquivalentFindings(best, j.findings);
   return j;
 }
 

@@ -63,21 +63,23 @@ std::optional<Mat3> RotationFromMatrix(const Node& n) {
   return so3::Exp(so3::Log(M));
 }
 
-std::string CovarianceInputProblem(const Mat15& C) {
+std::string CovarianceInputProblem(const Mat15& C, double tol) {
   // kCovarianceTol (1e-9 on the correlation scale) passes round-off of any covariance
-  // computed and written in double precision and catches real defects (numeric.h).
-  std::string p = CovarianceProblem(C, kCovarianceTol);
+  // computed and written in double precision and catches real defects (numeric.h); numbers
+  // computed in single precision are judged at theirs (kCovarianceTolFloat32).
+  std::string p = CovarianceProblem(C, tol);
   if (p.empty()) return p;
   if (p.find("eigenvalue") == std::string::npos && C.allFinite()) {
     const Mat15 sym = 0.5 * (C + C.transpose());
     const Eigen::SelfAdjointEigenSolver<Mat15> eig(sym, Eigen::EigenvaluesOnly);
     p += " (smallest eigenvalue of (C + C^T)/2: " + Num(eig.eigenvalues().minCoeff()) + ")";
   }
-  return "not a valid covariance: " + p + "; nothing is repaired, fix the input";
+  const std::string precision = tol == kCovarianceTol ? "" : " (judged at float32 precision, tolerance " + Num(tol) + ")";
+  return "not a valid covariance: " + p + precision + "; nothing is repaired, fix the input";
 }
 
-bool CheckCovarianceInput(Checker& c, const std::string& pointer, const Mat15& C) {
-  const std::string p = CovarianceInputProblem(C);
+bool CheckCovarianceInput(Checker& c, const std::string& pointer, const Mat15& C, double tol) {
+  const std::string p = CovarianceInputProblem(C, tol);
   if (p.empty()) return true;
   c.error(pointer, p);
   return false;

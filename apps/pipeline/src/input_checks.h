@@ -8,6 +8,7 @@
 
 #include "imuconv/pipeline/json_check.h"
 #include "imuconv/registry.h"
+#include "imuconv/numeric.h"
 #include "imuconv/types.h"
 
 namespace imuconv::pipeline {
@@ -26,11 +27,21 @@ std::optional<Mat3> RotationFromJplQuaternion(const Node& n);
 /// A 3x3 rotation matrix at `n`, re-orthonormalised, or nothing (the error reported).
 std::optional<Mat3> RotationFromMatrix(const Node& n);
 
-/// "" or what is wrong with C as a covariance input: imuconv::CovarianceProblem with
-/// kCovarianceTol, plus the smallest eigenvalue when the problem does not already give it.
-std::string CovarianceInputProblem(const Mat15& C);
-/// Reports CovarianceInputProblem(C) at `pointer` (nothing is repaired); true when C is fine.
-bool CheckCovarianceInput(Checker& c, const std::string& pointer, const Mat15& C);
+/// The tolerance of CovarianceProblem for numbers computed in single precision (a measurement
+/// whose "precision" is "float32", measurement.h). float32's unit round-off is 6e-8; a
+/// covariance accumulated over N steps in it carries errors of order sqrt(N) 6e-8 (2.7e-6 at
+/// N = 2000, 6e-5 at 1e6 steps), and C_ij and C_ji are rounded separately, so its asymmetry is
+/// of that order (ORB-SLAM3's, 2000 steps: 3e-9 on the correlation scale). 1e-4 passes that
+/// and lies 100 times below imuconv check's 1e-2 on the same scale, so an asymmetry it passes
+/// cannot change a verdict; a real defect (a sign, a transposed block) is of order 1e-3 or more.
+inline constexpr double kCovarianceTolFloat32 = 1e-4;
+
+/// "" or what is wrong with C as a covariance input: imuconv::CovarianceProblem with `tol`
+/// (kCovarianceTol: numbers in double precision; kCovarianceTolFloat32), plus the smallest
+/// eigenvalue when the problem does not already give it.
+std::string CovarianceInputProblem(const Mat15& C, double tol = kCovarianceTol);
+/// Reports CovarianceInputProblem(C, tol) at `pointer` (nothing is repaired); true when C is fine.
+bool CheckCovarianceInput(Checker& c, const std::string& pointer, const Mat15& C, double tol = kCovarianceTol);
 
 /// A covariance the pipeline computed and is about to write at output `pointer`: throws
 /// imuconv::Error when a variance is negative beyond round-off (kCovarianceTol times the

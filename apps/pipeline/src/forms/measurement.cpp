@@ -84,7 +84,49 @@ namespace {
 
 const std::vector<std::string> kMeasurementKeys = {"index",        "t_start", "t_end",   "t_start_abs_ns",
                                                    "t_end_abs_ns", "dt",      "n_knots", "bias_estimate",
-                                                   "delta",        "J_bias",  "cov",     "expressed"};
+                                                   "delta",        "J_bias",  "cov",     "expressed",
+                                                   "precision"};
+
+/// True when every number under `j` is a float32 value, and there is at least one number.
+bool AllFloat32(const json& j, std::size_t& count) {
+  if (j.is_number()) {
+    ++count;
+    const double v = j.get<double>();
+    return std::isfinite(v) && static_cast<double>(static_cast<float>(v)) == v;
+  }
+  if (j.is_array() || j.is_object()) {
+    for (const auto& x : j)
+      if (!AllFloat32(x, count)) return false;
+  }
+  return true;
+}
+
+/// NumberPrecision of measurement `e` (measurement.h).
+NumberPrecision ReadPrecision(const Node& e) {
+  NumberPrecision p;
+  if (auto s = e.string("precision", false)) {
+    p.inferred = false;
+    if (*s == "float32")
+      p.float32 = true;
+    else if (*s != "float64")
+      e.checker().error(e.child_pointer("precision"), "expected \"float64\" or \"float32\" (the precision the numbers "
+                                                      "were computed in)");
+    return p;
+  }
+  const json& v = e.value();
+  std::size_t count = 0;
+  bool all = true;
+  for (const char* key : {"delta", "J_bias", "cov"})
+    if (v.contains(key)) {
+      const json& part = v.at(key);
+      const bool matrix = key != std::string("delta") && part.is_object() && part.contains("matrix");
+      all = all && AllFloat32(matrix ? part.at("matrix") : part, count);
+    }
+  p.float32 = all && count > 0;
+  return p;
+}
+
+double CovarianceTolerance(const NumberPrecision& p) { return p.float32 ? kCovarianceTolFloat32 : kCovarianceTol; }
 
 /// The envelope every measurements file shares: the root object, its optional origin and the
 /// non-empty "measurements" array (nullopt after reporting what is wrong).
@@ -172,7 +214,7 @@ void ReadDeclaredCov(const Node& cn, const Registry& reg, DeclaredMeasurement& o
   if (auto mn = cn.get("matrix", true))
     if (auto m = mn->matrix(15, 15)) {
       out.in.cov = *m;
-      CheckCovarianceInput(cn.checker(), mn->pointer(), out.in.cov);
+      CheckCovarianceInput(cn.checker(), mn->pointer(), out.in.cov, CovarianceTolerance(out.precision));
     }
 }
 
@@ -231,6 +273,7 @@ std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::stri
     r.pointer = e.pointer();
     PreintegratedIn in;
     ReadChartFreeFields(e, i, file_origin, origin_ns, r, in);
+    const NumberPrecision precision = ReadPrecision(e);
     std::string cov_conv;
     if (auto cn = e.get("cov", true)) {
       if (cn->expect_object({"convention", "blocks", "matrix"})) {
@@ -241,7 +284,7 @@ std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::stri
         if (auto mn = cn->get("matrix", true))
           if (auto m = mn->matrix(15, 15)) {
             in.cov = *m;
-            CheckCovarianceInput(c, mn->pointer(), in.cov);
+            CheckCovarianceInput(c, mn->pointer(), in.cov, CovarianceTolerance(precision));
           }
         if (auto bn = cn->get("blocks", false))
           if (auto b = bn->string_list(); b && !cov_conv.empty()) {
@@ -270,6 +313,13 @@ std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::stri
   return out;
 }
 
+std::optional<double> DtDifference(const DeclaredMeasurement& m) {
+  if (!m.t_s || !m.t_e) return std::nullopt;
+  const double d = m.in.dt - (*m.t_e - *m.t_s);
+  if (std::abs(d) <= kTimeAgreement) return std::nullopt;
+  return d;
+}
+
 std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(const std::string& path, const Registry& reg,
                                                              std::optional<std::int64_t> origin_ns) {
   const json doc = ParseJsonFile(path);
@@ -289,9 +339,11 @@ std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(const std::string& 
     // No pipeline origin: times stay on the file's own axis, in seconds as written (the file's
     // own time_origin_ns then shifts nothing, as in ReadMeasurementFile without an origin).
     ReadChartFreeFields(e, i, origin_ns ? file_origin : std::nullopt, origin_ns, r, d.in);
+    d.precision = ReadPrecision(e);
     if (auto cn = e.get("cov", true)) ReadDeclaredCov(*cn, reg, d);
     if (auto jn = e.get("J_bias", true)) ReadDeclaredJBias(*jn, reg, d);
-    CheckDtAgainstTimes(e, r, d.in.dt);
+    // dt is not compared with t_end - t_start here: a dt that differs is what check reports
+    // (DtDifference), not a reason to refuse the numbers (a float32 sum of the steps differs).
     if (c.count() != before) continue;
     d.t_s = r.t_s;
     d.t_e = r.t_e;

@@ -18,6 +18,15 @@
 namespace imuconv::pipeline {
 
 /// A measurement with its time span (when known) and where it came from.
+/// The precision a measurement's numbers carry: its "precision" ("float64" or "float32"), or
+/// when it has none float32 if every number of delta, J_bias and cov is a float32 value (a
+/// double that single precision rounds to itself: what a float dump holds), else float64.
+/// Numbers in float32 have their covariance judged at kCovarianceTolFloat32 (input_checks.h).
+struct NumberPrecision {
+  bool float32 = false;
+  bool inferred = true;  // not written in the file
+};
+
 struct MeasRecord {
   Preintegrated m;
   std::optional<double> t_s, t_e;
@@ -33,7 +42,7 @@ struct MeasRecord {
 /// Checked, never repaired: unit quaternions (1e-6), rotation matrices, R and q_wxyz and
 /// rotation_angle_deg agreeing when several are given, t_start and t_start_abs_ns agreeing
 /// (1e-6 s), dt = t_end - t_start (1e-6 s), and the covariance (symmetric and positive
-/// semi-definite, CovarianceInputProblem).
+/// semi-definite, CovarianceInputProblem, at the precision the numbers carry: NumberPrecision).
 std::vector<MeasRecord> ReadMeasurementFile(const std::string& path, const Registry& reg,
                                             std::optional<std::int64_t> origin_ns);
 /// The same from a parsed document; `file` names it in messages.
@@ -54,7 +63,14 @@ struct DeclaredMeasurement {
   // "unknown" written for cov.blocks / J_bias cols.blocks. A missing order, by contrast, means
   // the chart's own order when the chart is declared (as ReadMeasurementFile takes it).
   bool cov_blocks_unknown = false, J_bias_cols_unknown = false;
+  NumberPrecision precision;
+  // dt as written (in.dt) may differ from t_end - t_start: check reports it as a finding
+  // (DtDifference), not as an error.
 };
+
+/// in.dt - (t_end - t_start), when both are known and differ by more than a time's rounding
+/// (1e-6 s, as the measurements form compares two statements of one time).
+std::optional<double> DtDifference(const DeclaredMeasurement& m);
 
 /// Reads a measurements file as ReadMeasurementFile does (same envelope, times, dt, bias
 /// estimate, increment and the same checks of the covariance), except that `cov.convention`,
