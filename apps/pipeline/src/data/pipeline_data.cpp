@@ -2,6 +2,7 @@
 #include "imuconv/pipeline/pipeline_data.h"
 
 #include "../spec.h"
+#include "imuconv/pipeline/imu_plausibility.h"
 #include "spec_data.h"
 
 namespace imuconv::pipeline {
@@ -27,6 +28,7 @@ ImuData InlineImu(const PipelineSpec& s) {
     imu.samples.push_back(smp);
   }
   if (src.csv.time_origin) imu.origin = o;
+  imu.warnings = ImuPlausibilityWarnings(imu.samples, s.file + ": " + src.pointer + "/samples");
   return imu;
 }
 
