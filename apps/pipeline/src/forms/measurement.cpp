@@ -272,7 +272,12 @@ std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::stri
 
 std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(const std::string& path, const Registry& reg,
                                                              std::optional<std::int64_t> origin_ns) {
-  const json doc = ParseJsonFile(path);
+  return ReadDeclaredMeasurementDocument(ParseJsonFile(path), path, reg, origin_ns);
+}
+
+std::vector<DeclaredMeasurement> ReadDeclaredMeasurementDocument(const json& doc, const std::string& path,
+                                                                 const Registry& reg,
+                                                                 std::optional<std::int64_t> origin_ns) {
   Checker c(path);
   const Node root(doc, "", c);
   std::vector<DeclaredMeasurement> out;
