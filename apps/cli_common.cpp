@@ -1,10 +1,14 @@
 #include <charconv>
 #include <cstdio>
 #include <iostream>
+#include <new>
+#include <stdexcept>
 #include <string_view>
 #include <utility>
 
 #include "commands.h"
+#include "exit_codes.h"
+#include "imuconv/did_you_mean.h"
 #include "imuconv/printable.h"
 
 namespace imuconv::cli {
@@ -90,6 +94,28 @@ void PrintError(const std::string& message) {
   std::cerr << out << "\n";
 }
 
+void PrintWarnings(const std::vector<std::string>& warnings) {
+  for (const auto& w : warnings) std::cerr << "imuconv: warning: " << w << "\n";
+}
+
+nlohmann::json WithWarnings(nlohmann::json out, const std::vector<std::string>& warnings) {
+  if (!warnings.empty()) out["warnings"] = warnings;
+  return out;
+}
+
+int ReportFailure(const std::exception& e) {
+  if (dynamic_cast<const std::bad_alloc*>(&e) != nullptr) {
+    PrintError("internal error: out of memory (" + std::string(e.what()) + ")");
+    return kExitInternal;
+  }
+  if (dynamic_cast<const std::logic_error*>(&e) != nullptr) {
+    PrintError("internal error (a defect of imuconv or of a plugin; please report it): " + std::string(e.what()));
+    return kExitInternal;
+  }
+  PrintError(e.what());
+  return kExitBadInput;
+}
+
 void PrintLabelledMatrix(std::ostream& out, const Mat15& m, const std::vector<std::string>& row_blocks,
                          const std::vector<std::string>& col_blocks) {
   const auto axes = [](const std::vector<std::string>& blocks) {
@@ -99,11 +125,15 @@ void PrintLabelledMatrix(std::ostream& out, const Mat15& m, const std::vector<st
     return labels;
   };
   const auto rl = axes(row_blocks), cl = axes(col_blocks);
+  // Every cell is one space and then its text right-aligned in kCellWidth, the widest "%.4g"
+  // prints ("-1.234e-100"), so that columns never run together (they did at width 10 with a
+  // separator only in the padding: "2.429e-16-1.041e-16") and stay aligned for any value.
+  constexpr int kCellWidth = 11;
   char buf[64];
   std::snprintf(buf, sizeof buf, "%-10s", "");
   out << buf;
   for (int c = 0; c < 15; ++c) {
-    std::snprintf(buf, sizeof buf, "%10s", cl[static_cast<std::size_t>(c)].c_str());
+    std::snprintf(buf, sizeof buf, " %*s", kCellWidth, cl[static_cast<std::size_t>(c)].c_str());
     out << buf;
   }
   out << "\n";
@@ -114,9 +144,9 @@ void PrintLabelledMatrix(std::ostream& out, const Mat15& m, const std::vector<st
     for (int c = 0; c < 15; ++c) {
       const double v = m(r, c);
       if (v == 0.0)
-        std::snprintf(buf, sizeof buf, "%10s", "0");
+        std::snprintf(buf, sizeof buf, " %*s", kCellWidth, "0");
       else
-        std::snprintf(buf, sizeof buf, "%10.4g", v);
+        std::snprintf(buf, sizeof buf, " %*.4g", kCellWidth, v);
       out << buf;
     }
     out << "\n";
@@ -130,7 +160,7 @@ std::string UnknownConventionMessage(const Registry& reg, PluginKind kind, const
   const bool state = kind == PluginKind::StateConvention;
   std::string known;
   for (const auto& k : reg.ids(kind)) known += (known.empty() ? "" : ", ") + k;
-  std::string msg = std::string("unknown ") + (state ? "state" : "increment") + " convention " + Quoted(id) + "; known: " + known;
+  std::string msg = std::string("unknown ") + (state ? "state" : "increment") + " convention " + Quoted(id) + DidYouMean(id, reg.ids(kind)) + "; known: " + known;
   const PluginKind other = state ? PluginKind::IncrementConvention : PluginKind::StateConvention;
   if (reg.has(other, id)) msg += " (" + Quoted(id) + " is " + (state ? "an increment" : "a state") + " convention)";
   if (!load_issues.empty())

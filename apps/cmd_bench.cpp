@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "exit_codes.h"
 #include "imuconv/printable.h"
 
 namespace imuconv::cli {
@@ -30,7 +31,7 @@ int RunBench(bool as_json, const std::vector<std::string>& passthrough) {
     PrintError("imuconv bench runs the benchmark program imuconv-bench, which is not beside this imuconv" +
                (program.empty() ? std::string() : " (" + Printable(program.string()) + ")") +
                "; it is built with the project (target imuconv_bench) and installed beside imuconv");
-    return 1;
+    return kExitInternal;  // an incomplete installation, not the input
   }
   std::vector<std::string> args{program.string()};
   if (as_json) args.push_back("--benchmark_format=json");
@@ -42,7 +43,7 @@ int RunBench(bool as_json, const std::vector<std::string>& passthrough) {
   std::cerr.flush();
   execv(program.c_str(), argv.data());  // returns only on failure
   PrintError("cannot run " + Printable(program.string()) + ": " + std::system_category().message(errno));
-  return 1;
+  return kExitInternal;
 }
 
 }  // namespace

@@ -10,6 +10,8 @@
 #include "check/pipeline_task.h"
 #include "check/report.h"
 #include "commands.h"
+#include "exit_codes.h"
+#include "imuconv/pipeline/imu_plausibility.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/printable.h"
 #include "imuconv/report/report_output.h"
@@ -46,6 +48,7 @@ void RegisterCheckCommand(CLI::App& app, CommandContext& ctx) {
     if (case_path.empty() == pipeline_path.empty())
       throw CLI::ValidationError("give the IMU samples and noise with one of --case CASE.json or --pipeline P.json");
     check::CheckResult result;
+    std::vector<std::string> imu_warnings;  // suspected units or column order of the samples
     std::optional<report::ReportOutput> report_out;
     try {
       // The report's destination is examined before any work (a directory or an input fails now).
@@ -62,6 +65,8 @@ void RegisterCheckCommand(CLI::App& app, CommandContext& ctx) {
       const check::CaseInput input = pipeline_path.empty()
                                          ? check::ReadCaseFile(case_path)
                                          : check::ReadPipelineInput(pipeline::Pipeline::Load(pipeline_path), origin_ns);
+      imu_warnings = pipeline::ImuPlausibilityWarnings(input.samples, pipeline_path.empty() ? case_path : pipeline_path);
+      PrintWarnings(imu_warnings);
       const auto ms = pipeline::ReadDeclaredMeasurementFile(meas_path, reg, origin_ns);
       result = check::RunCheck(reg, input, ms, meas_path);
       if (report_out) {
@@ -73,12 +78,11 @@ void RegisterCheckCommand(CLI::App& app, CommandContext& ctx) {
       }
     } catch (const std::exception& e) {
       // Nothing could be checked: neither consistent (0) nor inconsistent (1).
-      PrintError(e.what());
-      ctx.exit_code = 2;
+      ctx.exit_code = ReportFailure(e);
       return;
     }
     if (as_json)
-      std::cout << check::ReportJson(result).dump(1) << "\n";
+      std::cout << WithWarnings(check::ReportJson(result), imu_warnings).dump(1) << "\n";
     else
       check::PrintTable(std::cout, result);
     ctx.exit_code = result.verdict == check::Verdict::consistent ? 0 : 1;

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "exit_codes.h"
 #include "imuconv/pipeline/json_io.h"
 #include "imuconv/printable.h"
 
@@ -21,7 +22,7 @@ int Run(const CommandContext& ctx, const Options& o) {
     const std::string unknown = UnknownConventionMessage(reg, PluginKind::StateConvention, id, issues);
     if (unknown.empty()) continue;
     PrintError(unknown);
-    return 1;
+    return kExitBadInput;
   }
   const ImuState x = pipeline::ReadStateFile(o.state);
   const Mat15 J = reg.conversion(o.from, o.to, x);

@@ -14,6 +14,7 @@
 #include <optional>
 
 #include "commands.h"
+#include "exit_codes.h"
 #include "imuconv/pipeline/json_io.h"
 #include "imuconv/printable.h"
 
@@ -81,7 +82,7 @@ int Run(const CommandContext& ctx, const Options& o) {
     if (*M->convention != from) {
       PrintError(o.matrix + ": /convention: the matrix declares '" + Printable(*M->convention) + "' but --from is '" +
                  Printable(from) + "'");
-      return 1;
+      return kExitBadInput;
     }
   }
   Registry reg;
@@ -90,14 +91,14 @@ int Run(const CommandContext& ctx, const Options& o) {
     const std::string unknown = UnknownConventionMessage(reg, q.kind, id, issues);
     if (unknown.empty()) continue;
     PrintError(unknown);
-    return 1;
+    return kExitBadInput;
   }
   const auto bf = pipeline::Blocks(reg, q.kind, from);
   const auto bt = pipeline::Blocks(reg, q.kind, o.to);
   if (M && M->blocks && *M->blocks != bf) {
     PrintError(o.matrix + ": /blocks: the matrix declares the block order " + Printable(nlohmann::json(*M->blocks).dump()) +
                " but '" + from + "' orders its blocks " + nlohmann::json(bf).dump());
-    return 1;
+    return kExitBadInput;
   }
 
   Mat15 result;

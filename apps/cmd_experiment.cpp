@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "commands.h"
+#include "exit_codes.h"
 #include "experiment_report.h"
 #include "experiments.h"
 #include "imuconv/report/report_output.h"
@@ -110,8 +111,7 @@ void RegisterExperimentCommand(CLI::App& app, CommandContext& ctx) {
         report_out->Write(experiment::ExperimentPage(result));
       }
     } catch (const std::exception& e) {
-      PrintError(e.what());
-      ctx.exit_code = 2;
+      ctx.exit_code = ReportFailure(e);
       return;
     }
     if (as_json)

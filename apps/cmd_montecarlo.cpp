@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "commands.h"
+#include "exit_codes.h"
 #include "imuconv/bridge.h"
 #include "imuconv/pipeline/json_check.h"
 #include "imuconv/pipeline/output_file.h"
@@ -301,8 +302,7 @@ void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
       }
     } catch (const std::exception& e) {
       // Nothing could be judged: neither consistent (0) nor inconsistent (1).
-      PrintError(e.what());
-      ctx.exit_code = 2;
+      ctx.exit_code = ReportFailure(e);
       return;
     }
     if (as_json)

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "commands.h"
+#include "exit_codes.h"
 #include "imuconv/pipeline/errors.h"
 #include "imuconv/pipeline/imu_reader.h"
 #include "imuconv/pipeline/json_io.h"
@@ -77,6 +78,7 @@ void RegisterNeesCommand(CLI::App& app, CommandContext& ctx) {
     if (pipeline_path.empty() && (imu_path.empty() || gt_path.empty() || noise_path.empty()))
       throw CLI::ValidationError("give --imu, --ground-truth and --noise, or --pipeline P.json");
     nees::Result result;
+    std::vector<std::string> imu_warnings;  // suspected units or column order of the samples
     std::optional<report::ReportOutput> report_out;
     try {
       // The report's destination is examined before any work (a directory or an input fails now).
@@ -106,6 +108,8 @@ void RegisterNeesCommand(CLI::App& app, CommandContext& ctx) {
       else
         throw Error(pipeline_path + ": /noise: required key is missing (or give --noise)");
       options.gravity = in.gravity;
+      imu_warnings = in.imu.warnings;
+      PrintWarnings(imu_warnings);
       result = nees::RunNees(reg, in.imu, in.gt, options);
       if (report_out) {
         report_out->RefuseIfLoadedObject();
@@ -119,12 +123,11 @@ void RegisterNeesCommand(CLI::App& app, CommandContext& ctx) {
         if (!ctx.quiet()) std::cerr << "wrote " << Printable(report_path) << "\n";
       }
     } catch (const std::exception& e) {
-      PrintError(e.what());
-      ctx.exit_code = 2;
+      ctx.exit_code = ReportFailure(e);
       return;
     }
     if (as_json)
-      std::cout << nees::ReportJson(result).dump(1) << "\n";
+      std::cout << WithWarnings(nees::ReportJson(result), imu_warnings).dump(1) << "\n";
     else
       nees::PrintSummary(std::cout, result);
     ctx.exit_code = 0;

@@ -24,6 +24,7 @@
 #include <utility>
 
 #include "commands.h"
+#include "exit_codes.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/pipeline/result_arrays.h"
@@ -228,11 +229,11 @@ int Run(const CommandContext& ctx, const Options& o) {
   }
   if (!quiet && !file.is_stdout()) std::cout << "\nwrote " << Printable(out) << "\n";
   // The document is complete and written; a check task that found an inconsistency makes the
-  // run's exit code 3 (1 is a failed run, 2 a usage error), as imuconv check's 1 does.
+  // run's exit code 1, as imuconv check's verdict does (exit_codes.h; 3 until the table was one).
   for (const auto& name : inconsistent)
     std::cerr << "imuconv: check task '" << Printable(name)
               << "': inconsistent (see its \"measurements\" in the output)\n";
-  return inconsistent.empty() ? 0 : 3;
+  return inconsistent.empty() ? kExitOk : kExitInconsistent;
 }
 
 }  // namespace

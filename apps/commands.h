@@ -5,6 +5,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <functional>
 #include <ostream>
 #include <string>
@@ -58,6 +59,20 @@ void PrintSearchPath(const CommandContext& ctx, const std::vector<std::string>& 
 
 /// Prints "imuconv: error: <message>" to stderr (each line of a multi-line message indented).
 void PrintError(const std::string& message);
+
+/// Prints each warning as "imuconv: warning: <text>" on stderr (also with -q: warnings are
+/// never silenced).
+void PrintWarnings(const std::vector<std::string>& warnings);
+
+/// A command's --json object with its warnings as "warnings" (an array of strings), when there
+/// are any; unchanged otherwise, so an output without warnings is what it always was.
+nlohmann::json WithWarnings(nlohmann::json out, const std::vector<std::string>& warnings);
+
+/// Prints a failure that stopped a command and returns its exit code (exit_codes.h): 2 (bad
+/// input) for the errors imuconv reports about its input (imuconv::Error and every other
+/// std::exception that is not one of the two below), 3 (internal error, said so in the message)
+/// for a std::logic_error (a broken invariant of imuconv) and std::bad_alloc.
+int ReportFailure(const std::exception& e);
 
 /// --shard K/N of imuconv run and imuconv montecarlo: two decimal numbers, 0 <= K < N; returns
 /// {K, N}. Throws UsageError quoting the text otherwise.

@@ -5,6 +5,8 @@
 #include <iostream>
 
 #include "commands.h"
+#include "exit_codes.h"
+#include "usage_hint.h"
 #include "imuconv/plugin_kind.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/pipeline/standard_descriptors.h"
@@ -57,18 +59,30 @@ int main(int argc, char** argv) {
   RegisterNeesCommand(app, ctx);
   RegisterExperimentCommand(app, ctx);
 
+  // One exit-code table for every command (exit_codes.h), under every --help.
+  app.footer(kExitCodeFooter);
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) sub->footer(kExitCodeFooter);
+
   const auto start = std::chrono::steady_clock::now();
   try {
     app.parse(argc, argv);  // runs the chosen subcommand's callback
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);  // prints help (stdout) or the usage error (stderr)
-    return code == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version (stdout)
+    // A mistyped subcommand or flag: name it and the nearest known ones; otherwise the
+    // parser's own message (a missing argument, a bad value).
+    const std::string hint = UsageHint(app, argc, argv);
+    if (hint.empty()) {
+      app.exit(e);  // the usage error (stderr)
+    } else {
+      PrintError(hint);
+      std::cerr << "Run with --help for more information.\n";
+    }
+    return kExitBadInput;
   } catch (const std::exception& e) {
-    PrintError(e.what());
-    return 1;
+    return ReportFailure(e);
   } catch (...) {
-    PrintError("unknown failure");
-    return 1;
+    PrintError("internal error: an unknown failure (a defect of imuconv or of a plugin; please report it)");
+    return kExitInternal;
   }
   if (ctx.verbose())
     std::cerr << "imuconv: " << app.get_subcommands().front()->get_name() << " took "

@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "chi_square.h"
+#include "imuconv/did_you_mean.h"
 #include "imuconv/printable.h"
 #include "imuconv/window.h"
 #include "order_statistics.h"
@@ -70,7 +71,8 @@ Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline
     const std::string hint = reg.has(PluginKind::Preintegrator, options.method)
                                  ? " (it is a preintegrator; nees propagates states from the ground truth)"
                                  : "";
-    throw Error("--method: unknown propagator " + Printable(options.method) + hint + "; known: " + known);
+    throw Error("--method: unknown propagator " + Printable(options.method) + hint +
+                DidYouMean(options.method, reg.ids(PluginKind::Propagator)) + "; known: " + known);
   }
   const ImuNoise& q = options.noise;
   if (q.gyro_noise_density == 0 && q.accel_noise_density == 0 && q.gyro_random_walk == 0 && q.accel_random_walk == 0)

@@ -32,6 +32,7 @@ from ._imuconv import (  # noqa: F401
     propagate_by_preintegration,
     residual,
     run,
+    write_measurements,
 )
 
 try:
@@ -43,5 +44,5 @@ except ImportError:  # pragma: no cover
 __all__ = [
     "Error", "Expressed", "Increment", "Preintegrated", "Propagation", "Registry", "Residual", "State",
     "bias_corrected_delta", "check", "from_convention", "preintegrate", "propagate", "propagate_by_preintegration",
-    "residual", "run",
+    "residual", "run", "write_measurements",
 ]

@@ -1,6 +1,7 @@
 # Type stubs of the imuconv module (python/src/*.cpp). Arrays are float64 NumPy arrays;
 # array arguments accept anything NumPy converts (lists included) of the stated shape.
-from typing import Any, Dict, List, Optional, Sequence
+import os
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -59,6 +60,8 @@ class Expressed:
     convention: str
     jacobian_convention: str
     blocks: List[str]
+    J_bias_rows: List[str]  # J_bias's row blocks, jacobian_convention's order
+    J_bias_columns: List[str]  # J_bias's column blocks, e.g. ['bg', 'ba'] or ['ba', 'bg']
     dt: float
     delta: Increment
     @property
@@ -129,4 +132,11 @@ def residual(reg: Registry, kind: str, m: Preintegrated, x_s: State, x_e: State,
 def bias_corrected_delta(reg: Registry, m: Preintegrated, jacobian_convention: str, *, bg: ArrayLike,
                          ba: ArrayLike) -> Increment: ...
 def run(pipeline: str, *, plugin_dirs: Sequence[str] = ..., threads: int = ...) -> Dict[str, Any]: ...
-def check(reg: Registry, measurements: str, *, case: str) -> Dict[str, Any]: ...
+MeasurementValues = Union[Preintegrated, Expressed, Sequence[Union[Preintegrated, Expressed]]]
+def check(reg: Registry, measurements: Union[str, os.PathLike[str], Mapping[str, Any], Sequence[Mapping[str, Any]],
+                                             MeasurementValues], *,
+          case: Optional[Union[str, os.PathLike[str]]] = ..., samples: Optional[ArrayLike] = ...,
+          noise: Optional[Noise] = ..., t_start: Optional[Union[float, Sequence[float]]] = ...) -> Dict[str, Any]: ...
+def write_measurements(path: Union[str, os.PathLike[str]], reg: Registry, measurements: MeasurementValues, *,
+                       t_start: Optional[Union[float, Sequence[float]]] = ...,
+                       conventions: Sequence[str] = ...) -> None: ...

@@ -4,8 +4,10 @@
 
 #include <pybind11/pybind11.h>
 
+#include <string>
 #include <vector>
 
+#include "imuconv/bridge.h"
 #include "imuconv/registry.h"
 #include "imuconv/types.h"
 
@@ -22,10 +24,24 @@ struct LoadedRegistry : Registry {
 /// CovarianceProblem, the rule every pipeline input follows); nothing is repaired.
 Mat15 CheckedCovariance(py::handle obj, const char* name);
 
+/// A measurement in a named convention, with that convention's block order and the row and
+/// column blocks of its J_bias (in its jacobian_convention's order).
+struct Expressed : PreintegratedIn {
+  std::vector<std::string> blocks;
+  std::vector<std::string> J_bias_rows, J_bias_columns;
+};
+
+/// For the reprs: "[0.1, -2, 3]", "['theta', 'p']", and an increment as "rotation 2.5 deg about
+/// [..], dp=[..], dv=[..]" (with dbg, dba when not zero).
+std::string VecText(const Vec3& v);
+std::string Labels(const std::vector<std::string>& labels);
+std::string IncrementText(const PreintIncrement& d);
+
 void BindValues(py::module_& m);
 void BindRegistry(py::module_& m);
 void BindBridge(py::module_& m);
 void BindPipeline(py::module_& m);
+void BindMeasurements(py::module_& m);
 
 /// Noise densities from a mapping with exactly the four keys of a pipeline's "noise" form
 /// (gyro_noise_density, accel_noise_density, gyro_random_walk, accel_random_walk): a missing

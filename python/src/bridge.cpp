@@ -49,15 +49,13 @@ void ReadOnly(py::class_<T>& c, const char* name, Vec3 T::*member, const char* d
 
 Vec3 Gravity(py::handle g) { return ToFixed<3, 1>(g, "gravity"); }
 
-/// A measurement in a named convention, with that convention's block order.
-struct Expressed : PreintegratedIn {
-  std::vector<std::string> blocks;
-};
-
 Expressed ExpressIn(const LoadedRegistry& r, const Preintegrated& p, const std::string& convention) {
   Expressed e;
   static_cast<PreintegratedIn&>(e) = FiniteMeasurement(Express(r, p, convention), "express");
   e.blocks = r.info(PluginKind::IncrementConvention, convention).blocks;
+  // J_bias's rows and columns follow its own chart's order (Express lays it out so).
+  for (const auto& b : r.info(PluginKind::IncrementConvention, e.jacobian_convention).blocks)
+    (b == "bg" || b == "ba" ? e.J_bias_columns : e.J_bias_rows).push_back(b);
   return e;
 }
 
@@ -75,6 +73,12 @@ void BindBridge(py::module_& m) {
   ReadOnly(pre, "ba_hat", &Preintegrated::ba_hat, "accelerometer bias estimate it was integrated with (3,)");
   pre.def_property_readonly("J_bias", [](const Preintegrated& p) { return ToArray(p.J_bias); });
   pre.def_property_readonly("cov", [](const Preintegrated& p) { return ToArray(p.cov); });
+  pre.def("__repr__", [](const Preintegrated& p) {
+    return "Preintegrated(dt=" + Num(p.dt) + ", " + IncrementText(p.delta) + ", bg_hat=" + VecText(p.bg_hat) +
+           ", ba_hat=" + VecText(p.ba_hat) +
+           "; cov (15, 15) in preint_reference ['theta', 'p', 'v', 'bg', 'ba'], J_bias (9, 6) rows ['theta', 'p', "
+           "'v'] columns ['bg', 'ba'])";
+  });
   pre.def(
       "express",
       [](const Preintegrated& p, const LoadedRegistry& r, const std::string& convention) {
@@ -100,6 +104,16 @@ void BindBridge(py::module_& m) {
   in.def_property_readonly("cov", [](const Expressed& p) { return ToArray(p.cov); });
   in.def_readonly("delta", &Expressed::delta);
   in.def_readonly("blocks", &Expressed::blocks, "the block order of cov, e.g. ['theta', 'p', 'v', 'bg', 'ba']");
+  in.def_readonly("J_bias_rows", &Expressed::J_bias_rows,
+                  "the row blocks of J_bias, in jacobian_convention's order, e.g. ['theta', 'p', 'v']");
+  in.def_readonly("J_bias_columns", &Expressed::J_bias_columns,
+                  "the column blocks of J_bias (an additive change of the bias estimate), in jacobian_convention's "
+                  "order, e.g. ['bg', 'ba'] or ['ba', 'bg']");
+  in.def("__repr__", [](const Expressed& e) {
+    return "Expressed(convention='" + e.convention + "', blocks=" + Labels(e.blocks) + ", jacobian_convention='" +
+           e.jacobian_convention + "', J_bias_rows=" + Labels(e.J_bias_rows) +
+           ", J_bias_columns=" + Labels(e.J_bias_columns) + ", dt=" + Num(e.dt) + ", " + IncrementText(e.delta) + ")";
+  });
   in.def(
       "to_preintegrated",
       [](const Expressed& e, const LoadedRegistry& r) { return FiniteMeasurement(FromConvention(r, e), "to_preintegrated"); },

@@ -24,6 +24,7 @@ PYBIND11_MODULE(_imuconv, m) {
   imuconv::python::BindRegistry(m);
   imuconv::python::BindBridge(m);
   imuconv::python::BindPipeline(m);
+  imuconv::python::BindMeasurements(m);
 #ifdef IMUCONV_VERSION
   m.attr("__version__") = IMUCONV_VERSION;
 #endif

@@ -13,10 +13,7 @@
 #include <vector>
 
 #include "bindings.h"
-#include "check/check.h"
-#include "check/report.h"
 #include "imuconv/pipeline/pipeline.h"
-#include "pipeline/src/forms/measurement.h"
 #include "imuconv/pipeline/result_arrays.h"
 
 namespace imuconv::python {
@@ -66,25 +63,7 @@ void BindPipeline(py::module_& m) {
       "OUT.npz` keys them (e.g. 'tasks/kf_rk4/measurements/J_bias/matrix', shape (n, 9, 6)), with the sidecar "
       "(conventions, block orders, scalars) as a dict under 'meta'. The numbers are the JSON output's, bit for bit; "
       "threads: 0 = every core (the result does not depend on it).");
-
-  m.def(
-      "check",
-      [](const LoadedRegistry& r, const std::string& measurements, const std::string& case_file) {
-        std::string report;
-        {
-          py::gil_scoped_release release;
-          const check::CaseInput input = check::ReadCaseFile(case_file);
-          const auto ms = pipeline::ReadDeclaredMeasurementFile(measurements, r);
-          report = check::ReportJson(check::RunCheck(r, input, ms, measurements)).dump();
-        }
-        return py::module_::import("json").attr("loads")(report);
-      },
-      py::arg("reg"), py::arg("measurements"), py::kw_only(), py::arg("case"),
-      "imuconv check as a call: a measurements file (any chart may be \"unknown\") against the reference "
-      "schemes over a reference case's samples. Returns the report `imuconv check --json` prints "
-      "(schemas/check_output.schema.json): 'verdict' ('consistent' or 'inconsistent') and, per measurement, "
-      "what was declared, the best explanation, its differences and the findings. Unusable input raises "
-      "imuconv.Error naming the file and pointer.");
+  // imuconv.check: measurements.cpp (files and values).
 }
 
 }  // namespace imuconv::python

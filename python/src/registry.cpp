@@ -63,6 +63,16 @@ void BindRegistry(py::module_& m) {
             return r;
           }),
           py::arg("plugin_dirs") = std::vector<std::string>{}, py::kw_only(), py::arg("allow_override") = false);
+  reg.def("__repr__", [](const LoadedRegistry& r) {
+    // What is loaded, kind by kind, and whether anything failed: the first question about a
+    // registry in an interactive session.
+    std::string t = "Registry(";
+    for (const auto kind : {PluginKind::StateConvention, PluginKind::IncrementConvention, PluginKind::Propagator,
+                            PluginKind::Preintegrator}) {
+      t += std::string(KindName(kind)) + "=" + Labels(r.ids(kind)) + ", ";  // as reg.ids(kind) names them
+    }
+    return t + "load_issues=" + std::to_string(r.load_issues.size()) + ")";
+  });
   reg.def_property_readonly(
       "load_issues",
       [](const LoadedRegistry& r) {

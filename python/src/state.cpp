@@ -59,6 +59,25 @@ void Vec3Property(py::class_<T>& c, const char* name, Vec3 T::*member, const cha
 
 }  // namespace
 
+std::string VecText(const Vec3& v) { return "[" + Num(v[0]) + ", " + Num(v[1]) + ", " + Num(v[2]) + "]"; }
+
+std::string Labels(const std::vector<std::string>& labels) {
+  std::string t = "[";
+  for (std::size_t i = 0; i < labels.size(); ++i) t += (i ? ", '" : "'") + labels[i] + "'";
+  return t + "]";
+}
+
+std::string IncrementText(const PreintIncrement& d) {
+  // The rotation as an angle about an axis: what a reader checks first (the note's Exp(dtheta)).
+  const Vec3 phi = so3::Log(d.dR);
+  const double angle = phi.norm();
+  std::string t = "rotation " + Num(angle * 180.0 / M_PI) + " deg";
+  if (angle > 0.0) t += " about " + VecText(phi / angle);
+  t += ", dp=" + VecText(d.dp) + ", dv=" + VecText(d.dv);
+  if (!d.dbg.isZero(0.0) || !d.dba.isZero(0.0)) t += ", dbg=" + VecText(d.dbg) + ", dba=" + VecText(d.dba);
+  return t;
+}
+
 void BindValues(py::module_& m) {
   py::class_<ImuState> state(m, "State",
                              "The 15-dof IMU state: body-to-world rotation, position and velocity of the body in the "
@@ -121,6 +140,7 @@ void BindValues(py::module_& m) {
   Vec3Property(inc, "dv", &PreintIncrement::dv, "velocity increment (3,)");
   Vec3Property(inc, "dbg", &PreintIncrement::dbg, "gyroscope bias random walk (3,)");
   Vec3Property(inc, "dba", &PreintIncrement::dba, "accelerometer bias random walk (3,)");
+  inc.def("__repr__", [](const PreintIncrement& d) { return "Increment(" + IncrementText(d) + ")"; });
 }
 
 ImuNoise ReadNoise(py::handle noise) {

@@ -35,7 +35,7 @@ const std::vector<PluginInfo>& Registry::plugins() const { return impl_->infos; 
 const PluginInfo& Registry::info(PluginKind kind, std::string_view id) const {
   if (const PluginInfo* i = impl_->find(kind, id)) return *i;
   throw Error("no " + std::string(KindName(kind)) + " plugin with id " + Quoted(id) +
-              " is loaded; known: " + KnownIds(ids(kind)));
+              " is loaded" + DidYouMean(id, ids(kind)) + "; known: " + KnownIds(ids(kind)));
 }
 
 bool Registry::has(PluginKind kind, std::string_view id) const { return impl_->find(kind, id) != nullptr; }

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "imuconv/did_you_mean.h"
 #include "imuconv/printable.h"
 #include "imuconv/registry.h"
 
@@ -65,7 +66,7 @@ struct Registry::Impl {
     std::vector<std::string> known;
     for (const auto& [k, v] : m) known.push_back(k);
     throw Error("no " + std::string(KindName(kind)) + " plugin with id " + Quoted(id) +
-                " is loaded; known: " + KnownIds(known));
+                " is loaded" + DidYouMean(id, known) + "; known: " + KnownIds(known));
   }
   /// get() without the shared_ptr copy, for the conversions on the hot path.
   template <typename T>

@@ -1,7 +1,7 @@
 // imuconv check --pipeline and the pipeline's check task: the same samples given as a reference
 // case and as a pipeline's generic CSV (another column order, milliseconds, ';') must give the
 // same verdict, the same explanations and the same differences; the check task inside
-// `imuconv run` must write what `check --json` prints and make the run exit 3 when inconsistent;
+// `imuconv run` must write what `check --json` prints and make the run exit 1 when inconsistent;
 // hostile inputs are refused by file and pointer.
 //
 // Tolerance of the numbers compared between --case and --pipeline: 1e-9 on each max d / mean d
@@ -158,7 +158,7 @@ TEST(CheckPipeline, SameVerdictAndNumbersAsTheCase) {
 
 // ---- the check task inside imuconv run ----
 
-TEST(CheckTask, RunWritesWhatCheckPrintsAndExits3WhenInconsistent) {
+TEST(CheckTask, RunWritesWhatCheckPrintsAndExits1WhenInconsistent) {
   const TempDir tmp;
   for (const bool doubled : {false, true}) {
     const std::string id = "smooth-0";
@@ -167,8 +167,8 @@ TEST(CheckTask, RunWritesWhatCheckPrintsAndExits3WhenInconsistent) {
     const CaseFiles s = Write(tmp, id, json::array({m}), tag);
     const std::string out = tmp.file(tag + ".out.json");
     const CommandResult run = RunImuconv("run -q " + ShellQuote(s.pipeline) + " -o " + ShellQuote(out), tmp);
-    // 3: the run completed and wrote its document, and a check task found an inconsistency.
-    ASSERT_EQ(run.exit_code, doubled ? 3 : 0) << run.err;
+    // 1 (exit_codes.h): the run completed and wrote its document, and a check task found an inconsistency.
+    ASSERT_EQ(run.exit_code, doubled ? 1 : 0) << run.err;
     if (doubled) {
       EXPECT_TRUE(Has(run.err, "check task 'chk': inconsistent")) << run.err;
     }
@@ -244,7 +244,7 @@ TEST(CheckPipelineHostile, RefusedByFileAndPointer) {
   // ... and as a run's check task: refused before any task runs, nothing written.
   const std::string out = tmp.file("never.json");
   r = RunImuconv("run -q " + ShellQuote(tmp.file("no_noise.json")) + " -o " + ShellQuote(out), tmp);
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "/noise") && Has(r.err, "task 'chk'")) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out));
 
@@ -265,7 +265,7 @@ TEST(CheckPipelineHostile, RefusedByFileAndPointer) {
               Has(r.err, "not inside the pipeline's IMU samples"))
       << r.err;
   r = RunImuconv("run -q " + ShellQuote(shifted) + " -o " + ShellQuote(out), tmp);
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "hostile.meas.json") && Has(r.err, "/measurements/0") &&
               Has(r.err, "not inside the IMU samples"))
       << r.err;
@@ -275,13 +275,13 @@ TEST(CheckPipelineHostile, RefusedByFileAndPointer) {
   p = ReadJson(s.pipeline);
   p["tasks"][0]["measurements"] = "pre";
   r = RunImuconv("run -q " + ShellQuote(tmp.write("by_name.json", p.dump())) + " -o " + ShellQuote(out), tmp);
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "by_name.json") && Has(r.err, "/tasks/0/measurements") &&
               Has(r.err, "expected {\"file\": PATH}"))
       << r.err;
   p["tasks"][0]["measurements"] = {{"file", "nowhere.json"}};
   r = RunImuconv("run -q " + ShellQuote(tmp.write("missing.json", p.dump())) + " -o " + ShellQuote(out), tmp);
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "nowhere.json")) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out));
 

@@ -128,7 +128,7 @@ TEST(OutputSafety, FileWithSeveralHardLinksIsRefused) {
   const std::string out = tmp.write("result.json", "shared\n");
   ASSERT_EQ(::link(out.c_str(), tmp.file("backup.json").c_str()), 0);
   const CommandResult r = RunImuconv("run " + Q(p) + " -o " + Q(out) + " -q", tmp);
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "imuconv: error: " + out + ": has 2 hard links; replacing it would split them")) << r.err;
   EXPECT_EQ(ReadText(out), "shared\n");
   EXPECT_EQ(ReadText(tmp.file("backup.json")), "shared\n");
@@ -150,7 +150,7 @@ TEST(OutputSafety, AnInputIsNeverTheOutput) {
   };
   for (const auto& [out, says] : cases) {
     const CommandResult r = RunImuconv("run " + Q(p) + " -o " + Q(out), tmp);
-    EXPECT_EQ(r.exit_code, 1) << out;
+    EXPECT_EQ(r.exit_code, 2) << out;
     EXPECT_TRUE(Has(r.err, "imuconv: error: " + out + ": " + says + ": refusing to overwrite it")) << r.err;
     EXPECT_EQ(r.out, "") << "refused before the run";
   }
@@ -165,7 +165,7 @@ TEST(OutputSafety, AMeasurementsFileIsNeverTheOutput) {
   const std::string meas = tmp.file("data/gtsam_smooth0_manifold.measurements.json");
   const auto before = Snapshot(tmp.path());
   CommandResult r = RunImuconv("run " + Q(p) + " -o " + Q(meas), tmp);
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, meas + ": is the same file as the input file " + meas + ": refusing to overwrite it")) << r.err;
   EXPECT_TRUE(Snapshot(tmp.path()) == before);
   // The same through the pipeline's own "output" key.
@@ -173,7 +173,7 @@ TEST(OutputSafety, AMeasurementsFileIsNeverTheOutput) {
   doc["output"] = "data/gtsam_smooth0_manifold.measurements.json";
   const std::string p2 = tmp.write("self.json", doc.dump());
   r = RunImuconv("run " + Q(p2), tmp);
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "is the same file as the input file")) << r.err;
   EXPECT_EQ(ReadText(meas), before.at(meas));
   // Sanity: the pipeline does run, to a fresh file.
@@ -194,7 +194,7 @@ TEST(OutputSafety, PipelineOutputKeyStaysInsideItsDirectory) {
     doc["output"] = bad;
     const std::string pipe = tmp.write("inner/escape.json", doc.dump());
     const CommandResult r = RunImuconv("run " + Q(pipe), tmp);
-    EXPECT_EQ(r.exit_code, 1) << bad;
+    EXPECT_EQ(r.exit_code, 2) << bad;
     EXPECT_TRUE(Has(r.err, pipe + ": /output: expected a relative path inside the pipeline's directory")) << r.err;
     EXPECT_TRUE(Has(r.err, "-o")) << r.err;
   }

@@ -85,7 +85,7 @@ TEST(RefcaseInput, BadInputsNameThePointerAndWriteNothing) {
     const std::string c = WriteCase(tmp, b.name + ".json", b.edit);
     const std::string out = tmp.file(b.name + ".out.json");
     const CommandResult r = RunImuconv("refcase " + Q(c) + " -o " + Q(out), tmp);
-    EXPECT_EQ(r.exit_code, 1) << b.name << "\n" << r.err;
+    EXPECT_EQ(r.exit_code, 2) << b.name << "\n" << r.err;
     EXPECT_TRUE(Has(r.err, "imuconv: error: " + c + ": " + b.says)) << b.name << "\n" << r.err;
     EXPECT_FALSE(fs::exists(out)) << b.name;
   }
@@ -99,7 +99,7 @@ TEST(RefcaseInput, TheCaseFileIsNeverTheOutput) {
   const std::string before = ReadText(c);
   for (const std::string& out : {c, tmp.file("link.json")}) {
     const CommandResult r = RunImuconv("refcase " + Q(c) + " -o " + Q(out), tmp);
-    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(r.exit_code, 2);
     EXPECT_TRUE(Has(r.err, out + ": is the same file as the case file " + c + ": refusing to overwrite it")) << r.err;
   }
   EXPECT_EQ(ReadText(c), before);

@@ -92,7 +92,7 @@ TEST(Trajectory, RefusedBeforeAnyWork) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "--tum: give a file, not stdout")) << r.err;
   r = RunImuconv("run " + ShellQuote(keyframes) + out + " --tum " + ShellQuote(keyframes) + " --trajectory-task pred_rk4", tmp);
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "the pipeline")) << r.err;
   // The same path as the output, which does not exist yet (so no file to compare): refused by name.
   r = RunImuconv("run " + ShellQuote(keyframes) + out + " --tum " + ShellQuote(tmp.file("out.json")) + " --trajectory-task pred_rk4", tmp);
@@ -117,7 +117,7 @@ TEST(Trajectory, RefusedBeforeAnyWork) {
   bad["ground_truth"]["path"] = SourcePath("examples/") + bad["ground_truth"]["path"].get<std::string>();
   const std::string bad_file = tmp.write("bad.json", bad.dump());
   r = RunImuconv("run " + ShellQuote(bad_file) + out + " --tum " + ShellQuote(old) + " --trajectory-task pred_rk4", tmp);
-  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_EQ(ReadText(old), "1 0 0 0 0 0 0 1\n");
 }
 

@@ -331,14 +331,14 @@ TEST(AtomicWrite, FailingRunsLeaveNoOutput) {
   // 1. A new output file is not created.
   const std::string out = tmp.file("result.json");
   CommandResult r = RunImuconv("run " + ShellQuote(late) + " -o " + ShellQuote(out), tmp);
-  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find(late + ": /tasks/0/interval/t_end: t = 9 s is after the last IMU sample"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));
 
   // 2. An existing output file is left as it was.
   std::ofstream(out) << "previous result\n";
   r = RunImuconv("run " + ShellQuote(late) + " -o " + ShellQuote(out), tmp);
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(ReadText(out), "previous result\n");
 
   // 3. A good run replaces it; no temporaries are left behind in either case.
@@ -350,13 +350,13 @@ TEST(AtomicWrite, FailingRunsLeaveNoOutput) {
   // 4. An output directory that does not exist: an error before the run, nothing written.
   const std::string nowhere = tmp.file("missing/result.json");
   r = RunImuconv("run " + ShellQuote(ok) + " -o " + ShellQuote(nowhere) + " --quiet", tmp);
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find(nowhere + ": cannot create a temporary file"), std::string::npos) << r.err;
   EXPECT_EQ(tmp.entries(), 3u);
 
   // 5. A failing run to a FIFO or to stdout writes nothing there either (held until success).
   r = RunImuconv("run " + ShellQuote(late) + " -o -", tmp);
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.out, "");
 }
 

@@ -136,7 +136,7 @@ TEST(PipelineConfig, BadIdsAreCheckedAgainstTheRegistry) {
   d["tasks"][1]["conventions"] = {"gtsam_manifold", "gtsam_manfold"};
   d["tasks"][4]["first_order_charts"] = {"gtsam_navstate"};  // a state convention
   const auto is = Issues(d);
-  EXPECT_ISSUE(is, "/tasks/0/state_convention", "unknown state convention 'lefty'; known: ");
+  EXPECT_ISSUE(is, "/tasks/0/state_convention", "unknown state convention 'lefty' (did you mean 'left'?); known: ");
   EXPECT_ISSUE(is, "/tasks/0/state_convention", "gtsam_navstate");
   EXPECT_ISSUE(is, "/tasks/0/propagator", "unknown propagator 'manifold'");
   EXPECT_ISSUE(is, "/tasks/0/propagator", "('manifold' is a preintegrator)");

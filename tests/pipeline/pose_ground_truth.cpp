@@ -202,7 +202,7 @@ TEST(PoseGroundTruth, WhatAPoseCannotGiveIsRefusedAtItsPointer) {
   p["tasks"][3]["start"] = {{"state", "ground_truth"}};
   const std::string path = tmp.write("p.json", p.dump());
   const CommandResult r = RunImuconv("run " + ShellQuote(path) + " -o " + ShellQuote(tmp.file("out.json")), tmp);
-  EXPECT_EQ(r.exit_code, 1);  // a pipeline the data cannot serve; nothing written
+  EXPECT_EQ(r.exit_code, 2);  // a pipeline the data cannot serve; nothing written
   EXPECT_NE(r.err.find("/tasks/0/bias: the ground truth"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("format \"tum\") has poses only"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(tmp.file("out.json")));

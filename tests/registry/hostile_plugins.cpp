@@ -384,7 +384,7 @@ TEST(HostilePluginsCli, DuplicateRk4FailsTheCommandUnlessOverridden) {
   TempDir tmp;
   const std::string dir = Fixture("override");
   CommandResult r = RunCli("plugins --plugin-dir " + ShellQuote(dir), tmp);
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);  // a duplicate id: bad input (docs/exit-codes.md)
   EXPECT_TRUE(Has(r.err, "imuconv: error: duplicate propagator plugin id 'rk4': '" + dir +
                              "/imuconv_plugin_claims_rk4.so' (found first) and '" +
                              BuiltIn("imuconv_plugin_integrators_rk4.so") + "'"))
@@ -404,7 +404,7 @@ TEST(HostilePluginsCli, RunFailsOnADuplicateRk4InThePipelinesPluginDirs) {
   pipeline["plugin_dirs"] = {Fixture("override")};
   const std::string path = tmp.write("pipeline.json", pipeline.dump(2));
   const CommandResult r = RunCli("run " + ShellQuote(path) + " -q -o " + ShellQuote(tmp.file("out.json")), tmp);
-  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_TRUE(Has(r.err, "duplicate propagator plugin id 'rk4'")) << r.err;
   EXPECT_TRUE(Has(r.err, Fixture("override/imuconv_plugin_claims_rk4.so"))) << r.err;
   EXPECT_TRUE(Has(r.err, BuiltIn("imuconv_plugin_integrators_rk4.so"))) << r.err;

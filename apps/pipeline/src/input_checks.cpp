@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "imuconv/numeric.h"
+#include "imuconv/did_you_mean.h"
 #include "imuconv/printable.h"
 #include "imuconv/so3.h"
 
@@ -106,7 +107,7 @@ void CheckPluginId(Checker& c, const Registry& reg, PluginKind kind, const std::
                                                             : "preintegrator";
   std::string known;
   for (const auto& k : reg.ids(kind)) known += (known.empty() ? "" : ", ") + k;
-  std::string msg = std::string("unknown ") + what + " " + Quoted(id) + "; known: " + known;
+  std::string msg = std::string("unknown ") + what + " " + Quoted(id) + DidYouMean(id, reg.ids(kind)) + "; known: " + known;
   // A known id of another kind is a frequent slip: say so.
   for (PluginKind k :
        {PluginKind::StateConvention, PluginKind::IncrementConvention, PluginKind::Propagator, PluginKind::Preintegrator})

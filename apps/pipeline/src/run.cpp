@@ -321,6 +321,8 @@ void RunToSink(const Pipeline& p, const Registry& reg, const RunOptions& options
   ctx.referenced = ReferencedTasks(ctx.spec);
   CheckRegistry(ctx);
   LoadData(ctx);
+  if (options.log)
+    for (const auto& w : ctx.imu.warnings) *options.log << "warning: " << w << "\n";
   CheckTimes(ctx);
   CheckKeptMemory(ctx.spec, ctx.referenced, [&](const std::string& f) { return ctx.files.at(f).size(); },
                   options.max_kept_bytes);

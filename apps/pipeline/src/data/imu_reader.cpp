@@ -1,4 +1,5 @@
 // The IMU readers: EuRoC and generic CSV, one streaming row loop for both.
+#include "imuconv/pipeline/imu_plausibility.h"
 #include "imuconv/pipeline/imu_reader.h"
 
 #include <algorithm>
@@ -65,6 +66,7 @@ ImuData ReadImuRows(const std::string& path, data::RowFormat rf, const Layout& l
   out.source = path;
   out.samples = std::move(kept.rows());
   out.origin = loop.origin();
+  out.warnings = ImuPlausibilityWarnings(out.samples, path);
   return out;
 }
 

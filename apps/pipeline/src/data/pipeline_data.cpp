@@ -5,6 +5,7 @@
 
 #include "../spec.h"
 #include "imuconv/pipeline/sample_checks.h"
+#include "imuconv/pipeline/imu_plausibility.h"
 #include "spec_data.h"
 
 namespace imuconv::pipeline {
@@ -30,6 +31,7 @@ ImuData InlineImu(const PipelineSpec& s) {
     imu.samples.push_back(smp);
   }
   if (src.csv.time_origin) imu.origin = o;
+  imu.warnings = ImuPlausibilityWarnings(imu.samples, s.file + ": " + src.pointer + "/samples");
   return imu;
 }
 

@@ -322,7 +322,12 @@ std::optional<double> DtDifference(const DeclaredMeasurement& m) {
 
 std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(const std::string& path, const Registry& reg,
                                                              std::optional<std::int64_t> origin_ns) {
-  const json doc = ParseJsonFile(path);
+  return ReadDeclaredMeasurementDocument(ParseJsonFile(path), path, reg, origin_ns);
+}
+
+std::vector<DeclaredMeasurement> ReadDeclaredMeasurementDocument(const json& doc, const std::string& path,
+                                                                 const Registry& reg,
+                                                                 std::optional<std::int64_t> origin_ns) {
   Checker c(path);
   const Node root(doc, "", c);
   std::vector<DeclaredMeasurement> out;

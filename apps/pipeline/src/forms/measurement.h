@@ -83,6 +83,11 @@ std::optional<double> DtDifference(const DeclaredMeasurement& m);
 /// Problems are reported as ReadMeasurementFile reports them (ConfigError with pointers).
 std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(const std::string& path, const Registry& reg,
                                                              std::optional<std::int64_t> origin_ns = std::nullopt);
+/// The same from a parsed document (the Python module's measurements given as values);
+/// `file` names it in messages.
+std::vector<DeclaredMeasurement> ReadDeclaredMeasurementDocument(const json& doc, const std::string& file,
+                                                                 const Registry& reg,
+                                                                 std::optional<std::int64_t> origin_ns = std::nullopt);
 
 /// Writes measurement `k`: index, times, dt, n_knots, bias_estimate, delta, then J_bias and
 /// cov in preint_reference and "expressed" in each of `conventions`, less what `omit` leaves

@@ -56,6 +56,9 @@ struct ImuData {
   std::vector<ImuSample> samples;    ///< strictly increasing t, seconds relative to `origin`
   std::optional<TimeOrigin> origin;  ///< absent for inline samples without a time_origin
   std::string source;                ///< file path, or "inline"
+  /// Suspected unit or column-order mistakes, with their evidence (imu_plausibility.h); the
+  /// readers fill it, the commands print it as warnings.
+  std::vector<std::string> warnings;
 };
 
 /// EuRoC IMU CSV: `#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z`, integer nanoseconds, rad/s,
