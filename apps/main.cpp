@@ -47,6 +47,8 @@ int main(int argc, char** argv) {
   RegisterMontecarloCommand(app, ctx);
   RegisterNeesCommand(app, ctx);
   RegisterExperimentCommand(app, ctx);
+  // One rule for every numeric option of every command (cli_common.cpp).
+  RefuseNonFiniteNumbers(app);
 
   const auto start = std::chrono::steady_clock::now();
   try {
