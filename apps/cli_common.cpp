@@ -1,5 +1,8 @@
+#include <cerrno>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <new>
 #include <stdexcept>
@@ -83,6 +86,37 @@ std::pair<unsigned, unsigned> ParseShardOption(const std::string& text) {
       count == 0 || index >= count)
     throw UsageError{"--shard: expected K/N with 0 <= K < N (e.g. 0/4), found '" + Printable(text) + "'"};
   return {index, count};
+}
+
+void RefuseNonFiniteNumbers(CLI::App& app) {
+  for (CLI::Option* opt : app.get_options([](CLI::Option*) { return true; })) {
+    if (opt->get_type_size() == 0) continue;  // a flag takes no value
+    // CLI11 names the option in front of the message, except a hidden one (no group): then this
+    // message names it itself.
+    std::string name;
+    if (opt->get_group().empty()) {
+      if (!opt->get_lnames().empty())
+        name = "--" + opt->get_lnames().front() + ": ";
+      else if (!opt->get_snames().empty())
+        name = "-" + opt->get_snames().front() + ": ";
+    }
+    const CLI::Validator finite(
+        [name](std::string& value) -> std::string {
+          const char* begin = value.c_str();
+          char* end = nullptr;
+          errno = 0;
+          const double x = std::strtod(begin, &end);
+          if (end == begin || *end != '\0' || std::isfinite(x)) return {};  // not a number, or a finite one
+          return name + "expected a finite number, found '" + Printable(value) + "'" +
+                 (errno == ERANGE ? " (beyond the largest double)" : "") + " (for a file of that name, write ./" +
+                 Printable(value) + ")";
+        },
+        "", "finite");
+    // transform(): placed before the option's own validators, so that their messages (CLI11's
+    // range text, which names no option) do not speak first.
+    opt->transform(finite);
+  }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) RefuseNonFiniteNumbers(*sub);
 }
 
 void PrintError(const std::string& message) {

@@ -74,6 +74,15 @@ nlohmann::json WithWarnings(nlohmann::json out, const std::vector<std::string>& 
 /// for a std::logic_error (a broken invariant of imuconv) and std::bad_alloc.
 int ReportFailure(const std::exception& e);
 
+/// Refuses a value that reads as a number that is not finite ("nan", "inf", "-Infinity",
+/// "1e999", "0x1p99999") in every option of `app` and of all its subcommands, registered or
+/// not yet parsed: CLI11 converts them to double and the range validators let NaN through (every
+/// comparison with it is false), so a NaN --duration meant the default and a NaN --check-timeout
+/// became a deadline. Called once by main after every command is registered, so that a numeric
+/// option added later is covered without anyone remembering to. A file literally named "nan" is
+/// given as ./nan.
+void RefuseNonFiniteNumbers(CLI::App& app);
+
 /// --shard K/N of imuconv run and imuconv montecarlo: two decimal numbers, 0 <= K < N; returns
 /// {K, N}. Throws UsageError quoting the text otherwise.
 std::pair<unsigned, unsigned> ParseShardOption(const std::string& text);

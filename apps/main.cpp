@@ -58,6 +58,8 @@ int main(int argc, char** argv) {
   RegisterMontecarloCommand(app, ctx);
   RegisterNeesCommand(app, ctx);
   RegisterExperimentCommand(app, ctx);
+  // One rule for every numeric option of every command (cli_common.cpp).
+  RefuseNonFiniteNumbers(app);
 
   // One exit-code table for every command (exit_codes.h), under every --help.
   app.footer(kExitCodeFooter);

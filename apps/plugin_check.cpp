@@ -5,6 +5,14 @@
 // noexcept method (std::terminate) or an endless loop cannot be contained in-process. Here
 // each file is loaded in a forked child that reports through a pipe; the parent only reads
 // the pipe, waits with a deadline, and kills and reaps the child's process group.
+//
+// A process group is not enough: a plugin can start a process that leaves it (setsid(), or the
+// daemon's double fork) and outlives the check, holding the report pipe open. So the checking
+// process makes itself a child subreaper (Linux, PR_SET_CHILD_SUBREAPER) while it checks: every
+// process the plugin started whose parent dies is re-parented to it instead of to init. Once the
+// child has exited, the processes whose parent is this one (found by walking /proc) are
+// killed and reaped, generation by generation, and the plugin is reported as having started a
+// process that outlived it. During a check this process has no other children.
 #include "plugin_check.h"
 
 #include <fcntl.h>
@@ -24,6 +32,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <thread>
 
@@ -207,6 +216,85 @@ struct DefaultSigchld {
   ~DefaultSigchld() { ::sigaction(SIGCHLD, &old, nullptr); }
 };
 
+// True once the child has exited (it is not reaped: its pid stays ours).
+bool HasExited(pid_t pid) {
+  siginfo_t si{};
+  return ::waitid(P_PID, static_cast<id_t>(pid), &si, WEXITED | WNOHANG | WNOWAIT) == 0 && si.si_pid == pid;
+}
+
+// Appends everything fd holds now (it is non-blocking) to `into`, bounded as Drain is.
+void DrainAvailable(int fd, std::string& into, std::size_t cap, bool keep_tail) {
+  for (int i = 0; i < 1024; ++i) {  // at most 4 MiB: a writer that keeps writing is not waited for
+    char buf[4096];
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return;
+    into.append(buf, static_cast<std::size_t>(n));
+    if (into.size() > cap) {
+      if (keep_tail)
+        into.erase(0, into.size() - cap);
+      else
+        into.resize(cap);
+    }
+  }
+}
+
+#ifdef __linux__
+// This process as a child subreaper for its lifetime (restored after).
+struct Subreaper {
+  int before = 0;
+  bool set = false;
+  Subreaper() {
+    if (::prctl(PR_GET_CHILD_SUBREAPER, &before) != 0) before = 0;
+    set = ::prctl(PR_SET_CHILD_SUBREAPER, 1) == 0;
+  }
+  ~Subreaper() {
+    if (set && before == 0) ::prctl(PR_SET_CHILD_SUBREAPER, 0);
+  }
+};
+
+// The processes whose parent is `parent`, from /proc/PID/stat (field 4, after the command name
+// in parentheses, which may itself hold spaces and parentheses).
+std::vector<pid_t> ChildrenOf(pid_t parent) {
+  std::vector<pid_t> kids;
+  std::error_code ec;
+  for (fs::directory_iterator it("/proc", ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream in(it->path() / "stat");
+    std::string stat;
+    if (!std::getline(in, stat)) continue;  // gone meanwhile
+    const std::size_t close = stat.rfind(')');
+    if (close == std::string::npos) continue;
+    char state = 0;
+    long ppid = 0;
+    if (std::sscanf(stat.c_str() + close + 1, " %c %ld", &state, &ppid) == 2 && ppid == parent)
+      kids.push_back(static_cast<pid_t>(std::stol(name)));
+  }
+  return kids;
+}
+
+// Kills and reaps every process re-parented to this one (and, as they die, theirs), the check's
+// child being gone already. Returns how many there were; `all` is false if some were still
+// appearing after many rounds (a fork bomb).
+std::size_t KillOrphans(bool& all) {
+  std::size_t killed = 0;
+  all = true;
+  for (int round = 0; round < 1000; ++round) {
+    const std::vector<pid_t> kids = ChildrenOf(::getpid());
+    if (kids.empty()) return killed;
+    for (pid_t k : kids) ::kill(k, SIGKILL);
+    for (pid_t k : kids) {
+      while (::waitpid(k, nullptr, 0) < 0 && errno == EINTR) {
+      }
+      ++killed;
+    }
+  }
+  all = false;
+  return killed;
+}
+#endif
+
 struct Fd {
   int fd = -1;
   ~Fd() { reset(); }
@@ -225,6 +313,7 @@ const char* OutcomeName(PluginCheck::Outcome o) {
     case PluginCheck::Outcome::Crashed: return "crashed";
     case PluginCheck::Outcome::TimedOut: return "timed_out";
     case PluginCheck::Outcome::NoResult: return "no_result";
+    case PluginCheck::Outcome::LeftProcesses: return "left_processes";
   }
   return "no_result";
 }
@@ -260,6 +349,9 @@ PluginCheck CheckPluginInChild(const std::string& file, double timeout_s) {
   PluginCheck result;
   result.file = file;
   DefaultSigchld sigchld;
+#ifdef __linux__
+  const Subreaper subreaper;  // before the fork: whatever the plugin starts comes back to us
+#endif
   int report_pipe[2], stderr_pipe[2];
   if (::pipe2(report_pipe, O_CLOEXEC) != 0) throw Error(std::string("cannot create a pipe: ") + std::strerror(errno));
   Fd report_r{report_pipe[0]}, report_w{report_pipe[1]};
@@ -280,6 +372,9 @@ PluginCheck CheckPluginInChild(const std::string& file, double timeout_s) {
   ::setpgid(pid, pid);  // also done by the child; whichever runs first
   report_w.reset();
   stderr_w.reset();
+  // Non-blocking reads: a process the plugin started may hold the pipes open after the child
+  // has exited, and its report is complete then.
+  for (int fd : {report_r.fd, stderr_r.fd}) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) | O_NONBLOCK);
 
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_s));
   auto remaining_ms = [&] {
@@ -288,10 +383,16 @@ PluginCheck CheckPluginInChild(const std::string& file, double timeout_s) {
   };
   std::string report, err;
   bool timed_out = false;
-  // 1. Read both pipes until the child closes them (it exits) or the deadline passes.
+  // 1. Read both pipes until the child closes them or exits, or the deadline passes.
   while (report_r.fd >= 0 || stderr_r.fd >= 0) {
     if (Clock::now() >= deadline) {
       timed_out = true;
+      break;
+    }
+    if (HasExited(pid)) {  // what it wrote is in the pipes; whoever else holds them is not waited for
+      for (Fd* f : {&report_r, &stderr_r})
+        if (f->fd >= 0) DrainAvailable(f->fd, f == &report_r ? report : err, f == &report_r ? kMaxReport : kMaxStderrTail,
+                                       f != &report_r);
       break;
     }
     pollfd fds[2];
@@ -302,7 +403,7 @@ PluginCheck CheckPluginInChild(const std::string& file, double timeout_s) {
         fds[n] = {f->fd, POLLIN, 0};
         owners[n++] = f;
       }
-    const int r = ::poll(fds, n, remaining_ms());
+    const int r = ::poll(fds, n, std::min(remaining_ms(), 20));  // 20 ms: the child's exit is seen soon
     if (r < 0 && errno != EINTR) break;
     for (nfds_t i = 0; r > 0 && i < n; ++i) {
       if (!(fds[i].revents & (POLLIN | POLLHUP | POLLERR | POLLNVAL))) continue;
@@ -331,6 +432,12 @@ PluginCheck CheckPluginInChild(const std::string& file, double timeout_s) {
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
+  // 4. What it started that outlived it: re-parented to us, killed and reaped.
+  std::size_t outlived = 0;
+  bool all_killed = true;
+#ifdef __linux__
+  outlived = KillOrphans(all_killed);
+#endif
 
   const std::string last_err = LastLine(err);
   const std::string stderr_note = last_err.empty() ? "" : "; last line on stderr: " + Quoted(last_err);
@@ -354,6 +461,16 @@ PluginCheck CheckPluginInChild(const std::string& file, double timeout_s) {
     result.outcome = PluginCheck::Outcome::NoResult;
     result.message = "stopped without a result (exit status " +
                      std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")" + stderr_note;
+  }
+  if (outlived > 0) {
+    const std::string what = "started " + std::to_string(outlived) + " process(es) that outlived it (" +
+                             (all_killed ? "killed" : "still starting more after 1000 rounds of killing them") + ")";
+    if (result.outcome == PluginCheck::Outcome::TimedOut) {
+      result.message += "; it also " + what;
+    } else {
+      result.message = what + "; the load itself: " + result.message;
+      result.outcome = PluginCheck::Outcome::LeftProcesses;
+    }
   }
   return result;
 }

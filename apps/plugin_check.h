@@ -8,7 +8,7 @@
 namespace imuconv::cli {
 
 struct PluginCheck {
-  enum class Outcome { Ok, Refused, Crashed, TimedOut, NoResult };
+  enum class Outcome { Ok, Refused, Crashed, TimedOut, NoResult, LeftProcesses };
   std::string file;
   Outcome outcome = Outcome::NoResult;
   /// One line, already escaped: "ok (propagator 'rk4' 1.1.0; ...)", the load error, "crashed
@@ -25,7 +25,9 @@ std::vector<std::string> PluginFilesIn(const std::string& dir);
 /// string checks, a convention's chart and Jacobian checks) and runs a propagator or
 /// preintegrator once on a 10 ms synthetic window, then reports through a pipe. The child is
 /// killed (with its process group) after timeout_s seconds; it never outlives this call and is
-/// always reaped. This process never loads the plugin itself.
+/// always reaped. A process the plugin started that outlives the child (setsid(), a double fork)
+/// is found (this process is a child subreaper during the call, Linux), killed and reaped, and
+/// the file reported as LeftProcesses. This process never loads the plugin itself.
 PluginCheck CheckPluginInChild(const std::string& file, double timeout_s);
 
 /// `text` as it is when it holds no control byte or invalid UTF-8, else Printable(text): for

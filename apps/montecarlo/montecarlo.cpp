@@ -366,10 +366,27 @@ void Conclude(Result& res, const std::vector<Vec15>& errors) {
     for (int a = 0; a < 3; ++a) r.axes[a] = S(a, a) / P(a, a);
   }
 
+  // A statistic that is not finite (end errors near the largest double, a forged shard) is no
+  // ground for a verdict: the comparisons below would all be false and read as "too large".
+  const Statistics& st = res.stats;
+  const auto refuse_non_finite = [&](const char* what, double x) {
+    if (!std::isfinite(x))
+      throw Error("montecarlo: the " + std::string(what) + " is not finite (" + std::to_string(x) + ", method " +
+                  Printable(res.method) + "): the trials' end errors are too large to judge; no verdict is given");
+  };
+  refuse_non_finite("NEES mean", st.nees_mean);
+  refuse_non_finite("KL divergence", st.kl);
+  refuse_non_finite("relative Frobenius difference", st.relative_frobenius);
+  if (!st.sample_cov.allFinite() || !st.mean.allFinite())
+    refuse_non_finite("sample covariance", std::numeric_limits<double>::quiet_NaN());
+  for (const BlockRatio& b : res.blocks) {
+    refuse_non_finite("variance ratio", b.variance_ratio);
+    for (double r : b.axes) refuse_non_finite("variance ratio", r);
+  }
+
   // The verdict: each test at kTestLevel, so that a right covariance is called inconsistent
   // at most kFalseAlarmRate of the time (Bonferroni; statistics.h).
   res.reasons.clear();
-  const Statistics& st = res.stats;
   const bool nees_ok = !(st.nees_p_value < kTestLevel);
   const bool kl_ok = !(st.kl_p_value < kTestLevel);
   res.verdict = nees_ok && kl_ok ? Verdict::consistent : Verdict::inconsistent;

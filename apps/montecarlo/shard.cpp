@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +16,7 @@
 #include "imuconv/kernels/preintegration.h"
 #include "imuconv/pipeline/file_digest.h"
 #include "imuconv/pipeline/input_registry.h"
+#include "imuconv/pipeline/json_check.h"
 #include "imuconv/printable.h"
 
 #ifndef IMUCONV_VERSION
@@ -54,6 +56,8 @@ double HexFloatAt(const json& v, const std::string& at) {
   errno = 0;
   const double x = std::strtod(s.c_str(), &end);
   if (s.empty() || end != s.c_str() + s.size()) Bad(at, "expected a hexadecimal float, found " + Printable(s));
+  // imuconv writes finite numbers only (a NaN or an infinity would reach the verdict as one).
+  if (!std::isfinite(x)) Bad(at, "expected a finite number, found " + Printable(s));
   return x;
 }
 
@@ -242,9 +246,14 @@ ShardHeader ReadShardHeader(const std::string& file) {
   if (!in) FileFails(file, "ends inside its header line (a truncated shard?)");
   json header;
   try {
-    header = json::parse(text);
-  } catch (const std::exception& e) {
-    FileFails(file, std::string("its header line is not JSON (a corrupted shard?): ") + e.what());
+    // The one JSON reader (its nesting bound keeps the copies below off a deep recursion).
+    header = pipeline::ParseJsonText(text, file);
+  } catch (const pipeline::ConfigError& e) {
+    const pipeline::Issue& first = e.issues().front();
+    FileFails(file, "its header line is not JSON as imuconv writes it (a corrupted shard?): " +
+                        (first.pointer.empty() ? std::string() : Printable(first.pointer) + ": ") + first.message);
+  } catch (const pipeline::ReadError& e) {
+    FileFails(file, std::string("its header line cannot be read as JSON (a corrupted shard?): ") + e.what());
   }
   ShardHeader h;
   h.file = file;
@@ -378,7 +387,15 @@ Result MergeShards(const std::vector<std::string>& files, std::string& case_path
   // The trials' end errors, as the whole run holds them (ShardTrials: the shards tile [0, trials)).
   std::vector<Vec15> errors(static_cast<std::size_t>(result.trials), Vec15::Zero());
   for (const auto& [index, h] : by_index) ReadShardErrors(*h, errors.data() + h->first);
-  Conclude(result, errors);
+  try {
+    Conclude(result, errors);
+  } catch (const Error& e) {
+    // Conclude knows no file: the shards' values are what it judged.
+    std::string names;
+    for (const auto& [index, h] : by_index) names += (names.empty() ? "" : ", ") + Printable(h->file);
+    if (names.size() > 300) names = names.substr(0, 297) + "...";
+    throw Error("the shards " + names + " (" + std::to_string(a.count) + " of one run): " + e.what());
+  }
   return result;
 }
 

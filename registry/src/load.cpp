@@ -216,10 +216,12 @@ void Registry::adopt(const std::string& path, const EntryPoints& e) {
   if (const std::string why = detail::IdProblem(d->id); !why.empty())
     throw Error("plugin " + where + ": its descriptor's id " + why);
   const std::string id = d->id;
-  if (d->version == nullptr)
-    throw Error("plugin " + where + " (" + Quoted(id) + "): its descriptor's version is a null pointer (expected a string such as \"1.0.0\")");
-  if (d->summary == nullptr)
-    throw Error("plugin " + where + " (" + Quoted(id) + "): its descriptor's summary is a null pointer (expected a one-line description)");
+  if (const std::string why = detail::TextProblem(d->version); !why.empty())
+    throw Error("plugin " + where + " (" + Quoted(id) + "): its descriptor's version " + why +
+                " (expected a UTF-8 string such as \"1.0.0\")");
+  if (const std::string why = detail::TextProblem(d->summary); !why.empty())
+    throw Error("plugin " + where + " (" + Quoted(id) + "): its descriptor's summary " + why +
+                " (expected a one-line UTF-8 description)");
   if (const PluginInfo* other = impl_->find(d->kind, id)) throw DuplicateId(d->kind, id, other->file, path);
 
   // 2. Create inside the plugin; destroy inside the plugin; the deleter keeps it alive.

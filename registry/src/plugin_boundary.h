@@ -21,6 +21,7 @@
 #include <utility>
 
 #include "imuconv/printable.h"
+#include "imuconv/utf8.h"
 #include "imuconv/registry.h"
 
 namespace imuconv::detail {
@@ -41,6 +42,23 @@ inline std::string IdProblem(const char* id) {
                     c == '-' || c == '.';
     if (!ok) return Quoted(s) + " has a character other than letters, digits, '_', '-' and '.'";
   }
+  return {};
+}
+
+/// Longest version or summary string a plugin's descriptor may hold (read with strnlen: a
+/// string without its terminating NUL is not read past this).
+inline constexpr std::size_t kMaxPluginTextLength = 4096;
+
+/// Why a descriptor's version or summary string cannot be taken (empty if it can): a null
+/// pointer, no end within kMaxPluginTextLength bytes, or bytes that are not UTF-8 (they would
+/// be copied into imuconv's JSON outputs, "plugins", which then would not be JSON).
+inline std::string TextProblem(const char* text) {
+  if (text == nullptr) return "is a null pointer";
+  const std::string_view s(text, strnlen(text, kMaxPluginTextLength + 1));
+  if (s.size() > kMaxPluginTextLength)
+    return "is longer than " + std::to_string(kMaxPluginTextLength) + " bytes (" + Quoted(s.substr(0, 40)) + "...)";
+  if (const std::size_t bad = FirstInvalidUtf8(s); bad != std::string_view::npos)
+    return Quoted(s) + " is not UTF-8 (byte " + std::to_string(bad) + ")";
   return {};
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "../pipeline/pipeline_test_util.h"
+#include "shard_forgery.h"
 
 namespace {
 using namespace imuconv::test;
@@ -196,7 +197,8 @@ TEST(ShardMerge, HostileMergesAreRefused) {
     const std::size_t name = at + key.size(), name_end = text.find('"', name);
     const std::string here = text.substr(name, name_end - name);
     text.replace(name, here.size(), here == "baseline" ? "avx2" : "baseline");
-    const std::string edited = b.tmp.write("K1of3.json", text);
+    // Resealed: such a shard's own hash is right (an edit that is not is shard_integrity.cpp's).
+    const std::string edited = b.tmp.write("K1of3.json", ResealRunShard(text));
     ExpectRefused(b, {s0, edited, s2}, "K1of3.json", "different SIMD instances of the kernels (/shard/kernel_instance");
   }
   {
@@ -208,7 +210,7 @@ TEST(ShardMerge, HostileMergesAreRefused) {
     const std::size_t at = text.find(key);
     ASSERT_NE(at, std::string::npos);
     text.insert(at + key.size(), "9.9-");
-    const std::string edited = b.tmp.write("V1of3.json", text);
+    const std::string edited = b.tmp.write("V1of3.json", ResealRunShard(text));
     ExpectRefused(b, {s0, edited, s2}, "V1of3.json", "differ before \"tasks\" at line 2");
   }
   {

@@ -181,6 +181,10 @@ struct ShardPlan {
   RunOptions::Shard shard;
   std::size_t first = 0, end = 0;  ///< its block of tasks [first, end)
   std::vector<std::pair<std::string, FileDigest>> inputs;  ///< each input file and its digest
+  /// FNV-1a 64 of the shard document's bytes as they go to the sink, up to and including the
+  /// bracket that closes "tasks": written after it as the last member, "shard_fnv1a_64", which
+  /// imuconv merge checks (so that a damaged or edited element is refused, not merged).
+  Fnv1a64 content_hash;
 };
 
 /// The shard's block of tasks: units are the shortest runs of consecutive tasks that no
@@ -260,7 +264,7 @@ void RunTask(RunContext& ctx, const Task& t, JsonWriter& w) {
   if (ctx.kept(t.name)) ctx.results[t.name] = std::move(res);
 }
 
-void Execute(RunContext& ctx, const ShardPlan* plan) {
+void Execute(RunContext& ctx, ShardPlan* plan) {
   JsonWriter w(ctx.out.text(), 0, {}, JsonWriter::NonFinite::Throw, ctx.out.form());
   w.begin_object();
   if (plan) WriteShard(w, *plan, ctx.spec.tasks.size());
@@ -288,6 +292,13 @@ void Execute(RunContext& ctx, const ShardPlan* plan) {
     ctx.out.flush(false);
   }
   w.end_array();
+  if (plan) {
+    // Everything up to here (the "shard" member, the head, the elements, the closing bracket)
+    // has passed through the hashing sink once this flush returns.
+    ctx.out.flush(true);
+    w.key("shard_fnv1a_64");
+    w.string(plan->content_hash.hex());
+  }
   w.end_object();
   if (ctx.out.form() == JsonWriter::Form::kText) ctx.out.text() += "\n";
   ctx.out.flush(true);
@@ -316,7 +327,12 @@ void RunToSink(const Pipeline& p, const Registry& reg, const RunOptions& options
     plan->shard = *options.shard;
     std::tie(plan->first, plan->end) = ShardBlock(p.spec(), *options.shard);
   }
-  Output out(sink, options.threads, form);
+  // A shard's bytes are hashed on their way to the sink (ShardPlan::content_hash).
+  const TextSink hashing_sink = [&](std::string_view text) {
+    plan->content_hash.add(text.data(), text.size());
+    sink(text);
+  };
+  Output out(plan ? hashing_sink : sink, options.threads, form);
   RunContext ctx(p.spec(), reg, options, out);
   ctx.referenced = ReferencedTasks(ctx.spec);
   CheckRegistry(ctx);

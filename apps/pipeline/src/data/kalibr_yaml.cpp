@@ -4,6 +4,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <set>
+#include <string>
 #include <vector>
 
 #include "imuconv/pipeline/errors.h"
@@ -38,6 +40,37 @@ YAML::Node ImuMapping(const std::string& path, const YAML::Node& doc) {
   throw ReadError(path, 0, "several IMUs (" + list + "): give a file with one IMU's noise");
 }
 
+/// Refuses a mapping that gives one key twice, anywhere in the document: yaml-cpp keeps both
+/// and a lookup finds the first, so the second would be ignored in silence (JSON duplicates are
+/// refused too, json_parse.cpp). The walk uses its own stack and a bound on the values it visits,
+/// since YAML aliases can make a small file expand exponentially.
+void RefuseDuplicateKeys(const std::string& path, const YAML::Node& doc) {
+  // A 64 KiB file holds at most about 32 000 values written out; more can only come from aliases.
+  constexpr std::size_t kMaxVisits = std::size_t{1} << 17;
+  std::vector<YAML::Node> todo{doc};
+  std::size_t visits = 0;
+  while (!todo.empty()) {
+    const YAML::Node n = todo.back();
+    todo.pop_back();
+    if (++visits > kMaxVisits)
+      throw ReadError(path, 0,
+                      "expands to more than " + std::to_string(kMaxVisits) +
+                          " values (YAML aliases?), more than any Kalibr IMU file holds");
+    if (n.IsMap()) {
+      std::set<std::string> seen;
+      for (const auto& kv : n) {
+        if (kv.first.IsScalar() && !seen.insert(kv.first.Scalar()).second)
+          throw ReadError(path, LineOf(kv.first),
+                          "duplicate key " + Quoted(kv.first.Scalar()) +
+                              " (the first value would silently win; give each key once)");
+        todo.push_back(kv.second);
+      }
+    } else if (n.IsSequence()) {
+      for (const auto& e : n) todo.push_back(e);
+    }
+  }
+}
+
 double NonNegative(const std::string& path, const YAML::Node& map, const char* key, bool required, double fallback) {
   const YAML::Node v = map[key];
   if (!v) {
@@ -68,6 +101,7 @@ ImuNoise ReadKalibrImuYaml(const std::string& path) {
     throw ReadError(path, e.mark.is_null() ? 0 : static_cast<std::size_t>(e.mark.line + 1),
                     "not valid YAML: " + Printable(e.msg));
   }
+  RefuseDuplicateKeys(path, doc);
   const YAML::Node m = ImuMapping(path, doc);
   ImuNoise q;
   q.gyro_noise_density = NonNegative(path, m, "gyroscope_noise_density", true, 0.0);

@@ -2,6 +2,7 @@
 // nlohmann's SAX interface so that duplicate keys and excessive nesting are caught where they
 // occur (with their JSON pointer) instead of the last duplicate silently winning.
 #include <algorithm>
+#include <string_view>
 
 #include "../data/input_file.h"
 #include "imuconv/pipeline/json_check.h"
@@ -146,7 +147,7 @@ class CheckedDomBuilder {
 // "parse error at line L, column C: WHAT" from the byte offset nlohmann reports and its
 // exception text, without the library's "[json.exception.parse_error.101]" id. Lines and
 // columns are counted as nlohmann counts them: 1-based lines, the column of the last byte read.
-std::string SyntaxMessage(const std::string& text, std::size_t position, std::string what) {
+std::string SyntaxMessage(std::string_view text, std::size_t position, std::string what) {
   // At the end of the input nlohmann counts the end itself as one more character read.
   const std::size_t past_end = position > text.size() ? position - text.size() : 0;
   position -= past_end;
@@ -181,17 +182,24 @@ std::string Size(std::size_t n) {
 json ParseJsonFile(const std::string& path, const JsonLimits& limits) {
   const std::string text = data::ReadWholeFile(path, limits.max_bytes, Size(limits.max_bytes),
                                                ", the largest JSON document imuconv reads");
-  Checker c(path);
+  return ParseJsonText(text, path, limits);
+}
+
+json ParseJsonText(std::string_view text, const std::string& source, const JsonLimits& limits) {
+  if (text.size() > limits.max_bytes)
+    throw ReadError(source, 0,
+                    "is larger than " + Size(limits.max_bytes) + ", the largest JSON document imuconv reads");
+  Checker c(source);
   CheckedDomBuilder builder(c, limits);
   json::sax_parse(text.begin(), text.end(), &builder, nlohmann::detail::input_format_t::json, /*strict=*/true,
                   /*ignore_comments=*/false);
   if (builder.too_large())
-    throw ReadError(path, 0,
+    throw ReadError(source, 0,
                     "would take more than " + Size(limits.max_memory) +
                         " of memory once parsed: it holds too many small values (imuconv's own documents take about "
                         "twice their size)");
   if (builder.syntax_error())
-    throw ConfigError(path, {{"", SyntaxMessage(text, builder.error_position(), builder.error_text())}});
+    throw ConfigError(source, {{"", SyntaxMessage(text, builder.error_position(), builder.error_text())}});
   c.throw_if_errors();  // duplicate keys, nesting
   return std::move(builder.root());
 }

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <cstring>
 
+#include "imuconv/printable.h"
+#include "imuconv/utf8.h"
 #include "number_format.h"
 #include "value_events.h"
 #include "imuconv/registry.h"
@@ -62,12 +64,20 @@ inline char* FormatDouble(char* p, double v) {
   return end;
 }
 
-// JSON string literal of s (quotes and escapes), as nlohmann::json writes it.
-void AppendJsonString(std::string& out, std::string_view s) {
+// JSON string literal of s (quotes and escapes), as nlohmann::json writes it. Returns the offset
+// of the first byte that is not well-formed UTF-8 (then `out` holds a partial literal and the
+// caller throws), or npos.
+std::size_t AppendJsonString(std::string& out, std::string_view s) {
   out.push_back('"');
   std::size_t run = 0;  // start of the pending run of plain bytes
   for (std::size_t i = 0; i < s.size(); ++i) {
     const auto c = static_cast<unsigned char>(s[i]);
+    if (c >= 0x80) {
+      const std::size_t len = Utf8SequenceLength(s, i);
+      if (len == 0) return i;
+      i += len - 1;
+      continue;
+    }
     if (c >= 0x20 && c != '"' && c != '\\') continue;
     out.append(s.data() + run, i - run);
     run = i + 1;
@@ -88,6 +98,7 @@ void AppendJsonString(std::string& out, std::string_view s) {
   }
   out.append(s.data() + run, s.size() - run);
   out.push_back('"');
+  return std::string_view::npos;
 }
 
 }  // namespace
@@ -121,6 +132,12 @@ std::string JsonWriter::container_pointer() const {
 }
 
 std::string JsonWriter::pointer() const { return pointer_upto(stack_.size()); }
+
+void JsonWriter::not_utf8(std::string_view s, std::size_t at, const std::string& where) const {
+  throw Error("would write a string that is not UTF-8 (output " + Printable(where) + ", byte " + std::to_string(at) + " of " +
+              Quoted(s) + "), which JSON text cannot hold; it comes from an input (a file's name, a plugin's id or "
+              "version?); no output is written");
+}
 
 void JsonWriter::non_finite() const {
   throw Error("produced a non-finite number (output " + pointer() + "); no output is written");
@@ -171,14 +188,17 @@ void JsonWriter::end_array() { close(']'); }
 
 void JsonWriter::key(std::string_view k) {
   Frame& f = stack_.back();
+  std::size_t bad = std::string_view::npos;
   if (events_) {
-    detail::PutEventString(out_, 'k', k);
+    bad = FirstInvalidUtf8(k);
+    if (bad == std::string_view::npos) detail::PutEventString(out_, 'k', k);
   } else {
     out_ += f.count ? ",\n" : "\n";
     AppendPad(out_, content_depth());
-    AppendJsonString(out_, k);
+    bad = AppendJsonString(out_, k);
     out_ += ": ";
   }
+  if (bad != std::string_view::npos) not_utf8(k, bad, container_pointer() + "/" + PointerToken(k));
   ++f.count;
   f.key.assign(k.data(), k.size());
 }
@@ -231,8 +251,14 @@ void JsonWriter::boolean(bool b) {
 
 void JsonWriter::string(std::string_view s) {
   before_value();
-  if (events_) detail::PutEventString(out_, 's', s);
-  else AppendJsonString(out_, s);
+  std::size_t bad = std::string_view::npos;
+  if (events_) {
+    bad = FirstInvalidUtf8(s);
+    if (bad == std::string_view::npos) detail::PutEventString(out_, 's', s);
+  } else {
+    bad = AppendJsonString(out_, s);
+  }
+  if (bad != std::string_view::npos) not_utf8(s, bad, pointer());
 }
 
 void JsonWriter::null() {

@@ -128,6 +128,8 @@ class JsonWriter {
   void close(char c);
   void append_number(double v);
   [[noreturn]] void non_finite() const;
+  /// A string or key that is not well-formed UTF-8 (byte `at` of `s`), at output `where`.
+  [[noreturn]] void not_utf8(std::string_view s, std::size_t at, const std::string& where) const;
   std::string pointer_upto(std::size_t frames) const;
 
   std::string& out_;
