@@ -102,6 +102,13 @@ TEST(MontecarloPage, HeatmapsOfTheSampleCovarianceAgainstThePrediction) {
   EXPECT_EQ(Count(html, "class=\"zero-mark\""), 210u);
   // Variance ratios 1.1 within 1 +- 2 sqrt(2/99) = [0.716, 1.28] on every axis.
   EXPECT_EQ(Count(html, "<td>all inside</td>"), 5u);
+  EXPECT_EQ(Count(html, "class=\"chart\""), 0u);  // no trials' NEES in this result: no histogram
+  // With them: one histogram, its bars and the chi-square(15) counts as a line.
+  r.trial_nees = {3.0, 14.0, 15.0, 16.0, 60.0};
+  const std::string with = report::MontecarloPage(r, {}).Render();
+  EXPECT_EQ(Count(with, "class=\"chart\""), 1u);
+  EXPECT_EQ(Count(with, "Per-trial NEES against chi-square(15)"), 2u);  // title text and aria-label
+  EXPECT_EQ(Count(with, "(5 trials) in 30 bins"), 1u);
 }
 
 nees::Result NeesResult(bool keep_errors) {

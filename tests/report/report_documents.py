@@ -167,6 +167,12 @@ def check_document(name, path, inputs, verdict=None):
             fail(f"montecarlo: {len(heatmaps)} heatmaps, expected 2")
         for h in heatmaps:
             check_heatmap("montecarlo", h, 15, 15)
+        # The per-trial NEES histogram: its bars and chi-square(15)'s mean and bounds.
+        bars = [r for c in charts for g in c.iter(SVG + "g") if g.get("class") == "bars" for r in g]
+        refs = [l for c in charts for l in c.iter(SVG + "line") if l.get("class") == "reference"]
+        if len(charts) != 1 or not bars or len(refs) != 3:
+            fail(f"montecarlo: {len(charts)} charts, {len(bars)} bars, {len(refs)} reference lines; expected the "
+                 f"NEES histogram with 3")
     elif name == "nees":
         # Two window lengths: NEES over time and its histogram, then 9 error components, each.
         if len(charts) != 2 * 11:
@@ -266,13 +272,15 @@ CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run
                   "--disable-default-apps", "--hide-scrollbars", "--enable-logging=stderr", "--v=0"]
 
 
-def render(chromium, html, png, size, work):
-    """Renders html to png; returns (DOM text, console lines, page-initiated URLs)."""
+def render(chromium, html, png, size, work, scale=None):
+    """Renders html to png; returns (DOM text, console lines, page-initiated URLs). scale: a device
+    scale factor (the screenshots for docs/img are drawn at 0.75 to stay small)."""
     import json
     profile = tempfile.mkdtemp(dir=work, prefix="profile")
     netlog = os.path.join(work, "netlog.json")
     p = subprocess.run([chromium] + CHROMIUM_FLAGS + ["--user-data-dir=" + profile, "--log-net-log=" + netlog,
-                                                      "--window-size=" + size, "--screenshot=" + png, "--dump-dom",
+                                                      "--window-size=" + size, "--screenshot=" + png, "--dump-dom"]
+                       + (["--force-device-scale-factor=" + str(scale)] if scale else []) + [
                                                       "file://" + os.path.abspath(html)],
                        capture_output=True, timeout=60, env=dict(os.environ, HOME=work))
     if p.returncode != 0:
@@ -328,8 +336,8 @@ def chromium_checks(chromium, reports, work, screenshots=None):
             fail(f"chromium {name}: the verdict badge's colour is not painted")
         if screenshots:
             shot = os.path.join(screenshots, f"report-{name}.png")
-            size = {"check": "1100,1250", "montecarlo": "1100,1500", "nees": "1100,1450"}[name]
-            render(chromium, html, shot, size, work)
+            size = {"check": "1100,1250", "montecarlo": "1000,2450", "nees": "1100,1600"}[name]
+            render(chromium, html, shot, size, work, 0.75)
             print(f"wrote {shot} ({os.path.getsize(shot)} bytes)")
 
 

@@ -4,6 +4,8 @@
 #include <limits>
 
 #include "check/difference.h"
+#include "chi_square.h"
+#include "imuconv/report/chart.h"
 #include "imuconv/report/heatmap.h"
 #include "imuconv/report/markup.h"
 #include "montecarlo.h"
@@ -33,6 +35,43 @@ Eigen::MatrixXd Standardized(const Mat15& sigma, const Mat15& s, int trials) {
       z(i, j) = sd > 0.0 ? diff / sd : (diff == 0.0 ? 0.0 : std::copysign(std::numeric_limits<double>::infinity(), diff));
     }
   return z;
+}
+
+// The trials' NEES in linear bins against the counts chi-square(15) predicts in each (its exact
+// CDF, apps/nees/chi_square.h), with the chi-square(15) mean and the 95 % per-trial bounds.
+std::string TrialNeesHistogram(const std::vector<double>& nees) {
+  constexpr int kBins = 30;
+  constexpr double kDof = 15.0;
+  // At least up to chi-square(15)'s 0.9999 quantile (about 44), so a consistent run's tail fits.
+  double hi = nees::ChiSquareQuantile(kDof, 0.9999);
+  std::size_t finite = 0;
+  for (double v : nees)
+    if (std::isfinite(v)) {
+      hi = std::max(hi, v);
+      ++finite;
+    }
+  hi *= 1.0 + 1e-9;  // the largest value inside the last bin
+  Bars bars{"trials", {}, std::vector<double>(kBins, 0.0), "#9ecae1"};
+  for (int k = 0; k <= kBins; ++k) bars.edges.push_back(hi * k / kBins);
+  for (double v : nees)
+    if (std::isfinite(v)) bars.heights[static_cast<std::size_t>(std::clamp(static_cast<int>(v / hi * kBins), 0, kBins - 1))] += 1.0;
+  PointSeries expected{"expected under chi2(15)", {}, {}, "#d62728", true, 2.0};
+  for (int k = 0; k < kBins; ++k) {
+    const double a = bars.edges[static_cast<std::size_t>(k)], b = bars.edges[static_cast<std::size_t>(k) + 1];
+    expected.x.push_back(0.5 * (a + b));
+    expected.y.push_back(static_cast<double>(finite) * (nees::ChiSquareCdf(kDof, b) - nees::ChiSquareCdf(kDof, a)));
+  }
+  ChartSpec c;
+  c.title = "Per-trial NEES against chi-square(15)";
+  c.x.label = "NEES";
+  c.x.min = 0.0;
+  c.y.label = "trials per bin";
+  c.bars.push_back(std::move(bars));
+  c.series.push_back(std::move(expected));
+  c.lines.push_back({"chi2(15) mean", kDof, true, "#2ca02c", false});
+  c.lines.push_back({"chi2(15) 95 % bounds", nees::ChiSquareQuantile(kDof, 0.025), true, "#d62728"});
+  c.lines.push_back({"", nees::ChiSquareQuantile(kDof, 0.975), true, "#d62728"});
+  return ChartSvg(c);
 }
 
 }  // namespace
@@ -123,6 +162,14 @@ HtmlDocument MontecarloPage(const montecarlo::Result& r, const Inputs& inputs) {
                                 "exactly 0 (S and Sigma agree, e.g. both zero)."}});
   } else {
     doc.AddParagraph("No block labels in the result: the heatmaps are left out.");
+  }
+  if (!r.trial_nees.empty()) {
+    doc.AddHeading(2, "Per-trial NEES");
+    doc.AddFigures({{TrialNeesHistogram(r.trial_nees),
+                     "Each trial's NEES e^T Sigma^-1 e (" + std::to_string(r.trial_nees.size()) +
+                         " trials) in 30 bins against the counts chi-square(15) predicts: a consistent method's "
+                         "histogram follows the curve. Too far right: Sigma too small; too far left: too large. "
+                         "The verdict tests their mean (" + Readable(st.nees_mean, 4) + ")."}});
   }
   return doc;
 }
