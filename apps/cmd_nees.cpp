@@ -98,7 +98,6 @@ void RegisterNeesCommand(CLI::App& app, CommandContext& ctx) {
       options.convention = convention;
       options.window_lengths = windows;
       options.stride = stride;
-      options.keep_errors = report_out.has_value();
       const nees::Input in =
           pipeline_path.empty() ? nees::ReadEurocInput(imu_path, gt_path) : nees::ReadPipelineInput(pipeline_path);
       if (!noise_path.empty())

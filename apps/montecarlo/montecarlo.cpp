@@ -25,6 +25,7 @@
 #include "montecarlo.h"
 
 #include "normal.h"
+#include "trial_nees.h"
 
 #include <algorithm>
 #include <atomic>
@@ -355,6 +356,7 @@ void Conclude(Result& res, const std::vector<Vec15>& errors) {
     throw Error("montecarlo: the covariance " + Printable(res.method) + " predicts in " + Printable(res.convention) +
                 " is not positive definite (are all four noise densities of the case positive?); nothing to "
                 "compare the trials with");
+  res.trial_nees = TrialNees(errors, res.predicted);  // for the report's histogram (trial_nees.h)
 
   if (res.blocks.size() != static_cast<std::size_t>(kBlockCount))
     throw Error("montecarlo: " + std::to_string(res.blocks.size()) + " block names, expected " +

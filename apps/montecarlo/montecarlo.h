@@ -79,6 +79,9 @@ struct Result {
   /// verdict is inconsistent when it is below kFalseAlarmRate.
   double verdict_p_value = 1.0;
   std::vector<std::string> reasons;  ///< why the verdict, in words
+  /// Each trial's NEES e_i^T Sigma^-1 e_i under the predicted covariance, in trial order (set by
+  /// Conclude; the report's histogram against chi-square(15)).
+  std::vector<double> trial_nees;
   /// How each trial was integrated: "mean_only" (the mean alone, by the method's kernel in the
   /// core) or "full" (the method's whole preintegration); docs/montecarlo.md, "Speed".
   std::string trial_path;

@@ -10,6 +10,7 @@
 #include "imuconv/printable.h"
 #include "imuconv/window.h"
 #include "order_statistics.h"
+#include "split_factors.h"
 
 namespace imuconv::nees {
 
@@ -29,10 +30,20 @@ std::string Seconds(double s) {
   return buf;
 }
 
-// The NEES of one window [t_s, t_e].
-double WindowNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline::GroundTruth& gt,
-                  const Options& options, const int (&offsets)[3], double t_s, double t_e, Vec9* error,
-                  Vec9* sigma) {
+// The [p, theta, v] blocks of a 15-dim error and covariance, by label offsets.
+void PickBlocks(const Vec15& d, const Mat15& cov, const int (&offsets)[3], Vec9& e, Mat9& P) {
+  for (int i = 0; i < 3; ++i) {
+    e.segment<3>(3 * i) = d.segment<3>(offsets[i]);
+    for (int j = 0; j < 3; ++j) P.block<3, 3>(3 * i, 3 * j) = cov.block<3, 3>(offsets[i], offsets[j]);
+  }
+}
+
+// One window [t_s, t_e]: its NEES under the declared densities, its error and sigmas, and the
+// covariance's gyro and accelerometer parts (each propagated with that sensor's densities alone;
+// the end state is the same in all three runs, the noise does not move the mean).
+double Window(const Registry& reg, const pipeline::ImuData& imu, const pipeline::GroundTruth& gt,
+              const Options& options, const int (&offsets)[3], double t_s, double t_e, Vec9& error, Vec9& sigma,
+              Mat9& cov_gyro, Mat9& cov_accel) {
   const auto x_s = gt.at(t_s), x_gt = gt.at(t_e);
   if (!x_s || !x_gt) throw Error("window [" + Seconds(t_s) + ", " + Seconds(t_e) + "] leaves the ground truth");
   PropagationInput in;
@@ -45,20 +56,19 @@ double WindowNees(const Registry& reg, const pipeline::ImuData& imu, const pipel
   const PropagationResult out = reg.propagate(options.method, options.convention, in);
   Vec15 d;
   reg.state_convention(options.convention)->local(*x_gt, out.x_e, d);
-  // The [p, theta, v] blocks of the chart's error and of the covariance, by label.
-  Vec9 e;
   Mat9 P;
-  for (int i = 0; i < 3; ++i) {
-    e.segment<3>(3 * i) = d.segment<3>(offsets[i]);
-    for (int j = 0; j < 3; ++j) P.block<3, 3>(3 * i, 3 * j) = out.cov.block<3, 3>(offsets[i], offsets[j]);
-  }
+  PickBlocks(d, out.cov, offsets, error, P);
   const Eigen::LLT<Mat9> llt(0.5 * (P + P.transpose()));
   if (llt.info() != Eigen::Success)
     throw Error("window [" + Seconds(t_s) + ", " + Seconds(t_e) +
                 "]: the propagated [p, theta, v] covariance is not positive definite");
-  if (error) *error = e;
-  if (sigma) *sigma = P.diagonal().cwiseSqrt();
-  return llt.matrixL().solve(e).squaredNorm();
+  sigma = P.diagonal().cwiseSqrt();
+  Vec9 unused;
+  in.noise = ImuNoise{options.noise.gyro_noise_density, 0.0, options.noise.gyro_random_walk, 0.0};
+  PickBlocks(d, reg.propagate(options.method, options.convention, in).cov, offsets, unused, cov_gyro);
+  in.noise = ImuNoise{0.0, options.noise.accel_noise_density, 0.0, options.noise.accel_random_walk};
+  PickBlocks(d, reg.propagate(options.method, options.convention, in).cov, offsets, unused, cov_accel);
+  return llt.matrixL().solve(error).squaredNorm();
 }
 
 }  // namespace
@@ -114,12 +124,12 @@ Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline
       t_e = std::min(t_e, r.t_end);
       w.t_start.push_back(t_s);
       Vec9 e, sigma;
-      w.nees.push_back(WindowNees(reg, imu, gt, options, offsets, t_s, t_e, options.keep_errors ? &e : nullptr,
-                                  options.keep_errors ? &sigma : nullptr));
-      if (options.keep_errors) {
-        w.error.push_back(e);
-        w.sigma.push_back(sigma);
-      }
+      Mat9 cov_gyro, cov_accel;
+      w.nees.push_back(Window(reg, imu, gt, options, offsets, t_s, t_e, e, sigma, cov_gyro, cov_accel));
+      w.error.push_back(e);
+      w.sigma.push_back(sigma);
+      w.cov_gyro.push_back(cov_gyro);
+      w.cov_accel.push_back(cov_accel);
     }
     w.median = SampleMedian(w.nees);
     w.mean = std::accumulate(w.nees.begin(), w.nees.end(), 0.0) / static_cast<double>(w.nees.size());
@@ -128,6 +138,10 @@ Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline
     for (const double v : w.nees) inside += (v >= r.chi2.lower && v <= r.chi2.upper) ? 1 : 0;
     w.fraction_inside = static_cast<double>(inside) / static_cast<double>(w.nees.size());
     w.factor = std::sqrt(w.median / r.chi2.median);
+    w.factor_gyro = FitGyroFactor(w.error, w.cov_gyro);
+    w.factor_accel = FitAccelFactor(w.error, w.cov_gyro, w.cov_accel, w.factor_gyro);
+    if (std::isfinite(w.factor_gyro) && std::isfinite(w.factor_accel))
+      w.components = ComponentStatisticsOf(w.error, w.cov_gyro, w.cov_accel, w.factor_gyro, w.factor_accel);
     r.windows.push_back(std::move(w));
   }
   return r;

@@ -11,11 +11,15 @@
 // P(k) = k^2 P(1) (the recursion P+ = F P F^T + G Q G^T with F independent of the noise), so
 // NEES(k) = NEES(1) / k^2 for every window. The k that puts the median NEES on the chi-square(9)
 // median is therefore k = sqrt(median NEES(1) / chi2_9(0.5)), in closed form (docs/nees.md).
+// The same linearity splits each window's covariance into a gyro part and an accelerometer part,
+// and two factors, one per sensor, are fitted on the theta and v blocks (split_factors.h); each
+// error component's offset is judged under them (error_components.h).
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "error_components.h"
 #include "imuconv/pipeline/imu_reader.h"
 #include "imuconv/registry.h"
 
@@ -44,9 +48,6 @@ struct Options {
   double stride = 0.0;                 ///< seconds between window starts; 0: each window's length
   ImuNoise noise;
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
-  /// Keep every window's end error and standard deviations (WindowLengthResult::error, sigma),
-  /// for the HTML report's time series.
-  bool keep_errors = false;
 };
 
 /// One window length's windows and their statistics.
@@ -55,13 +56,22 @@ struct WindowLengthResult {
   double stride = 0.0;
   std::vector<double> t_start;  ///< seconds relative to the IMU data's origin
   std::vector<double> nees;     ///< one per window, in the order of t_start
-  /// With Options::keep_errors, per window: the end error [p, theta, v] (the chart's local
-  /// coordinates of the propagated state about the ground truth) and the square roots of the
-  /// diagonal of its propagated covariance.
+  /// Per window: the end error [p, theta, v] (the chart's local coordinates of the propagated
+  /// state about the ground truth) and the square roots of the diagonal of its propagated
+  /// covariance under the declared densities. (Empty in a result built by hand without them: the
+  /// report then leaves out the error time series.)
   std::vector<Vec9> error, sigma;
+  /// Per window: the [p, theta, v] marginal of the covariance propagated with the gyro densities
+  /// alone (P_g) and with the accelerometer densities alone (P_a); P_g + P_a is the declared
+  /// densities' covariance (split_factors.h).
+  std::vector<Mat9> cov_gyro, cov_accel;
   double median = 0.0, mean = 0.0, p95 = 0.0;
   double fraction_inside = 0.0;  ///< of the NEES values within [lower, upper] of ChiSquare9()
-  double factor = 0.0;           ///< k = sqrt(median / chi2_9 median)
+  double factor = 0.0;           ///< k = sqrt(median / chi2_9 median), one scale on all four densities
+  /// The two factors of split_factors.h; NaN when undefined (a sensor's densities are zero).
+  double factor_gyro = 0.0, factor_accel = 0.0;
+  /// The nine components under k_gyro^2 P_g + k_accel^2 P_a (empty when a factor is NaN).
+  std::vector<ComponentStatistics> components;
 };
 
 struct Result {

@@ -1,14 +1,56 @@
 // The nees report (nees_report.h).
 #include "nees_report.h"
 
+#include <cmath>
 #include <cstdio>
 
+#include "split_factors.h"
+
 namespace imuconv::nees {
+namespace {
+
+// A factor or statistic that may be undefined (NaN): JSON null.
+nlohmann::json NumberOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+nlohmann::json Rows(const Mat9& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int i = 0; i < 9; ++i) {
+    nlohmann::json row = nlohmann::json::array();
+    for (int j = 0; j < 9; ++j) row.push_back(m(i, j));
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+nlohmann::json Vector(const Vec9& v) { return std::vector<double>(v.data(), v.data() + 9); }
+
+}  // namespace
+
+const char* const kOffsetCauses =
+    "a systematic offset no noise scale explains. Common causes: a bias error in the ground truth (its biases\n"
+    "start every window), a misaligned gravity or body frame, a time offset between the IMU and the ground truth.\n"
+    "Which one it is cannot be told from these numbers alone.";
 
 nlohmann::json ReportJson(const Result& r) {
   using nlohmann::json;
   json windows = json::array();
-  for (const WindowLengthResult& w : r.windows)
+  for (const WindowLengthResult& w : r.windows) {
+    json components = json::array();
+    for (const ComponentStatistics& c : w.components)
+      components.push_back({{"name", c.name},
+                            {"mean_standardized", NumberOrNull(c.mean_standardized)},
+                            {"rms_standardized", NumberOrNull(c.rms_standardized)},
+                            {"positive", c.positive},
+                            {"nonzero", c.nonzero},
+                            {"sign_p_value", c.sign_p_value},
+                            {"offset", c.offset}});
+    json error = json::array(), sigma = json::array(), cov_gyro = json::array(), cov_accel = json::array();
+    for (std::size_t i = 0; i < w.error.size(); ++i) {
+      error.push_back(Vector(w.error[i]));
+      sigma.push_back(Vector(w.sigma[i]));
+    }
+    for (const Mat9& m : w.cov_gyro) cov_gyro.push_back(Rows(m));
+    for (const Mat9& m : w.cov_accel) cov_accel.push_back(Rows(m));
     windows.push_back({{"length", w.length},
                        {"stride", w.stride},
                        {"count", w.nees.size()},
@@ -17,8 +59,17 @@ nlohmann::json ReportJson(const Result& r) {
                        {"p95", w.p95},
                        {"fraction_inside", w.fraction_inside},
                        {"factor", w.factor},
+                       {"factors",
+                        {{"all", w.factor}, {"gyro", NumberOrNull(w.factor_gyro)},
+                         {"accel", NumberOrNull(w.factor_accel)}}},
+                       {"components", components},
                        {"t_start", w.t_start},
-                       {"nees", w.nees}});
+                       {"nees", w.nees},
+                       {"error", error},
+                       {"sigma", sigma},
+                       {"cov_gyro", cov_gyro},
+                       {"cov_accel", cov_accel}});
+  }
   return json{{"method", r.method},
               {"convention", r.convention},
               {"error_blocks", {"p", "theta", "v"}},
@@ -34,6 +85,7 @@ nlohmann::json ReportJson(const Result& r) {
                 {"median", r.chi2.median},
                 {"lower", r.chi2.lower},
                 {"upper", r.chi2.upper}}},
+              {"offset_rule", kOffsetRule},
               {"windows", windows}};
 }
 
@@ -55,6 +107,28 @@ void PrintSummary(std::ostream& out, const Result& r) {
          "(NEES scales as 1/k^2). k > 1: the data's errors are larger than the declared densities predict, so\n"
          "multiply the densities by k; k < 1: the densities are pessimistic. Datasheet densities are known to be\n"
          "optimistic on real data (unmodelled vibration, temperature, axis misalignment, ground-truth error).\n";
+  std::snprintf(line, sizeof line, "chi-square(3) median %.4f: each sensor's factor is fitted on one 3-dof block\n",
+                ChiSquare3Median());
+  out << "\n" << line;
+  for (const WindowLengthResult& w : r.windows) {
+    std::snprintf(line, sizeof line, "%.4g s windows: k_all %.4g, k_gyro %.4g (theta block), k_accel %.4g (v block)\n",
+                  w.length, w.factor, w.factor_gyro, w.factor_accel);
+    out << line;
+    if (w.components.empty()) {
+      out << "  (no per-sensor fit: a sensor's densities are all zero)\n";
+      continue;
+    }
+    for (const ComponentStatistics& c : w.components) {
+      std::snprintf(line, sizeof line, "  %-8s mean %+8.3f  rms %7.3f  %6zu of %-6zu positive  sign test p %9.3g%s\n",
+                    c.name.c_str(), c.mean_standardized, c.rms_standardized, c.positive, c.nonzero, c.sign_p_value,
+                    c.offset ? "  OFFSET" : "");
+      out << line;
+    }
+  }
+  out << "k_gyro scales the gyro densities (white noise and random walk) so theta's median NEES is chi-square(3)'s;\n"
+         "k_accel then scales the accelerometer's so v's is. Components: each error over its sigma under the two\n"
+         "factors, across windows (mean ~0 and rms ~1 if the noise explains it).\n"
+         "OFFSET: " << kOffsetRule << ";\n" << kOffsetCauses << "\n";
 }
 
 }  // namespace imuconv::nees

@@ -9,6 +9,9 @@
 
 namespace imuconv::nees {
 
+/// What an offset flag (error_components.h) commonly means, in words, for the table and the report.
+extern const char* const kOffsetCauses;
+
 nlohmann::json ReportJson(const Result& r);
 void PrintSummary(std::ostream& out, const Result& r);
 

@@ -54,6 +54,11 @@ TEST(CheckPage, EntrywiseMatricesAreTheDifferencesTheSummaryReports) {
   const std::string html = report::CheckPage(r, {{"measurements", kMeasurements}}).Render();
   EXPECT_EQ(Count(html, "class=\"heatmap\""), 2u);
   EXPECT_EQ(Count(html, "class=\"cell\""), 54u + 225u);
+  // Both maps on check's fixed range, each with its tolerance (verdict.cpp: 1e-2 for both), and
+  // the verdict badge at the top.
+  EXPECT_EQ(Count(html, "data-scale-min=\"1e-16\" data-scale-max=\"100\" data-tolerance=\"0.01\""), 2u);
+  EXPECT_EQ(Count(html, "data-verdict=\""), 1u);
+  EXPECT_LT(html.find("data-verdict=\""), html.find("<h2>"));
 }
 
 TEST(CheckPage, ADoubledCovarianceShowsOneOnItsDiagonal) {
@@ -79,11 +84,31 @@ TEST(MontecarloPage, HeatmapsOfTheSampleCovarianceAgainstThePrediction) {
   r.predicted = Mat15::Identity();
   r.stats.sample_cov = 1.1 * Mat15::Identity();
   for (const char* b : {"theta", "p", "v", "bg", "ba"}) r.blocks.push_back({b, 1.1, {1.1, 1.1, 1.1}});
+  r.verdict = montecarlo::Verdict::inconsistent;
+  r.reasons = {"NEES mean 16.5 outside its 95% chi-square bounds"};
   const std::string html = report::MontecarloPage(r, {{"case", "c.json"}}).Render();
   EXPECT_EQ(Count(html, "class=\"heatmap\""), 2u);
-  // Diagonal: |1.1 - 1| / 1 = 0.1 in both; off the diagonal 0 - 0 = exact zeros, listed.
-  EXPECT_EQ(Count(html, "theta.x, theta.x: d = 0.1<"), 2u);
-  EXPECT_EQ(Count(html, ">0 \u00d7210</text>"), 2u);
+  EXPECT_EQ(Count(html, "<div class=\"verdict\" data-verdict=\"inconsistent\">"), 1u);
+  EXPECT_EQ(Count(html, "NEES mean 16.5 outside its 95% chi-square bounds</span>"), 1u);
+  // Standardized, by hand: (1.1 - 1) / sqrt((1 + 1) / 99) = 0.70356 on the diagonal; off it
+  // (0 - 0) / sqrt(1 / 99) = 0, in the calm middle.
+  EXPECT_EQ(Count(html, "theta.x, theta.x: z = 0.704 (within the tolerance 3)<"), 1u);
+  EXPECT_EQ(Count(html, "data-scale-kind=\"signed\" data-scale-min=\"-5\" data-scale-max=\"5\" data-tolerance=\"3\""),
+            1u);
+  // Correlation scale: |1.1 - 1| / 1 = 0.1 on the diagonal, within 3 sqrt(2/99) = 0.426; the 210
+  // exact zeros off it drawn as agreement (a dot each), not as blank cells.
+  EXPECT_EQ(Count(html, "theta.x, theta.x: d = 0.1 (within the tolerance 0.426)<"), 1u);
+  EXPECT_EQ(Count(html, ">0 (exact) \u00d7210</text>"), 1u);
+  EXPECT_EQ(Count(html, "class=\"zero-mark\""), 210u);
+  // Variance ratios 1.1 within 1 +- 2 sqrt(2/99) = [0.716, 1.28] on every axis.
+  EXPECT_EQ(Count(html, "<td>all inside</td>"), 5u);
+  EXPECT_EQ(Count(html, "class=\"chart\""), 0u);  // no trials' NEES in this result: no histogram
+  // With them: one histogram, its bars and the chi-square(15) counts as a line.
+  r.trial_nees = {3.0, 14.0, 15.0, 16.0, 60.0};
+  const std::string with = report::MontecarloPage(r, {}).Render();
+  EXPECT_EQ(Count(with, "class=\"chart\""), 1u);
+  EXPECT_EQ(Count(with, "Per-trial NEES against chi-square(15)"), 2u);  // title text and aria-label
+  EXPECT_EQ(Count(with, "(5 trials) in 30 bins"), 1u);
 }
 
 nees::Result NeesResult(bool keep_errors) {
@@ -114,9 +139,32 @@ TEST(NeesPage, NeesAgainstChiSquareAndEachErrorWithItsBand) {
   EXPECT_EQ(Count(html, "class=\"band\""), 18u);
   // Errors of -0.01, 0, 0.01 against 3 sigma = 0.012: none outside.
   EXPECT_EQ(Count(html, ": 0 of 20 windows outside"), 18u);
+  EXPECT_EQ(Count(html, "not judged (a sensor"), 2u + 2u);  // summary rows and sections: no components given
   const std::string without = report::NeesPage(NeesResult(false), {}).Render();
   EXPECT_EQ(Count(without, "class=\"chart\""), 4u);
   EXPECT_EQ(Count(without, "The errors were not kept"), 2u);
+}
+
+TEST(NeesPage, FactorsAndOffsetFlagsBesideTheirPlots) {
+  nees::Result r = NeesResult(true);
+  for (auto& w : r.windows) {
+    w.factor = 8.0;
+    w.factor_gyro = 7.0;
+    w.factor_accel = 10.5;
+    w.components.resize(9);
+    for (int i = 0; i < 9; ++i) {
+      w.components[i].name = nees::ComponentNames()[static_cast<std::size_t>(i)];
+      w.components[i].mean_standardized = i == 6 ? 1.9 : 0.1;
+      w.components[i].rms_standardized = i == 6 ? 2.0 : 1.0;
+      w.components[i].offset = i == 6;
+    }
+  }
+  const std::string html = report::NeesPage(r, {}).Render();
+  EXPECT_EQ(Count(html, "<td>7</td><td>10.5</td><td>v.x (mean 1.9)</td>"), 2u);
+  EXPECT_EQ(Count(html, "Factors: k (all) 8, k_gyro 7, k_accel 10.5. Offsets: v.x (mean 1.9)."), 2u);
+  // The flag on the v.x figure itself and in its caption, on no other.
+  EXPECT_EQ(Count(html, "\u2014 OFFSET (mean 1.9 sigma)"), 2u * 2u);  // the chart's title text and aria-label
+  EXPECT_EQ(Count(html, "OFFSET: the mean dominates the spread."), 2u);
 }
 
 }  // namespace

@@ -14,6 +14,14 @@ a failed load), request nothing over the network from the page (its net log), ha
 its DOM, and paint a PNG that is not blank. A control page with an external image and a script
 error must trip both detectors, so the checks are known to see what they look for.
 
+Every heatmap a judgment is read from carries its anchored colour scale (data-scale-min,
+data-scale-max, data-tolerance; the tolerance inside the range and marked on the legend), and the
+check and montecarlo pages open with the verdict badge (data-verdict, agreeing with the exit code)
+before any other content. The nees page states the two factors and the offset flags.
+
+With --screenshots DIR: also writes each report's rendering, cropped to its top, as
+DIR/report-{check,montecarlo,nees}.png (docs/img/).
+
 With --readme-image OUT.png: renders the first measurement's heatmaps of the check report alone
 (docs/img/, the README's picture) and exits.
 """
@@ -82,8 +90,24 @@ def check_heatmap(name, svg, rows, cols):
         if len(got) != n:
             fail(f"{name}: {len(got)} {cls} labels, expected {n}")
     ticks = classes(svg, SVG + "text", "legend-tick")
-    if len(ticks) < 2 or not all(re.fullmatch(r"[\u2264\u2265]?1e-?\d+", t.text or "") for t in ticks):
+    if len(ticks) < 2 or not all(re.fullmatch(r"[\u2264\u2265]?(1e-?\d+|-?\d+(\.\d+)?)", t.text or "") for t in ticks):
         fail(f"{name}: legend ticks {[t.text for t in ticks]}")
+    # The anchored scale: its range and tolerance as attributes, the tolerance inside the range
+    # and marked across the legend's bar (twice, +-, on a signed map).
+    try:
+        lo, hi, tol = (float(svg.get(a)) for a in ("data-scale-min", "data-scale-max", "data-tolerance"))
+    except (TypeError, ValueError):
+        fail(f"{name}: no anchored scale attributes {dict(svg.attrib)}")
+        return
+    kind = svg.get("data-scale-kind")
+    if not (lo < tol < hi) or kind not in ("magnitude", "signed") or (kind == "signed" and lo != -hi):
+        fail(f"{name}: scale {kind} [{lo}, {hi}] with tolerance {tol}")
+    marks = [l for l in svg.iter(SVG + "line") if l.get("class") == "legend-tolerance"]
+    if len(marks) != (2 if kind == "signed" else 1):
+        fail(f"{name}: {len(marks)} tolerance marks on the legend")
+    # No cell is painted white, the page's colour, where it could pass for a missing entry.
+    if any(c.get("fill") == "#ffffff" for c in cells):
+        fail(f"{name}: a white cell")
     # Every cell has its hover title and a colour.
     for c in cells:
         if c.find(SVG + "title") is None or not re.fullmatch(r"#[0-9a-f]{6}", c.get("fill", "")):
@@ -91,7 +115,7 @@ def check_heatmap(name, svg, rows, cols):
             break
 
 
-def check_document(name, path, inputs):
+def check_document(name, path, inputs, verdict=None):
     """Returns the number of <svg> elements, for the browser's DOM check."""
     text = open(path, encoding="utf-8").read()
     try:
@@ -116,6 +140,18 @@ def check_document(name, path, inputs):
     for i in inputs:
         if i not in cells:
             fail(f"{name}: the input {i!r} is not named as given")
+    # The verdict badge: the first thing in the body after the title (check, montecarlo).
+    body = root.find(XHTML + "body")
+    badges = [d for d in root.iter(XHTML + "div") if d.get("class") == "verdict"]
+    if name in ("check", "montecarlo"):
+        first = [e for e in body if e.tag != XHTML + "h1"][:1] if body is not None else []
+        if len(badges) != 1 or not first or first[0] is not badges[0]:
+            fail(f"{name}: the verdict badge is not the first element under the title ({len(badges)} badges)")
+        elif badges[0].get("data-verdict") not in ("consistent", "inconsistent") or \
+                not "".join(badges[0].itertext()).strip():
+            fail(f"{name}: badge {badges[0].attrib} {''.join(badges[0].itertext())!r}")
+        elif verdict is not None and badges[0].get("data-verdict") != verdict:
+            fail(f"{name}: badge says {badges[0].get('data-verdict')}, the exit code {verdict}")
     svgs = [s for s in root.iter(SVG + "svg") if s.get("class") in ("heatmap", "chart")]
     heatmaps = [s for s in svgs if s.get("class") == "heatmap"]
     charts = [s for s in svgs if s.get("class") == "chart"]
@@ -131,6 +167,12 @@ def check_document(name, path, inputs):
             fail(f"montecarlo: {len(heatmaps)} heatmaps, expected 2")
         for h in heatmaps:
             check_heatmap("montecarlo", h, 15, 15)
+        # The per-trial NEES histogram: its bars and chi-square(15)'s mean and bounds.
+        bars = [r for c in charts for g in c.iter(SVG + "g") if g.get("class") == "bars" for r in g]
+        refs = [l for c in charts for l in c.iter(SVG + "line") if l.get("class") == "reference"]
+        if len(charts) != 1 or not bars or len(refs) != 3:
+            fail(f"montecarlo: {len(charts)} charts, {len(bars)} bars, {len(refs)} reference lines; expected the "
+                 f"NEES histogram with 3")
     elif name == "nees":
         # Two window lengths: NEES over time and its histogram, then 9 error components, each.
         if len(charts) != 2 * 11:
@@ -141,6 +183,15 @@ def check_document(name, path, inputs):
         refs = [l for c in charts for l in c.iter(SVG + "line") if l.get("class") == "reference"]
         if len(refs) != 2 * (3 + 2):
             fail(f"nees: {len(refs)} chi-square reference lines, expected 10")
+        # The two factors and the offsets, per window length, beside the plots.
+        paragraphs = ["".join(p.itertext()) for p in root.iter(XHTML + "p")]
+        factor_lines = [p for p in paragraphs if re.match(r"Factors: k \(all\) [\d.]+, k_gyro [\d.]+, k_accel [\d.]+\. "
+                                                          r"Offsets: ", p)]
+        if len(factor_lines) != 2:
+            fail(f"nees: {len(factor_lines)} factor lines, expected one per window length")
+        headers = ["".join(th.itertext()) for th in root.iter(XHTML + "th")]
+        if not {"k_gyro", "k_accel", "offsets"} <= set(headers):
+            fail(f"nees: the summary table lacks k_gyro, k_accel or offsets: {headers}")
     return len(list(root.iter(SVG + "svg")))  # nested ones (a chart's plot area) included
 
 
@@ -221,13 +272,15 @@ CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run
                   "--disable-default-apps", "--hide-scrollbars", "--enable-logging=stderr", "--v=0"]
 
 
-def render(chromium, html, png, size, work):
-    """Renders html to png; returns (DOM text, console lines, page-initiated URLs)."""
+def render(chromium, html, png, size, work, scale=None):
+    """Renders html to png; returns (DOM text, console lines, page-initiated URLs). scale: a device
+    scale factor (the screenshots for docs/img are drawn at 0.75 to stay small)."""
     import json
     profile = tempfile.mkdtemp(dir=work, prefix="profile")
     netlog = os.path.join(work, "netlog.json")
     p = subprocess.run([chromium] + CHROMIUM_FLAGS + ["--user-data-dir=" + profile, "--log-net-log=" + netlog,
-                                                      "--window-size=" + size, "--screenshot=" + png, "--dump-dom",
+                                                      "--window-size=" + size, "--screenshot=" + png, "--dump-dom"]
+                       + (["--force-device-scale-factor=" + str(scale)] if scale else []) + [
                                                       "file://" + os.path.abspath(html)],
                        capture_output=True, timeout=60, env=dict(os.environ, HOME=work))
     if p.returncode != 0:
@@ -246,7 +299,7 @@ def render(chromium, html, png, size, work):
     return p.stdout.decode(errors="replace"), console, page_urls
 
 
-def chromium_checks(chromium, reports, work):
+def chromium_checks(chromium, reports, work, screenshots=None):
     # The control: an external image without a policy, and a script error.
     control = os.path.join(work, "control.html")
     with open(control, "w") as f:
@@ -278,6 +331,14 @@ def chromium_checks(chromium, reports, work):
             fail(f"chromium {name}: {len(missing)} of {len(fills)} cell colours not painted, e.g. {missing[:3]}")
         print(f"ok   chromium {name}: {100 * non_white:.1f} % painted, {len(painted)} colours, "
               f"{len(fills) - len(missing)} of {len(fills)} cell colours, {n_svg} svg in the DOM")
+        # The badge is painted: its background colour (html_document.cpp's style) is in the PNG.
+        if name in ("check", "montecarlo") and not painted & {(0x1b, 0x7a, 0x35), (0xa5, 0x0f, 0x15)}:
+            fail(f"chromium {name}: the verdict badge's colour is not painted")
+        if screenshots:
+            shot = os.path.join(screenshots, f"report-{name}.png")
+            size = {"check": "1100,1250", "montecarlo": "1000,2450", "nees": "1100,1600"}[name]
+            render(chromium, html, shot, size, work, 0.75)
+            print(f"wrote {shot} ({os.path.getsize(shot)} bytes)")
 
 
 def readme_image(chromium, check_html, out, work):
@@ -293,7 +354,7 @@ def readme_image(chromium, check_html, out, work):
                 '</style></head><body>')
         f.write(ET.tostring(figs, encoding="unicode").replace("<svg ", '<svg xmlns="http://www.w3.org/2000/svg" ', ))
         f.write("</body></html>")
-    render(chromium, page, out, "880,480", work)
+    render(chromium, page, out, "960,470", work)
 
 
 def main():
@@ -302,6 +363,7 @@ def main():
     ap.add_argument("--binary", required=True)
     ap.add_argument("--chromium")
     ap.add_argument("--readme-image")
+    ap.add_argument("--screenshots")
     a = ap.parse_args()
     env = dict(os.environ)
     env.pop("IMUCONV_PLUGIN_PATH", None)
@@ -322,13 +384,14 @@ def main():
                 readme_image(a.chromium, html, a.readme_image, work)
                 print("wrote " + a.readme_image)
                 return 0
-            n_svg = check_document(name, html, inputs)
+            verdict = {0: "consistent", 1: "inconsistent"}.get(plain.returncode) if name != "nees" else None
+            n_svg = check_document(name, html, inputs, verdict)
             print(f"ok   {name}: {os.path.getsize(html)} bytes, {n_svg} figures")
             fills = set(re.findall(r'fill="(#[0-9a-f]{6})" class="cell"', open(html, encoding="utf-8").read()))
             reports.append((name, html, n_svg, fills))
             check_refusals(a.binary, argv, inputs, work, env)
         if a.chromium:
-            chromium_checks(a.chromium, reports, work)
+            chromium_checks(a.chromium, reports, work, a.screenshots)
     finally:
         shutil.rmtree(work, ignore_errors=True)
     print(f"{len(failures)} failures")

@@ -1,5 +1,5 @@
-// The report library's writers (apps/report/): text escaping, the log colour scale, the heatmap
-// and chart SVG, the HTML document. The documents' well-formedness as XML and their rendering in
+// The report library's writers (apps/report/): text escaping, the log colour scale, the anchored
+// colour scale, the heatmap and chart SVG, the HTML document and its verdict badge. The documents' well-formedness as XML and their rendering in
 // a browser are checked on the commands' real reports by tests/report/report_documents.py.
 #include <gtest/gtest.h>
 
@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "imuconv/report/anchored_scale.h"
 #include "imuconv/report/chart.h"
 #include "imuconv/report/color_scale.h"
 #include "imuconv/report/heatmap.h"
@@ -264,6 +265,105 @@ TEST(HtmlDocument, EscapesEveryTextAndLoadsNothing) {
   EXPECT_FALSE(Has(html, "href="));
   EXPECT_FALSE(Has(html, "url("));
   EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
+}
+
+// ---- the anchored colour scale: a fixed range, the tolerance marked, calm colours within it and
+// failure colours beyond it, exact zeros drawn as agreement (a dot) and not as a blank, and the
+// data-scale-min/max/tolerance attributes the browser test reads ----
+
+// "Reads as failure": red clearly dominant (orange to dark red); "calm": blue at least as strong as
+// red (the pale grey-blue to blue ramp).
+bool Warm(const Rgb& c) { return c.r > c.b + 40; }
+bool Calm(const Rgb& c) { return c.b >= c.r; }
+
+TEST(AnchoredScale, RoundOffIsCalmAndAFailureIsRedWhateverTheOtherValues) {
+  const AnchoredScale s = AnchoredScale::Magnitude(1e-16, 1e2, 1e-2);
+  // The case: round-off 1e-16 and a failure of 2 had the same top colour on a fitted scale.
+  EXPECT_TRUE(Calm(s.Color(1e-16)));
+  EXPECT_TRUE(Warm(s.Color(2.0)));
+  EXPECT_TRUE(Calm(s.Color(1e-2)));  // the tolerance itself passes
+  EXPECT_TRUE(Warm(s.Color(1.01e-2)));
+  EXPECT_TRUE(s.WithinTolerance(1e-2) && !s.WithinTolerance(1.01e-2) && s.WithinTolerance(0.0));
+  // Zero is exact agreement: the calm end, like the range's bottom.
+  EXPECT_EQ(s.Color(0.0), s.ColorAt(0.0));
+  EXPECT_EQ(s.Color(1e-16), s.ColorAt(0.0));
+  EXPECT_EQ(s.Color(1e5), s.ColorAt(1.0));  // beyond the top: the end colour
+  EXPECT_TRUE(s.Clamped(1e5) && s.Clamped(1e-20) && !s.Clamped(0.0) && !s.Clamped(1.0));
+  // The log position: 1e-7 is halfway between 1e-16 and 1e2.
+  EXPECT_NEAR(s.Position(1e-7), 0.5, 1e-12);  // log10 round-off only
+  EXPECT_THROW(AnchoredScale::Magnitude(1e-2, 1e2, 1e-3), std::invalid_argument);
+  EXPECT_THROW(AnchoredScale::Magnitude(0.0, 1e2, 1e-3), std::invalid_argument);
+}
+
+TEST(AnchoredScale, SignedIsCalmAroundZeroAndDarkBeyondEitherTolerance) {
+  const AnchoredScale s = AnchoredScale::Signed(5.0, 3.0);
+  EXPECT_EQ(s.min(), -5.0);
+  EXPECT_EQ(s.Color(0.0).Hex(), "#f7f7f7");
+  EXPECT_TRUE(s.WithinTolerance(-3.0) && s.WithinTolerance(3.0) && !s.WithinTolerance(3.01));
+  EXPECT_TRUE(Warm(s.Color(3.5)));
+  const Rgb under = s.Color(-3.5);  // beyond -tolerance: violet, blue above green
+  EXPECT_TRUE(under.b > under.g + 40);
+  // The calm part is light (every channel above 160), the failure part is not.
+  for (double v : {-3.0, -1.0, 0.5, 3.0}) EXPECT_GT(std::min({s.Color(v).r, s.Color(v).g, s.Color(v).b}), 160) << v;
+  for (double v : {-4.5, 4.5}) EXPECT_LT(std::min({s.Color(v).r, s.Color(v).g, s.Color(v).b}), 100) << v;
+  EXPECT_THROW(AnchoredScale::Signed(3.0, 3.0), std::invalid_argument);
+}
+
+HeatmapSpec Spec6(double fill) {
+  HeatmapSpec h;
+  h.values = Eigen::MatrixXd::Constant(6, 6, fill);
+  h.row_blocks = h.col_blocks = {"theta", "p"};
+  return h;
+}
+
+TEST(AnchoredHeatmap, AttributesToleranceMarkAndCounts) {
+  HeatmapSpec h = Spec6(1e-15);
+  h.values(0, 0) = 2.0;
+  h.values(1, 1) = 0.5;
+  h.values(2, 2) = 0.0;
+  h.values(3, 3) = 0.0;
+  h.anchored = AnchoredScale::Magnitude(1e-16, 1e2, 1e-2);
+  const std::string svg = HeatmapSvg(h);
+  EXPECT_TRUE(Has(svg, "data-scale-kind=\"magnitude\" data-scale-min=\"1e-16\" data-scale-max=\"100\" "
+                       "data-tolerance=\"0.01\" data-beyond-tolerance=\"2\""));
+  EXPECT_EQ(Count(svg, "class=\"legend-tolerance\""), 1u);
+  EXPECT_TRUE(Has(svg, ">2 beyond tol 0.01</text>"));
+  // Zeros: the calm end's colour with a dot each, listed as exact agreement; no white cell.
+  EXPECT_EQ(Count(svg, "class=\"zero-mark\""), 2u);
+  EXPECT_TRUE(Has(svg, ">0 (exact) \u00d72</text>"));
+  EXPECT_FALSE(Has(svg, "fill=\"#ffffff\" class=\"cell\""));
+  EXPECT_TRUE(Has(svg, "theta.x, theta.x: d = 2 (BEYOND the tolerance 0.01)"));
+  EXPECT_TRUE(Has(svg, "fill=\"" + h.anchored->Color(2.0).Hex() + "\" class=\"cell\""));
+  // The same values on another page: the same colours (the scale does not depend on them).
+  HeatmapSpec other = Spec6(1e-3);
+  other.values(0, 0) = 2.0;
+  other.anchored = h.anchored;
+  const std::string needle = "fill=\"" + h.anchored->Color(2.0).Hex() + "\" class=\"cell\"><title>theta.x, theta.x";
+  EXPECT_TRUE(Has(HeatmapSvg(other), needle));
+}
+
+TEST(AnchoredHeatmap, SignedMarksBothTolerances) {
+  HeatmapSpec h = Spec6(0.0);
+  h.values(0, 0) = -4.0;
+  h.values(1, 1) = 9.0;  // beyond the range: the top colour, the top label says so
+  h.anchored = AnchoredScale::Signed(5.0, 3.0);
+  const std::string svg = HeatmapSvg(h);
+  EXPECT_TRUE(Has(svg, "data-scale-kind=\"signed\" data-scale-min=\"-5\" data-scale-max=\"5\" data-tolerance=\"3\""));
+  EXPECT_EQ(Count(svg, "class=\"legend-tolerance\""), 2u);
+  EXPECT_TRUE(Has(svg, ">2 beyond tol \u00b13</text>"));
+  EXPECT_TRUE(Has(svg, ">\u22655</text>"));
+  EXPECT_EQ(Count(svg, "class=\"legend-special\""), 0u);  // zeros and negatives are values here
+}
+
+TEST(HtmlDocument, VerdictBadge) {
+  HtmlDocument doc("t");
+  doc.AddVerdict(false, "NEES mean <16.2> outside");
+  const std::string html = doc.Render();
+  EXPECT_TRUE(Has(html, "<div class=\"verdict\" data-verdict=\"inconsistent\"><span class=\"verdict-word\">"
+                        "inconsistent</span><span class=\"verdict-reason\">NEES mean &lt;16.2&gt; outside</span></div>"));
+  HtmlDocument ok("t");
+  ok.AddVerdict(true, "fine");
+  EXPECT_TRUE(Has(ok.Render(), "data-verdict=\"consistent\""));
 }
 
 }  // namespace

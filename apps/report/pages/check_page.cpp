@@ -17,11 +17,35 @@ std::string Joined(const std::vector<std::string>& v) {
   return "[" + s + "]";
 }
 
+// The fixed range of check's entrywise differences d on every heatmap: from double round-off
+// (1e-16: two computations of the same numbers agree to about this) to 1e2 (a factor of 100, far
+// beyond the 2 a sign error gives), with the tolerance of the matrix kind marked. Anchored, not
+// fitted: the same colour means the same d in every report.
+AnchoredScale CheckScale(double tolerance) { return AnchoredScale::Magnitude(1e-16, 1e2, tolerance); }
+
+// The verdict's one line: all consistent, or the first inconsistent measurement's first finding.
+std::string VerdictReason(const check::CheckResult& r) {
+  std::size_t consistent = 0;
+  const check::MeasurementCheck* first_bad = nullptr;
+  for (const auto& m : r.measurements) {
+    if (m.judgement.verdict == check::Verdict::consistent)
+      ++consistent;
+    else if (!first_bad)
+      first_bad = &m;
+  }
+  std::string s = std::to_string(consistent) + " of " + std::to_string(r.measurements.size()) +
+                  " measurements within the tolerances";
+  if (first_bad && !first_bad->judgement.findings.empty())
+    s += "; measurement " + std::to_string(first_bad->index) + ": " + first_bad->judgement.findings.front();
+  return s;
+}
+
 }  // namespace
 
 HtmlDocument CheckPage(const check::CheckResult& r, const Inputs& inputs) {
   const check::Tolerances& tol = check::CheckTolerances();
   HtmlDocument doc("imuconv check");
+  doc.AddVerdict(r.verdict == check::Verdict::consistent, VerdictReason(r));
   doc.AddParagraph(std::string("Verdict: ") + Word(r.verdict) + ". Tolerances on the max of each difference d: " +
                    "increment " + Readable(tol.delta) + ", J_bias " + Readable(tol.J_bias) + ", covariance " +
                    Readable(tol.cov) + " (docs/check.md).");
@@ -58,6 +82,7 @@ HtmlDocument CheckPage(const check::CheckResult& r, const Inputs& inputs) {
       h.row_blocks = e.J_bias_rows;
       h.col_blocks = b.J_bias_columns;
       h.title = "J_bias: d per entry";
+      h.anchored = CheckScale(tol.J_bias);
       figures.push_back({HeatmapSvg(h),
                          "Bias Jacobian: |K - U| / max(|K|, 1e-4 max|K|) per entry, K what " + b.scheme +
                              " predicts, U the file's numbers (max " + Readable(b.J_bias.max, 2) + ", mean " +
@@ -69,6 +94,7 @@ HtmlDocument CheckPage(const check::CheckResult& r, const Inputs& inputs) {
       h.row_blocks = b.blocks;
       h.col_blocks = b.blocks;
       h.title = "Covariance: d per entry";
+      h.anchored = CheckScale(tol.cov);
       figures.push_back({HeatmapSvg(h),
                          "Covariance on the correlation scale: |K_ij - U_ij| / sqrt(K_ii K_jj) per entry (max " +
                              Readable(b.cov.max, 2) + ", mean " + Readable(b.cov.mean, 2) + "; tolerance " +

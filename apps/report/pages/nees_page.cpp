@@ -6,6 +6,7 @@
 #include "imuconv/report/chart.h"
 #include "imuconv/report/markup.h"
 #include "nees.h"
+#include "nees_report.h"
 #include "report/pages/pages.h"
 
 namespace imuconv::report {
@@ -72,6 +73,7 @@ std::string NeesHistogram(const nees::Result& r, const nees::WindowLengthResult&
 
 // One error component against time with its ±3 sigma band; the caption counts those outside.
 HtmlDocument::Figure ErrorComponent(const nees::WindowLengthResult& w, int block, int axis) {
+  const std::size_t component = static_cast<std::size_t>(3 * block + axis);
   const int k = 3 * block + axis;
   ChartSpec c;
   c.width = 380.0;
@@ -93,8 +95,29 @@ HtmlDocument::Figure ErrorComponent(const nees::WindowLengthResult& w, int block
   }
   c.bands.push_back(std::move(band));
   c.series.push_back(std::move(err));
+  std::string fit;
+  if (component < w.components.size()) {
+    const nees::ComponentStatistics& s = w.components[component];
+    fit = " Under k_gyro, k_accel: mean " + Readable(s.mean_standardized, 3) + ", rms " +
+          Readable(s.rms_standardized, 3) + " sigma; " + std::to_string(s.positive) + " of " +
+          std::to_string(s.nonzero) + " positive (sign test p " + Readable(s.sign_p_value, 2) + ")" +
+          (s.offset ? ". OFFSET: the mean dominates the spread." : ".");
+    // The flag on the figure itself, where the eye is.
+    if (s.offset) c.title += "  \u2014 OFFSET (mean " + Readable(s.mean_standardized, 2) + " sigma)";
+  }
   return {ChartSvg(c), std::string(kBlocks[block]) + "." + kAxes[axis] + ": " + std::to_string(outside) + " of " +
-                           std::to_string(w.error.size()) + " windows outside ±3 sigma (a Gaussian error: 0.27 %)."};
+                           std::to_string(w.error.size()) +
+                           " windows outside \u00b13 sigma of the declared densities (a Gaussian error: 0.27 %)." +
+                           fit};
+}
+
+// The offset-flagged components of one window length, in words.
+std::string OffsetList(const nees::WindowLengthResult& w) {
+  if (w.components.empty()) return "not judged (a sensor's densities are zero)";
+  std::string s;
+  for (const auto& c : w.components)
+    if (c.offset) s += (s.empty() ? "" : ", ") + c.name + " (mean " + Readable(c.mean_standardized, 2) + ")";
+  return s.empty() ? "none" : s;
 }
 
 }  // namespace
@@ -120,14 +143,23 @@ HtmlDocument NeesPage(const nees::Result& r, const Inputs& inputs) {
   for (const auto& w : r.windows)
     rows.push_back({Readable(w.length, 4), Readable(w.stride, 4), std::to_string(w.nees.size()), Readable(w.median, 4),
                     Readable(w.mean, 4), Readable(w.p95, 4), Readable(100 * w.fraction_inside, 3) + " %",
-                    Readable(w.factor, 4)});
-  doc.AddTable({"window [s]", "stride [s]", "count", "median", "mean", "p95", "inside bounds", "factor k"}, rows);
+                    Readable(w.factor, 4), Readable(w.factor_gyro, 4), Readable(w.factor_accel, 4),
+                    OffsetList(w)});
+  doc.AddTable({"window [s]", "stride [s]", "count", "median", "mean", "p95", "inside bounds", "k (all)", "k_gyro",
+                "k_accel", "offsets"},
+               rows);
   doc.AddParagraph(
-      "Factor k: the one scale on all four noise densities that puts the median NEES on the chi-square median "
-      "(NEES scales as 1/k^2); k > 1: the densities are too small for the data.");
+      "k (all): the one scale on all four noise densities that puts the median NEES on the chi-square(9) median "
+      "(NEES scales as 1/k^2); k > 1: the densities are too small for the data. k_gyro: the scale on the gyro "
+      "densities alone that puts theta's median NEES (3 dof) on chi-square(3)'s median (theta's covariance "
+      "depends on the gyro only); k_accel: then the scale on the accelerometer densities for the v block. "
+      "Offsets: components whose standardized mean dominates the spread under the two factors (" +
+      std::string(nees::kOffsetRule) + "): " + nees::kOffsetCauses);
 
   for (const auto& w : r.windows) {
     doc.AddHeading(2, Readable(w.length, 4) + " s windows");
+    doc.AddParagraph("Factors: k (all) " + Readable(w.factor, 4) + ", k_gyro " + Readable(w.factor_gyro, 4) +
+                     ", k_accel " + Readable(w.factor_accel, 4) + ". Offsets: " + OffsetList(w) + ".");
     doc.AddFigures({{NeesOverTime(r, w), "Each window's NEES at its start time; the dashed lines are chi-square(9)'s "
                                          "bounds, the solid one its median."},
                     {NeesHistogram(r, w), "The windows' NEES in " + std::to_string(kHistogramBins) +
@@ -137,6 +169,14 @@ HtmlDocument NeesPage(const nees::Result& r, const Inputs& inputs) {
       continue;
     }
     doc.AddHeading(3, "End error of each window and its \u00b13 sigma");
+    if (!w.components.empty()) {
+      std::vector<std::vector<std::string>> comp_rows;
+      for (const auto& s : w.components)
+        comp_rows.push_back({s.name, Readable(s.mean_standardized, 3), Readable(s.rms_standardized, 3),
+                             std::to_string(s.positive) + " of " + std::to_string(s.nonzero),
+                             Readable(s.sign_p_value, 2), s.offset ? "OFFSET" : ""});
+      doc.AddTable({"component", "mean (sigma)", "rms (sigma)", "positive", "sign test p", "flag"}, comp_rows);
+    }
     std::vector<HtmlDocument::Figure> figures;
     for (int b = 0; b < 3; ++b)
       for (int a = 0; a < 3; ++a) figures.push_back(ErrorComponent(w, b, a));

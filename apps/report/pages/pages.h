@@ -1,7 +1,10 @@
 // Each command's HTML report page, built from its result with the report library
 // (imuconv/report/): check's per-measurement heatmaps of the entrywise differences under the
-// best explanation, montecarlo's heatmaps of the sample covariance against the predicted one,
-// nees's NEES per window against chi-square(9) and each error component with its ±3 sigma.
+// best explanation, montecarlo's heatmaps of the sample covariance against the predicted one
+// (standardized, signed) and its variance ratios against their band, each heatmap on a scale
+// anchored to its kind and tolerance (anchored_scale.h) and each verdict a badge at the top;
+// nees's NEES per window against chi-square(9), its two factors and offset flags, and each error
+// component with its ±3 sigma.
 // The command lines are apps/cmd_{check,montecarlo,nees}.cpp; docs/{check,montecarlo,nees}.md.
 #pragma once
 

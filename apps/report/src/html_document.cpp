@@ -21,7 +21,12 @@ constexpr const char* kStyle =
     ".figures{display:flex;flex-wrap:wrap;gap:1.2em;align-items:flex-start}"
     // A figure as a table whose caption row wraps at the figure's own width.
     "figure{margin:0.5em 0;display:table}"
-    "figcaption{display:table-caption;caption-side:bottom;font-size:0.85em;color:#444}";
+    "figcaption{display:table-caption;caption-side:bottom;font-size:0.85em;color:#444}"
+    // The verdict badge: green for consistent, dark red for inconsistent, white bold text (both
+    // above 4.5:1 contrast), so the judgment reads before anything else on the page.
+    ".verdict{display:inline-block;padding:0.45em 0.9em;border-radius:0.4em;color:#fff;margin:0.2em 0 0.8em}"
+    ".verdict[data-verdict=consistent]{background:#1b7a35}.verdict[data-verdict=inconsistent]{background:#a50f15}"
+    ".verdict-word{font-weight:bold;font-size:1.15em;text-transform:uppercase;margin-right:0.6em}";
 
 }  // namespace
 
@@ -33,6 +38,12 @@ void HtmlDocument::AddHeading(int level, std::string_view text) {
 }
 
 void HtmlDocument::AddParagraph(std::string_view text) { body_ += "<p>" + EscapeText(text) + "</p>\n"; }
+
+void HtmlDocument::AddVerdict(bool consistent, std::string_view reason) {
+  const char* word = consistent ? "consistent" : "inconsistent";
+  body_ += std::string("<div class=\"verdict\" data-verdict=\"") + word + "\"><span class=\"verdict-word\">" + word +
+           "</span><span class=\"verdict-reason\">" + EscapeText(reason) + "</span></div>\n";
+}
 
 void HtmlDocument::AddCode(std::string_view text) { body_ += "<p><code>" + EscapeText(text) + "</code></p>\n"; }
 

@@ -11,8 +11,11 @@ namespace imuconv::report::svg {
 
 /// `<svg ...>` opening an element of the given size, with the font every text inherits (a
 /// generic family: the report loads no font).
-inline std::string Open(double width, double height, std::string_view cls, std::string_view aria_label) {
-  return "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"" + std::string(cls) + "\" width=\"" + Coordinate(width) +
+/// `extra`: further attributes, already escaped (e.g. data-* attributes from Coordinate/Readable).
+inline std::string Open(double width, double height, std::string_view cls, std::string_view aria_label,
+                        std::string_view extra = "") {
+  return "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"" + std::string(cls) + "\"" +
+         (extra.empty() ? "" : " ") + std::string(extra) + " width=\"" + Coordinate(width) +
          "\" height=\"" + Coordinate(height) + "\" viewBox=\"0 0 " + Coordinate(width) + " " + Coordinate(height) +
          "\" role=\"img\" aria-label=\"" + EscapeText(aria_label) +
          "\" font-family=\"sans-serif\" font-size=\"11\">\n";

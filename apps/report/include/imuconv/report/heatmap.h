@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "imuconv/report/anchored_scale.h"
 #include "imuconv/report/color_scale.h"
 
 namespace imuconv::report {
@@ -29,6 +30,12 @@ struct HeatmapSpec {
   /// The colour scale; by default LogColorScale::Fit over the values. Give one to draw several
   /// heatmaps on one scale.
   std::optional<LogColorScale> scale;
+  /// A scale anchored to the matrix kind and the judgment's tolerance (anchored_scale.h); when
+  /// given, it is used instead of `scale`, its legend marks the tolerance and counts the entries
+  /// beyond it, and the <svg> carries data-scale-min, data-scale-max and data-tolerance. Every
+  /// heatmap a judgment is read from should have one (a fitted scale paints round-off and a
+  /// failure alike).
+  std::optional<AnchoredScale> anchored;
   double cell = 22.0;  ///< cell side, px
 };
 

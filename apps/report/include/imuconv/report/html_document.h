@@ -20,6 +20,9 @@ class HtmlDocument {
   /// <h1>..<h6> (level clamped to 1..6). The title is already the page's <h1>.
   void AddHeading(int level, std::string_view text);
   void AddParagraph(std::string_view text);
+  /// The judgment as a coloured badge, <div class="verdict" data-verdict="consistent|inconsistent">:
+  /// the word and the one-line reason. Call it first, so it is at the top under the title.
+  void AddVerdict(bool consistent, std::string_view reason);
   /// Text in a fixed-width font (a command line, a path).
   void AddCode(std::string_view text);
   void AddList(const std::vector<std::string>& items);
