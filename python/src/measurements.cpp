@@ -172,7 +172,7 @@ void BindMeasurements(py::module_& m) {
         check::CaseInput input;
         std::string source;
         if (!samples.is_none()) {
-          input.samples = ReadSamples(samples);
+          input.samples = ReadSamples(samples, /*allow_gaps=*/false);
           input.noise = ReadNoise(noise);
           input.source = "the samples given";
           source = "samples";

@@ -74,9 +74,22 @@ class CheckBlocks : public ::testing::Test {
     static TempDir tmp;
     return tmp;
   }
-  static std::vector<json>& Outputs() {
-    static std::vector<json> outputs;
-    return outputs;
+  /// Each --json output against schemas/check_output.schema.json (Debian's python3-jsonschema),
+  /// in the test that made it: ctest runs every test in its own process.
+  static void ExpectFollowsSchema(const json& out, const std::string& name) {
+    const std::string doc = Tmp().write(name + ".out.json", out.dump());
+    const std::string script =
+        Tmp().write("validate.py",
+                    "import json, sys\n"
+                    "from jsonschema import Draft202012Validator\n"
+                    "schema = json.load(open(sys.argv[1]))\n"
+                    "Draft202012Validator.check_schema(schema)\n"
+                    "bad = [e.message for e in Draft202012Validator(schema).iter_errors(json.load(open(sys.argv[2])))]\n"
+                    "print('\\n'.join(bad[:10]))\n"
+                    "sys.exit(1 if bad else 0)\n");
+    const std::string cmd = "/usr/bin/python3 " + ShellQuote(script) + " " +
+                            ShellQuote(SourcePath("schemas/check_output.schema.json")) + " " + ShellQuote(doc);
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << name << ": " << cmd;
   }
   /// imuconv check --json on one measurement: measurement 0 of the output.
   static json Run(const json& m, const std::string& name, int expect_exit = 1) {
@@ -88,7 +101,7 @@ class CheckBlocks : public ::testing::Test {
     EXPECT_EQ(r.exit_code, expect_exit) << name << "\n" << r.err << r.out;
     if (r.exit_code != 0 && r.exit_code != 1) return json::object();
     const json out = json::parse(r.out);
-    Outputs().push_back(out);
+    ExpectFollowsSchema(out, name);
     return out["measurements"][0];
   }
   static std::string Findings(const json& m) {
@@ -342,25 +355,6 @@ TEST_F(CheckBlocks, PrecisionAndDtAreJudgedNotRefused) {
       Tmp());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "/measurements/0/precision")) << r.err;
-}
-
-// Every output above against schemas/check_output.schema.json (Debian's python3-jsonschema).
-TEST_F(CheckBlocks, OutputsFollowTheSchema) {
-  ASSERT_FALSE(Outputs().empty()) << "run with the other tests of this file";
-  const std::string outputs = Tmp().write("outputs.json", json(Outputs()).dump());
-  const std::string script =
-      Tmp().write("validate.py",
-                  "import json, sys\n"
-                  "from jsonschema import Draft202012Validator\n"
-                  "schema = json.load(open(sys.argv[1]))\n"
-                  "Draft202012Validator.check_schema(schema)\n"
-                  "v = Draft202012Validator(schema)\n"
-                  "bad = [e.message for doc in json.load(open(sys.argv[2])) for e in v.iter_errors(doc)]\n"
-                  "print('\\n'.join(bad[:10]))\n"
-                  "sys.exit(1 if bad else 0)\n");
-  const std::string cmd = "/usr/bin/python3 " + ShellQuote(script) + " " +
-                          ShellQuote(SourcePath("schemas/check_output.schema.json")) + " " + ShellQuote(outputs);
-  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
 }
 
 }  // namespace

@@ -205,7 +205,7 @@ TEST(InputsNeverWritten, PipelineOutputKeyCannotLeaveThroughALink) {
     doc["output"] = output;
     const std::string p = tmp.write("inner/p.json", doc.dump());
     const CommandResult r = RunImuconv("run " + Q(p) + " -q", tmp);
-    EXPECT_EQ(r.exit_code, 1) << output << "\n" << r.err;
+    EXPECT_EQ(r.exit_code, 2) << output << "\n" << r.err;
     EXPECT_TRUE(Has(r.err, p + ": /output: ")) << r.err;
     EXPECT_TRUE(Has(r.err, says)) << r.err;
     EXPECT_TRUE(Has(r.err, "-o")) << r.err;
@@ -255,7 +255,7 @@ TEST(InputsNeverWritten, ClosedStandardOutputIsNeverAFileOfOurs) {
   EXPECT_FALSE(Has(traj, "{") || Has(traj, "wrote")) << traj.substr(0, 200);
   // "-o -" with standard output closed: refused, not written into /dev/null in silence.
   r = Shell("\"$IMUCONV\" run generic.json -o - >&- 2> .err", tmp);
-  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "-: standard output was closed when imuconv started")) << r.err;
 }
 

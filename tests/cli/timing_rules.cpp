@@ -3,8 +3,8 @@
 // lets through, intervals holding no sample (keyframes finer than the samples), and `imuconv
 // check` on imuconv's own measurements whose keyframes lie a rounding off a sample. Each was
 // exit 0 with a wrong answer, or a whole command failing, before; each case beyond the issue's
-// own examples is marked "hostile". A refused run exits 1 (imuconv run's code for a run that
-// failed on its input, with no output written), as its other input errors do.
+// own examples is marked "hostile". A refused run exits 2 (bad input, nothing written: the one
+// exit-code table, apps/exit_codes.h), as its other input errors do.
 //
 // The data are synthetic (a slow turn and a gentle push, 200 Hz unless said), written by the
 // tests; nothing from ../shared. The examples/ pipeline is the repository's own.
@@ -116,7 +116,7 @@ TEST_F(Chain, ContiguousMeasurementsChain) {
 
 TEST_F(Chain, AGapIsRefusedNamingBothIntervals) {
   const auto r = RunChain("gap", json::array({a[0], a[2]}));
-  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "/tasks/0/chain")) << r.err;
   EXPECT_TRUE(Has(r.err, "measurement 1 (" + tmp.file("gap.meas.json") + ": /measurements/1, [1 s, 1.5 s])")) << r.err;
   EXPECT_TRUE(Has(r.err, "leaves a gap of 0.5 s after measurement 0 (")) << r.err;
@@ -126,10 +126,10 @@ TEST_F(Chain, AGapIsRefusedNamingBothIntervals) {
 
 TEST_F(Chain, BackwardsAndRepeatedIntervalsAreRefused) {
   const auto back = RunChain("back", json::array({a[1], a[0]}));
-  EXPECT_EQ(back.exit_code, 1) << back.err;
+  EXPECT_EQ(back.exit_code, 2) << back.err;
   EXPECT_TRUE(Has(back.err, "runs backwards")) << back.err;
   const auto again = RunChain("again", json::array({a[0], a[1], a[1]}));
-  EXPECT_EQ(again.exit_code, 1) << again.err;
+  EXPECT_EQ(again.exit_code, 2) << again.err;
   EXPECT_TRUE(Has(again.err, "measurement 2 (")) << again.err;
   EXPECT_TRUE(Has(again.err, "repeats the interval of measurement 1 (")) << again.err;
 }
@@ -137,7 +137,7 @@ TEST_F(Chain, BackwardsAndRepeatedIntervalsAreRefused) {
 TEST_F(Chain, HostileOverlapByHalfAnIntervalIsRefused) {
   // [0, 0.5] then [0.25, 0.75]: the second quarter would be integrated twice.
   const auto r = RunChain("overlap", json::array({a[0], b[0]}));
-  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "overlaps by 0.25 s")) << r.err;
 }
 
@@ -169,7 +169,7 @@ TEST(TimeUnit, MillisecondsDeclaredAsSecondsAreRefusedAgainstTheGroundTruth) {
   for (int k = 0; k <= 2000; ++k) csv += std::to_string(k) + ",0.1,-0.2,0.3,0,0,9.81\n";
   const std::string path = tmp.write("ms.csv", csv);
   const auto r = RunWithGroundTruth(tmp, "ms", path, "s", json::array({0.0, 1.0}));
-  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "the IMU's median period is 1 s (1 Hz) but the ground truth's is 0.01 s (100 Hz)")) << r.err;
   EXPECT_TRUE(Has(r.err, "look like ms, not s: set time_unit to \"ms\"")) << r.err;
   EXPECT_FALSE(fs::exists(tmp.file("ms.out.json")));
@@ -184,7 +184,7 @@ TEST(TimeUnit, HostileMicrosecondsDeclaredAsNanoseconds) {
   TempDir tmp;
   const std::string path = tmp.write("us.csv", ImuCsv(201, 20000.0));
   const auto r = RunWithGroundTruth(tmp, "us", path, "ns", json::array({0.0, 0.001}));
-  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "/imu/time_unit")) << r.err;
   EXPECT_TRUE(Has(r.err, "look like us, not ns: set time_unit to \"us\"")) << r.err;
 }
@@ -206,7 +206,7 @@ TEST(EmptyIntervals, KeyframesFinerThanTheSamplesFailBeforeAnyWork) {
   // of output before). Refused in the check-times stage, naming the step and the period.
   TempDir tmp;
   const auto r = RunKeyframes(tmp, "fine", {{"start", 0.0}, {"end", 1.9}, {"step", 2.1e-7}});
-  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "/tasks/0/keyframes/step")) << r.err;
   EXPECT_TRUE(Has(r.err, "holds no IMU sample: the keyframe step is 2.1e-07 s, the IMU period 0.005 s (median)"))
       << r.err;
@@ -219,7 +219,7 @@ TEST(EmptyIntervals, HostileOneSubSampleIntervalAmongGoodOnes) {
   TempDir tmp;
   const json kf = json::array({0.5, 0.6001, 0.6021});
   const auto r = RunKeyframes(tmp, "one", kf);
-  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "/tasks/0/keyframes/2")) << r.err;
   EXPECT_TRUE(Has(r.err, "interval 1 [0.6001, 0.6021] s holds no IMU sample: it is 0.002 s")) << r.err;
   // Said to be meant, it runs: both intervals, the second by interpolation alone.
@@ -233,7 +233,7 @@ TEST(EmptyIntervals, HostileRepeatedKnotIsRefused) {
   // zero-length interval it would otherwise be.
   TempDir tmp;
   const auto r = RunKeyframes(tmp, "repeat", json::array({0.1, 0.2, 0.2, 0.3}));
-  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "/tasks/0/keyframes/2")) << r.err;
 }
 
