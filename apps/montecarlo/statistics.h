@@ -38,7 +38,7 @@
 #include <limits>
 #include <vector>
 
-#include "chi_square_tails.h"
+#include "imuconv/chi_square.h"
 #include "imuconv/types.h"
 
 namespace imuconv::montecarlo {
@@ -78,7 +78,7 @@ inline double NormalQuantile(double p) {
 /// Chi-square quantile with `dof` degrees of freedom, by the Wilson-Hilferty cube-root
 /// approximation: for dof >= 30 its relative error is below 1e-3 in the tails (against the
 /// tables: chi2_30(0.975) = 46.979, chi2_120(0.99) = 158.950). A quick closed form for the
-/// tests' histogram bounds; the verdict's bounds and p-values use chi_square_tails.h, exactly.
+/// tests' histogram bounds; the verdict's bounds and p-values use imuconv/chi_square.h, exactly.
 inline double ChiSquareQuantile(double dof, double p) {
   const double h = 2.0 / (9.0 * dof);
   const double t = 1.0 - h + NormalQuantile(p) * std::sqrt(h);

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "chi_square.h"
+#include "imuconv/chi_square.h"
 #include "imuconv/did_you_mean.h"
 #include "imuconv/printable.h"
 #include "imuconv/window.h"
@@ -16,9 +16,9 @@ namespace imuconv::nees {
 
 ChiSquareReference ChiSquare9() {
   ChiSquareReference r;
-  r.median = ChiSquareQuantile(kDof, 0.5);
-  r.lower = ChiSquareQuantile(kDof, (1.0 - kConfidence) / 2.0);
-  r.upper = ChiSquareQuantile(kDof, (1.0 + kConfidence) / 2.0);
+  r.median = ChiSquareQuantileExact(kDof, 0.5);
+  r.lower = ChiSquareQuantileExact(kDof, (1.0 - kConfidence) / 2.0);
+  r.upper = ChiSquareQuantileExact(kDof, (1.0 + kConfidence) / 2.0);
   return r;
 }
 

@@ -33,7 +33,7 @@ constexpr double kConfidence = 0.95;
 /// Most windows of one length (--stride small against the data's span).
 constexpr std::size_t kMaxWindows = 1000000;
 
-/// The chi-square(9) figures the report is judged against (chi_square.h, exact).
+/// The chi-square(9) figures the report is judged against (imuconv/chi_square.h, exact).
 struct ChiSquareReference {
   double median = 0.0;
   double lower = 0.0;  ///< the (1 - kConfidence) / 2 quantile

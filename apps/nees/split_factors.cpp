@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "chi_square.h"
+#include "imuconv/chi_square.h"
 #include "order_statistics.h"
 
 namespace imuconv::nees {
@@ -25,7 +25,7 @@ double MedianVNees(const std::vector<Vec9>& error, const std::vector<Mat9>& cov_
 }  // namespace
 
 double ChiSquare3Median() {
-  static const double median = ChiSquareQuantile(3, 0.5);
+  static const double median = ChiSquareQuantileExact(3, 0.5);
   return median;
 }
 

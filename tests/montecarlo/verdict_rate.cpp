@@ -58,7 +58,7 @@ TEST(MontecarloVerdict, ChiSquareMatchesTablesAndInvertsItself) {
   // the bounds are the points where the p-values equal the tests' level: the quantile is a
   // bisection to one ulp, so the p-value there is the level to the CDF's own precision: 1e-9
   // relative up to N = 1000, and at the 10^7 trials allowed (1.5e8 dof, where the series needs
-  // ~1.5e5 terms, not a fixed 1000) the ~2e-7 that chi_square_tails.h states for its prefactor
+  // ~1.5e5 terms, not a fixed 1000) the ~2e-7 that imuconv/chi_square.h states for its prefactor
   // in logs (measured 1.6e-7): 3e-7 there.
   for (int n : {16, 1000, 10000000}) {
     const auto b = NeesBounds(n);

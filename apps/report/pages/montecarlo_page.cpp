@@ -4,7 +4,7 @@
 #include <limits>
 
 #include "check/difference.h"
-#include "chi_square.h"
+#include "imuconv/chi_square.h"
 #include "imuconv/report/chart.h"
 #include "imuconv/report/heatmap.h"
 #include "imuconv/report/markup.h"
@@ -38,12 +38,12 @@ Eigen::MatrixXd Standardized(const Mat15& sigma, const Mat15& s, int trials) {
 }
 
 // The trials' NEES in linear bins against the counts chi-square(15) predicts in each (its exact
-// CDF, apps/nees/chi_square.h), with the chi-square(15) mean and the 95 % per-trial bounds.
+// CDF, imuconv/chi_square.h), with the chi-square(15) mean and the 95 % per-trial bounds.
 std::string TrialNeesHistogram(const std::vector<double>& nees) {
   constexpr int kBins = 30;
   constexpr double kDof = 15.0;
   // At least up to chi-square(15)'s 0.9999 quantile (about 44), so a consistent run's tail fits.
-  double hi = nees::ChiSquareQuantile(kDof, 0.9999);
+  double hi = ChiSquareQuantileExact(kDof, 0.9999);
   std::size_t finite = 0;
   for (double v : nees)
     if (std::isfinite(v)) {
@@ -59,7 +59,7 @@ std::string TrialNeesHistogram(const std::vector<double>& nees) {
   for (int k = 0; k < kBins; ++k) {
     const double a = bars.edges[static_cast<std::size_t>(k)], b = bars.edges[static_cast<std::size_t>(k) + 1];
     expected.x.push_back(0.5 * (a + b));
-    expected.y.push_back(static_cast<double>(finite) * (nees::ChiSquareCdf(kDof, b) - nees::ChiSquareCdf(kDof, a)));
+    expected.y.push_back(static_cast<double>(finite) * (ChiSquareCdf(kDof, b) - ChiSquareCdf(kDof, a)));
   }
   ChartSpec c;
   c.title = "Per-trial NEES against chi-square(15)";
@@ -69,8 +69,8 @@ std::string TrialNeesHistogram(const std::vector<double>& nees) {
   c.bars.push_back(std::move(bars));
   c.series.push_back(std::move(expected));
   c.lines.push_back({"chi2(15) mean", kDof, true, "#2ca02c", false});
-  c.lines.push_back({"chi2(15) 95 % bounds", nees::ChiSquareQuantile(kDof, 0.025), true, "#d62728"});
-  c.lines.push_back({"", nees::ChiSquareQuantile(kDof, 0.975), true, "#d62728"});
+  c.lines.push_back({"chi2(15) 95 % bounds", ChiSquareQuantileExact(kDof, 0.025), true, "#d62728"});
+  c.lines.push_back({"", ChiSquareQuantileExact(kDof, 0.975), true, "#d62728"});
   return ChartSvg(c);
 }
 

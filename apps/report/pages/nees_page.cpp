@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "chi_square.h"
+#include "imuconv/chi_square.h"
 #include "imuconv/report/chart.h"
 #include "imuconv/report/markup.h"
 #include "nees.h"
@@ -57,7 +57,7 @@ std::string NeesHistogram(const nees::Result& r, const nees::WindowLengthResult&
   for (int k = 0; k < kHistogramBins; ++k) {
     const double a = bars.edges[static_cast<std::size_t>(k)], b = bars.edges[static_cast<std::size_t>(k) + 1];
     expected.x.push_back(std::sqrt(a * b));
-    expected.y.push_back(n * (nees::ChiSquareCdf(nees::kDof, b) - nees::ChiSquareCdf(nees::kDof, a)));
+    expected.y.push_back(n * (ChiSquareCdf(nees::kDof, b) - ChiSquareCdf(nees::kDof, a)));
   }
   ChartSpec c;
   c.title = "NEES distribution, " + Readable(w.length, 4) + " s windows";

@@ -1,20 +1,20 @@
-// The chi-square distribution to double precision for the large degrees of freedom of a Monte
-// Carlo run: the NEES sum of N trials has 15 N dof (up to 1.5e8 at the 10^7 trials allowed),
-// the KL statistic 135. The CDF is the regularized incomplete gamma function P(dof/2, x/2), by
-// its power series below a + 1 and by the continued fraction of Q = 1 - P above (Lentz's
-// method). Near x = a both need about sqrt(a) terms, not a fixed count: the series' terms
-// shrink like exp(-n^2 / (2a)), so 12 sqrt(a) + 100 terms reach 1e-16 (exp(-72) ~ 5e-32) at any
-// a; the continued fraction converges no slower there. The prefactor x^a e^-x / Gamma(a) is
-// formed in logs; its exponent, ~a ln a, is summed to ~1e-16 relative, so at a = 7.5e7 it
-// carries ~2e-7 of relative error into p, far below the 0.5 % levels it is compared with.
-// (apps/nees/chi_square.h caps both at 1000 terms, enough for its 9 dof but not for 15 N.)
+// The chi-square distribution to double precision, for every judgment that quotes it: the NEES
+// of one nees window (9 dof; the theta block's 3), a Monte Carlo run's NEES sum of N trials
+// (15 N dof, up to 1.5e8 at the 10^7 trials allowed) and its KL statistic (135). The CDF is the
+// regularized incomplete gamma function P(dof/2, x/2), by its power series below a + 1 and by
+// the continued fraction of Q = 1 - P above (Lentz's method). Near x = a both need about
+// sqrt(a) terms, not a fixed count: the series' terms shrink like exp(-n^2 / (2a)), so
+// 12 sqrt(a) + 100 terms reach 1e-16 (exp(-72) ~ 5e-32) at any a; the continued fraction
+// converges no slower there. The prefactor x^a e^-x / Gamma(a) is formed in logs; its exponent,
+// ~a ln a, is summed to ~1e-16 relative, so at a = 7.5e7 it carries ~2e-7 of relative error into
+// p, far below the 0.5 % levels it is compared with.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-namespace imuconv::montecarlo {
+namespace imuconv {
 
 /// P(a, x) and Q(a, x) = 1 - P(a, x), each computed directly where it is the small one, so
 /// that a tail probability of 1e-300 is not lost in 1 - (1 - 1e-300).
@@ -58,6 +58,9 @@ inline GammaTails RegularizedGamma(double a, double x) {
 /// Pr(X <= x) and Pr(X > x) for X chi-square with `dof` degrees of freedom.
 inline GammaTails ChiSquareTails(double dof, double x) { return RegularizedGamma(dof / 2.0, x / 2.0); }
 
+/// The chi-square CDF Pr(X <= x).
+inline double ChiSquareCdf(double dof, double x) { return ChiSquareTails(dof, x).lower; }
+
 /// The x with Pr(X <= x) = p (0 < p < 1), by bisection on the monotone CDF until the bracket is
 /// one ulp wide (the lower tail compared for p <= 1/2, the upper one above: both exact).
 inline double ChiSquareQuantileExact(double dof, double p) {
@@ -75,4 +78,4 @@ inline double ChiSquareQuantileExact(double dof, double p) {
   return 0.5 * (lo + hi);
 }
 
-}  // namespace imuconv::montecarlo
+}  // namespace imuconv
