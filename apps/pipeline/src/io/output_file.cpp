@@ -3,9 +3,7 @@
 #include <fcntl.h>
 #include <link.h>
 #include <limits.h>
-#include <poll.h>
 #include <signal.h>
-#include <sys/random.h>
 #include <sys/stat.h>
 #include <sys/xattr.h>
 #include <unistd.h>
@@ -19,175 +17,27 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
-#include <random>
 #include <vector>
 
+#include "descriptor_io.h"
+#include "destination_path.h"
 #include "imuconv/pipeline/input_registry.h"
+#include "live_temporaries.h"
 #include "imuconv/pipeline/standard_descriptors.h"
 #include "imuconv/printable.h"
 #include "imuconv/registry.h"
 
 namespace imuconv::pipeline {
-namespace {
 
 namespace fs = std::filesystem;
-
-// ---- live temporaries, for the signal handler ----------------------------------------------
-// A fixed table, no allocation and no lock: the handler may run on any thread at any moment and
-// may only use async-signal-safe calls (unlink, raise) and lock-free atomics. A slot is
-// reserved (Filling) while its path is copied in, so the handler never reads half a path.
-constexpr int kSlots = 16;  // one output per command today; room for a library user with a few
-enum SlotState : int { kFree, kFilling, kLive };
-struct Slot {
-  std::atomic<int> state{kFree};
-  char path[PATH_MAX];
-};
-static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs lock-free atomics");
-Slot g_slots[kSlots];
-
-int Remember(const std::string& path) {
-  if (path.size() >= PATH_MAX) return -1;
-  for (int i = 0; i < kSlots; ++i) {
-    int expected = kFree;
-    if (g_slots[i].state.compare_exchange_strong(expected, kFilling)) {
-      std::memcpy(g_slots[i].path, path.c_str(), path.size() + 1);
-      g_slots[i].state.store(kLive);
-      return i;
-    }
-  }
-  return -1;
-}
-
-void Forget(int slot) {
-  if (slot >= 0) g_slots[slot].state.store(kFree);
-}
-
-// Installed with SA_RESETHAND, so the disposition is the default again when this runs; the
-// signal is blocked while it runs, so raise() leaves it pending and it is delivered, with its
-// default action, as the handler returns.
-void RemoveTemporariesAndDie(int sig) {
-  for (auto& s : g_slots)
-    if (s.state.load() == kLive) ::unlink(s.path);
-  ::raise(sig);
-}
-
-// ---- examining the destination -----------------------------------------------------------
-
-std::string KindOf(mode_t m) {
-  if (S_ISREG(m)) return "a regular file";
-  if (S_ISDIR(m)) return "a directory";
-  if (S_ISCHR(m)) return "a character device";
-  if (S_ISBLK(m)) return "a block device";
-  if (S_ISFIFO(m)) return "a FIFO";
-  if (S_ISSOCK(m)) return "a socket";
-  if (S_ISLNK(m)) return "a symbolic link";
-  return "a file of unknown kind";
-}
-
-/// N when `p` names this process's descriptor N (/dev/fd/N, /proc/self/fd/N,
-/// /proc/thread-self/fd/N, /proc/<our pid>/fd/N). Those are written through the descriptor we
-/// already hold: reopening them would start at offset 0 without the append mode of `>>`, and
-/// following them as links would replace whatever file the shell opened.
-std::optional<int> OwnDescriptor(const std::string& p) {
-  // By name first: /dev and /proc are not mounted everywhere (some containers).
-  if (p == "-" || p == "/dev/stdout") return 1;
-  if (p == "/dev/stderr") return 2;
-  const fs::path path(p);
-  const std::string name = path.filename().string();
-  if (name.empty() || name.size() > 9 || !std::all_of(name.begin(), name.end(), [](char c) { return c >= '0' && c <= '9'; }))
-    return std::nullopt;
-  const std::string parent = path.parent_path().string();
-  if (parent.empty()) return std::nullopt;  // a file called "3" in the working directory
-  if (parent == "/dev/fd" || parent == "/proc/self/fd" || parent == "/proc/thread-self/fd") return std::stoi(name);
-  char buf[PATH_MAX];
-  if (!::realpath(path.parent_path().c_str(), buf)) return std::nullopt;
-  const std::string dir(buf), proc = "/proc/" + std::to_string(::getpid());
-  bool ours = dir == proc + "/fd";
-  const std::string task = proc + "/task/";
-  if (!ours && dir.size() > task.size() + 3 && dir.compare(0, task.size(), task) == 0 &&
-      dir.compare(dir.size() - 3, 3, "/fd") == 0) {
-    const std::string tid = dir.substr(task.size(), dir.size() - 3 - task.size());
-    ours = std::all_of(tid.begin(), tid.end(), [](char c) { return c >= '0' && c <= '9'; });
-  }
-  if (!ours) return std::nullopt;
-  return std::stoi(name);
-}
-
-std::string ReadLink(const std::string& p, const std::string& shown) {
-  std::string buf(256, '\0');
-  for (;;) {
-    const ssize_t n = ::readlink(p.c_str(), buf.data(), buf.size());
-    if (n < 0) throw Error(shown + ": cannot read the symbolic link " + Printable(p) + ": " + std::strerror(errno));
-    if (static_cast<std::size_t>(n) < buf.size()) return buf.substr(0, static_cast<std::size_t>(n));
-    buf.resize(buf.size() * 2);
-  }
-}
-
-/// Writes everything, through EINTR, short writes and a non-blocking descriptor; 0 or errno.
-int WriteAll(int fd, std::string_view text) {
-  std::size_t done = 0;
-  while (done < text.size()) {
-    const std::size_t chunk = std::min<std::size_t>(text.size() - done, std::size_t{1} << 30);
-    const ssize_t w = ::write(fd, text.data() + done, chunk);
-    if (w < 0) {
-      if (errno == EINTR) continue;
-      if (errno == EAGAIN || errno == EWOULDBLOCK) {
-        pollfd p{fd, POLLOUT, 0};
-        ::poll(&p, 1, -1);
-        continue;
-      }
-      return errno;
-    }
-    done += static_cast<std::size_t>(w);
-  }
-  return 0;
-}
-
-/// 12 characters of [A-Za-z0-9] (71 bits) for a temporary's name.
-std::string RandomSuffix() {
-  static const char kChars[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
-  unsigned char b[12];
-  if (::getrandom(b, sizeof b, 0) != static_cast<ssize_t>(sizeof b)) {
-    std::random_device rd;
-    for (auto& c : b) c = static_cast<unsigned char>(rd());
-  }
-  std::string s;
-  for (unsigned char c : b) s += kChars[c % 62];
-  return s;
-}
-
-/// The real path of `p` (every link resolved), or nullopt with errno set.
-std::optional<std::string> RealPath(const std::string& p) {
-  char buf[PATH_MAX];
-  if (!::realpath(p.c_str(), buf)) return std::nullopt;
-  return std::string(buf);
-}
-
-/// `inner` is `outer` or lies below it (both real paths).
-bool IsInside(const std::string& inner, const std::string& outer) {
-  if (outer == "/") return true;
-  return inner == outer || (inner.size() > outer.size() && inner.compare(0, outer.size(), outer) == 0 &&
-                            inner[outer.size()] == '/');
-}
-
-/// Copies `fd`'s bytes from offset 0 to `to`; 0 or errno. A fixed buffer: memory does not grow
-/// with the document.
-int CopyThrough(int fd, int to) {
-  std::vector<char> buf(std::size_t{1} << 20);
-  off_t at = 0;
-  for (;;) {
-    const ssize_t n = ::pread(fd, buf.data(), buf.size(), at);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      return errno;
-    }
-    if (n == 0) return 0;
-    if (const int err = WriteAll(to, std::string_view(buf.data(), static_cast<std::size_t>(n)))) return err;
-    at += n;
-  }
-}
-
-}  // namespace
+using destination::IsInside;
+using destination::KindOf;
+using destination::OwnDescriptor;
+using destination::RandomSuffix;
+using destination::ReadLink;
+using destination::RealPath;
+using live_temporaries::Forget;
+using live_temporaries::Remember;
 
 OutputFile::OutputFile(std::string path, std::optional<Confinement> within)
     : path_(std::move(path)), within_(std::move(within)) {
@@ -573,21 +423,6 @@ void WriteFileAtomically(const std::string& path, const std::string& text) {
   OutputFile f(path);
   f.write(text);
   f.commit();
-}
-
-void RemoveTemporariesOnSignal() {
-  const int signals[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
-  struct sigaction sa {};
-  sa.sa_handler = RemoveTemporariesAndDie;
-  sigemptyset(&sa.sa_mask);
-  for (int s : signals) sigaddset(&sa.sa_mask, s);  // one cleanup at a time
-  sa.sa_flags = SA_RESETHAND;
-  for (int s : signals) {
-    struct sigaction old {};
-    if (::sigaction(s, nullptr, &old) != 0) continue;
-    if (!(old.sa_flags & SA_SIGINFO) && old.sa_handler == SIG_IGN) continue;  // nohup: keep ignoring it
-    ::sigaction(s, &sa, nullptr);
-  }
 }
 
 }  // namespace imuconv::pipeline
