@@ -7,7 +7,7 @@
 // exit-code table, apps/exit_codes.h), as its other input errors do.
 //
 // The data are synthetic (a slow turn and a gentle push, 200 Hz unless said), written by the
-// tests; nothing from ../shared. The examples/ pipeline is the repository's own.
+// tests; nothing from outside the repository. The examples/ pipeline is the repository's own.
 #include <gtest/gtest.h>
 
 #include <cmath>
