@@ -51,19 +51,33 @@ struct Scored {
   std::vector<double> key;
 };
 
+/// The best candidate of one part (covariance or J_bias): its differences, its blocks, its
+/// choice and the other choices tied with it.
+template <typename Choice>
+struct PartResult {
+  EntryDiff d;
+  BlockAnalysis blocks;
+  Choice choice;
+  std::vector<Choice> tied;
+};
+using CovResult = PartResult<CovarianceChoice>;
+using JacResult = PartResult<JacobianChoice>;
+
 /// The best of `all` by key (the first of the tied ones) and the others tied with it.
 template <typename Choice>
-std::pair<const Scored<Choice>*, std::vector<Choice>> Pick(const std::vector<Scored<Choice>>& all) {
+PartResult<Choice> Pick(const std::vector<Scored<Choice>>& all) {
   const Scored<Choice>* best = nullptr;
   for (const auto& x : all)
     if (!best || CompareKeys(x.key, best->key) < 0) best = &x;
-  std::vector<Choice> tied;
-  if (best)
-    for (const auto& x : all)
-      if (&x != best && CompareKeys(x.key, best->key) == 0 && !(x.choice == best->choice) &&
-          std::find(tied.begin(), tied.end(), x.choice) == tied.end())
-        tied.push_back(x.choice);
-  return {best, std::move(tied)};
+  PartResult<Choice> out;
+  out.d = best->d;
+  out.blocks = best->blocks;
+  out.choice = best->choice;
+  for (const auto& x : all)
+    if (&x != best && CompareKeys(x.key, best->key) == 0 && !(x.choice == best->choice) &&
+        std::find(out.tied.begin(), out.tied.end(), x.choice) == out.tied.end())
+      out.tied.push_back(x.choice);
+  return out;
 }
 
 /// The key of a part when some candidate is within tolerance: max d, then mean d.
@@ -96,20 +110,6 @@ std::vector<const T*> Ordered(const std::vector<T>& all, const std::string& want
       if (id(x) != preferred) out.push_back(&x);
   return out;
 }
-
-struct PartResult {
-  EntryDiff d;
-  BlockAnalysis blocks;
-};
-
-struct CovResult : PartResult {
-  CovarianceChoice choice;
-  std::vector<CovarianceChoice> tied;
-};
-struct JacResult : PartResult {
-  JacobianChoice choice;
-  std::vector<JacobianChoice> tied;
-};
 
 CovResult BestCovariance(const SchemeCandidates& s, const Mat15& user, const Constraints& c, const Constraints& prefer,
                          double tol) {
@@ -155,13 +155,7 @@ CovResult BestCovariance(const SchemeCandidates& s, const Mat15& user, const Con
       x.key = BlockKey(x.blocks, x.structure, x.d);
     }
   }
-  auto [best, tied] = Pick(all);
-  CovResult out;
-  out.d = best->d;
-  out.blocks = best->blocks;
-  out.choice = best->choice;
-  out.tied = std::move(tied);
-  return out;
+  return Pick(all);
 }
 
 JacResult BestJacobian(const SchemeCandidates& s, const Mat96& user, const Constraints& c, const Constraints& prefer,
@@ -195,13 +189,7 @@ JacResult BestJacobian(const SchemeCandidates& s, const Mat96& user, const Const
       x.key = BlockKey(x.blocks, 0.0, x.d);
     }
   }
-  auto [best, tied] = Pick(all);
-  JacResult out;
-  out.d = best->d;
-  out.blocks = best->blocks;
-  out.choice = best->choice;
-  out.tied = std::move(tied);
-  return out;
+  return Pick(all);
 }
 
 }  // namespace

@@ -6,21 +6,11 @@
 
 #include "imuconv/report/color_scale.h"
 #include "imuconv/report/heatmap.h"
+#include "imuconv/report/markup.h"
+#include "summary.h"
 
 namespace imuconv::experiment {
 namespace {
-
-std::string Sci(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2e", x);
-  return buf;
-}
-
-std::string Plain(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", x);
-  return buf;
-}
 
 std::string What(const Comparison& c) {
   if (c.matrix == "J_bias") return "bias Jacobian";
@@ -64,8 +54,8 @@ void AddFigure(report::HtmlDocument& doc, const Result& r, const std::string& ex
 report::HtmlDocument ExperimentPage(const Result& r) {
   const Options& o = r.options;
   report::HtmlDocument doc("imuconv experiment: the note's Figures 1 and 2");
-  doc.AddParagraph(std::to_string(o.trials) + " random trials of " + Plain(o.spec.duration_s) + " s at " +
-                   Plain(o.spec.rate_hz) + " Hz, seed " + std::to_string(o.seed) + "; propagator " + o.propagator +
+  doc.AddParagraph(std::to_string(o.trials) + " random trials of " + report::Readable(o.spec.duration_s, 6) + " s at " +
+                   report::Readable(o.spec.rate_hz, 6) + " Hz, seed " + std::to_string(o.seed) + "; propagator " + o.propagator +
                    " on the samples" +
                    (o.propagator_substeps > 1 ? " (" + std::to_string(o.propagator_substeps) + " knots per step)"
                                               : "") +

@@ -46,17 +46,23 @@ struct Plan {
   int scheme;  ///< index into kSchemes
 };
 
+/// A comparison of `experiment` on scheme s's preintegrator, its matrices from `source`.
+Plan SchemePlan(const char* experiment, Source source, int s) {
+  Plan p;
+  p.source = source;
+  p.scheme = s;
+  p.c.experiment = experiment;
+  p.c.preintegrator = kSchemes[s];
+  return p;
+}
+
 /// The eight comparisons (or four of one experiment), in the order of the note's figures.
 std::vector<Plan> MakePlans(const Registry& reg, const Options& o) {
   std::vector<Plan> plans;
   if (o.preint_by_prop) {
     for (const Source src : {Source::increment_jacobian, Source::increment_cov})
       for (int s = 0; s < 2; ++s) {
-        Plan p;
-        p.source = src;
-        p.scheme = s;
-        p.c.experiment = "preint-by-prop";
-        p.c.preintegrator = kSchemes[s];
+        Plan p = SchemePlan("preint-by-prop", src, s);
         p.c.reference = kSchemes[s];
         const auto conv = reg.increment_convention(kSchemeCharts[s]);
         if (src == Source::increment_jacobian) {
@@ -78,11 +84,7 @@ std::vector<Plan> MakePlans(const Registry& reg, const Options& o) {
     const auto left = reg.state_convention(kStateChart);
     for (const Source src : {Source::transition, Source::state_cov})
       for (int s = 0; s < 2; ++s) {
-        Plan p;
-        p.source = src;
-        p.scheme = s;
-        p.c.experiment = "prop-by-preint";
-        p.c.preintegrator = kSchemes[s];
+        Plan p = SchemePlan("prop-by-preint", src, s);
         p.c.reference = o.propagator;
         p.c.chart = kStateChart;
         p.c.matrix = src == Source::transition ? "Phi" : "cov";

@@ -4,13 +4,14 @@
 #include <string>
 
 namespace imuconv::experiment {
-namespace {
 
 std::string Sci(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.2e", x);
   return buf;
 }
+
+namespace {
 
 std::string Input(const Options& o) { return o.input == PreintegratorInput::mid ? "mid" : "zoh"; }
 

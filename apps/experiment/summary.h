@@ -4,10 +4,14 @@
 
 #include <nlohmann/json.hpp>
 #include <ostream>
+#include <string>
 
 #include "experiments.h"
 
 namespace imuconv::experiment {
+
+/// A difference as the summary and the report print it: three significant digits, "%.2e".
+std::string Sci(double x);
 
 void PrintSummary(std::ostream& out, const Result& r);
 

@@ -12,17 +12,11 @@ namespace {
 using namespace imuconv;
 using imuconv::test::Plugins;
 
-SampleWindow Window(const std::vector<ImuSample>& s) {
-  SampleWindow w;
-  EXPECT_TRUE(MakeWindow(s.data(), s.size(), s.front().t, s.back().t, w).ok());
-  return w;
-}
-
 class ByPropagation : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(ByPropagation, BiasJacobianMatchesReintegration) {
   const auto imu = test::SmoothImu(1.0);
-  const SampleWindow w = Window(imu);
+  const SampleWindow w = test::WholeWindow(imu);
   const Vec3 bg(0.01, -0.02, 0.005), ba(0.1, 0.05, -0.2);
   const Preintegrated m = PreintegrateByPropagation(Plugins(), GetParam(), w, bg, ba, test::TestNoise());
   // Central differences of the re-integrated increment in preint_reference, h = 1e-6:
@@ -44,7 +38,7 @@ TEST_P(ByPropagation, BiasJacobianMatchesReintegration) {
 
 TEST_P(ByPropagation, ExpressAndBackIsLossless) {
   const auto imu = test::SmoothImu(1.0);
-  const Preintegrated m = PreintegrateByPropagation(Plugins(), GetParam(), Window(imu), Vec3(0.01, 0, 0),
+  const Preintegrated m = PreintegrateByPropagation(Plugins(), GetParam(), test::WholeWindow(imu), Vec3(0.01, 0, 0),
                                                     Vec3(0, 0.1, 0), test::TestNoise());
   for (const auto& id : Plugins().ids(PluginKind::IncrementConvention)) {
     const Preintegrated back = FromConvention(Plugins(), Express(Plugins(), m, id));
@@ -63,7 +57,7 @@ INSTANTIATE_TEST_SUITE_P(Propagators, ByPropagation, ::testing::Values("euler", 
 // [Log(dR^T dR_true), dp_true - dp, dv_true - dv, W_g, W_a] at the last knot.
 TEST(ByPropagationMonteCarlo, CovarianceMatchesSampleCovariance) {
   const auto imu = test::SmoothImu(1.0);
-  const SampleWindow w = Window(imu);
+  const SampleWindow w = test::WholeWindow(imu);
   const ImuNoise q = test::TestNoise();
   const Vec3 bg(0.01, -0.02, 0.005), ba(0.1, 0.05, -0.2);
   const Preintegrated m = PreintegrateByPropagation(Plugins(), "euler", w, bg, ba, q);
@@ -90,7 +84,7 @@ TEST(ByPropagationMonteCarlo, CovarianceMatchesSampleCovariance) {
     in.x_s.ba = ba;
     in.gravity.setZero();
     in.noise = q;
-    in.window = Window(noisy);
+    in.window = test::WholeWindow(noisy);
     const PropagationResult r = Plugins().propagate("euler", "left", in);
     PreintIncrement truth;
     truth.dR = r.x_e.R;

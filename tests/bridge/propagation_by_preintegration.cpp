@@ -15,19 +15,10 @@ namespace {
 using namespace imuconv;
 using imuconv::test::Plugins;
 
-struct Scenario {
-  std::vector<ImuSample> imu = test::SmoothImu(1.0);
-  SampleWindow w;
-  ImuState x_s;
+/// The shared scenario with a random start covariance in the left chart.
+struct Scenario : test::SmoothScenario {
   Mat15 cov_left;
-  Vec3 g = Vec3(0, 0, -9.81);
   Scenario() {
-    EXPECT_TRUE(MakeWindow(imu.data(), imu.size(), imu.front().t, imu.back().t, w).ok());
-    x_s.R = so3::Exp(Vec3(0.3, -1.1, 0.7));
-    x_s.p = Vec3(3, -2, 1);
-    x_s.v = Vec3(0.5, 1.5, -0.2);
-    x_s.bg = Vec3(0.01, -0.02, 0.005);
-    x_s.ba = Vec3(0.1, 0.05, -0.2);
     Eigen::Matrix<double, 15, 15> A = Eigen::Matrix<double, 15, 15>::Random();
     cov_left = 1e-3 * (A * A.transpose() + 15 * Mat15::Identity());
   }

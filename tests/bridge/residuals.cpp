@@ -14,19 +14,11 @@ namespace {
 using namespace imuconv;
 using imuconv::test::Plugins;
 
-struct Scenario {
-  std::vector<ImuSample> imu = test::SmoothImu(1.0);
-  SampleWindow w;
-  ImuState x_s, x_e;
-  Vec3 g = Vec3(0, 0, -9.81);
+/// The shared scenario with a measurement over its window and an end state x_e.
+struct Scenario : test::SmoothScenario {
+  ImuState x_e;
   Preintegrated m;
   Scenario() {
-    EXPECT_TRUE(MakeWindow(imu.data(), imu.size(), imu.front().t, imu.back().t, w).ok());
-    x_s.R = so3::Exp(Vec3(0.3, -1.1, 0.7));
-    x_s.p = Vec3(3, -2, 1);
-    x_s.v = Vec3(0.5, 1.5, -0.2);
-    x_s.bg = Vec3(0.01, -0.02, 0.005);
-    x_s.ba = Vec3(0.1, 0.05, -0.2);
     // Bias estimate of the measurement differs from x_s's: the correction is exercised.
     m = PreintegrateByPropagation(Plugins(), "euler", w, x_s.bg + Vec3(1e-3, -2e-3, 1e-3),
                                   x_s.ba + Vec3(-0.01, 0.02, 0.01), test::TestNoise());

@@ -1,10 +1,16 @@
-// A deterministic smooth IMU sequence for the bridge tests (sums of sinusoids, 200 Hz).
+// A deterministic smooth IMU sequence for the bridge tests (sums of sinusoids, 200 Hz), its
+// noise, and the scenario the prediction and residual tests share: 1 s of it as one window and
+// a start state far from the identity with nonzero biases.
 #pragma once
+
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
+#include "imuconv/so3.h"
 #include "imuconv/types.h"
+#include "imuconv/window.h"
 
 namespace imuconv::test {
 
@@ -28,5 +34,28 @@ inline ImuNoise TestNoise() {
   // gyro and accelerometer noise densities, then gyro and accelerometer random walks
   return ImuNoise{2e-3, 3e-2, 4e-4, 6e-3};
 }
+
+/// The whole of `s` as one window.
+inline SampleWindow WholeWindow(const std::vector<ImuSample>& s) {
+  SampleWindow w;
+  EXPECT_TRUE(MakeWindow(s.data(), s.size(), s.front().t, s.back().t, w).ok());
+  return w;
+}
+
+/// 1 s of SmoothImu as one window, a start state x_s (rotated by about 1.3 rad, moving, biased)
+/// and gravity.
+struct SmoothScenario {
+  std::vector<ImuSample> imu = SmoothImu(1.0);
+  SampleWindow w = WholeWindow(imu);
+  ImuState x_s;
+  Vec3 g = Vec3(0, 0, -9.81);
+  SmoothScenario() {
+    x_s.R = so3::Exp(Vec3(0.3, -1.1, 0.7));
+    x_s.p = Vec3(3, -2, 1);
+    x_s.v = Vec3(0.5, 1.5, -0.2);
+    x_s.bg = Vec3(0.01, -0.02, 0.005);
+    x_s.ba = Vec3(0.1, 0.05, -0.2);
+  }
+};
 
 }  // namespace imuconv::test

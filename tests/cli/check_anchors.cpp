@@ -10,6 +10,8 @@
 
 #include "../pipeline/pipeline_test_util.h"
 #include "imuconv_test.h"
+#include "json_rows.h"
+#include "reference_case.h"
 
 namespace {
 using namespace imuconv;
@@ -18,18 +20,6 @@ using nlohmann::json;
 
 const char* const kCase = "smooth-0";
 
-json Rows(const Eigen::MatrixXd& m) {
-  json rows = json::array();
-  for (Eigen::Index i = 0; i < m.rows(); ++i) {
-    json r = json::array();
-    for (Eigen::Index k = 0; k < m.cols(); ++k) r.push_back(m(i, k));
-    rows.push_back(r);
-  }
-  return rows;
-}
-
-json CaseJson() { return ReadJson(DataPath(std::string("reference/cases/") + kCase + ".json")); }
-
 /// ORB-SLAM3's IMU::Preintegrated (float32 throughout, held as doubles) as a measurement:
 /// the increment dR, dP, dV; J_bias rows [theta, p, v] (right perturbation, the README's
 /// dR(b) = dR Exp(JRg dbg), dV(b) = dV + JVg dbg + JVa dba, dP likewise: d/d(bias estimate)),
@@ -37,7 +27,7 @@ json CaseJson() { return ReadJson(DataPath(std::string("reference/cases/") + kCa
 /// float sum of the steps dT; the bias estimate ORB linearized at (rounded to float). No
 /// chart, order or precision is declared.
 json OrbSlam3Measurement() {
-  const json c = CaseJson();
+  const json c = CaseJson(kCase);
   const json a = ReadJson(DataPath(std::string("reference/anchors/orb-slam3/") + kCase + ".json"));
   const json& p = a["preintegration"];
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(9, 6);
@@ -51,7 +41,7 @@ json OrbSlam3Measurement() {
           {"dt", p["dT"]},
           {"bias_estimate", {{"bg", a["inputs"]["bias_lin_float"]["bg"]}, {"ba", a["inputs"]["bias_lin_float"]["ba"]}}},
           {"delta", {{"R", p["dR"]}, {"dp", p["dP"]}, {"dv", p["dV"]}}},
-          {"J_bias", {{"convention", "unknown"}, {"matrix", Rows(J)}}},
+          {"J_bias", {{"convention", "unknown"}, {"matrix", JsonRows(J)}}},
           {"cov", {{"convention", "unknown"}, {"matrix", p["C"]["matrix"]}}}};
 }
 
@@ -62,7 +52,7 @@ json OrbSlam3Measurement() {
 /// dp/dbg = dp_db_g, dp/dba = -C_doubleintegral, dalpha/dbg = -dalpha_db_g (Dq =
 /// exp(-dalpha_db_g dbg) Delta q), dv/dbg = dv_db_g, dv/dba = -C_integral. Nothing declared.
 json Okvis2Measurement() {
-  const json c = CaseJson();
+  const json c = CaseJson(kCase);
   const json a = ReadJson(DataPath(std::string("reference/anchors/okvis2/") + kCase + ".json"));
   const json& p = a["imu_error"]["preintegration"];
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(9, 6);
@@ -76,7 +66,7 @@ json Okvis2Measurement() {
           {"dt", a["inputs"]["Delta_t"]},
           {"bias_estimate", {{"bg", a["inputs"]["state_start"]["bg"]}, {"ba", a["inputs"]["state_start"]["ba"]}}},
           {"delta", {{"R", p["Delta_R"]}, {"dp", p["acc_doubleintegral"]}, {"dv", p["acc_integral"]}}},
-          {"J_bias", {{"convention", "unknown"}, {"matrix", Rows(J)}}},
+          {"J_bias", {{"convention", "unknown"}, {"matrix", JsonRows(J)}}},
           {"cov", {{"convention", "unknown"}, {"matrix", p["P_delta"]["matrix"]}}}};
 }
 

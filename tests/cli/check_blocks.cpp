@@ -13,42 +13,15 @@
 #include <string>
 
 #include "../pipeline/pipeline_test_util.h"
+#include "gtsam_measurement.h"
 #include "imuconv_test.h"
+#include "json_rows.h"
+#include "json_schema_check.h"
 
 namespace {
 using namespace imuconv;
 using namespace imuconv::test;
 using nlohmann::json;
-
-json Rows(const Eigen::MatrixXd& m) {
-  json rows = json::array();
-  for (Eigen::Index i = 0; i < m.rows(); ++i) {
-    json r = json::array();
-    for (Eigen::Index k = 0; k < m.cols(); ++k) r.push_back(m(i, k));
-    rows.push_back(r);
-  }
-  return rows;
-}
-
-json CaseJson(const std::string& id) { return ReadJson(DataPath("reference/cases/" + id + ".json")); }
-
-/// GTSAM's numbers for a case as a measurement, fully declared: J_bias rows [theta, p, v]
-/// columns [ba, bg] (the chart gtsam_manifold names), cov15 in gtsam_manifold [theta, p, v, ba, bg].
-json GtsamMeasurement(const std::string& id, Eigen::MatrixXd* J, Eigen::MatrixXd* cov) {
-  const json c = CaseJson(id);
-  const json g = ReadJson(DataPath("reference/gtsam/" + id + ".gtsam.json"));
-  const json& s = g["zoh"]["manifold"];
-  *J = JsonMatrix(s["J_bias"]);
-  *cov = JsonMatrix(s["cov15"]);
-  return {
-      {"t_start", c["imu"].front()[0]},
-      {"t_end", c["imu"].back()[0]},
-      {"dt", s["deltaT"]},
-      {"bias_estimate", {{"bg", c["state_s"]["bg"]}, {"ba", c["state_s"]["ba"]}}},
-      {"delta", {{"R", s["deltaR"]}, {"dp", s["deltaP"]}, {"dv", s["deltaV"]}}},
-      {"J_bias", {{"matrix", s["J_bias"]}}},
-      {"cov", {{"convention", "gtsam_manifold"}, {"blocks", {"theta", "p", "v", "ba", "bg"}}, {"matrix", s["cov15"]}}}};
-}
 
 // GTSAM's block indices: J_bias rows theta 0, p 3, v 6, columns ba 0, bg 3; cov15 theta 0,
 // p 3, v 6, ba 9, bg 12.
@@ -74,23 +47,6 @@ class CheckBlocks : public ::testing::Test {
     static TempDir tmp;
     return tmp;
   }
-  /// Each --json output against schemas/check_output.schema.json (Debian's python3-jsonschema),
-  /// in the test that made it: ctest runs every test in its own process.
-  static void ExpectFollowsSchema(const json& out, const std::string& name) {
-    const std::string doc = Tmp().write(name + ".out.json", out.dump());
-    const std::string script =
-        Tmp().write("validate.py",
-                    "import json, sys\n"
-                    "from jsonschema import Draft202012Validator\n"
-                    "schema = json.load(open(sys.argv[1]))\n"
-                    "Draft202012Validator.check_schema(schema)\n"
-                    "bad = [e.message for e in Draft202012Validator(schema).iter_errors(json.load(open(sys.argv[2])))]\n"
-                    "print('\\n'.join(bad[:10]))\n"
-                    "sys.exit(1 if bad else 0)\n");
-    const std::string cmd = "/usr/bin/python3 " + ShellQuote(script) + " " +
-                            ShellQuote(SourcePath("schemas/check_output.schema.json")) + " " + ShellQuote(doc);
-    EXPECT_EQ(std::system(cmd.c_str()), 0) << name << ": " << cmd;
-  }
   /// imuconv check --json on one measurement: measurement 0 of the output.
   static json Run(const json& m, const std::string& name, int expect_exit = 1) {
     const std::string file = Tmp().write(name + ".json", json{{"measurements", {m}}}.dump());
@@ -101,7 +57,9 @@ class CheckBlocks : public ::testing::Test {
     EXPECT_EQ(r.exit_code, expect_exit) << name << "\n" << r.err << r.out;
     if (r.exit_code != 0 && r.exit_code != 1) return json::object();
     const json out = json::parse(r.out);
-    ExpectFollowsSchema(out, name);
+    // Each --json output against the schema in the test that made it: ctest runs every test in
+    // its own process.
+    ExpectFollowsSchema(Tmp(), "schemas/check_output.schema.json", json::array({out}), name);
     return out["measurements"][0];
   }
   static std::string Findings(const json& m) {
@@ -115,8 +73,6 @@ class CheckBlocks : public ::testing::Test {
   }
 };
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-
 // The ranking bug of issue 23: one 3x3 block of J_bias negated (rows theta, columns bg),
 // everything declared correctly. Under the declaration 9 of the 54 entries are off by 2 (mean
 // d at most 1/3); with every block negated ("sign -") the other 45 are (mean 5/3 of the
@@ -126,7 +82,7 @@ TEST_F(CheckBlocks, OneNegatedBlockKeepsTheDeclaredChartAndNamesTheBlock) {
   Eigen::MatrixXd J, cov;
   json m = GtsamMeasurement(kCase, &J, &cov);
   J.block<3, 3>(kTheta, kColBg) *= -1.0;
-  m["J_bias"]["matrix"] = Rows(J);
+  m["J_bias"]["matrix"] = JsonRows(J);
   const json r = Run(m, "negated-block");
   ASSERT_TRUE(r.contains("best")) << r.dump(1);
   EXPECT_EQ(r["best"]["J_bias_sign"], 1) << Findings(r);
@@ -150,7 +106,7 @@ TEST_F(CheckBlocks, JacobianBlockScaledByOneOverDtIsNamed) {
   json m = GtsamMeasurement(kCase, &J, &cov);
   const double dt = SamplePeriod();
   J.block<3, 3>(kP, kColBa) /= dt;
-  m["J_bias"]["matrix"] = Rows(J);
+  m["J_bias"]["matrix"] = JsonRows(J);
   const json r = Run(m, "scaled-jacobian-block");
   ASSERT_EQ(r["block_findings"].size(), 1u) << r["block_findings"].dump(1) << Findings(r);
   const json& f = r["block_findings"][0];
@@ -168,7 +124,7 @@ TEST_F(CheckBlocks, SwappedJacobianBlocksAreNamed) {
   const Eigen::Matrix3d a = J.block<3, 3>(kP, kColBa), b = J.block<3, 3>(kP, kColBg);
   J.block<3, 3>(kP, kColBa) = b;
   J.block<3, 3>(kP, kColBg) = a;
-  m["J_bias"]["matrix"] = Rows(J);
+  m["J_bias"]["matrix"] = JsonRows(J);
   const json r = Run(m, "swapped-jacobian-blocks");
   EXPECT_EQ(r["best"]["J_bias_columns"], json({"ba", "bg"})) << Findings(r);
   ASSERT_EQ(r["block_findings"].size(), 1u) << r["block_findings"].dump(1) << Findings(r);
@@ -186,7 +142,7 @@ TEST_F(CheckBlocks, TransposedJacobianBlockIsNamed) {
   // The block must not be symmetric, or its transpose would be the same numbers.
   ASSERT_GT((t - t.transpose()).cwiseAbs().maxCoeff(), 0.1 * t.cwiseAbs().maxCoeff());
   J.block<3, 3>(kV, kColBg) = t;
-  m["J_bias"]["matrix"] = Rows(J);
+  m["J_bias"]["matrix"] = JsonRows(J);
   const json r = Run(m, "transposed-jacobian-block");
   ASSERT_EQ(r["block_findings"].size(), 1u) << r["block_findings"].dump(1) << Findings(r);
   const json& f = r["block_findings"][0];
@@ -211,7 +167,7 @@ TEST_F(CheckBlocks, MissingCrossTermsAreNamed) {
   // (ba, bg) is zero in the reference too (independent random walks).
   cov.block<12, 3>(0, kBg).setZero();
   cov.block<3, 12>(kBg, 0).setZero();
-  m["cov"]["matrix"] = Rows(cov);
+  m["cov"]["matrix"] = JsonRows(cov);
   const json r = Run(m, "missing-cross-terms");
   EXPECT_EQ(r["best"]["scheme"], "euler") << r["best"].dump();
   EXPECT_EQ(r["best"]["convention"], "gtsam_manifold");
@@ -241,7 +197,7 @@ TEST_F(CheckBlocks, NegatedCovarianceBlocksAreNamed) {
   Eigen::VectorXd s = Eigen::VectorXd::Ones(15);
   s.segment<3>(kBg).setConstant(-1.0);
   cov = s.asDiagonal() * cov * s.asDiagonal();
-  m["cov"]["matrix"] = Rows(cov);
+  m["cov"]["matrix"] = JsonRows(cov);
   const json r = Run(m, "negated-cov-blocks");
   EXPECT_EQ(r["best"]["blocks"], json({"theta", "p", "v", "ba", "bg"}));
   EXPECT_TRUE(r["unexplained_blocks"].empty()) << r["unexplained_blocks"].dump(1);
@@ -262,7 +218,7 @@ TEST_F(CheckBlocks, ScaledCovarianceBlocksAreNamedWithTheirFactors) {
   const double dt = SamplePeriod();
   cov.block<3, 3>(kP, kP) *= 2.0;
   cov.block<3, 3>(kBa, kBa) /= dt;
-  m["cov"]["matrix"] = Rows(cov);
+  m["cov"]["matrix"] = JsonRows(cov);
   const json r = Run(m, "scaled-cov-blocks");
   EXPECT_EQ(r["best"]["blocks"], json({"theta", "p", "v", "ba", "bg"})) << Findings(r);
   EXPECT_TRUE(r["unexplained_blocks"].empty()) << r["unexplained_blocks"].dump(1);
@@ -287,7 +243,7 @@ TEST_F(CheckBlocks, ScaledCovarianceBlocksAreNamedWithTheirFactors) {
 TEST_F(CheckBlocks, EquivalentExplanationsAreListedAndThePickIsStable) {
   Eigen::MatrixXd J, cov;
   json m = GtsamMeasurement(kCase, &J, &cov);
-  m["J_bias"]["matrix"] = Rows(-J);
+  m["J_bias"]["matrix"] = JsonRows(-J);
   const json first = Run(m, "equivalent-1");
   const json again = Run(m, "equivalent-2");
   ASSERT_TRUE(first.contains("best"));
@@ -326,7 +282,7 @@ TEST_F(CheckBlocks, PrecisionAndDtAreJudgedNotRefused) {
   Eigen::MatrixXd asym = cov;
   asym(kP, kTheta) += 1e-6 * std::sqrt(cov(kP, kP) * cov(kTheta, kTheta));
   json a = m;
-  a["cov"]["matrix"] = Rows(asym);
+  a["cov"]["matrix"] = JsonRows(asym);
   {
     const std::string file = Tmp().write("asym64.json", json{{"measurements", {a}}}.dump());
     const CommandResult r = RunImuconv("check " + ShellQuote(file) + " --case " +

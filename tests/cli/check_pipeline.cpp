@@ -17,44 +17,20 @@
 #include <string>
 
 #include "../pipeline/pipeline_test_util.h"
+#include "gtsam_measurement.h"
 #include "imuconv_test.h"
+#include "number_text.h"
 
 namespace {
 using namespace imuconv;
 using namespace imuconv::test;
 using nlohmann::json;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-
-json CaseJson(const std::string& id) { return ReadJson(DataPath("reference/cases/" + id + ".json")); }
-
-/// GTSAM's zero-order-hold ManifoldPreintegration numbers for a case over all its samples, as
-/// a measurement (as tests/cli/check.cpp builds it): consistent with the euler scheme.
-json GtsamMeasurement(const std::string& id) {
-  const json c = CaseJson(id);
-  const json g = ReadJson(DataPath("reference/gtsam/" + id + ".gtsam.json"));
-  const json& s = g["zoh"]["manifold"];
-  return {
-      {"t_start", c["imu"].front()[0]},
-      {"t_end", c["imu"].back()[0]},
-      {"dt", s["deltaT"]},
-      {"bias_estimate", {{"bg", c["state_s"]["bg"]}, {"ba", c["state_s"]["ba"]}}},
-      {"delta", {{"R", s["deltaR"]}, {"dp", s["deltaP"]}, {"dv", s["deltaV"]}}},
-      {"J_bias", {{"matrix", s["J_bias"]}}},
-      {"cov", {{"convention", "gtsam_manifold"}, {"blocks", {"theta", "p", "v", "ba", "bg"}}, {"matrix", s["cov15"]}}}};
-}
-
 /// The same with its covariance doubled: inconsistent (off by 1 on the correlation scale).
 json DoubledCov(json m) {
   for (auto& row : m["cov"]["matrix"])
     for (auto& x : row) x = 2.0 * x.get<double>();
   return m;
-}
-
-std::string Num17(double x) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", x);
-  return b;
 }
 
 /// A case's samples as a generic CSV: header "time_ms;az;ay;ax;wz;wy;wx", times in ms.

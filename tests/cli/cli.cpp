@@ -19,8 +19,6 @@ namespace {
 using namespace imuconv::test;
 using nlohmann::json;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-
 TEST(Cli, HelpEverywhere) {
   TempDir tmp;
   CommandResult r = RunImuconv("--help", tmp);

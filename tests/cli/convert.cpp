@@ -13,8 +13,6 @@ using namespace imuconv::test;
 using imuconv::Mat15;
 using nlohmann::json;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-
 json MatrixJson(const Mat15& m) {
   json rows = json::array();
   for (int i = 0; i < 15; ++i) {

@@ -16,8 +16,6 @@ namespace {
 using namespace imuconv::test;
 using nlohmann::json;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-
 const char* const kSubcommands[] = {"plugins", "conversion", "convert", "run",  "merge",     "refcase",
                                     "bench",   "check",      "montecarlo", "nees", "experiment"};
 

@@ -15,23 +15,17 @@
 #include <vector>
 
 #include "../pipeline/pipeline_test_util.h"
+#include "euroc_slice.h"
 #include "imuconv_test.h"
+#include "number_text.h"
 
 namespace {
 using namespace imuconv::test;
 using nlohmann::json;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-
 std::string G4(double x) {
   char b[32];
   std::snprintf(b, sizeof b, "%.4g", x);
-  return b;
-}
-
-std::string Num17(double x) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", x);
   return b;
 }
 
@@ -188,24 +182,11 @@ TEST(ImuPlausibility, NeesOnSwappedColumnsWarns) {
   // The EuRoC slice through a pipeline whose column map swaps the gyro and the accelerometer:
   // nees fits a factor in the thousands and exits 0, as before, but now says why.
   const TempDir tmp;
-  const std::string imu = SourcePath("examples/data/V1_01_easy_imu0_slice.csv");
-  const json noise = {{"gyro_noise_density", 1.6968e-04},
-                      {"accel_noise_density", 2.0e-3},
-                      {"gyro_random_walk", 1.9393e-05},
-                      {"accel_random_walk", 3.0e-3}};
   for (const bool swapped : {false, true}) {
     const json cols = swapped ? json{{"t", 0}, {"wx", 4}, {"wy", 5}, {"wz", 6}, {"ax", 1}, {"ay", 2}, {"az", 3}}
                               : json{{"t", 0}, {"wx", 1}, {"wy", 2}, {"wz", 3}, {"ax", 4}, {"ay", 5}, {"az", 6}};
-    const json p = {
-        {"noise", noise},
-        {"imu", {{"format", "csv"}, {"path", imu}, {"comment", "#"}, {"time_unit", "ns"}, {"columns", cols}}},
-        {"ground_truth",
-         {{"format", "euroc"}, {"path", SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv")}}},
-        {"tasks", json::array({{{"type", "propagate"},
-                                {"name", "unused"},
-                                {"propagator", "euler"},
-                                {"start", {{"state", "ground_truth"}}},
-                                {"interval", {{"t_start", 0.0}, {"t_end", 0.5}}}}})}};
+    const json p = NeesPipeline(
+        {{"format", "csv"}, {"path", kEurocSliceImu}, {"comment", "#"}, {"time_unit", "ns"}, {"columns", cols}});
     const std::string pf = tmp.write(swapped ? "swapped.json" : "plain.json", p.dump());
     const CommandResult r = RunImuconv("nees --pipeline " + ShellQuote(pf) + " --windows 1 --method rk4 --json", tmp);
     ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -21,14 +21,13 @@
 #include <vector>
 
 #include "../pipeline/pipeline_test_util.h"
+#include "gtsam_measurement.h"
 #include "imuconv_test.h"
+#include "number_text.h"
 
 namespace {
 using namespace imuconv::test;
 using nlohmann::json;
-
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-std::string Q(const std::string& s) { return ShellQuote(s); }
 
 /// Every regular file under `dir` with its bytes: nothing of it may change.
 std::map<std::string, std::string> Snapshot(const std::string& dir) {
@@ -49,8 +48,8 @@ std::vector<std::string> Temporaries(const std::string& dir) {
 /// Runs `command` (a shell command line; the binary is $IMUCONV) in `dir`, with the
 /// redirections it gives itself; stderr to dir/.err unless the command says otherwise.
 CommandResult Shell(const std::string& command, const TempDir& tmp) {
-  const std::string cmd = "cd " + Q(tmp.path()) + " && env -u IMUCONV_PLUGIN_PATH IMUCONV=" + Q(Binary()) +
-                          " sh -c " + Q(command);
+  const std::string cmd = "cd " + ShellQuote(tmp.path()) + " && env -u IMUCONV_PLUGIN_PATH IMUCONV=" + ShellQuote(Binary()) +
+                          " sh -c " + ShellQuote(command);
   const int status = std::system(cmd.c_str());
   CommandResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -90,7 +89,7 @@ TEST(InputsNeverWritten, NeesReportNamingAFileThePipelineNamesIsRefused) {
   fs::create_directories(tmp.file("elsewhere"));
   fs::create_symlink(e.kalibr, tmp.file("elsewhere/report.html"));  // another directory, another name
   const auto before = Snapshot(tmp.path());
-  const std::string nees = "-q nees --pipeline " + Q(e.pipeline) + " --windows 0.5 --method rk4";
+  const std::string nees = "-q nees --pipeline " + ShellQuote(e.pipeline) + " --windows 0.5 --method rk4";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {e.imu, e.imu},
       {e.gt, e.gt},
@@ -98,7 +97,7 @@ TEST(InputsNeverWritten, NeesReportNamingAFileThePipelineNamesIsRefused) {
       {tmp.file("elsewhere/report.html"), e.kalibr},
   };
   for (const auto& [report, input] : cases) {
-    const CommandResult r = RunImuconv(nees + " --report " + Q(report), tmp);
+    const CommandResult r = RunImuconv(nees + " --report " + ShellQuote(report), tmp);
     EXPECT_EQ(r.exit_code, 2) << report << "\n" << r.err;  // nees: 2 = no result
     EXPECT_TRUE(Has(r.err, "is the same file as the input file")) << r.err;
     EXPECT_TRUE(Has(r.err, fs::path(input).filename().string() + ": refusing to overwrite it")) << r.err;
@@ -106,13 +105,13 @@ TEST(InputsNeverWritten, NeesReportNamingAFileThePipelineNamesIsRefused) {
   // /dev/fd/3 opened read-write on the IMU CSV by the shell: written through, it would land on
   // the samples at offset 0. The descriptor's file is the input, whatever its name.
   const CommandResult r =
-      Shell("\"$IMUCONV\" " + nees + " --report /dev/fd/3 3<>" + Q(e.imu) + " > /dev/null 2> .err", tmp);
+      Shell("\"$IMUCONV\" " + nees + " --report /dev/fd/3 3<>" + ShellQuote(e.imu) + " > /dev/null 2> .err", tmp);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "/dev/fd/3: is the same file as the input file")) << r.err;
   EXPECT_TRUE(Snapshot(tmp.path()) == before) << "an input changed";
   EXPECT_TRUE(Temporaries(tmp.path()).empty());
   // Sanity: the same command writes a report elsewhere.
-  const CommandResult ok = RunImuconv(nees + " --report " + Q(tmp.file("report.html")), tmp);
+  const CommandResult ok = RunImuconv(nees + " --report " + ShellQuote(tmp.file("report.html")), tmp);
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
   EXPECT_TRUE(Has(ReadText(tmp.file("report.html")), "<html")) << "a report was written";
 }
@@ -124,24 +123,12 @@ struct CheckFiles {
 };
 CheckFiles CheckInputs(const TempDir& tmp) {
   const json c = ReadJson(DataPath("reference/cases/smooth-0.json"));
-  const json g = ReadJson(DataPath("reference/gtsam/smooth-0.gtsam.json"))["zoh"]["manifold"];
-  const json m = {
-      {"t_start", c["imu"].front()[0]},
-      {"t_end", c["imu"].back()[0]},
-      {"dt", g["deltaT"]},
-      {"bias_estimate", {{"bg", c["state_s"]["bg"]}, {"ba", c["state_s"]["ba"]}}},
-      {"delta", {{"R", g["deltaR"]}, {"dp", g["deltaP"]}, {"dv", g["deltaV"]}}},
-      {"J_bias", {{"matrix", g["J_bias"]}}},
-      {"cov", {{"convention", "gtsam_manifold"}, {"blocks", {"theta", "p", "v", "ba", "bg"}}, {"matrix", g["cov15"]}}}};
+  const json m = GtsamMeasurement("smooth-0");
   CheckFiles f;
   f.meas = tmp.write("smooth.meas.json", json{{"measurements", json::array({m})}}.dump());
   std::string csv = "t;wx;wy;wz;ax;ay;az\n";
   for (const auto& row : c["imu"]) {
-    for (int k = 0; k < 7; ++k) {
-      char b[40];
-      std::snprintf(b, sizeof b, "%.17g", row[k].get<double>());
-      csv += (k ? ";" : "") + std::string(b);
-    }
+    for (int k = 0; k < 7; ++k) csv += (k ? ";" : "") + Num17(row[k].get<double>());
     csv += "\n";
   }
   f.csv = tmp.write("smooth.csv", csv);
@@ -165,15 +152,15 @@ TEST(InputsNeverWritten, CheckReportNamingThePipelinesSamplesIsRefused) {
   fs::create_directories(tmp.file("links"));
   fs::create_symlink(f.csv, tmp.file("links/samples.html"));
   const auto before = Snapshot(tmp.path());
-  const std::string check = "-q check " + Q(f.meas) + " --pipeline " + Q(f.pipeline);
+  const std::string check = "-q check " + ShellQuote(f.meas) + " --pipeline " + ShellQuote(f.pipeline);
   for (const std::string& report : {f.csv, tmp.file("links/samples.html")}) {
-    const CommandResult r = RunImuconv(check + " --report " + Q(report), tmp);
+    const CommandResult r = RunImuconv(check + " --report " + ShellQuote(report), tmp);
     EXPECT_EQ(r.exit_code, 2) << report << "\n" << r.err;  // check: 2 = nothing could be checked
     EXPECT_TRUE(Has(r.err, "is the same file as the input file " + f.csv + ": refusing to overwrite it")) << r.err;
   }
   EXPECT_TRUE(Snapshot(tmp.path()) == before) << "an input changed";
   EXPECT_TRUE(Temporaries(tmp.path()).empty());
-  const CommandResult ok = RunImuconv(check + " --report " + Q(tmp.file("r.html")), tmp);
+  const CommandResult ok = RunImuconv(check + " --report " + ShellQuote(tmp.file("r.html")), tmp);
   EXPECT_EQ(ok.exit_code, 0) << ok.err;  // GTSAM's own numbers are consistent
   EXPECT_TRUE(fs::exists(tmp.file("r.html")));
 }
@@ -204,7 +191,7 @@ TEST(InputsNeverWritten, PipelineOutputKeyCannotLeaveThroughALink) {
   for (const auto& [output, says] : cases) {
     doc["output"] = output;
     const std::string p = tmp.write("inner/p.json", doc.dump());
-    const CommandResult r = RunImuconv("run " + Q(p) + " -q", tmp);
+    const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -q", tmp);
     EXPECT_EQ(r.exit_code, 2) << output << "\n" << r.err;
     EXPECT_TRUE(Has(r.err, p + ": /output: ")) << r.err;
     EXPECT_TRUE(Has(r.err, says)) << r.err;
@@ -219,7 +206,7 @@ TEST(InputsNeverWritten, PipelineOutputKeyCannotLeaveThroughALink) {
   fs::create_symlink(tmp.file("inner/results/real.json"), tmp.file("inner/latest.json"));
   doc["output"] = "latest.json";
   const std::string p = tmp.write("inner/p.json", doc.dump());
-  const CommandResult r = RunImuconv("run " + Q(p) + " -q", tmp);
+  const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -q", tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::is_symlink(tmp.file("inner/latest.json")));
   EXPECT_EQ(json::parse(ReadText(tmp.file("inner/results/real.json")))["tasks"].size(), 4u);
@@ -264,17 +251,17 @@ TEST(InputsNeverWritten, ClosedStandardOutputIsNeverAFileOfOurs) {
 TEST(InputsNeverWritten, EmptyOutputPathIsRefusedNamingTheFlag) {
   TempDir tmp;
   const std::string p = CopyGeneric(tmp);
-  const std::string c = Q(DataPath("reference/cases/smooth-0.json"));
+  const std::string c = ShellQuote(DataPath("reference/cases/smooth-0.json"));
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"run " + Q(p) + " -o ''", "--output"},
-      {"run " + Q(p) + " -o out.json --tum ''", "--tum"},
-      {"run " + Q(p) + " -o out.json --errors ''", "--errors"},
-      {"merge -o '' " + Q(p), "--output"},
+      {"run " + ShellQuote(p) + " -o ''", "--output"},
+      {"run " + ShellQuote(p) + " -o out.json --tum ''", "--tum"},
+      {"run " + ShellQuote(p) + " -o out.json --errors ''", "--errors"},
+      {"merge -o '' " + ShellQuote(p), "--output"},
       {"refcase " + c + " -o ''", "--output"},
-      {"check " + Q(p) + " --case " + c + " --report ''", "--report"},
+      {"check " + ShellQuote(p) + " --case " + c + " --report ''", "--report"},
       {"montecarlo --case " + c + " --method rk4 --trials 20 --seed 1 --report ''", "--report"},
       {"montecarlo --case " + c + " --method rk4 --trials 20 --seed 1 --shard 0/2 -o ''", "--output"},
-      {"nees --pipeline " + Q(p) + " --windows 0.5 --method rk4 --report ''", "--report"},
+      {"nees --pipeline " + ShellQuote(p) + " --windows 0.5 --method rk4 --report ''", "--report"},
       {"experiment both --report ''", "--report"},
   };
   for (const auto& [args, flag] : cases) {
@@ -299,7 +286,7 @@ TEST(InputsNeverWritten, ReplacedOutputKeepsItsWholeModeAndExtendedAttributes) {
     struct stat st {};
     ASSERT_EQ(::stat(out.c_str(), &st), 0);
     if ((st.st_mode & 07777) != mode) GTEST_SKIP() << "this file system does not keep mode " << std::oct << mode;
-    const CommandResult r = RunImuconv("run " + Q(p) + " -o " + Q(out) + " -q", tmp);
+    const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(out) + " -q", tmp);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     ASSERT_EQ(::stat(out.c_str(), &st), 0);
     EXPECT_EQ(st.st_mode & 07777, mode) << std::oct << (st.st_mode & 07777);
@@ -310,7 +297,7 @@ TEST(InputsNeverWritten, ReplacedOutputKeepsItsWholeModeAndExtendedAttributes) {
   if (::setxattr(out.c_str(), "user.imuconv.origin", "lab-3", 5, 0) != 0)
     GTEST_SKIP() << "no user.* extended attributes on this file system: " << std::strerror(errno);
   ASSERT_EQ(::setxattr(out.c_str(), "user.imuconv.blob", binary.data(), binary.size(), 0), 0);
-  const CommandResult r = RunImuconv("run " + Q(p) + " -o " + Q(out) + " -q", tmp);
+  const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(out) + " -q", tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(Has(r.err, "warning")) << r.err;
   char buf[16] = {};

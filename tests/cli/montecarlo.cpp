@@ -26,8 +26,6 @@ using namespace imuconv;
 using namespace imuconv::test;
 using nlohmann::json;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-
 std::string CasePath(const std::string& id) { return ShellQuote(DataPath("reference/cases/" + id + ".json")); }
 
 CommandResult Montecarlo(const std::string& args, const TempDir& tmp) { return RunImuconv("montecarlo " + args, tmp); }

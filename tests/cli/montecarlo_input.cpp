@@ -17,15 +17,13 @@
 
 #include "../pipeline/pipeline_test_util.h"
 #include "imuconv_test.h"
+#include "number_text.h"
+#include "reference_case.h"
 
 namespace {
 using namespace imuconv;
 using namespace imuconv::test;
 using nlohmann::json;
-
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-
-json CaseJson(const std::string& id) { return ReadJson(DataPath("reference/cases/" + id + ".json")); }
 
 const std::string kRun = " --method rk4 --trials 100 --seed 3 --json";
 
@@ -91,14 +89,9 @@ TEST(MontecarloInput, EveryMissingRequiredKeyIsNamedAtOnce) {
 /// A case's samples as a generic CSV (times in ms) and a pipeline reading it with the case's noise.
 std::string CasePipeline(const TempDir& tmp, const json& c) {
   std::string csv = "time_ms,wx,wy,wz,ax,ay,az\n";
-  char b[40];
   for (const auto& r : c["imu"]) {
-    std::snprintf(b, sizeof b, "%.17g", r[0].get<double>() * 1000.0);
-    csv += b;
-    for (int k = 1; k <= 6; ++k) {
-      std::snprintf(b, sizeof b, ",%.17g", r[k].get<double>());
-      csv += b;
-    }
+    csv += Num17(r[0].get<double>() * 1000.0);
+    for (int k = 1; k <= 6; ++k) csv += "," + Num17(r[k].get<double>());
     csv += "\n";
   }
   const std::string csv_path = tmp.write("imu.csv", csv);

@@ -20,15 +20,12 @@
 namespace {
 using namespace imuconv::test;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-std::string Q(const std::string& s) { return ShellQuote(s); }
-
 /// One montecarlo configuration: the whole run, its shards, and merges of them.
 struct McRun {
   TempDir tmp;
   std::string base;  ///< the options every process of the run shares
   explicit McRun(int trials, int seed = 7, const std::string& method = "rk4") {
-    base = "montecarlo --case " + Q(DataPath("reference/cases/smooth-0.json")) + " --method " + method +
+    base = "montecarlo --case " + ShellQuote(DataPath("reference/cases/smooth-0.json")) + " --method " + method +
            " --trials " + std::to_string(trials) + " --seed " + std::to_string(seed) + " --duration 1";
   }
   CommandResult whole(const std::string& extra) { return RunImuconv(base + " --threads 2 " + extra, tmp); }
@@ -36,7 +33,7 @@ struct McRun {
   std::string shard(int k, int n, const std::string& prefix = "S") {
     const std::string out = tmp.file(prefix + std::to_string(k) + "of" + std::to_string(n) + ".mcs");
     const CommandResult r = RunImuconv(base + " --threads " + std::to_string(k % 3 + 1) + " --shard " +
-                                           std::to_string(k) + "/" + std::to_string(n) + " -o " + Q(out),
+                                           std::to_string(k) + "/" + std::to_string(n) + " -o " + ShellQuote(out),
                                        tmp);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return out;
@@ -48,7 +45,7 @@ struct McRun {
   }
   CommandResult merge(const std::vector<std::string>& files, const std::string& extra = "") {
     std::string args = "montecarlo " + extra + " --merge";
-    for (const auto& f : files) args += " " + Q(f);
+    for (const auto& f : files) args += " " + ShellQuote(f);
     return RunImuconv(args, tmp);
   }
 };
@@ -70,14 +67,14 @@ TEST(MontecarloShard, ShardsMergeToTheWholeRunsBytes) {
   // 41 trials: 3 shards hold [0, 13), [13, 27), [27, 41) (uneven); 1 shard holds them all.
   McRun run(41);
   std::vector<std::string> three = run.shards(3);
-  const CommandResult shown = RunImuconv(run.base + " --shard 1/3 -o " + Q(run.tmp.file("again.mcs")), run.tmp);
+  const CommandResult shown = RunImuconv(run.base + " --shard 1/3 -o " + ShellQuote(run.tmp.file("again.mcs")), run.tmp);
   EXPECT_TRUE(Has(shown.out, "trials [13, 27) of 41")) << shown.out;
   // Any order on the command line.
   ExpectSameAsWhole(run, {three[2], three[0], three[1]});
   ExpectSameAsWhole(run, run.shards(1));
   // The HTML page too (it names the case by the path the shards recorded).
-  const CommandResult whole = run.whole("--report " + Q(run.tmp.file("whole.html")));
-  const CommandResult merged = run.merge(three, "--report " + Q(run.tmp.file("merged.html")));
+  const CommandResult whole = run.whole("--report " + ShellQuote(run.tmp.file("whole.html")));
+  const CommandResult merged = run.merge(three, "--report " + ShellQuote(run.tmp.file("merged.html")));
   EXPECT_TRUE(whole.exit_code == 0 || whole.exit_code == 1) << whole.err;
   EXPECT_EQ(merged.exit_code, whole.exit_code) << merged.err;
   EXPECT_EQ(ReadText(run.tmp.file("merged.html")), ReadText(run.tmp.file("whole.html")));
@@ -100,7 +97,7 @@ TEST(MontecarloShard, MoreShardsThanTrialsLeavesSomeEmpty) {
   // (shard 0 among them); each is still written, and still needed by the merge.
   McRun run(17);
   const std::vector<std::string> files = run.shards(20);
-  const CommandResult empty = RunImuconv(run.base + " --shard 0/20 -o " + Q(run.tmp.file("e.mcs")), run.tmp);
+  const CommandResult empty = RunImuconv(run.base + " --shard 0/20 -o " + ShellQuote(run.tmp.file("e.mcs")), run.tmp);
   EXPECT_TRUE(Has(empty.out, "trials [0, 0) of 17")) << empty.out;
   ExpectSameAsWhole(run, files);
   // With this seed the 17-trial run is inconsistent (exit 1): the merge carries that verdict too.
@@ -213,16 +210,16 @@ TEST(MontecarloShard, OptionsAreChecked) {
   };
   const std::vector<Case> cases = {
       {run.base + " --shard 1/3", "--shard K/N needs -o FILE"},
-      {run.base + " --shard 3/3 -o " + Q(out), "--shard: expected K/N with 0 <= K < N"},
-      {run.base + " --shard 1/0 -o " + Q(out), "--shard: expected K/N"},
-      {run.base + " --shard=-1/3 -o " + Q(out), "--shard: expected K/N"},
-      {run.base + " --shard 1/3 --json -o " + Q(out), "--json and --report go with --merge"},
-      {run.base + " -o " + Q(out), "-o is the shard file of --shard K/N"},
-      {run.base + " --shard 0/3 -o " + Q(run.tmp.path()), run.tmp.path()},
-      {run.base + " --shard 0/3 -o " + Q(DataPath("reference/cases/smooth-0.json")), "the case file"},
-      {"montecarlo --merge " + Q(out) + " --seed 3", "--seed is not used with it"},
-      {"montecarlo --merge " + Q(out) + " --threads 2", "--threads is not used with it"},
-      {"montecarlo --merge " + Q(out) + " --duration 2", "--duration is not used with it"},
+      {run.base + " --shard 3/3 -o " + ShellQuote(out), "--shard: expected K/N with 0 <= K < N"},
+      {run.base + " --shard 1/0 -o " + ShellQuote(out), "--shard: expected K/N"},
+      {run.base + " --shard=-1/3 -o " + ShellQuote(out), "--shard: expected K/N"},
+      {run.base + " --shard 1/3 --json -o " + ShellQuote(out), "--json and --report go with --merge"},
+      {run.base + " -o " + ShellQuote(out), "-o is the shard file of --shard K/N"},
+      {run.base + " --shard 0/3 -o " + ShellQuote(run.tmp.path()), run.tmp.path()},
+      {run.base + " --shard 0/3 -o " + ShellQuote(DataPath("reference/cases/smooth-0.json")), "the case file"},
+      {"montecarlo --merge " + ShellQuote(out) + " --seed 3", "--seed is not used with it"},
+      {"montecarlo --merge " + ShellQuote(out) + " --threads 2", "--threads is not used with it"},
+      {"montecarlo --merge " + ShellQuote(out) + " --duration 2", "--duration is not used with it"},
       {"montecarlo --method rk4 --trials 20 --seed 1", "--case (or --pipeline): required (or --merge SHARD...)"},
   };
   for (const Case& c : cases) {
@@ -234,15 +231,15 @@ TEST(MontecarloShard, OptionsAreChecked) {
   // A shard whose run fails (too few trials) writes nothing, and leaves no temporary.
   const std::size_t before = run.tmp.entries();
   const CommandResult few = RunImuconv(
-      "montecarlo --case " + Q(DataPath("reference/cases/smooth-0.json")) +
-          " --method rk4 --trials 5 --seed 1 --shard 0/2 -o " + Q(out),
+      "montecarlo --case " + ShellQuote(DataPath("reference/cases/smooth-0.json")) +
+          " --method rk4 --trials 5 --seed 1 --shard 0/2 -o " + ShellQuote(out),
       run.tmp);
   EXPECT_EQ(few.exit_code, 2);
   EXPECT_FALSE(fs::exists(out));
   EXPECT_EQ(run.tmp.entries(), before);
   // The pipeline merge points a montecarlo shard to its own merge.
   const std::string shard = run.shard(0, 1);
-  const CommandResult r = RunImuconv("merge -o " + Q(run.tmp.file("m.json")) + " " + Q(shard), run.tmp);
+  const CommandResult r = RunImuconv("merge -o " + ShellQuote(run.tmp.file("m.json")) + " " + ShellQuote(shard), run.tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "imuconv montecarlo --merge")) << r.err;
   EXPECT_FALSE(fs::exists(run.tmp.file("m.json")));

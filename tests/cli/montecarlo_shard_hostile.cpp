@@ -16,17 +16,14 @@
 namespace {
 using namespace imuconv::test;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-std::string Q(const std::string& s) { return ShellQuote(s); }
-
 /// One shard (0 of 1) of 16 trials over the first 0.2 s of smooth-0: its text.
 struct OneShard {
   TempDir tmp;
   std::string text;
   OneShard() {
     const std::string out = tmp.file("S.mcs");
-    const CommandResult r = RunImuconv("montecarlo --case " + Q(DataPath("reference/cases/smooth-0.json")) +
-                                           " --method rk4 --trials 16 --seed 3 --duration 0.2 --shard 0/1 -o " + Q(out),
+    const CommandResult r = RunImuconv("montecarlo --case " + ShellQuote(DataPath("reference/cases/smooth-0.json")) +
+                                           " --method rk4 --trials 16 --seed 3 --duration 0.2 --shard 0/1 -o " + ShellQuote(out),
                                        tmp);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     text = ReadText(out);
@@ -36,7 +33,7 @@ struct OneShard {
   /// Merges `forged` (resealed) as F.mcs; the merge must be refused naming it and saying `why`.
   void refused(const std::string& forged, const std::string& why) {
     const std::string file = tmp.write("F.mcs", ResealMontecarloShard(forged));
-    const CommandResult r = RunImuconv("montecarlo --merge " + Q(file), tmp);
+    const CommandResult r = RunImuconv("montecarlo --merge " + ShellQuote(file), tmp);
     EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
     EXPECT_TRUE(Has(r.err, "F.mcs")) << r.err;
     EXPECT_TRUE(Has(r.err, why)) << r.err;
@@ -49,7 +46,7 @@ TEST(MontecarloShardHostile, TheIntactShardMerges) {
   OneShard s;
   const std::string file = s.tmp.write("F.mcs", ResealMontecarloShard(s.text));
   EXPECT_EQ(ReadText(file), s.text);  // the independent hash agrees with imuconv's
-  const CommandResult r = RunImuconv("montecarlo --merge " + Q(file), s.tmp);
+  const CommandResult r = RunImuconv("montecarlo --merge " + ShellQuote(file), s.tmp);
   EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 1) << r.err;
   EXPECT_TRUE(Has(r.out, "verdict: ")) << r.out;
 }

@@ -12,19 +12,15 @@
 #include <fstream>
 #include <string>
 
-#include "imuconv/chi_square.h"
 #include "../pipeline/pipeline_test_util.h"
+#include "euroc_slice.h"
+#include "imuconv/chi_square.h"
 #include "imuconv_test.h"
 
 namespace {
 using namespace imuconv;
 using namespace imuconv::test;
 using nlohmann::json;
-
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-
-const std::string kImu = SourcePath("examples/data/V1_01_easy_imu0_slice.csv");
-const std::string kGroundTruth = SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv");
 
 // The EuRoC datasheet densities, as in examples/euroc_v1_01_keyframes.json's noise, times k.
 std::string NoiseJson(double k) {
@@ -38,7 +34,7 @@ std::string NoiseJson(double k) {
 CommandResult Nees(const std::string& args, const TempDir& tmp) { return RunImuconv("nees " + args, tmp); }
 
 std::string DataArgs(const std::string& noise_path) {
-  return "--imu " + ShellQuote(kImu) + " --ground-truth " + ShellQuote(kGroundTruth) + " --noise " +
+  return "--imu " + ShellQuote(kEurocSliceImu) + " --ground-truth " + ShellQuote(kEurocSliceGroundTruth) + " --noise " +
          ShellQuote(noise_path);
 }
 
@@ -213,7 +209,7 @@ TEST(NeesHostile, UnusableInputIsRefusedByName) {
 
   // Missing IMU file.
   const std::string missing = tmp.file("no_such_imu.csv");
-  CommandResult r = Nees("--imu " + ShellQuote(missing) + " --ground-truth " + ShellQuote(kGroundTruth) + " --noise " +
+  CommandResult r = Nees("--imu " + ShellQuote(missing) + " --ground-truth " + ShellQuote(kEurocSliceGroundTruth) + " --noise " +
                              ShellQuote(noise) + rest,
                          tmp);
   EXPECT_EQ(r.exit_code, 2);
@@ -221,22 +217,22 @@ TEST(NeesHostile, UnusableInputIsRefusedByName) {
 
   // A malformed line in the IMU file (line 6: the header, then 4 good rows) and in the ground
   // truth (line 3: a row with 16 fields).
-  std::ifstream imu_in(kImu);
+  std::ifstream imu_in(kEurocSliceImu);
   std::string imu_text, line;
   for (int i = 0; std::getline(imu_in, line); ++i)
     imu_text += (i == 5 ? "1403715293287142912,0.1,0.2,abc,1,2,3" : line) + "\n";
   const std::string bad_imu = tmp.write("bad_imu.csv", imu_text);
-  r = Nees("--imu " + ShellQuote(bad_imu) + " --ground-truth " + ShellQuote(kGroundTruth) + " --noise " +
+  r = Nees("--imu " + ShellQuote(bad_imu) + " --ground-truth " + ShellQuote(kEurocSliceGroundTruth) + " --noise " +
                ShellQuote(noise) + rest,
            tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "bad_imu.csv:6")) << r.err;
-  std::ifstream gt_in(kGroundTruth);
+  std::ifstream gt_in(kEurocSliceGroundTruth);
   std::string gt_text;
   for (int i = 0; std::getline(gt_in, line); ++i) gt_text += (i == 2 ? line.substr(0, line.rfind(',')) : line) + "\n";
   const std::string bad_gt = tmp.write("bad_gt.csv", gt_text);
   r = Nees(
-      "--imu " + ShellQuote(kImu) + " --ground-truth " + ShellQuote(bad_gt) + " --noise " + ShellQuote(noise) + rest,
+      "--imu " + ShellQuote(kEurocSliceImu) + " --ground-truth " + ShellQuote(bad_gt) + " --noise " + ShellQuote(noise) + rest,
       tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "bad_gt.csv:3")) << r.err;

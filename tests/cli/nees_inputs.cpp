@@ -15,6 +15,7 @@
 #include <string>
 
 #include "../pipeline/pipeline_test_util.h"
+#include "euroc_slice.h"
 #include "imuconv_test.h"
 
 namespace {
@@ -22,17 +23,7 @@ using namespace imuconv;
 using namespace imuconv::test;
 using nlohmann::json;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-
-const std::string kImu = SourcePath("examples/data/V1_01_easy_imu0_slice.csv");
-const std::string kGroundTruth = SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv");
 const std::string kKalibr = DataPath("kalibr/euroc_imu.yaml");
-
-// The EuRoC datasheet densities (those of tests/data/kalibr/euroc_imu.yaml).
-const json kNoise = {{"gyro_noise_density", 1.6968e-04},
-                     {"accel_noise_density", 2.0e-3},
-                     {"gyro_random_walk", 1.9393e-05},
-                     {"accel_random_walk", 3.0e-3}};
 
 std::vector<std::string> Split(const std::string& line, char sep) {
   std::vector<std::string> f;
@@ -47,7 +38,7 @@ std::vector<std::string> Split(const std::string& line, char sep) {
 std::string GenericCsv() {
   std::string out = "gz;gy;gx;time_us;az;ay;ax\n";
   std::size_t rows = 0;
-  for (const std::string& line : Split(ReadText(kImu), '\n')) {
+  for (const std::string& line : Split(ReadText(kEurocSliceImu), '\n')) {
     if (line.empty() || line[0] == '#') continue;
     std::vector<std::string> f = Split(line, ',');
     EXPECT_EQ(f.size(), 7u) << line;
@@ -62,21 +53,13 @@ std::string GenericCsv() {
 }
 
 json GenericPipeline(const std::string& csv) {
-  return {{"noise", kNoise},
-          {"imu",
-           {{"format", "csv"},
-            {"path", csv},
-            {"delimiter", ";"},
-            {"header_rows", 1},
-            {"time_unit", "us"},
-            {"columns", {{"t", "time_us"}, {"wx", 2}, {"wy", 1}, {"wz", 0}, {"ax", "ax"}, {"ay", "ay"}, {"az", 4}}}}},
-          {"ground_truth", {{"format", "euroc"}, {"path", kGroundTruth}}},
-          // A pipeline has tasks; nees runs none of them.
-          {"tasks", json::array({{{"type", "propagate"},
-                                  {"name", "unused"},
-                                  {"propagator", "euler"},
-                                  {"start", {{"state", "ground_truth"}}},
-                                  {"interval", {{"t_start", 0.0}, {"t_end", 0.5}}}}})}};
+  return NeesPipeline(
+      {{"format", "csv"},
+       {"path", csv},
+       {"delimiter", ";"},
+       {"header_rows", 1},
+       {"time_unit", "us"},
+       {"columns", {{"t", "time_us"}, {"wx", 2}, {"wy", 1}, {"wz", 0}, {"ax", "ax"}, {"ay", "ay"}, {"az", 4}}}});
 }
 
 json RunJson(const std::string& args, const TempDir& tmp) {
@@ -102,11 +85,11 @@ void ExpectSameNees(const json& a, const json& b) {
 
 TEST(NeesPipelineInput, GenericCsvGivesTheNeesOfTheEurocFiles) {
   const TempDir tmp;
-  const std::string noise = tmp.write("noise.json", kNoise.dump());
+  const std::string noise = tmp.write("noise.json", kEurocNoise.dump());
   const std::string csv = tmp.write("imu_generic.csv", GenericCsv());
   const std::string pipeline = tmp.write("generic.json", GenericPipeline(csv).dump(1));
   const std::string common = " --windows 0.5,1.0 --method rk4";
-  const json euroc = RunJson("--imu " + ShellQuote(kImu) + " --ground-truth " + ShellQuote(kGroundTruth) + " --noise " +
+  const json euroc = RunJson("--imu " + ShellQuote(kEurocSliceImu) + " --ground-truth " + ShellQuote(kEurocSliceGroundTruth) + " --noise " +
                                  ShellQuote(noise) + common,
                              tmp);
   const json generic = RunJson("--pipeline " + ShellQuote(pipeline) + common, tmp);
@@ -118,7 +101,7 @@ TEST(NeesPipelineInput, GenericCsvGivesTheNeesOfTheEurocFiles) {
   // object of twice them (NEES / 4, the exact 1/k^2 scaling: 1e-12 relative, round-off).
   ExpectSameNees(euroc,
                  RunJson("--pipeline " + ShellQuote(pipeline) + " --noise " + ShellQuote(kKalibr) + common, tmp));
-  json twice = kNoise;
+  json twice = kEurocNoise;
   for (auto& v : twice) v = 2.0 * v.get<double>();
   const json doubled = RunJson(
       "--pipeline " + ShellQuote(pipeline) + " --noise " + ShellQuote(tmp.write("twice.json", twice.dump())) + common,
@@ -137,7 +120,7 @@ TEST(NeesPipelineInput, HostilePipelinesAreRefusedByName) {
 
   // --pipeline with --imu: a usage error.
   CommandResult r = RunImuconv(
-      "nees --pipeline " + ShellQuote(tmp.write("ok.json", p.dump())) + " --imu " + ShellQuote(kImu) + common, tmp);
+      "nees --pipeline " + ShellQuote(tmp.write("ok.json", p.dump())) + " --imu " + ShellQuote(kEurocSliceImu) + common, tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "--pipeline") && Has(r.err, "--imu")) << r.err;
   // Neither.

@@ -15,13 +15,10 @@
 namespace {
 using namespace imuconv::test;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-std::string Q(const std::string& s) { return ShellQuote(s); }
-
 /// `args` with `flag value` appended must be refused: exit 2, the option and the rule named.
 void ExpectRefused(const std::string& args, const std::string& flag, const std::string& value, const TempDir& tmp) {
   SCOPED_TRACE(flag + " " + value);
-  const CommandResult r = RunImuconv(args + " " + flag + " " + Q(value), tmp);
+  const CommandResult r = RunImuconv(args + " " + flag + " " + ShellQuote(value), tmp);
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_TRUE(Has(r.err, flag)) << r.err;
   // A list option is checked element by element: the message shows the element at fault.
@@ -33,18 +30,18 @@ void ExpectRefused(const std::string& args, const std::string& flag, const std::
 TEST(NumericFlags, NonFiniteValuesAreRefusedInEveryCommand) {
   TempDir tmp;
   const std::string montecarlo =
-      "montecarlo --case " + Q(DataPath("reference/cases/smooth-0.json")) + " --method rk4 --trials 16";
+      "montecarlo --case " + ShellQuote(DataPath("reference/cases/smooth-0.json")) + " --method rk4 --trials 16";
   ExpectRefused(montecarlo, "--duration", "nan", tmp);
   ExpectRefused(montecarlo, "--duration", "NaN", tmp);
   ExpectRefused(montecarlo, "--noise-scale", "1e999", tmp);  // beyond the largest double: inf
   ExpectRefused(montecarlo, "--duration", "0x1p99999", tmp);
-  const std::string nees = "nees --imu " + Q(SourcePath("examples/data/V1_01_easy_imu0_slice.csv")) +
-                           " --ground-truth " + Q(SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv")) +
-                           " --noise " + Q(DataPath("kalibr/euroc_imu.yaml")) + " --method rk4";
+  const std::string nees = "nees --imu " + ShellQuote(SourcePath("examples/data/V1_01_easy_imu0_slice.csv")) +
+                           " --ground-truth " + ShellQuote(SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv")) +
+                           " --noise " + ShellQuote(DataPath("kalibr/euroc_imu.yaml")) + " --method rk4";
   ExpectRefused(nees + " --windows 0.5", "--stride", "nan", tmp);
   ExpectRefused(nees, "--windows", "0.5,nan", tmp);
-  ExpectRefused("plugins --check " + Q(tmp.path()), "--check-timeout", "nan", tmp);
-  ExpectRefused("plugins --check " + Q(tmp.path()), "--check-timeout", "inf", tmp);
+  ExpectRefused("plugins --check " + ShellQuote(tmp.path()), "--check-timeout", "nan", tmp);
+  ExpectRefused("plugins --check " + ShellQuote(tmp.path()), "--check-timeout", "inf", tmp);
   ExpectRefused("experiment preint-by-prop --trials 1", "--duration", "Infinity", tmp);
   ExpectRefused("experiment preint-by-prop --trials 1", "--rate", "nan", tmp);
 }
@@ -54,7 +51,7 @@ TEST(NumericFlags, IntegerOptionsRefuseInfinityToo) {
   // naming the option.
   TempDir tmp;
   const CommandResult r = RunImuconv(
-      "montecarlo --case " + Q(DataPath("reference/cases/smooth-0.json")) + " --method rk4 --trials inf", tmp);
+      "montecarlo --case " + ShellQuote(DataPath("reference/cases/smooth-0.json")) + " --method rk4 --trials inf", tmp);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "--trials")) << r.err;
 }

@@ -24,8 +24,6 @@ namespace {
 using namespace imuconv::test;
 using nlohmann::json;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-
 mode_t Lmode(const std::string& p) {
   struct stat st {};
   EXPECT_EQ(::lstat(p.c_str(), &st), 0) << p;
@@ -45,8 +43,6 @@ std::string Generic(const TempDir& tmp) {
   return CopyExample(tmp, "generic_csv.json", {"generic_imu_seconds.csv", "V1_01_easy_groundtruth_vicon2gt_slice.csv"});
 }
 
-std::string Q(const std::string& s) { return ShellQuote(s); }
-
 /// Every file of a directory with its bytes, to show that nothing in it changed.
 std::map<std::string, std::string> Snapshot(const std::string& dir) {
   std::map<std::string, std::string> m;
@@ -58,7 +54,7 @@ std::map<std::string, std::string> Snapshot(const std::string& dir) {
 TEST(OutputSafety, DevNullStaysACharacterDevice) {
   TempDir tmp;
   const std::string p = Generic(tmp);
-  const CommandResult r = RunImuconv("run " + Q(p) + " -o /dev/null", tmp);
+  const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o /dev/null", tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(Has(r.out, "wrote /dev/null")) << r.out;
   // As root a rename over /dev/null succeeds: this is what the old code did.
@@ -72,7 +68,7 @@ TEST(OutputSafety, FifoIsWrittenThrough) {
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   std::string received;
   std::thread reader([&] { received = ReadText(fifo); });  // opens, blocking until imuconv does
-  const CommandResult r = RunImuconv("run " + Q(p) + " -o " + Q(fifo) + " -q", tmp);
+  const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(fifo) + " -q", tmp);
   // Whatever happened, let the reader finish (ENXIO when it already has).
   const int fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
   if (fd >= 0) ::close(fd);
@@ -88,7 +84,7 @@ TEST(OutputSafety, StdoutByNameGetsTheDocumentAndTheSummaryGoesToStderr) {
   TempDir tmp;
   const std::string p = Generic(tmp);
   for (const char* out : {"-", "/dev/stdout", "/dev/fd/1"}) {
-    const CommandResult r = RunImuconv("run " + Q(p) + " -o " + out, tmp);
+    const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + out, tmp);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     const json doc = json::parse(r.out, nullptr, false);
     ASSERT_FALSE(doc.is_discarded()) << out << ": stdout is not one JSON document:\n" << r.out.substr(0, 300);
@@ -104,7 +100,7 @@ TEST(OutputSafety, SymbolicLinkIsFollowedAndStaysALink) {
   fs::create_directories(tmp.file("results"));
   const std::string target = tmp.write("results/run.json", "old\n");
   fs::create_symlink("results/run.json", tmp.file("latest.json"));
-  const CommandResult r = RunImuconv("run " + Q(p) + " -o " + Q(tmp.file("latest.json")) + " -q", tmp);
+  const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(tmp.file("latest.json")) + " -q", tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(S_ISLNK(Lmode(tmp.file("latest.json"))));
   EXPECT_EQ(json::parse(ReadText(target))["tasks"].size(), 4u);
@@ -116,7 +112,7 @@ TEST(OutputSafety, ModeIsKept) {
   const std::string p = Generic(tmp);
   const std::string out = tmp.write("private.json", "old\n");
   ASSERT_EQ(::chmod(out.c_str(), 0600), 0);
-  const CommandResult r = RunImuconv("run " + Q(p) + " -o " + Q(out) + " -q", tmp);
+  const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(out) + " -q", tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(Lmode(out) & 07777, 0600u);
   EXPECT_EQ(json::parse(ReadText(out))["tasks"].size(), 4u);
@@ -127,7 +123,7 @@ TEST(OutputSafety, FileWithSeveralHardLinksIsRefused) {
   const std::string p = Generic(tmp);
   const std::string out = tmp.write("result.json", "shared\n");
   ASSERT_EQ(::link(out.c_str(), tmp.file("backup.json").c_str()), 0);
-  const CommandResult r = RunImuconv("run " + Q(p) + " -o " + Q(out) + " -q", tmp);
+  const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(out) + " -q", tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "imuconv: error: " + out + ": has 2 hard links; replacing it would split them")) << r.err;
   EXPECT_EQ(ReadText(out), "shared\n");
@@ -149,7 +145,7 @@ TEST(OutputSafety, AnInputIsNeverTheOutput) {
       {tmp.file("data/../data/generic_imu_seconds.csv"), "is the same file as the input file " + imu},
   };
   for (const auto& [out, says] : cases) {
-    const CommandResult r = RunImuconv("run " + Q(p) + " -o " + Q(out), tmp);
+    const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(out), tmp);
     EXPECT_EQ(r.exit_code, 2) << out;
     EXPECT_TRUE(Has(r.err, "imuconv: error: " + out + ": " + says + ": refusing to overwrite it")) << r.err;
     EXPECT_EQ(r.out, "") << "refused before the run";
@@ -164,7 +160,7 @@ TEST(OutputSafety, AMeasurementsFileIsNeverTheOutput) {
   const std::string p = CopyExample(tmp, "gtsam_import.json", {"gtsam_smooth0_manifold.measurements.json"});
   const std::string meas = tmp.file("data/gtsam_smooth0_manifold.measurements.json");
   const auto before = Snapshot(tmp.path());
-  CommandResult r = RunImuconv("run " + Q(p) + " -o " + Q(meas), tmp);
+  CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(meas), tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, meas + ": is the same file as the input file " + meas + ": refusing to overwrite it")) << r.err;
   EXPECT_TRUE(Snapshot(tmp.path()) == before);
@@ -172,12 +168,12 @@ TEST(OutputSafety, AMeasurementsFileIsNeverTheOutput) {
   json doc = json::parse(ReadText(p));
   doc["output"] = "data/gtsam_smooth0_manifold.measurements.json";
   const std::string p2 = tmp.write("self.json", doc.dump());
-  r = RunImuconv("run " + Q(p2), tmp);
+  r = RunImuconv("run " + ShellQuote(p2), tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "is the same file as the input file")) << r.err;
   EXPECT_EQ(ReadText(meas), before.at(meas));
   // Sanity: the pipeline does run, to a fresh file.
-  r = RunImuconv("run " + Q(p) + " -o " + Q(tmp.file("fresh.json")) + " -q", tmp);
+  r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(tmp.file("fresh.json")) + " -q", tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
@@ -193,7 +189,7 @@ TEST(OutputSafety, PipelineOutputKeyStaysInsideItsDirectory) {
        std::vector<std::string>{"../elsewhere.json", "sub/../../elsewhere.json", tmp.file("absolute.json"), ".."}) {
     doc["output"] = bad;
     const std::string pipe = tmp.write("inner/escape.json", doc.dump());
-    const CommandResult r = RunImuconv("run " + Q(pipe), tmp);
+    const CommandResult r = RunImuconv("run " + ShellQuote(pipe), tmp);
     EXPECT_EQ(r.exit_code, 2) << bad;
     EXPECT_TRUE(Has(r.err, pipe + ": /output: expected a relative path inside the pipeline's directory")) << r.err;
     EXPECT_TRUE(Has(r.err, "-o")) << r.err;
@@ -203,11 +199,11 @@ TEST(OutputSafety, PipelineOutputKeyStaysInsideItsDirectory) {
   // Inside it (after normalisation) is fine; -o, typed by the user, is not restricted.
   doc["output"] = "sub/../inside.json";
   const std::string ok = tmp.write("inner/inside.pipeline.json", doc.dump());
-  CommandResult r = RunImuconv("run " + Q(ok) + " -q", tmp);
+  CommandResult r = RunImuconv("run " + ShellQuote(ok) + " -q", tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(json::parse(ReadText(tmp.file("inner/inside.json")))["tasks"].size(), 4u);
   fs::create_directories(tmp.file("a/b"));
-  r = RunImuconv("run " + Q(ok) + " -q -o " + Q(tmp.file("a/b/../outside_by_o.json")), tmp);
+  r = RunImuconv("run " + ShellQuote(ok) + " -q -o " + ShellQuote(tmp.file("a/b/../outside_by_o.json")), tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::exists(tmp.file("a/outside_by_o.json")));
 }

@@ -19,26 +19,12 @@
 #include <vector>
 
 #include "../pipeline/pipeline_test_util.h"
+#include "processes_mentioning.h"
 
 namespace {
 using namespace imuconv::test;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-std::string Q(const std::string& s) { return ShellQuote(s); }
 std::string Fixture(const std::string& rel) { return std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/" + rel; }
-
-/// The processes whose command line holds `marker` (a check's child and what it forked run
-/// imuconv's command line, which names the checked directory).
-std::vector<std::string> ProcessesMentioning(const std::string& marker) {
-  std::vector<std::string> found;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator("/proc", ec)) {
-    const std::string name = e.path().filename().string();
-    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
-    if (Has(ReadText(e.path().string() + "/cmdline"), marker)) found.push_back(name);
-  }
-  return found;
-}
 
 /// The line of `text` that holds `key`.
 std::string LineWith(const std::string& text, const std::string& key) {
@@ -55,7 +41,7 @@ TEST(PluginCheckProcesses, WhatAPluginStartedIsKilledAndNamed) {
   for (const char* f : {"outlive/imuconv_plugin_setsid_grandchild.so", "outlive/imuconv_plugin_daemon_grandchild.so"})
     fs::copy_file(Fixture(f), dir + "/" + fs::path(f).filename().string());
   const auto start = std::chrono::steady_clock::now();
-  const CommandResult r = RunImuconv("plugins --check " + Q(dir) + " --check-timeout 20", tmp);
+  const CommandResult r = RunImuconv("plugins --check " + ShellQuote(dir) + " --check-timeout 20", tmp);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
   for (const char* name : {"imuconv_plugin_setsid_grandchild.so", "imuconv_plugin_daemon_grandchild.so"}) {
@@ -77,12 +63,12 @@ TEST(PluginCheckProcesses, WhatAPluginStartedIsKilledAndNamed) {
 TEST(PluginCheckProcesses, AVersionThatIsNotUtf8IsFlaggedAndRefused) {
   TempDir tmp;
   const std::string dir = Fixture("encoding");
-  const CommandResult check = RunImuconv("plugins --check " + Q(dir), tmp);
+  const CommandResult check = RunImuconv("plugins --check " + ShellQuote(dir), tmp);
   EXPECT_EQ(check.exit_code, 1) << check.out << check.err;
   const std::string line = LineWith(check.out, "imuconv_plugin_version_not_utf8.so");
   EXPECT_TRUE(Has(line, "its descriptor's version '1.0-caf\\xe9-\\xc0\\xaf' is not UTF-8 (byte 7)")) << check.out;
   // Listing with it on the search path: a load error, and the JSON listing is JSON.
-  const CommandResult j = RunImuconv("plugins --json --plugin-dir " + Q(dir), tmp);
+  const CommandResult j = RunImuconv("plugins --json --plugin-dir " + ShellQuote(dir), tmp);
   EXPECT_EQ(j.exit_code, 0) << j.err;
   const nlohmann::json doc = nlohmann::json::parse(j.out);  // throws (a test failure) if it is not JSON
   ASSERT_EQ(doc["load_errors"].size(), 1u) << j.out;

@@ -16,9 +16,6 @@ namespace {
 using namespace imuconv::test;
 using nlohmann::json;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-std::string Q(const std::string& s) { return ShellQuote(s); }
-
 /// A reference case cut to 50 IMU rows (the checks do not depend on the length), modified by `edit`.
 std::string WriteCase(const TempDir& tmp, const std::string& name, const std::function<void(json&)>& edit) {
   json c = json::parse(ReadText(std::string(IMUCONV_TEST_DATA_DIR) + "/reference/cases/smooth-0.json"));
@@ -30,7 +27,7 @@ std::string WriteCase(const TempDir& tmp, const std::string& name, const std::fu
 TEST(RefcaseInput, GoodCaseRuns) {
   TempDir tmp;
   const std::string c = WriteCase(tmp, "ok.json", [](json&) {});
-  const CommandResult r = RunImuconv("refcase " + Q(c) + " -o " + Q(tmp.file("out.json")), tmp);
+  const CommandResult r = RunImuconv("refcase " + ShellQuote(c) + " -o " + ShellQuote(tmp.file("out.json")), tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(json::parse(ReadText(tmp.file("out.json")))["case_id"], "smooth-0");
 }
@@ -84,7 +81,7 @@ TEST(RefcaseInput, BadInputsNameThePointerAndWriteNothing) {
   for (const auto& b : bad) {
     const std::string c = WriteCase(tmp, b.name + ".json", b.edit);
     const std::string out = tmp.file(b.name + ".out.json");
-    const CommandResult r = RunImuconv("refcase " + Q(c) + " -o " + Q(out), tmp);
+    const CommandResult r = RunImuconv("refcase " + ShellQuote(c) + " -o " + ShellQuote(out), tmp);
     EXPECT_EQ(r.exit_code, 2) << b.name << "\n" << r.err;
     EXPECT_TRUE(Has(r.err, "imuconv: error: " + c + ": " + b.says)) << b.name << "\n" << r.err;
     EXPECT_FALSE(fs::exists(out)) << b.name;
@@ -98,7 +95,7 @@ TEST(RefcaseInput, TheCaseFileIsNeverTheOutput) {
   fs::create_symlink("case.json", tmp.file("link.json"));
   const std::string before = ReadText(c);
   for (const std::string& out : {c, tmp.file("link.json")}) {
-    const CommandResult r = RunImuconv("refcase " + Q(c) + " -o " + Q(out), tmp);
+    const CommandResult r = RunImuconv("refcase " + ShellQuote(c) + " -o " + ShellQuote(out), tmp);
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_TRUE(Has(r.err, out + ": is the same file as the case file " + c + ": refusing to overwrite it")) << r.err;
   }

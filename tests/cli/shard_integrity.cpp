@@ -12,23 +12,19 @@
 #include <vector>
 
 #include "../pipeline/pipeline_test_util.h"
+#include "euroc_slice.h"
 #include "shard_forgery.h"
 
 namespace {
 using namespace imuconv::test;
 using nlohmann::json;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-std::string Q(const std::string& s) { return ShellQuote(s); }
-
 /// Three tasks in three units over 1 s of the bundled EuRoC slice each: three small shards.
 struct SmallBatch {
   TempDir tmp;
   std::string pipeline;
   SmallBatch() {
-    fs::create_directories(tmp.file("data"));
-    for (const char* f : {"V1_01_easy_imu0_slice.csv", "V1_01_easy_groundtruth_vicon2gt_slice.csv"})
-      fs::copy_file(SourcePath(std::string("examples/data/") + f), tmp.file(std::string("data/") + f));
+    CopyEurocSlice(tmp);
     json tasks = json::array();
     for (int k = 0; k < 3; ++k)
       tasks.push_back({{"type", "preintegrate"},
@@ -37,26 +33,18 @@ struct SmallBatch {
                        {"conventions", {"gtsam_manifold"}},
                        {"bias", "ground_truth"},
                        {"keyframes", {{"start", 1.0 * k}, {"end", 1.0 * k + 1.0}, {"step", 0.5}}}});
-    const json p = {{"gravity", {0.0, 0.0, -9.81}},
-                    {"noise",
-                     {{"gyro_noise_density", 1.6968e-04},
-                      {"accel_noise_density", 2.0e-3},
-                      {"gyro_random_walk", 1.9393e-05},
-                      {"accel_random_walk", 3.0e-3}}},
-                    {"imu", {{"format", "euroc"}, {"path", "data/V1_01_easy_imu0_slice.csv"}}},
-                    {"ground_truth", {{"format", "euroc"}, {"path", "data/V1_01_easy_groundtruth_vicon2gt_slice.csv"}}},
-                    {"tasks", tasks}};
+    const json p = EurocSlicePipeline(tasks);
     pipeline = tmp.write("P.json", p.dump(2));
   }
   std::string run(const std::string& extra, const std::string& out) {
-    const CommandResult r = RunImuconv("-q run " + Q(pipeline) + " " + extra + " -o " + Q(tmp.file(out)), tmp);
+    const CommandResult r = RunImuconv("-q run " + ShellQuote(pipeline) + " " + extra + " -o " + ShellQuote(tmp.file(out)), tmp);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return tmp.file(out);
   }
   std::string shard(unsigned k) { return run("--shard " + std::to_string(k) + "/3", "S" + std::to_string(k) + ".json"); }
   CommandResult merge(const std::vector<std::string>& shards) {
-    std::string args = "merge -o " + Q(tmp.file("out.json"));
-    for (const auto& s : shards) args += " " + Q(s);
+    std::string args = "merge -o " + ShellQuote(tmp.file("out.json"));
+    for (const auto& s : shards) args += " " + ShellQuote(s);
     return RunImuconv(args, tmp);
   }
   /// The merge must fail: exit 2, `file` and `why` in the message, no output, nothing new.

@@ -11,14 +11,12 @@
 #include <vector>
 
 #include "../pipeline/pipeline_test_util.h"
+#include "euroc_slice.h"
 #include "shard_forgery.h"
 
 namespace {
 using namespace imuconv::test;
 using nlohmann::json;
-
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-std::string Q(const std::string& s) { return ShellQuote(s); }
 
 /// A pipeline over the bundled 20 s EuRoC slice with eight tasks in four units:
 /// {kf_a, pred_a}, {kf_b, pred_b}, {kf_c}, {kf_d, kf_e, pred_d} (pred_d names kf_d across kf_e,
@@ -37,19 +35,12 @@ json BatchPipeline(double gravity_z = -9.81) {
                 {"start", {{"state", "ground_truth"}}}};
   };
   const json rk4 = {{"propagator", "rk4"}}, manifold = {{"preintegrator", "manifold"}};
-  return json{{"gravity", {0.0, 0.0, gravity_z}},
-              {"noise",
-               {{"gyro_noise_density", 1.6968e-04},
-                {"accel_noise_density", 2.0e-3},
-                {"gyro_random_walk", 1.9393e-05},
-                {"accel_random_walk", 3.0e-3}}},
-              {"imu", {{"format", "euroc"}, {"path", "data/V1_01_easy_imu0_slice.csv"}}},
-              {"ground_truth", {{"format", "euroc"}, {"path", "data/V1_01_easy_groundtruth_vicon2gt_slice.csv"}}},
-              {"tasks",
-               {preintegrate("kf_a", rk4, 0.0, 6.0), predict("pred_a", "kf_a", "left"),
-                preintegrate("kf_b", manifold, 6.0, 12.0), predict("pred_b", "kf_b", "gtsam_navstate"),
-                preintegrate("kf_c", rk4, 12.0, 15.0), preintegrate("kf_d", manifold, 15.0, 20.0),
-                preintegrate("kf_e", rk4, 2.0, 4.0), predict("pred_d", "kf_d", "left")}}};
+  return EurocSlicePipeline(json::array({preintegrate("kf_a", rk4, 0.0, 6.0), predict("pred_a", "kf_a", "left"),
+                                         preintegrate("kf_b", manifold, 6.0, 12.0),
+                                         predict("pred_b", "kf_b", "gtsam_navstate"),
+                                         preintegrate("kf_c", rk4, 12.0, 15.0), preintegrate("kf_d", manifold, 15.0, 20.0),
+                                         preintegrate("kf_e", rk4, 2.0, 4.0), predict("pred_d", "kf_d", "left")}),
+                            gravity_z);
 }
 
 /// A temporary directory holding the slice data and the batch pipeline (P.json).
@@ -57,15 +48,13 @@ struct Batch {
   TempDir tmp;
   std::string pipeline;
   Batch() {
-    fs::create_directories(tmp.file("data"));
-    for (const char* f : {"V1_01_easy_imu0_slice.csv", "V1_01_easy_groundtruth_vicon2gt_slice.csv"})
-      fs::copy_file(SourcePath(std::string("examples/data/") + f), tmp.file(std::string("data/") + f));
+    CopyEurocSlice(tmp);
     pipeline = tmp.write("P.json", BatchPipeline().dump(2));
   }
   /// Runs shard k of n into S<k>of<n>.json (or the whole run into whole.json) and returns the path.
   std::string run(const std::string& extra, const std::string& out, unsigned threads) {
     const CommandResult r = RunImuconv(
-        "-q run " + Q(pipeline) + " " + extra + " -j " + std::to_string(threads) + " -o " + Q(tmp.file(out)), tmp);
+        "-q run " + ShellQuote(pipeline) + " " + extra + " -j " + std::to_string(threads) + " -o " + ShellQuote(tmp.file(out)), tmp);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return tmp.file(out);
   }
@@ -74,8 +63,8 @@ struct Batch {
                "S" + std::to_string(k) + "of" + std::to_string(n) + ".json", 2);
   }
   CommandResult merge(const std::string& out, const std::vector<std::string>& shards) {
-    std::string args = "merge -o " + Q(tmp.file(out));
-    for (const auto& s : shards) args += " " + Q(s);
+    std::string args = "merge -o " + ShellQuote(tmp.file(out));
+    for (const auto& s : shards) args += " " + ShellQuote(s);
     return RunImuconv(args, tmp);
   }
 };
@@ -170,7 +159,7 @@ TEST(ShardMerge, HostileMergesAreRefused) {
     SCOPED_TRACE("another pipeline");
     // Same tasks, same task count, another gravity: the heads differ.
     const std::string q = b.tmp.write("Q.json", BatchPipeline(-9.80665).dump(2));
-    const CommandResult r = RunImuconv("-q run " + Q(q) + " --shard 1/3 -o " + Q(b.tmp.file("Q1of3.json")), b.tmp);
+    const CommandResult r = RunImuconv("-q run " + ShellQuote(q) + " --shard 1/3 -o " + ShellQuote(b.tmp.file("Q1of3.json")), b.tmp);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     ExpectRefused(b, {s0, b.tmp.file("Q1of3.json"), s2}, "Q1of3.json", "not shards of one run");
   }
@@ -234,7 +223,7 @@ TEST(ShardMerge, HostileMergesAreRefused) {
   }
   // The output is never one of the shards: refused, the shard unchanged.
   const std::string before = ReadText(s0);
-  const CommandResult r = RunImuconv("merge -o " + Q(s0) + " " + Q(s0) + " " + Q(s1) + " " + Q(s2), b.tmp);
+  const CommandResult r = RunImuconv("merge -o " + ShellQuote(s0) + " " + ShellQuote(s0) + " " + ShellQuote(s1) + " " + ShellQuote(s2), b.tmp);
   EXPECT_NE(r.exit_code, 0);
   EXPECT_TRUE(Has(r.err, "S0of3.json")) << r.err;
   EXPECT_EQ(ReadText(s0), before);
@@ -244,12 +233,12 @@ TEST(ShardMerge, ShardOptionIsChecked) {
   Batch b;
   for (const char* bad : {"3/3", "1", "a/2", "0/0", "-1/2", "1/2x", "1/"}) {
     const CommandResult r = RunImuconv(
-        "run " + Q(b.pipeline) + " " + Q(std::string("--shard=") + bad) + " -o " + Q(b.tmp.file("x.json")), b.tmp);
+        "run " + ShellQuote(b.pipeline) + " " + ShellQuote(std::string("--shard=") + bad) + " -o " + ShellQuote(b.tmp.file("x.json")), b.tmp);
     EXPECT_EQ(r.exit_code, 2) << bad;
     EXPECT_TRUE(Has(r.err, "--shard: expected K/N")) << bad << ": " << r.err;
     EXPECT_FALSE(fs::exists(b.tmp.file("x.json")));
   }
-  const CommandResult npz = RunImuconv("run " + Q(b.pipeline) + " --shard 0/2 -o " + Q(b.tmp.file("x.npz")), b.tmp);
+  const CommandResult npz = RunImuconv("run " + ShellQuote(b.pipeline) + " --shard 0/2 -o " + ShellQuote(b.tmp.file("x.npz")), b.tmp);
   EXPECT_EQ(npz.exit_code, 2);
   EXPECT_TRUE(Has(npz.err, "not --format npz")) << npz.err;
 }

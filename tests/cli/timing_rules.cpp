@@ -16,18 +16,11 @@
 
 #include "../pipeline/pipeline_test_util.h"
 #include "imuconv_test.h"
+#include "number_text.h"
 
 namespace {
 using namespace imuconv::test;
 using nlohmann::json;
-
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-
-std::string Num17(double x) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", x);
-  return b;
-}
 
 const json kNoise = {{"gyro_noise_density", 1.7e-4},
                      {"accel_noise_density", 2.0e-3},

@@ -14,8 +14,6 @@ namespace {
 using namespace imuconv::test;
 using nlohmann::json;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-
 std::vector<std::vector<std::string>> Fields(const std::string& text, char sep) {
   std::vector<std::vector<std::string>> rows;
   std::istringstream in(text);

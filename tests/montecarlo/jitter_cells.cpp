@@ -17,26 +17,12 @@
 #include <cmath>
 #include <cstdio>
 
+#include "case_input.h"
 #include "imuconv_test.h"
 #include "montecarlo.h"
 
 namespace imuconv::montecarlo {
 namespace {
-
-Input FirstSeconds(const std::string& id, double seconds) {
-  const nlohmann::json c = test::ReadJson(test::DataPath("reference/cases/" + id + ".json"));
-  Input in;
-  for (const ImuSample& s : test::CaseSamples(c))
-    if (in.samples.empty() || s.t <= in.samples.front().t + seconds + 1e-9) in.samples.push_back(s);
-  const auto& n = c.at("noise");
-  in.noise.gyro_noise_density = n.at("gyro_noise_density").get<double>();
-  in.noise.accel_noise_density = n.at("accel_noise_density").get<double>();
-  in.noise.gyro_random_walk = n.at("gyro_random_walk").get<double>();
-  in.noise.accel_random_walk = n.at("accel_random_walk").get<double>();
-  in.bg = test::JsonVec3(c.at("state_s").at("bg"));
-  in.ba = test::JsonVec3(c.at("state_s").at("ba"));
-  return in;
-}
 
 /// sigma^2 sum_k w_k^2 / c_k over sigma^2 T: the theta variance of trapezoid weights w_k with
 /// each sample's noise over a cell of length c_k, relative to the continuous integral's.
@@ -53,7 +39,7 @@ double TrapezoidVarianceRatio(const std::vector<ImuSample>& s, bool centered_cel
 }
 
 TEST(MontecarloJitter, CenteredCellsMakeRk4AndMidpointConsistentOnUnequalSteps) {
-  const Input in = FirstSeconds("jitter-0", 0.5);
+  const Input in = CaseInput("jitter-0", 0.5);
   // The arithmetic of the cause, on these samples: centered cells partition the interval
   // (ratio 1 to rounding), forward ones give 2.8 % more.
   EXPECT_NEAR(TrapezoidVarianceRatio(in.samples, true), 1.0, 1e-12);

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "case_input.h"
 #include "imuconv_test.h"
 #include "montecarlo.h"
 
@@ -21,21 +22,6 @@ namespace imuconv::montecarlo {
 namespace {
 
 using test::Plugins;
-
-Input CaseInput(const std::string& id, double seconds) {
-  const nlohmann::json c = test::ReadJson(test::DataPath("reference/cases/" + id + ".json"));
-  Input in;
-  for (const ImuSample& s : test::CaseSamples(c))
-    if (in.samples.empty() || s.t <= in.samples.front().t + seconds + 1e-9) in.samples.push_back(s);
-  const auto& n = c.at("noise");
-  in.noise.gyro_noise_density = n.at("gyro_noise_density").get<double>();
-  in.noise.accel_noise_density = n.at("accel_noise_density").get<double>();
-  in.noise.gyro_random_walk = n.at("gyro_random_walk").get<double>();
-  in.noise.accel_random_walk = n.at("accel_random_walk").get<double>();
-  in.bg = test::JsonVec3(c.at("state_s").at("bg"));
-  in.ba = test::JsonVec3(c.at("state_s").at("ba"));
-  return in;
-}
 
 Result RunMethod(const std::string& method_id, PluginKind kind, const Input& in, bool allow_mean_only) {
   const PreintegrationMethod method = ResolvePreintegrationMethod(Plugins(), kind, method_id);

@@ -16,6 +16,7 @@
 
 #include "../../apps/montecarlo/normal.h"
 #include "../../apps/montecarlo/statistics.h"
+#include "case_input.h"
 #include "imuconv_test.h"
 #include "montecarlo.h"
 
@@ -122,17 +123,7 @@ TEST(MontecarloVerdict, PowerForATenPercentErrorInOneBlock) {
 // 1 % the count is at most Binomial(200, 0.01): mean 2, and 7 or more has probability 4.3e-3,
 // so at most 6 per method. The old design's levels give 13 to 16 (file comment).
 TEST(MontecarloVerdict, FalseAlarmRateOverSeeds) {
-  const nlohmann::json c = test::ReadJson(test::DataPath("reference/cases/smooth-0.json"));
-  Input in;
-  for (const ImuSample& s : test::CaseSamples(c))
-    if (in.samples.empty() || s.t <= in.samples.front().t + 0.1 + 1e-9) in.samples.push_back(s);
-  const auto& n = c.at("noise");
-  in.noise.gyro_noise_density = n.at("gyro_noise_density").get<double>();
-  in.noise.accel_noise_density = n.at("accel_noise_density").get<double>();
-  in.noise.gyro_random_walk = n.at("gyro_random_walk").get<double>();
-  in.noise.accel_random_walk = n.at("accel_random_walk").get<double>();
-  in.bg = test::JsonVec3(c.at("state_s").at("bg"));
-  in.ba = test::JsonVec3(c.at("state_s").at("ba"));
+  const Input in = CaseInput("smooth-0", 0.1);
   for (const auto& [id, kind] : {std::pair<const char*, PluginKind>{"euler", PluginKind::Propagator},
                                  {"rk4", PluginKind::Propagator},
                                  {"vins_fusion", PluginKind::Preintegrator}}) {

@@ -25,8 +25,6 @@ using namespace imuconv::test;
 using imuconv::pipeline::OutputFile;
 using imuconv::pipeline::WriteFileAtomically;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-
 mode_t Lmode(const std::string& p) {
   struct stat st {};
   EXPECT_EQ(::lstat(p.c_str(), &st), 0) << p;

@@ -5,6 +5,7 @@
 
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
+#include "issue_at.h"
 #include "pipeline_test_util.h"
 
 namespace {
@@ -48,19 +49,6 @@ std::vector<Issue> Issues(const json& doc) {
   }
   return {};
 }
-
-/// The message at `pointer`, or "(no issue at POINTER; issues: ...)".
-std::string At(const std::vector<Issue>& issues, const std::string& pointer) {
-  std::string all;
-  for (const auto& i : issues) {
-    if (i.pointer == pointer) return i.message;
-    all += "\n  " + i.pointer + ": " + i.message;
-  }
-  return "(no issue at " + pointer + "; issues:" + all + ")";
-}
-
-#define EXPECT_ISSUE(issues, pointer, text) \
-  EXPECT_NE(At(issues, pointer).find(text), std::string::npos) << At(issues, pointer)
 
 TEST(PipelineConfig, BaseRuns) { EXPECT_TRUE(Issues(Base()).empty()); }
 

@@ -22,9 +22,7 @@
 namespace {
 using namespace imuconv;
 using namespace imuconv::pipeline;
-using imuconv::test::MessageOf;
-using imuconv::test::SourcePath;
-using imuconv::test::TempDir;
+using namespace imuconv::test;
 
 const std::string kEurocHeader = "#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z\n";
 

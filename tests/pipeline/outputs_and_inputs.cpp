@@ -26,8 +26,6 @@ namespace {
 using namespace imuconv::test;
 using imuconv::pipeline::OutputFile;
 
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
-
 /// Runs `body` in a forked child and returns its exit status (0: every check in it held).
 /// A child, so that its peak resident size and its descriptors are its own.
 template <typename F>

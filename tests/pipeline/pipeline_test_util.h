@@ -16,6 +16,7 @@
 #include <string>
 
 #include "imuconv/pipeline/errors.h"
+#include "text_contains.h"
 
 namespace imuconv::test {
 

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "imuconv/so3.h"
+#include "number_text.h"
 #include "pipeline_test_util.h"
 
 namespace imuconv::test {
@@ -49,19 +50,14 @@ std::vector<GtRow> ReadFullGroundTruth() {
   return rows;
 }
 
-std::string G17(double x) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
 
 /// TUM text of the rows' poses: "sec.nanosec x y z qx qy qz qw" (the stamps exactly).
 std::string Tum(const std::vector<GtRow>& rows) {
   std::string s = "# timestamp tx ty tz qx qy qz qw\n";
   for (const auto& r : rows) {
     const std::string sec = r.t_ns.substr(0, r.t_ns.size() - 9), frac = r.t_ns.substr(r.t_ns.size() - 9);
-    s += sec + "." + frac + " " + G17(r.v[0]) + " " + G17(r.v[1]) + " " + G17(r.v[2]) + " " + G17(r.v[4]) + " " +
-         G17(r.v[5]) + " " + G17(r.v[6]) + " " + G17(r.v[3]) + "\n";
+    s += sec + "." + frac + " " + Num17(r.v[0]) + " " + Num17(r.v[1]) + " " + Num17(r.v[2]) + " " + Num17(r.v[4]) + " " +
+         Num17(r.v[5]) + " " + Num17(r.v[6]) + " " + Num17(r.v[3]) + "\n";
   }
   return s;
 }
@@ -71,7 +67,7 @@ std::string Vicon0Copy(const std::vector<GtRow>& rows) {
   std::string s = "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n";
   for (const auto& r : rows) {
     s += r.t_ns;
-    for (int i = 0; i < 7; ++i) s += "," + G17(r.v[i]);
+    for (int i = 0; i < 7; ++i) s += "," + Num17(r.v[i]);
     s += "\n";
   }
   return s;
@@ -85,8 +81,8 @@ std::string Vicon0(const std::vector<GtRow>& rows, const Mat3& R_BS, const Vec3&
     const Mat3 R_RB = so3::FromQuaternionWxyz(r.v[3], r.v[4], r.v[5], r.v[6]);
     const Vec3 p_RS = Vec3(r.v[0], r.v[1], r.v[2]) + R_RB * p_BS;
     const Eigen::Vector4d q = so3::ToQuaternionWxyz(R_RB * R_BS);
-    s += r.t_ns + "," + G17(p_RS.x()) + "," + G17(p_RS.y()) + "," + G17(p_RS.z()) + "," + G17(q[0]) + "," + G17(q[1]) +
-         "," + G17(q[2]) + "," + G17(q[3]) + "\n";
+    s += r.t_ns + "," + Num17(p_RS.x()) + "," + Num17(p_RS.y()) + "," + Num17(p_RS.z()) + "," + Num17(q[0]) + "," + Num17(q[1]) +
+         "," + Num17(q[2]) + "," + Num17(q[3]) + "\n";
   }
   return s;
 }

@@ -9,9 +9,7 @@
 namespace {
 using namespace imuconv;
 using namespace imuconv::pipeline;
-using imuconv::test::MessageOf;
-using imuconv::test::SourcePath;
-using imuconv::test::TempDir;
+using namespace imuconv::test;
 
 const std::string kEurocHeader = "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
                                  "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n";

@@ -11,6 +11,7 @@
 #include "../../apps/pipeline/src/input_checks.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
+#include "issue_at.h"
 #include "pipeline_test_util.h"
 
 namespace {
@@ -91,17 +92,6 @@ Outcome RunDoc(const json& doc, const std::string& base = IMUCONV_SOURCE_DIR) {
   return o;
 }
 
-std::string At(const std::vector<Issue>& issues, const std::string& pointer) {
-  std::string all;
-  for (const auto& i : issues) {
-    if (i.pointer == pointer) return i.message;
-    all += "\n  " + i.pointer + ": " + i.message;
-  }
-  return "(no issue at " + pointer + "; issues:" + all + ")";
-}
-#define EXPECT_ISSUE(issues, pointer, text) \
-  EXPECT_NE(At(issues, pointer).find(text), std::string::npos) << At(issues, pointer)
-
 // ---- covariances ----------------------------------------------------------------------
 
 TEST(Covariances, TheIndefiniteStartCovarianceOfTheReportIsRefused) {
@@ -110,7 +100,7 @@ TEST(Covariances, TheIndefiniteStartCovarianceOfTheReportIsRefused) {
   const Outcome bad = RunDoc(Pipeline1({Propagate(PxVxCov(-1.499))}));
   ASSERT_FALSE(bad.issues.empty()) << bad.out.dump().substr(0, 300);
   EXPECT_EQ(bad.file, kFile);
-  const std::string m = At(bad.issues, "/tasks/0/start/cov");
+  const std::string m = test::IssueAt(bad.issues, "/tasks/0/start/cov");
   EXPECT_NE(m.find("not a valid covariance: not positive semi-definite: smallest eigenvalue -0.499"), std::string::npos) << m;
   EXPECT_NE(m.find("nothing is repaired"), std::string::npos) << m;
   // A correlation of -0.999 is a covariance: it runs, and every variance written is >= 0.
@@ -256,7 +246,7 @@ TEST(Quaternions, SeveralStatementsOfARotationMustAgree) {
   const json cv = {{"type", "convert"}, {"name", "cv"}, {"what", "increment_jacobian"}, {"from", "preint_reference"},
                    {"to", "gtsam_manifold"}, {"increment", agree["delta"]}};
   const Outcome ok = RunDoc(Pipeline1({cv}));
-  EXPECT_TRUE(ok.issues.empty()) << At(ok.issues, "");
+  EXPECT_TRUE(ok.issues.empty()) << test::IssueAt(ok.issues, "");
   json bad = cv;
   bad["increment"] = r_differs["delta"];
   EXPECT_ISSUE(RunDoc(Pipeline1({bad})).issues, "/tasks/0/increment/R", "R and q_wxyz disagree");
@@ -301,7 +291,7 @@ std::vector<std::pair<double, double>> Spans(const json& out) {
 TEST(Keyframes, TheRemainderIsALastShorterIntervalEndingAtEnd) {
   // 1 / 0.3: three whole steps and 0.1 s left over. It used to be dropped in silence.
   const Outcome o = RunDoc(Pipeline1({Keyframes(0.0, 1.0, 0.3)}));
-  ASSERT_TRUE(o.issues.empty()) << At(o.issues, "");
+  ASSERT_TRUE(o.issues.empty()) << test::IssueAt(o.issues, "");
   const std::vector<std::pair<double, double>> want = {{0.0, 0.3}, {0.3, 0.6}, {0.6, 0.9}, {0.9, 1.0}};
   EXPECT_EQ(Spans(o.out), want);  // exact: keyframes snap to the nanosecond within round-off
   EXPECT_NE(o.summary.find("the last interval, [0.9, 1] s, is the 0.1 s left after 3 whole step(s) of 0.3 s"),
@@ -314,7 +304,7 @@ TEST(Keyframes, RoundOffIsNotARemainder) {
   for (const auto& [end, step, n] : {std::tuple<double, double, std::size_t>{0.3, 0.1, 3}, {1.0, 0.1, 10}, {0.7, 0.07, 10}}) {
     SCOPED_TRACE(std::to_string(end) + " / " + std::to_string(step));
     const Outcome o = RunDoc(Pipeline1({Keyframes(0.0, end, step)}));
-    ASSERT_TRUE(o.issues.empty()) << At(o.issues, "");
+    ASSERT_TRUE(o.issues.empty()) << test::IssueAt(o.issues, "");
     const auto spans = Spans(o.out);
     ASSERT_EQ(spans.size(), n);
     EXPECT_EQ(spans.back().second, end);

@@ -17,10 +17,11 @@
 #include <string>
 #include <vector>
 
-#include "load_error.h"
 #include "../pipeline/pipeline_test_util.h"
 #include "imuconv/registry.h"
 #include "imuconv_test.h"
+#include "load_error.h"
+#include "processes_mentioning.h"
 
 namespace {
 namespace fs = std::filesystem;
@@ -30,12 +31,13 @@ using imuconv::LoadOptions;
 using imuconv::PluginKind;
 using imuconv::Registry;
 using imuconv::test::CommandResult;
+using imuconv::test::Has;
+using imuconv::test::ProcessesMentioning;
 using imuconv::test::ShellQuote;
 using imuconv::test::TempDir;
 
 std::string Fixture(const std::string& rel) { return std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/" + rel; }
 std::string BuiltIn(const std::string& name) { return imuconv::test::BuiltInPlugin(name); }
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
 
 std::string ErrorOf(Registry& r, const std::string& path) { return imuconv::test::LoadErrorOf(r, path); }
 
@@ -409,19 +411,6 @@ TEST(HostilePluginsCli, RunFailsOnADuplicateRk4InThePipelinesPluginDirs) {
   EXPECT_TRUE(Has(r.err, Fixture("override/imuconv_plugin_claims_rk4.so"))) << r.err;
   EXPECT_TRUE(Has(r.err, BuiltIn("imuconv_plugin_integrators_rk4.so"))) << r.err;
   EXPECT_FALSE(fs::exists(tmp.file("out.json")));
-}
-
-// No process of ours may outlive the command: every child's command line holds `marker`.
-std::vector<std::string> ProcessesMentioning(const std::string& marker) {
-  std::vector<std::string> found;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator("/proc", ec)) {
-    const std::string name = e.path().filename().string();
-    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
-    const std::string cmdline = imuconv::test::ReadText(e.path().string() + "/cmdline");
-    if (Has(cmdline, marker)) found.push_back(name);
-  }
-  return found;
 }
 
 TEST(HostilePluginsCli, CheckNamesCrashesHangsAndErrorsInChildProcesses) {

@@ -13,9 +13,11 @@
 #include "imuconv/report/heatmap.h"
 #include "imuconv/report/html_document.h"
 #include "imuconv/report/markup.h"
+#include "text_contains.h"
 
 namespace {
 using namespace imuconv::report;
+using imuconv::test::Has;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -25,8 +27,6 @@ std::size_t Count(const std::string& s, const std::string& sub) {
   for (std::size_t p = s.find(sub); p != std::string::npos; p = s.find(sub, p + sub.size())) ++n;
   return n;
 }
-
-bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
 
 int Channel(const std::string& hex, int k) { return std::stoi(hex.substr(1 + 2 * k, 2), nullptr, 16); }
 
@@ -162,14 +162,13 @@ TEST(Heatmap, ZeroNanInfinityAndNegativeAreDrawnAndCounted) {
   h.values(5, 6) = 1e-30;  // below the scale: bottom colour, and the bottom label says so
   const std::string svg = HeatmapSvg(h);
   EXPECT_EQ(Count(svg, "class=\"legend-special\""), 4u);
-  EXPECT_TRUE(Has(svg, ">0 \u00d72</text>"));
-  EXPECT_TRUE(Has(svg, ">NaN \u00d71</text>"));
-  EXPECT_TRUE(Has(svg, ">inf \u00d71</text>"));
-  EXPECT_TRUE(Has(svg, ">negative \u00d71</text>"));
-  EXPECT_TRUE(Has(svg, ">\u22641e-12</text>"));
-  EXPECT_TRUE(Has(svg, "fill=\"#ff00ff\" class=\"cell\"><title>theta.y, theta.z: d = NaN</title>"));
-  EXPECT_TRUE(Has(svg, "fill=\"#d62728\" class=\"cell\"><title>p.x, p.y: d = inf</title>"));
-  EXPECT_TRUE(Has(svg, "fill=\"#ffffff\" class=\"cell\"><title>theta.x, theta.y: d = 0</title>"));
+  // Each special value's legend entry with its count, and its cell's own colour and title.
+  for (const std::string piece : {">0 \u00d72</text>", ">NaN \u00d71</text>", ">inf \u00d71</text>",
+                                  ">negative \u00d71</text>", ">\u22641e-12</text>",
+                                  "fill=\"#ff00ff\" class=\"cell\"><title>theta.y, theta.z: d = NaN</title>",
+                                  "fill=\"#d62728\" class=\"cell\"><title>p.x, p.y: d = inf</title>",
+                                  "fill=\"#ffffff\" class=\"cell\"><title>theta.x, theta.y: d = 0</title>"})
+    EXPECT_TRUE(Has(svg, piece)) << piece;
 }
 
 TEST(Heatmap, LabelsAreEscapedAndSizesChecked) {
@@ -254,16 +253,13 @@ TEST(HtmlDocument, EscapesEveryTextAndLoadsNothing) {
   doc.AddCode("rm -rf <dir>");
   doc.AddFigures({{"<svg xmlns=\"http://www.w3.org/2000/svg\"></svg>", "caption <i>"}});
   const std::string html = doc.Render();
-  EXPECT_FALSE(Has(html, "<script"));
-  EXPECT_TRUE(Has(html, "&lt;script&gt;alert(1)&lt;/script&gt;"));
-  EXPECT_TRUE(Has(html, "<title>report &lt;for&gt; &quot;x&quot;</title>"));
-  EXPECT_TRUE(Has(html, "<th>a&lt;b</th><th></th>"));  // the header padded to the widest row
-  EXPECT_TRUE(Has(html, "<td>c&amp;d</td>"));
-  EXPECT_TRUE(Has(html, "caption &lt;i&gt;"));
-  EXPECT_TRUE(Has(html, "content=\"default-src 'none'; style-src 'unsafe-inline'\""));
-  EXPECT_FALSE(Has(html, "src=\""));
-  EXPECT_FALSE(Has(html, "href="));
-  EXPECT_FALSE(Has(html, "url("));
+  // Every text escaped where it stands (the table's header padded to the widest row), and a
+  // policy that loads nothing.
+  for (const std::string piece : {"&lt;script&gt;alert(1)&lt;/script&gt;", "<title>report &lt;for&gt; &quot;x&quot;</title>",
+                                  "<th>a&lt;b</th><th></th>", "<td>c&amp;d</td>", "caption &lt;i&gt;",
+                                  "content=\"default-src 'none'; style-src 'unsafe-inline'\""})
+    EXPECT_TRUE(Has(html, piece)) << piece;
+  for (const std::string piece : {"<script", "src=\"", "href=", "url("}) EXPECT_FALSE(Has(html, piece)) << piece;
   EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
 }
 

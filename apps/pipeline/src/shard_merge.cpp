@@ -88,19 +88,16 @@ struct Layout {
     digest_close = member.substr(digits + 16);
   }
   /// After n task elements, through the bracket that closes "tasks".
-  static std::string close_tasks(std::size_t n) {
-    std::string s;
-    JsonWriter w(s);
-    w.begin_object();
-    w.key("tasks");
-    w.begin_array();
-    w.skip_elements(n);
-    const std::size_t mark = s.size();
-    w.end_array();
-    return s.substr(mark);
-  }
+  static std::string close_tasks(std::size_t n) { return closing(n, false); }
   /// After n task elements, to the end of the document.
   static std::string close(std::size_t n) {
+    return closing(n, true) + "\n";  // the run ends its text document with a newline
+  }
+
+ private:
+  /// What the writer emits after n task elements: the bracket that closes "tasks" and, for the
+  /// whole document, the brace that closes it.
+  static std::string closing(std::size_t n, bool document) {
     std::string s;
     JsonWriter w(s);
     w.begin_object();
@@ -109,8 +106,8 @@ struct Layout {
     w.skip_elements(n);
     const std::size_t mark = s.size();
     w.end_array();
-    w.end_object();
-    return s.substr(mark) + "\n";  // the run ends its text document with a newline
+    if (document) w.end_object();
+    return s.substr(mark);
   }
 };
 

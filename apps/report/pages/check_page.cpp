@@ -23,6 +23,18 @@ std::string Joined(const std::vector<std::string>& v) {
 // fitted: the same colour means the same d in every report.
 AnchoredScale CheckScale(double tolerance) { return AnchoredScale::Magnitude(1e-16, 1e2, tolerance); }
 
+/// A heatmap of one matrix's entrywise d on check's scale, with the tolerance of its kind.
+std::string CheckHeatmap(const Eigen::MatrixXd& d, const std::vector<std::string>& rows,
+                         const std::vector<std::string>& cols, const std::string& title, double tolerance) {
+  HeatmapSpec h;
+  h.values = d;
+  h.row_blocks = rows;
+  h.col_blocks = cols;
+  h.title = title;
+  h.anchored = CheckScale(tolerance);
+  return HeatmapSvg(h);
+}
+
 // The verdict's one line: all consistent, or the first inconsistent measurement's first finding.
 std::string VerdictReason(const check::CheckResult& r) {
   std::size_t consistent = 0;
@@ -77,25 +89,13 @@ HtmlDocument CheckPage(const check::CheckResult& r, const Inputs& inputs) {
     std::vector<HtmlDocument::Figure> figures;
     const check::BestEntries& e = m.best_entries;
     if (e.J_bias.size() == 54 && e.J_bias_rows.size() == 3 && b.J_bias_columns.size() == 2) {
-      HeatmapSpec h;
-      h.values = e.J_bias;
-      h.row_blocks = e.J_bias_rows;
-      h.col_blocks = b.J_bias_columns;
-      h.title = "J_bias: d per entry";
-      h.anchored = CheckScale(tol.J_bias);
-      figures.push_back({HeatmapSvg(h),
+      figures.push_back({CheckHeatmap(e.J_bias, e.J_bias_rows, b.J_bias_columns, "J_bias: d per entry", tol.J_bias),
                          "Bias Jacobian: |K - U| / max(|K|, 1e-4 max|K|) per entry, K what " + b.scheme +
                              " predicts, U the file's numbers (max " + Readable(b.J_bias.max, 2) + ", mean " +
                              Readable(b.J_bias.mean, 2) + "; tolerance " + Readable(tol.J_bias) + ")."});
     }
     if (e.cov.size() == 225 && b.blocks.size() == 5) {
-      HeatmapSpec h;
-      h.values = e.cov;
-      h.row_blocks = b.blocks;
-      h.col_blocks = b.blocks;
-      h.title = "Covariance: d per entry";
-      h.anchored = CheckScale(tol.cov);
-      figures.push_back({HeatmapSvg(h),
+      figures.push_back({CheckHeatmap(e.cov, b.blocks, b.blocks, "Covariance: d per entry", tol.cov),
                          "Covariance on the correlation scale: |K_ij - U_ij| / sqrt(K_ii K_jj) per entry (max " +
                              Readable(b.cov.max, 2) + ", mean " + Readable(b.cov.mean, 2) + "; tolerance " +
                              Readable(tol.cov) + ")."});

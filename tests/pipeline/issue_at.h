@@ -1,0 +1,29 @@
+// The message a pipeline's checker gave at one JSON pointer, and EXPECT_ISSUE, which asserts
+// that it holds a text: the pipeline tests' way of asserting where an error was found and what
+// it says. When no issue stands at the pointer the "message" lists the issues there were, so a
+// failure shows what the checker said instead.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "imuconv/pipeline/errors.h"
+
+namespace imuconv::test {
+
+inline std::string IssueAt(const std::vector<pipeline::Issue>& issues, const std::string& pointer) {
+  std::string all;
+  for (const auto& i : issues) {
+    if (i.pointer == pointer) return i.message;
+    all += "\n  " + i.pointer + ": " + i.message;
+  }
+  return "(no issue at " + pointer + "; issues:" + all + ")";
+}
+
+}  // namespace imuconv::test
+
+#define EXPECT_ISSUE(issues, pointer, text)                                            \
+  EXPECT_NE(::imuconv::test::IssueAt(issues, pointer).find(text), std::string::npos) \
+      << ::imuconv::test::IssueAt(issues, pointer)

@@ -1,0 +1,26 @@
+// A reference case of tests/data/reference/cases (the samples, noise and start state GTSAM was
+// run on, tests/data/README.md): its JSON document by id and its noise densities.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "imuconv/types.h"
+#include "imuconv_test.h"
+
+namespace imuconv::test {
+
+inline nlohmann::json CaseJson(const std::string& id) { return ReadJson(DataPath("reference/cases/" + id + ".json")); }
+
+/// The case's "noise": the continuous densities and random walks its samples were drawn with.
+inline ImuNoise CaseNoise(const nlohmann::json& c) {
+  const nlohmann::json& n = c.at("noise");
+  ImuNoise noise;
+  noise.gyro_noise_density = n.at("gyro_noise_density").get<double>();
+  noise.accel_noise_density = n.at("accel_noise_density").get<double>();
+  noise.gyro_random_walk = n.at("gyro_random_walk").get<double>();
+  noise.accel_random_walk = n.at("accel_random_walk").get<double>();
+  return noise;
+}
+
+}  // namespace imuconv::test
