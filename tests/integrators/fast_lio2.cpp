@@ -202,6 +202,53 @@ TEST_P(FastLio2Derivatives, QuirkIsWhatMovesTheNoiseCovariance) {
   EXPECT_GT(a.d, 100 * bound) << "the as-built covariance should differ from the step's linearization";
 }
 
+// Every input is hostile: each refusal names what is wrong, none propagates NaN or a
+// reversed scan.
+TEST(FastLio2Inputs, RefusesWhatItCannotPropagate) {
+  std::vector<ImuSample> samples(3);
+  for (int k = 0; k < 3; ++k) {
+    samples[k].t = 0.005 * k;
+    samples[k].accel = Vec3(0.0, 0.0, 9.81);
+  }
+  const FastLio2Parameters params;
+  FastLio2State start;
+  const Mat23 P0 = Mat23::Identity();
+  FastLio2Propagation out;
+  auto refusal = [&](const std::vector<ImuSample>& s, const FastLio2Parameters& p, double t0, double t1,
+                     const FastLio2State& x, const Mat23& P) {
+    const Status st = PropagateFastLio2Scan(s, p, t0, t1, x, P, out);
+    EXPECT_FALSE(st.ok());
+    return st.ok() ? std::string() : st.message();
+  };
+  ASSERT_TRUE(PropagateFastLio2Scan(samples, params, 0.0, 0.01, start, P0, out).ok());
+  EXPECT_EQ(out.n_predict, 3);  // two pairs and the frame-end no-op
+
+  EXPECT_NE(refusal({samples[0]}, params, 0.0, 0.01, start, P0).find("two IMU samples"), std::string::npos);
+  std::vector<ImuSample> bad = samples;
+  bad[1].gyro.y() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(refusal(bad, params, 0.0, 0.01, start, P0).find("sample 1 is not finite"), std::string::npos);
+  bad = samples;
+  bad[2].t = 0.001;
+  EXPECT_NE(refusal(bad, params, 0.0, 0.01, start, P0).find("sample 2's time"), std::string::npos);
+  EXPECT_NE(refusal(samples, params, 0.01, 0.0, start, P0).find("reversed"), std::string::npos);
+  EXPECT_NE(refusal(samples, params, 0.02, 0.03, start, P0).find("no IMU sample"), std::string::npos);
+  FastLio2Parameters p = params;
+  p.mean_acc_norm = 0.0;
+  EXPECT_NE(refusal(samples, p, 0.0, 0.01, start, P0).find("mean_acc"), std::string::npos);
+  p = params;
+  p.acc_cov = -1.0;
+  EXPECT_NE(refusal(samples, p, 0.0, 0.01, start, P0).find("noise covariance"), std::string::npos);
+  FastLio2State x = start;
+  x.grav.length = 0.0;
+  EXPECT_NE(refusal(samples, params, 0.0, 0.01, x, P0).find("S2 length"), std::string::npos);
+  x = start;
+  x.vel.x() = std::numeric_limits<double>::infinity();
+  EXPECT_NE(refusal(samples, params, 0.0, 0.01, x, P0).find("start state"), std::string::npos);
+  Mat23 P = P0;
+  P(3, 4) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(refusal(samples, params, 0.0, 0.01, start, P).find("P0"), std::string::npos);
+}
+
 INSTANTIATE_TEST_SUITE_P(Reference, FastLio2Derivatives, ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
 
 }  // namespace
