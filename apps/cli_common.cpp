@@ -66,6 +66,11 @@ std::vector<LoadIssue> LoadRegistry(Registry& reg, const CommandContext& ctx, co
   return issues;
 }
 
+void PrintLoadIssues(const std::vector<LoadIssue>& issues) {
+  for (const auto& i : issues)
+    std::cerr << "imuconv: warning: " << Printable(i.file) << ": " << Printable(i.message) << "\n";
+}
+
 void PrintSearchPath(const CommandContext& ctx, const std::vector<std::string>& dirs) {
   if (!ctx.verbose()) return;
   std::cerr << "imuconv: plugin search path:";

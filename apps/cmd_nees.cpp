@@ -4,22 +4,22 @@
 // noise densities that fits the median (docs/nees.md; the logic is apps/nees/).
 // Exit code: 0 success, 2 unusable input (the message names the file and line, the JSON pointer
 // or the option). There is no verdict: the factor is the answer.
-#include <iostream>
-#include <optional>
+#include "cmd_nees.h"
+
+#include <memory>
 #include <utility>
 
-#include "commands.h"
 #include "exit_codes.h"
 #include "imuconv/pipeline/errors.h"
 #include "imuconv/pipeline/imu_reader.h"
 #include "imuconv/pipeline/json_io.h"
-#include "imuconv/printable.h"
-#include "imuconv/report/report_output.h"
+#include "judgment.h"
 #include "nees.h"
 #include "nees_input.h"
 #include "nees_report.h"
 #include "pipeline/src/data/kalibr_yaml.h"
 #include "report/pages/pages.h"
+#include "report_destination.h"
 
 namespace imuconv::cli {
 namespace {
@@ -40,97 +40,80 @@ ImuNoise ReadNoise(const std::string& path) {
 
 }  // namespace
 
+int RunNeesCommand(const CommandContext& ctx, const NeesCommandOptions& o) {
+  if (o.pipeline_path.empty() && (o.imu_path.empty() || o.ground_truth_path.empty() || o.noise_path.empty()))
+    throw UsageError{"give --imu, --ground-truth and --noise, or --pipeline P.json"};
+  // Each input as the report page names it, (role, path), for those given.
+  report::Inputs inputs;
+  for (const auto& [role, path] : {std::pair<const char*, const std::string*>{"imu", &o.imu_path},
+                                   {"ground truth", &o.ground_truth_path},
+                                   {"noise", &o.noise_path},
+                                   {"pipeline", &o.pipeline_path}})
+    if (!path->empty()) inputs.push_back({role, *path});
+  return Judge(o.as_json, [&] {
+    // The report's destination is examined before any work (a directory or an input fails now).
+    ReportDestination report(o.report_path);
+    for (const auto& input : inputs) report.RefuseIfSame(input.second, "the input file");
+    Registry reg;
+    const std::vector<LoadIssue> issues = LoadRegistry(reg, ctx);
+    PrintLoadIssues(issues);
+    const std::string unknown = UnknownConventionMessage(reg, PluginKind::StateConvention, o.convention, issues);
+    if (!unknown.empty()) throw Error("--convention: " + unknown);
+    nees::Options options;
+    options.method = o.method;
+    options.convention = o.convention;
+    options.window_lengths = o.windows;
+    options.stride = o.stride;
+    const nees::Input in = o.pipeline_path.empty() ? nees::ReadEurocInput(o.imu_path, o.ground_truth_path)
+                                                   : nees::ReadPipelineInput(o.pipeline_path);
+    if (!o.noise_path.empty())
+      options.noise = ReadNoise(o.noise_path);
+    else if (in.noise)
+      options.noise = *in.noise;
+    else
+      throw Error(o.pipeline_path + ": /noise: required key is missing (or give --noise)");
+    options.gravity = in.gravity;
+    Judgment judgment;
+    judgment.warnings = in.imu.warnings;  // suspected units or column order of the samples
+    PrintWarnings(judgment.warnings);
+    const auto result = std::make_shared<const nees::Result>(nees::RunNees(reg, in.imu, in.gt, options));
+    report.Write([&] { return report::NeesPage(*result, inputs); }, ctx);
+    judgment.json = [result] { return nees::ReportJson(*result); };
+    judgment.print_table = [result](std::ostream& out) { nees::PrintSummary(out, *result); };
+    judgment.exit_code = kExitOk;  // no verdict: the factor is the answer
+    return judgment;
+  });
+}
+
 void RegisterNeesCommand(CLI::App& app, CommandContext& ctx) {
   auto* sub = app.add_subcommand(
       "nees", "Propagate windows of real data from the ground truth and fit the noise densities' scale to their NEES");
-  static std::string imu_path, gt_path, noise_path, pipeline_path, method_id, convention = "left";
-  static std::vector<double> windows;
-  static double stride = 0.0;
-  static bool as_json = false;
-  auto* imu_opt = sub->add_option("--imu", imu_path, "EuRoC/ASL IMU CSV (#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z)");
-  auto* gt_opt = sub->add_option("--ground-truth", gt_path,
+  const auto o = std::make_shared<NeesCommandOptions>();
+  auto* imu_opt = sub->add_option("--imu", o->imu_path, "EuRoC/ASL IMU CSV (#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z)");
+  auto* gt_opt = sub->add_option("--ground-truth", o->ground_truth_path,
                                  "EuRoC/ASL full-state ground truth (17 fields: time, p, q wxyz, v, bg, ba)");
-  sub->add_option("--pipeline", pipeline_path,
+  sub->add_option("--pipeline", o->pipeline_path,
                   "Instead of --imu and --ground-truth: a pipeline whose /imu (EuRoC, generic CSV with its column map "
                   "and time unit, or inline), /ground_truth (format euroc), /noise and /gravity are read as imuconv "
                   "run reads them (its tasks are not run)")
       ->excludes(imu_opt)
       ->excludes(gt_opt);
-  sub->add_option("--noise", noise_path,
+  sub->add_option("--noise", o->noise_path,
                   "The four noise densities: a JSON noise object (or a pipeline holding one), or a Kalibr imu.yaml "
                   "(.yaml/.yml); with --pipeline, replaces its /noise");
-  sub->add_option("--windows", windows, "Window lengths in seconds, comma-separated (e.g. 0.2,0.5,1.0)")
+  sub->add_option("--windows", o->windows, "Window lengths in seconds, comma-separated (e.g. 0.2,0.5,1.0)")
       ->required()
       ->delimiter(',');
-  sub->add_option("--method", method_id, "A propagator id")->required();
-  sub->add_option("--convention", convention, "State convention of the error and covariance (default: left)");
-  sub->add_option("--stride", stride, "Seconds between window starts (default: each window's length)")
+  sub->add_option("--method", o->method, "A propagator id")->required();
+  sub->add_option("--convention", o->convention, "State convention of the error and covariance (default: left)");
+  sub->add_option("--stride", o->stride, "Seconds between window starts (default: each window's length)")
       ->check(CLI::PositiveNumber);
-  sub->add_flag("--json", as_json, "Print one JSON object (schemas/nees_output.schema.json) instead of the table");
-  static std::string report_path;
-  sub->add_option("--report", report_path,
-                  "Also write a self-contained HTML report: NEES per window against chi-square(9), each error "
-                  "component with its +-3 sigma over time, and the summary (replaced atomically)")
-      ->type_name("OUT.html")
-      ->check(OutputPathCheck());
+  sub->add_flag("--json", o->as_json, "Print one JSON object (schemas/nees_output.schema.json) instead of the table");
+  AddReportOption(*sub, o->report_path,
+                  "NEES per window against chi-square(9), each error component with its +-3 sigma over time, and "
+                  "the summary (replaced atomically)");
   AddPluginDirOption(*sub, ctx);
-  sub->callback([&ctx] {
-    if (pipeline_path.empty() && (imu_path.empty() || gt_path.empty() || noise_path.empty()))
-      throw CLI::ValidationError("give --imu, --ground-truth and --noise, or --pipeline P.json");
-    nees::Result result;
-    std::vector<std::string> imu_warnings;  // suspected units or column order of the samples
-    std::optional<report::ReportOutput> report_out;
-    try {
-      // The report's destination is examined before any work (a directory or an input fails now).
-      if (!report_path.empty()) {
-        report_out.emplace(report_path);
-        for (const std::string* input : {&imu_path, &gt_path, &noise_path, &pipeline_path})
-          if (!input->empty()) report_out->RefuseIfSame(*input, "the input file");
-      }
-      Registry reg;
-      const std::vector<LoadIssue> issues = LoadRegistry(reg, ctx);
-      for (const auto& i : issues)
-        std::cerr << "imuconv: warning: " << Printable(i.file) << ": " << Printable(i.message) << "\n";
-      const std::string unknown = UnknownConventionMessage(reg, PluginKind::StateConvention, convention, issues);
-      if (!unknown.empty()) throw Error("--convention: " + unknown);
-      nees::Options options;
-      options.method = method_id;
-      options.convention = convention;
-      options.window_lengths = windows;
-      options.stride = stride;
-      const nees::Input in =
-          pipeline_path.empty() ? nees::ReadEurocInput(imu_path, gt_path) : nees::ReadPipelineInput(pipeline_path);
-      if (!noise_path.empty())
-        options.noise = ReadNoise(noise_path);
-      else if (in.noise)
-        options.noise = *in.noise;
-      else
-        throw Error(pipeline_path + ": /noise: required key is missing (or give --noise)");
-      options.gravity = in.gravity;
-      imu_warnings = in.imu.warnings;
-      PrintWarnings(imu_warnings);
-      result = nees::RunNees(reg, in.imu, in.gt, options);
-      if (report_out) {
-        report_out->RefuseIfLoadedObject();
-        report::Inputs inputs;
-        for (const auto& [role, path] : {std::pair<const char*, const std::string*>{"imu", &imu_path},
-                                         {"ground truth", &gt_path},
-                                         {"noise", &noise_path},
-                                         {"pipeline", &pipeline_path}})
-          if (!path->empty()) inputs.push_back({role, *path});
-        report_out->Write(report::NeesPage(result, inputs));
-        if (!ctx.quiet()) std::cerr << "wrote " << Printable(report_path) << "\n";
-      }
-    } catch (const std::exception& e) {
-      ctx.exit_code = ReportFailure(e);
-      return;
-    }
-    if (as_json)
-      std::cout << WithWarnings(nees::ReportJson(result), imu_warnings).dump(1) << "\n";
-    else
-      nees::PrintSummary(std::cout, result);
-    ctx.exit_code = 0;
-  });
+  SetCommandAction(*sub, ctx, [&ctx, o] { return RunNeesCommand(ctx, *o); });
 }
 
 }  // namespace imuconv::cli

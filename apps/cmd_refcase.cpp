@@ -33,8 +33,7 @@ void RegisterRefcaseCommand(CLI::App& app, CommandContext& ctx) {
     pipeline::OutputFile file(out_path);
     file.refuse_if_same(case_path, "the case file");
     Registry reg;
-    for (const auto& i : LoadRegistry(reg, ctx))
-      std::cerr << "imuconv: warning: " << Printable(i.file) << ": " << Printable(i.message) << "\n";
+    PrintLoadIssues(LoadRegistry(reg, ctx));
     for (const auto& info : reg.plugins())
       if (info.file != "built-in") file.refuse_if_same(info.file, "the plugin");
     const nlohmann::json c = pipeline::ParseJsonFile(case_path);

@@ -1,7 +1,12 @@
 // The imuconv command line: each subcommand lives in its own cmd_<name>.cpp and provides one
 // Register<Name>Command function, called from main.cpp. To add a subcommand: write
 // cmd_<name>.cpp (it is picked up by apps/CMakeLists.txt's glob), declare its Register
-// function below and add it to the list in main.cpp.
+// function below and add it to the list in main.cpp. The shape (cmd_convert.cpp,
+// cmd_check.cpp): an options struct, a Run<Name>Command(ctx, options) that returns the exit
+// code and needs no CLI11 (declared in cmd_<name>.h, so that tests call it), and a Register
+// function that only maps the flags onto the options (SetCommandAction). The judging commands
+// end in one tail: judgment.h (print the verdict, exit by it) and report_destination.h
+// (--report).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -52,7 +57,11 @@ void AddPluginDirOption(CLI::App& sub, CommandContext& ctx);
 /// Loads the plugin search path (--plugin-dir first, then `extra`, IMUCONV_PLUGIN_PATH and the
 /// default directory) and returns what failed to load. Throws Error for a duplicate plugin id
 /// unless --allow-plugin-override was given.
-std::vector<LoadIssue> LoadRegistry(Registry& reg, const CommandContext& ctx, const std::vector<std::string>& extra = {});
+[[nodiscard]] std::vector<LoadIssue> LoadRegistry(Registry& reg, const CommandContext& ctx, const std::vector<std::string>& extra = {});
+
+/// Prints each plugin file that failed to load as "imuconv: warning: <file>: <message>" on stderr
+/// (a command that can do without it goes on).
+void PrintLoadIssues(const std::vector<LoadIssue>& issues);
 
 /// With -v: the plugin search path of `dirs` (then IMUCONV_PLUGIN_PATH and the default), on stderr.
 void PrintSearchPath(const CommandContext& ctx, const std::vector<std::string>& dirs);
@@ -66,13 +75,13 @@ void PrintWarnings(const std::vector<std::string>& warnings);
 
 /// A command's --json object with its warnings as "warnings" (an array of strings), when there
 /// are any; unchanged otherwise, so an output without warnings is what it always was.
-nlohmann::json WithWarnings(nlohmann::json out, const std::vector<std::string>& warnings);
+[[nodiscard]] nlohmann::json WithWarnings(nlohmann::json out, const std::vector<std::string>& warnings);
 
 /// Prints a failure that stopped a command and returns its exit code (exit_codes.h): 2 (bad
 /// input) for the errors imuconv reports about its input (imuconv::Error and every other
 /// std::exception that is not one of the two below), 3 (internal error, said so in the message)
 /// for a std::logic_error (a broken invariant of imuconv) and std::bad_alloc.
-int ReportFailure(const std::exception& e);
+[[nodiscard]] int ReportFailure(const std::exception& e);
 
 /// Refuses a value that reads as a number that is not finite ("nan", "inf", "-Infinity",
 /// "1e999", "0x1p99999") in every option of `app` and of all its subcommands, registered or
@@ -85,7 +94,7 @@ void RefuseNonFiniteNumbers(CLI::App& app);
 
 /// --shard K/N of imuconv run and imuconv montecarlo: two decimal numbers, 0 <= K < N; returns
 /// {K, N}. Throws UsageError quoting the text otherwise.
-std::pair<unsigned, unsigned> ParseShardOption(const std::string& text);
+[[nodiscard]] std::pair<unsigned, unsigned> ParseShardOption(const std::string& text);
 
 /// Prints a 15x15 matrix as a table whose rows and columns are labelled with the axes of the
 /// two conventions' blocks ("theta.x", ...), exact zeros as "0", the rest to 4 digits.
@@ -94,8 +103,8 @@ void PrintLabelledMatrix(std::ostream& out, const Mat15& m, const std::vector<st
 
 /// "unknown state (or increment) convention 'id'; known: ..." (and that the id is one of the
 /// other kind, if so) when `id` is not a convention of `kind`; "" when it is.
-std::string UnknownConventionMessage(const Registry& reg, PluginKind kind, const std::string& id,
-                                 const std::vector<LoadIssue>& load_issues);
+[[nodiscard]] std::string UnknownConventionMessage(const Registry& reg, PluginKind kind, const std::string& id,
+                                                  const std::vector<LoadIssue>& load_issues);
 
 void RegisterPluginsCommand(CLI::App& app, CommandContext& ctx);
 void RegisterConversionCommand(CLI::App& app, CommandContext& ctx);

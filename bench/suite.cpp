@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -55,7 +56,11 @@ const std::vector<ImuSample>& Samples() {
 SampleWindow Window() {
   SampleWindow w;
   const auto& s = Samples();
-  MakeWindow(s.data(), s.size(), s.front().t, s.back().t, w);
+  // A window that could not be made would be timed empty, a benchmark of nothing: stop.
+  if (const Status st = MakeWindow(s.data(), s.size(), s.front().t, s.back().t, w); !st.ok()) {
+    std::fprintf(stderr, "imuconv bench: the benchmark window: %s\n", st.message().c_str());
+    std::abort();
+  }
   return w;
 }
 

@@ -1,0 +1,34 @@
+// The tail the judging commands share (check, montecarlo, nees; docs/exit-codes.md): the work
+// runs (reading, computing and writing the --report page, report_destination.h); if it fails,
+// the failure is printed and its code returned (2 bad input, 3 internal, ReportFailure), and
+// nothing goes to stdout, since nothing was judged; otherwise the judgment is printed on stdout,
+// one JSON object with --json (the samples' warnings in it) or the command's table, and its exit
+// code returned: 0 consistent, 1 inconsistent (nees has no verdict: 0).
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+
+namespace imuconv::cli {
+
+/// What a judging command concluded, ready to print.
+struct Judgment {
+  std::function<nlohmann::json()> json;            ///< the --json object, before its warnings
+  std::function<void(std::ostream&)> print_table;  ///< the summary without --json
+  std::vector<std::string> warnings;               ///< the "warnings" of the JSON (already on stderr)
+  int exit_code = 0;                               ///< exit_codes.h: kExitOk or kExitInconsistent
+  /// A judgment whose output is a file already written (a montecarlo shard): nothing to print.
+  bool printed_elsewhere = false;
+};
+
+/// Runs `work` and prints what it concluded on std::cout (--json: `as_json`); returns the exit
+/// code. A failure of `work` (a std::exception) is printed by ReportFailure and its code
+/// returned; a UsageError goes through, to be reported as a usage error (SetCommandAction).
+[[nodiscard]] int Judge(bool as_json, const std::function<Judgment()>& work);
+
+}  // namespace imuconv::cli

@@ -1,0 +1,40 @@
+#include "report_destination.h"
+
+#include <iostream>
+
+#include "imuconv/printable.h"
+
+namespace imuconv::cli {
+
+CLI::Option* AddReportOption(CLI::App& sub, std::string& path, const std::string& contents) {
+  return sub.add_option("--report", path, "Also write a self-contained HTML report: " + contents)
+      ->type_name("OUT.html")
+      ->check(OutputPathCheck());
+}
+
+ReportDestination::ReportDestination(const std::string& path) {
+  if (!path.empty()) out_.emplace(path);
+}
+
+void ReportDestination::RefuseIfSame(const std::string& input, const std::string& role) const {
+  if (out_ && !input.empty()) out_->RefuseIfSame(input, role);
+}
+
+void ReportDestination::RefuseIfLoadedObject() const {
+  if (out_) out_->RefuseIfLoadedObject();
+}
+
+void ReportDestination::Write(const std::function<report::HtmlDocument()>& page, const CommandContext& ctx,
+                              bool announce) {
+  if (!out_) return;
+  out_->RefuseIfLoadedObject();
+  out_->Write(page());
+  written_ = true;
+  if (announce) Announce(ctx);
+}
+
+void ReportDestination::Announce(const CommandContext& ctx) const {
+  if (written_ && !ctx.quiet()) std::cerr << "wrote " << Printable(out_->path()) << "\n";
+}
+
+}  // namespace imuconv::cli
