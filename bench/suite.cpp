@@ -123,7 +123,8 @@ void BM_Preintegrate(benchmark::State& st, const char* id) {
 
 // The native preintegration kernel with its compiled instance forced (the plugins pick the
 // widest one the CPU runs, once per interval): what a CPU without AVX-512, or without AVX2,
-// gets from the same code. Called directly, as the plugin calls it.
+// gets from the same code, and the portable path (what a compiler without vector extensions
+// gets). Called directly, as the plugin calls it.
 enum class Scheme { kManifold, kTangent };
 
 void BM_PreintegrateInstance(benchmark::State& st, Scheme scheme, kernels::Isa isa) {
@@ -133,6 +134,15 @@ void BM_PreintegrateInstance(benchmark::State& st, Scheme scheme, kernels::Isa i
     return scheme == Scheme::kManifold ? kernels::IntegrateManifold<true>(in, out, nullptr, isa)
                                        : kernels::IntegrateTangent<true>(in, out, nullptr, isa);
   });
+}
+
+// rk4's compiled instances in imuconv_core (kernels/rk4.h), called directly with the instance
+// forced, as its plugin calls the one kAuto picks: the portable (default-target) code, which
+// kBaseline also runs, against the wider ones the CPU has.
+void BM_Rk4Instance(benchmark::State& st, kernels::Isa isa) {
+  const PropagationInput in = Input();
+  PropagationResult out;
+  TimeCalls(st, out, [&] { return kernels::PropagateRk4(in, out, 1, isa); });
 }
 
 void BM_Propagate(benchmark::State& st, const char* id) {
@@ -306,11 +316,16 @@ void RegisterAll() {
   for (const char* id : {"manifold", "tangent", "vins_fusion", "basalt"})
     benchmark::RegisterBenchmark((std::string("BM_Preintegrate/") + id).c_str(), BM_Preintegrate, id);
   for (const auto& [scheme, scheme_name] : {std::pair{Scheme::kManifold, "manifold"}, std::pair{Scheme::kTangent, "tangent"}})
-    for (const kernels::Isa isa : {kernels::Isa::kBaseline, kernels::Isa::kAvx2, kernels::Isa::kAvx512})
+    for (const kernels::Isa isa :
+         {kernels::Isa::kPortable, kernels::Isa::kBaseline, kernels::Isa::kAvx2, kernels::Isa::kAvx512})
       if (kernels::IsaAvailable(isa))
         benchmark::RegisterBenchmark(
             (std::string("BM_PreintegrateInstance/") + scheme_name + "/" + kernels::IsaName(isa)).c_str(),
             BM_PreintegrateInstance, scheme, isa);
+  for (const kernels::Isa isa : {kernels::Isa::kPortable, kernels::Isa::kAvx2, kernels::Isa::kAvx512})
+    if (kernels::IsaAvailable(isa))
+      benchmark::RegisterBenchmark((std::string("BM_Rk4Instance/") + kernels::IsaName(isa)).c_str(), BM_Rk4Instance,
+                                   isa);
   for (const char* id : {"euler", "midpoint", "rk4", "openvins_discrete", "openvins_rk4", "openvins_analytical"})
     benchmark::RegisterBenchmark((std::string("BM_Propagate/") + id).c_str(), BM_Propagate, id);
   benchmark::RegisterBenchmark("BM_PreintegrateByPropagation/rk4", BM_PreintegrateByPropagation, "rk4");

@@ -4,7 +4,8 @@
 // expansion, everything else quadratures at the nodes 0, h/2, h, and the covariance comes by
 // variation of constants. It agrees with the classical RK4 (kept in the tests as the
 // cross-check) to O(h^4); the id keeps its name so that configurations keep working.
-// The kernel is core/include/imuconv/kernels/rk4.h.
+// The kernel is compiled in imuconv_core (core/include/imuconv/kernels/rk4.h, its code in
+// core/src/kernels/rk4_window.h); this plugin only names it.
 #include "imuconv/kernels/rk4.h"
 
 #include "imuconv/plugin/kernel_plugin.h"

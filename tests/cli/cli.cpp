@@ -263,12 +263,16 @@ TEST(Cli, BenchRunsTheWholeSet) {
                                  "BM_Propagate/openvins_rk4",        "BM_Propagate/openvins_analytical",
                                  "BM_PreintegrateByPropagation/rk4",
                                  "BM_Conversion/left/gtsam_navstate", "BM_PluginOverhead/rk4/manual_time"};
-  const std::pair<imuconv::kernels::Isa, const char*> instances[] = {{imuconv::kernels::Isa::kBaseline, "baseline"},
+  const std::pair<imuconv::kernels::Isa, const char*> instances[] = {{imuconv::kernels::Isa::kPortable, "portable"},
+                                                                     {imuconv::kernels::Isa::kBaseline, "baseline"},
                                                                      {imuconv::kernels::Isa::kAvx2, "avx2"},
                                                                      {imuconv::kernels::Isa::kAvx512, "avx512"}};
   for (const char* scheme : {"manifold", "tangent"})
     for (const auto& [isa, name] : instances)
       if (imuconv::kernels::IsaAvailable(isa)) names.push_back(std::string("BM_PreintegrateInstance/") + scheme + "/" + name);
+  for (const auto& [isa, name] : instances)  // rk4's instances; kBaseline runs the portable code (bench/suite.cpp)
+    if (isa != imuconv::kernels::Isa::kBaseline && imuconv::kernels::IsaAvailable(isa))
+      names.push_back(std::string("BM_Rk4Instance/") + name);
   for (const char* name : {"BM_MonteCarlo/rk4", "BM_MonteCarlo/rk4_full_path"}) names.push_back(name);  // montecarlo's trials
   for (const char* name : {"BM_WholeJob/euroc_full_json/manual_time", "BM_WholeJob/euroc_full_npz/manual_time"})
     names.push_back(name);  // imuconv run on examples/euroc_v1_01_full.json, in-process

@@ -1,7 +1,8 @@
-// Which compiled instance of the preintegration kernel runs: chosen from the CPU once, on
-// first use. CMake says which instances this build has: IMUCONV_KERNELS_SIMD (the baseline
-// SIMD instance, GCC or Clang), IMUCONV_KERNELS_X86 (the AVX2 and AVX-512 instances,
-// x86-64). Anything else runs the portable path (portable.h).
+// Which compiled instance of the kernels (the preintegration kernel, rk4) runs: chosen from
+// the CPU once, on first use. CMake says which instances this build has: IMUCONV_KERNELS_SIMD
+// (the baseline SIMD instance, GCC or Clang), IMUCONV_KERNELS_X86 (the AVX2 and AVX-512
+// instances, x86-64). Anything else, and Isa::kPortable everywhere, runs the portable path
+// (portable.h; rk4's default-target code, rk4.cpp).
 #include "instances.h"
 
 namespace imuconv::kernels {
@@ -9,7 +10,8 @@ namespace imuconv::kernels {
 bool IsaAvailable(Isa isa) {
   switch (isa) {
     case Isa::kAuto:
-    case Isa::kBaseline: return true;
+    case Isa::kBaseline:
+    case Isa::kPortable: return true;
 #if defined(IMUCONV_KERNELS_X86)
     case Isa::kAvx2: return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
     case Isa::kAvx512:

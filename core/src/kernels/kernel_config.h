@@ -1,4 +1,5 @@
-// Build configuration shared by the preintegration kernel's internal headers.
+// Build configuration shared by the internal headers of the kernels compiled per instruction
+// set: the preintegration kernel's recursion and rk4's window integration.
 //
 // Instances. The block recursion is compiled once per instruction set, each in its own
 // translation unit (instance_*.cpp). Every inline helper
@@ -41,6 +42,23 @@
 
 // GCC and Clang have the vector extensions the SIMD blocks are written in; any other
 // compiler gets the portable Eigen path only (see dispatch.cpp).
+// rk4's window integration (rk4_window.h) is compiled per instance through one entry,
+// Rk4Window, which IMUCONV_RK4_ENTRY marks: the instance's target (IMUCONV_RK4_TARGET, set by
+// the unit before it includes rk4_window.h; none for the default target), `flatten` so the
+// whole step is compiled for that target, and no fused multiply-adds (rk4_window.h,
+// "Instances", says why). GCC takes fp-contract=off per function, so it compiles the AVX2 and
+// AVX-512 instances of rk4 (IMUCONV_RK4_PER_INSTANCE). Clang decides contraction per statement
+// in its front end, before inlining, and has no per-function switch for the code it inlines
+// (Eigen's), so it compiles rk4 once, for the default target (rk4.cpp), which every instance
+// then runs.
+#if defined(__GNUC__) && !defined(__clang__)
+#define IMUCONV_RK4_PER_INSTANCE 1
+#define IMUCONV_RK4_CODEGEN __attribute__((optimize("fp-contract=off"), flatten, noinline))
+#else
+#define IMUCONV_RK4_PER_INSTANCE 0
+#define IMUCONV_RK4_CODEGEN
+#endif
+
 #if defined(__GNUC__)
 #define IMUCONV_KERNEL_HAS_VECTORS 1
 #define IMUCONV_KERNEL_INLINE inline __attribute__((always_inline))

@@ -11,10 +11,13 @@
 //     unchanged into preint_reference (only the covariance and bias Jacobian change chart).
 // tests/integrators/mean_only.cpp compares each with the full path bit for bit.
 //
-// Why the same arithmetic: rk4's state recursion (kernels/rk4.h) is the same expressions in
-// every output mode. The held propagators and the native preintegrators run the
-// preintegration kernel's recursion (core/src/kernels/); its mean-only instance is a separate
-// compilation, which the test checks to round the same way on this build and CPU.
+// Why the same arithmetic: every method here runs a kernel compiled once, in imuconv_core
+// (core/src/kernels/), through the instance the CPU runs; its plugin calls the same copy.
+// rk4's state-only mode is the same compiled function as the plugin's full run, and its state
+// is the same IEEE operations in every output mode (core/src/kernels/rk4_window.h,
+// "Instances"). The held propagators and the native preintegrators run the preintegration
+// kernel's recursion with its covariance switched off, which the test checks to round the same
+// way on this build and CPU.
 #pragma once
 
 #include "imuconv/kernels/euler.h"
@@ -71,7 +74,7 @@ inline Status IncrementMean(MeanKernel kernel, const SampleWindow& window, const
     case MeanKernel::kMidpoint: mean_only_detail::HeldEndState<Hold::Midpoint>(in, x_e); break;
     default: {
       PropagationResult r;
-      IntegrateRk4<Outputs::State>(in, r, 1);  // the plugin's one step per knot interval
+      IntegrateRk4Window(in, r, Outputs::State, 1, Isa::kAuto);  // the plugin's one step per knot interval
       x_e = r.x_e;
     }
   }

@@ -86,17 +86,21 @@ IMUCONV_API void TangentStep(const Vec3& acc, const Vec3& omega, double dt, Tang
 /// scheme's angular-rate map.
 IMUCONV_API Mat3 JrInvTimesVecDerivative(const Vec3& theta, const Vec3& omega);
 
-/// Which compiled instance of the interval kernels to run: kAuto picks the widest one the
-/// CPU supports (decided once); the others exist so tests and benchmarks can run each one.
-/// kBaseline is the target's 128-bit vector instance (x86-64: SSE2; aarch64: NEON), or the
-/// portable Eigen path on a compiler without GCC/Clang vector extensions.
-enum class Isa { kAuto, kBaseline, kAvx2, kAvx512 };
+/// Which compiled instance of the kernels (this one's recursion, and rk4's, kernels/rk4.h) to
+/// run: kAuto picks the widest one the CPU supports (decided once); the others exist so tests
+/// and benchmarks can run each one. kBaseline is the target's 128-bit vector instance (x86-64:
+/// SSE2; aarch64: NEON), or the portable path on a compiler without GCC/Clang vector
+/// extensions. kPortable is the portable path on every build (this kernel: Eigen 3x3 blocks,
+/// core/src/kernels/portable.cpp; rk4: its default-target code): what a compiler without vector
+/// extensions runs, and the oracle the tests compare the instances with. kAuto never picks it.
+enum class Isa { kAuto, kBaseline, kAvx2, kAvx512, kPortable };
 
 /// Whether `isa` was compiled into this build and can run on this CPU (kAuto always can).
 IMUCONV_API bool IsaAvailable(Isa isa);
 /// The widest instance this CPU runs (never kAuto), decided once.
 IMUCONV_API Isa BestIsa();
-/// "auto", "baseline", "avx2", "avx512" (benchmark names; the shard files of run and montecarlo).
+/// "auto", "baseline", "avx2", "avx512", "portable" (benchmark names; the shard files of run and
+/// montecarlo, which record BestIsa(), never "portable").
 inline const char* IsaName(Isa isa) {
   switch (isa) {
     case Isa::kBaseline:
@@ -105,6 +109,8 @@ inline const char* IsaName(Isa isa) {
       return "avx2";
     case Isa::kAvx512:
       return "avx512";
+    case Isa::kPortable:
+      return "portable";
     case Isa::kAuto:
       break;
   }

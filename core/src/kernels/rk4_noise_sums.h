@@ -1,13 +1,15 @@
-// The covariance's accumulators of the rk4 kernel (rk4.h, part 3 of its derivation):
+// The covariance's accumulators of the rk4 kernel (rk4_window.h, part 3 of its derivation):
 // M = int Psi D Psi^T over the window, summed per step into NoiseSums and assembled once per
-// window (AssembleM); the congruence P_e = Phi_e (P_s + M) Phi_e^T is rk4.h's. Psi's free bias
+// window (AssembleM); the congruence P_e = Phi_e (P_s + M) Phi_e^T is rk4_window.h's. Psi's free bias
 // columns are kept stacked as Y = [Pg; Vg; Pa; Tg] (their layout is declared here, once).
 #pragma once
 
+#include "kernel_config.h"
 #include "imuconv/kernels/common.h"
 #include "imuconv/kernels/left_transition.h"
 
-namespace imuconv::kernels::rk4_detail {
+IMUCONV_KERNEL_BEGIN
+namespace rk4_detail {
 
 /// Psi's free bias columns stacked as one 12x3 block, Y = [Pg; Vg; Pa; Tg] (row blocks in
 /// that order): their step rules are the same for all four, so each is one pass over 36
@@ -97,4 +99,5 @@ inline Mat15 AssembleM(const NoiseSums& n, const NoiseVariances& q, double T) {
   return M;
 }
 
-}  // namespace imuconv::kernels::rk4_detail
+}  // namespace rk4_detail
+IMUCONV_KERNEL_END
