@@ -25,7 +25,7 @@ struct Difference {
 Difference KernelVsReference(const PropagationInput& in, int substeps) {
   PropagationResult a, b;
   kernels::IntegrateRk4<kernels::Outputs::All>(in, a, substeps);
-  rk4_reference::IntegrateRk4<kernels::Outputs::All>(in, b, substeps);
+  rk4_reference::IntegrateRk4(in, b, substeps);
   Vec15 d;
   LeftLocal(b.x_e, a.x_e, d);
   return {d.cwiseAbs().maxCoeff(), RelChange(a.Phi, b.Phi), RelChange(a.cov, b.cov)};

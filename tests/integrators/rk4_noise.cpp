@@ -55,7 +55,7 @@ Mat15 KernelCovariance(const PropagationInput& in, int substeps = 1) {
 
 Mat15 ReferenceCovariance(const PropagationInput& in) {
   PropagationResult r;
-  rk4_reference::IntegrateRk4<kernels::Outputs::All>(in, r, kReferenceSubsteps);
+  rk4_reference::IntegrateRk4(in, r, kReferenceSubsteps);
   return r.cov;
 }
 
