@@ -193,24 +193,29 @@ TEST(BlockSparseAlgebra, TransitionCompositionMatchesDense) {
   EXPECT_LT(RelChange(a.ToMatrix(), dense), 1e-14);
 }
 
-// The covariance rate of the classical RK4 reference (rk4_reference.h), against F P + P F^T + D.
-TEST(BlockSparseAlgebra, Rk4CovarianceRateMatchesDense) {
+// The rates of the classical RK4 reference (rk4_reference.h), F M and F P + P F^T + D, against
+// the dense F; D against the densities squared written out here.
+TEST(BlockSparseAlgebra, Rk4ReferenceRatesMatchDense) {
   const ImuNoise n = SomeNoise();
   const Mat3 R = so3::Exp(RandVec(1.0));
   const Vec3 Ra = RandVec(10.0);
-  const Mat15 P = RandomCovariance();
+  const Mat15 P = RandomCovariance(), M = Mat15::Random();
   Mat15 F = Mat15::Zero();
   F.block<3, 3>(li::p, li::v).setIdentity();
   F.block<3, 3>(li::theta, li::bg) = -R;
   F.block<3, 3>(li::v, li::theta) = -so3::skew(Ra);
   F.block<3, 3>(li::v, li::ba) = -R;
-  const Vec15 D = rk4_reference::rk4_detail::ProcessNoiseDiagonal(kernels::NoiseVariances(n));
+  const Vec15 D = rk4_reference::rk4_detail::ProcessNoiseDiagonal(n);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(D(li::p + i), 0.0);
+    EXPECT_EQ(D(li::theta + i), 0.01 * 0.01);
+    EXPECT_EQ(D(li::v + i), 0.1 * 0.1);
+    EXPECT_EQ(D(li::bg + i), 0.002 * 0.002);
+    EXPECT_EQ(D(li::ba + i), 0.02 * 0.02);
+  }
   const Mat15 dense = F * P + P * F.transpose() + Mat15(D.asDiagonal());
-  Eigen::Matrix<double, 15, 9> PFt;
-  rk4_reference::rk4_detail::CovarianceRateColumns(R, so3::skew(Ra), P, PFt);
-  Mat15 rate = Mat15::Zero();
-  rk4_reference::rk4_detail::AddSymmetricRate(PFt, D, 1.0, rate);
-  EXPECT_LT(RelChange(rate, dense), 1e-14);  // rounding only
+  EXPECT_LT(RelChange(rk4_reference::rk4_detail::CovarianceRate(R, Ra, P, D), dense), 1e-14);  // rounding only
+  EXPECT_LT(RelChange(rk4_reference::rk4_detail::ErrorRateTimes(R, Ra, M), F * M), 1e-14);      // rounding only
 }
 
 // The theta columns come from the state (ThetaColumnsFromState); accumulating them step by

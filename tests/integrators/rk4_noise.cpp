@@ -11,7 +11,10 @@
 // scaled by 1.001 gives 1e-3 and fails, doubled gives 1.
 // Before this test a doubled gyro random-walk term passed every deterministic test: the
 // cross-check compares covariances relative to their largest entry, where the random walk
-// contributes less than its 3e-8 bound.
+// contributes less than its 3e-8 bound. And while the reference took its variances from the
+// kernel's own kernels::NoiseVariances, a doubled accelerometer random-walk variance there
+// passed both this test and the cross-check; the reference now squares the densities itself
+// (rk4_reference.h), and tests/mutations/ keeps both mutations, caught.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -55,7 +58,7 @@ Mat15 KernelCovariance(const PropagationInput& in, int substeps = 1) {
 
 Mat15 ReferenceCovariance(const PropagationInput& in) {
   PropagationResult r;
-  rk4_reference::IntegrateRk4<kernels::Outputs::All>(in, r, kReferenceSubsteps);
+  rk4_reference::IntegrateRk4(in, r, kReferenceSubsteps);
   return r.cov;
 }
 
