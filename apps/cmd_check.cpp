@@ -6,16 +6,16 @@
 #include <iostream>
 #include <optional>
 
-#include "check/check.h"
-#include "check/pipeline_task.h"
-#include "check/report.h"
+#include "imuconv/check/check.h"
+#include "imuconv/check/pipeline_task.h"
+#include "imuconv/check/report.h"
 #include "commands.h"
 #include "exit_codes.h"
 #include "imuconv/pipeline/imu_plausibility.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/printable.h"
 #include "imuconv/report/report_output.h"
-#include "pipeline/src/forms/measurement.h"
+#include "imuconv/pipeline/measurement.h"
 #include "report/pages/pages.h"
 
 namespace imuconv::cli {

@@ -13,12 +13,13 @@
 #include "imuconv/pipeline/errors.h"
 #include "imuconv/pipeline/imu_reader.h"
 #include "imuconv/pipeline/json_io.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/printable.h"
 #include "imuconv/report/report_output.h"
 #include "nees.h"
 #include "nees_input.h"
 #include "nees_report.h"
-#include "pipeline/src/data/kalibr_yaml.h"
+#include "imuconv/pipeline/kalibr_yaml.h"
 #include "report/pages/pages.h"
 
 namespace imuconv::cli {
