@@ -8,14 +8,14 @@
 #include <memory>
 #include <optional>
 
-#include "check/check.h"
-#include "check/pipeline_task.h"
-#include "check/report.h"
 #include "exit_codes.h"
+#include "imuconv/check/check.h"
+#include "imuconv/check/pipeline_task.h"
+#include "imuconv/check/report.h"
 #include "imuconv/pipeline/imu_plausibility.h"
+#include "imuconv/pipeline/measurement.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "judgment.h"
-#include "pipeline/src/forms/measurement.h"
 #include "report/pages/pages.h"
 #include "report_destination.h"
 

@@ -1,7 +1,7 @@
 // imuconv merge -o OUT.json SHARD.json...: joins the N outputs of `imuconv run P.json --shard K/N` (given in any
 // order) into the document `imuconv run P.json` writes, byte for byte (examples/batch/).
 //
-// The shards are read, checked and joined by pipeline/src/shard_merge.cpp (shard_merge.h: the
+// The shards are read, checked and joined by pipeline/src/run/shard_merge.cpp (shard_merge.h: the
 // layout, the FNV-1a 64 each shard records of its own content, what is refused); this file is
 // the command: the montecarlo-shard pointer, the atomic output, never one of the shards.
 //

@@ -21,7 +21,7 @@
 
 #include "exit_codes.h"
 #include "imuconv/bridge.h"
-#include "imuconv/pipeline/json_check.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/pipeline/pipeline_data.h"

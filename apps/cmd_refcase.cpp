@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include "commands.h"
-#include "imuconv/pipeline/json_check.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/printable.h"
 #include "anchor.h"

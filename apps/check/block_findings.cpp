@@ -1,4 +1,4 @@
-#include "block_findings.h"
+#include "imuconv/check/block_findings.h"
 
 #include <algorithm>
 #include <cmath>

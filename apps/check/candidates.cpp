@@ -1,4 +1,4 @@
-#include "candidates.h"
+#include "imuconv/check/candidates.h"
 
 #include <algorithm>
 

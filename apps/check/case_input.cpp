@@ -1,8 +1,8 @@
-#include "case_input.h"
+#include "imuconv/check/case_input.h"
 
 #include <algorithm>
 
-#include "imuconv/pipeline/json_check.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/json_io.h"
 #include "imuconv/pipeline/sample_checks.h"
 #include "imuconv/pipeline/timing.h"

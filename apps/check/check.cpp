@@ -1,11 +1,11 @@
-#include "check.h"
+#include "imuconv/check/check.h"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
-#include "../pipeline/src/forms/measurement.h"
-#include "../pipeline/src/run_util.h"
+#include "imuconv/pipeline/measurement.h"
+#include "imuconv/pipeline/block_labels.h"
 #include "references.h"
 
 namespace imuconv::check {

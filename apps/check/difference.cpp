@@ -1,4 +1,4 @@
-#include "difference.h"
+#include "imuconv/check/difference.h"
 
 #include <algorithm>
 #include <cmath>

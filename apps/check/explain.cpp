@@ -1,4 +1,4 @@
-#include "explain.h"
+#include "imuconv/check/explain.h"
 
 #include <algorithm>
 #include <array>

@@ -1,8 +1,8 @@
-#include "pipeline_task.h"
+#include "imuconv/check/pipeline_task.h"
 
-#include "check.h"
+#include "imuconv/check/check.h"
 #include "imuconv/pipeline/pipeline_data.h"
-#include "report.h"
+#include "imuconv/check/report.h"
 
 namespace imuconv::check {
 namespace {

@@ -1,4 +1,4 @@
-#include "report.h"
+#include "imuconv/check/report.h"
 
 #include <cmath>
 #include <cstdio>

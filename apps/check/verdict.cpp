@@ -1,4 +1,4 @@
-#include "verdict.h"
+#include "imuconv/check/verdict.h"
 
 #include <algorithm>
 #include <cmath>

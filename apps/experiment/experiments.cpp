@@ -5,7 +5,7 @@
 #include <exception>
 #include <thread>
 
-#include "check/difference.h"
+#include "imuconv/check/difference.h"
 #include "imuconv/bridge.h"
 #include "imuconv/printable.h"
 #include "imuconv/window.h"

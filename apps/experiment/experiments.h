@@ -55,7 +55,7 @@ struct Comparison {
   std::vector<std::string> row_blocks, col_blocks;  ///< block labels of the rows and columns
   std::string scaled_metric;  ///< "correlation" (covariances) or "relative_above_floor"
   /// Mean over trials of each entry's difference: the note's d, and the scale-aware d of
-  /// `imuconv check` (apps/check/difference.h).
+  /// `imuconv check` (imuconv/check/difference.h).
   Eigen::MatrixXd mean_note_d, mean_scaled_d;
   /// Over trials and entries.
   double note_mean = 0.0, note_max = 0.0, scaled_mean = 0.0, scaled_max = 0.0;

@@ -16,7 +16,7 @@
 #include "imuconv/kernels/preintegration.h"
 #include "imuconv/pipeline/file_digest.h"
 #include "imuconv/pipeline/input_registry.h"
-#include "imuconv/pipeline/json_check.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/printable.h"
 
 #ifndef IMUCONV_VERSION

@@ -11,12 +11,12 @@
 #include <vector>
 
 #include "bindings.h"
-#include "check/check.h"
-#include "check/report.h"
+#include "imuconv/check/check.h"
+#include "imuconv/check/report.h"
 #include "imuconv/pipeline/imu_plausibility.h"
 #include "imuconv/pipeline/json_writer.h"
 #include "imuconv/pipeline/output_file.h"
-#include "pipeline/src/forms/measurement.h"
+#include "imuconv/pipeline/measurement.h"
 
 namespace imuconv::python {
 namespace {

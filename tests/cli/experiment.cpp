@@ -20,7 +20,7 @@
 #include <string>
 
 #include "../pipeline/pipeline_test_util.h"
-#include "check/difference.h"
+#include "imuconv/check/difference.h"
 #include "imuconv_test.h"
 #include "trial.h"
 

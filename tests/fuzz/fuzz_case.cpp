@@ -1,7 +1,7 @@
 // libFuzzer target: the state reader and the reference-case runner (the case format of
 // tests/data/reference/FORMAT.md). The first byte picks which.
 #include "fuzz_support.h"
-#include "imuconv/pipeline/json_check.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/json_io.h"
 #include "refcase.h"
 

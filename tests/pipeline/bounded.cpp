@@ -11,7 +11,8 @@
 
 #include <sstream>
 
-#include "../../apps/pipeline/src/spec.h"
+#include "../../apps/pipeline/src/spec/pipeline_spec.h"
+#include "../../apps/pipeline/src/tasks/task.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
 #include "pipeline_test_util.h"

@@ -16,7 +16,7 @@
 #include <thread>
 
 #include "imuconv/pipeline/imu_reader.h"
-#include "imuconv/pipeline/json_check.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "pipeline_test_util.h"
 
 namespace {

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "../../apps/pipeline/src/forms/increment.h"
-#include "../../apps/pipeline/src/forms/measurement.h"
+#include "imuconv/pipeline/measurement.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
 #include "pipeline_test_util.h"

@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "imuconv/pipeline/json_check.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/json_writer.h"
 #include "imuconv/utf8.h"
 #include "pipeline_test_util.h"

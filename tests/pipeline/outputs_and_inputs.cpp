@@ -17,7 +17,7 @@
 #include <string>
 #include <thread>
 
-#include "imuconv/pipeline/json_check.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/pipeline/standard_descriptors.h"
 #include "pipeline_test_util.h"

@@ -8,7 +8,7 @@
 #include <set>
 #include <stdexcept>
 
-#include "../../apps/pipeline/src/thread_pool.h"
+#include "../../apps/pipeline/src/io/thread_pool.h"
 #include "imuconv/pipeline/json_io.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"

@@ -3,7 +3,7 @@
 // or the pipeline opts in.
 #include <gtest/gtest.h>
 
-#include "../../apps/pipeline/src/plugins_used.h"
+#include "../../apps/pipeline/src/tasks/plugins_used.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
 #include "pipeline_test_util.h"

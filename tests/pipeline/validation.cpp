@@ -8,7 +8,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "../../apps/pipeline/src/input_checks.h"
+#include "../../apps/pipeline/src/forms/input_checks.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
 #include "issue_at.h"

@@ -6,9 +6,9 @@
 
 #include <string>
 
-#include "../../apps/check/case_input.h"
-#include "../../apps/check/check.h"
-#include "../../apps/pipeline/src/forms/measurement.h"
+#include "imuconv/check/case_input.h"
+#include "imuconv/check/check.h"
+#include "imuconv/pipeline/measurement.h"
 #include "../pipeline/pipeline_test_util.h"
 #include "imuconv_test.h"
 #include "montecarlo.h"

@@ -1,8 +1,8 @@
 // imuconv check's report page (pages.h).
-#include "check/check.h"
+#include "imuconv/check/check.h"
 #include "imuconv/report/heatmap.h"
 #include "imuconv/report/markup.h"
-#include "report/pages/pages.h"
+#include "pages.h"
 
 namespace imuconv::report {
 namespace {

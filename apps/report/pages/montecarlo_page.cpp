@@ -3,13 +3,13 @@
 #include <cmath>
 #include <limits>
 
-#include "check/difference.h"
+#include "imuconv/check/difference.h"
 #include "imuconv/chi_square.h"
 #include "imuconv/report/chart.h"
 #include "imuconv/report/heatmap.h"
 #include "imuconv/report/markup.h"
 #include "montecarlo.h"
-#include "report/pages/pages.h"
+#include "pages.h"
 
 namespace imuconv::report {
 namespace {

@@ -7,7 +7,7 @@
 #include "imuconv/report/markup.h"
 #include "nees.h"
 #include "nees_report.h"
-#include "report/pages/pages.h"
+#include "pages.h"
 
 namespace imuconv::report {
 namespace {

@@ -1,4 +1,4 @@
-#include "kalibr_yaml.h"
+#include "imuconv/pipeline/kalibr_yaml.h"
 
 #include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
@@ -10,7 +10,7 @@
 
 #include "imuconv/pipeline/errors.h"
 #include "imuconv/printable.h"
-#include "input_file.h"
+#include "../io/input_file.h"
 
 namespace imuconv::pipeline::data {
 namespace {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "input_file.h"
+#include "../io/input_file.h"
 
 namespace imuconv::pipeline::data {
 

@@ -3,7 +3,8 @@
 
 #include <tuple>
 
-#include "../input_checks.h"
+#include "imuconv/pipeline/json_parse.h"
+#include "input_checks.h"
 
 namespace imuconv::pipeline {
 

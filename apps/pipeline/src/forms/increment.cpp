@@ -4,8 +4,9 @@
 #include <cmath>
 #include <sstream>
 
-#include "../input_checks.h"
+#include "input_checks.h"
 #include "imuconv/pipeline/json_io.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/so3.h"
 
 namespace imuconv::pipeline {

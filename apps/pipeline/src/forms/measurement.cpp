@@ -1,13 +1,16 @@
 // The measurement form, read (measurements files) and written (measurement.h).
-#include "measurement.h"
+#include "imuconv/pipeline/measurement.h"
 
 #include <algorithm>
 #include <cmath>
 #include <tuple>
 
-#include "../input_checks.h"
-#include "../run_util.h"
+#include "input_checks.h"
+#include "task_common.h"
+#include "../io/message_text.h"
+#include "imuconv/pipeline/block_labels.h"
 #include "chart_matrix.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/printable.h"
 #include "increment.h"
 #include "state.h"

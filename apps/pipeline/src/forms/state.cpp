@@ -1,7 +1,8 @@
 // The state form, read and written (json_io.h, state.h).
 #include "state.h"
 
-#include "../input_checks.h"
+#include "input_checks.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/so3.h"
 
 namespace imuconv::pipeline {

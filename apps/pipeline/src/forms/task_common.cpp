@@ -3,7 +3,7 @@
 
 #include <filesystem>
 
-#include "../input_checks.h"
+#include "input_checks.h"
 #include "imuconv/printable.h"
 
 namespace imuconv::pipeline {

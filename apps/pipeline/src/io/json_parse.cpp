@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <string_view>
 
-#include "../data/input_file.h"
-#include "imuconv/pipeline/json_check.h"
+#include "input_file.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/printable.h"
 
 namespace imuconv::pipeline {

@@ -1,5 +1,5 @@
 // The result-array collector fed with value events (value_events.h) rather than JSON text: how
-// RunToArrays (imuconv/pipeline/result_arrays.h) collects a run's arrays. Internal to
+// RunToArrays (imuconv/pipeline/pipeline.h) collects a run's arrays. Internal to
 // imuconv_pipeline.
 #pragma once
 

@@ -1,12 +1,12 @@
 // "bias_update": measurements corrected to a new bias estimate to first order in one or more
 // bias-Jacobian charts, and (for a preintegrate task's measurements) compared with
 // re-integrating the samples with that bias.
-#include "../context.h"
+#include "context.h"
 #include "../forms/comparison.h"
 #include "../forms/increment.h"
 #include "../forms/state.h"
-#include "../plugins_used.h"
-#include "../run_util.h"
+#include "plugins_used.h"
+#include "../io/message_text.h"
 #include "task.h"
 
 namespace imuconv::pipeline {

@@ -8,15 +8,15 @@
 // RunOptions::inconsistent_checks (imuconv run then exits 3, the document written).
 //
 // The evaluation itself is imuconv check's (apps/check), which links this library: it is
-// registered from above (pipeline_data.h, SetCheckEvaluator); here are only the grammar, the
+// registered from above (check_evaluator.h, SetCheckEvaluator); here are only the grammar, the
 // checks of the input and the output.
 #include <algorithm>
 
-#include "../context.h"
-#include "../data/spec_data.h"
-#include "../plugins_used.h"
-#include "../run_util.h"
-#include "imuconv/pipeline/pipeline_data.h"
+#include "context.h"
+#include "../spec/spec_data.h"
+#include "plugins_used.h"
+#include "../io/message_text.h"
+#include "imuconv/pipeline/check_evaluator.h"
 #include "imuconv/printable.h"
 #include "task.h"
 
@@ -31,7 +31,7 @@ class CheckTask : public Task {
   const std::string* input_file() const override { return file.empty() ? nullptr : &file; }
 
   void plugins_used(PluginUse& use) const override {
-    // What check compares with (apps/check/references.h, candidates.h): the three propagator
+    // What check compares with (apps/check/references.h, imuconv/check/candidates.h): the three propagator
     // schemes, every registered preintegrator, and the numbers in every increment convention.
     for (const char* id : {"euler", "midpoint", "rk4"}) use.propagator(id);
     for (const auto& id : use.registry().ids(PluginKind::Preintegrator)) use.add(PluginKind::Preintegrator, id);

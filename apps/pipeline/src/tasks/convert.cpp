@@ -1,12 +1,12 @@
 // "convert": one conversion between two conventions of a kind: a state Jacobian, covariance
 // or transition matrix, or an increment Jacobian or covariance, of given values or of an
 // earlier task's result ("source").
-#include "../context.h"
+#include "context.h"
 #include "../forms/chart_matrix.h"
 #include "../forms/increment.h"
 #include "../forms/state.h"
-#include "../input_checks.h"
-#include "../plugins_used.h"
+#include "../forms/input_checks.h"
+#include "plugins_used.h"
 #include "imuconv/printable.h"
 #include "task.h"
 

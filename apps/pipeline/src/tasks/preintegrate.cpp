@@ -2,10 +2,10 @@
 // propagator (preintegration by propagation, paper section 3.1) or a native preintegrator,
 // expressed in any increment conventions. Intervals are independent: computed and written on
 // the thread pool.
-#include "../context.h"
+#include "context.h"
 #include "../forms/state.h"
-#include "../plugins_used.h"
-#include "../run_util.h"
+#include "plugins_used.h"
+#include "../io/message_text.h"
 #include "task.h"
 
 namespace imuconv::pipeline {

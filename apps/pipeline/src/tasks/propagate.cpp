@@ -1,12 +1,12 @@
 // "propagate": one propagator run over one interval from a given (or ground-truth) start
 // state and covariance, in a state convention; compared with the ground truth when there is
 // one at the end.
-#include "../context.h"
+#include "context.h"
 #include "../forms/chart_matrix.h"
 #include "../forms/comparison.h"
 #include "../forms/state.h"
-#include "../plugins_used.h"
-#include "../run_util.h"
+#include "plugins_used.h"
+#include "../io/message_text.h"
 #include "task.h"
 
 namespace imuconv::pipeline {

@@ -5,12 +5,12 @@
 #include <cmath>
 #include <cstdio>
 
-#include "../context.h"
+#include "context.h"
 #include "../forms/chart_matrix.h"
 #include "../forms/increment.h"
 #include "../forms/state.h"
-#include "../plugins_used.h"
-#include "../summary.h"
+#include "plugins_used.h"
+#include "summary.h"
 #include "task.h"
 
 namespace imuconv::pipeline {

@@ -15,11 +15,11 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-#include "../context.h"
+#include "context.h"
 #include "../forms/chart_matrix.h"
 #include "../forms/state.h"
-#include "../plugins_used.h"
-#include "../run_util.h"
+#include "plugins_used.h"
+#include "../io/message_text.h"
 #include "imuconv/kernels/basalt_residual.h"
 #include "imuconv/kernels/vins_fusion_residual.h"
 #include "task.h"

@@ -1,5 +1,10 @@
-// The Task interface's defaults (task.h).
+// The Task interface's defaults (task.h), and the parsed document's construction and
+// destruction: spec/pipeline_spec.h holds its tasks by pointer to a Task it only declares
+// (the spec layer is below the tasks), so its members are created and destroyed here, where
+// Task is complete.
 #include "task.h"
+
+#include "../spec/pipeline_spec.h"
 
 namespace imuconv::pipeline {
 
@@ -10,5 +15,8 @@ void Task::references(const std::function<void(const std::string& name, const st
 KeptRecords Task::kept_records(const std::function<std::size_t(const MeasurementsSpec&)>&) const { return {}; }
 
 void Task::check_times(const RunContext&, Checker&) const {}
+
+PipelineSpec::PipelineSpec() = default;
+PipelineSpec::~PipelineSpec() = default;
 
 }  // namespace imuconv::pipeline

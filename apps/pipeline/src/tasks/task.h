@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "../forms/task_common.h"
-#include "../intervals.h"
+#include "../forms/intervals.h"
 #include "imuconv/pipeline/json_check.h"
 #include "imuconv/pipeline/json_writer.h"
 

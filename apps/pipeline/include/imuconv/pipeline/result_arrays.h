@@ -47,7 +47,7 @@
 #include <utility>
 #include <vector>
 
-#include "imuconv/pipeline/pipeline.h"
+#include "imuconv/registry.h"  // imuconv::Error, thrown for documents that cannot be collected
 
 namespace imuconv::pipeline {
 
@@ -79,19 +79,6 @@ inline constexpr const char* kSidecarKey = "meta";
 /// arrays may nest at most 256 deep.
 ResultArrays CollectResultArrays(std::FILE* text, const std::string& what);
 ResultArrays CollectResultArrays(std::string_view text, const std::string& what);
-
-/// Runs the pipeline (as RunToText does, the registry loaded as RunToText loads it, or given)
-/// and returns its output document's arrays and sidecar: the same, name for name and bit for
-/// bit, as CollectResultArrays gives for the document's text, but collected from the values
-/// the tasks write, without formatting them as text and reading them back. Holds what
-/// CollectResultArrays holds (the numbers and the sidecar), never the document. `started` (may
-/// be empty) is called once, when the first values are collected, after every check of the run
-/// has passed (e.g. to check that the destination is no loaded plugin). With
-/// RunOptions::check_only nothing runs and the result is empty. Throws as RunToText and
-/// CollectResultArrays do, messages naming "the output of PIPELINE".
-ResultArrays RunToArrays(const Pipeline& p, const RunOptions& options, const std::function<void()>& started = {});
-ResultArrays RunToArrays(const Pipeline& p, const Registry& reg, const RunOptions& options,
-                         const std::function<void()>& started = {});
 
 /// Writes `r` as a NumPy .npz archive (format 1.0 members, "<f8" / "<i8" little-endian, C
 /// order, stored; the sidecar as member kSidecarKey) into `sink`, in pieces. ZIP64 records are

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 
-#include "check.h"
+#include "imuconv/check/check.h"
 
 namespace imuconv::check {
 

@@ -2,7 +2,8 @@
 // bias Jacobian and covariance, in preint_reference and in any registered increment
 // convention. The reader takes measurements files (schemas/measurements.schema.json), e.g.
 // numbers dumped from GTSAM, into the reference charts with FromConvention; the writer gives
-// a preintegrate task's measurements in the same form (internal to imuconv_pipeline).
+// a preintegrate task's measurements in the same form. Read by imuconv check and the Python
+// module too (src/forms/measurement.cpp).
 #pragma once
 
 #include <cstdint>
@@ -12,8 +13,9 @@
 
 #include "imuconv/bridge.h"
 #include "imuconv/pipeline/json_check.h"
+#include "imuconv/pipeline/imu_reader.h"
 #include "imuconv/pipeline/json_writer.h"
-#include "task_common.h"
+#include "imuconv/pipeline/omit.h"
 
 namespace imuconv::pipeline {
 

@@ -1,19 +1,13 @@
-// A pipeline's data outside a run (imuconv/pipeline/pipeline_data.h).
-#include "imuconv/pipeline/pipeline_data.h"
+// The pipeline's IMU samples read whole from its parsed form (spec_data.h).
+#include "spec_data.h"
 
 #include <algorithm>
 
-#include "../spec.h"
-#include "imuconv/pipeline/sample_checks.h"
 #include "imuconv/pipeline/imu_plausibility.h"
-#include "spec_data.h"
+#include "imuconv/pipeline/sample_checks.h"
+#include "pipeline_spec.h"
 
 namespace imuconv::pipeline {
-namespace {
-
-CheckEvaluator g_check_evaluator = nullptr;
-
-}  // namespace
 
 ImuData InlineImu(const PipelineSpec& s) {
   const ImuSourceSpec& src = *s.imu;
@@ -55,8 +49,6 @@ void CheckImuAgainstKnownData(const PipelineSpec& s, const ImuData& imu, const G
                                 "IMU " + imu.source + " against ground truth " + gt->source + ": " + *issue}});
 }
 
-ImuData ReadPipelineImu(const Pipeline& p) { return ReadSpecImu(p.spec()); }
-
 ImuData ReadSpecImu(const PipelineSpec& s) {
   if (!s.imu) throw ConfigError(s.file, {{"/imu", "required key is missing: the IMU samples are read from it"}});
   ReadOptions ro;
@@ -79,36 +71,5 @@ ImuData ReadSpecImu(const PipelineSpec& s) {
   CheckImuAgainstKnownData(s, imu, nullptr);  // the noise; the ground truth when it is read
   return imu;
 }
-
-std::optional<GroundTruth> ReadPipelineGroundTruth(const Pipeline& p, const ImuData& imu) {
-  const PipelineSpec& s = p.spec();
-  if (!s.gt) return std::nullopt;
-  TimeOrigin o;
-  if (imu.origin)
-    o = *imu.origin;
-  else
-    o.unit = TimeUnit::s;  // inline samples without an origin: stamps taken as absolute (as a run does)
-  ReadOptions ro;
-  ro.timing = s.gt->timing;
-  GroundTruth gt = s.gt->format == "euroc" ? ReadEurocGroundTruth(s.gt->path, o, ro)
-                                           : ReadPoseGroundTruth(s.gt->path, s.gt->format, o, ro, s.gt->sensor);
-  CheckImuAgainstKnownData(s, imu, &gt);
-  return gt;
-}
-
-ImuNoise PipelineNoise(const Pipeline& p, const std::string& why) {
-  const PipelineSpec& s = p.spec();
-  if (!s.has_noise) throw ConfigError(s.file, {{"/noise", "required key is missing: " + why}});
-  return s.noise;
-}
-
-std::optional<ImuNoise> PipelineNoiseIfGiven(const Pipeline& p) {
-  return p.spec().has_noise ? std::optional<ImuNoise>(p.spec().noise) : std::nullopt;
-}
-
-Vec3 PipelineGravity(const Pipeline& p) { return p.spec().gravity; }
-
-void SetCheckEvaluator(CheckEvaluator evaluator) { g_check_evaluator = evaluator; }
-CheckEvaluator GetCheckEvaluator() { return g_check_evaluator; }
 
 }  // namespace imuconv::pipeline

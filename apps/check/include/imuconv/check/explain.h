@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "block_findings.h"
-#include "candidates.h"
-#include "difference.h"
+#include "imuconv/check/block_findings.h"
+#include "imuconv/check/candidates.h"
+#include "imuconv/check/difference.h"
 
 namespace imuconv::check {
 

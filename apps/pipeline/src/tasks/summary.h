@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "forms/comparison.h"
+#include "../forms/comparison.h"
 #include "imuconv/pipeline/json_writer.h"
 
 namespace imuconv::pipeline {

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "forms/measurement.h"
+#include "imuconv/pipeline/measurement.h"
 #include "imuconv/registry.h"
 
 namespace imuconv::pipeline {

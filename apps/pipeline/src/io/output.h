@@ -15,7 +15,8 @@
 #include <vector>
 
 #include "imuconv/pipeline/json_writer.h"
-#include "imuconv/pipeline/pipeline.h"
+#include "imuconv/pipeline/text_sink.h"
+#include "imuconv/registry.h"
 #include "thread_pool.h"
 
 namespace imuconv::pipeline {

@@ -3,8 +3,10 @@
 #include <unordered_set>
 
 #include "imuconv/pipeline/input_registry.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/pipeline.h"
-#include "spec.h"
+#include "parse.h"
+#include "../tasks/task.h"
 
 namespace imuconv::pipeline {
 

@@ -1,9 +1,8 @@
 // The pipeline's IMU samples read whole from its parsed form (internal to imuconv_pipeline;
-// the public face is imuconv/pipeline/pipeline_data.h).
+// the public face, from a loaded Pipeline, is imuconv/pipeline/pipeline_data.h).
 #pragma once
 
 #include "imuconv/pipeline/imu_reader.h"
-#include "imuconv/pipeline/pipeline.h"
 
 namespace imuconv::pipeline {
 

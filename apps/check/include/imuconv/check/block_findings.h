@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "difference.h"
+#include "imuconv/check/difference.h"
 
 namespace imuconv::check {
 

@@ -1,6 +1,8 @@
 // The parsed form of a pipeline document (internal to imuconv_pipeline): the top-level keys,
 // the IMU and ground-truth sources, and the tasks (each behind the Task interface of
-// tasks/task.h).
+// tasks/task.h, a layer above: the spec only holds them, so Task is declared here and the
+// spec is destroyed where it is complete, tasks/task.cpp). The document is read into it by
+// ParseSpec (run/parse.h), which knows the task kinds.
 #pragma once
 
 #include <cstdint>
@@ -9,12 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "forms/task_common.h"
+#include "../forms/task_common.h"
 #include "imuconv/pipeline/imu_reader.h"
 #include "imuconv/pipeline/json_io.h"
-#include "tasks/task.h"
 
 namespace imuconv::pipeline {
+
+class Task;
 
 struct ImuSourceSpec {
   enum class Format { Euroc, Csv, Inline } format = Format::Euroc;
@@ -53,13 +56,11 @@ struct PipelineSpec {
   std::optional<ImuSourceSpec> imu;
   std::optional<GroundTruthSpec> gt;
   std::vector<std::unique_ptr<const Task>> tasks;
+
+  PipelineSpec();   // tasks/task.cpp, where Task is complete
+  ~PipelineSpec();
+  PipelineSpec(const PipelineSpec&) = delete;
+  PipelineSpec& operator=(const PipelineSpec&) = delete;
 };
-
-/// Parses and validates the structure; throws ConfigError listing every issue.
-std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file, const std::string& base_dir);
-
-/// The top-level "imu" and "ground_truth" sources (sources.cpp).
-std::optional<ImuSourceSpec> ReadImuSource(const ParseContext& ctx, const Node& n);
-std::optional<GroundTruthSpec> ReadGroundTruthSource(const ParseContext& ctx, const Node& n);
 
 }  // namespace imuconv::pipeline

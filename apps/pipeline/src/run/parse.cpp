@@ -5,8 +5,10 @@
 
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/printable.h"
-#include "data/kalibr_yaml.h"
-#include "spec.h"
+#include "imuconv/pipeline/kalibr_yaml.h"
+#include "parse.h"
+#include "../spec/sources.h"
+#include "../tasks/task.h"
 
 namespace imuconv::pipeline {
 namespace {

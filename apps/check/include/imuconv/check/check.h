@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "case_input.h"
-#include "explain.h"
-#include "verdict.h"
+#include "imuconv/check/case_input.h"
+#include "imuconv/check/explain.h"
+#include "imuconv/check/verdict.h"
 
 namespace imuconv::pipeline {
 struct DeclaredMeasurement;

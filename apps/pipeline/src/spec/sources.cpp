@@ -1,12 +1,12 @@
 // The top-level sources of a pipeline: "imu" (euroc, csv or inline samples) and
-// "ground_truth" (spec.h).
+// "ground_truth" (sources.h).
 #include <Eigen/Geometry>
 #include <algorithm>
 
 #include "imuconv/pipeline/sample_checks.h"
 #include "imuconv/pipeline/timing.h"
-#include "run_util.h"
-#include "spec.h"
+#include "../io/message_text.h"
+#include "sources.h"
 
 namespace imuconv::pipeline {
 namespace {

@@ -9,18 +9,19 @@
 #include <tuple>
 #include <unordered_map>
 
-#include "context.h"
-#include "data/spec_data.h"
+#include "../tasks/context.h"
+#include "../spec/spec_data.h"
 #include "imuconv/kernels/preintegration.h"
 #include "imuconv/pipeline/file_digest.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/pipeline/result_arrays.h"
 #include "imuconv/printable.h"
-#include "io/result_collector.h"
-#include "output.h"
-#include "plugins_used.h"
-#include "results.h"
-#include "spec.h"
+#include "../io/result_collector.h"
+#include "../io/output.h"
+#include "../tasks/plugins_used.h"
+#include "../tasks/results.h"
+#include "../spec/pipeline_spec.h"
+#include "../tasks/task.h"
 
 #ifndef IMUCONV_VERSION
 #define IMUCONV_VERSION "unknown"

@@ -12,13 +12,14 @@
 #include <utility>
 #include <vector>
 
-#include "forms/comparison.h"
-#include "forms/measurement.h"
+#include "../forms/comparison.h"
+#include "../forms/intervals.h"
+#include "imuconv/pipeline/measurement.h"
 #include "imuconv/bridge.h"
-#include "imuconv/pipeline/pipeline.h"
-#include "output.h"
+#include "imuconv/pipeline/run_options.h"
+#include "../io/output.h"
 #include "results.h"
-#include "spec.h"
+#include "../spec/pipeline_spec.h"
 
 namespace imuconv::pipeline {
 

@@ -13,7 +13,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "forms/measurement.h"
+#include "imuconv/pipeline/measurement.h"
 
 namespace imuconv::pipeline {
 

@@ -4,8 +4,9 @@
 #include "imuconv/window.h"
 
 #include "imuconv/printable.h"
-#include "input_checks.h"
-#include "run_util.h"
+#include "../forms/input_checks.h"
+#include "task.h"
+#include "../io/message_text.h"
 
 namespace imuconv::pipeline {
 

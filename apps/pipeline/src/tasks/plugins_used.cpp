@@ -1,6 +1,7 @@
 #include "plugins_used.h"
 
-#include "spec.h"
+#include "../spec/pipeline_spec.h"
+#include "task.h"
 
 namespace imuconv::pipeline {
 

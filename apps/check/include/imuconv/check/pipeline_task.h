@@ -1,12 +1,12 @@
 // imuconv check as the pipeline's check task (apps/pipeline/src/tasks/check.cpp): the pipeline
 // knows the task's grammar and input, and this library, which links the pipeline, supplies the
-// evaluation (imuconv/pipeline/pipeline_data.h; the direction is in docs/map.md).
+// evaluation (imuconv/pipeline/check_evaluator.h; the direction is in docs/map.md).
 #pragma once
 
 #include <cstdint>
 #include <optional>
 
-#include "case_input.h"
+#include "imuconv/check/case_input.h"
 
 namespace imuconv::pipeline {
 class Pipeline;

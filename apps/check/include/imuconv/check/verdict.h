@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "explain.h"
+#include "imuconv/check/explain.h"
 
 namespace imuconv::check {
 

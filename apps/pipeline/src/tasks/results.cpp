@@ -4,7 +4,8 @@
 
 #include "imuconv/pipeline/errors.h"
 #include "imuconv/printable.h"
-#include "spec.h"
+#include "../spec/pipeline_spec.h"
+#include "task.h"
 
 namespace imuconv::pipeline {
 namespace {

@@ -28,7 +28,7 @@
 
 #include "imuconv/pipeline/file_digest.h"
 #include "imuconv/pipeline/input_registry.h"
-#include "imuconv/pipeline/json_check.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/json_writer.h"
 #include "imuconv/printable.h"
 
@@ -36,7 +36,7 @@ namespace imuconv::pipeline {
 namespace {
 
 /// The fixed text between the pieces, as the pipeline's JsonWriter lays out a run's document
-/// (apps/pipeline/src/run.cpp: the "shard" member, the head whose first key is
+/// (apps/pipeline/src/run/run.cpp: the "shard" member, the head whose first key is
 /// "imuconv_version", then "tasks").
 struct Layout {
   std::string shard_open;           ///< the shard document's text before the "shard" member's value
