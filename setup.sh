@@ -8,9 +8,9 @@
 #                 UndefinedBehaviorSanitizer, plus the libFuzzer targets (tests/fuzz), which
 #                 ctest runs for IMUCONV_FUZZ_SECONDS each (60 by default).
 #   --aarch64     also installs the aarch64 cross compiler and qemu-user and configures
-#                 ./build-aarch64: the library, plugins and their tests cross-compiled for
-#                 64-bit ARM (GoogleTest built from Debian's sources), which ctest runs under
-#                 qemu-aarch64
+#                 ./build-aarch64: the library, plugins and the tests of what depends on the
+#                 instruction set cross-compiled for 64-bit ARM (GoogleTest built from
+#                 Debian's sources), which ctest runs under qemu-aarch64
 #                 (cmake/toolchains/aarch64-linux-gnu.cmake; README.md, "Cross-building for aarch64").
 set -euo pipefail
 cd "$(dirname "$0")"
