@@ -44,7 +44,7 @@ TEST(PortablePath, MatchesTheBaselineInstance) {
     };
 
     // The two schemes' entry points (NavState chart for manifold, xi for tangent).
-    NativePreintegration mo, to;
+    Preintegrated mo, to;
     k::ManifoldIncrement mi, mp;
     k::TangentIncrement ti, tp;
     ASSERT_TRUE(k::IntegrateManifold(in, mo, &mi, k::Isa::kBaseline, true).ok());
