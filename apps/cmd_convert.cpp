@@ -106,13 +106,8 @@ int Run(const CommandContext& ctx, const Options& o) {
     case What::Covariance: result = reg.convert_covariance(from, o.to, x_s, M->m); break;
     case What::Transition: result = reg.convert_transition(from, o.to, x_s, x_e, M->m); break;
     case What::Jacobian: result = reg.conversion(from, o.to, x_s); break;
-    case What::IncrementJacobian: result = reg.increment_conversion(from, o.to, d); break;
-    case What::IncrementCovariance: {
-      const Mat15 J = reg.increment_conversion(from, o.to, d);
-      result = J * M->m * J.transpose();
-      result = (0.5 * (result + result.transpose())).eval();  // as the state covariance: exactly symmetric
-      break;
-    }
+    case What::IncrementJacobian: result = reg.conversion(from, o.to, d); break;
+    case What::IncrementCovariance: result = reg.convert_covariance(from, o.to, d, M->m); break;
   }
 
   if (o.as_json) {

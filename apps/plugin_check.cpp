@@ -119,7 +119,7 @@ std::string Exercise(const std::string& file) {
     PreintegrationInput in;
     in.window = w;
     in.noise = TestNoise();
-    NativePreintegration out;
+    Preintegrated out;
     const Status st = reg.preintegrator(p.id)->integrate(in, out);
     if (!st.ok()) throw Error(who + ": integrate() failed on a 10 ms test window: " + Printable(st.message()));
     if (!std::isfinite(out.dt) || !AllFinite(out.delta.dR) || !AllFinite(out.delta.dp) || !AllFinite(out.delta.dv) ||

@@ -117,7 +117,7 @@ void TimeCalls(benchmark::State& st, Out& out, Call call) {
 void BM_Preintegrate(benchmark::State& st, const char* id) {
   const auto pre = Plugins().preintegrator(id);
   const PreintegrationInput in = PreintInput();
-  NativePreintegration out;
+  Preintegrated out;
   TimeCalls(st, out, [&] { return pre->integrate(in, out); });
 }
 
@@ -129,7 +129,7 @@ enum class Scheme { kManifold, kTangent };
 
 void BM_PreintegrateInstance(benchmark::State& st, Scheme scheme, kernels::Isa isa) {
   const PreintegrationInput in = PreintInput();
-  NativePreintegration out;
+  Preintegrated out;
   TimeCalls(st, out, [&] {
     return scheme == Scheme::kManifold ? kernels::IntegrateManifold<true>(in, out, nullptr, isa)
                                        : kernels::IntegrateTangent<true>(in, out, nullptr, isa);

@@ -37,7 +37,7 @@ SchemeCandidates MakeCandidates(const Registry& reg, const std::string& scheme, 
     // d(chart perturbation)/d(reference perturbation) at the increment times J: the rows of the
     // chart's non-bias blocks, in the chart's order (as Express does for a chart's bias
     // Jacobian, bridge.cpp).
-    const Eigen::Matrix<double, 15, 6> J_chart = reg.increment_conversion(kReference, id, ref.delta) * J_ref;
+    const Eigen::Matrix<double, 15, 6> J_chart = reg.conversion(kReference, id, ref.delta) * J_ref;
     JacobianCandidate j{id, {}, Mat96::Zero()};
     int row = 0;
     for (int b = 0; b < 5; ++b)

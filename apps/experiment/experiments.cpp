@@ -149,8 +149,8 @@ std::vector<Pair> RunTrial(const Registry& reg, const Methods& m, const std::vec
       case Source::increment_jacobian:
       case Source::increment_cov: {
         // GTSAM's numbers (the preintegrator) are the reference, as in the note's Figure 1.
-        const PreintegratedIn ref = Express(reg, native[s], kSchemeCharts[s]);
-        const PreintegratedIn est = Express(reg, by_propagation, kSchemeCharts[s]);
+        const Preintegrated ref = Express(reg, native[s], kSchemeCharts[s]);
+        const Preintegrated est = Express(reg, by_propagation, kSchemeCharts[s]);
         if (p.source == Source::increment_jacobian)
           pairs.push_back({ref.J_bias, est.J_bias});
         else

@@ -287,11 +287,11 @@ Vec9 Xi(const PreintIncrement& d) {
 
 json Slot(const Registry& reg, const Case& k, const Method& method, const SampleWindow& w, const char* variant) {
   const Preintegrated m = Measure(reg, method, w, k.x_s.bg, k.x_s.ba, k.noise);
-  const PreintegratedIn in = Express(reg, m, method.convention);
+  const Preintegrated in = Express(reg, m, method.convention);
   ImuNoise no_walk = k.noise;
   no_walk.gyro_random_walk = 0.0;
   no_walk.accel_random_walk = 0.0;
-  const PreintegratedIn in9 = Express(reg, Measure(reg, method, w, k.x_s.bg, k.x_s.ba, no_walk), method.convention);
+  const Preintegrated in9 = Express(reg, Measure(reg, method, w, k.x_s.bg, k.x_s.ba, no_walk), method.convention);
 
   json s;
   s["variant"] = variant;

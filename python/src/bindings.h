@@ -26,7 +26,7 @@ Mat15 CheckedCovariance(py::handle obj, const char* name);
 
 /// A measurement in a named convention, with that convention's block order and the row and
 /// column blocks of its J_bias (in its jacobian_convention's order).
-struct Expressed : PreintegratedIn {
+struct Expressed : Preintegrated {
   std::vector<std::string> blocks;
   std::vector<std::string> J_bias_rows, J_bias_columns;
 };

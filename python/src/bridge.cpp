@@ -51,7 +51,7 @@ Vec3 Gravity(py::handle g) { return ToFixed<3, 1>(g, "gravity"); }
 
 Expressed ExpressIn(const LoadedRegistry& r, const Preintegrated& p, const std::string& convention) {
   Expressed e;
-  static_cast<PreintegratedIn&>(e) = FiniteMeasurement(Express(r, p, convention), "express");
+  static_cast<Preintegrated&>(e) = FiniteMeasurement(Express(r, p, convention), "express");
   e.blocks = r.info(PluginKind::IncrementConvention, convention).blocks;
   // J_bias's rows and columns follow its own chart's order (Express lays it out so).
   for (const auto& b : r.info(PluginKind::IncrementConvention, e.jacobian_convention).blocks)
@@ -164,7 +164,7 @@ void BindBridge(py::module_& m) {
       [](const LoadedRegistry& r, const std::string& convention, double dt, const PreintIncrement& delta,
          py::handle bg_hat, py::handle ba_hat, py::handle J_bias, py::handle cov,
          std::optional<std::string> jacobian_convention) {
-        PreintegratedIn in;
+        Preintegrated in;
         in.convention = convention;
         in.jacobian_convention =
             jacobian_convention.value_or(r.info(PluginKind::IncrementConvention, convention).jacobian_convention);

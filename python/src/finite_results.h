@@ -30,8 +30,7 @@ inline void RequireIncrement(const PreintIncrement& d, const char* call) {
 }  // namespace finite_detail
 
 /// `call` names the function in the message ("preintegrate: produced a non-finite number (cov)").
-template <typename Measurement>  // Preintegrated or PreintegratedIn: the same fields
-Measurement FiniteMeasurement(Measurement m, const char* call) {
+inline Preintegrated FiniteMeasurement(Preintegrated m, const char* call) {
   finite_detail::Require(std::isfinite(m.dt), call, "dt");
   finite_detail::RequireIncrement(m.delta, call);
   finite_detail::Require(m.J_bias.allFinite(), call, "J_bias");

@@ -172,7 +172,7 @@ void BindRegistry(py::module_& m) {
   reg.def(
       "increment_conversion",
       [](const LoadedRegistry& r, const std::string& from, const std::string& to, const PreintIncrement& d) {
-        return ToArray(r.increment_conversion(from, to, d));
+        return ToArray(r.conversion(from, to, d));
       },
       py::arg("from_convention"), py::arg("to_convention"), py::arg("delta"),
       "d dx_to / d dx_from at the increment delta (15, 15).");

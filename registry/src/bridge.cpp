@@ -135,6 +135,8 @@ Preintegrated ByPropagation(const PreintegrationMethod& method, const SampleWind
   const PropagationResult r = PropagateIn(*method.propagator, *method.native_state, *method.reference_state, in);
 
   Preintegrated m;
+  m.convention = kRef;
+  m.jacobian_convention = kRef;
   m.dt = window.t_end() - window.t_start();
   m.bg_hat = bg;
   m.ba_hat = ba;
@@ -158,16 +160,14 @@ Preintegrated ByPropagation(const PreintegrationMethod& method, const SampleWind
 
 // A measurement in `cov` (J_bias rows in the chart of `jc`) brought into `ref`.
 Preintegrated FromResolved(const IncrementConvention& cov, const IncrementConvention& jc, const IncrementConvention& ref,
-                           const PreintegratedIn& in) {
-  Preintegrated m;
-  m.dt = in.dt;
-  m.delta = in.delta;
-  m.bg_hat = in.bg_hat;
-  m.ba_hat = in.ba_hat;
+                           const Preintegrated& in) {
+  Preintegrated m = in;  // dt, delta and the bias estimate do not depend on a chart
   const Mat15 J = Conversion(cov, ref, in.delta);
   m.cov = Symmetrized(J * in.cov * J.transpose());
   const Eigen::Matrix<double, 15, 6> chart_full = EmbedChartJacobian(in.J_bias, Layout(jc.labels()));
   m.J_bias = (Conversion(jc, ref, in.delta) * chart_full).topRows<9>();
+  m.convention = ref.id();
+  m.jacobian_convention = ref.id();
   return m;
 }
 
@@ -178,18 +178,21 @@ Preintegrated Native(const PreintegrationMethod& method, const SampleWindow& win
   in.ba = ba;
   in.noise = noise;
   in.window = window;
-  NativePreintegration n;
-  const Status st = method.preintegrator->integrate(in, n);
+  Preintegrated native;
+  const Status st = method.preintegrator->integrate(in, native);
   if (!st.ok()) throw Error("preintegrator " + Quoted(method.id) + ": " + Printable(st.message()));
-
-  PreintegratedIn native;
-  native.dt = n.dt;
-  native.delta = n.delta;
-  native.bg_hat = n.bg_hat;
-  native.ba_hat = n.ba_hat;
-  native.J_bias = n.J_bias;
-  native.cov = n.cov;
+  // The plugin wrote the numbers only (preintegrated.h); its charts are the ones it declares.
+  native.convention = method.cov_convention->id();
+  native.jacobian_convention = method.jacobian_convention->id();
   return FromResolved(*method.cov_convention, *method.jacobian_convention, *method.reference_increment, native);
+}
+
+// `m` itself when it is in the reference charts, else its FromConvention in `converted`: the
+// computations below are written in preint_reference.
+const Preintegrated& InReference(const Registry& reg, const Preintegrated& m, Preintegrated& converted) {
+  if (m.in_reference_charts()) return m;
+  converted = FromConvention(reg, m);
+  return converted;
 }
 
 }  // namespace
@@ -212,36 +215,39 @@ Preintegrated PreintegrateNative(const Registry& reg, std::string_view preintegr
                       ba, noise);
 }
 
-PreintegratedIn Express(const Registry& reg, const Preintegrated& m, std::string_view convention) {
+Preintegrated Express(const Registry& reg, const Preintegrated& given, std::string_view convention) {
+  Preintegrated converted;
+  const Preintegrated& m = InReference(reg, given, converted);
   const auto conv = reg.increment_convention(convention);
-  PreintegratedIn out;
+  Preintegrated out = m;  // dt, delta and the bias estimate do not depend on a chart
   out.convention = conv->id();
   out.jacobian_convention = conv->jacobian_convention();
-  out.dt = m.dt;
-  out.delta = m.delta;
-  out.bg_hat = m.bg_hat;
-  out.ba_hat = m.ba_hat;
-  const Mat15 J = reg.increment_conversion(kRef, out.convention, m.delta);
+  const Mat15 J = reg.conversion(kRef, out.convention, m.delta);
   out.cov = Symmetrized(J * m.cov * J.transpose());
 
   const auto jc = reg.increment_convention(out.jacobian_convention);
   Eigen::Matrix<double, 15, 6> ref_full = Eigen::Matrix<double, 15, 6>::Zero();
   ref_full.topRows<9>() = m.J_bias;
-  const Eigen::Matrix<double, 15, 6> chart_full = reg.increment_conversion(kRef, out.jacobian_convention, m.delta) * ref_full;
+  const Eigen::Matrix<double, 15, 6> chart_full = reg.conversion(kRef, out.jacobian_convention, m.delta) * ref_full;
   out.J_bias = ExtractChartJacobian(chart_full, Layout(jc->labels()));
   return out;
 }
 
-Preintegrated FromConvention(const Registry& reg, const PreintegratedIn& in) {
+Preintegrated FromConvention(const Registry& reg, const Preintegrated& in) {
+  if (in.convention.empty())
+    throw Error("a preintegrated measurement whose charts are not stated (its convention, the chart of cov, is "
+                "empty): name the increment convention its numbers are in");
   const auto cov = reg.increment_convention(in.convention);
   const auto jc = reg.increment_convention(in.jacobian_convention.empty() ? std::string_view(cov->jacobian_convention())
                                                                        : std::string_view(in.jacobian_convention));
   return FromResolved(*cov, *jc, *reg.increment_convention(kRef), in);
 }
 
-PropagationResult PropagateByPreintegration(const Registry& reg, const Preintegrated& m, const ImuState& x_s,
+PropagationResult PropagateByPreintegration(const Registry& reg, const Preintegrated& given, const ImuState& x_s,
                                             const Mat15& cov_s, std::string_view state_convention,
                                             const Vec3& gravity) {
+  Preintegrated converted;
+  const Preintegrated& m = InReference(reg, given, converted);
   // Paper, section 3.2: x_e|s = f(x_s, Delta x_se(b_s)), with the increment first-order
   // corrected to the start state's bias.
   const PreintIncrement delta = CorrectInReference(m, x_s.bg, x_s.ba);
@@ -260,13 +266,15 @@ PropagationResult PropagateByPreintegration(const Registry& reg, const Preintegr
   return out;
 }
 
-PreintIncrement BiasCorrectedDelta(const Registry& reg, const Preintegrated& m, std::string_view jacobian_convention,
+PreintIncrement BiasCorrectedDelta(const Registry& reg, const Preintegrated& given, std::string_view jacobian_convention,
                                    const Vec3& bg, const Vec3& ba) {
+  Preintegrated converted;
+  const Preintegrated& m = InReference(reg, given, converted);
   const auto jc = reg.increment_convention(jacobian_convention);
   const ChartLayout l = Layout(jc->labels());
   Eigen::Matrix<double, 15, 6> ref_full = Eigen::Matrix<double, 15, 6>::Zero();
   ref_full.topRows<9>() = m.J_bias;
-  const Eigen::Matrix<double, 15, 6> chart_full = reg.increment_conversion(kRef, jacobian_convention, m.delta) * ref_full;
+  const Eigen::Matrix<double, 15, 6> chart_full = reg.conversion(kRef, jacobian_convention, m.delta) * ref_full;
   Eigen::Matrix<double, 6, 1> db;  // [bg, ba]
   db << bg - m.bg_hat, ba - m.ba_hat;
   Vec15 w = chart_full * db;
@@ -276,9 +284,11 @@ PreintIncrement BiasCorrectedDelta(const Registry& reg, const Preintegrated& m, 
   return out;
 }
 
-Residual ComputeResidual(const Registry& reg, ResidualKind kind, const Preintegrated& m, const ImuState& x_s,
+Residual ComputeResidual(const Registry& reg, ResidualKind kind, const Preintegrated& given, const ImuState& x_s,
                          const ImuState& x_e, std::string_view state_convention, const Vec3& gravity) {
   using namespace left_idx;
+  Preintegrated converted;
+  const Preintegrated& m = InReference(reg, given, converted);
   const PreintIncrement delta = CorrectInReference(m, x_s.bg, x_s.ba);
   const ImuState xp = Predict(x_s, delta, m.dt, gravity);
 

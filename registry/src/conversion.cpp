@@ -63,13 +63,14 @@ Mat15 ConvertCovariance(const Chart<Value>& from, const Chart<Value>& to, const 
   return 0.5 * (out + out.transpose());
 }
 
-IMUCONV_CONVERSION_INSTANCES(, ImuState)
-IMUCONV_CONVERSION_INSTANCES(, PreintIncrement)
-
-Mat15 ConvertTransition(const StateConvention& from, const StateConvention& to, const ImuState& x_s, const ImuState& x_e,
+template <class Value>
+Mat15 ConvertTransition(const Chart<Value>& from, const Chart<Value>& to, const Value& x_s, const Value& x_e,
                         const Mat15& Phi) {
   return Conversion(from, to, x_e) * Phi * Conversion(to, from, x_s);
 }
+
+IMUCONV_CONVERSION_INSTANCES(, ImuState)
+IMUCONV_CONVERSION_INSTANCES(, PreintIncrement)
 
 PropagationResult PropagateIn(const Propagator& prop, const StateConvention& native, const StateConvention& convention,
                               const PropagationInput& in) {

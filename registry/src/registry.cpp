@@ -62,33 +62,30 @@ std::shared_ptr<const Preintegrator> Registry::preintegrator(std::string_view id
 
 // ---- conversions by id (the work is in conversion.cpp) ------------------------------------
 
-Mat15 Registry::to_reference(std::string_view from, const ImuState& x) const {
-  return ToReference(impl_->chart<ImuState>(from), x);
+template <class Value>
+Mat15 Registry::to_reference(std::string_view from, const Value& x) const {
+  return ToReference(impl_->chart<Value>(from), x);
 }
-Mat15 Registry::from_reference(std::string_view to, const ImuState& x) const {
-  return FromReference(impl_->chart<ImuState>(to), x);
+template <class Value>
+Mat15 Registry::from_reference(std::string_view to, const Value& x) const {
+  return FromReference(impl_->chart<Value>(to), x);
 }
-Mat15 Registry::conversion(std::string_view from, std::string_view to, const ImuState& x) const {
-  return Conversion(impl_->chart<ImuState>(from), impl_->chart<ImuState>(to), x);
+template <class Value>
+Mat15 Registry::conversion(std::string_view from, std::string_view to, const Value& x) const {
+  return Conversion(impl_->chart<Value>(from), impl_->chart<Value>(to), x);
 }
-Mat15 Registry::convert_covariance(std::string_view from, std::string_view to, const ImuState& x,
-                                   const Mat15& S) const {
-  return ConvertCovariance(impl_->chart<ImuState>(from), impl_->chart<ImuState>(to), x, S);
+template <class Value>
+Mat15 Registry::convert_covariance(std::string_view from, std::string_view to, const Value& x, const Mat15& S) const {
+  return ConvertCovariance(impl_->chart<Value>(from), impl_->chart<Value>(to), x, S);
 }
-Mat15 Registry::convert_transition(std::string_view from, std::string_view to, const ImuState& x_s,
-                                   const ImuState& x_e, const Mat15& Phi) const {
-  return ConvertTransition(impl_->chart<ImuState>(from), impl_->chart<ImuState>(to), x_s, x_e, Phi);
+template <class Value>
+Mat15 Registry::convert_transition(std::string_view from, std::string_view to, const Value& x_s, const Value& x_e,
+                                   const Mat15& Phi) const {
+  return ConvertTransition(impl_->chart<Value>(from), impl_->chart<Value>(to), x_s, x_e, Phi);
 }
 
-Mat15 Registry::increment_to_reference(std::string_view from, const PreintIncrement& x) const {
-  return ToReference(impl_->chart<PreintIncrement>(from), x);
-}
-Mat15 Registry::increment_from_reference(std::string_view to, const PreintIncrement& x) const {
-  return FromReference(impl_->chart<PreintIncrement>(to), x);
-}
-Mat15 Registry::increment_conversion(std::string_view from, std::string_view to, const PreintIncrement& x) const {
-  return Conversion(impl_->chart<PreintIncrement>(from), impl_->chart<PreintIncrement>(to), x);
-}
+IMUCONV_REGISTRY_CONVERSIONS(, ImuState)
+IMUCONV_REGISTRY_CONVERSIONS(, PreintIncrement)
 
 PropagationResult Registry::propagate(std::string_view propagator_id, std::string_view convention,
                                       const PropagationInput& in) const {

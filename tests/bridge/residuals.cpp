@@ -104,7 +104,7 @@ TEST(ResidualIncrementJacobian, MatchesThePapersClosedForms) {
       want.block<3, 3>(9, 9).setIdentity();
       want.block<3, 3>(12, 12).setIdentity();
     }
-    const Mat15 got = H * Plugins().increment_conversion(chart, "preint_reference", s.m.delta);
+    const Mat15 got = H * Plugins().conversion(chart, "preint_reference", s.m.delta);
     EXPECT_LT(test::RelErr(got, want), 1e-12) << chart << "\n" << got;
   };
   expect(g.H_increment, "gtsam_manifold_jacobian", JrInv, Ms, true);

@@ -285,7 +285,7 @@ json OwnMeasurements(const std::string& id, const std::string& method, bool nati
     const Vec3 bg = JsonVec3(c["state_s"]["bg"]), ba = JsonVec3(c["state_s"]["ba"]);
     const Preintegrated p = native ? PreintegrateNative(reg, method, w, bg, ba, CaseNoise(c))
                                    : PreintegrateByPropagation(reg, method, w, bg, ba, CaseNoise(c));
-    const PreintegratedIn in = Express(reg, p, convention);
+    const Preintegrated in = Express(reg, p, convention);
     const auto& cov_blocks = reg.info(PluginKind::IncrementConvention, convention).blocks;
     std::vector<std::string> rows, cols;
     for (const auto& b : reg.info(PluginKind::IncrementConvention, in.jacobian_convention).blocks)

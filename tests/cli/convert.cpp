@@ -117,7 +117,7 @@ TEST(CliConvert, TransitionAndIncrementCovarianceMatchTheRegistry) {
                  tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const imuconv::PreintIncrement inc = imuconv::pipeline::ReadIncrementFile(d2);
-  const Mat15 J = Plugins().increment_conversion("gtsam_manifold", "forster", inc);
+  const Mat15 J = Plugins().conversion("gtsam_manifold", "forster", inc);
   const Mat15 expect_c = J * S * J.transpose();
   // Symmetrised by the command (0.5 (C + C^T)): one ulp of the largest entry apart at most.
   EXPECT_LE(MaxAbs(JsonMatrix(json::parse(r.out)["result"]["matrix"]) - expect_c), 2 * kSameComputationUlps * MaxAbs(expect_c));

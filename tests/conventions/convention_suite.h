@@ -118,7 +118,7 @@ struct IncrementKind : ChartKind<PreintIncrement> {
   static constexpr PluginKind kKind = PluginKind::IncrementConvention;
   static auto Get(const std::string& id) { return Plugins().increment_convention(id); }
   static Mat15 Conversion(const std::string& a, const std::string& b, const Value& x) {
-    return Plugins().increment_conversion(a, b, x);
+    return Plugins().conversion(a, b, x);
   }
   static const std::vector<Value>& Points() { return FixedPoints<TestIncrements>(); }
   static double Distance(const Value& a, const Value& b) {

@@ -62,7 +62,7 @@ PreintIncrement WithDrift(const Preintegrator& pre, const ReferenceCase& rc, con
   }
   PreintegrationInput in = rc.Input();
   in.window = WindowOver(corrected);
-  NativePreintegration out;
+  Preintegrated out;
   EXPECT_TRUE(pre.integrate(in, out).ok());
   return out.delta;
 }
@@ -75,9 +75,9 @@ TEST_P(BiasCrossCovariance, MotionBiasBlocksAreMinusSigmaSquaredTimesDriftRespon
   for (const char* scheme : {"manifold", "tangent"}) {
     SCOPED_TRACE(std::string(scheme) + " on " + case_id);
     const auto pre = Plugins().preintegrator(scheme);
-    NativePreintegration nominal;
+    Preintegrated nominal;
     ASSERT_TRUE(pre->integrate(rc.Input(), nominal).ok());
-    const Mat15 J = Plugins().increment_conversion(pre->cov_convention(), kChart, nominal.delta);
+    const Mat15 J = Plugins().conversion(pre->cov_convention(), kChart, nominal.delta);
     const Mat15 cov = J * nominal.cov * J.transpose();
     const std::vector<std::string>& blocks = Plugins().info(PluginKind::IncrementConvention, kChart).blocks;
     auto offset = [&](const char* label) {

@@ -32,7 +32,7 @@ constexpr double kH0 = 0.01;
 
 Mat96 ManifoldNumeric(const PreintegrationInput& in0) {
   k::ManifoldIncrement x0;
-  NativePreintegration out;
+  Preintegrated out;
   EXPECT_TRUE(k::IntegrateManifold<false>(in0, out, &x0).ok());
   const Mat15 J = RiddersJacobian(
       [&](const Vec15& d, Vec15& y) {
@@ -40,7 +40,7 @@ Mat96 ManifoldNumeric(const PreintegrationInput& in0) {
         in.ba += d.segment<3>(0);
         in.bg += d.segment<3>(3);
         k::ManifoldIncrement x;
-        NativePreintegration o;
+        Preintegrated o;
         (void)k::IntegrateManifold<false>(in, o, &x);
         y.setZero();
         y.segment<3>(0) = so3::Log(x0.dR.transpose() * x.dR);
@@ -53,7 +53,7 @@ Mat96 ManifoldNumeric(const PreintegrationInput& in0) {
 
 Mat96 TangentNumeric(const PreintegrationInput& in0) {
   k::TangentIncrement x0;
-  NativePreintegration out;
+  Preintegrated out;
   EXPECT_TRUE(k::IntegrateTangent<false>(in0, out, &x0).ok());
   const Mat15 J = RiddersJacobian(
       [&](const Vec15& d, Vec15& y) {
@@ -61,7 +61,7 @@ Mat96 TangentNumeric(const PreintegrationInput& in0) {
         in.ba += d.segment<3>(0);
         in.bg += d.segment<3>(3);
         k::TangentIncrement x;
-        NativePreintegration o;
+        Preintegrated o;
         (void)k::IntegrateTangent<false>(in, o, &x);
         y.setZero();
         y.head<9>() = x.xi - x0.xi;
@@ -78,7 +78,7 @@ void CheckAgainstReintegration(const std::string& scheme) {
     SCOPED_TRACE(id);
     const ReferenceCase rc = LoadReferenceCase(id);
     const PreintegrationInput in = rc.Input();
-    NativePreintegration out;
+    Preintegrated out;
     ASSERT_TRUE(pre->integrate(in, out).ok());  // the plugin's J_bias is what is checked
     const Mat96 num = scheme == "manifold" ? ManifoldNumeric(in) : TangentNumeric(in);
     // Block by block ([theta, p, v] x [ba, bg]), so the small theta rows are not judged

@@ -66,7 +66,7 @@ void ExpectScaled(const Eigen::MatrixXd& r, const Eigen::MatrixXd& e, bool covar
 void CompareCase(const Preintegrator& pre, const ReferenceCase& rc, const nlohmann::json& ref,
                  const std::string& label, SchemeReport& report) {
   SCOPED_TRACE(label);
-  NativePreintegration out;
+  Preintegrated out;
   const PreintegrationInput in = rc.Input();
   const Status st = pre.integrate(in, out);
   ASSERT_TRUE(st.ok()) << st.message();
@@ -74,7 +74,7 @@ void CompareCase(const Preintegrator& pre, const ReferenceCase& rc, const nlohma
   // cov9: PreintegratedImuMeasurements has no bias states, i.e. zero random walk.
   PreintegrationInput in9 = in;
   in9.noise.gyro_random_walk = in9.noise.accel_random_walk = 0.0;
-  NativePreintegration out9;
+  Preintegrated out9;
   ASSERT_TRUE(pre.integrate(in9, out9).ok());
 
   Eigen::Matrix<double, 1, 1> dT_ref, dT_est;
@@ -111,7 +111,7 @@ void CompareCase(const Preintegrator& pre, const ReferenceCase& rc, const nlohma
   // plugin runs.
   if (ref.contains("preintegrated_tangent")) {
     kernels::TangentIncrement inc;
-    NativePreintegration o;
+    Preintegrated o;
     ASSERT_TRUE(kernels::IntegrateTangent<false>(in, o, &inc).ok());
     const Eigen::MatrixXd r = JsonMatrix(ref.at("preintegrated_tangent"));
     int i = 0, k = 0;
@@ -131,7 +131,7 @@ class KernelInstance final : public Preintegrator {
   const char* id() const noexcept override { return scheme_.c_str(); }
   const char* cov_convention() const noexcept override { return ""; }
   const char* jacobian_convention() const noexcept override { return ""; }
-  Status integrate(const PreintegrationInput& in, NativePreintegration& out) const noexcept override {
+  Status integrate(const PreintegrationInput& in, Preintegrated& out) const noexcept override {
     return scheme_ == "manifold" ? kernels::IntegrateManifold(in, out, nullptr, isa_)
                                  : kernels::IntegrateTangent(in, out, nullptr, isa_);
   }

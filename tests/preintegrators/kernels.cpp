@@ -359,7 +359,7 @@ TEST_P(KernelInstance, MatchesTheDenseRecursion) {
     }
     {
       SCOPED_TRACE(c.name + " " + IsaName(isa));
-      NativePreintegration mo, to;
+      Preintegrated mo, to;
       k::ManifoldIncrement mi;
       k::TangentIncrement ti;
       ASSERT_TRUE(k::IntegrateManifold(in, mo, &mi, isa).ok());
@@ -381,7 +381,7 @@ TEST_P(KernelInstance, IntervalIntegrationDoesNotTouchTheHeap) {
   const k::Isa isa = GetParam();
   const ReferenceCase rc = LoadReferenceCase("aggressive-0");
   const PreintegrationInput in = rc.Input();
-  NativePreintegration out;
+  Preintegrated out;
   Eigen::internal::set_is_malloc_allowed(false);
   const long eigen0 = g_eigen_heap_violations.load(), new0 = g_operator_new_calls.load();
   Status s1 = k::IntegrateManifold(in, out), s2 = k::IntegrateTangent(in, out);
@@ -410,7 +410,7 @@ TEST(Kernels, AnInstanceTheCpuLacksIsRefusedNotRun) {
   if (missing == k::Isa::kAuto) GTEST_SKIP() << "this CPU runs every instance";
   const ReferenceCase rc = LoadReferenceCase("white-0");
   const PreintegrationInput in = rc.Input();
-  NativePreintegration out;
+  Preintegrated out;
   const Status m = k::IntegrateManifold(in, out, nullptr, missing), t = k::IntegrateTangent(in, out, nullptr, missing);
   ASSERT_FALSE(m.ok());
   ASSERT_FALSE(t.ok());

@@ -59,7 +59,7 @@ struct Nominal {
 
 /// The 9 increment components of the scheme's covariance chart, nominal -> noisy.
 Vec9 ChartError(const std::string& scheme, const Nominal& x0, const PreintegrationInput& noisy) {
-  NativePreintegration o;
+  Preintegrated o;
   if (scheme == "manifold") {
     k::ManifoldIncrement x;
     (void)k::IntegrateManifold<false>(noisy, o, &x);
@@ -77,7 +77,7 @@ void CheckMonteCarlo(const std::string& scheme, const std::string& id) {
   SCOPED_TRACE(scheme + " " + id);
   const Slice s = MakeSlice(id);
   const auto pre = Plugins().preintegrator(scheme);
-  NativePreintegration out;
+  Preintegrated out;
   ASSERT_TRUE(pre->integrate(s.input, out).ok());
   const Mat15 Sigma = out.cov;
   Nominal x0;

@@ -56,7 +56,7 @@ TEST(PreintegratorPlugins, OutputFixedParts) {
   const PreintegrationInput in = rc.Input();
   for (const Expected& e : kSchemes) {
     SCOPED_TRACE(e.id);
-    NativePreintegration out;
+    Preintegrated out;
     ASSERT_TRUE(Plugins().preintegrator(e.id)->integrate(in, out).ok());
     EXPECT_EQ(out.bg_hat, rc.bg);
     EXPECT_EQ(out.ba_hat, rc.ba);
@@ -87,7 +87,7 @@ TEST(PreintegratorPlugins, ReintegrationWithANewBiasIsJustAnotherCall) {
   const Vec3 dbg = JsonVec3(c.at("bias_delta").at("bg")), dba = JsonVec3(c.at("bias_delta").at("ba"));
   const PreintegrationInput in = rc.Input();
   const auto pre = Plugins().preintegrator("manifold");
-  NativePreintegration out0;
+  Preintegrated out0;
   ASSERT_TRUE(pre->integrate(in, out0).ok());
   double gap[2];
   for (int half = 0; half < 2; ++half) {
@@ -97,7 +97,7 @@ TEST(PreintegratorPlugins, ReintegrationWithANewBiasIsJustAnotherCall) {
     PreintegrationInput in1 = in;
     in1.ba += s * dba;
     in1.bg += s * dbg;
-    NativePreintegration out1;
+    Preintegrated out1;
     ASSERT_TRUE(pre->integrate(in1, out1).ok());
     EXPECT_EQ(out1.ba_hat, in1.ba);
     const Vec9 predicted = out0.J_bias * db;
@@ -118,7 +118,7 @@ TEST(PreintegratorPlugins, ReintegrationWithANewBiasIsJustAnotherCall) {
 
 void ExpectError(const PreintegrationInput& in, const std::string& what) {
   for (const Expected& e : kSchemes) {
-    NativePreintegration out;
+    Preintegrated out;
     Status st;
     EXPECT_NO_THROW(st = Plugins().preintegrator(e.id)->integrate(in, out)) << e.id << ": " << what;
     EXPECT_FALSE(st.ok()) << e.id << ": " << what;
@@ -145,7 +145,7 @@ TEST(PreintegratorPlugins, BadWindowsReturnAnError) {
   base.noise.accel_noise_density = 1e-2;
   base.window = WindowOver(good);
   {
-    NativePreintegration out;
+    Preintegrated out;
     ASSERT_TRUE(Plugins().preintegrator("tangent")->integrate(base, out).ok());
   }
 

@@ -48,7 +48,7 @@ TEST(PortablePath, MatchesEveryInstance) {
       };
 
       // The two schemes' entry points (NavState chart for manifold, xi for tangent).
-      NativePreintegration mo, to, mpo, tpo;
+      Preintegrated mo, to, mpo, tpo;
       k::ManifoldIncrement mi, mp;
       k::TangentIncrement ti, tp;
       ASSERT_TRUE(k::IntegrateManifold(in, mo, &mi, isa, true).ok());
@@ -88,7 +88,7 @@ TEST(PortablePath, MatchesEveryInstance) {
 TEST(PortablePath, IsNotTheBaselineInstance) {
   const ReferenceCase rc = LoadReferenceCase("aggressive-0");
   const PreintegrationInput in = rc.Input();
-  NativePreintegration base, portable;
+  Preintegrated base, portable;
   ASSERT_TRUE(k::IntegrateManifold(in, base, nullptr, k::Isa::kBaseline, true).ok());
   ASSERT_TRUE(k::IntegrateManifold(in, portable, nullptr, k::Isa::kPortable, true).ok());
 #if defined(__GNUC__)

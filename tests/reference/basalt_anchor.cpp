@@ -124,7 +124,7 @@ TEST_P(BasaltAnchor, PluginsThroughTheRegistryAreBasaltOwn) {
     const nlohmann::json& f = anchor_.at(feed.key);
     const imuconv::Preintegrated m =
         imuconv::PreintegrateNative(Plugins(), feed.plugin, in.window, in.bg, in.ba, in.noise);
-    const imuconv::PreintegratedIn b = imuconv::Express(Plugins(), m, "basalt");
+    const imuconv::Preintegrated b = imuconv::Express(Plugins(), m, "basalt");
     ASSERT_EQ(b.jacobian_convention, "basalt");
     const Mat9 cov = JsonMatrix(f.at("cov"));
     Eigen::Matrix<double, 9, 6> J;
@@ -161,7 +161,7 @@ TEST_P(BasaltAnchor, AsConfiguredNoiseIsBasaltOwnOnEveryCase) {
   const nlohmann::json& f = anchor_.at("native");
   const imuconv::Preintegrated m =
       imuconv::PreintegrateNative(Plugins(), "basalt_as_configured", in.window, in.bg, in.ba, in.noise);
-  const imuconv::PreintegratedIn b = imuconv::Express(Plugins(), m, "basalt");
+  const imuconv::Preintegrated b = imuconv::Express(Plugins(), m, "basalt");
   const Mat9 cov = JsonMatrix(f.at("cov"));
   const double d = MaxEntryDiff(cov, b.cov.topLeftCorner<9, 9>());
   const auto s = CorrelationScaleDiff(cov, b.cov.topLeftCorner<9, 9>());
@@ -185,7 +185,7 @@ TEST_P(BasaltAnchor, BasaltInGtsamConvention) {
   const PreintegrationInput in = AnchorInput(case_, case_.x_s.bg, case_.x_s.ba);
   const imuconv::Preintegrated m =
       imuconv::PreintegrateNative(Plugins(), "basalt_forward_zoh", in.window, in.bg, in.ba, in.noise);
-  const imuconv::PreintegratedIn b = imuconv::Express(Plugins(), m, "gtsam_manifold");
+  const imuconv::Preintegrated b = imuconv::Express(Plugins(), m, "gtsam_manifold");
   const imuconv::Mat3 dR = JsonMatrix(g.at("deltaR"));
   const Vec3 dp = JsonMatrix(g.at("deltaP")), dv = JsonMatrix(g.at("deltaV"));
   const imuconv::Mat96 J = JsonMatrix(g.at("J_bias"));

@@ -119,7 +119,7 @@ TEST_P(OpenVinsAnchor, PreintegrationByItsPropagationIsGtsamManifoldOnMidInput) 
   const PropagationInput in = MakeInput(c, c.samples.front().t, c.samples.back().t);
   const imuconv::Preintegrated m =
       imuconv::PreintegrateByPropagation(Plugins(), "openvins_discrete", in.window, c.x_s.bg, c.x_s.ba, c.noise);
-  const imuconv::PreintegratedIn gtsam = imuconv::Express(Plugins(), m, "gtsam_manifold");
+  const imuconv::Preintegrated gtsam = imuconv::Express(Plugins(), m, "gtsam_manifold");
   ASSERT_EQ(gtsam.jacobian_convention, "gtsam_manifold_jacobian");  // GTSAM's J_bias chart, columns [ba, bg]
   const Mat15 cov15 = JsonMatrix(g.at("cov15"));
   const Eigen::MatrixXd J_bias = JsonMatrix(g.at("J_bias"));

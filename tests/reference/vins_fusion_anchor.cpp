@@ -108,7 +108,7 @@ TEST_P(VinsFusionAnchor, PluginThroughTheRegistryIsVinsFusionOwn) {
   const PreintegrationInput in = AnchorInput(case_, case_.x_s.bg, case_.x_s.ba);
   const imuconv::Preintegrated m =
       imuconv::PreintegrateNative(Plugins(), "vins_fusion_as_configured", in.window, in.bg, in.ba, in.noise);
-  const imuconv::PreintegratedIn vins = imuconv::Express(Plugins(), m, "vins_fusion");
+  const imuconv::Preintegrated vins = imuconv::Express(Plugins(), m, "vins_fusion");
   ASSERT_EQ(vins.jacobian_convention, "vins_fusion");
   const Mat15 jac = JsonMatrix(anchor_.at("jacobian")), cov = JsonMatrix(anchor_.at("covariance"));
   const Eigen::MatrixXd J_bias = jac.block(0, 9, 9, 6);  // rows [p, theta, v], columns [ba, bg]
@@ -134,8 +134,8 @@ TEST_P(VinsFusionAnchor, VinsFusionAndGtsamInEachOthersConvention) {
   const PreintegrationInput in = AnchorInput(case_, case_.x_s.bg, case_.x_s.ba);
   const imuconv::Preintegrated m =
       imuconv::PreintegrateNative(Plugins(), "vins_fusion", in.window, in.bg, in.ba, in.noise);
-  const imuconv::PreintegratedIn as_gtsam = imuconv::Express(Plugins(), m, "gtsam_manifold");
-  imuconv::PreintegratedIn gtsam;
+  const imuconv::Preintegrated as_gtsam = imuconv::Express(Plugins(), m, "gtsam_manifold");
+  imuconv::Preintegrated gtsam;
   gtsam.convention = "gtsam_manifold";
   gtsam.jacobian_convention = "gtsam_manifold_jacobian";
   gtsam.dt = g.at("deltaT").get<double>();
@@ -146,9 +146,9 @@ TEST_P(VinsFusionAnchor, VinsFusionAndGtsamInEachOthersConvention) {
   gtsam.ba_hat = in.ba;
   gtsam.J_bias = JsonMatrix(g.at("J_bias"));
   gtsam.cov = JsonMatrix(g.at("cov15"));
-  const imuconv::PreintegratedIn as_vins =
+  const imuconv::Preintegrated as_vins =
       imuconv::Express(Plugins(), imuconv::FromConvention(Plugins(), gtsam), "vins_fusion");
-  const imuconv::PreintegratedIn vins = imuconv::Express(Plugins(), m, "vins_fusion");
+  const imuconv::Preintegrated vins = imuconv::Express(Plugins(), m, "vins_fusion");
 
   const double rot = imuconv::so3::Log(gtsam.delta.dR.transpose() * as_gtsam.delta.dR).norm();
   const double rel_p = (as_gtsam.delta.dp - gtsam.delta.dp).norm() / gtsam.delta.dp.norm();

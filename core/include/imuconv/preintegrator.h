@@ -1,9 +1,12 @@
 // Preintegrator: a native preintegration scheme (paper, eq. Preint):
 //   Preint: [b_s, z_{s:e}, q] -> [Delta x_se, J_bs, Sigma_Delta x].
-// It reports its covariance in cov_convention() and its bias Jacobian in the chart of
-// jacobian_convention(), both ids of registered preintegration conventions.
+// It writes the numbers of a Preintegrated (preintegrated.h): its covariance in
+// cov_convention() and its bias Jacobian in the chart of jacobian_convention(), both ids of
+// registered preintegration conventions. It leaves the measurement's two convention labels
+// alone; the host sets them from those two ids.
 #pragma once
 
+#include "imuconv/preintegrated.h"
 #include "imuconv/status.h"
 #include "imuconv/types.h"
 #include "imuconv/window.h"
@@ -17,24 +20,13 @@ struct PreintegrationInput {
   SampleWindow window;
 };
 
-struct NativePreintegration {
-  double dt = 0.0;
-  PreintIncrement delta;
-  Vec3 bg_hat = Vec3::Zero(), ba_hat = Vec3::Zero();
-  /// 15x15 covariance of the increment (bias random walk included) in cov_convention().
-  Mat15 cov = Mat15::Zero();
-  /// Rows: the (theta, p, v) rows of jacobian_convention()'s chart, in its block order.
-  /// Columns: an additive change of the bias estimate, in that convention's bias order.
-  Mat96 J_bias = Mat96::Zero();
-};
-
 class Preintegrator {
  public:
   virtual ~Preintegrator() = default;
   virtual const char* id() const noexcept = 0;
   virtual const char* cov_convention() const noexcept = 0;
   virtual const char* jacobian_convention() const noexcept = 0;
-  virtual Status integrate(const PreintegrationInput& in, NativePreintegration& out) const noexcept = 0;
+  virtual Status integrate(const PreintegrationInput& in, Preintegrated& out) const noexcept = 0;
 };
 
 }  // namespace imuconv

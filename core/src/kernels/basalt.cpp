@@ -86,7 +86,7 @@ Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding,
   return Status::Ok();
 }
 
-Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding, NativePreintegration& out,
+Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding, Preintegrated& out,
                        BasaltNoiseMapping noise) {
   std::optional<BasaltSampleVariances> variances;
   if (noise == BasaltNoiseMapping::kAsConfigured) {

@@ -19,7 +19,7 @@ double NonFiniteProbe(const ImuSample& s) {
          0.0 * s.accel.z();
 }
 
-void FillCommon(const PreintegrationInput& in, double dt, NativePreintegration& out) {
+void FillCommon(const PreintegrationInput& in, double dt, Preintegrated& out) {
   out.dt = dt;
   out.delta.dbg.setZero();
   out.delta.dba.setZero();
@@ -75,7 +75,7 @@ Status Admit(const PreintegrationInput& in, Isa isa, const detail::Instance*& si
 }
 }  // namespace
 
-Status IntegrateManifold(const PreintegrationInput& in, NativePreintegration& out, ManifoldIncrement* increment,
+Status IntegrateManifold(const PreintegrationInput& in, Preintegrated& out, ManifoldIncrement* increment,
                          Isa isa, bool covariance) {
   const detail::Instance* simd = nullptr;
   if (Status st = Admit(in, isa, simd); !st.ok()) return st;
@@ -106,7 +106,7 @@ Status IntegrateManifold(const PreintegrationInput& in, NativePreintegration& ou
   return Status::Ok();
 }
 
-Status IntegrateTangent(const PreintegrationInput& in, NativePreintegration& out, TangentIncrement* increment,
+Status IntegrateTangent(const PreintegrationInput& in, Preintegrated& out, TangentIncrement* increment,
                         Isa isa, bool covariance) {
   const detail::Instance* simd = nullptr;
   if (Status st = Admit(in, isa, simd); !st.ok()) return st;

@@ -138,7 +138,7 @@ Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mappi
   return Status::Ok();
 }
 
-Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mapping, NativePreintegration& out) {
+Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mapping, Preintegrated& out) {
   VinsFusionPreintegration r;
   if (Status s = IntegrateVinsFusion(in, mapping, r); !s.ok()) return s;
   out.dt = r.sum_dt;

@@ -9,35 +9,17 @@
 
 #include "imuconv/export.h"
 #include "imuconv/prediction.h"
+#include "imuconv/preintegrated.h"
 #include "imuconv/registry.h"
 
 namespace imuconv {
 
-/// A preintegrated measurement held in the reference charts (convention-free):
-///   delta, cov: the increment and its 15x15 covariance in `preint_reference`
-///               ([theta, p, v, bg, ba], dR Exp(dtheta), additive p, v, Delta b);
-///   J_bias:     9x6 d(theta, p, v in preint_reference) / d(bias estimate), columns [bg, ba].
-struct Preintegrated {
-  double dt = 0.0;
-  PreintIncrement delta;
-  Vec3 bg_hat = Vec3::Zero(), ba_hat = Vec3::Zero();
-  Mat96 J_bias = Mat96::Zero();
-  Mat15 cov = Mat15::Zero();
-};
-
-/// A preintegrated measurement expressed in a named increment convention, in that
-/// convention's block order. J_bias rows are the (theta, p, v) blocks of the convention's
-/// bias-Jacobian chart (IncrementConvention::jacobian_convention()), in its order; columns are
-/// an additive change of the bias estimate in the convention's bias order.
-struct PreintegratedIn {
-  std::string convention;           ///< chart of cov
-  std::string jacobian_convention;  ///< chart of J_bias's rows
-  double dt = 0.0;
-  PreintIncrement delta;
-  Vec3 bg_hat = Vec3::Zero(), ba_hat = Vec3::Zero();
-  Mat96 J_bias = Mat96::Zero();
-  Mat15 cov = Mat15::Zero();
-};
+// Every measurement here is a Preintegrated (imuconv/preintegrated.h), whose `convention` and
+// `jacobian_convention` say the charts of its cov and of J_bias's rows. Preintegrate and
+// FromConvention return it in the reference charts (`preint_reference`: [theta, p, v, bg, ba],
+// dR Exp(dtheta), additive p, v, Delta b; J_bias 9x6 with columns [bg, ba]); Express gives it
+// in a named increment convention, in that convention's block order. The functions below that
+// compute with a measurement take it in any charts and bring it into the reference ones first.
 
 /// A preintegrate task's method, resolved once from its plugin id (no lookup by string per
 /// interval). Exactly one of `propagator` and `preintegrator` is set; the conventions its path
@@ -77,10 +59,14 @@ IMUCONV_API Preintegrated PreintegrateNative(const Registry& reg, std::string_vi
                                  const SampleWindow& window, const Vec3& bg, const Vec3& ba,
                                  const ImuNoise& noise);
 
-/// Expresses a measurement in a named increment convention, and back (e.g. to import
-/// numbers dumped from GTSAM).
-IMUCONV_API PreintegratedIn Express(const Registry& reg, const Preintegrated& m, std::string_view convention);
-IMUCONV_API Preintegrated FromConvention(const Registry& reg, const PreintegratedIn& m);
+/// Expresses a measurement in a named increment convention: cov in `convention`, J_bias's rows
+/// in that convention's bias-Jacobian chart (IncrementConvention::jacobian_convention()), both
+/// in their block orders; the labels say so.
+IMUCONV_API Preintegrated Express(const Registry& reg, const Preintegrated& m, std::string_view convention);
+/// Brings a measurement into the reference charts, from the charts its labels name (e.g. to
+/// import numbers dumped from GTSAM). An empty `jacobian_convention` means the one that
+/// `convention` names for its bias Jacobian. Throws Error for an unknown id.
+IMUCONV_API Preintegrated FromConvention(const Registry& reg, const Preintegrated& m);
 
 /// Paper, section 3.2 (eq. prop-cov): propagation by preintegration. Phi_e|s and
 /// Sigma_e|s = Phi Sigma_s Phi^T + G Sigma_dx G^T, with x_s, cov_s and the results in the
@@ -109,7 +95,7 @@ struct Residual {
   Mat15 cov = Mat15::Zero();
   /// d r / d dx_se: the derivative with respect to a perturbation of the measured increment
   /// (before bias correction) in preint_reference; multiply by
-  /// increment_conversion(conv, "preint_reference", m.delta) for another increment convention.
+  /// Registry::conversion(conv, "preint_reference", m.delta) for another increment convention.
   Mat15 H_increment = Mat15::Zero();
 };
 

@@ -29,9 +29,10 @@ IMUCONV_API Mat15 Conversion(const Chart<Value>& from, const Chart<Value>& to, c
 template <class Value>
 IMUCONV_API Mat15 ConvertCovariance(const Chart<Value>& from, const Chart<Value>& to, const Value& x, const Mat15& S);
 
-/// J_e Phi J_s^{-1}, with J_s^{-1} = Conversion(to, from, x_s).
-IMUCONV_API Mat15 ConvertTransition(const StateConvention& from, const StateConvention& to, const ImuState& x_s,
-                                    const ImuState& x_e, const Mat15& Phi);
+/// J_e Phi J_s^{-1}, with J_e = Conversion(from, to, x_e) and J_s^{-1} = Conversion(to, from, x_s).
+template <class Value>
+IMUCONV_API Mat15 ConvertTransition(const Chart<Value>& from, const Chart<Value>& to, const Value& x_s,
+                                    const Value& x_e, const Mat15& Phi);
 
 /// Runs `prop` (whose native state convention is `native`) with in.cov_s in `convention`, and
 /// returns Phi and cov in `convention`. Throws Error naming the propagator when it fails.
@@ -43,7 +44,9 @@ IMUCONV_API PropagationResult PropagateIn(const Propagator& prop, const StateCon
   EXTERN template IMUCONV_API Mat15 ToReference<V>(const Chart<V>&, const V&);                             \
   EXTERN template IMUCONV_API Mat15 FromReference<V>(const Chart<V>&, const V&);                           \
   EXTERN template IMUCONV_API Mat15 Conversion<V>(const Chart<V>&, const Chart<V>&, const V&);             \
-  EXTERN template IMUCONV_API Mat15 ConvertCovariance<V>(const Chart<V>&, const Chart<V>&, const V&, const Mat15&);
+  EXTERN template IMUCONV_API Mat15 ConvertCovariance<V>(const Chart<V>&, const Chart<V>&, const V&, const Mat15&); \
+  EXTERN template IMUCONV_API Mat15 ConvertTransition<V>(const Chart<V>&, const Chart<V>&, const V&, const V&,      \
+                                                         const Mat15&);
 IMUCONV_CONVERSION_INSTANCES(extern, ImuState)
 IMUCONV_CONVERSION_INSTANCES(extern, PreintIncrement)
 

@@ -116,23 +116,28 @@ class IMUCONV_API Registry {
   std::shared_ptr<const Propagator> propagator(std::string_view id) const;
   std::shared_ptr<const Preintegrator> preintegrator(std::string_view id) const;
 
-  // ---- state conventions -----------------------------------------------------------
+  // ---- conversions between two conventions of one kind -------------------------------
+  // Written once over the value type: Value is ImuState for state conventions and
+  // PreintIncrement for increment conventions (the ids are looked up among that kind; an id
+  // of the other kind is unknown). Each throws Error for an unknown id, listing the known ones.
+
   /// J = d local_to(x, retract_from(x, d)) / d d at d = 0.
-  Mat15 conversion(std::string_view from, std::string_view to, const ImuState& x) const;
-  /// J_{left <- from}(x) and J_{to <- left}(x).
-  Mat15 to_reference(std::string_view from, const ImuState& x) const;
-  Mat15 from_reference(std::string_view to, const ImuState& x) const;
-  /// A covariance in `from` at x expressed in `to`: J S J^T.
-  Mat15 convert_covariance(std::string_view from, std::string_view to, const ImuState& x, const Mat15& S) const;
+  template <class Value>
+  Mat15 conversion(std::string_view from, std::string_view to, const Value& x) const;
+  /// J_{ref <- from}(x) and J_{to <- ref}(x), ref being the kind's reference chart (`left` or
+  /// `preint_reference`).
+  template <class Value>
+  Mat15 to_reference(std::string_view from, const Value& x) const;
+  template <class Value>
+  Mat15 from_reference(std::string_view to, const Value& x) const;
+  /// A covariance in `from` at x expressed in `to`: J S J^T (symmetrized).
+  template <class Value>
+  Mat15 convert_covariance(std::string_view from, std::string_view to, const Value& x, const Mat15& S) const;
   /// A transition matrix from x_s to x_e in `from` expressed in `to`: J_e Phi J_s^{-1},
   /// with J_s^{-1} = conversion(to, from, x_s).
-  Mat15 convert_transition(std::string_view from, std::string_view to, const ImuState& x_s,
-                           const ImuState& x_e, const Mat15& Phi) const;
-
-  // ---- increment conventions -------------------------------------------------------
-  Mat15 increment_conversion(std::string_view from, std::string_view to, const PreintIncrement& x) const;
-  Mat15 increment_to_reference(std::string_view from, const PreintIncrement& x) const;
-  Mat15 increment_from_reference(std::string_view to, const PreintIncrement& x) const;
+  template <class Value>
+  Mat15 convert_transition(std::string_view from, std::string_view to, const Value& x_s, const Value& x_e,
+                           const Mat15& Phi) const;
 
   // ---- propagation in any state convention -----------------------------------------
   /// Runs the propagator; in.cov_s and the result's Phi and cov are in `convention`.
@@ -148,6 +153,18 @@ class IMUCONV_API Registry {
   void adopt_compiled_in(std::size_t k);
   std::unique_ptr<Impl> impl_;
 };
+
+// The conversions are compiled for the two value types in the registry library.
+#define IMUCONV_REGISTRY_CONVERSIONS(EXTERN, V)                                                                 \
+  EXTERN template IMUCONV_API Mat15 Registry::conversion<V>(std::string_view, std::string_view, const V&) const; \
+  EXTERN template IMUCONV_API Mat15 Registry::to_reference<V>(std::string_view, const V&) const;                 \
+  EXTERN template IMUCONV_API Mat15 Registry::from_reference<V>(std::string_view, const V&) const;               \
+  EXTERN template IMUCONV_API Mat15 Registry::convert_covariance<V>(std::string_view, std::string_view, const V&, \
+                                                                    const Mat15&) const;                         \
+  EXTERN template IMUCONV_API Mat15 Registry::convert_transition<V>(std::string_view, std::string_view, const V&, \
+                                                                    const V&, const Mat15&) const;
+IMUCONV_REGISTRY_CONVERSIONS(extern, ImuState)
+IMUCONV_REGISTRY_CONVERSIONS(extern, PreintIncrement)
 
 /// Offset of each label's block in a convention's order, e.g. for {"theta","p","v","ba","bg"}
 /// BlockOffset(labels, "bg") = 12. Throws Error for an unknown label.

@@ -8,8 +8,8 @@ TEST(PreintStructure, ForsterIsMinusTheReference) {
   for (const PreintIncrement& x : IncrementKind::Points()) {
     // Every block of eq. preint-error-forster enters with a minus sign, in the reference's
     // order, so the permutation is the identity and the conversion -I.
-    EXPECT_TRUE(Plugins().increment_conversion("preint_reference", "forster", x).isApprox(-Mat15::Identity(), 0.0));
-    EXPECT_TRUE(Plugins().increment_conversion("forster", "preint_reference", x).isApprox(-Mat15::Identity(), 0.0));
+    EXPECT_TRUE(Plugins().conversion("preint_reference", "forster", x).isApprox(-Mat15::Identity(), 0.0));
+    EXPECT_TRUE(Plugins().conversion("forster", "preint_reference", x).isApprox(-Mat15::Identity(), 0.0));
   }
 }
 

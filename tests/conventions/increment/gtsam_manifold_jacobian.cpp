@@ -9,7 +9,7 @@ TEST(PreintStructure, ReferenceToManifoldJacobianFlipsAndSwapsBiases) {
     return {{"ba", -I3}, {"bg", -I3}};
   });
   for (const PreintIncrement& x : IncrementKind::Points()) {
-    const Mat15 J = Plugins().increment_conversion("preint_reference", "gtsam_manifold_jacobian", x);
+    const Mat15 J = Plugins().conversion("preint_reference", "gtsam_manifold_jacobian", x);
     // Raw indices: j's ba rows 9-11 read the reference's ba columns 12-14 with a minus sign.
     EXPECT_TRUE((J.block<3, 3>(9, 12).isApprox(-I3, 0.0)));
     EXPECT_TRUE((J.block<3, 3>(12, 9).isApprox(-I3, 0.0)));

@@ -22,7 +22,7 @@ namespace {
 // within this: far above the 1 ns of the stamps and the round-off of relative seconds, far
 // below any IMU sample period.
 constexpr double kTimeAgreement = 1e-6;
-void ReadJBias(const Node& n, const Registry& reg, const std::string& cov_conv, PreintegratedIn& in) {
+void ReadJBias(const Node& n, const Registry& reg, const std::string& cov_conv, Preintegrated& in) {
   if (!n.expect_object({"convention", "rows", "cols", "matrix"})) return;
   std::string chart;
   std::optional<std::vector<std::string>> rows, cols;
@@ -145,7 +145,7 @@ std::optional<Node> MeasurementArray(const Node& root, std::optional<std::int64_
 /// The fields whose meaning does not depend on a chart: times, index, dt, bias estimate and
 /// increment.
 void ReadChartFreeFields(const Node& e, std::size_t i, std::optional<std::int64_t> file_origin,
-                         std::optional<std::int64_t> origin_ns, MeasRecord& r, PreintegratedIn& in) {
+                         std::optional<std::int64_t> origin_ns, MeasRecord& r, Preintegrated& in) {
   ReadTimes(e, file_origin, origin_ns, r);
   // Tasks refer to a measurement by its position ("index" of residual and bias_update
   // tasks): an "index" that says otherwise would be silently wrong.
@@ -274,7 +274,7 @@ std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::stri
     const std::size_t before = c.count();
     MeasRecord r;
     r.pointer = e.pointer();
-    PreintegratedIn in;
+    Preintegrated in;
     ReadChartFreeFields(e, i, file_origin, origin_ns, r, in);
     const NumberPrecision precision = ReadPrecision(e);
     std::string cov_conv;
@@ -397,7 +397,7 @@ void WriteMeasurement(JsonWriter& w, const MeasRecord& r, std::size_t k, const s
     w.key("expressed");
     w.begin_object();
     for (const auto& c : conventions) {
-      const PreintegratedIn in = Express(reg, m, c);
+      const Preintegrated in = Express(reg, m, c);
       const auto& jb = reg.info(PluginKind::IncrementConvention, in.jacobian_convention).blocks;
       w.key(c);
       w.begin_object();

@@ -120,13 +120,8 @@ class ConvertTask : public Task {
       case What::StateJacobian: result = reg.conversion(in.from, to, x_at); break;
       case What::StateCovariance: result = reg.convert_covariance(in.from, to, x_at, in.M); break;
       case What::StateTransition: result = reg.convert_transition(in.from, to, in.xs, in.xe, in.M); break;
-      case What::IncrementJacobian: result = reg.increment_conversion(in.from, to, in.d); break;
-      case What::IncrementCovariance: {
-        const Mat15 J = reg.increment_conversion(in.from, to, in.d);
-        result = J * in.M * J.transpose();
-        result = (0.5 * (result + result.transpose())).eval();
-        break;
-      }
+      case What::IncrementJacobian: result = reg.conversion(in.from, to, in.d); break;
+      case What::IncrementCovariance: result = reg.convert_covariance(in.from, to, in.d, in.M); break;
     }
     w.key("what");
     w.string(what_name);

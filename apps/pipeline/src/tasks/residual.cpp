@@ -33,7 +33,7 @@ enum class NativeKind { kNone, kVinsFusion, kBasalt };
 /// VINS-Fusion's IntegrationBase from a measurement expressed in `vins_fusion` (the bias
 /// columns of its Jacobian product are the convention's J_bias, rows [p, theta, v], columns
 /// [ba, bg]; the rest of the product is not used by the factor).
-kernels::VinsFusionMeasurement VinsMeasurement(const PreintegratedIn& m, const Vec3& gravity) {
+kernels::VinsFusionMeasurement VinsMeasurement(const Preintegrated& m, const Vec3& gravity) {
   kernels::VinsFusionMeasurement v;
   v.pre.sum_dt = m.dt;
   v.pre.delta_p = m.delta.dp;
@@ -75,7 +75,7 @@ void WriteVinsOutput(JsonWriter& w, const kernels::VinsFusionFactorOutput& o) {
 
 /// Basalt's IntegratedImuMeasurement from a measurement expressed in `basalt` (J_bias rows
 /// [p, theta, v], columns [bg, ba]); its time in Basalt's integer nanoseconds.
-kernels::BasaltMeasurement BasaltMeasurementOf(const PreintegratedIn& m) {
+kernels::BasaltMeasurement BasaltMeasurementOf(const Preintegrated& m) {
   kernels::BasaltMeasurement b;
   b.pre.dt_ns = std::llround(m.dt * 1e9);
   b.pre.R = m.delta.dR;
@@ -141,7 +141,7 @@ class ResidualTask : public Task {
   /// One residual of a native kind: the system's own names (anchors README) under its kind.
   std::optional<double> run_native(RunContext& ctx, JsonWriter& w, const MeasRecord& r, const ImuState& xs,
                                    const ImuState& xe) const {
-    const PreintegratedIn m = Express(ctx.reg, r.m, kind_name);
+    const Preintegrated m = Express(ctx.reg, r.m, kind_name);
     w.key(kind_name);
     w.begin_object();
     std::optional<double> m2;

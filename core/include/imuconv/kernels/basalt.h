@@ -75,7 +75,7 @@ IMUCONV_API Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding 
 /// Jacobian in `basalt` ([p, theta, v, bg, ba]); the bias blocks of the covariance are the
 /// random walks over the interval, sigma_b^2 T, uncorrelated with the rest, as Basalt's
 /// separate random-walk factors model them.
-IMUCONV_API Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding, NativePreintegration& out,
+IMUCONV_API Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding, Preintegrated& out,
                                    BasaltNoiseMapping noise = BasaltNoiseMapping::kFromDensities);
 
 /// The scheme with one feeding as a preintegrator's kernel (plugin/kernel_plugin.h): its
@@ -84,7 +84,7 @@ template <BasaltFeeding kFeeding, BasaltNoiseMapping kNoise = BasaltNoiseMapping
 struct BasaltScheme {
   static constexpr const char* kCovConvention = "basalt";
   static constexpr const char* kJacobianConvention = "basalt";
-  Status operator()(const PreintegrationInput& in, NativePreintegration& out) const {
+  Status operator()(const PreintegrationInput& in, Preintegrated& out) const {
     return IntegrateBasalt(in, kFeeding, out, kNoise);
   }
 };

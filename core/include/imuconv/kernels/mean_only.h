@@ -56,7 +56,7 @@ inline Status IncrementMean(MeanKernel kernel, const SampleWindow& window, const
     in.ba = ba;
     in.noise = noise;
     in.window = window;
-    NativePreintegration out;
+    Preintegrated out;
     const Status st = kernel == MeanKernel::kManifold ? IntegrateManifold<false>(in, out)
                                                       : IntegrateTangent<false>(in, out);
     if (!st.ok()) return st;

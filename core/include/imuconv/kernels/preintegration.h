@@ -125,20 +125,20 @@ IMUCONV_API Status CheckPreintegrationInput(const PreintegrationInput& in);
 /// bias Jacobian in dR Exp(dtheta), additive dp, dv ("gtsam_manifold_jacobian"). Without
 /// `covariance`, out.cov is zero (for re-integrations that need the mean only). An `isa`
 /// this CPU lacks is an error, never run.
-IMUCONV_API Status IntegrateManifold(const PreintegrationInput& in, NativePreintegration& out,
+IMUCONV_API Status IntegrateManifold(const PreintegrationInput& in, Preintegrated& out,
                                      ManifoldIncrement* increment, Isa isa, bool covariance);
 /// Tangent scheme over the window; covariance and bias Jacobian additive on the tangent
 /// 9-vector ("gtsam_tangent"). Otherwise as IntegrateManifold.
-IMUCONV_API Status IntegrateTangent(const PreintegrationInput& in, NativePreintegration& out,
+IMUCONV_API Status IntegrateTangent(const PreintegrationInput& in, Preintegrated& out,
                                     TangentIncrement* increment, Isa isa, bool covariance);
 
 template <bool kCovariance = true>
-inline Status IntegrateManifold(const PreintegrationInput& in, NativePreintegration& out,
+inline Status IntegrateManifold(const PreintegrationInput& in, Preintegrated& out,
                                 ManifoldIncrement* increment = nullptr, Isa isa = Isa::kAuto) {
   return IntegrateManifold(in, out, increment, isa, kCovariance);
 }
 template <bool kCovariance = true>
-inline Status IntegrateTangent(const PreintegrationInput& in, NativePreintegration& out,
+inline Status IntegrateTangent(const PreintegrationInput& in, Preintegrated& out,
                                TangentIncrement* increment = nullptr, Isa isa = Isa::kAuto) {
   return IntegrateTangent(in, out, increment, isa, kCovariance);
 }

@@ -67,7 +67,7 @@ IMUCONV_API Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseM
 /// The same, as a native preintegration: covariance in `vins_fusion`, bias Jacobian in the
 /// chart of `vins_fusion` (rows [p, theta, v], columns [ba, bg]).
 IMUCONV_API Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mapping,
-                                       NativePreintegration& out);
+                                       Preintegrated& out);
 
 /// The scheme with one noise mapping as a preintegrator's kernel (plugin/kernel_plugin.h):
 /// its outputs are in the `vins_fusion` increment convention.
@@ -75,7 +75,7 @@ template <VinsNoiseMapping kMapping>
 struct VinsFusionScheme {
   static constexpr const char* kCovConvention = "vins_fusion";
   static constexpr const char* kJacobianConvention = "vins_fusion";
-  Status operator()(const PreintegrationInput& in, NativePreintegration& out) const {
+  Status operator()(const PreintegrationInput& in, Preintegrated& out) const {
     return IntegrateVinsFusion(in, kMapping, out);
   }
 };

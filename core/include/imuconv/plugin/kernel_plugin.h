@@ -49,7 +49,7 @@ class KernelPreintegrator : public Preintegrator {
  public:
   const char* cov_convention() const noexcept override { return Kernel::kCovConvention; }
   const char* jacobian_convention() const noexcept override { return Kernel::kJacobianConvention; }
-  Status integrate(const PreintegrationInput& in, NativePreintegration& out) const noexcept override {
+  Status integrate(const PreintegrationInput& in, Preintegrated& out) const noexcept override {
     return detail::RunContained<Kernel>(id(), in, out);
   }
 };

@@ -57,7 +57,7 @@ std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::stri
 struct DeclaredMeasurement {
   std::string pointer;  // "/measurements/<i>", for messages
   std::optional<double> t_s, t_e;
-  PreintegratedIn in;  // in.convention / in.jacobian_convention: as declared ("" = not declared)
+  Preintegrated in;  // in.convention / in.jacobian_convention: as declared ("" = not declared)
   std::vector<std::string> cov_blocks;     // the declared order of the five blocks of cov ({} = not declared)
   std::vector<std::string> J_bias_rows;    // the declared row blocks of J_bias ({} = not declared)
   std::vector<std::string> J_bias_cols;    // the declared column order of J_bias, e.g. {"ba", "bg"} ({} = not declared)
