@@ -12,7 +12,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size == 0) return 0;
   const std::string& path = file.write(data + 1, size - 1);
   if (data[0] & 1) {
-    fuzz::Expect([&] { pipeline::ReadStateFile(path); }, path);
+    fuzz::Expect([&] { (void)pipeline::ReadStateFile(path); }, path);
   } else {
     // The case runner reports pointers; the command line adds the file name, so only the
     // JSON syntax errors (from ParseJsonFile) must name it here.

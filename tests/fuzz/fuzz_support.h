@@ -52,7 +52,11 @@ class InputFile {
 inline const Registry& LoadedRegistry() {
   static const Registry* reg = [] {
     auto* r = new Registry();
-    r->load_search_path();
+    // A plugin that fails to load would leave the fuzzer testing less than it says: stop.
+    for (const LoadIssue& i : r->load_search_path()) {
+      std::fprintf(stderr, "fuzz: plugin failed to load: %s: %s\n", i.file.c_str(), i.message.c_str());
+      std::abort();
+    }
     return r;
   }();
   return *reg;

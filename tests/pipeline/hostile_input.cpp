@@ -337,19 +337,19 @@ TEST(RegularFilesOnly, FifoIsRefusedWithoutBlocking) {
               return MessageOf<ReadError>([&] { ReadEurocGroundTruth(fifo, TimeOrigin{}); });
             }),
             expect);
-  EXPECT_EQ(MessageInChild([&] { return MessageOf<ReadError>([&] { ParseJsonFile(fifo); }); }), expect);
+  EXPECT_EQ(MessageInChild([&] { return MessageOf<ReadError>([&] { (void)ParseJsonFile(fifo); }); }), expect);
   // A symlink to the FIFO is the FIFO.
   const std::string link = tmp.file("link.json");
   ASSERT_EQ(::symlink(fifo.c_str(), link.c_str()), 0);
-  EXPECT_EQ(MessageInChild([&] { return MessageOf<ReadError>([&] { ParseJsonFile(link); }); }),
+  EXPECT_EQ(MessageInChild([&] { return MessageOf<ReadError>([&] { (void)ParseJsonFile(link); }); }),
             link + ": is a FIFO, not a regular file");
 }
 
 TEST(RegularFilesOnly, DevicesAndDirectories) {
   EXPECT_EQ(MessageOf<ReadError>([] { ReadEurocImu("/dev/null"); }), "/dev/null: is a character device, not a regular file");
-  EXPECT_EQ(MessageOf<ReadError>([] { ParseJsonFile("/dev/zero"); }), "/dev/zero: is a character device, not a regular file");
+  EXPECT_EQ(MessageOf<ReadError>([] { (void)ParseJsonFile("/dev/zero"); }), "/dev/zero: is a character device, not a regular file");
   TempDir tmp;
-  EXPECT_EQ(MessageOf<ReadError>([&] { ParseJsonFile(tmp.path()); }), tmp.path() + ": is a directory, not a file");
+  EXPECT_EQ(MessageOf<ReadError>([&] { (void)ParseJsonFile(tmp.path()); }), tmp.path() + ": is a directory, not a file");
 }
 
 // ---- 4. JSON documents -----------------------------------------------------------------------
@@ -358,7 +358,7 @@ TEST(JsonDocument, DuplicateKeysAtTheirPointer) {
   const std::string f =
       tmp.write("p.json", "{\"a\": {\"b\": [1, {\"x\": 1, \"y\": [], \"x\": 2}], \"c/~d\": 0, \"c/~d\": 1}, \"a2\": 0}");
   try {
-    ParseJsonFile(f);
+    (void)ParseJsonFile(f);  // expected to throw
     FAIL() << "duplicate keys accepted";
   } catch (const ConfigError& e) {
     ASSERT_EQ(e.issues().size(), 2u) << e.what();
@@ -369,7 +369,7 @@ TEST(JsonDocument, DuplicateKeysAtTheirPointer) {
   }
   // The top level too.
   const std::string g = tmp.write("q.json", "{\"imu\": 1,\n \"imu\": 2}");
-  EXPECT_EQ(MessageOf<ConfigError>([&] { ParseJsonFile(g); }), g + ": /imu: duplicate key 'imu' (the last one would silently win)");
+  EXPECT_EQ(MessageOf<ConfigError>([&] { (void)ParseJsonFile(g); }), g + ": /imu: duplicate key 'imu' (the last one would silently win)");
 }
 
 TEST(JsonDocument, BuildsTheSameDocumentAsNlohmann) {
@@ -389,23 +389,23 @@ TEST(JsonDocument, BuildsTheSameDocumentAsNlohmann) {
 TEST(JsonDocument, SyntaxErrorsSayLineAndColumnWithoutLibraryInternals) {
   TempDir tmp;
   const std::string f = tmp.write("a.json", "{\n  \"a\": tru }");
-  std::string msg = MessageOf<ConfigError>([&] { ParseJsonFile(f); });
+  std::string msg = MessageOf<ConfigError>([&] { (void)ParseJsonFile(f); });
   EXPECT_EQ(msg.rfind(f + ": (document): not valid JSON: parse error at line 2, column 11: syntax error while parsing value", 0), 0u)
       << msg;
   EXPECT_EQ(msg.find("json.exception"), std::string::npos) << msg;
   // Number overflow is an out_of_range (406) inside nlohmann: same form, no id.
   const std::string g = tmp.write("b.json", "{\"a\": [1,\n 1e400]}");
-  msg = MessageOf<ConfigError>([&] { ParseJsonFile(g); });
+  msg = MessageOf<ConfigError>([&] { (void)ParseJsonFile(g); });
   EXPECT_EQ(msg, g + ": (document): not valid JSON: parse error at line 2, column 6: number overflow parsing '1e400'") << msg;
   // Raw control bytes never reach the message.
   const std::string h = tmp.write("c.json", std::string("{\"a\": \"x\x1b[31m\n\"}"));
-  msg = MessageOf<ConfigError>([&] { ParseJsonFile(h); });
+  msg = MessageOf<ConfigError>([&] { (void)ParseJsonFile(h); });
   EXPECT_EQ(msg.find('\x1b'), std::string::npos) << msg;
   EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
   EXPECT_EQ(msg.rfind(h + ": (document): not valid JSON: parse error at line 1, column 9: ", 0), 0u) << msg;
   // An empty file.
   const std::string e = tmp.write("e.json", "");
-  msg = MessageOf<ConfigError>([&] { ParseJsonFile(e); });
+  msg = MessageOf<ConfigError>([&] { (void)ParseJsonFile(e); });
   EXPECT_EQ(msg.rfind(e + ": (document): not valid JSON: parse error at line 1, column 1: ", 0), 0u) << msg;
 }
 
@@ -425,7 +425,7 @@ TEST(JsonDocument, LineAndColumnAreCountedAsNlohmannCountsThem) {
     const auto at = theirs.find("line ");
     ASSERT_NE(at, std::string::npos) << theirs;
     const std::string where = theirs.substr(at, theirs.find(':', at) - at);  // "line L, column C"
-    const std::string ours = MessageOf<ConfigError>([&] { ParseJsonFile(f); });
+    const std::string ours = MessageOf<ConfigError>([&] { (void)ParseJsonFile(f); });
     EXPECT_NE(ours.find("parse error at " + where + ": "), std::string::npos) << ours << "\nvs " << theirs;
   }
 }
@@ -433,14 +433,14 @@ TEST(JsonDocument, LineAndColumnAreCountedAsNlohmannCountsThem) {
 TEST(JsonDocument, DeepNestingIsRefused) {
   TempDir tmp;
   const std::string f = tmp.write("deep.json", std::string(100000, '[') + std::string(100000, ']'));
-  const std::string msg = MessageOf<ConfigError>([&] { ParseJsonFile(f); });
+  const std::string msg = MessageOf<ConfigError>([&] { (void)ParseJsonFile(f); });
   std::string ptr;
   for (std::size_t i = 0; i < kMaxJsonDepth; ++i) ptr += "/0";
   // The pointer is 512 bytes: shown up to 200.
   EXPECT_EQ(msg, f + ": " + ptr.substr(0, 200) + "...: arrays and objects are nested deeper than 256 levels");
   // 256 levels are fine.
   const std::string g = tmp.write("ok.json", std::string(256, '[') + std::string(256, ']'));
-  EXPECT_NO_THROW(ParseJsonFile(g));
+  EXPECT_NO_THROW((void)ParseJsonFile(g));
 }
 
 TEST(JsonDocument, SizeLimit) {
@@ -451,7 +451,7 @@ TEST(JsonDocument, SizeLimit) {
   ASSERT_GE(fd, 0);
   ASSERT_EQ(::ftruncate(fd, static_cast<off_t>(kMaxJsonBytes + 1)), 0);
   ::close(fd);
-  EXPECT_EQ(MessageOf<ReadError>([&] { ParseJsonFile(f); }), f + ": is larger than 256 MiB, the largest JSON document imuconv reads");
+  EXPECT_EQ(MessageOf<ReadError>([&] { (void)ParseJsonFile(f); }), f + ": is larger than 256 MiB, the largest JSON document imuconv reads");
 }
 
 TEST(JsonDocument, MemoryEstimateStopsManyTinyValues) {
@@ -462,14 +462,14 @@ TEST(JsonDocument, MemoryEstimateStopsManyTinyValues) {
   const std::string f = tmp.write("tiny.json", doc + "]");
   JsonLimits limits;
   limits.max_memory = std::size_t{1} << 20;
-  EXPECT_EQ(MessageOf<ReadError>([&] { ParseJsonFile(f, limits); }),
+  EXPECT_EQ(MessageOf<ReadError>([&] { (void)ParseJsonFile(f, limits); }),
             f + ": would take more than 1 MiB of memory once parsed: it holds too many small values (imuconv's own "
                 "documents take about twice their size)");
   limits.max_memory = std::size_t{4} << 20;
   EXPECT_EQ(ParseJsonFile(f, limits).size(), 20000u);
   // A real document under the same 1 MiB bound (its text is 2 kB).
   limits.max_memory = std::size_t{1} << 20;
-  EXPECT_NO_THROW(ParseJsonFile(SourcePath("examples/euroc_v1_01_keyframes.json"), limits));
+  EXPECT_NO_THROW((void)ParseJsonFile(SourcePath("examples/euroc_v1_01_keyframes.json"), limits));
 }
 
 // ---- 6. error output is capped -----------------------------------------------------------------
@@ -519,12 +519,12 @@ TEST(Escaping, FileNamesKeysAndFieldsInMessages) {
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(h); }), h + ":2: column 3 (w_z): expected a finite number, found '\\x071'");
   // A JSON key with a newline, in the pointer and in the message.
   const std::string j = tmp.write("k.json", "{\"a\\nb\": 1, \"a\\nb\": 2}");
-  EXPECT_EQ(MessageOf<ConfigError>([&] { ParseJsonFile(j); }),
+  EXPECT_EQ(MessageOf<ConfigError>([&] { (void)ParseJsonFile(j); }),
             j + ": /a\\nb: duplicate key 'a\\nb' (the last one would silently win)");
   // A megabyte key is cut in the message (and in the pointer shown).
   const std::string big(1 << 20, 'k');
   const std::string k = tmp.write("big.json", "{\"" + big + "\": 1, \"" + big + "\": 2}");
-  EXPECT_EQ(MessageOf<ConfigError>([&] { ParseJsonFile(k); }),
+  EXPECT_EQ(MessageOf<ConfigError>([&] { (void)ParseJsonFile(k); }),
             k + ": /" + big.substr(0, 199) + "...: duplicate key '" + big.substr(0, 80) + "...' (the last one would silently win)");
 }
 

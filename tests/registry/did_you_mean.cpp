@@ -69,7 +69,7 @@ TEST(DidYouMean, SuggestsOnlyTheNearestWithinTheAllowance) {
 
 TEST(DidYouMean, TheRegistryNamesTheNearestPluginId) {
   Registry reg;
-  reg.load_directory(Registry::default_plugin_dir());
+  ASSERT_TRUE(reg.load_directory(Registry::default_plugin_dir()).empty());  // every built-in plugin loads
   ASSERT_TRUE(reg.has(PluginKind::StateConvention, "gtsam_navstate"));
   try {
     reg.state_convention("gtsam_NavState");

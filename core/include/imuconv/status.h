@@ -1,4 +1,7 @@
-// Status: how errors travel across the plugin boundary (exceptions never do).
+// Status: how errors travel across the plugin boundary (exceptions never do). [[nodiscard]]:
+// a Status dropped is a failure nobody hears of, and the results it guards are then read as if
+// they were computed; the compiler warns at every call that ignores one (write `(void)` and
+// the reason where a failure truly cannot happen).
 #pragma once
 
 #include <string>
@@ -6,7 +9,7 @@
 
 namespace imuconv {
 
-class Status {
+class [[nodiscard]] Status {
  public:
   Status() = default;
   static Status Ok() { return Status(); }

@@ -27,6 +27,6 @@ IMUCONV_API std::vector<std::string> ClosestNames(std::string_view word, const s
 
 /// " (did you mean 'a'?)" or " (did you mean 'a' or 'b'?)" for ClosestNames(word, known); "" when
 /// there is no suggestion. The names are quoted with Printable's escaping.
-IMUCONV_API std::string DidYouMean(std::string_view word, const std::vector<std::string>& known);
+[[nodiscard]] IMUCONV_API std::string DidYouMean(std::string_view word, const std::vector<std::string>& known);
 
 }  // namespace imuconv

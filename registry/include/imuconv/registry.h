@@ -83,14 +83,14 @@ class IMUCONV_API Registry {
   /// Loads every imuconv_plugin_*.so in dir (sorted by name); returns what failed (the rest is
   /// loaded), an unreadable directory included. Throws Error for duplicate ids unless
   /// options.allow_override (see LoadOptions).
-  std::vector<LoadIssue> load_directory(const std::string& dir, const LoadOptions& options = {});
+  [[nodiscard]] std::vector<LoadIssue> load_directory(const std::string& dir, const LoadOptions& options = {});
   /// Loads the search path: extra_dirs (e.g. from a pipeline config), then the directories
   /// of IMUCONV_PLUGIN_PATH (colon-separated), then the install or build plugin directory.
   /// Returns what failed to load; throws Error, after the whole path was read and naming both
   /// files of every duplicate id, unless options.allow_override. Do not use the registry
   /// after that throw.
-  std::vector<LoadIssue> load_search_path(const std::vector<std::string>& extra_dirs = {},
-                                          const LoadOptions& options = {});
+  [[nodiscard]] std::vector<LoadIssue> load_search_path(const std::vector<std::string>& extra_dirs = {},
+                                                        const LoadOptions& options = {});
   static std::vector<std::string> search_path(const std::vector<std::string>& extra_dirs = {});
   /// Adopts the plugins compiled into this process (plugin_abi.h, IMUCONV_PLUGIN_STATIC; the
   /// build option IMUCONV_STATIC_PLUGINS compiles the built-in ones into this library) with
@@ -123,26 +123,26 @@ class IMUCONV_API Registry {
 
   /// J = d local_to(x, retract_from(x, d)) / d d at d = 0.
   template <class Value>
-  Mat15 conversion(std::string_view from, std::string_view to, const Value& x) const;
+  [[nodiscard]] Mat15 conversion(std::string_view from, std::string_view to, const Value& x) const;
   /// J_{ref <- from}(x) and J_{to <- ref}(x), ref being the kind's reference chart (`left` or
   /// `preint_reference`).
   template <class Value>
-  Mat15 to_reference(std::string_view from, const Value& x) const;
+  [[nodiscard]] Mat15 to_reference(std::string_view from, const Value& x) const;
   template <class Value>
-  Mat15 from_reference(std::string_view to, const Value& x) const;
+  [[nodiscard]] Mat15 from_reference(std::string_view to, const Value& x) const;
   /// A covariance in `from` at x expressed in `to`: J S J^T (symmetrized).
   template <class Value>
-  Mat15 convert_covariance(std::string_view from, std::string_view to, const Value& x, const Mat15& S) const;
+  [[nodiscard]] Mat15 convert_covariance(std::string_view from, std::string_view to, const Value& x, const Mat15& S) const;
   /// A transition matrix from x_s to x_e in `from` expressed in `to`: J_e Phi J_s^{-1},
   /// with J_s^{-1} = conversion(to, from, x_s).
   template <class Value>
-  Mat15 convert_transition(std::string_view from, std::string_view to, const Value& x_s, const Value& x_e,
+  [[nodiscard]] Mat15 convert_transition(std::string_view from, std::string_view to, const Value& x_s, const Value& x_e,
                            const Mat15& Phi) const;
 
   // ---- propagation in any state convention -----------------------------------------
   /// Runs the propagator; in.cov_s and the result's Phi and cov are in `convention`.
-  PropagationResult propagate(std::string_view propagator, std::string_view convention,
-                              const PropagationInput& in) const;
+  [[nodiscard]] PropagationResult propagate(std::string_view propagator, std::string_view convention,
+                                            const PropagationInput& in) const;
 
  private:
   struct Impl;

@@ -35,8 +35,8 @@ std::vector<std::string> Blocks(const Registry& reg, PluginKind kind, const std:
 
 /// Reads a state object (bg and ba default to zero); the quaternion must have unit norm
 /// within 1e-6 and is normalised.
-std::optional<ImuState> StateFromJson(const Node& n);
-std::optional<ImuNoise> NoiseFromJson(const Node& n);
+[[nodiscard]] std::optional<ImuState> StateFromJson(const Node& n);
+[[nodiscard]] std::optional<ImuNoise> NoiseFromJson(const Node& n);
 
 /// A 15x15 matrix given as an array of rows, {"diagonal": [15]}, {"sigma": [15]} (standard
 /// deviations) or {"convention": id, "blocks": [...], "matrix": [[...]]}. When a convention
@@ -47,21 +47,21 @@ struct Matrix15In {
   std::optional<std::vector<std::string>> blocks;
   std::string pointer;
 };
-std::optional<Matrix15In> Matrix15FromJson(const Node& n);
+[[nodiscard]] std::optional<Matrix15In> Matrix15FromJson(const Node& n);
 
 /// JSON text with objects indented and every array of numbers (vector, matrix row) on one line.
 std::string PrettyJson(const json& j);
 
 /// Reads a state file (a JSON state object) with the checks of StateFromJson; throws
 /// ConfigError naming the file and pointer.
-ImuState ReadStateFile(const std::string& path);
+[[nodiscard]] ImuState ReadStateFile(const std::string& path);
 /// Reads an increment file (the form of a measurement's "delta": q_wxyz and/or R, dp, dv,
 /// dbg, dba) with every check of the pipeline's one increment reader; throws ConfigError
 /// naming the file and pointer.
-PreintIncrement ReadIncrementFile(const std::string& path);
+[[nodiscard]] PreintIncrement ReadIncrementFile(const std::string& path);
 /// Reads a 15x15 matrix file in any Matrix15FromJson form. With `covariance` it must be one
 /// (symmetric and positive semi-definite within 1e-9 of its largest variance): nothing is
 /// repaired. Throws ConfigError naming the file and pointer.
-Matrix15In ReadMatrixFile(const std::string& path, bool covariance);
+[[nodiscard]] Matrix15In ReadMatrixFile(const std::string& path, bool covariance);
 
 }  // namespace imuconv::pipeline

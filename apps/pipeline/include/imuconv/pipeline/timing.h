@@ -15,7 +15,7 @@ enum class TimeUnit { s, ms, us, ns };
 /// Nanoseconds per unit: 1e9, 1e6, 1e3, 1.
 std::int64_t NanosPerUnit(TimeUnit u);
 const char* TimeUnitName(TimeUnit u);
-std::optional<TimeUnit> ParseTimeUnit(const std::string& s);
+[[nodiscard]] std::optional<TimeUnit> ParseTimeUnit(const std::string& s);
 
 /// Plausible sample rates, in Hz. IMUs run from a few Hz (phones in power saving) to tens of
 /// kHz (vibration sensors); outside this range the time unit is almost certainly wrong.
