@@ -9,8 +9,8 @@
 #include <string_view>
 #include <utility>
 
-#include "commands.h"
-#include "exit_codes.h"
+#include "imuconv/cli/commands.h"
+#include "imuconv/cli/exit_codes.h"
 #include "imuconv/did_you_mean.h"
 #include "imuconv/printable.h"
 

@@ -9,8 +9,8 @@
 #include <system_error>
 #include <vector>
 
-#include "commands.h"
-#include "exit_codes.h"
+#include "imuconv/cli/commands.h"
+#include "imuconv/cli/exit_codes.h"
 #include "imuconv/printable.h"
 
 namespace imuconv::cli {

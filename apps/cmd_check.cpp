@@ -3,12 +3,12 @@
 // not, what explains them (docs/check.md; the logic is apps/check/).
 // Exit code: 0 consistent, 1 inconsistent, 2 unusable input (the message names the file and
 // the JSON pointer).
-#include "cmd_check.h"
+#include "imuconv/cli/cmd_check.h"
 
 #include <memory>
 #include <optional>
 
-#include "exit_codes.h"
+#include "imuconv/cli/exit_codes.h"
 #include "imuconv/check/check.h"
 #include "imuconv/check/pipeline_task.h"
 #include "imuconv/check/report.h"

@@ -2,8 +2,8 @@
 // d dx_B / d dx_A of a state-convention change at a state, with block labels.
 #include <iostream>
 
-#include "commands.h"
-#include "exit_codes.h"
+#include "imuconv/cli/commands.h"
+#include "imuconv/cli/exit_codes.h"
 #include "imuconv/pipeline/json_io.h"
 #include "imuconv/printable.h"
 

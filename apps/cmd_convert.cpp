@@ -13,8 +13,8 @@
 #include <iostream>
 #include <optional>
 
-#include "commands.h"
-#include "exit_codes.h"
+#include "imuconv/cli/commands.h"
+#include "imuconv/cli/exit_codes.h"
 #include "imuconv/pipeline/json_io.h"
 #include "imuconv/printable.h"
 

@@ -2,7 +2,7 @@
 // two experiments (section 5, Figures 1 and 2) over random trials of 10 s at 200 Hz, their mean
 // entrywise differences (docs/experiment.md; the logic is apps/experiment/).
 // Exit code: 0 done, 2 unusable arguments or a failed trial (the message says which).
-#include "cmd_experiment.h"
+#include "imuconv/cli/cmd_experiment.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <optional>
 #include <thread>
 
-#include "exit_codes.h"
+#include "imuconv/cli/exit_codes.h"
 #include "experiment_report.h"
 #include "experiments.h"
 #include "imuconv/printable.h"

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "commands.h"
+#include "imuconv/cli/commands.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/pipeline/shard_merge.h"
 #include "imuconv/printable.h"

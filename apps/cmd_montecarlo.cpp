@@ -8,7 +8,7 @@
 // the N files are one whole run and prints, and exits with, what that run would have.
 // Exit code: 0 consistent (or a shard written), 1 inconsistent, 2 unusable input (the message
 // names the file, the JSON pointer or the option).
-#include "cmd_montecarlo.h"
+#include "imuconv/cli/cmd_montecarlo.h"
 
 #include <unistd.h>
 
@@ -19,7 +19,7 @@
 #include <thread>
 #include <utility>
 
-#include "exit_codes.h"
+#include "imuconv/cli/exit_codes.h"
 #include "imuconv/bridge.h"
 #include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/output_file.h"

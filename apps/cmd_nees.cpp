@@ -4,12 +4,12 @@
 // noise densities that fits the median (docs/nees.md; the logic is apps/nees/).
 // Exit code: 0 success, 2 unusable input (the message names the file and line, the JSON pointer
 // or the option). There is no verdict: the factor is the answer.
-#include "cmd_nees.h"
+#include "imuconv/cli/cmd_nees.h"
 
 #include <memory>
 #include <utility>
 
-#include "exit_codes.h"
+#include "imuconv/cli/exit_codes.h"
 #include "imuconv/pipeline/errors.h"
 #include "imuconv/pipeline/imu_reader.h"
 #include "imuconv/pipeline/json_io.h"

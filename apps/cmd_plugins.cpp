@@ -7,7 +7,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "commands.h"
+#include "imuconv/cli/commands.h"
 #include "imuconv/printable.h"
 #include "plugin_check.h"
 

@@ -4,7 +4,7 @@
 // instead the computed fields of another system's anchor files (refcase/anchor.h).
 #include <iostream>
 
-#include "commands.h"
+#include "imuconv/cli/commands.h"
 #include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/printable.h"

@@ -23,8 +23,8 @@
 #include <tuple>
 #include <utility>
 
-#include "commands.h"
-#include "exit_codes.h"
+#include "imuconv/cli/commands.h"
+#include "imuconv/cli/exit_codes.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/pipeline/result_arrays.h"

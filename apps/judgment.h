@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "commands.h"
+#include "imuconv/cli/commands.h"
 
 namespace imuconv::cli {
 

@@ -4,8 +4,8 @@
 #include <exception>
 #include <iostream>
 
-#include "commands.h"
-#include "exit_codes.h"
+#include "imuconv/cli/commands.h"
+#include "imuconv/cli/exit_codes.h"
 #include "usage_hint.h"
 #include "imuconv/plugin_kind.h"
 #include "imuconv/pipeline/output_file.h"

@@ -9,7 +9,7 @@
 #include <optional>
 #include <string>
 
-#include "commands.h"
+#include "imuconv/cli/commands.h"
 #include "imuconv/report/html_document.h"
 #include "imuconv/report/report_output.h"
 

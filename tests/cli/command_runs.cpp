@@ -12,11 +12,11 @@
 #include <string>
 
 #include "../pipeline/pipeline_test_util.h"
-#include "cmd_check.h"
-#include "cmd_experiment.h"
-#include "cmd_montecarlo.h"
-#include "cmd_nees.h"
-#include "exit_codes.h"
+#include "imuconv/cli/cmd_check.h"
+#include "imuconv/cli/cmd_experiment.h"
+#include "imuconv/cli/cmd_montecarlo.h"
+#include "imuconv/cli/cmd_nees.h"
+#include "imuconv/cli/exit_codes.h"
 
 namespace {
 using namespace imuconv::test;

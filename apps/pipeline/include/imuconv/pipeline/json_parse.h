@@ -38,19 +38,19 @@ struct JsonLimits {
 /// limit, and ConfigError for a syntax error (file, line and column; pointer ""), for each
 /// duplicate key (at its pointer: with nlohmann the last one would silently win), or for
 /// nesting deeper than max_depth (at the pointer where it happens).
-json ParseJsonFile(const std::string& path, const JsonLimits& limits = {});
+[[nodiscard]] json ParseJsonFile(const std::string& path, const JsonLimits& limits = {});
 
 /// The one JSON reader every document imuconv reads goes through (ParseJsonFile, the shards of
 /// imuconv run and imuconv montecarlo, ...): `text` read from `source` (named in every
 /// message), with the same limits (size, memory, nesting depth), duplicate keys refused and the
 /// same errors as ParseJsonFile.
-json ParseJsonText(std::string_view text, const std::string& source, const JsonLimits& limits = {});
+[[nodiscard]] json ParseJsonText(std::string_view text, const std::string& source, const JsonLimits& limits = {});
 
 /// A whole file read as one form: ParseJsonFile, then `read` (a form's reader, Node ->
 /// std::optional<T>, reporting at pointers) on the document. Throws ConfigError naming the
 /// file and every pointer reported, else returns the value.
 template <class Read>
-auto ReadJsonFileAs(const std::string& path, Read read) {
+[[nodiscard]] auto ReadJsonFileAs(const std::string& path, Read read) {
   const json j = ParseJsonFile(path);
   Checker c(path);
   auto value = read(Node(j, "", c));

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "commands.h"
+#include "imuconv/cli/commands.h"
 
 namespace imuconv::cli {
 

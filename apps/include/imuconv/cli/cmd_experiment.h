@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "commands.h"
+#include "imuconv/cli/commands.h"
 
 namespace imuconv::cli {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "commands.h"
+#include "imuconv/cli/commands.h"
 
 namespace imuconv::cli {
 

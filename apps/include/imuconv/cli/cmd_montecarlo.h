@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "commands.h"
+#include "imuconv/cli/commands.h"
 
 namespace imuconv::cli {
 
