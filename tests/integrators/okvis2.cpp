@@ -17,6 +17,8 @@
 #include "imuconv/kernels/okvis2.h"
 #include "imuconv/so3.h"
 #include "imuconv_test.h"
+#include "integrator_cases.h"
+#include "reference_case.h"
 #include "scale_aware.h"
 
 namespace {
@@ -35,11 +37,11 @@ struct Okvis2Case {
 Okvis2Case LoadOkvis2Case(const std::string& id) {
   Okvis2Case c;
   c.json = ReadJson(DataPath("reference/cases/" + id + ".json"));
-  const nlohmann::json& n = c.json.at("noise");
-  c.params.sigma_g_c = n.at("gyro_noise_density").get<double>();
-  c.params.sigma_a_c = n.at("accel_noise_density").get<double>();
-  c.params.sigma_gw_c = n.at("gyro_random_walk").get<double>();
-  c.params.sigma_aw_c = n.at("accel_random_walk").get<double>();
+  const ImuNoise n = CaseNoise(c.json);
+  c.params.sigma_g_c = n.gyro_noise_density;
+  c.params.sigma_a_c = n.accel_noise_density;
+  c.params.sigma_gw_c = n.gyro_random_walk;
+  c.params.sigma_aw_c = n.accel_random_walk;
   c.params.g = -c.json.at("gravity")[2].get<double>();
   for (const ImuSample& s : CaseSamples(c.json)) {
     Okvis2Sample o;
@@ -197,13 +199,6 @@ TEST_P(Okvis2Derivatives, StepLocalTransitionGivesOpenVinsDiscreteCovariance) {
   EXPECT_GE(worst[0], 0.25);   // upstream's blocks: position variance 1.3x or more
 }
 
-std::string CaseName(const ::testing::TestParamInfo<const char*>& info) {
-  std::string name = info.param;
-  for (char& ch : name)
-    if (ch == '-') ch = '_';
-  return name;
-}
-
-INSTANTIATE_TEST_SUITE_P(Reference, Okvis2Derivatives, ::testing::ValuesIn(kReferenceCaseIds), CaseName);
+INSTANTIATE_TEST_SUITE_P(Reference, Okvis2Derivatives, ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include "imuconv/kernels/orb_slam3.h"
 #include "imuconv/so3.h"
 #include "imuconv_test.h"
+#include "reference_case.h"
 #include "scale_aware.h"
 
 namespace {
@@ -38,12 +39,7 @@ struct Edge {
 
 Edge MakeEdge(const std::string& id, bool new_bias) {
   const nlohmann::json c = ReadJson(DataPath("reference/cases/" + id + ".json"));
-  const nlohmann::json& n = c.at("noise");
-  ImuNoise noise;
-  noise.gyro_noise_density = n.at("gyro_noise_density").get<double>();
-  noise.accel_noise_density = n.at("accel_noise_density").get<double>();
-  noise.gyro_random_walk = n.at("gyro_random_walk").get<double>();
-  noise.accel_random_walk = n.at("accel_random_walk").get<double>();
+  const ImuNoise noise = CaseNoise(c);
   std::vector<OrbSlam3Step> steps;
   EXPECT_TRUE(OrbSlam3Steps(CaseSamples(c), steps).ok());
   const nlohmann::json& st = c.at("state_s");

@@ -69,7 +69,9 @@ TEST(MontecarloVerdict, ChiSquareMatchesTablesAndInvertsItself) {
     const GammaTails t = ChiSquareTails(15.0 * n, 15.0 * n);
     EXPECT_NEAR(t.lower + t.upper, 1.0, 1e-12) << n;
     // Against Wilson-Hilferty, whose error shrinks as 1/dof: 1e-6 relative at 1.5e8 dof.
-    if (n == 10000000) EXPECT_NEAR(b[1] / (ChiSquareQuantile(15.0 * n, 1 - kTestLevel / 2) / n), 1.0, 1e-6);
+    if (n == 10000000) {
+      EXPECT_NEAR(b[1] / (ChiSquareQuantile(15.0 * n, 1 - kTestLevel / 2) / n), 1.0, 1e-6);
+    }
     EXPECT_NEAR(KlPValue(n, KlBound(n)), kTestLevel, 1e-9 * kTestLevel) << n;  // 67.5 dof: exact
   }
   EXPECT_EQ(KlPValue(100, std::numeric_limits<double>::infinity()), 0.0);

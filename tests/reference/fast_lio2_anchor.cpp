@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "anchor_field_diffs.h"
 #include "anchors.h"
 #include "imuconv/kernels/fast_lio2.h"
 #include "imuconv_test.h"
@@ -37,36 +38,6 @@ Eigen::Quaterniond JsonQuaternionWxyz(const nlohmann::json& q) {
 
 Eigen::Vector4d Wxyz(const Eigen::Quaterniond& q) { return {q.w(), q.x(), q.y(), q.z()}; }
 
-/// Records the worst difference of the compared fields, printed once per run.
-class Worst {
- public:
-  explicit Worst(std::string label) : label_(std::move(label)) {}
-  template <typename A, typename B>
-  void Metric(const char* field, const A& ref, const B& est) {
-    const double d = MaxEntryDiff(ref, est);
-    EXPECT_LE(d, kAnchorMetricTol) << label_ << ": " << field;
-    metric_ = std::max(metric_, d);
-  }
-  template <typename A, typename B>
-  void Transition(const char* field, const A& ref, const B& est) {
-    Metric(field, ref, est);
-    const ScaledDiff s = RelativeAboveFloorDiff(ref, est);
-    EXPECT_LE(s.d, kAnchorScaledTol) << label_ << ": " << field << " at (" << s.row << "," << s.col << ")";
-    scaled_ = std::max(scaled_, s.d);
-  }
-  template <typename A, typename B>
-  void Covariance(const char* field, const A& ref, const B& est) {
-    Metric(field, ref, est);
-    const ScaledDiff s = CorrelationScaleDiff(ref, est);
-    EXPECT_LE(s.d, kAnchorScaledTol) << label_ << ": " << field << " at (" << s.row << "," << s.col << ")";
-    scaled_ = std::max(scaled_, s.d);
-  }
-  void Print() const { std::printf("  %-34s metric %.2g scaled %.2g\n", label_.c_str(), metric_, scaled_); }
-
- private:
-  std::string label_;
-  double metric_ = 0.0, scaled_ = 0.0;
-};
 
 class FastLio2Anchor : public ::testing::TestWithParam<const char*> {
  protected:
@@ -154,7 +125,7 @@ class FastLio2Anchor : public ::testing::TestWithParam<const char*> {
     EXPECT_TRUE(std::signbit(out.last_predict_dt) && out.last_predict_dt == 0.0);  // the -0.0 no-op
     EXPECT_TRUE(j.at("last_predict_is_noop").get<bool>());
 
-    Worst w(std::string(GetParam()) + " " + run);
+    AnchorFieldDiffs w(std::string(GetParam()) + " " + run);
     const nlohmann::json& e = j.at("state_end");
     w.Metric("pos", JsonMatrix(e.at("pos")), out.end.pos);
     w.Metric("rot_q_wxyz", JsonMatrix(e.at("rot_q_wxyz")), Wxyz(out.end.rot));
@@ -170,7 +141,7 @@ class FastLio2Anchor : public ::testing::TestWithParam<const char*> {
     const nlohmann::json& c = j.at("covariance");
     EXPECT_EQ(c.at("block_sizes"), nlohmann::json({3, 3, 3, 3, 3, 3, 3, 2}));
     w.Covariance("covariance", JsonMatrix(c.at("matrix")), out.covariance);
-    w.Transition("Phi_summed", JsonMatrix(j.at("Phi_summed").at("matrix")), out.Phi_summed);
+    w.Jacobian("Phi_summed", JsonMatrix(j.at("Phi_summed").at("matrix")), out.Phi_summed);
     w.Covariance("Qd_summed", JsonMatrix(j.at("Qd_summed").at("matrix")), out.Qd_summed);
     w.Print();
 

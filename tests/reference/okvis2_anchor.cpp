@@ -21,6 +21,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "anchor_field_diffs.h"
 #include "anchors.h"
 #include "imuconv/kernels/okvis2.h"
 #include "imuconv_test.h"
@@ -53,37 +54,6 @@ std::int64_t JsonOkvisTime(const nlohmann::json& t) {
   return t.at("sec").get<std::int64_t>() * 1000000000 + t.at("nsec").get<std::int64_t>();
 }
 
-/// Records the worst metric difference of each compared field, printed once per case.
-class Worst {
- public:
-  explicit Worst(std::string label) : label_(std::move(label)) {}
-  template <typename A, typename B>
-  void Metric(const char* field, const A& ref, const B& est) {
-    const double d = MaxEntryDiff(ref, est);
-    EXPECT_LE(d, kAnchorMetricTol) << label_ << ": " << field;
-    Keep(d);
-  }
-  template <typename A, typename B>
-  void Jacobian(const char* field, const A& ref, const B& est) {
-    Metric(field, ref, est);
-    const ScaledDiff s = RelativeAboveFloorDiff(ref, est);
-    EXPECT_LE(s.d, kAnchorScaledTol) << label_ << ": " << field << " at (" << s.row << "," << s.col << ")";
-    scaled_ = std::max(scaled_, s.d);
-  }
-  template <typename A, typename B>
-  void Covariance(const char* field, const A& ref, const B& est) {
-    Metric(field, ref, est);
-    const ScaledDiff s = CorrelationScaleDiff(ref, est);
-    EXPECT_LE(s.d, kAnchorScaledTol) << label_ << ": " << field << " at (" << s.row << "," << s.col << ")";
-    scaled_ = std::max(scaled_, s.d);
-  }
-  void Print() const { std::printf("  %-34s metric %.2g scaled %.2g\n", label_.c_str(), worst_, scaled_); }
-
- private:
-  void Keep(double d) { worst_ = std::max(worst_, d); }
-  std::string label_;
-  double worst_ = 0.0, scaled_ = 0.0;
-};
 
 class Okvis2Anchor : public ::testing::TestWithParam<const char*> {
  protected:
@@ -129,7 +99,7 @@ class Okvis2Anchor : public ::testing::TestWithParam<const char*> {
 
   /// The preintegrated quantities of one redoPreintegration against the file's.
   void ExpectPreintegration(const nlohmann::json& j, const Okvis2Preintegration& p, const std::string& label) {
-    Worst w(label);
+    AnchorFieldDiffs w(label);
     EXPECT_EQ(j.at("redoCounter").get<int>(), 1) << label;
     w.Metric("Delta_q_wxyz", JsonMatrix(j.at("Delta_q_wxyz")), Wxyz(p.Delta_q));
     w.Metric("Delta_R", JsonMatrix(j.at("Delta_R")), p.Delta_q.toRotationMatrix());
@@ -171,7 +141,7 @@ class Okvis2Anchor : public ::testing::TestWithParam<const char*> {
   /// the whitened residual's norm against raw^T information raw.
   void ExpectEvaluation(const nlohmann::json& j, const Okvis2ImuErrorTerms& t, const Mat15& information,
                         const std::string& label) {
-    Worst w(label);
+    AnchorFieldDiffs w(label);
     const nlohmann::json& raw = j.at("raw");
     w.Metric("residual", JsonMatrix(raw.at("residual")), t.residual);
     w.Jacobian("jacobian_pose_0", JsonMatrix(raw.at("jacobian_pose_0")), t.jacobian_pose_0);
@@ -200,7 +170,7 @@ TEST_P(Okvis2Anchor, PropagationIsOkvisOwn) {
   const nlohmann::json& j = anchor_.at("propagation");
   EXPECT_EQ(out.steps, j.at("n_steps").get<int>());
   EXPECT_NEAR(out.Delta_t, anchor_.at("inputs").at("Delta_t").get<double>(), 1e-12);  // 2000 sums of dt
-  Worst w(std::string(GetParam()) + " propagation");
+  AnchorFieldDiffs w(std::string(GetParam()) + " propagation");
   const nlohmann::json& e = j.at("state_end");
   w.Metric("r", JsonMatrix(e.at("r")), out.end.r);
   w.Metric("q_wxyz", JsonMatrix(e.at("q_wxyz")), Wxyz(out.end.q));

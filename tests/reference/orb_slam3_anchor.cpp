@@ -24,7 +24,9 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "anchor_field_diffs.h"
 #include "imuconv/kernels/orb_slam3.h"
+#include "reference_case.h"
 #include "imuconv_test.h"
 #include "scale_aware.h"
 
@@ -36,25 +38,6 @@ using namespace imuconv::test;
 
 constexpr double kFloatTol = 1e-4;
 
-/// Records the worst metric difference of the fields compared, printed once.
-class Worst {
- public:
-  explicit Worst(std::string label) : label_(std::move(label)) {}
-  template <typename A, typename B>
-  void Field(const char* field, const A& ref, const B& est, double tol = kFloatTol) {
-    const double d = MaxEntryDiff(ref, est);
-    EXPECT_LE(d, tol) << label_ << ": " << field;
-    if (d > worst_) {
-      worst_ = d;
-      where_ = field;
-    }
-  }
-  void Print() const { std::printf("  %-30s worst %.2g (%s)\n", label_.c_str(), worst_, where_.c_str()); }
-
- private:
-  std::string label_, where_;
-  double worst_ = 0.0;
-};
 
 OrbSlam3Pose<double> JsonPose(const nlohmann::json& s) {
   OrbSlam3Pose<double> x;
@@ -68,21 +51,20 @@ OrbSlam3Bias JsonFloatBias(const nlohmann::json& b) {
   return {JsonVec3(b.at("bg")).cast<float>(), JsonVec3(b.at("ba")).cast<float>()};
 }
 
-void ExpectPreintegrated(const nlohmann::json& j, const OrbSlam3Preintegrated& p, Worst& w) {
+void ExpectPreintegrated(const nlohmann::json& j, const OrbSlam3Preintegrated& p, AnchorFieldDiffs& w) {
   EXPECT_EQ(static_cast<float>(j.at("dT").get<double>()), p.dT);  // the same float additions
-  w.Field("dT", Eigen::Matrix<double, 1, 1>(j.at("dT").get<double>()),
-          Eigen::Matrix<double, 1, 1>(p.dT), 1e-6);
-  w.Field("dR", JsonMatrix(j.at("dR")), p.dR.cast<double>());
-  w.Field("dV", JsonMatrix(j.at("dV")), p.dV.cast<double>());
-  w.Field("dP", JsonMatrix(j.at("dP")), p.dP.cast<double>());
-  w.Field("JRg", JsonMatrix(j.at("JRg")), p.JRg.cast<double>());
-  w.Field("JVg", JsonMatrix(j.at("JVg")), p.JVg.cast<double>());
-  w.Field("JVa", JsonMatrix(j.at("JVa")), p.JVa.cast<double>());
-  w.Field("JPg", JsonMatrix(j.at("JPg")), p.JPg.cast<double>());
-  w.Field("JPa", JsonMatrix(j.at("JPa")), p.JPa.cast<double>());
-  w.Field("avgA", JsonMatrix(j.at("avgA")), p.avgA.cast<double>());
-  w.Field("avgW", JsonMatrix(j.at("avgW")), p.avgW.cast<double>());
-  w.Field("C", JsonMatrix(j.at("C").at("matrix")), p.C.cast<double>());
+  EXPECT_NEAR(j.at("dT").get<double>(), p.dT, 1e-6);
+  w.Metric("dR", JsonMatrix(j.at("dR")), p.dR.cast<double>());
+  w.Metric("dV", JsonMatrix(j.at("dV")), p.dV.cast<double>());
+  w.Metric("dP", JsonMatrix(j.at("dP")), p.dP.cast<double>());
+  w.Metric("JRg", JsonMatrix(j.at("JRg")), p.JRg.cast<double>());
+  w.Metric("JVg", JsonMatrix(j.at("JVg")), p.JVg.cast<double>());
+  w.Metric("JVa", JsonMatrix(j.at("JVa")), p.JVa.cast<double>());
+  w.Metric("JPg", JsonMatrix(j.at("JPg")), p.JPg.cast<double>());
+  w.Metric("JPa", JsonMatrix(j.at("JPa")), p.JPa.cast<double>());
+  w.Metric("avgA", JsonMatrix(j.at("avgA")), p.avgA.cast<double>());
+  w.Metric("avgW", JsonMatrix(j.at("avgW")), p.avgW.cast<double>());
+  w.Metric("C", JsonMatrix(j.at("C").at("matrix")), p.C.cast<double>());
 }
 
 class OrbSlam3Anchor : public ::testing::TestWithParam<const char*> {
@@ -91,12 +73,7 @@ class OrbSlam3Anchor : public ::testing::TestWithParam<const char*> {
     anchor_ = ReadJson(DataPath(std::string("reference/anchors/orb-slam3/") + GetParam() + ".json"));
     case_ = ReadJson(DataPath(std::string("reference/cases/") + GetParam() + ".json"));
     const nlohmann::json& in = anchor_.at("inputs");
-    const nlohmann::json& n = case_.at("noise");
-    ImuNoise noise;
-    noise.gyro_noise_density = n.at("gyro_noise_density").get<double>();
-    noise.accel_noise_density = n.at("accel_noise_density").get<double>();
-    noise.gyro_random_walk = n.at("gyro_random_walk").get<double>();
-    noise.accel_random_walk = n.at("accel_random_walk").get<double>();
+    const ImuNoise noise = CaseNoise(case_);
     ASSERT_EQ(in.at("IMU.NoiseGyro").get<double>(), noise.gyro_noise_density);
     ASSERT_EQ(in.at("IMU.NoiseAcc").get<double>(), noise.accel_noise_density);
     ASSERT_EQ(in.at("IMU.GyroWalk").get<double>(), noise.gyro_random_walk);
@@ -128,7 +105,7 @@ class OrbSlam3Anchor : public ::testing::TestWithParam<const char*> {
 
 TEST_P(OrbSlam3Anchor, PreintegrationAndPredictionAreOrbSlam3Own) {
   const OrbSlam3Preintegrated pre = PreintegrateOrbSlam3(steps_, calib_, bias_);
-  Worst w(std::string(GetParam()) + " preintegration");
+  AnchorFieldDiffs w(std::string(GetParam()) + " preintegration", kFloatTol);
   ExpectPreintegrated(anchor_.at("preintegration"), pre, w);
 
   const nlohmann::json& st = case_.at("state_s");
@@ -144,14 +121,14 @@ TEST_P(OrbSlam3Anchor, PreintegrationAndPredictionAreOrbSlam3Own) {
   start_float.v = start.v.cast<float>();
   const OrbSlam3Pose<float> tracked = PredictOrbSlam3Tracking(pre, start_float);
   const nlohmann::json& tj = anchor_.at("predict_tracking_float");
-  w.Field("tracking R", JsonMatrix(tj.at("R")), tracked.R.cast<double>());
-  w.Field("tracking p", JsonMatrix(tj.at("p")), tracked.p.cast<double>());
-  w.Field("tracking v", JsonMatrix(tj.at("v")), tracked.v.cast<double>());
+  w.Metric("tracking R", JsonMatrix(tj.at("R")), tracked.R.cast<double>());
+  w.Metric("tracking p", JsonMatrix(tj.at("p")), tracked.p.cast<double>());
+  w.Metric("tracking v", JsonMatrix(tj.at("v")), tracked.v.cast<double>());
   const OrbSlam3Pose<double> predicted = PredictOrbSlam3(pre, start);
   const nlohmann::json& pj = anchor_.at("predict");
-  w.Field("predict R", JsonMatrix(pj.at("R")), predicted.R);
-  w.Field("predict p", JsonMatrix(pj.at("p")), predicted.p);
-  w.Field("predict v", JsonMatrix(pj.at("v")), predicted.v);
+  w.Metric("predict R", JsonMatrix(pj.at("R")), predicted.R);
+  w.Metric("predict p", JsonMatrix(pj.at("p")), predicted.p);
+  w.Metric("predict v", JsonMatrix(pj.at("v")), predicted.v);
   w.Print();
 }
 
@@ -161,14 +138,14 @@ TEST_P(OrbSlam3Anchor, BiasUpdateAndReintegrationAreOrbSlam3Own) {
   const OrbSlam3Bias b_new = JsonFloatBias(bc.at("bias_new_float"));
   ASSERT_EQ(b_new.bg, JsonVec3(bc.at("bg_new")).cast<float>());
   ASSERT_EQ(b_new.ba, JsonVec3(bc.at("ba_new")).cast<float>());
-  Worst w(std::string(GetParam()) + " bias update");
+  AnchorFieldDiffs w(std::string(GetParam()) + " bias update", kFloatTol);
   const nlohmann::json& fo = bc.at("first_order");
   Eigen::Matrix<float, 6, 1> db;
   db << b_new.bg - pre.b.bg, b_new.ba - pre.b.ba;
-  w.Field("db", JsonMatrix(fo.at("db")), db.cast<double>());
-  w.Field("first-order dR", JsonMatrix(fo.at("dR")), OrbSlam3DeltaRotation(pre, b_new).cast<double>());
-  w.Field("first-order dV", JsonMatrix(fo.at("dV")), OrbSlam3DeltaVelocity(pre, b_new).cast<double>());
-  w.Field("first-order dP", JsonMatrix(fo.at("dP")), OrbSlam3DeltaPosition(pre, b_new).cast<double>());
+  w.Metric("db", JsonMatrix(fo.at("db")), db.cast<double>());
+  w.Metric("first-order dR", JsonMatrix(fo.at("dR")), OrbSlam3DeltaRotation(pre, b_new).cast<double>());
+  w.Metric("first-order dV", JsonMatrix(fo.at("dV")), OrbSlam3DeltaVelocity(pre, b_new).cast<double>());
+  w.Metric("first-order dP", JsonMatrix(fo.at("dP")), OrbSlam3DeltaPosition(pre, b_new).cast<double>());
   ExpectPreintegrated(bc.at("reintegrated"), PreintegrateOrbSlam3(pre.steps, calib_, b_new), w);
   w.Print();
 }
@@ -178,9 +155,9 @@ TEST_P(OrbSlam3Anchor, EdgeInertialIsOrbSlam3Own) {
   const nlohmann::json& ej = anchor_.at("edge_inertial");
   EXPECT_EQ(static_cast<float>(ej.at("dt").get<double>()), pre.dT);
   const OrbSlam3Pose<double> s1 = JsonPose(ej.at("state_i")), s2 = JsonPose(ej.at("state_j"));
-  Worst w(std::string(GetParam()) + " EdgeInertial");
+  AnchorFieldDiffs w(std::string(GetParam()) + " EdgeInertial", kFloatTol);
   const Mat9 info = OrbSlam3EdgeInformation(pre);
-  w.Field("information", JsonMatrix(ej.at("information")), info);
+  w.Metric("information", JsonMatrix(ej.at("information")), info);
   struct At {
     const char* key;
     const char* state;
@@ -190,25 +167,18 @@ TEST_P(OrbSlam3Anchor, EdgeInertialIsOrbSlam3Own) {
     const OrbSlam3EdgeInertial e =
         EvaluateOrbSlam3EdgeInertial(pre, s1, JsonVec3(sj.at("bg")), JsonVec3(sj.at("ba")), s2);
     const nlohmann::json& r = ej.at(at.key);
-    w.Field("residual", JsonMatrix(r.at("residual")), e.residual);
-    w.Field("chi2", Eigen::Matrix<double, 1, 1>(r.at("chi2").get<double>()), Eigen::Matrix<double, 1, 1>(e.chi2));
-    w.Field("J_pose1", JsonMatrix(r.at("J_pose1")), e.J_pose1);
-    w.Field("J_vel1", JsonMatrix(r.at("J_vel1")), e.J_vel1);
-    w.Field("J_gyro_bias1", JsonMatrix(r.at("J_gyro_bias1")), e.J_gyro_bias1);
-    w.Field("J_acc_bias1", JsonMatrix(r.at("J_acc_bias1")), e.J_acc_bias1);
-    w.Field("J_pose2", JsonMatrix(r.at("J_pose2")), e.J_pose2);
-    w.Field("J_vel2", JsonMatrix(r.at("J_vel2")), e.J_vel2);
+    w.Metric("residual", JsonMatrix(r.at("residual")), e.residual);
+    w.Metric("chi2", Eigen::Matrix<double, 1, 1>(r.at("chi2").get<double>()), Eigen::Matrix<double, 1, 1>(e.chi2));
+    w.Metric("J_pose1", JsonMatrix(r.at("J_pose1")), e.J_pose1);
+    w.Metric("J_vel1", JsonMatrix(r.at("J_vel1")), e.J_vel1);
+    w.Metric("J_gyro_bias1", JsonMatrix(r.at("J_gyro_bias1")), e.J_gyro_bias1);
+    w.Metric("J_acc_bias1", JsonMatrix(r.at("J_acc_bias1")), e.J_acc_bias1);
+    w.Metric("J_pose2", JsonMatrix(r.at("J_pose2")), e.J_pose2);
+    w.Metric("J_vel2", JsonMatrix(r.at("J_vel2")), e.J_vel2);
   }
   w.Print();
 }
 
-std::string CaseName(const ::testing::TestParamInfo<const char*>& info) {
-  std::string name = info.param;
-  for (char& ch : name)
-    if (ch == '-') ch = '_';
-  return name;
-}
-
-INSTANTIATE_TEST_SUITE_P(Reference, OrbSlam3Anchor, ::testing::ValuesIn(kReferenceCaseIds), CaseName);
+INSTANTIATE_TEST_SUITE_P(Reference, OrbSlam3Anchor, ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
 
 }  // namespace

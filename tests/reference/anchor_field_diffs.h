@@ -1,0 +1,63 @@
+// The worst differences of one run's fields against an anchor file (tests/data/reference/
+// anchors), each checked as it is compared and printed once under a label: by the note's
+// metric for every field, and on the scale each kind of matrix needs (anchors.h says why).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+#include <utility>
+
+#include "anchors.h"
+#include "imuconv_test.h"
+#include "scale_aware.h"
+
+namespace imuconv::test {
+
+class AnchorFieldDiffs {
+ public:
+  /// `metric_tol`: the bound by the note's metric (the anchors' 1e-8; a single-precision
+  /// original gets its own).
+  explicit AnchorFieldDiffs(std::string label, double metric_tol = kAnchorMetricTol)
+      : label_(std::move(label)), metric_tol_(metric_tol) {}
+
+  /// Any field, by the note's metric.
+  template <typename A, typename B>
+  void Metric(const char* field, const A& ref, const B& est) {
+    const double d = MaxEntryDiff(ref, est);
+    EXPECT_LE(d, metric_tol_) << label_ << ": " << field;
+    if (d > metric_) {
+      metric_ = d;
+      worst_field_ = field;
+    }
+  }
+  /// A Jacobian or transition: also relative to each entry above 1e-4 of the largest.
+  template <typename A, typename B>
+  void Jacobian(const char* field, const A& ref, const B& est) {
+    Metric(field, ref, est);
+    Scaled(field, RelativeAboveFloorDiff(ref, est));
+  }
+  /// A covariance: also on its correlation scale.
+  template <typename A, typename B>
+  void Covariance(const char* field, const A& ref, const B& est) {
+    Metric(field, ref, est);
+    Scaled(field, CorrelationScaleDiff(ref, est));
+  }
+  void Print() const {
+    std::printf("  %-36s metric %.2g (%s) scaled %.2g\n", label_.c_str(), metric_, worst_field_.c_str(), scaled_);
+  }
+
+ private:
+  void Scaled(const char* field, const ScaledDiff& s) {
+    EXPECT_LE(s.d, kAnchorScaledTol) << label_ << ": " << field << " at (" << s.row << "," << s.col << ")";
+    scaled_ = std::max(scaled_, s.d);
+  }
+  std::string label_;
+  double metric_tol_;
+  double metric_ = 0.0, scaled_ = 0.0;
+  std::string worst_field_ = "-";
+};
+
+}  // namespace imuconv::test
