@@ -33,6 +33,21 @@ class AnchorFieldDiffs {
       worst_field_ = field;
     }
   }
+  /// A field of a single-precision original: by the note's metric where the original's
+  /// arithmetic is reproduced operation for operation, else relative to the field's largest
+  /// entry (float rounding, about 6e-8 of each product, is no longer small beside an entry far
+  /// below the largest).
+  template <typename A, typename B>
+  void Float(const char* field, const A& ref, const B& est, bool operation_for_operation) {
+    if (operation_for_operation) return Metric(field, ref, est);
+    const double largest = std::max(ref.cwiseAbs().maxCoeff(), 1e-300);
+    const double d = (ref - est).cwiseAbs().maxCoeff() / largest;
+    EXPECT_LE(d, metric_tol_) << label_ << ": " << field << " (relative to its largest entry)";
+    if (d > metric_) {
+      metric_ = d;
+      worst_field_ = field;
+    }
+  }
   /// A Jacobian or transition: also relative to each entry above 1e-4 of the largest.
   template <typename A, typename B>
   void Jacobian(const char* field, const A& ref, const B& est) {

@@ -38,6 +38,19 @@ using namespace imuconv::test;
 
 constexpr double kFloatTol = 1e-4;
 
+// Where the original's float arithmetic is reproduced operation for operation: x86-64, where
+// it was built (SSE2, no fused multiply-adds) and where every float result here is equal bit
+// for bit. On aarch64, Eigen's NEON packet math fuses multiply-adds itself (vfmaq), whatever
+// the compiler is told, so every product rounds differently; an entry far below its matrix's
+// largest then differs relatively by more than 1e-4 (3.7e-3 measured, JPa of aggressive-1, an
+// entry 1e-3 of the largest) and the float fields are judged relative to their largest
+// entry there (measured on aarch64 under qemu: see the commit).
+#if defined(__x86_64__)
+constexpr bool kSameFloatArithmetic = true;
+#else
+constexpr bool kSameFloatArithmetic = false;
+#endif
+
 
 OrbSlam3Pose<double> JsonPose(const nlohmann::json& s) {
   OrbSlam3Pose<double> x;
@@ -54,17 +67,17 @@ OrbSlam3Bias JsonFloatBias(const nlohmann::json& b) {
 void ExpectPreintegrated(const nlohmann::json& j, const OrbSlam3Preintegrated& p, AnchorFieldDiffs& w) {
   EXPECT_EQ(static_cast<float>(j.at("dT").get<double>()), p.dT);  // the same float additions
   EXPECT_NEAR(j.at("dT").get<double>(), p.dT, 1e-6);
-  w.Metric("dR", JsonMatrix(j.at("dR")), p.dR.cast<double>());
-  w.Metric("dV", JsonMatrix(j.at("dV")), p.dV.cast<double>());
-  w.Metric("dP", JsonMatrix(j.at("dP")), p.dP.cast<double>());
-  w.Metric("JRg", JsonMatrix(j.at("JRg")), p.JRg.cast<double>());
-  w.Metric("JVg", JsonMatrix(j.at("JVg")), p.JVg.cast<double>());
-  w.Metric("JVa", JsonMatrix(j.at("JVa")), p.JVa.cast<double>());
-  w.Metric("JPg", JsonMatrix(j.at("JPg")), p.JPg.cast<double>());
-  w.Metric("JPa", JsonMatrix(j.at("JPa")), p.JPa.cast<double>());
-  w.Metric("avgA", JsonMatrix(j.at("avgA")), p.avgA.cast<double>());
-  w.Metric("avgW", JsonMatrix(j.at("avgW")), p.avgW.cast<double>());
-  w.Metric("C", JsonMatrix(j.at("C").at("matrix")), p.C.cast<double>());
+  w.Float("dR", JsonMatrix(j.at("dR")), p.dR.cast<double>(), kSameFloatArithmetic);
+  w.Float("dV", JsonMatrix(j.at("dV")), p.dV.cast<double>(), kSameFloatArithmetic);
+  w.Float("dP", JsonMatrix(j.at("dP")), p.dP.cast<double>(), kSameFloatArithmetic);
+  w.Float("JRg", JsonMatrix(j.at("JRg")), p.JRg.cast<double>(), kSameFloatArithmetic);
+  w.Float("JVg", JsonMatrix(j.at("JVg")), p.JVg.cast<double>(), kSameFloatArithmetic);
+  w.Float("JVa", JsonMatrix(j.at("JVa")), p.JVa.cast<double>(), kSameFloatArithmetic);
+  w.Float("JPg", JsonMatrix(j.at("JPg")), p.JPg.cast<double>(), kSameFloatArithmetic);
+  w.Float("JPa", JsonMatrix(j.at("JPa")), p.JPa.cast<double>(), kSameFloatArithmetic);
+  w.Float("avgA", JsonMatrix(j.at("avgA")), p.avgA.cast<double>(), kSameFloatArithmetic);
+  w.Float("avgW", JsonMatrix(j.at("avgW")), p.avgW.cast<double>(), kSameFloatArithmetic);
+  w.Float("C", JsonMatrix(j.at("C").at("matrix")), p.C.cast<double>(), kSameFloatArithmetic);
 }
 
 class OrbSlam3Anchor : public ::testing::TestWithParam<const char*> {
@@ -121,14 +134,14 @@ TEST_P(OrbSlam3Anchor, PreintegrationAndPredictionAreOrbSlam3Own) {
   start_float.v = start.v.cast<float>();
   const OrbSlam3Pose<float> tracked = PredictOrbSlam3Tracking(pre, start_float);
   const nlohmann::json& tj = anchor_.at("predict_tracking_float");
-  w.Metric("tracking R", JsonMatrix(tj.at("R")), tracked.R.cast<double>());
-  w.Metric("tracking p", JsonMatrix(tj.at("p")), tracked.p.cast<double>());
-  w.Metric("tracking v", JsonMatrix(tj.at("v")), tracked.v.cast<double>());
+  w.Float("tracking R", JsonMatrix(tj.at("R")), tracked.R.cast<double>(), kSameFloatArithmetic);
+  w.Float("tracking p", JsonMatrix(tj.at("p")), tracked.p.cast<double>(), kSameFloatArithmetic);
+  w.Float("tracking v", JsonMatrix(tj.at("v")), tracked.v.cast<double>(), kSameFloatArithmetic);
   const OrbSlam3Pose<double> predicted = PredictOrbSlam3(pre, start);
   const nlohmann::json& pj = anchor_.at("predict");
-  w.Metric("predict R", JsonMatrix(pj.at("R")), predicted.R);
-  w.Metric("predict p", JsonMatrix(pj.at("p")), predicted.p);
-  w.Metric("predict v", JsonMatrix(pj.at("v")), predicted.v);
+  w.Float("predict R", JsonMatrix(pj.at("R")), predicted.R, kSameFloatArithmetic);
+  w.Float("predict p", JsonMatrix(pj.at("p")), predicted.p, kSameFloatArithmetic);
+  w.Float("predict v", JsonMatrix(pj.at("v")), predicted.v, kSameFloatArithmetic);
   w.Print();
 }
 
@@ -142,15 +155,23 @@ TEST_P(OrbSlam3Anchor, BiasUpdateAndReintegrationAreOrbSlam3Own) {
   const nlohmann::json& fo = bc.at("first_order");
   Eigen::Matrix<float, 6, 1> db;
   db << b_new.bg - pre.b.bg, b_new.ba - pre.b.ba;
-  w.Metric("db", JsonMatrix(fo.at("db")), db.cast<double>());
-  w.Metric("first-order dR", JsonMatrix(fo.at("dR")), OrbSlam3DeltaRotation(pre, b_new).cast<double>());
-  w.Metric("first-order dV", JsonMatrix(fo.at("dV")), OrbSlam3DeltaVelocity(pre, b_new).cast<double>());
-  w.Metric("first-order dP", JsonMatrix(fo.at("dP")), OrbSlam3DeltaPosition(pre, b_new).cast<double>());
+  w.Float("db", JsonMatrix(fo.at("db")), db.cast<double>(), kSameFloatArithmetic);
+  w.Float("first-order dR", JsonMatrix(fo.at("dR")), OrbSlam3DeltaRotation(pre, b_new).cast<double>(), kSameFloatArithmetic);
+  w.Float("first-order dV", JsonMatrix(fo.at("dV")), OrbSlam3DeltaVelocity(pre, b_new).cast<double>(), kSameFloatArithmetic);
+  w.Float("first-order dP", JsonMatrix(fo.at("dP")), OrbSlam3DeltaPosition(pre, b_new).cast<double>(), kSameFloatArithmetic);
   ExpectPreintegrated(bc.at("reintegrated"), PreintegrateOrbSlam3(pre.steps, calib_, b_new), w);
   w.Print();
 }
 
 TEST_P(OrbSlam3Anchor, EdgeInertialIsOrbSlam3Own) {
+  if (!kSameFloatArithmetic) {
+    // EdgeInertial computes in double from the float deltas. Where the float rounding is not
+    // the original's, those deltas differ by about 1e-5 of their size (the two tests above
+    // check that), and the residual, a difference of terms as large as the deltas (|dP| up to
+    // 450 m), moves by up to 2.4e-3 of them (measured under qemu on aarch64): there is no
+    // original's number to compare it with on this target.
+    GTEST_SKIP() << "EdgeInertial is compared where the original's float arithmetic is reproduced (x86-64)";
+  }
   const OrbSlam3Preintegrated pre = PreintegrateOrbSlam3(steps_, calib_, bias_);
   const nlohmann::json& ej = anchor_.at("edge_inertial");
   EXPECT_EQ(static_cast<float>(ej.at("dt").get<double>()), pre.dT);
