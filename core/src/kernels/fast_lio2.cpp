@@ -5,6 +5,8 @@
 #include <cmath>
 #include <string>
 
+#include "imuconv/so3.h"
+
 namespace imuconv::kernels {
 namespace {
 
@@ -14,12 +16,6 @@ using Mat23x12 = Eigen::Matrix<double, 23, 12>;
 // MTK's threshold below which a rotation vector counts as zero (mtkmath.hpp's tolerance of
 // double), used where upstream switches to the small-angle form.
 constexpr double kMtkTolerance = 1e-11;
-
-Mat3 Hat(const Vec3& v) {
-  Mat3 m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
-}
 
 /// The unit quaternion of the rotation by the vector w dt (MTK's SO3::exp(w, dt), whose
 /// half-angle is dt |w| / 2).
@@ -46,16 +42,16 @@ Mat3 AMatrix(const Vec3& v) {
   const double angle2 = v.squaredNorm();
   const double angle = std::sqrt(angle2);
   if (angle < kMtkTolerance) return Mat3::Identity();
-  const Mat3 v_x = Hat(v);
+  const Mat3 v_x = so3::skew(v);
   return Mat3::Identity() + (1.0 - std::cos(angle)) / angle2 * v_x + (1.0 - std::sin(angle) / angle) / angle2 * v_x * v_x;
 }
 
 /// d grav / d delta of the S2 boxplus at delta = 0 (MTK's S2_Mx with a zero delta).
-Mat32 S2BoxplusJacobian(const FastLio2Gravity& g) { return -Hat(g.vec) * FastLio2S2Basis(g); }
+Mat32 S2BoxplusJacobian(const FastLio2Gravity& g) { return -so3::skew(g.vec) * FastLio2S2Basis(g); }
 
 /// d delta / d grav of the S2 boxminus at the point itself (MTK's S2_Nx_yy).
 Eigen::Matrix<double, 2, 3> S2BoxminusJacobian(const FastLio2Gravity& g) {
-  return 1.0 / g.length / g.length * FastLio2S2Basis(g).transpose() * Hat(g.vec);
+  return 1.0 / g.length / g.length * FastLio2S2Basis(g).transpose() * so3::skew(g.vec);
 }
 
 bool Finite(const Vec3& v) { return v.allFinite(); }
@@ -197,7 +193,7 @@ void FastLio2StepJacobians(const FastLio2State& x, const FastLio2Input& in, doub
   Mat23 f_x = Mat23::Zero();
   f_x.block<3, 3>(kFastLio2Pos, kFastLio2Vel).setIdentity();
   f_x.block<3, 3>(kFastLio2Rot, kFastLio2Bg) = -Jr;
-  f_x.block<3, 3>(kFastLio2Vel, kFastLio2Rot) = -R * Hat(acc);
+  f_x.block<3, 3>(kFastLio2Vel, kFastLio2Rot) = -R * so3::skew(acc);
   f_x.block<3, 3>(kFastLio2Vel, kFastLio2Ba) = -R;
   f_x.block<3, 2>(kFastLio2Vel, kFastLio2Grav) = S2BoxplusJacobian(x.grav);
 

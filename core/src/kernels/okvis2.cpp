@@ -7,6 +7,8 @@
 #include <limits>
 #include <string>
 
+#include "imuconv/so3.h"
+
 #include <Eigen/Eigenvalues>
 
 namespace imuconv::kernels {
@@ -15,12 +17,6 @@ namespace {
 using Mat4 = Eigen::Matrix4d;
 
 constexpr std::int64_t kNanosecondsPerSecond = 1000000000;
-
-Mat3 Cross(const Vec3& v) {
-  Mat3 m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
-}
 
 /// sin(x)/x, by its Taylor series to x^6 below |x| = 1e-6 as OKVIS evaluates it.
 double Sinc(double x) {
@@ -40,7 +36,7 @@ Eigen::Quaterniond DeltaQ(const Vec3& phi) {
 /// second-order series below |phi| = 1e-4 as OKVIS evaluates it.
 Mat3 RightJacobian(const Vec3& phi) {
   const double angle = phi.norm();
-  const Mat3 phi_x = Cross(phi);
+  const Mat3 phi_x = so3::skew(phi);
   const Mat3 phi_x2 = phi_x * phi_x;
   if (angle < 1e-4) return Mat3::Identity() - 0.5 * phi_x + phi_x2 / 6.0;
   const double angle2 = angle * angle;
@@ -80,22 +76,15 @@ Eigen::Matrix<double, 6, 7> PoseLift(const Eigen::Quaterniond& q) {
   return lift;
 }
 
-/// The running sums of one pass over the samples, shared by propagation and
-/// redoPreintegration (they differ in the d alpha/d bg sum and in the noise of a saturated
-/// step).
+/// One pass over the samples, shared by propagation and redoPreintegration (they differ in
+/// the d alpha/d bg sum and in the noise of a saturated step): the preintegrated sums as
+/// ImuError holds them, the rotation sensitivity `cross` they are built from, the increment's
+/// covariance before symmetrization, and the summed dt.
 struct RunningSums {
-  Eigen::Quaterniond Delta_q = Eigen::Quaterniond::Identity();
-  Mat3 C_integral = Mat3::Zero();
-  Mat3 C_doubleintegral = Mat3::Zero();
-  Vec3 acc_integral = Vec3::Zero();
-  Vec3 acc_doubleintegral = Vec3::Zero();
+  Okvis2Preintegration sums;
   Mat3 cross = Mat3::Zero();
-  Mat3 dalpha_db_g = Mat3::Zero();
-  Mat3 dv_db_g = Mat3::Zero();
-  Mat3 dp_db_g = Mat3::Zero();
   Mat15 P = Mat15::Zero();
   double Delta_t = 0.0;
-  int steps = 0;
 };
 
 enum class Pass { kPropagation, kPreintegration };
@@ -157,39 +146,39 @@ void Integrate(const std::vector<Okvis2Sample>& samples, const Okvis2ImuParamete
     const Vec3 w = 0.5 * (w0 + w1) - bg;
     const Vec3 a = 0.5 * (a0 + a1) - ba;
     const Eigen::Quaterniond dq = DeltaQ(w * dt);
-    const Eigen::Quaterniond Delta_q_1 = s.Delta_q * dq;
-    const Mat3 C = s.Delta_q.toRotationMatrix();
+    const Eigen::Quaterniond Delta_q_1 = s.sums.Delta_q * dq;
+    const Mat3 C = s.sums.Delta_q.toRotationMatrix();
     const Mat3 C_1 = Delta_q_1.toRotationMatrix();
     const Mat3 C_mean_dt = 0.5 * (C + C_1) * dt;  // the step's trapezoid of the rotation
-    const Mat3 C_integral_1 = s.C_integral + C_mean_dt;
-    const Vec3 acc_integral_1 = s.acc_integral + C_mean_dt * a;
-    s.C_doubleintegral += s.C_integral * dt + 0.25 * (C + C_1) * dt * dt;
-    s.acc_doubleintegral += s.acc_integral * dt + 0.25 * (C + C_1) * a * dt * dt;
+    const Mat3 C_integral_1 = s.sums.C_integral + C_mean_dt;
+    const Vec3 acc_integral_1 = s.sums.acc_integral + C_mean_dt * a;
+    s.sums.C_doubleintegral += s.sums.C_integral * dt + 0.25 * (C + C_1) * dt * dt;
+    s.sums.acc_doubleintegral += s.sums.acc_integral * dt + 0.25 * (C + C_1) * a * dt * dt;
 
     const Mat3 Jr_dt = RightJacobian(w * dt) * dt;
-    s.dalpha_db_g += pass == Pass::kPropagation ? Mat3(dt * C_1) : Mat3(C_1 * Jr_dt);
+    s.sums.dalpha_db_g += pass == Pass::kPropagation ? Mat3(dt * C_1) : Mat3(C_1 * Jr_dt);
     const Mat3 cross_1 = dq.inverse().toRotationMatrix() * s.cross + Jr_dt;
-    const Mat3 a_x = Cross(a);
+    const Mat3 a_x = so3::skew(a);
     const Mat3 bias_lever = C * a_x * s.cross + C_1 * a_x * cross_1;
-    const Mat3 dv_db_g_1 = s.dv_db_g + 0.5 * dt * bias_lever;
-    s.dp_db_g += dt * s.dv_db_g + 0.25 * dt * dt * bias_lever;
+    const Mat3 dv_db_g_1 = s.sums.dv_db_g + 0.5 * dt * bias_lever;
+    s.sums.dp_db_g += dt * s.sums.dv_db_g + 0.25 * dt * dt * bias_lever;
 
     // The step's transition, order [p, alpha, v, bg, ba] (see the header on its blocks).
     Mat15 F = Mat15::Identity();
     F.block<3, 3>(3, 9) = -dt * C_1;
     F.block<3, 3>(0, 6) = Mat3::Identity() * dt;
-    F.block<3, 3>(6, 3) = -Cross(0.5 * (C + C_1) * a * dt);
+    F.block<3, 3>(6, 3) = -so3::skew(0.5 * (C + C_1) * a * dt);
     F.block<3, 3>(6, 12) = -0.5 * (C + C_1) * dt;
     if (transition == Okvis2Transition::kAsOkvis) {
-      F.block<3, 3>(0, 3) = -Cross(s.acc_integral * dt + 0.25 * (C + C_1) * a * dt * dt);
-      F.block<3, 3>(0, 9) = dt * s.dv_db_g + 0.25 * dt * dt * bias_lever;
-      F.block<3, 3>(0, 12) = -s.C_integral * dt + 0.25 * (C + C_1) * dt * dt;
+      F.block<3, 3>(0, 3) = -so3::skew(s.sums.acc_integral * dt + 0.25 * (C + C_1) * a * dt * dt);
+      F.block<3, 3>(0, 9) = dt * s.sums.dv_db_g + 0.25 * dt * dt * bias_lever;
+      F.block<3, 3>(0, 12) = -s.sums.C_integral * dt + 0.25 * (C + C_1) * dt * dt;
       F.block<3, 3>(6, 9) = 0.5 * dt * bias_lever;
     } else {
       // Step-local: the increment's own position and velocity errors carry what came
       // before the step; the bias enters only through this step's rotation and acceleration.
       const Mat3 step_lever = C_1 * a_x * Jr_dt;
-      F.block<3, 3>(0, 3) = -Cross(0.25 * (C + C_1) * a * dt * dt);
+      F.block<3, 3>(0, 3) = -so3::skew(0.25 * (C + C_1) * a * dt * dt);
       F.block<3, 3>(0, 9) = 0.25 * dt * dt * step_lever;
       F.block<3, 3>(0, 12) = -0.25 * (C + C_1) * dt * dt;
       F.block<3, 3>(6, 9) = 0.5 * dt * step_lever;
@@ -224,13 +213,13 @@ void Integrate(const std::vector<Okvis2Sample>& samples, const Okvis2ImuParamete
       s.P(12 + i, 12 + i) += var_ba;
     }
 
-    s.Delta_q = Delta_q_1;
-    s.C_integral = C_integral_1;
-    s.acc_integral = acc_integral_1;
+    s.sums.Delta_q = Delta_q_1;
+    s.sums.C_integral = C_integral_1;
+    s.sums.acc_integral = acc_integral_1;
     s.cross = cross_1;
-    s.dv_db_g = dv_db_g_1;
+    s.sums.dv_db_g = dv_db_g_1;
     time = next;
-    ++s.steps;
+    ++s.sums.steps;
     if (next == t1) break;
   }
 }
@@ -267,24 +256,24 @@ Status PropagateOkvis2(const std::vector<Okvis2Sample>& samples, const Okvis2Imu
             transition, s);
   const Mat3 C_WS_0 = start.q.normalized().toRotationMatrix();
   const Vec3 g_W(0.0, 0.0, params.g);
-  out.steps = s.steps;
+  out.steps = s.sums.steps;
   out.Delta_t = s.Delta_t;
   out.end = start;
-  out.end.r = start.r + start.v * s.Delta_t + C_WS_0 * s.acc_doubleintegral -
+  out.end.r = start.r + start.v * s.Delta_t + C_WS_0 * s.sums.acc_doubleintegral -
               0.5 * g_W * s.Delta_t * s.Delta_t;
-  out.end.q = (start.q.normalized() * s.Delta_q).normalized();
-  out.end.v = start.v + C_WS_0 * s.acc_integral - g_W * s.Delta_t;
+  out.end.q = (start.q.normalized() * s.sums.Delta_q).normalized();
+  out.end.v = start.v + C_WS_0 * s.sums.acc_integral - g_W * s.Delta_t;
 
   Mat15& F = out.jacobian;
   F.setIdentity();
-  F.block<3, 3>(0, 3) = -Cross(C_WS_0 * s.acc_doubleintegral);
+  F.block<3, 3>(0, 3) = -so3::skew(C_WS_0 * s.sums.acc_doubleintegral);
   F.block<3, 3>(0, 6) = Mat3::Identity() * s.Delta_t;
-  F.block<3, 3>(0, 9) = C_WS_0 * s.dp_db_g;
-  F.block<3, 3>(0, 12) = -C_WS_0 * s.C_doubleintegral;
-  F.block<3, 3>(3, 9) = -C_WS_0 * s.dalpha_db_g;
-  F.block<3, 3>(6, 3) = -Cross(C_WS_0 * s.acc_integral);
-  F.block<3, 3>(6, 9) = C_WS_0 * s.dv_db_g;
-  F.block<3, 3>(6, 12) = -C_WS_0 * s.C_integral;
+  F.block<3, 3>(0, 9) = C_WS_0 * s.sums.dp_db_g;
+  F.block<3, 3>(0, 12) = -C_WS_0 * s.sums.C_doubleintegral;
+  F.block<3, 3>(3, 9) = -C_WS_0 * s.sums.dalpha_db_g;
+  F.block<3, 3>(6, 3) = -so3::skew(C_WS_0 * s.sums.acc_integral);
+  F.block<3, 3>(6, 9) = C_WS_0 * s.sums.dv_db_g;
+  F.block<3, 3>(6, 12) = -C_WS_0 * s.sums.C_integral;
 
   Mat15 T = Mat15::Identity();  // increments in S0 -> errors of the world-frame state
   for (int b = 0; b < 3; ++b) T.block<3, 3>(3 * b, 3 * b) = C_WS_0;
@@ -298,15 +287,7 @@ Status PreintegrateOkvis2(const std::vector<Okvis2Sample>& samples, const Okvis2
   if (Status st = CheckSpan(samples, t0_ns, t1_ns, "OKVIS2 preintegration"); !st.ok()) return st;
   RunningSums s;
   Integrate(samples, params, bg, ba, t0_ns, t1_ns, Pass::kPreintegration, transition, s);
-  out.steps = s.steps;
-  out.Delta_q = s.Delta_q;
-  out.C_integral = s.C_integral;
-  out.C_doubleintegral = s.C_doubleintegral;
-  out.acc_integral = s.acc_integral;
-  out.acc_doubleintegral = s.acc_doubleintegral;
-  out.dalpha_db_g = s.dalpha_db_g;
-  out.dv_db_g = s.dv_db_g;
-  out.dp_db_g = s.dp_db_g;
+  out = s.sums;
   out.bg_ref = bg;
   out.ba_ref = ba;
   out.P_delta = 0.5 * s.P + 0.5 * s.P.transpose();
@@ -344,7 +325,7 @@ Okvis2ImuErrorTerms EvaluateOkvis2ImuError(const Okvis2Preintegration& pre,
   // d residual / d [r0, alpha0, v0, bg0, ba0] (F0) and / d [r1, alpha1, v1, bg1, ba1] (F1).
   Mat15 F0 = Mat15::Identity();
   F0.block<3, 3>(0, 0) = C_S0_W;
-  F0.block<3, 3>(0, 3) = C_S0_W * Cross(delta_p_W);
+  F0.block<3, 3>(0, 3) = C_S0_W * so3::skew(delta_p_W);
   F0.block<3, 3>(0, 6) = C_S0_W * Delta_t;
   F0.block<3, 3>(0, 9) = pre.dp_db_g;
   F0.block<3, 3>(0, 12) = -pre.C_doubleintegral;
@@ -353,7 +334,7 @@ Okvis2ImuErrorTerms EvaluateOkvis2ImuError(const Okvis2Preintegration& pre,
   F0.block<3, 3>(3, 9) = (RightProductMatrix(q_1.inverse() * q_0) * RightProductMatrix(Dq))
                              .topLeftCorner<3, 3>() *
                          (-pre.dalpha_db_g);
-  F0.block<3, 3>(6, 3) = C_S0_W * Cross(delta_v_W);
+  F0.block<3, 3>(6, 3) = C_S0_W * so3::skew(delta_v_W);
   F0.block<3, 3>(6, 6) = C_S0_W;
   F0.block<3, 3>(6, 9) = pre.dv_db_g;
   F0.block<3, 3>(6, 12) = -pre.C_integral;
