@@ -35,8 +35,10 @@ void SetCommandAction(CLI::App& sub, CommandContext& ctx, std::function<int()> r
 CLI::Validator OutputPathCheck() {
   return CLI::Validator(
       [](std::string& path) {
-        return path.empty() ? std::string("the output path is empty (an unset shell variable?); expected a file name, "
-                                          "or '-' for standard output")
+        return path.empty() ? std::string(
+                                  "the output path is empty (an unset shell variable?); expected a "
+                                  "file name, "
+                                  "or '-' for standard output")
                             : std::string();
       },
       "", "OUTPUT");
@@ -44,15 +46,18 @@ CLI::Validator OutputPathCheck() {
 
 void AddPluginDirOption(CLI::App& sub, CommandContext& ctx) {
   sub.add_option("--plugin-dir", ctx.plugin_dirs_sub,
-                 "Extra plugin directory, searched before IMUCONV_PLUGIN_PATH and the built-in one (repeatable)")
+                 "Extra plugin directory, searched before IMUCONV_PLUGIN_PATH and the built-in one "
+                 "(repeatable)")
       ->type_name("DIR")
       ->allow_extra_args(false);
   sub.add_flag("--allow-plugin-override", ctx.allow_plugin_override,
-               "Let a plugin earlier on the search path replace one with the same id (a warning names both files); "
+               "Let a plugin earlier on the search path replace one with the same id (a warning "
+               "names both files); "
                "without it a duplicate id is an error");
 }
 
-std::vector<LoadIssue> LoadRegistry(Registry& reg, const CommandContext& ctx, const std::vector<std::string>& extra) {
+std::vector<LoadIssue> LoadRegistry(Registry& reg, const CommandContext& ctx,
+                                    const std::vector<std::string>& extra) {
   std::vector<std::string> dirs = ctx.plugin_dirs();
   dirs.insert(dirs.end(), extra.begin(), extra.end());
   LoadOptions options;
@@ -61,8 +66,8 @@ std::vector<LoadIssue> LoadRegistry(Registry& reg, const CommandContext& ctx, co
   std::vector<LoadIssue> issues = reg.load_search_path(dirs, options);
   if (ctx.verbose())
     for (const auto& p : reg.plugins())
-      std::cerr << "imuconv: loaded " << KindName(p.kind) << " " << Printable(p.id) << " " << Printable(p.version)
-                << " from " << Printable(p.file) << "\n";
+      std::cerr << "imuconv: loaded " << KindName(p.kind) << " " << Printable(p.id) << " "
+                << Printable(p.version) << " from " << Printable(p.file) << "\n";
   return issues;
 }
 
@@ -87,9 +92,10 @@ std::pair<unsigned, unsigned> ParseShardOption(const std::string& text) {
   };
   unsigned index = 0, count = 0;
   const std::string_view t(text);
-  if (slash == std::string::npos || !number(t.substr(0, slash), index) || !number(t.substr(slash + 1), count) ||
-      count == 0 || index >= count)
-    throw UsageError{"--shard: expected K/N with 0 <= K < N (e.g. 0/4), found '" + Printable(text) + "'"};
+  if (slash == std::string::npos || !number(t.substr(0, slash), index) ||
+      !number(t.substr(slash + 1), count) || count == 0 || index >= count)
+    throw UsageError{"--shard: expected K/N with 0 <= K < N (e.g. 0/4), found '" + Printable(text) +
+                     "'"};
   return {index, count};
 }
 
@@ -111,17 +117,19 @@ void RefuseNonFiniteNumbers(CLI::App& app) {
           char* end = nullptr;
           errno = 0;
           const double x = std::strtod(begin, &end);
-          if (end == begin || *end != '\0' || std::isfinite(x)) return {};  // not a number, or a finite one
+          if (end == begin || *end != '\0' || std::isfinite(x))
+            return {};  // not a number, or a finite one
           return name + "expected a finite number, found '" + Printable(value) + "'" +
-                 (errno == ERANGE ? " (beyond the largest double)" : "") + " (for a file of that name, write ./" +
-                 Printable(value) + ")";
+                 (errno == ERANGE ? " (beyond the largest double)" : "") +
+                 " (for a file of that name, write ./" + Printable(value) + ")";
         },
         "", "finite");
     // transform(): placed before the option's own validators, so that their messages (CLI11's
     // range text, which names no option) do not speak first.
     opt->transform(finite);
   }
-  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) RefuseNonFiniteNumbers(*sub);
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+    RefuseNonFiniteNumbers(*sub);
 }
 
 void PrintError(const std::string& message) {
@@ -148,14 +156,16 @@ int ReportFailure(const std::exception& e) {
     return kExitInternal;
   }
   if (dynamic_cast<const std::logic_error*>(&e) != nullptr) {
-    PrintError("internal error (a defect of imuconv or of a plugin; please report it): " + std::string(e.what()));
+    PrintError("internal error (a defect of imuconv or of a plugin; please report it): " +
+               std::string(e.what()));
     return kExitInternal;
   }
   PrintError(e.what());
   return kExitBadInput;
 }
 
-void PrintLabelledMatrix(std::ostream& out, const Mat15& m, const std::vector<std::string>& row_blocks,
+void PrintLabelledMatrix(std::ostream& out, const Mat15& m,
+                         const std::vector<std::string>& row_blocks,
                          const std::vector<std::string>& col_blocks) {
   const auto axes = [](const std::vector<std::string>& blocks) {
     std::vector<std::string> labels;
@@ -194,16 +204,19 @@ void PrintLabelledMatrix(std::ostream& out, const Mat15& m, const std::vector<st
 }
 
 std::string UnknownConventionMessage(const Registry& reg, PluginKind kind, const std::string& id,
-                                 const std::vector<LoadIssue>& load_issues) {
+                                     const std::vector<LoadIssue>& load_issues) {
   if (reg.has(kind, id)) return "";
   const bool state = kind == PluginKind::StateConvention;
   std::string known;
   for (const auto& k : reg.ids(kind)) known += (known.empty() ? "" : ", ") + k;
-  std::string msg = std::string("unknown ") + (state ? "state" : "increment") + " convention " + Quoted(id) + DidYouMean(id, reg.ids(kind)) + "; known: " + known;
+  std::string msg = std::string("unknown ") + (state ? "state" : "increment") + " convention " +
+                    Quoted(id) + DidYouMean(id, reg.ids(kind)) + "; known: " + known;
   const PluginKind other = state ? PluginKind::IncrementConvention : PluginKind::StateConvention;
-  if (reg.has(other, id)) msg += " (" + Quoted(id) + " is " + (state ? "an increment" : "a state") + " convention)";
+  if (reg.has(other, id))
+    msg += " (" + Quoted(id) + " is " + (state ? "an increment" : "a state") + " convention)";
   if (!load_issues.empty())
-    msg += "\n" + std::to_string(load_issues.size()) + " plugin file(s) failed to load; see 'imuconv plugins'";
+    msg += "\n" + std::to_string(load_issues.size()) +
+           " plugin file(s) failed to load; see 'imuconv plugins'";
   return msg;
 }
 

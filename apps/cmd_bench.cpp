@@ -27,10 +27,12 @@ std::filesystem::path BenchProgram() {
 int RunBench(bool as_json, const std::vector<std::string>& passthrough) {
   const std::filesystem::path program = BenchProgram();
   std::error_code ec;
-  if (program.empty() || !std::filesystem::is_regular_file(program, ec) || access(program.c_str(), X_OK) != 0) {
-    PrintError("imuconv bench runs the benchmark program imuconv-bench, which is not beside this imuconv" +
-               (program.empty() ? std::string() : " (" + Printable(program.string()) + ")") +
-               "; it is built with the project (target imuconv_bench) and installed beside imuconv");
+  if (program.empty() || !std::filesystem::is_regular_file(program, ec) ||
+      access(program.c_str(), X_OK) != 0) {
+    PrintError(
+        "imuconv bench runs the benchmark program imuconv-bench, which is not beside this imuconv" +
+        (program.empty() ? std::string() : " (" + Printable(program.string()) + ")") +
+        "; it is built with the project (target imuconv_bench) and installed beside imuconv");
     return kExitInternal;  // an incomplete installation, not the input
   }
   std::vector<std::string> args{program.string()};
@@ -42,18 +44,22 @@ int RunBench(bool as_json, const std::vector<std::string>& passthrough) {
   std::cout.flush();
   std::cerr.flush();
   execv(program.c_str(), argv.data());  // returns only on failure
-  PrintError("cannot run " + Printable(program.string()) + ": " + std::system_category().message(errno));
+  PrintError("cannot run " + Printable(program.string()) + ": " +
+             std::system_category().message(errno));
   return kExitInternal;
 }
 
 }  // namespace
 
 void RegisterBenchCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand("bench", "Run the benchmark set (ns per IMU sample) with imuconv-bench; extra flags go to Google Benchmark");
+  auto* sub = app.add_subcommand("bench",
+                                 "Run the benchmark set (ns per IMU sample) with imuconv-bench; "
+                                 "extra flags go to Google Benchmark");
   static bool as_json = false;
   static std::vector<std::string> passthrough;
   sub->add_flag("--json", as_json, "Print Google Benchmark's JSON report");
-  sub->add_option("--benchmark-args", passthrough, "Arguments passed to Google Benchmark, e.g. --benchmark_filter=BM_Propagate")
+  sub->add_option("--benchmark-args", passthrough,
+                  "Arguments passed to Google Benchmark, e.g. --benchmark_filter=BM_Propagate")
       ->allow_extra_args(true);
   sub->callback([&ctx] { ctx.exit_code = RunBench(as_json, passthrough); });
 }

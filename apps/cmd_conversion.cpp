@@ -19,7 +19,8 @@ int Run(const CommandContext& ctx, const Options& o) {
   Registry reg;
   const auto issues = LoadRegistry(reg, ctx);
   for (const auto& id : {o.from, o.to}) {
-    const std::string unknown = UnknownConventionMessage(reg, PluginKind::StateConvention, id, issues);
+    const std::string unknown =
+        UnknownConventionMessage(reg, PluginKind::StateConvention, id, issues);
     if (unknown.empty()) continue;
     PrintError(unknown);
     return kExitBadInput;
@@ -29,7 +30,9 @@ int Run(const CommandContext& ctx, const Options& o) {
   const auto bf = pipeline::Blocks(reg, PluginKind::StateConvention, o.from);
   const auto bt = pipeline::Blocks(reg, PluginKind::StateConvention, o.to);
   if (o.as_json) {
-    nlohmann::json j = {{"from", o.from}, {"to", o.to}, {"state", pipeline::StateToJson(x)},
+    nlohmann::json j = {{"from", o.from},
+                        {"to", o.to},
+                        {"state", pipeline::StateToJson(x)},
                         {"jacobian", pipeline::MixedMatrixToJson(J, o.to, bt, o.from, bf)}};
     std::cout << j.dump(2) << "\n";
     return 0;
@@ -43,14 +46,21 @@ int Run(const CommandContext& ctx, const Options& o) {
 }  // namespace
 
 void RegisterConversionCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand("conversion", "Print the 15x15 Jacobian d dx_B / d dx_A between two state conventions at a state");
+  auto* sub = app.add_subcommand(
+      "conversion",
+      "Print the 15x15 Jacobian d dx_B / d dx_A between two state conventions at a state");
   static Options o;
-  sub->add_option("--from", o.from, "State convention id A (e.g. left)")->required()->type_name("A");
-  sub->add_option("--to", o.to, "State convention id B (e.g. gtsam_navstate)")->required()->type_name("B");
+  sub->add_option("--from", o.from, "State convention id A (e.g. left)")
+      ->required()
+      ->type_name("A");
+  sub->add_option("--to", o.to, "State convention id B (e.g. gtsam_navstate)")
+      ->required()
+      ->type_name("B");
   sub->add_option("--state", o.state, "State file: {\"p\", \"q_wxyz\", \"v\", \"bg\", \"ba\"}")
       ->required()
       ->type_name("STATE.json");
-  sub->add_flag("--json", o.as_json, "Print JSON (the matrix with its row and column conventions and blocks)");
+  sub->add_flag("--json", o.as_json,
+                "Print JSON (the matrix with its row and column conventions and blocks)");
   AddPluginDirOption(*sub, ctx);
   sub->callback([&ctx] { ctx.exit_code = Run(ctx, o); });
 }

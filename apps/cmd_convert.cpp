@@ -52,12 +52,17 @@ void CheckOptions(const Options& o, const Request& q) {
   const bool increment = q.kind == PluginKind::IncrementConvention;
   if (increment && o.increment.empty()) throw UsageError{"--what " + o.what + " needs --increment"};
   if (!increment && o.state.empty()) throw UsageError{"--what " + o.what + " needs --state"};
-  if (increment && !o.state.empty()) throw UsageError{"--what " + o.what + " converts at an increment: give --increment, not --state"};
-  if (!increment && !o.increment.empty()) throw UsageError{"--what " + o.what + " converts at a state: give --state, not --increment"};
+  if (increment && !o.state.empty())
+    throw UsageError{"--what " + o.what +
+                     " converts at an increment: give --increment, not --state"};
+  if (!increment && !o.increment.empty())
+    throw UsageError{"--what " + o.what + " converts at a state: give --state, not --increment"};
   if ((q.what == What::Transition) != !o.state_end.empty())
-    throw UsageError{q.what == What::Transition ? "--what transition needs --state-end (the transition's end state)"
-                                                : "--state-end is only for --what transition"};
-  if (q.jacobian && !o.matrix.empty()) throw UsageError{"--what " + o.what + " computes a matrix; it takes no --matrix"};
+    throw UsageError{q.what == What::Transition
+                         ? "--what transition needs --state-end (the transition's end state)"
+                         : "--state-end is only for --what transition"};
+  if (q.jacobian && !o.matrix.empty())
+    throw UsageError{"--what " + o.what + " computes a matrix; it takes no --matrix"};
   if (!q.jacobian && o.matrix.empty()) throw UsageError{"--what " + o.what + " needs --matrix"};
 }
 
@@ -80,8 +85,8 @@ int Run(const CommandContext& ctx, const Options& o) {
   if (M && M->convention) {
     if (from.empty()) from = *M->convention;
     if (*M->convention != from) {
-      PrintError(o.matrix + ": /convention: the matrix declares '" + Printable(*M->convention) + "' but --from is '" +
-                 Printable(from) + "'");
+      PrintError(o.matrix + ": /convention: the matrix declares '" + Printable(*M->convention) +
+                 "' but --from is '" + Printable(from) + "'");
       return kExitBadInput;
     }
   }
@@ -96,23 +101,35 @@ int Run(const CommandContext& ctx, const Options& o) {
   const auto bf = pipeline::Blocks(reg, q.kind, from);
   const auto bt = pipeline::Blocks(reg, q.kind, o.to);
   if (M && M->blocks && *M->blocks != bf) {
-    PrintError(o.matrix + ": /blocks: the matrix declares the block order " + Printable(nlohmann::json(*M->blocks).dump()) +
-               " but '" + from + "' orders its blocks " + nlohmann::json(bf).dump());
+    PrintError(o.matrix + ": /blocks: the matrix declares the block order " +
+               Printable(nlohmann::json(*M->blocks).dump()) + " but '" + from +
+               "' orders its blocks " + nlohmann::json(bf).dump());
     return kExitBadInput;
   }
 
   Mat15 result;
   switch (q.what) {
-    case What::Covariance: result = reg.convert_covariance(from, o.to, x_s, M->m); break;
-    case What::Transition: result = reg.convert_transition(from, o.to, x_s, x_e, M->m); break;
-    case What::Jacobian: result = reg.conversion(from, o.to, x_s); break;
-    case What::IncrementJacobian: result = reg.conversion(from, o.to, d); break;
-    case What::IncrementCovariance: result = reg.convert_covariance(from, o.to, d, M->m); break;
+    case What::Covariance:
+      result = reg.convert_covariance(from, o.to, x_s, M->m);
+      break;
+    case What::Transition:
+      result = reg.convert_transition(from, o.to, x_s, x_e, M->m);
+      break;
+    case What::Jacobian:
+      result = reg.conversion(from, o.to, x_s);
+      break;
+    case What::IncrementJacobian:
+      result = reg.conversion(from, o.to, d);
+      break;
+    case What::IncrementCovariance:
+      result = reg.convert_covariance(from, o.to, d, M->m);
+      break;
   }
 
   if (o.as_json) {
     using nlohmann::json;
-    const auto chart = [](const Mat15& m, const std::string& conv, const std::vector<std::string>& blocks) {
+    const auto chart = [](const Mat15& m, const std::string& conv,
+                          const std::vector<std::string>& blocks) {
       return json{{"convention", conv}, {"blocks", blocks}, {"matrix", pipeline::MatrixToJson(m)}};
     };
     json j = {{"what", o.what}, {"from", from}, {"to", o.to}};
@@ -128,14 +145,17 @@ int Run(const CommandContext& ctx, const Options& o) {
                         {"dba", pipeline::Vec3ToJson(d.dba)}};
     }
     if (M) j["input"] = chart(M->m, from, bf);
-    j["result"] = q.jacobian ? pipeline::MixedMatrixToJson(result, o.to, bt, from, bf) : chart(result, o.to, bt);
+    j["result"] = q.jacobian ? pipeline::MixedMatrixToJson(result, o.to, bt, from, bf)
+                             : chart(result, o.to, bt);
     std::cout << pipeline::PrettyJson(j) << "\n";
     return 0;
   }
   if (q.jacobian)
-    std::cout << "d dx[" << o.to << "] / d dx[" << from << "]\nrows: " << o.to << " blocks, columns: " << from << " blocks\n\n";
+    std::cout << "d dx[" << o.to << "] / d dx[" << from << "]\nrows: " << o.to
+              << " blocks, columns: " << from << " blocks\n\n";
   else
-    std::cout << o.what << " in " << o.to << " (converted from " << from << ")\nrows and columns: " << o.to << " blocks\n\n";
+    std::cout << o.what << " in " << o.to << " (converted from " << from
+              << ")\nrows and columns: " << o.to << " blocks\n\n";
   PrintLabelledMatrix(std::cout, result, bt, q.jacobian ? bf : bt);
   return 0;
 }
@@ -143,25 +163,34 @@ int Run(const CommandContext& ctx, const Options& o) {
 }  // namespace
 
 void RegisterConvertCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand(
-      "convert", "Convert a covariance, a transition matrix or a conversion Jacobian between two conventions at a state "
-                 "or an increment (no pipeline file)");
+  auto* sub = app.add_subcommand("convert",
+                                 "Convert a covariance, a transition matrix or a conversion "
+                                 "Jacobian between two conventions at a state "
+                                 "or an increment (no pipeline file)");
   static Options o;
   sub->add_option("--what", o.what, "What to convert")
       ->required()
-      ->check(CLI::IsMember({"covariance", "transition", "jacobian", "increment_covariance", "increment_jacobian"}));
-  sub->add_option("--from", o.from, "Convention the matrix is in (may be left out when the matrix file declares it)")
+      ->check(CLI::IsMember(
+          {"covariance", "transition", "jacobian", "increment_covariance", "increment_jacobian"}));
+  sub->add_option("--from", o.from,
+                  "Convention the matrix is in (may be left out when the matrix file declares it)")
       ->type_name("A");
   sub->add_option("--to", o.to, "Convention to express it in")->required()->type_name("B");
-  sub->add_option("--state", o.state, "State file {\"p\", \"q_wxyz\", \"v\", \"bg\", \"ba\"}: the estimate the chart is at")
+  sub->add_option(
+         "--state", o.state,
+         "State file {\"p\", \"q_wxyz\", \"v\", \"bg\", \"ba\"}: the estimate the chart is at")
       ->type_name("S.json");
-  sub->add_option("--state-end", o.state_end, "End state of a transition matrix")->type_name("E.json");
-  sub->add_option("--increment", o.increment, "Increment file {\"q_wxyz\" or \"R\", \"dp\", \"dv\", \"dbg\", \"dba\"}")
+  sub->add_option("--state-end", o.state_end, "End state of a transition matrix")
+      ->type_name("E.json");
+  sub->add_option("--increment", o.increment,
+                  "Increment file {\"q_wxyz\" or \"R\", \"dp\", \"dv\", \"dbg\", \"dba\"}")
       ->type_name("D.json");
   sub->add_option("--matrix", o.matrix,
-                  "15x15 matrix file: an array of rows, {\"diagonal\"}, {\"sigma\"} or {\"convention\", \"blocks\", \"matrix\"}")
+                  "15x15 matrix file: an array of rows, {\"diagonal\"}, {\"sigma\"} or "
+                  "{\"convention\", \"blocks\", \"matrix\"}")
       ->type_name("M.json");
-  sub->add_flag("--json", o.as_json, "Print JSON: the input and the result, each with its convention and blocks");
+  sub->add_flag("--json", o.as_json,
+                "Print JSON: the input and the result, each with its convention and blocks");
   AddPluginDirOption(*sub, ctx);
   SetCommandAction(*sub, ctx, [&ctx] { return Run(ctx, o); });
 }

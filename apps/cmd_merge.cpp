@@ -1,5 +1,6 @@
-// imuconv merge -o OUT.json SHARD.json...: joins the N outputs of `imuconv run P.json --shard K/N` (given in any
-// order) into the document `imuconv run P.json` writes, byte for byte (examples/batch/).
+// imuconv merge -o OUT.json SHARD.json...: joins the N outputs of `imuconv run P.json --shard K/N`
+// (given in any order) into the document `imuconv run P.json` writes, byte for byte
+// (examples/batch/).
 //
 // The shards are read, checked and joined by pipeline/src/run/shard_merge.cpp (shard_merge.h: the
 // layout, the FNV-1a 64 each shard records of its own content, what is refused); this file is
@@ -35,21 +36,24 @@ int Merge(const CommandContext& ctx, const Options& o) {
     // A montecarlo shard has its own merge (it concludes statistics, it does not join text).
     std::ifstream in(file, std::ios::binary);
     std::string first(montecarlo::kShardMagic.size(), '\0');
-    if (in.read(first.data(), static_cast<std::streamsize>(first.size())) && first == montecarlo::kShardMagic)
+    if (in.read(first.data(), static_cast<std::streamsize>(first.size())) &&
+        first == montecarlo::kShardMagic)
       throw UsageError{"merge: " + Printable(file) +
-                       " is a shard of imuconv montecarlo --shard K/N: join those with imuconv montecarlo --merge"};
+                       " is a shard of imuconv montecarlo --shard K/N: join those with imuconv "
+                       "montecarlo --merge"};
   }
   try {
     // First every shard is read through and checked: nothing is written before.
     const pipeline::RunShards shards = pipeline::CheckRunShards(o.shards);
     pipeline::OutputFile out(o.output);
     for (const auto& file : o.shards) out.refuse_if_same(file, "a shard");
-    const std::uint64_t written = pipeline::JoinRunShards(shards, [&](std::string_view s) { out.write(s); });
+    const std::uint64_t written =
+        pipeline::JoinRunShards(shards, [&](std::string_view s) { out.write(s); });
     std::cout.flush();
     out.commit();
     if (!ctx.quiet() && !out.is_stdout())
-      std::cout << "wrote " << Printable(o.output) << " (" << written << " task(s) from " << shards.order.size()
-                << " shard(s))\n";
+      std::cout << "wrote " << Printable(o.output) << " (" << written << " task(s) from "
+                << shards.order.size() << " shard(s))\n";
   } catch (const pipeline::ShardError& e) {
     throw UsageError{std::string("merge: ") + e.what()};
   }
@@ -58,14 +62,17 @@ int Merge(const CommandContext& ctx, const Options& o) {
 
 }  // namespace
 void RegisterMergeCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand(
-      "merge",
-      "Join the N outputs of imuconv run P.json --shard K/N (K = 0..N-1, in any order) into the document imuconv run "
-      "P.json writes, byte for byte. Refused, naming the file, and nothing written: a missing or duplicate shard, a "
-      "truncated one, shards of another split, pipeline, imuconv version, plugins or input data (examples/batch/)");
+  auto* sub = app.add_subcommand("merge",
+                                 "Join the N outputs of imuconv run P.json --shard K/N (K = "
+                                 "0..N-1, in any order) into the document imuconv run "
+                                 "P.json writes, byte for byte. Refused, naming the file, and "
+                                 "nothing written: a missing or duplicate shard, a "
+                                 "truncated one, shards of another split, pipeline, imuconv "
+                                 "version, plugins or input data (examples/batch/)");
   static Options o;
   sub->add_option("-o,--output", o.output,
-                  "Output file (replaced atomically, as imuconv run writes it; '-' is stdout); never one of the shards")
+                  "Output file (replaced atomically, as imuconv run writes it; '-' is stdout); "
+                  "never one of the shards")
       ->required()
       ->type_name("OUT.json")
       ->check(OutputPathCheck());

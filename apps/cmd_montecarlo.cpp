@@ -19,8 +19,8 @@
 #include <thread>
 #include <utility>
 
-#include "imuconv/cli/exit_codes.h"
 #include "imuconv/bridge.h"
+#include "imuconv/cli/exit_codes.h"
 #include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/pipeline/pipeline.h"
@@ -51,22 +51,30 @@ bool CheckForm(const MontecarloCommandOptions& o, std::optional<std::pair<int, i
   const bool merging = !o.merge_files.empty();
   if (merging) {
     // The options of a run or a shard, none of which a merge takes (its run is the shards').
-    const std::pair<const char*, bool> run_only[] = {
-        {"--case", o.case_path.has_value()},      {"--pipeline", o.pipeline_path.has_value()},
-        {"--from", o.from.has_value()},           {"--to", o.to.has_value()},
-        {"--method", o.method.has_value()},       {"--trials", o.trials.has_value()},
-        {"--seed", o.seed.has_value()},           {"--shard", o.shard.has_value()},
-        {"--output", o.shard_output.has_value()}, {"--convention", o.convention.has_value()},
-        {"--threads", o.threads.has_value()},     {"--duration", o.duration.has_value()},
-        {"--noise-scale", o.noise_scale.has_value()}};
+    const std::pair<const char*, bool> run_only[] = {{"--case", o.case_path.has_value()},
+                                                     {"--pipeline", o.pipeline_path.has_value()},
+                                                     {"--from", o.from.has_value()},
+                                                     {"--to", o.to.has_value()},
+                                                     {"--method", o.method.has_value()},
+                                                     {"--trials", o.trials.has_value()},
+                                                     {"--seed", o.seed.has_value()},
+                                                     {"--shard", o.shard.has_value()},
+                                                     {"--output", o.shard_output.has_value()},
+                                                     {"--convention", o.convention.has_value()},
+                                                     {"--threads", o.threads.has_value()},
+                                                     {"--duration", o.duration.has_value()},
+                                                     {"--noise-scale", o.noise_scale.has_value()}};
     for (const auto& [name, given] : run_only)
-      if (given) throw Error(std::string("--merge takes the run from its shards; ") + name + " is not used with it");
+      if (given)
+        throw Error(std::string("--merge takes the run from its shards; ") + name +
+                    " is not used with it");
   } else {
     std::string missing;
     if (!o.case_path && !o.pipeline_path) missing = "--case (or --pipeline)";
-    for (const auto& [name, given] : {std::pair<const char*, bool>{"--method", o.method.has_value()},
-                                      {"--trials", o.trials.has_value()},
-                                      {"--seed", o.seed.has_value()}})
+    for (const auto& [name, given] :
+         {std::pair<const char*, bool>{"--method", o.method.has_value()},
+          {"--trials", o.trials.has_value()},
+          {"--seed", o.seed.has_value()}})
       if (!given) missing += (missing.empty() ? "" : ", ") + std::string(name);
     if (!missing.empty()) throw Error(missing + ": required (or --merge SHARD...)");
     if (o.case_path && o.pipeline_path)
@@ -82,12 +90,17 @@ bool CheckForm(const MontecarloCommandOptions& o, std::optional<std::pair<int, i
     if (o.shard_output.value_or("").empty())
       throw Error("--shard K/N needs -o FILE: the shard file imuconv montecarlo --merge reads");
     if (!o.pipeline_path.value_or("").empty())
-      throw Error("--shard takes --case: a shard records its case file's digest, and a pipeline's samples are in "
-                  "other files");
+      throw Error(
+          "--shard takes --case: a shard records its case file's digest, and a pipeline's samples "
+          "are in "
+          "other files");
     if (o.as_json || !o.report_path.empty())
-      throw Error("--shard writes its trials' end errors, not statistics: --json and --report go with --merge");
+      throw Error(
+          "--shard writes its trials' end errors, not statistics: --json and --report go with "
+          "--merge");
   } else if (o.shard_output) {
-    throw Error("-o is the shard file of --shard K/N; a whole run prints its summary or --json to stdout");
+    throw Error(
+        "-o is the shard file of --shard K/N; a whole run prints its summary or --json to stdout");
   }
   return merging;
 }
@@ -96,7 +109,8 @@ bool CheckForm(const MontecarloCommandOptions& o, std::optional<std::pair<int, i
 // case's (what it leaves out takes its standard value, said in a note), or the pipeline's with
 // a zero bias estimate.
 montecarlo::Input ReadRunInput(const CommandContext& ctx, const MontecarloCommandOptions& o) {
-  const std::string case_path = o.case_path.value_or(""), pipeline_path = o.pipeline_path.value_or("");
+  const std::string case_path = o.case_path.value_or(""),
+                    pipeline_path = o.pipeline_path.value_or("");
   montecarlo::Input input;
   std::vector<ImuSample> samples;
   if (pipeline_path.empty()) {
@@ -111,7 +125,8 @@ montecarlo::Input ReadRunInput(const CommandContext& ctx, const MontecarloComman
     if (!defaulted.empty() && !ctx.quiet()) {
       std::string list;
       for (const std::string& d : defaulted) list += (list.empty() ? "" : ", ") + d;
-      std::cerr << "imuconv: note: " << Printable(case_path) << ": not given, standard values used: " << list
+      std::cerr << "imuconv: note: " << Printable(case_path)
+                << ": not given, standard values used: " << list
                 << " (docs/montecarlo.md, \"Input\")\n";
     }
     input.noise = c.noise;
@@ -154,9 +169,10 @@ class ProgressBar {
       : on_(!as_json && !ctx.quiet() && isatty(STDERR_FILENO) == 1) {
     if (on_)
       options.progress = [](int done, int total) {
-        const int width = 40, filled = static_cast<int>(static_cast<long long>(width) * done / total);
-        std::cerr << "\rmontecarlo [" << std::string(filled, '#') << std::string(width - filled, '.') << "] " << done
-                  << "/" << total << std::flush;
+        const int width = 40,
+                  filled = static_cast<int>(static_cast<long long>(width) * done / total);
+        std::cerr << "\rmontecarlo [" << std::string(filled, '#')
+                  << std::string(width - filled, '.') << "] " << done << "/" << total << std::flush;
       };
   }
   ~ProgressBar() {
@@ -173,7 +189,8 @@ Judgment Concluded(const std::shared_ptr<const montecarlo::Result>& result) {
   Judgment judgment;
   judgment.json = [result] { return montecarlo::ReportJson(*result); };
   judgment.print_table = [result](std::ostream& out) { montecarlo::PrintSummary(out, *result); };
-  judgment.exit_code = result->verdict == montecarlo::Verdict::consistent ? kExitOk : kExitInconsistent;
+  judgment.exit_code =
+      result->verdict == montecarlo::Verdict::consistent ? kExitOk : kExitInconsistent;
   return judgment;
 }
 
@@ -183,7 +200,8 @@ int RunMontecarloCommand(const CommandContext& ctx, const MontecarloCommandOptio
   return Judge(o.as_json, [&] {
     std::optional<std::pair<int, int>> shard;
     const bool merging = CheckForm(o, shard);
-    const std::string case_path = o.case_path.value_or(""), pipeline_path = o.pipeline_path.value_or("");
+    const std::string case_path = o.case_path.value_or(""),
+                      pipeline_path = o.pipeline_path.value_or("");
     // The report's destination is examined before any work (a directory or an input fails now).
     ReportDestination report(o.report_path);
     if (merging)
@@ -195,7 +213,8 @@ int RunMontecarloCommand(const CommandContext& ctx, const MontecarloCommandOptio
       std::string merged_case;  // the shards' case file, as the first shard names it
       std::shared_ptr<const montecarlo::Result> result;
       try {
-        result = std::make_shared<const montecarlo::Result>(montecarlo::MergeShards(o.merge_files, merged_case));
+        result = std::make_shared<const montecarlo::Result>(
+            montecarlo::MergeShards(o.merge_files, merged_case));
       } catch (const std::exception& e) {
         throw Error(std::string("--merge: ") + e.what());
       }
@@ -210,11 +229,13 @@ int RunMontecarloCommand(const CommandContext& ctx, const MontecarloCommandOptio
     }
     const int trials = *o.trials;
     if (trials > montecarlo::kMaxTrials)
-      throw Error("--trials " + std::to_string(trials) + ": at most " + std::to_string(montecarlo::kMaxTrials) +
+      throw Error("--trials " + std::to_string(trials) + ": at most " +
+                  std::to_string(montecarlo::kMaxTrials) +
                   " (each trial's 15-dim error is kept for the statistics)");
     if (trials < montecarlo::kDim + 1)
       throw Error("--trials " + std::to_string(trials) +
-                  ": need at least 16 (the sample covariance of 15-dim errors is singular below, its KL divergence "
+                  ": need at least 16 (the sample covariance of 15-dim errors is singular below, "
+                  "its KL divergence "
                   "infinite)");
     Registry reg;
     const std::vector<LoadIssue> issues = LoadRegistry(reg, ctx);
@@ -227,9 +248,12 @@ int RunMontecarloCommand(const CommandContext& ctx, const MontecarloCommandOptio
     else if (reg.has(PluginKind::Preintegrator, method_id))
       method = ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, method_id);
     else
-      throw Error("--method: unknown method " + Printable(method_id) + "; known " + KnownMethods(reg));
-    const std::string conv = o.convention.value_or("").empty() ? montecarlo::DefaultConvention(method) : *o.convention;
-    const std::string unknown = UnknownConventionMessage(reg, PluginKind::IncrementConvention, conv, issues);
+      throw Error("--method: unknown method " + Printable(method_id) + "; known " +
+                  KnownMethods(reg));
+    const std::string conv =
+        o.convention.value_or("").empty() ? montecarlo::DefaultConvention(method) : *o.convention;
+    const std::string unknown =
+        UnknownConventionMessage(reg, PluginKind::IncrementConvention, conv, issues);
     if (!unknown.empty()) throw Error("--convention: " + unknown);
 
     const montecarlo::Input input = ReadRunInput(ctx, o);
@@ -237,32 +261,42 @@ int RunMontecarloCommand(const CommandContext& ctx, const MontecarloCommandOptio
     options.trials = trials;
     options.seed = *o.seed;
     const int threads = o.threads.value_or(0);
-    options.threads = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    options.threads =
+        threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     options.noise_scale = o.noise_scale.value_or(1.0);
     const ProgressBar progress(ctx, o.as_json, options);
     if (shard) {
-      // Its block of trials, seeded from (seed, i) as in the whole run, and what identifies the run.
+      // Its block of trials, seeded from (seed, i) as in the whole run, and what identifies the
+      // run.
       const auto [first, end] = montecarlo::ShardTrials(trials, shard->first, shard->second);
       std::vector<Vec15> errors;
-      const montecarlo::Result head = montecarlo::RunTrials(reg, method, conv, input, options, first, end, errors);
-      const nlohmann::json provenance = montecarlo::ShardProvenance(reg, method, head.convention, case_path);
+      const montecarlo::Result head =
+          montecarlo::RunTrials(reg, method, conv, input, options, first, end, errors);
+      const nlohmann::json provenance =
+          montecarlo::ShardProvenance(reg, method, head.convention, case_path);
       shard_out->refuse_if_loaded_object();
-      montecarlo::WriteShard([&](std::string_view piece) { shard_out->write(piece); }, shard->first, shard->second,
-                             first, end, montecarlo::ShardRunJson(head, provenance), errors);
+      montecarlo::WriteShard([&](std::string_view piece) { shard_out->write(piece); }, shard->first,
+                             shard->second, first, end, montecarlo::ShardRunJson(head, provenance),
+                             errors);
       std::cout.flush();
       shard_out->commit();
       if (!ctx.quiet() && !shard_out->is_stdout())
-        std::cout << "wrote " << Printable(*o.shard_output) << " (shard " << shard->first << "/" << shard->second
-                  << ": trials [" << first << ", " << end << ") of " << trials << ")\n";
+        std::cout << "wrote " << Printable(*o.shard_output) << " (shard " << shard->first << "/"
+                  << shard->second << ": trials [" << first << ", " << end << ") of " << trials
+                  << ")\n";
       Judgment written;
-      written.printed_elsewhere = true;  // the shard file is the output; its statistics come with --merge
+      written.printed_elsewhere =
+          true;  // the shard file is the output; its statistics come with --merge
       return written;
     }
-    const auto result = std::make_shared<const montecarlo::Result>(montecarlo::RunMonteCarlo(reg, method, conv, input, options));
+    const auto result = std::make_shared<const montecarlo::Result>(
+        montecarlo::RunMonteCarlo(reg, method, conv, input, options));
     report.Write(
         [&] {
-          return report::MontecarloPage(*result, {pipeline_path.empty() ? report::Inputs::value_type{"case", case_path}
-                                                                        : report::Inputs::value_type{"pipeline", pipeline_path}});
+          return report::MontecarloPage(
+              *result,
+              {pipeline_path.empty() ? report::Inputs::value_type{"case", case_path}
+                                     : report::Inputs::value_type{"pipeline", pipeline_path}});
         },
         ctx);
     return Concluded(result);
@@ -270,53 +304,72 @@ int RunMontecarloCommand(const CommandContext& ctx, const MontecarloCommandOptio
 }
 
 void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand(
-      "montecarlo",
-      "Re-integrate a case's samples N times with noise and compare the errors with the predicted covariance");
+  auto* sub = app.add_subcommand("montecarlo",
+                                 "Re-integrate a case's samples N times with noise and compare the "
+                                 "errors with the predicted covariance");
   const auto o = std::make_shared<MontecarloCommandOptions>();
   // --case, --method, --trials and --seed are required but for --merge (checked by the run).
-  sub->add_option("--case", o->case_path,
-                  "Reference case with the IMU samples, noise and bias estimate (tests/data/reference/FORMAT.md); only "
-                  "/imu and /noise are required, the rest takes its standard value (docs/montecarlo.md)");
   sub->add_option(
-      "--pipeline", o->pipeline_path,
-      "Instead of --case: a pipeline's IMU samples and noise (its /imu, /noise), over --from/--to; zero bias estimate");
-  sub->add_option("--from", o->from, "Integrate from this time (seconds on the samples' time axis; default: the first)")
+      "--case", o->case_path,
+      "Reference case with the IMU samples, noise and bias estimate "
+      "(tests/data/reference/FORMAT.md); only "
+      "/imu and /noise are required, the rest takes its standard value (docs/montecarlo.md)");
+  sub->add_option("--pipeline", o->pipeline_path,
+                  "Instead of --case: a pipeline's IMU samples and noise (its /imu, /noise), over "
+                  "--from/--to; zero bias estimate");
+  sub->add_option(
+         "--from", o->from,
+         "Integrate from this time (seconds on the samples' time axis; default: the first)")
       ->type_name("T");
-  sub->add_option("--to", o->to, "Integrate up to this time (seconds on the samples' time axis; default: the last)")
+  sub->add_option(
+         "--to", o->to,
+         "Integrate up to this time (seconds on the samples' time axis; default: the last)")
       ->type_name("T");
-  sub->add_option("--method", o->method, "A propagator (preintegration by propagation) or a preintegrator id");
-  sub->add_option("--convention", o->convention,
-                  "Increment convention the end error is scored in (default: the preintegrator's covariance "
-                  "convention, or preint_reference for a propagator)");
+  sub->add_option("--method", o->method,
+                  "A propagator (preintegration by propagation) or a preintegrator id");
+  sub->add_option(
+      "--convention", o->convention,
+      "Increment convention the end error is scored in (default: the preintegrator's covariance "
+      "convention, or preint_reference for a propagator)");
   sub->add_option("--trials", o->trials,
-                  "Number of noisy trials N (at least 16: 15-dim errors need 16 for a full-rank sample covariance)");
+                  "Number of noisy trials N (at least 16: 15-dim errors need 16 for a full-rank "
+                  "sample covariance)");
   // NonNegativeNumber: CLI11 would otherwise read "-1" as 2^64 - 1, a wrong seed given in silence.
-  sub->add_option("--seed", o->seed, "Seed; trial i draws from (seed, i), so the result does not depend on --threads")
+  sub->add_option("--seed", o->seed,
+                  "Seed; trial i draws from (seed, i), so the result does not depend on --threads")
       ->check(CLI::NonNegativeNumber);
-  sub->add_option("--threads", o->threads, "Worker threads (default: every core)")->check(CLI::PositiveNumber);
-  sub->add_option("--duration", o->duration, "Use only the case's first SECONDS (default: all of it)")
+  sub->add_option("--threads", o->threads, "Worker threads (default: every core)")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--duration", o->duration,
+                  "Use only the case's first SECONDS (default: all of it)")
       ->type_name("SECONDS")
       ->check(CLI::PositiveNumber);
   // Hidden: scales the simulated densities only, against the unscaled prediction, to show that
   // a wrong noise model is detected (tests/cli/montecarlo.cpp).
   sub->add_option("--noise-scale", o->noise_scale, "")->group("")->check(CLI::PositiveNumber);
-  sub->add_flag("--json", o->as_json,
-                "Print one JSON object (schemas/montecarlo_output.schema.json) instead of the summary");
-  AddReportOption(*sub, o->report_path,
-                  "heatmaps of the sample covariance against the predicted one, and the summary (replaced "
-                  "atomically)");
+  sub->add_flag(
+      "--json", o->as_json,
+      "Print one JSON object (schemas/montecarlo_output.schema.json) instead of the summary");
+  AddReportOption(
+      *sub, o->report_path,
+      "heatmaps of the sample covariance against the predicted one, and the summary (replaced "
+      "atomically)");
   sub->add_option("--shard", o->shard,
-                  "Run only shard K of N (0 <= K < N): the contiguous block of trials [K N_trials / N, (K+1) "
-                  "N_trials / N), their end errors written to -o FILE; imuconv montecarlo --merge joins the N "
+                  "Run only shard K of N (0 <= K < N): the contiguous block of trials [K N_trials "
+                  "/ N, (K+1) "
+                  "N_trials / N), their end errors written to -o FILE; imuconv montecarlo --merge "
+                  "joins the N "
                   "files into the whole run's output (docs/montecarlo.md)")
       ->type_name("K/N");
-  sub->add_option("-o,--output", o->shard_output, "With --shard: the shard file (replaced atomically)")
+  sub->add_option("-o,--output", o->shard_output,
+                  "With --shard: the shard file (replaced atomically)")
       ->type_name("FILE")
       ->check(OutputPathCheck());
   sub->add_option("--merge", o->merge_files,
-                  "Join the N shard files of one run (any order; every K once) and print, and exit with, what the "
-                  "whole run would have (--json, --report as for a run); the run's options come from the shards")
+                  "Join the N shard files of one run (any order; every K once) and print, and exit "
+                  "with, what the "
+                  "whole run would have (--json, --report as for a run); the run's options come "
+                  "from the shards")
       ->type_name("SHARD...");
   AddPluginDirOption(*sub, ctx);
   SetCommandAction(*sub, ctx, [&ctx, o] { return RunMontecarloCommand(ctx, *o); });

@@ -1,4 +1,5 @@
-// imuconv nees (--imu IMU.csv --ground-truth GT.csv --noise NOISE | --pipeline P.json [--noise NOISE])
+// imuconv nees (--imu IMU.csv --ground-truth GT.csv --noise NOISE | --pipeline P.json [--noise
+// NOISE])
 // --windows L1,L2,... --method M [--convention C] [--stride S] [--json]: windows along real data,
 // each propagated from the ground truth, their NEES against chi-square(9) and the factor on the
 // noise densities that fits the median (docs/nees.md; the logic is apps/nees/).
@@ -14,13 +15,13 @@
 #include "imuconv/pipeline/imu_reader.h"
 #include "imuconv/pipeline/json_io.h"
 #include "imuconv/pipeline/json_parse.h"
+#include "imuconv/pipeline/kalibr_yaml.h"
 #include "imuconv/printable.h"
 #include "imuconv/report/report_output.h"
 #include "judgment.h"
 #include "nees.h"
 #include "nees_input.h"
 #include "nees_report.h"
-#include "imuconv/pipeline/kalibr_yaml.h"
 #include "report/pages/pages.h"
 #include "report_destination.h"
 
@@ -28,13 +29,15 @@ namespace imuconv::cli {
 namespace {
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 // A Kalibr imu.yaml (by extension), else a JSON file holding a pipeline's "noise" object, or a
 // whole pipeline whose /noise is one.
 ImuNoise ReadNoise(const std::string& path) {
-  if (EndsWith(path, ".yaml") || EndsWith(path, ".yml")) return pipeline::data::ReadKalibrImuYaml(path);
+  if (EndsWith(path, ".yaml") || EndsWith(path, ".yml"))
+    return pipeline::data::ReadKalibrImuYaml(path);
   return pipeline::ReadJsonFileAs(path, [](const pipeline::Node& root) {
     if (root.has("noise")) return pipeline::NoiseFromJson(root["noise"]);
     return pipeline::NoiseFromJson(root);
@@ -44,7 +47,8 @@ ImuNoise ReadNoise(const std::string& path) {
 }  // namespace
 
 int RunNeesCommand(const CommandContext& ctx, const NeesCommandOptions& o) {
-  if (o.pipeline_path.empty() && (o.imu_path.empty() || o.ground_truth_path.empty() || o.noise_path.empty()))
+  if (o.pipeline_path.empty() &&
+      (o.imu_path.empty() || o.ground_truth_path.empty() || o.noise_path.empty()))
     throw UsageError{"give --imu, --ground-truth and --noise, or --pipeline P.json"};
   // Each input as the report page names it, (role, path), for those given.
   report::Inputs inputs;
@@ -60,15 +64,17 @@ int RunNeesCommand(const CommandContext& ctx, const NeesCommandOptions& o) {
     Registry reg;
     const std::vector<LoadIssue> issues = LoadRegistry(reg, ctx);
     PrintLoadIssues(issues);
-    const std::string unknown = UnknownConventionMessage(reg, PluginKind::StateConvention, o.convention, issues);
+    const std::string unknown =
+        UnknownConventionMessage(reg, PluginKind::StateConvention, o.convention, issues);
     if (!unknown.empty()) throw Error("--convention: " + unknown);
     nees::Options options;
     options.method = o.method;
     options.convention = o.convention;
     options.window_lengths = o.windows;
     options.stride = o.stride;
-    const nees::Input in = o.pipeline_path.empty() ? nees::ReadEurocInput(o.imu_path, o.ground_truth_path)
-                                                   : nees::ReadPipelineInput(o.pipeline_path);
+    const nees::Input in = o.pipeline_path.empty()
+                               ? nees::ReadEurocInput(o.imu_path, o.ground_truth_path)
+                               : nees::ReadPipelineInput(o.pipeline_path);
     if (!o.noise_path.empty())
       options.noise = ReadNoise(o.noise_path);
     else if (in.noise)
@@ -79,7 +85,8 @@ int RunNeesCommand(const CommandContext& ctx, const NeesCommandOptions& o) {
     Judgment judgment;
     judgment.warnings = in.imu.warnings;  // suspected units or column order of the samples
     PrintWarnings(judgment.warnings);
-    const auto result = std::make_shared<const nees::Result>(nees::RunNees(reg, in.imu, in.gt, options));
+    const auto result =
+        std::make_shared<const nees::Result>(nees::RunNees(reg, in.imu, in.gt, options));
     report.Write([&] { return report::NeesPage(*result, inputs); }, ctx);
     judgment.json = [result] { return nees::ReportJson(*result); };
     judgment.print_table = [result](std::ostream& out) { nees::PrintSummary(out, *result); };
@@ -89,31 +96,42 @@ int RunNeesCommand(const CommandContext& ctx, const NeesCommandOptions& o) {
 }
 
 void RegisterNeesCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand(
-      "nees", "Propagate windows of real data from the ground truth and fit the noise densities' scale to their NEES");
+  auto* sub = app.add_subcommand("nees",
+                                 "Propagate windows of real data from the ground truth and fit the "
+                                 "noise densities' scale to their NEES");
   const auto o = std::make_shared<NeesCommandOptions>();
-  auto* imu_opt = sub->add_option("--imu", o->imu_path, "EuRoC/ASL IMU CSV (#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z)");
-  auto* gt_opt = sub->add_option("--ground-truth", o->ground_truth_path,
-                                 "EuRoC/ASL full-state ground truth (17 fields: time, p, q wxyz, v, bg, ba)");
+  auto* imu_opt = sub->add_option("--imu", o->imu_path,
+                                  "EuRoC/ASL IMU CSV (#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z)");
+  auto* gt_opt =
+      sub->add_option("--ground-truth", o->ground_truth_path,
+                      "EuRoC/ASL full-state ground truth (17 fields: time, p, q wxyz, v, bg, ba)");
   sub->add_option("--pipeline", o->pipeline_path,
-                  "Instead of --imu and --ground-truth: a pipeline whose /imu (EuRoC, generic CSV with its column map "
-                  "and time unit, or inline), /ground_truth (format euroc), /noise and /gravity are read as imuconv "
+                  "Instead of --imu and --ground-truth: a pipeline whose /imu (EuRoC, generic CSV "
+                  "with its column map "
+                  "and time unit, or inline), /ground_truth (format euroc), /noise and /gravity "
+                  "are read as imuconv "
                   "run reads them (its tasks are not run)")
       ->excludes(imu_opt)
       ->excludes(gt_opt);
   sub->add_option("--noise", o->noise_path,
-                  "The four noise densities: a JSON noise object (or a pipeline holding one), or a Kalibr imu.yaml "
+                  "The four noise densities: a JSON noise object (or a pipeline holding one), or a "
+                  "Kalibr imu.yaml "
                   "(.yaml/.yml); with --pipeline, replaces its /noise");
-  sub->add_option("--windows", o->windows, "Window lengths in seconds, comma-separated (e.g. 0.2,0.5,1.0)")
+  sub->add_option("--windows", o->windows,
+                  "Window lengths in seconds, comma-separated (e.g. 0.2,0.5,1.0)")
       ->required()
       ->delimiter(',');
   sub->add_option("--method", o->method, "A propagator id")->required();
-  sub->add_option("--convention", o->convention, "State convention of the error and covariance (default: left)");
-  sub->add_option("--stride", o->stride, "Seconds between window starts (default: each window's length)")
+  sub->add_option("--convention", o->convention,
+                  "State convention of the error and covariance (default: left)");
+  sub->add_option("--stride", o->stride,
+                  "Seconds between window starts (default: each window's length)")
       ->check(CLI::PositiveNumber);
-  sub->add_flag("--json", o->as_json, "Print one JSON object (schemas/nees_output.schema.json) instead of the table");
+  sub->add_flag("--json", o->as_json,
+                "Print one JSON object (schemas/nees_output.schema.json) instead of the table");
   AddReportOption(*sub, o->report_path,
-                  "NEES per window against chi-square(9), each error component with its +-3 sigma over time, and "
+                  "NEES per window against chi-square(9), each error component with its +-3 sigma "
+                  "over time, and "
                   "the summary (replaced atomically)");
   AddPluginDirOption(*sub, ctx);
   SetCommandAction(*sub, ctx, [&ctx, o] { return RunNeesCommand(ctx, *o); });

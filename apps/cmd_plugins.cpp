@@ -42,7 +42,8 @@ int List(const CommandContext& ctx, bool as_json) {
                           {"file", Printable(p.file)},       {"version", Printable(p.version)},
                           {"summary", Printable(p.summary)}, {"blocks", blocks}};
       if (!p.native_convention.empty()) e["native_convention"] = Printable(p.native_convention);
-      if (!p.jacobian_convention.empty()) e["jacobian_convention"] = Printable(p.jacobian_convention);
+      if (!p.jacobian_convention.empty())
+        e["jacobian_convention"] = Printable(p.jacobian_convention);
       if (p.kind == PluginKind::StateConvention || p.kind == PluginKind::IncrementConvention)
         e["analytic_jacobians"] = p.analytic_jacobians;
       j["plugins"].push_back(e);
@@ -50,26 +51,28 @@ int List(const CommandContext& ctx, bool as_json) {
     j["load_errors"] = nlohmann::json::array();
     j["overridden"] = nlohmann::json::array();
     for (const auto& i : issues)
-      j[i.overridden ? "overridden" : "load_errors"].push_back({{"file", Printable(i.file)}, {"message", SafeText(i.message)}});
+      j[i.overridden ? "overridden" : "load_errors"].push_back(
+          {{"file", Printable(i.file)}, {"message", SafeText(i.message)}});
     std::cout << j.dump(2) << "\n";
     return 0;
   }
   std::cout << "search path:\n";
   for (const auto& d : path) std::cout << "  " << Printable(d) << "\n";
-  for (PluginKind kind : {PluginKind::StateConvention, PluginKind::IncrementConvention, PluginKind::Propagator,
-                          PluginKind::Preintegrator}) {
+  for (PluginKind kind : {PluginKind::StateConvention, PluginKind::IncrementConvention,
+                          PluginKind::Propagator, PluginKind::Preintegrator}) {
     std::cout << "\n" << KindName(kind) << ":\n";
     bool any = false;
     for (const auto& p : reg.plugins()) {
       if (p.kind != kind) continue;
       any = true;
-      std::cout << "  " << std::left << std::setw(24) << Printable(p.id) << " " << std::setw(8) << Printable(p.version)
-                << " ";
+      std::cout << "  " << std::left << std::setw(24) << Printable(p.id) << " " << std::setw(8)
+                << Printable(p.version) << " ";
       if (kind == PluginKind::Propagator)
         std::cout << std::setw(34) << ("native: " + Printable(p.native_convention));
       else if (kind == PluginKind::Preintegrator)
         std::cout << std::setw(34)
-                  << ("cov: " + Printable(p.native_convention) + ", J: " + Printable(p.jacobian_convention));
+                  << ("cov: " + Printable(p.native_convention) +
+                      ", J: " + Printable(p.jacobian_convention));
       else
         std::cout << std::setw(34) << JoinBlocks(p.blocks);
       std::cout << " " << Printable(p.file) << "\n";
@@ -80,7 +83,9 @@ int List(const CommandContext& ctx, bool as_json) {
     bool header = false;
     for (const auto& i : issues) {
       if (i.overridden != overridden) continue;
-      if (!header) std::cout << (overridden ? "\noverridden (--allow-plugin-override):\n" : "\nload errors:\n");
+      if (!header)
+        std::cout << (overridden ? "\noverridden (--allow-plugin-override):\n"
+                                 : "\nload errors:\n");
       header = true;
       std::cout << "  " << Printable(i.file) << ": " << SafeText(i.message) << "\n";
     }
@@ -100,14 +105,16 @@ int Check(const Options& o) {
       dir_problems.emplace_back(dir, e.what());
       continue;
     }
-    if (files.empty()) dir_problems.emplace_back(dir, "no imuconv_plugin_*.so file in " + Quoted(dir));
+    if (files.empty())
+      dir_problems.emplace_back(dir, "no imuconv_plugin_*.so file in " + Quoted(dir));
     if (!o.as_json)
       std::cout << "checking " << files.size() << " plugin file(s) in " << Quoted(dir)
                 << ", each in a child process (timeout " << o.check_timeout << " s)\n"
                 << std::flush;
     for (const auto& f : files) {
       results.push_back(CheckPluginInChild(f, o.check_timeout));
-      if (!o.as_json) std::cout << "  " << Printable(f) << ": " << results.back().message << "\n" << std::flush;
+      if (!o.as_json)
+        std::cout << "  " << Printable(f) << ": " << results.back().message << "\n" << std::flush;
     }
   }
   std::size_t failed = 0;
@@ -117,9 +124,12 @@ int Check(const Options& o) {
     nlohmann::json j;
     j["checked"] = nlohmann::json::array();
     for (const auto& r : results)
-      j["checked"].push_back({{"file", Printable(r.file)}, {"result", OutcomeName(r.outcome)}, {"message", r.message}});
+      j["checked"].push_back({{"file", Printable(r.file)},
+                              {"result", OutcomeName(r.outcome)},
+                              {"message", r.message}});
     j["directory_errors"] = nlohmann::json::array();
-    for (const auto& [d, m] : dir_problems) j["directory_errors"].push_back({{"dir", Printable(d)}, {"message", SafeText(m)}});
+    for (const auto& [d, m] : dir_problems)
+      j["directory_errors"].push_back({{"dir", Printable(d)}, {"message", SafeText(m)}});
     j["ok"] = all_ok;
     std::cout << j.dump(2) << "\n";
   } else {
@@ -128,7 +138,9 @@ int Check(const Options& o) {
       std::cout << "all " << results.size() << " plugin file(s) passed the check\n";
     else
       std::cout << failed << " of " << results.size() << " plugin file(s) failed the check"
-                << (dir_problems.empty() ? "" : ", and " + std::to_string(dir_problems.size()) + " directory(ies) could not be checked")
+                << (dir_problems.empty() ? ""
+                                         : ", and " + std::to_string(dir_problems.size()) +
+                                               " directory(ies) could not be checked")
                 << "\n";
   }
   return all_ok ? 0 : 1;
@@ -137,18 +149,21 @@ int Check(const Options& o) {
 }  // namespace
 
 void RegisterPluginsCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand(
-      "plugins",
-      "List the plugins found (id, kind, file, block order, version) and load errors; or, with --check DIR, load "
-      "and exercise each plugin file of DIR in a child process and report which ones fail, crash or hang");
+  auto* sub = app.add_subcommand("plugins",
+                                 "List the plugins found (id, kind, file, block order, version) "
+                                 "and load errors; or, with --check DIR, load "
+                                 "and exercise each plugin file of DIR in a child process and "
+                                 "report which ones fail, crash or hang");
   static Options o;
   sub->add_flag("--json", o.as_json, "Print JSON instead of a table");
   sub->add_option("--check", o.check_dirs,
-                  "Check every imuconv_plugin_*.so in DIR, each in its own child process (repeatable); exit status 1 "
+                  "Check every imuconv_plugin_*.so in DIR, each in its own child process "
+                  "(repeatable); exit status 1 "
                   "if any fails. The search path is not loaded")
       ->type_name("DIR")
       ->allow_extra_args(false);
-  sub->add_option("--check-timeout", o.check_timeout, "Seconds each plugin file may take under --check (default 20)")
+  sub->add_option("--check-timeout", o.check_timeout,
+                  "Seconds each plugin file may take under --check (default 20)")
       ->type_name("SECONDS")
       ->check(CLI::Range(0.1, 3600.0));
   AddPluginDirOption(*sub, ctx);

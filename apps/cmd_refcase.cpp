@@ -4,25 +4,29 @@
 // instead the computed fields of another system's anchor files (refcase/anchor.h).
 #include <iostream>
 
+#include "anchor.h"
 #include "imuconv/cli/commands.h"
 #include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/printable.h"
-#include "anchor.h"
 #include "refcase.h"
 
 namespace imuconv::cli {
 
 void RegisterRefcaseCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand("refcase", "Run a reference case and write results in the GTSAM reference layout");
+  auto* sub = app.add_subcommand(
+      "refcase", "Run a reference case and write results in the GTSAM reference layout");
   static std::string case_path, out_path, anchor;
-  sub->add_option("CASE", case_path, "Case file (format: tests/data/reference/FORMAT.md)")->required();
+  sub->add_option("CASE", case_path, "Case file (format: tests/data/reference/FORMAT.md)")
+      ->required();
   sub->add_option("--anchor", anchor,
-                  "Write instead the computed fields of tests/data/reference/anchors/NAME/ (vins-fusion, basalt, "
+                  "Write instead the computed fields of tests/data/reference/anchors/NAME/ "
+                  "(vins-fusion, basalt, "
                   "openvins), computed by imuconv with that system's input conventions")
       ->check(CLI::IsMember(refcase::AnchorNames()));
   sub->add_option("-o,--output", out_path,
-                  "Output JSON: a regular file is replaced atomically (a symbolic link is followed to it); a device or "
+                  "Output JSON: a regular file is replaced atomically (a symbolic link is followed "
+                  "to it); a device or "
                   "FIFO is written through; '-' is stdout. Never the case file")
       ->required()
       ->check(OutputPathCheck());

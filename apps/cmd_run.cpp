@@ -1,9 +1,10 @@
 // imuconv run PIPELINE.json [-o OUT.json|OUT.npz] [--format json|npz] [--tum TRAJ.txt]
-// [--errors ERRORS.csv] [--shard K/N]: runs a JSON pipeline (or one shard of its tasks, which imuconv merge
-// joins); the result as JSON or as a NumPy .npz of its arrays (imuconv/pipeline/result_arrays.h); optionally also
-// writes one propagate_by_preintegration task's predictions as a TUM trajectory (what evo reads) and its
-// per-step errors against the ground truth as CSV. Exit code: 0, or 3 when a check task found an
-// inconsistency (the output written all the same); 1 a failed run (nothing written), 2 a usage error.
+// [--errors ERRORS.csv] [--shard K/N]: runs a JSON pipeline (or one shard of its tasks, which
+// imuconv merge joins); the result as JSON or as a NumPy .npz of its arrays
+// (imuconv/pipeline/result_arrays.h); optionally also writes one propagate_by_preintegration task's
+// predictions as a TUM trajectory (what evo reads) and its per-step errors against the ground truth
+// as CSV. Exit code: 0, or 3 when a check task found an inconsistency (the output written all the
+// same); 1 a failed run (nothing written), 2 a usage error.
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -47,12 +48,19 @@ std::string TrajectoryTask(const pipeline::Pipeline& p, const Options& o) {
   for (const auto& t : tasks) list += (list.empty() ? "'" : ", '") + Printable(t) + "'";
   if (!o.trajectory_task.empty()) {
     if (std::find(tasks.begin(), tasks.end(), o.trajectory_task) == tasks.end())
-      throw UsageError{"--trajectory-task: no propagate_by_preintegration task named '" + Printable(o.trajectory_task) +
-                       "'" + (tasks.empty() ? std::string(" (the pipeline has none)") : " (there are " + list + ")")};
+      throw UsageError{
+          "--trajectory-task: no propagate_by_preintegration task named '" +
+          Printable(o.trajectory_task) + "'" +
+          (tasks.empty() ? std::string(" (the pipeline has none)") : " (there are " + list + ")")};
     return o.trajectory_task;
   }
-  if (tasks.empty()) throw UsageError{"--tum and --errors write a propagate_by_preintegration task's steps; the pipeline has none"};
-  if (tasks.size() > 1) throw UsageError{"the pipeline has several propagate_by_preintegration tasks (" + list + "): name one with --trajectory-task"};
+  if (tasks.empty())
+    throw UsageError{
+        "--tum and --errors write a propagate_by_preintegration task's steps; the pipeline has "
+        "none"};
+  if (tasks.size() > 1)
+    throw UsageError{"the pipeline has several propagate_by_preintegration tasks (" + list +
+                     "): name one with --trajectory-task"};
   return tasks.front();
 }
 
@@ -61,7 +69,8 @@ std::string TrajectoryTask(const pipeline::Pipeline& p, const Options& o) {
 /// they exist).
 bool SameDestination(const std::string& a, const std::string& b) {
   std::error_code ea, eb;
-  const auto ca = std::filesystem::weakly_canonical(a, ea), cb = std::filesystem::weakly_canonical(b, eb);
+  const auto ca = std::filesystem::weakly_canonical(a, ea),
+             cb = std::filesystem::weakly_canonical(b, eb);
   return !ea && !eb && ca == cb;
 }
 
@@ -77,8 +86,8 @@ std::string TumTime(const pipeline::StepOut& s) {
   char buf[64];
   if (s.t_end_abs_ns) {
     const std::int64_t ns = *s.t_end_abs_ns;
-    std::snprintf(buf, sizeof buf, "%s%" PRId64 ".%09" PRId64, ns < 0 ? "-" : "", (ns < 0 ? -ns : ns) / 1000000000,
-                  (ns < 0 ? -ns : ns) % 1000000000);
+    std::snprintf(buf, sizeof buf, "%s%" PRId64 ".%09" PRId64, ns < 0 ? "-" : "",
+                  (ns < 0 ? -ns : ns) / 1000000000, (ns < 0 ? -ns : ns) % 1000000000);
   } else {
     return Shortest(s.t_end.value_or(0.0));
   }
@@ -89,15 +98,17 @@ std::string TumLine(const pipeline::StepOut& s) {
   // Hamilton, body to world, as the JSON output's q_wxyz; TUM orders it qx qy qz qw.
   const Eigen::Vector4d q = so3::ToQuaternionWxyz(s.x_e.R);
   std::string line = TumTime(s);
-  for (double v : {s.x_e.p.x(), s.x_e.p.y(), s.x_e.p.z(), q[1], q[2], q[3], q[0]}) line += " " + Shortest(v);
+  for (double v : {s.x_e.p.x(), s.x_e.p.y(), s.x_e.p.z(), q[1], q[2], q[3], q[0]})
+    line += " " + Shortest(v);
   return line + "\n";
 }
 
 std::string ErrorsLine(const pipeline::StepOut& s) {
   return std::to_string(s.k) + "," + Shortest(s.t_end.value_or(0.0)) + "," +
-         (s.t_end_abs_ns ? std::to_string(*s.t_end_abs_ns) : "") + "," + Shortest(*s.position_error_m) + "," +
-         Shortest(*s.rotation_error_deg) + "," +
-         (s.velocity_error_mps ? Shortest(*s.velocity_error_mps) : "") + "\n";  // empty: pose-only ground truth
+         (s.t_end_abs_ns ? std::to_string(*s.t_end_abs_ns) : "") + "," +
+         Shortest(*s.position_error_m) + "," + Shortest(*s.rotation_error_deg) + "," +
+         (s.velocity_error_mps ? Shortest(*s.velocity_error_mps) : "") +
+         "\n";  // empty: pose-only ground truth
 }
 
 bool EndsWithNpz(const std::string& path) {
@@ -122,8 +133,10 @@ bool IsTerminal(const pipeline::OutputFile& file) {
 /// The result as NPZ: the arrays are collected from the values the tasks write (the document's
 /// numbers are never formatted as text and read back), and the archive is written into `file`
 /// (not committed).
-void RunToNpz(const pipeline::Pipeline& p, const pipeline::RunOptions& ro, pipeline::OutputFile& file) {
-  const pipeline::ResultArrays arrays = pipeline::RunToArrays(p, ro, [&] { file.refuse_if_loaded_object(); });
+void RunToNpz(const pipeline::Pipeline& p, const pipeline::RunOptions& ro,
+              pipeline::OutputFile& file) {
+  const pipeline::ResultArrays arrays =
+      pipeline::RunToArrays(p, ro, [&] { file.refuse_if_loaded_object(); });
   pipeline::WriteResultNpz(arrays, [&](std::string_view s) { file.write(s); });
 }
 
@@ -134,13 +147,18 @@ int Run(const CommandContext& ctx, const Options& o) {
     const auto [index, count] = ParseShardOption(o.shard);
     shard = pipeline::RunOptions::Shard{index, count};
     if (!o.tum.empty() || !o.errors.empty())
-      throw UsageError{"--shard: --tum and --errors are for a whole run (a shard may not hold the task)"};
+      throw UsageError{
+          "--shard: --tum and --errors are for a whole run (a shard may not hold the task)"};
   }
   std::string trajectory_task;
-  if (!o.tum.empty() || !o.errors.empty()) trajectory_task = TrajectoryTask(p, o);
-  else if (!o.trajectory_task.empty()) throw UsageError{"--trajectory-task is for --tum and --errors"};
+  if (!o.tum.empty() || !o.errors.empty())
+    trajectory_task = TrajectoryTask(p, o);
+  else if (!o.trajectory_task.empty())
+    throw UsageError{"--trajectory-task is for --tum and --errors"};
   if (!o.errors.empty() && !p.has_ground_truth())
-    throw UsageError{"--errors writes the steps' errors against the ground truth; the pipeline has no /ground_truth"};
+    throw UsageError{
+        "--errors writes the steps' errors against the ground truth; the pipeline has no "
+        "/ground_truth"};
   std::string out = o.output;
   // The pipeline's own "output" (perhaps someone else's pipeline) is confined to its directory,
   // links resolved (the parser's check is only lexical); -o, typed by the user, is not.
@@ -148,42 +166,52 @@ int Run(const CommandContext& ctx, const Options& o) {
   if (out.empty() && p.output_path()) {
     out = *p.output_path();
     const std::string dir = std::filesystem::path(p.file()).parent_path().string();
-    within = pipeline::OutputFile::Confinement{dir.empty() ? "." : dir, Printable(p.file()) + ": /output"};
+    within = pipeline::OutputFile::Confinement{dir.empty() ? "." : dir,
+                                               Printable(p.file()) + ": /output"};
   }
   if (out.empty()) out = "-";
   // NPZ by --format, else by the destination's extension.
   if (!o.format.empty() && o.format != "json" && o.format != "npz")
     throw UsageError{"--format: expected json or npz, found '" + Printable(o.format) + "'"};
   const bool npz = o.format == "npz" || (o.format.empty() && EndsWithNpz(out));
-  if (npz && shard) throw UsageError{"--shard writes JSON (imuconv merge joins the shards); not --format npz"};
+  if (npz && shard)
+    throw UsageError{"--shard writes JSON (imuconv merge joins the shards); not --format npz"};
   if (npz && o.output.empty() && !p.output_path())
-    throw UsageError{"--format npz: give the output file with -o OUT.npz (-o - writes it to stdout, not a terminal)"};
+    throw UsageError{
+        "--format npz: give the output file with -o OUT.npz (-o - writes it to stdout, not a "
+        "terminal)"};
   // The destination is examined before any work (nothing is created yet): what kind of file
   // it is, and that it is none of the files the run reads or loads.
   pipeline::OutputFile file(out, within);
   if (npz && IsTerminal(file))
-    throw UsageError{"NPZ is binary: not written to a terminal (" + Printable(out) + "); give a file with -o OUT.npz"};
+    throw UsageError{"NPZ is binary: not written to a terminal (" + Printable(out) +
+                     "); give a file with -o OUT.npz"};
   const std::vector<std::string> inputs = p.input_files();
   for (std::size_t i = 0; i < inputs.size(); ++i)
     file.refuse_if_same(inputs[i], inputs[i] == p.file() ? "the pipeline" : "the input file");
   // The trajectory files: examined like the output, before any work; none may be an input
   // or another output.
   std::optional<pipeline::OutputFile> tum, errors;
-  for (auto [path, f, what] : {std::tuple{&o.tum, &tum, "--tum"}, std::tuple{&o.errors, &errors, "--errors"}}) {
+  for (auto [path, f, what] :
+       {std::tuple{&o.tum, &tum, "--tum"}, std::tuple{&o.errors, &errors, "--errors"}}) {
     if (path->empty()) continue;
     f->emplace(*path);
-    for (const auto& in : inputs) (*f)->refuse_if_same(in, in == p.file() ? "the pipeline" : "the input file");
+    for (const auto& in : inputs)
+      (*f)->refuse_if_same(in, in == p.file() ? "the pipeline" : "the input file");
     (*f)->refuse_if_same(out, "the output");
-    if (SameDestination(*path, out)) throw UsageError{std::string(what) + " names the same file as the output"};
+    if (SameDestination(*path, out))
+      throw UsageError{std::string(what) + " names the same file as the output"};
     if ((*f)->is_stdout())
-      throw UsageError{std::string(what) + ": give a file, not stdout (stdout carries the summary or the JSON output)"};
+      throw UsageError{std::string(what) +
+                       ": give a file, not stdout (stdout carries the summary or the JSON output)"};
   }
   if (tum && errors) {
     errors->refuse_if_same(o.tum, "the --tum file");
     if (SameDestination(o.tum, o.errors)) throw UsageError{"--tum and --errors name the same file"};
   }
   std::string tum_text, errors_text;
-  if (errors) errors_text = "k,t_end,t_end_abs_ns,position_error_m,rotation_error_deg,velocity_error_mps\n";
+  if (errors)
+    errors_text = "k,t_end,t_end_abs_ns,position_error_m,rotation_error_deg,velocity_error_mps\n";
   pipeline::RunOptions ro;
   std::vector<std::string> inconsistent;  // check tasks whose verdict is inconsistent
   ro.inconsistent_checks = &inconsistent;
@@ -239,50 +267,66 @@ int Run(const CommandContext& ctx, const Options& o) {
 }  // namespace
 
 void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand(
-      "run",
-      "Run a JSON pipeline (schemas/pipeline.schema.json). The result goes to -o, else to the pipeline's "
-      "\"output\", else to stdout, as JSON or (--format npz, or an output named *.npz) as a NumPy .npz of its "
-      "arrays (docs/interop.md); the summary goes to stdout (stderr when the result does). A failing run writes "
-      "nothing.");
+  auto* sub = app.add_subcommand("run",
+                                 "Run a JSON pipeline (schemas/pipeline.schema.json). The result "
+                                 "goes to -o, else to the pipeline's "
+                                 "\"output\", else to stdout, as JSON or (--format npz, or an "
+                                 "output named *.npz) as a NumPy .npz of its "
+                                 "arrays (docs/interop.md); the summary goes to stdout (stderr "
+                                 "when the result does). A failing run writes "
+                                 "nothing.");
   static Options o;
   sub->add_option("pipeline", o.pipeline, "Pipeline file")->required()->type_name("PIPELINE.json");
   sub->add_option("-o,--output", o.output,
-                  "Output file: a regular file is replaced atomically (keeping its permissions; a symbolic link is "
-                  "followed to it); a device or FIFO is written through; '-' is stdout. Never one of the inputs")
+                  "Output file: a regular file is replaced atomically (keeping its permissions; a "
+                  "symbolic link is "
+                  "followed to it); a device or FIFO is written through; '-' is stdout. Never one "
+                  "of the inputs")
       ->type_name("OUT.json|OUT.npz")
       ->check(OutputPathCheck());
   sub->add_option("--format", o.format,
-                  "json (the default) or npz: every array of the result in one NumPy .npz (uncompressed; keys are "
-                  "the JSON pointers with the indices of arrays of objects removed, values stacked over them; a "
-                  "JSON sidecar \"meta\" holds the rest; see docs/interop.md). An output named *.npz means npz. "
+                  "json (the default) or npz: every array of the result in one NumPy .npz "
+                  "(uncompressed; keys are "
+                  "the JSON pointers with the indices of arrays of objects removed, values stacked "
+                  "over them; a "
+                  "JSON sidecar \"meta\" holds the rest; see docs/interop.md). An output named "
+                  "*.npz means npz. "
                   "npz needs -o (or the pipeline's \"output\") and is never written to a terminal")
       ->type_name("FORMAT");
   sub->add_flag("-q,--quiet", o.quiet, "Do not print the summary");
-  sub->add_option("--tum", o.tum,
-                  "Also write a propagate_by_preintegration task's predicted end states as a TUM trajectory "
-                  "(t x y z qx qy qz qw; t absolute seconds when the data's time origin is known), as evo reads it")
+  sub->add_option(
+         "--tum", o.tum,
+         "Also write a propagate_by_preintegration task's predicted end states as a TUM trajectory "
+         "(t x y z qx qy qz qw; t absolute seconds when the data's time origin is known), as evo "
+         "reads it")
       ->type_name("TRAJ.txt")
       ->check(OutputPathCheck());
-  sub->add_option("--errors", o.errors,
-                  "Also write that task's per-step errors against the ground truth as CSV "
-                  "(k, t_end, t_end_abs_ns, position_error_m, rotation_error_deg, velocity_error_mps)")
+  sub->add_option(
+         "--errors", o.errors,
+         "Also write that task's per-step errors against the ground truth as CSV "
+         "(k, t_end, t_end_abs_ns, position_error_m, rotation_error_deg, velocity_error_mps)")
       ->type_name("ERRORS.csv")
       ->check(OutputPathCheck());
   sub->add_option("--trajectory-task", o.trajectory_task,
-                  "The propagate_by_preintegration task --tum and --errors write (needed when there are several)")
+                  "The propagate_by_preintegration task --tum and --errors write (needed when "
+                  "there are several)")
       ->type_name("NAME");
   sub->add_flag("--table", o.every_row,
-                "Print every row of a step table (by default one of more than 50 steps shows its totals and worst steps)");
+                "Print every row of a step table (by default one of more than 50 steps shows its "
+                "totals and worst steps)");
   sub->add_option("-j,--threads", o.threads,
-                  "Threads for independent intervals (0 = every core, the default; 1 = serial). The output is the "
+                  "Threads for independent intervals (0 = every core, the default; 1 = serial). "
+                  "The output is the "
                   "same, byte for byte, for any number")
       ->type_name("N");
-  sub->add_option("--shard", o.shard,
-                  "Run shard K of N (0 <= K < N): a contiguous block of the tasks (never splitting a task from an "
-                  "earlier one it names), written as the whole run's document with a first member \"shard\" and "
-                  "only the block's tasks; imuconv merge joins the N shards into the whole run's bytes "
-                  "(examples/batch/)")
+  sub->add_option(
+         "--shard", o.shard,
+         "Run shard K of N (0 <= K < N): a contiguous block of the tasks (never splitting a task "
+         "from an "
+         "earlier one it names), written as the whole run's document with a first member \"shard\" "
+         "and "
+         "only the block's tasks; imuconv merge joins the N shards into the whole run's bytes "
+         "(examples/batch/)")
       ->type_name("K/N");
   AddPluginDirOption(*sub, ctx);
   SetCommandAction(*sub, ctx, [&ctx] { return Run(ctx, o); });

@@ -20,8 +20,8 @@ namespace imuconv::cli {
 struct Judgment {
   std::function<nlohmann::json()> json;            ///< the --json object, before its warnings
   std::function<void(std::ostream&)> print_table;  ///< the summary without --json
-  std::vector<std::string> warnings;               ///< the "warnings" of the JSON (already on stderr)
-  int exit_code = 0;                               ///< exit_codes.h: kExitOk or kExitInconsistent
+  std::vector<std::string> warnings;  ///< the "warnings" of the JSON (already on stderr)
+  int exit_code = 0;                  ///< exit_codes.h: kExitOk or kExitInconsistent
   /// A judgment whose output is a file already written (a montecarlo shard): nothing to print.
   bool printed_elsewhere = false;
 };

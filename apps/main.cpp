@@ -6,10 +6,10 @@
 
 #include "imuconv/cli/commands.h"
 #include "imuconv/cli/exit_codes.h"
-#include "usage_hint.h"
-#include "imuconv/plugin_kind.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/pipeline/standard_descriptors.h"
+#include "imuconv/plugin_kind.h"
+#include "usage_hint.h"
 
 int main(int argc, char** argv) {
   using namespace imuconv::cli;
@@ -34,13 +34,16 @@ int main(int argc, char** argv) {
                                         std::to_string(imuconv::kPluginAbiVersion) + ")");
   CommandContext ctx;
   app.add_option("--plugin-dir", ctx.plugin_dirs_main,
-                 "Extra plugin directory, searched before IMUCONV_PLUGIN_PATH and the built-in one (repeatable)")
+                 "Extra plugin directory, searched before IMUCONV_PLUGIN_PATH and the built-in one "
+                 "(repeatable)")
       ->type_name("DIR")
       ->allow_extra_args(false);
   app.add_flag("--allow-plugin-override", ctx.allow_plugin_override,
-               "Two plugins with one id: use the one earlier on the search path (a warning) instead of failing");
-  auto* quiet = app.add_flag_callback("-q,--quiet", [&ctx] { ctx.verbosity = -1; },
-                                      "Print only results, warnings and errors (no summaries, no \"wrote\" lines)");
+               "Two plugins with one id: use the one earlier on the search path (a warning) "
+               "instead of failing");
+  auto* quiet = app.add_flag_callback(
+      "-q,--quiet", [&ctx] { ctx.verbosity = -1; },
+      "Print only results, warnings and errors (no summaries, no \"wrote\" lines)");
   auto* verbose = app.add_flag_callback(
       "-v,--verbose", [&ctx] { ctx.verbosity = 1; },
       "Also print the plugin search path, each plugin loaded and the time taken, on stderr");
@@ -63,7 +66,8 @@ int main(int argc, char** argv) {
 
   // One exit-code table for every command (exit_codes.h), under every --help.
   app.footer(kExitCodeFooter);
-  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) sub->footer(kExitCodeFooter);
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+    sub->footer(kExitCodeFooter);
 
   const auto start = std::chrono::steady_clock::now();
   try {
@@ -83,11 +87,14 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     return ReportFailure(e);
   } catch (...) {
-    PrintError("internal error: an unknown failure (a defect of imuconv or of a plugin; please report it)");
+    PrintError(
+        "internal error: an unknown failure (a defect of imuconv or of a plugin; please report "
+        "it)");
     return kExitInternal;
   }
   if (ctx.verbose())
     std::cerr << "imuconv: " << app.get_subcommands().front()->get_name() << " took "
-              << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s\n";
+              << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
+              << " s\n";
   return ctx.exit_code;
 }

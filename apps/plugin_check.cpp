@@ -51,20 +51,34 @@ constexpr std::size_t kMaxStderrTail = 4 * 1024;
 
 const char* SignalName(int sig) {
   switch (sig) {
-    case SIGSEGV: return "SIGSEGV";
-    case SIGBUS: return "SIGBUS";
-    case SIGABRT: return "SIGABRT";
-    case SIGILL: return "SIGILL";
-    case SIGFPE: return "SIGFPE";
-    case SIGKILL: return "SIGKILL";
-    case SIGTERM: return "SIGTERM";
-    case SIGINT: return "SIGINT";
-    case SIGTRAP: return "SIGTRAP";
-    case SIGSYS: return "SIGSYS";
-    case SIGPIPE: return "SIGPIPE";
-    case SIGXCPU: return "SIGXCPU";
-    case SIGXFSZ: return "SIGXFSZ";
-    default: return nullptr;
+    case SIGSEGV:
+      return "SIGSEGV";
+    case SIGBUS:
+      return "SIGBUS";
+    case SIGABRT:
+      return "SIGABRT";
+    case SIGILL:
+      return "SIGILL";
+    case SIGFPE:
+      return "SIGFPE";
+    case SIGKILL:
+      return "SIGKILL";
+    case SIGTERM:
+      return "SIGTERM";
+    case SIGINT:
+      return "SIGINT";
+    case SIGTRAP:
+      return "SIGTRAP";
+    case SIGSYS:
+      return "SIGSYS";
+    case SIGPIPE:
+      return "SIGPIPE";
+    case SIGXCPU:
+      return "SIGXCPU";
+    case SIGXFSZ:
+      return "SIGXFSZ";
+    default:
+      return nullptr;
   }
 }
 
@@ -96,8 +110,10 @@ std::string Exercise(const std::string& file) {
   Registry reg;
   reg.load_file(file);
   const PluginInfo& p = reg.plugins().back();
-  std::string what = std::string(KindName(p.kind)) + " " + Quoted(p.id) + " " + Printable(p.version);
-  const std::string who = std::string(KindName(p.kind)) + " " + Quoted(p.id) + " in " + Quoted(file);
+  std::string what =
+      std::string(KindName(p.kind)) + " " + Quoted(p.id) + " " + Printable(p.version);
+  const std::string who =
+      std::string(KindName(p.kind)) + " " + Quoted(p.id) + " in " + Quoted(file);
   const auto samples = TestSamples();
   SampleWindow w;
   if (const Status st = MakeWindow(samples.data(), samples.size(), 0.0, 0.01, w); !st.ok())
@@ -110,9 +126,11 @@ std::string Exercise(const std::string& file) {
     in.x_s.v = Vec3(0.5, 0.0, 0.0);
     PropagationResult out;
     const Status st = reg.propagator(p.id)->propagate(in, out);
-    if (!st.ok()) throw Error(who + ": propagate() failed on a 10 ms test window: " + Printable(st.message()));
-    if (!AllFinite(out.x_e.R) || !AllFinite(out.x_e.p) || !AllFinite(out.x_e.v) || !AllFinite(out.x_e.bg) ||
-        !AllFinite(out.x_e.ba) || !AllFinite(out.Phi) || !AllFinite(out.cov))
+    if (!st.ok())
+      throw Error(who + ": propagate() failed on a 10 ms test window: " + Printable(st.message()));
+    if (!AllFinite(out.x_e.R) || !AllFinite(out.x_e.p) || !AllFinite(out.x_e.v) ||
+        !AllFinite(out.x_e.bg) || !AllFinite(out.x_e.ba) || !AllFinite(out.Phi) ||
+        !AllFinite(out.cov))
       throw Error(who + ": propagate() returned non-finite values on a 10 ms test window");
     what += "; propagate() ran on a 10 ms test window";
   } else if (p.kind == PluginKind::Preintegrator) {
@@ -121,9 +139,10 @@ std::string Exercise(const std::string& file) {
     in.noise = TestNoise();
     Preintegrated out;
     const Status st = reg.preintegrator(p.id)->integrate(in, out);
-    if (!st.ok()) throw Error(who + ": integrate() failed on a 10 ms test window: " + Printable(st.message()));
-    if (!std::isfinite(out.dt) || !AllFinite(out.delta.dR) || !AllFinite(out.delta.dp) || !AllFinite(out.delta.dv) ||
-        !AllFinite(out.cov) || !AllFinite(out.J_bias))
+    if (!st.ok())
+      throw Error(who + ": integrate() failed on a 10 ms test window: " + Printable(st.message()));
+    if (!std::isfinite(out.dt) || !AllFinite(out.delta.dR) || !AllFinite(out.delta.dp) ||
+        !AllFinite(out.delta.dv) || !AllFinite(out.cov) || !AllFinite(out.J_bias))
       throw Error(who + ": integrate() returned non-finite values on a 10 ms test window");
     what += "; integrate() ran on a 10 ms test window";
   } else {
@@ -192,7 +211,8 @@ std::string LastLine(const std::string& text) {
   std::size_t end = text.find_last_not_of("\r\n \t");
   if (end == std::string::npos) return {};
   const std::size_t start = text.find_last_of('\n', end);
-  std::string line = text.substr(start == std::string::npos ? 0 : start + 1, end + 1 - (start == std::string::npos ? 0 : start + 1));
+  std::string line = text.substr(start == std::string::npos ? 0 : start + 1,
+                                 end + 1 - (start == std::string::npos ? 0 : start + 1));
   if (line.size() > 200) line = line.substr(0, 200) + "...";
   return line;
 }
@@ -219,7 +239,8 @@ struct DefaultSigchld {
 // True once the child has exited (it is not reaped: its pid stays ours).
 bool HasExited(pid_t pid) {
   siginfo_t si{};
-  return ::waitid(P_PID, static_cast<id_t>(pid), &si, WEXITED | WNOHANG | WNOWAIT) == 0 && si.si_pid == pid;
+  return ::waitid(P_PID, static_cast<id_t>(pid), &si, WEXITED | WNOHANG | WNOWAIT) == 0 &&
+         si.si_pid == pid;
 }
 
 // Appends everything fd holds now (it is non-blocking) to `into`, bounded as Drain is.
@@ -308,12 +329,18 @@ struct Fd {
 
 const char* OutcomeName(PluginCheck::Outcome o) {
   switch (o) {
-    case PluginCheck::Outcome::Ok: return "ok";
-    case PluginCheck::Outcome::Refused: return "refused";
-    case PluginCheck::Outcome::Crashed: return "crashed";
-    case PluginCheck::Outcome::TimedOut: return "timed_out";
-    case PluginCheck::Outcome::NoResult: return "no_result";
-    case PluginCheck::Outcome::LeftProcesses: return "left_processes";
+    case PluginCheck::Outcome::Ok:
+      return "ok";
+    case PluginCheck::Outcome::Refused:
+      return "refused";
+    case PluginCheck::Outcome::Crashed:
+      return "crashed";
+    case PluginCheck::Outcome::TimedOut:
+      return "timed_out";
+    case PluginCheck::Outcome::NoResult:
+      return "no_result";
+    case PluginCheck::Outcome::LeftProcesses:
+      return "left_processes";
   }
   return "no_result";
 }
@@ -329,7 +356,8 @@ std::string SafeText(const std::string& text) {
 std::vector<std::string> PluginFilesIn(const std::string& dir) {
   std::error_code ec;
   const fs::file_status st = fs::status(dir, ec);
-  if (st.type() == fs::file_type::not_found) throw Error("plugin directory " + Quoted(dir) + " does not exist");
+  if (st.type() == fs::file_type::not_found)
+    throw Error("plugin directory " + Quoted(dir) + " does not exist");
   if (ec) throw Error("cannot access plugin directory " + Quoted(dir) + ": " + ec.message());
   if (!fs::is_directory(st)) throw Error(Quoted(dir) + " is not a directory");
   fs::directory_iterator it(dir, ec);
@@ -337,7 +365,8 @@ std::vector<std::string> PluginFilesIn(const std::string& dir) {
   std::vector<std::string> files;
   for (const fs::directory_iterator end{}; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    if (name.size() > 3 && name.rfind("imuconv_plugin_", 0) == 0 && name.compare(name.size() - 3, 3, ".so") == 0)
+    if (name.size() > 3 && name.rfind("imuconv_plugin_", 0) == 0 &&
+        name.compare(name.size() - 3, 3, ".so") == 0)
       files.push_back(it->path().string());
   }
   if (ec) throw Error("listing plugin directory " + Quoted(dir) + " failed: " + ec.message());
@@ -353,9 +382,11 @@ PluginCheck CheckPluginInChild(const std::string& file, double timeout_s) {
   const Subreaper subreaper;  // before the fork: whatever the plugin starts comes back to us
 #endif
   int report_pipe[2], stderr_pipe[2];
-  if (::pipe2(report_pipe, O_CLOEXEC) != 0) throw Error(std::string("cannot create a pipe: ") + std::strerror(errno));
+  if (::pipe2(report_pipe, O_CLOEXEC) != 0)
+    throw Error(std::string("cannot create a pipe: ") + std::strerror(errno));
   Fd report_r{report_pipe[0]}, report_w{report_pipe[1]};
-  if (::pipe2(stderr_pipe, O_CLOEXEC) != 0) throw Error(std::string("cannot create a pipe: ") + std::strerror(errno));
+  if (::pipe2(stderr_pipe, O_CLOEXEC) != 0)
+    throw Error(std::string("cannot create a pipe: ") + std::strerror(errno));
   Fd stderr_r{stderr_pipe[0]}, stderr_w{stderr_pipe[1]};
 
   std::cout.flush();
@@ -363,7 +394,9 @@ PluginCheck CheckPluginInChild(const std::string& file, double timeout_s) {
   std::fflush(nullptr);  // nothing buffered is inherited and written twice
   const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
-  if (pid < 0) throw Error("cannot start a child process to check " + Quoted(file) + ": " + std::strerror(errno));
+  if (pid < 0)
+    throw Error("cannot start a child process to check " + Quoted(file) + ": " +
+                std::strerror(errno));
   if (pid == 0) {
     ::close(report_pipe[0]);
     ::close(stderr_pipe[0]);
@@ -376,9 +409,11 @@ PluginCheck CheckPluginInChild(const std::string& file, double timeout_s) {
   // has exited, and its report is complete then.
   for (int fd : {report_r.fd, stderr_r.fd}) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) | O_NONBLOCK);
 
-  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_s));
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(timeout_s));
   auto remaining_ms = [&] {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
     return left <= 0 ? 0 : static_cast<int>(std::min<long long>(left, 1000));
   };
   std::string report, err;
@@ -389,10 +424,12 @@ PluginCheck CheckPluginInChild(const std::string& file, double timeout_s) {
       timed_out = true;
       break;
     }
-    if (HasExited(pid)) {  // what it wrote is in the pipes; whoever else holds them is not waited for
+    if (HasExited(
+            pid)) {  // what it wrote is in the pipes; whoever else holds them is not waited for
       for (Fd* f : {&report_r, &stderr_r})
-        if (f->fd >= 0) DrainAvailable(f->fd, f == &report_r ? report : err, f == &report_r ? kMaxReport : kMaxStderrTail,
-                                       f != &report_r);
+        if (f->fd >= 0)
+          DrainAvailable(f->fd, f == &report_r ? report : err,
+                         f == &report_r ? kMaxReport : kMaxStderrTail, f != &report_r);
       break;
     }
     pollfd fds[2];
@@ -403,12 +440,14 @@ PluginCheck CheckPluginInChild(const std::string& file, double timeout_s) {
         fds[n] = {f->fd, POLLIN, 0};
         owners[n++] = f;
       }
-    const int r = ::poll(fds, n, std::min(remaining_ms(), 20));  // 20 ms: the child's exit is seen soon
+    const int r =
+        ::poll(fds, n, std::min(remaining_ms(), 20));  // 20 ms: the child's exit is seen soon
     if (r < 0 && errno != EINTR) break;
     for (nfds_t i = 0; r > 0 && i < n; ++i) {
       if (!(fds[i].revents & (POLLIN | POLLHUP | POLLERR | POLLNVAL))) continue;
       const bool is_report = owners[i] == &report_r;
-      if (!Drain(fds[i].fd, is_report ? report : err, is_report ? kMaxReport : kMaxStderrTail, !is_report))
+      if (!Drain(fds[i].fd, is_report ? report : err, is_report ? kMaxReport : kMaxStderrTail,
+                 !is_report))
         owners[i]->reset();
     }
   }
@@ -440,7 +479,8 @@ PluginCheck CheckPluginInChild(const std::string& file, double timeout_s) {
 #endif
 
   const std::string last_err = LastLine(err);
-  const std::string stderr_note = last_err.empty() ? "" : "; last line on stderr: " + Quoted(last_err);
+  const std::string stderr_note =
+      last_err.empty() ? "" : "; last line on stderr: " + Quoted(last_err);
   if (timed_out) {
     result.outcome = PluginCheck::Outcome::TimedOut;
     result.message = "did not finish within " + Seconds(timeout_s) + " s (killed)";
@@ -455,16 +495,19 @@ PluginCheck CheckPluginInChild(const std::string& file, double timeout_s) {
     const int sig = WTERMSIG(status);
     const char* name = SignalName(sig);
     result.message = "crashed with signal " + (name ? std::string(name) : std::to_string(sig));
-    if (sig == SIGABRT) result.message += " (abort or std::terminate, e.g. an exception thrown in a noexcept method)";
+    if (sig == SIGABRT)
+      result.message += " (abort or std::terminate, e.g. an exception thrown in a noexcept method)";
     result.message += stderr_note;
   } else {
     result.outcome = PluginCheck::Outcome::NoResult;
     result.message = "stopped without a result (exit status " +
-                     std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")" + stderr_note;
+                     std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")" +
+                     stderr_note;
   }
   if (outlived > 0) {
-    const std::string what = "started " + std::to_string(outlived) + " process(es) that outlived it (" +
-                             (all_killed ? "killed" : "still starting more after 1000 rounds of killing them") + ")";
+    const std::string what =
+        "started " + std::to_string(outlived) + " process(es) that outlived it (" +
+        (all_killed ? "killed" : "still starting more after 1000 rounds of killing them") + ")";
     if (result.outcome == PluginCheck::Outcome::TimedOut) {
       result.message += "; it also " + what;
     } else {

@@ -24,8 +24,8 @@ void ReportDestination::RefuseIfLoadedObject() const {
   if (out_) out_->RefuseIfLoadedObject();
 }
 
-void ReportDestination::Write(const std::function<report::HtmlDocument()>& page, const CommandContext& ctx,
-                              bool announce) {
+void ReportDestination::Write(const std::function<report::HtmlDocument()>& page,
+                              const CommandContext& ctx, bool announce) {
   if (!out_) return;
   out_->RefuseIfLoadedObject();
   out_->Write(page());

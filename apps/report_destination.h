@@ -36,7 +36,8 @@ class ReportDestination {
   /// Builds the page (only when a report is wanted), checks the loaded objects once more (the
   /// plugins are loaded by now), writes it atomically and, unless -q, says "wrote PATH" on
   /// stderr (`announce` false: the caller says it later, as experiment does after its table).
-  void Write(const std::function<report::HtmlDocument()>& page, const CommandContext& ctx, bool announce = true);
+  void Write(const std::function<report::HtmlDocument()>& page, const CommandContext& ctx,
+             bool announce = true);
   /// "wrote PATH" on stderr, unless -q or no report was written.
   void Announce(const CommandContext& ctx) const;
 

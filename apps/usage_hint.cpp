@@ -42,8 +42,9 @@ bool IsNumber(const std::string& s) {
 // a flag expects no item (CLI11 gives flags a type size of 1 but zero expected items).
 bool TakesValue(const CLI::App& app, std::string_view name) {
   for (const CLI::Option* o : app.get_options())
-    if (o->get_items_expected_max() > 0 && (o->check_lname(std::string(name.substr(name.find_first_not_of('-')))) ||
-                                    (name.size() == 2 && o->check_sname(std::string(name.substr(1))))))
+    if (o->get_items_expected_max() > 0 &&
+        (o->check_lname(std::string(name.substr(name.find_first_not_of('-')))) ||
+         (name.size() == 2 && o->check_sname(std::string(name.substr(1))))))
       return true;
   return false;
 }
@@ -52,7 +53,8 @@ bool TakesValue(const CLI::App& app, std::string_view name) {
 
 std::string UsageHint(CLI::App& app, int argc, const char* const* argv) {
   std::vector<std::string> subcommands;
-  for (const CLI::App* s : app.get_subcommands([](CLI::App*) { return true; })) subcommands.push_back(s->get_name());
+  for (const CLI::App* s : app.get_subcommands([](CLI::App*) { return true; }))
+    subcommands.push_back(s->get_name());
   const std::vector<std::string> main_options = OptionNames(app);
   // Up to the subcommand: the main app's options and their values.
   int i = 1;
@@ -63,14 +65,16 @@ std::string UsageHint(CLI::App& app, int argc, const char* const* argv) {
     if (a.size() > 1 && a[0] == '-') {
       const std::string name = a.substr(0, a.find('='));
       if (!Contains(main_options, name))
-        return "unknown option " + Quoted(name) + DidYouMean(name, OptionNames(app, true)) + " before the subcommand";
+        return "unknown option " + Quoted(name) + DidYouMean(name, OptionNames(app, true)) +
+               " before the subcommand";
       if (a.find('=') == std::string::npos && TakesValue(app, name)) ++i;
       continue;
     }
     if (!Contains(subcommands, a)) {
       std::string known;
       for (const auto& s : subcommands) known += (known.empty() ? "" : ", ") + s;
-      return "unknown subcommand " + Quoted(a) + DidYouMean(a, subcommands) + "; the subcommands are: " + known;
+      return "unknown subcommand " + Quoted(a) + DidYouMean(a, subcommands) +
+             "; the subcommands are: " + known;
     }
     sub = app.get_subcommand(a);
     ++i;
@@ -90,8 +94,8 @@ std::string UsageHint(CLI::App& app, int argc, const char* const* argv) {
     const std::string name = a.substr(0, a.find('='));
     if (name.rfind("--", 0) != 0 && name.size() > 2) continue;  // -abc: a cluster of short flags
     if (!Contains(known, name))
-      return "unknown option " + Quoted(name) + " for 'imuconv " + sub->get_name() + "'" + DidYouMean(name, suggested) +
-             "; see 'imuconv " + sub->get_name() + " --help'";
+      return "unknown option " + Quoted(name) + " for 'imuconv " + sub->get_name() + "'" +
+             DidYouMean(name, suggested) + "; see 'imuconv " + sub->get_name() + " --help'";
   }
   return "";
 }

@@ -14,11 +14,11 @@
 #include <vector>
 
 #include "imuconv/bridge.h"
+#include "imuconv/kernels/preintegration.h"
+#include "imuconv/kernels/rk4.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/pipeline/result_arrays.h"
-#include "imuconv/kernels/preintegration.h"
-#include "imuconv/kernels/rk4.h"
 #include "imuconv/printable.h"
 #include "imuconv/registry.h"
 #include "imuconv/so3.h"
@@ -30,7 +30,9 @@ namespace {
 Registry& Plugins() {
   static Registry* reg = [] {
     auto* r = new Registry();
-    for (const auto& i : r->load_search_path()) std::fprintf(stderr, "imuconv bench: %s: %s\n", Printable(i.file).c_str(), Printable(i.message).c_str());
+    for (const auto& i : r->load_search_path())
+      std::fprintf(stderr, "imuconv bench: %s: %s\n", Printable(i.file).c_str(),
+                   Printable(i.message).c_str());
     return r;
   }();
   return *reg;
@@ -44,8 +46,10 @@ const std::vector<ImuSample>& Samples() {
       const double t = k / 200.0;
       ImuSample z;
       z.t = 100.0 + t;
-      z.gyro = Vec3(0.5 * std::sin(1.3 * t + 0.2), -0.4 * std::cos(0.7 * t), 0.3 * std::sin(2.1 * t + 1.0));
-      z.accel = Vec3(1.5 * std::cos(0.9 * t), 2.0 * std::sin(1.7 * t + 0.3), 9.81 + 0.8 * std::sin(0.5 * t));
+      z.gyro = Vec3(0.5 * std::sin(1.3 * t + 0.2), -0.4 * std::cos(0.7 * t),
+                    0.3 * std::sin(2.1 * t + 1.0));
+      z.accel = Vec3(1.5 * std::cos(0.9 * t), 2.0 * std::sin(1.7 * t + 0.3),
+                     9.81 + 0.8 * std::sin(0.5 * t));
       v.push_back(z);
     }
     return v;
@@ -101,7 +105,8 @@ bool Failed(benchmark::State& st, const Status& s) {
 }
 
 void SetSamples(benchmark::State& st) {
-  st.SetItemsProcessed(static_cast<int64_t>(st.iterations()) * static_cast<int64_t>(Samples().size() - 1));
+  st.SetItemsProcessed(static_cast<int64_t>(st.iterations()) *
+                       static_cast<int64_t>(Samples().size() - 1));
 }
 
 /// Times call() (returning a Status, writing `out`) over the interval, per IMU sample.
@@ -180,7 +185,9 @@ void BM_Conversion(benchmark::State& st, const char* from, const char* to) {
 // (plugin - direct) / direct.
 using DirectKernel = Status (*)(const PropagationInput&, PropagationResult&);
 
-Status DirectRk4(const PropagationInput& in, PropagationResult& out) { return kernels::PropagateRk4(in, out, 1); }
+Status DirectRk4(const PropagationInput& in, PropagationResult& out) {
+  return kernels::PropagateRk4(in, out, 1);
+}
 
 void BM_PluginOverhead(benchmark::State& st, const char* id, DirectKernel direct_kernel) {
   const PropagationInput in = Input();
@@ -211,7 +218,9 @@ void BM_PluginOverhead(benchmark::State& st, const char* id, DirectKernel direct
 // interval, interleaved so both see the same machine state): `kernel_ns_per_sample` and
 // `x_kernel` = whole job / kernel, per sample. The data are found in the source tree
 // (IMUCONV_SOURCE_DIR); without them the benchmark reports an error, never a figure.
-std::string SourceFile(const std::string& rel) { return std::string(IMUCONV_SOURCE_DIR) + "/" + rel; }
+std::string SourceFile(const std::string& rel) {
+  return std::string(IMUCONV_SOURCE_DIR) + "/" + rel;
+}
 
 /// Data rows of an EuRoC CSV file (lines that are neither empty nor '#' comments); 0 if unreadable.
 std::size_t DataRows(const std::string& path) {
@@ -226,12 +235,15 @@ void BM_WholeJob(benchmark::State& st, const char* pipeline_file, const char* im
   const std::string path = SourceFile(pipeline_file);
   const std::size_t samples = DataRows(SourceFile(imu_file));
   if (samples == 0) {
-    st.SkipWithError(("cannot read the IMU data " + SourceFile(imu_file) + " (the source tree's examples/data)").c_str());
+    st.SkipWithError(
+        ("cannot read the IMU data " + SourceFile(imu_file) + " (the source tree's examples/data)")
+            .c_str());
     return;
   }
-  const std::string out = (std::filesystem::temp_directory_path() /
-                           ("imuconv_bench_whole_job_" + std::to_string(::getpid()) + (npz ? ".npz" : ".json")))
-                              .string();
+  const std::string out =
+      (std::filesystem::temp_directory_path() /
+       ("imuconv_bench_whole_job_" + std::to_string(::getpid()) + (npz ? ".npz" : ".json")))
+          .string();
   const auto prop = Plugins().propagator("rk4");
   const PropagationInput in = Input();
   PropagationResult kernel_out;
@@ -265,8 +277,11 @@ void BM_WholeJob(benchmark::State& st, const char* pipeline_file, const char* im
   std::error_code ec;
   std::filesystem::remove(out, ec);
   if (st.iterations() == 0 || kernel <= 0.0) return;
-  const double job_ns = 1e9 * job / (static_cast<double>(st.iterations()) * static_cast<double>(samples));
-  const double kernel_ns = 1e9 * kernel / (static_cast<double>(st.iterations()) * static_cast<double>(Samples().size() - 1));
+  const double job_ns =
+      1e9 * job / (static_cast<double>(st.iterations()) * static_cast<double>(samples));
+  const double kernel_ns =
+      1e9 * kernel /
+      (static_cast<double>(st.iterations()) * static_cast<double>(Samples().size() - 1));
   st.counters["kernel_ns_per_sample"] = kernel_ns;
   st.counters["x_kernel"] = job_ns / kernel_ns;
   st.SetItemsProcessed(static_cast<int64_t>(st.iterations()) * static_cast<int64_t>(samples));
@@ -283,7 +298,8 @@ void BM_WholeJob(benchmark::State& st, const char* pipeline_file, const char* im
 // plus the process start (bench/README.md, "montecarlo").
 void BM_MonteCarlo(benchmark::State& st, const char* id, bool allow_mean_only) {
   constexpr int kTrials = 256;
-  const PreintegrationMethod method = ResolvePreintegrationMethod(Plugins(), PluginKind::Propagator, id);
+  const PreintegrationMethod method =
+      ResolvePreintegrationMethod(Plugins(), PluginKind::Propagator, id);
   montecarlo::Input in;
   in.samples = Samples();
   in.bg = kBiasGyro;
@@ -296,9 +312,12 @@ void BM_MonteCarlo(benchmark::State& st, const char* id, bool allow_mean_only) {
   o.allow_mean_only = allow_mean_only;
   for (auto _ : st) {
     try {
-      const montecarlo::Result r = montecarlo::RunMonteCarlo(Plugins(), method, "preint_reference", in, o);
+      const montecarlo::Result r =
+          montecarlo::RunMonteCarlo(Plugins(), method, "preint_reference", in, o);
       if (allow_mean_only && r.trial_path != "mean_only") {
-        st.SkipWithError("the mean-only path was not taken (montecarlo.cpp: its nominal disagreed with the plugin's)");
+        st.SkipWithError(
+            "the mean-only path was not taken (montecarlo.cpp: its nominal disagreed with the "
+            "plugin's)");
         break;
       }
       benchmark::DoNotOptimize(r.stats.nees_mean);
@@ -307,37 +326,49 @@ void BM_MonteCarlo(benchmark::State& st, const char* id, bool allow_mean_only) {
       break;
     }
   }
-  st.SetItemsProcessed(static_cast<int64_t>(st.iterations()) * kTrials * static_cast<int64_t>(Samples().size() - 1));
+  st.SetItemsProcessed(static_cast<int64_t>(st.iterations()) * kTrials *
+                       static_cast<int64_t>(Samples().size() - 1));
 }
 
 }  // namespace
 
 void RegisterAll() {
   for (const char* id : {"manifold", "tangent", "vins_fusion", "basalt"})
-    benchmark::RegisterBenchmark((std::string("BM_Preintegrate/") + id).c_str(), BM_Preintegrate, id);
-  for (const auto& [scheme, scheme_name] : {std::pair{Scheme::kManifold, "manifold"}, std::pair{Scheme::kTangent, "tangent"}})
-    for (const kernels::Isa isa :
-         {kernels::Isa::kPortable, kernels::Isa::kBaseline, kernels::Isa::kAvx2, kernels::Isa::kAvx512})
+    benchmark::RegisterBenchmark((std::string("BM_Preintegrate/") + id).c_str(), BM_Preintegrate,
+                                 id);
+  for (const auto& [scheme, scheme_name] :
+       {std::pair{Scheme::kManifold, "manifold"}, std::pair{Scheme::kTangent, "tangent"}})
+    for (const kernels::Isa isa : {kernels::Isa::kPortable, kernels::Isa::kBaseline,
+                                   kernels::Isa::kAvx2, kernels::Isa::kAvx512})
       if (kernels::IsaAvailable(isa))
         benchmark::RegisterBenchmark(
-            (std::string("BM_PreintegrateInstance/") + scheme_name + "/" + kernels::IsaName(isa)).c_str(),
+            (std::string("BM_PreintegrateInstance/") + scheme_name + "/" + kernels::IsaName(isa))
+                .c_str(),
             BM_PreintegrateInstance, scheme, isa);
-  for (const kernels::Isa isa : {kernels::Isa::kPortable, kernels::Isa::kAvx2, kernels::Isa::kAvx512})
+  for (const kernels::Isa isa :
+       {kernels::Isa::kPortable, kernels::Isa::kAvx2, kernels::Isa::kAvx512})
     if (kernels::IsaAvailable(isa))
-      benchmark::RegisterBenchmark((std::string("BM_Rk4Instance/") + kernels::IsaName(isa)).c_str(), BM_Rk4Instance,
-                                   isa);
-  for (const char* id : {"euler", "midpoint", "rk4", "openvins_discrete", "openvins_rk4", "openvins_analytical"})
+      benchmark::RegisterBenchmark((std::string("BM_Rk4Instance/") + kernels::IsaName(isa)).c_str(),
+                                   BM_Rk4Instance, isa);
+  for (const char* id :
+       {"euler", "midpoint", "rk4", "openvins_discrete", "openvins_rk4", "openvins_analytical"})
     benchmark::RegisterBenchmark((std::string("BM_Propagate/") + id).c_str(), BM_Propagate, id);
-  benchmark::RegisterBenchmark("BM_PreintegrateByPropagation/rk4", BM_PreintegrateByPropagation, "rk4");
-  benchmark::RegisterBenchmark("BM_Conversion/left/gtsam_navstate", BM_Conversion, "left", "gtsam_navstate");
-  benchmark::RegisterBenchmark("BM_PluginOverhead/rk4", BM_PluginOverhead, "rk4", &DirectRk4)->UseManualTime();
+  benchmark::RegisterBenchmark("BM_PreintegrateByPropagation/rk4", BM_PreintegrateByPropagation,
+                               "rk4");
+  benchmark::RegisterBenchmark("BM_Conversion/left/gtsam_navstate", BM_Conversion, "left",
+                               "gtsam_navstate");
+  benchmark::RegisterBenchmark("BM_PluginOverhead/rk4", BM_PluginOverhead, "rk4", &DirectRk4)
+      ->UseManualTime();
   for (const bool npz : {false, true})
-    benchmark::RegisterBenchmark(npz ? "BM_WholeJob/euroc_full_npz" : "BM_WholeJob/euroc_full_json", BM_WholeJob,
-                                 "examples/euroc_v1_01_full.json", "examples/data/V1_01_easy_imu0.csv", npz)
+    benchmark::RegisterBenchmark(npz ? "BM_WholeJob/euroc_full_npz" : "BM_WholeJob/euroc_full_json",
+                                 BM_WholeJob, "examples/euroc_v1_01_full.json",
+                                 "examples/data/V1_01_easy_imu0.csv", npz)
         ->UseManualTime()
         ->Unit(benchmark::kMillisecond);
-  benchmark::RegisterBenchmark("BM_MonteCarlo/rk4", BM_MonteCarlo, "rk4", true)->Unit(benchmark::kMillisecond);
-  benchmark::RegisterBenchmark("BM_MonteCarlo/rk4_full_path", BM_MonteCarlo, "rk4", false)->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("BM_MonteCarlo/rk4", BM_MonteCarlo, "rk4", true)
+      ->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("BM_MonteCarlo/rk4_full_path", BM_MonteCarlo, "rk4", false)
+      ->Unit(benchmark::kMillisecond);
 }
 
 int Main(int argc, char** argv) {

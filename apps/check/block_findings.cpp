@@ -30,7 +30,8 @@ Eigen::MatrixXd CovarianceScales(MatrixView K) {
   for (Eigen::Index j = 0; j < K.cols(); ++j)
     for (Eigen::Index i = 0; i < K.rows(); ++i) {
       const double s = std::sqrt(std::abs(K(i, i) * K(j, j)));
-      S(i, j) = s > 0.0 ? s : largest;  // a state no noise reaches: judged against the largest variance
+      S(i, j) =
+          s > 0.0 ? s : largest;  // a state no noise reaches: judged against the largest variance
     }
   return S;
 }
@@ -38,7 +39,8 @@ Eigen::MatrixXd CovarianceScales(MatrixView K) {
 /// max over block B of |f K(src) - U(i, j)| / (|f| S(src)); src(i, j) maps B's entry to K's.
 /// f = 0 (missing): |U(i, j)| / S(i, j). Not finite (a NaN) counts as infinite.
 template <typename Src>
-double Residual(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, const Block& B, double f, Src src) {
+double Residual(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, const Block& B, double f,
+                Src src) {
   double worst = 0.0;
   for (Eigen::Index i = B.r0; i < B.r0 + 3; ++i)
     for (Eigen::Index j = B.c0; j < B.c0 + 3; ++j) {
@@ -71,8 +73,8 @@ double FittedScale(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, const B
   return kk > 0.0 && std::isfinite(ku) ? ku / kk : 0.0;
 }
 
-BlockAnalysis Analyze(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, const std::vector<Block>& blocks,
-                      const std::string& matrix, double tol) {
+BlockAnalysis Analyze(MatrixView K, MatrixView U, const Eigen::MatrixXd& S,
+                      const std::vector<Block>& blocks, const std::string& matrix, double tol) {
   BlockAnalysis out;
   std::vector<double> before(blocks.size());
   std::vector<bool> open(blocks.size());
@@ -85,7 +87,8 @@ BlockAnalysis Analyze(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, cons
     }
   }
   const auto finding = [&](std::size_t b, const std::string& kind, double f, double residual) {
-    out.findings.push_back({matrix, {blocks[b].row}, {blocks[b].col}, kind, f, before[b], residual});
+    out.findings.push_back(
+        {matrix, {blocks[b].row}, {blocks[b].col}, kind, f, before[b], residual});
     open[b] = false;
   };
   for (std::size_t b = 0; b < blocks.size(); ++b) {
@@ -108,7 +111,8 @@ BlockAnalysis Analyze(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, cons
     };
     // Missing: exactly zero (terms never formed are never written as anything else; a block
     // merely far smaller than the reference is a scale, e.g. a density used as a variance).
-    if (U.block(B.r0, B.c0, 3, 3).isZero(0.0)) consider("missing", 0.0, Residual(K, U, S, B, 0.0, Same), b);
+    if (U.block(B.r0, B.c0, 3, 3).isZero(0.0))
+      consider("missing", 0.0, Residual(K, U, S, B, 0.0, Same), b);
     consider("sign", -1.0, Residual(K, U, S, B, -1.0, Same), b);
     for (std::size_t c = b + 1; c < blocks.size(); ++c) {
       if (!open[c]) continue;
@@ -121,13 +125,21 @@ BlockAnalysis Analyze(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, cons
       });
       consider("swap", 1.0, std::max(r_bc, r_cb), c);
     }
-    consider("transpose", 1.0, Residual(K, U, S, B, 1.0, [&](Eigen::Index i, Eigen::Index j) {
-               return std::pair{B.r0 + (j - B.c0), B.c0 + (i - B.r0)};
-             }), b);
+    consider("transpose", 1.0,
+             Residual(K, U, S, B, 1.0,
+                      [&](Eigen::Index i, Eigen::Index j) {
+                        return std::pair{B.r0 + (j - B.c0), B.c0 + (i - B.r0)};
+                      }),
+             b);
     if (kind == "swap") {
       const Block& C = blocks[partner];
-      out.findings.push_back(
-          {matrix, {B.row, C.row}, {B.col, C.col}, "swap", 1.0, std::max(before[b], before[partner]), best});
+      out.findings.push_back({matrix,
+                              {B.row, C.row},
+                              {B.col, C.col},
+                              "swap",
+                              1.0,
+                              std::max(before[b], before[partner]),
+                              best});
       open[b] = open[partner] = false;
       continue;
     }
@@ -155,15 +167,18 @@ std::string Num3(double v) {
 
 }  // namespace
 
-BlockAnalysis AnalyzeJacobianBlocks(MatrixView K, MatrixView U, const std::vector<std::string>& row_labels,
+BlockAnalysis AnalyzeJacobianBlocks(MatrixView K, MatrixView U,
+                                    const std::vector<std::string>& row_labels,
                                     const std::vector<std::string>& col_labels, double tol) {
   std::vector<Block> blocks;
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 2; ++c) blocks.push_back({3 * r, 3 * c, row_labels.at(r), col_labels.at(c)});
+    for (int c = 0; c < 2; ++c)
+      blocks.push_back({3 * r, 3 * c, row_labels.at(r), col_labels.at(c)});
   return Analyze(K, U, JacobianScales(K), blocks, "J_bias", tol);
 }
 
-BlockAnalysis AnalyzeCovarianceBlocks(MatrixView K, MatrixView U, const std::vector<std::string>& labels, double tol) {
+BlockAnalysis AnalyzeCovarianceBlocks(MatrixView K, MatrixView U,
+                                      const std::vector<std::string>& labels, double tol) {
   // The blocks on and above the diagonal: the one below is the same numbers transposed (the
   // user's covariance is symmetric, the measurement reader's check).
   std::vector<Block> blocks;
@@ -175,9 +190,14 @@ BlockAnalysis AnalyzeCovarianceBlocks(MatrixView K, MatrixView U, const std::vec
 std::string FactorWords(double factor, double dt) {
   const double a = std::abs(factor);
   const std::string sign = factor < 0.0 ? "-" : "";
-  const std::pair<double, const char*> named[] = {{2.0, "2"},           {0.5, "1/2"},     {4.0, "4"},
-                                                  {0.25, "1/4"},        {1.0 / dt, "1/dt"}, {dt, "dt"},
-                                                  {1.0 / (dt * dt), "1/dt^2"}, {dt * dt, "dt^2"}};
+  const std::pair<double, const char*> named[] = {{2.0, "2"},
+                                                  {0.5, "1/2"},
+                                                  {4.0, "4"},
+                                                  {0.25, "1/4"},
+                                                  {1.0 / dt, "1/dt"},
+                                                  {dt, "dt"},
+                                                  {1.0 / (dt * dt), "1/dt^2"},
+                                                  {dt * dt, "dt^2"}};
   // 1 %: the tolerance a scale finding was fitted to.
   if (dt > 0.0)
     for (const auto& [value, words] : named)
@@ -191,13 +211,16 @@ std::string FindingWords(const BlockFinding& f, double dt) {
   // same numbers by two routes (a case and a pipeline) read the same.
   const std::string residual = f.residual < 1e-9 ? std::string("< 1e-9") : Num3(f.residual);
   const std::string d = " (max d " + Num3(f.max_d) + ", " + residual + " once undone)";
-  if (f.kind == "missing") return where + " is zero where the reference is not: terms never formed" + d;
+  if (f.kind == "missing")
+    return where + " is zero where the reference is not: terms never formed" + d;
   if (f.kind == "sign") return where + " has the opposite sign" + d;
   if (f.kind == "transpose") return where + " is transposed" + d;
   if (f.kind == "swap")
-    return where + " and " + f.matrix + " block (rows " + f.rows[1] + ", cols " + f.cols[1] + ") are swapped" + d;
+    return where + " and " + f.matrix + " block (rows " + f.rows[1] + ", cols " + f.cols[1] +
+           ") are swapped" + d;
   std::string w = FactorWords(f.factor, dt);
-  if (w.find("dt") != std::string::npos) w += " (dt = " + Num3(dt) + " s, the median sample period)";
+  if (w.find("dt") != std::string::npos)
+    w += " (dt = " + Num3(dt) + " s, the median sample period)";
   return where + " is scaled by " + w + d;
 }
 

@@ -23,7 +23,8 @@ Eigen::Matrix<double, 15, 1> IncrementEntries(const PreintIncrement& d) {
   return e;
 }
 
-SchemeCandidates MakeCandidates(const Registry& reg, const std::string& scheme, const Preintegrated& ref) {
+SchemeCandidates MakeCandidates(const Registry& reg, const std::string& scheme,
+                                const Preintegrated& ref) {
   SchemeCandidates out;
   out.scheme = scheme;
   out.delta = IncrementEntries(ref.delta);
@@ -50,7 +51,8 @@ SchemeCandidates MakeCandidates(const Registry& reg, const std::string& scheme, 
   return out;
 }
 
-std::array<Eigen::Index, 15> ReorderedIndices(const CovarianceCandidate& c, const std::vector<std::string>& order) {
+std::array<Eigen::Index, 15> ReorderedIndices(const CovarianceCandidate& c,
+                                              const std::vector<std::string>& order) {
   std::array<Eigen::Index, 15> from{};
   for (int b = 0; b < 5; ++b) {
     const int block = IndexOf(c.labels, order[b]);
@@ -69,7 +71,8 @@ Mat15 Reordered(const CovarianceCandidate& c, const std::vector<std::string>& or
 
 Mat96 Arranged(const JacobianCandidate& c, const std::vector<std::string>& columns, int sign) {
   Mat96 out;
-  for (int k = 0; k < 2; ++k) out.middleCols<3>(3 * k) = c.J_bg_ba.middleCols<3>(columns[k] == "bg" ? 0 : 3);
+  for (int k = 0; k < 2; ++k)
+    out.middleCols<3>(3 * k) = c.J_bg_ba.middleCols<3>(columns[k] == "bg" ? 0 : 3);
   return static_cast<double>(sign) * out;
 }
 

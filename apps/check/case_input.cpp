@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/json_io.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/sample_checks.h"
 #include "imuconv/pipeline/timing.h"
 
@@ -16,13 +16,15 @@ CaseInput ReadCaseFile(const std::string& path) {
   CaseInput k;
   // The keys of FORMAT.md: those check does not use are allowed (a case file is read as it
   // is), a misspelt one is not.
-  if (!root.expect_object({"case_id", "kind", "gravity", "noise", "imu_columns", "imu", "state_s", "cov_s_left",
-                           "end_perturbation", "bias_delta"}))
+  if (!root.expect_object({"case_id", "kind", "gravity", "noise", "imu_columns", "imu", "state_s",
+                           "cov_s_left", "end_perturbation", "bias_delta"}))
     c.throw_if_errors();
   if (auto cols = root.get("imu_columns", false))
     if (auto labels = cols->string_list();
         labels && *labels != std::vector<std::string>{"t", "wx", "wy", "wz", "ax", "ay", "az"})
-      cols->fail("expected [\"t\", \"wx\", \"wy\", \"wz\", \"ax\", \"ay\", \"az\"] (the only layout check reads)");
+      cols->fail(
+          "expected [\"t\", \"wx\", \"wy\", \"wz\", \"ax\", \"ay\", \"az\"] (the only layout check "
+          "reads)");
   if (auto imu = root.get("imu", true)) {
     if (!imu->is_array() || imu->size() < 2) {
       imu->fail("expected an array of at least two rows [t, wx, wy, wz, ax, ay, az]");
@@ -37,7 +39,8 @@ CaseInput ReadCaseFile(const std::string& path) {
         s.gyro = v->segment<3>(1);
         s.accel = v->segment<3>(4);
         if (!k.samples.empty() && !(s.t > k.samples.back().t)) {
-          row[0].fail("time " + std::to_string(s.t) + " s does not increase (the previous sample is at " +
+          row[0].fail("time " + std::to_string(s.t) +
+                      " s does not increase (the previous sample is at " +
                       std::to_string(k.samples.back().t) + " s)");
           break;
         }
@@ -50,16 +53,19 @@ CaseInput ReadCaseFile(const std::string& path) {
   // no gap above 10 x the median period, which propagation would otherwise integrate across
   // in silence.
   if (c.ok() && k.samples.size() >= 2) {
-    if (const auto issue =
-            pipeline::FindSampleIssue(k.samples, pipeline::TimingPolicy{}, pipeline::TimeUnit::s, pipeline::TimeSource::imu))
-      c.error(issue->index ? "/imu/" + std::to_string(*issue->index) + "/0" : "/imu", issue->message);
+    if (const auto issue = pipeline::FindSampleIssue(
+            k.samples, pipeline::TimingPolicy{}, pipeline::TimeUnit::s, pipeline::TimeSource::imu))
+      c.error(issue->index ? "/imu/" + std::to_string(*issue->index) + "/0" : "/imu",
+              issue->message);
   }
   if (auto n = root.get("noise", true)) {
-    if (n->expect_object({"gyro_noise_density", "accel_noise_density", "gyro_random_walk", "accel_random_walk"})) {
-      for (auto [key, dst] : {std::pair<const char*, double*>{"gyro_noise_density", &k.noise.gyro_noise_density},
-                              {"accel_noise_density", &k.noise.accel_noise_density},
-                              {"gyro_random_walk", &k.noise.gyro_random_walk},
-                              {"accel_random_walk", &k.noise.accel_random_walk}}) {
+    if (n->expect_object({"gyro_noise_density", "accel_noise_density", "gyro_random_walk",
+                          "accel_random_walk"})) {
+      for (auto [key, dst] :
+           {std::pair<const char*, double*>{"gyro_noise_density", &k.noise.gyro_noise_density},
+            {"accel_noise_density", &k.noise.accel_noise_density},
+            {"gyro_random_walk", &k.noise.gyro_random_walk},
+            {"accel_random_walk", &k.noise.accel_random_walk}}) {
         if (auto v = n->number(key, true)) {
           if (*v < 0.0)
             (*n)[key].fail("expected a non-negative density");
@@ -71,7 +77,8 @@ CaseInput ReadCaseFile(const std::string& path) {
   }
   if (c.ok() && k.samples.size() >= 2) {
     double shortest = k.samples[1].t - k.samples[0].t;
-    for (std::size_t i = 2; i < k.samples.size(); ++i) shortest = std::min(shortest, k.samples[i].t - k.samples[i - 1].t);
+    for (std::size_t i = 2; i < k.samples.size(); ++i)
+      shortest = std::min(shortest, k.samples[i].t - k.samples[i - 1].t);
     if (const auto issue = pipeline::FindNoiseIssue(k.noise, shortest)) c.error("/noise", *issue);
   }
   c.throw_if_errors();

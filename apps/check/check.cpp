@@ -4,8 +4,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "imuconv/pipeline/measurement.h"
 #include "imuconv/pipeline/block_labels.h"
+#include "imuconv/pipeline/measurement.h"
 #include "references.h"
 
 namespace imuconv::check {
@@ -29,7 +29,8 @@ Constraints Declared(const Registry& reg, const pipeline::DeclaredMeasurement& m
   c.jacobian_convention = m.in.jacobian_convention;
   c.J_bias_columns = m.J_bias_cols;
   if (c.J_bias_columns.empty() && !m.J_bias_cols_unknown && !c.jacobian_convention.empty())
-    c.J_bias_columns = pipeline::BiasLabels(reg.info(PluginKind::IncrementConvention, c.jacobian_convention).blocks);
+    c.J_bias_columns = pipeline::BiasLabels(
+        reg.info(PluginKind::IncrementConvention, c.jacobian_convention).blocks);
   c.J_bias_sign = 1;
   return c;
 }
@@ -37,13 +38,16 @@ Constraints Declared(const Registry& reg, const pipeline::DeclaredMeasurement& m
 // The differences of `e` entry by entry, computed as Explain scored it (explain.cpp): the
 // covariance candidate of its convention in its block order on the correlation scale, the
 // Jacobian candidate of its row chart with its columns and sign relative above the floor.
-BestEntries EntriesOf(const Registry& reg, const SchemeCandidates& s, const UserNumbers& user, const Explanation& e) {
+BestEntries EntriesOf(const Registry& reg, const SchemeCandidates& s, const UserNumbers& user,
+                      const Explanation& e) {
   BestEntries out;
   for (const CovarianceCandidate& c : s.covariances)
-    if (c.convention == e.convention) out.cov = CorrelationScaleEntries(Reordered(c, e.blocks), user.cov);
+    if (c.convention == e.convention)
+      out.cov = CorrelationScaleEntries(Reordered(c, e.blocks), user.cov);
   for (const JacobianCandidate& j : s.jacobians)
     if (j.chart == e.jacobian_convention)
-      out.J_bias = RelativeAboveFloorEntries(Arranged(j, e.J_bias_columns, e.J_bias_sign), user.J_bias);
+      out.J_bias =
+          RelativeAboveFloorEntries(Arranged(j, e.J_bias_columns, e.J_bias_sign), user.J_bias);
   if (reg.has(PluginKind::IncrementConvention, e.jacobian_convention))
     for (const auto& b : reg.info(PluginKind::IncrementConvention, e.jacobian_convention).blocks)
       if (b != "bg" && b != "ba") out.J_bias_rows.push_back(b);
@@ -69,21 +73,25 @@ void PrecisionFindings(MeasurementCheck& r, std::size_t steps) {
     f.push_back(std::string("the numbers are single precision (") +
                 (r.float32_inferred ? "inferred: every number is a float32 value"
                                     : "declared \"precision\": \"float32\"") +
-                "): the covariance's symmetry and positive semi-definiteness were judged at 1e-4 on the correlation "
+                "): the covariance's symmetry and positive semi-definiteness were judged at 1e-4 "
+                "on the correlation "
                 "scale, and dt against a float32 sum of the steps");
   if (!r.dt_difference) return;
   const double u = r.float32 ? std::ldexp(1.0, -24) : std::ldexp(1.0, -53);
   const double T = r.t_end - r.t_start;
   r.dt_rounding_bound = static_cast<double>(steps) * u * T;
-  const std::string what = "dt = " + Seconds(T + *r.dt_difference) + " differs from t_end - t_start = " + Seconds(T) +
-                           " by " + Short(*r.dt_difference) + " s";
+  const std::string what = "dt = " + Seconds(T + *r.dt_difference) +
+                           " differs from t_end - t_start = " + Seconds(T) + " by " +
+                           Short(*r.dt_difference) + " s";
   if (std::abs(*r.dt_difference) <= r.dt_rounding_bound) {
-    f.push_back(what + ", within what a " + (r.float32 ? "float32" : "double") + " sum of the interval's " +
-                std::to_string(steps) + " steps can lose (" + Short(r.dt_rounding_bound) +
-                " s); check propagates over [t_start, t_end], and a factor using this dt predicts over it");
+    f.push_back(
+        what + ", within what a " + (r.float32 ? "float32" : "double") + " sum of the interval's " +
+        std::to_string(steps) + " steps can lose (" + Short(r.dt_rounding_bound) +
+        " s); check propagates over [t_start, t_end], and a factor using this dt predicts over it");
   } else {
-    f.push_back(what + ", more than a " + std::string(r.float32 ? "float32" : "double") + " sum of the interval's " +
-                std::to_string(steps) + " steps can lose (" + Short(r.dt_rounding_bound) +
+    f.push_back(what + ", more than a " + std::string(r.float32 ? "float32" : "double") +
+                " sum of the interval's " + std::to_string(steps) + " steps can lose (" +
+                Short(r.dt_rounding_bound) +
                 " s): dt is not the interval's duration; fix dt or the times");
     r.judgement.verdict = Verdict::inconsistent;
   }
@@ -94,7 +102,8 @@ void PrecisionFindings(MeasurementCheck& r, std::size_t steps) {
 double MedianPeriod(const std::vector<ImuSample>& samples, double t_s, double t_e) {
   std::vector<double> dt;
   for (std::size_t k = 1; k < samples.size(); ++k)
-    if (samples[k - 1].t >= t_s - 1e-6 && samples[k].t <= t_e + 1e-6) dt.push_back(samples[k].t - samples[k - 1].t);
+    if (samples[k - 1].t >= t_s - 1e-6 && samples[k].t <= t_e + 1e-6)
+      dt.push_back(samples[k].t - samples[k - 1].t);
   if (dt.empty()) return 0.0;
   std::nth_element(dt.begin(), dt.begin() + dt.size() / 2, dt.end());
   return dt[dt.size() / 2];
@@ -102,7 +111,8 @@ double MedianPeriod(const std::vector<ImuSample>& samples, double t_s, double t_
 
 }  // namespace
 
-CheckResult RunCheck(const Registry& reg, const CaseInput& input, const std::vector<pipeline::DeclaredMeasurement>& ms,
+CheckResult RunCheck(const Registry& reg, const CaseInput& input,
+                     const std::vector<pipeline::DeclaredMeasurement>& ms,
                      const std::string& measurements_file) {
   const ReferenceSchemes schemes(reg);
   const double t_first = input.samples.front().t, t_last = input.samples.back().t;
@@ -113,16 +123,18 @@ CheckResult RunCheck(const Registry& reg, const CaseInput& input, const std::vec
       throw pipeline::ConfigError(measurements_file, {{m.pointer, message}});
     };
     if (!m.t_s || !m.t_e)
-      fail("t_start and t_end (seconds, on the case's time axis) are needed to check a measurement");
+      fail(
+          "t_start and t_end (seconds, on the case's time axis) are needed to check a measurement");
     // The interval must lie inside the samples: propagating beyond them would extrapolate.
     // 1e-6 s is the measurements form's own agreement of two statements of one time.
     if (*m.t_s < t_first - 1e-6 || *m.t_e > t_last + 1e-6)
-      fail("the interval [" + Seconds(*m.t_s) + ", " + Seconds(*m.t_e) + "] is not inside " + input.source + " [" +
-           Seconds(t_first) + ", " + Seconds(t_last) + "]: are these the samples the measurement was made from?");
+      fail("the interval [" + Seconds(*m.t_s) + ", " + Seconds(*m.t_e) + "] is not inside " +
+           input.source + " [" + Seconds(t_first) + ", " + Seconds(t_last) +
+           "]: are these the samples the measurement was made from?");
     std::vector<ReferenceSchemes::Reference> refs;
     try {
-      refs = schemes.compute(input.samples, std::max(*m.t_s, t_first), std::min(*m.t_e, t_last), m.in.bg_hat,
-                             m.in.ba_hat, input.noise);
+      refs = schemes.compute(input.samples, std::max(*m.t_s, t_first), std::min(*m.t_e, t_last),
+                             m.in.bg_hat, m.in.ba_hat, input.noise);
     } catch (const std::exception& e) {
       fail(std::string("cannot propagate over the interval: ") + e.what());
     }
@@ -152,8 +164,9 @@ CheckResult RunCheck(const Registry& reg, const CaseInput& input, const std::vec
     // When the declaration explains the numbers, it is the explanation reported (an equally
     // good other one is not better).
     if (Score(r.under_declaration, tol) <= 1.0) r.best = r.under_declaration;
-    const auto nearest = std::find_if(candidates.begin(), candidates.end(),
-                                      [&](const SchemeCandidates& c) { return c.scheme == r.best.scheme; });
+    const auto nearest =
+        std::find_if(candidates.begin(), candidates.end(),
+                     [&](const SchemeCandidates& c) { return c.scheme == r.best.scheme; });
     r.best_entries = EntriesOf(reg, *nearest, user, r.best);
     r.judgement = Judge(r.declared, r.under_declaration, r.best, *nearest, user, r.sample_period);
     r.float32 = m.precision.float32;

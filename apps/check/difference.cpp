@@ -50,10 +50,14 @@ double Correlation(double c_ij, double var_i, double var_j) {
   return s > 0.0 ? c_ij / std::sqrt(s) : 0.0;
 }
 
-double RelativeAboveFloorEntry(const Entries& ref, const Entries& user, Eigen::Index i, Eigen::Index j, double small) {
+double RelativeAboveFloorEntry(const Entries& ref, const Entries& user, Eigen::Index i,
+                               Eigen::Index j, double small) {
   const double u = user(i, j);
   const double scale = std::max(std::abs(ref(i, j)), small);
-  return !std::isfinite(u) ? kInf : scale > 0.0 ? std::abs(ref(i, j) - u) / scale : ref(i, j) == u ? 0.0 : kInf;
+  return !std::isfinite(u) ? kInf
+         : scale > 0.0     ? std::abs(ref(i, j) - u) / scale
+         : ref(i, j) == u  ? 0.0
+                           : kInf;
 }
 
 }  // namespace
@@ -64,7 +68,8 @@ Eigen::MatrixXd CorrelationScaleEntries(MatrixView ref, MatrixView user) {
   const Entries r(ref), u(user, ref);
   for (Eigen::Index i = 0; i < ref.rows(); ++i)
     for (Eigen::Index j = 0; j < ref.cols(); ++j)
-      out(i, j) = NanToInf(CorrelationScaleValue(r(i, j), u(i, j), CorrelationScaleOf(r(i, i), r(j, j)), largest));
+      out(i, j) = NanToInf(
+          CorrelationScaleValue(r(i, j), u(i, j), CorrelationScaleOf(r(i, i), r(j, j)), largest));
   return out;
 }
 
@@ -118,7 +123,8 @@ EntryDiff RelativeAboveFloorDiff(MatrixView ref, MatrixView user) {
   const double small = kFloor * ref.cwiseAbs().maxCoeff();
   const Entries r(ref), u(user, ref);
   for (Eigen::Index i = 0; i < ref.rows(); ++i)
-    for (Eigen::Index j = 0; j < ref.cols(); ++j) Add(out, RelativeAboveFloorEntry(r, u, i, j, small));
+    for (Eigen::Index j = 0; j < ref.cols(); ++j)
+      Add(out, RelativeAboveFloorEntry(r, u, i, j, small));
   out.mean /= static_cast<double>(ref.size());
   return out;
 }
@@ -128,7 +134,8 @@ Eigen::MatrixXd RelativeAboveFloorEntries(MatrixView ref, MatrixView user) {
   const double small = kFloor * ref.cwiseAbs().maxCoeff();
   const Entries r(ref), u(user, ref);
   for (Eigen::Index i = 0; i < ref.rows(); ++i)
-    for (Eigen::Index j = 0; j < ref.cols(); ++j) out(i, j) = NanToInf(RelativeAboveFloorEntry(r, u, i, j, small));
+    for (Eigen::Index j = 0; j < ref.cols(); ++j)
+      out(i, j) = NanToInf(RelativeAboveFloorEntry(r, u, i, j, small));
   return out;
 }
 
@@ -137,7 +144,9 @@ Eigen::MatrixXd NoteEntries(MatrixView ref, MatrixView user) {
   for (Eigen::Index i = 0; i < ref.rows(); ++i)
     for (Eigen::Index j = 0; j < ref.cols(); ++j) {
       const double r = ref(i, j), u = user(i, j);
-      out(i, j) = !std::isfinite(u) ? kInf : NanToInf(std::abs(r) > kFloor ? std::abs((r - u) / r) : std::abs(r - u));
+      out(i, j) = !std::isfinite(u)
+                      ? kInf
+                      : NanToInf(std::abs(r) > kFloor ? std::abs((r - u) / r) : std::abs(r - u));
     }
   return out;
 }

@@ -26,7 +26,8 @@ constexpr double kTieRelative = 1e-9;
 /// -1: a is smaller, 0: tied, 1: b is smaller (infinities and NaNs are equal only to themselves).
 int Compare(double a, double b) {
   if (a < kRoundOff && b < kRoundOff) return 0;
-  if (std::isfinite(a) && std::isfinite(b) && std::abs(a - b) <= kTieRelative * std::max(std::abs(a), std::abs(b)))
+  if (std::isfinite(a) && std::isfinite(b) &&
+      std::abs(a - b) <= kTieRelative * std::max(std::abs(a), std::abs(b)))
     return 0;
   if (a == b) return 0;
   return a < b ? -1 : 1;
@@ -100,8 +101,8 @@ std::vector<double> BlockKey(const BlockAnalysis& a, double structure, const Ent
 // The candidates in search order: only `wanted` when it is set; else `preferred` first,
 // then the registry's order.
 template <typename T, typename Id>
-std::vector<const T*> Ordered(const std::vector<T>& all, const std::string& wanted, const std::string& preferred,
-                              Id id) {
+std::vector<const T*> Ordered(const std::vector<T>& all, const std::string& wanted,
+                              const std::string& preferred, Id id) {
   std::vector<const T*> out;
   for (const auto& x : all)
     if (wanted.empty() ? id(x) == preferred : id(x) == wanted) out.push_back(&x);
@@ -111,13 +112,13 @@ std::vector<const T*> Ordered(const std::vector<T>& all, const std::string& want
   return out;
 }
 
-CovResult BestCovariance(const SchemeCandidates& s, const Mat15& user, const Constraints& c, const Constraints& prefer,
-                         double tol) {
+CovResult BestCovariance(const SchemeCandidates& s, const Mat15& user, const Constraints& c,
+                         const Constraints& prefer, double tol) {
   std::vector<Scored<CovarianceChoice>> all;
   std::vector<std::pair<const CovarianceCandidate*, std::array<Eigen::Index, 15>>> sources;
   bool any_within = false;
-  for (const CovarianceCandidate* cand :
-       Ordered(s.covariances, c.convention, prefer.convention, [](auto& x) { return x.convention; })) {
+  for (const CovarianceCandidate* cand : Ordered(s.covariances, c.convention, prefer.convention,
+                                                 [](auto& x) { return x.convention; })) {
     std::vector<std::vector<std::string>> orders;
     if (!c.blocks.empty()) {
       orders.push_back(c.blocks);
@@ -128,14 +129,18 @@ CovResult BestCovariance(const SchemeCandidates& s, const Mat15& user, const Con
       do {
         std::vector<std::string> o;
         for (int i : idx) o.push_back(cand->labels[i]);
-        if (prefer.blocks.empty() || o != prefer.blocks) orders.push_back(std::move(o));  // not twice
+        if (prefer.blocks.empty() || o != prefer.blocks)
+          orders.push_back(std::move(o));  // not twice
       } while (std::next_permutation(idx.begin(), idx.end()));
     }
     const ReorderedCovarianceDiffs diffs(cand->cov, user);
     for (const auto& order : orders) {
       const auto from = ReorderedIndices(*cand, order);
-      Scored<CovarianceChoice> x{{cand->convention, order}, diffs.CorrelationScale(from.data()),
-                                 diffs.CorrelationStructure(from.data()), {}, {}};
+      Scored<CovarianceChoice> x{{cand->convention, order},
+                                 diffs.CorrelationScale(from.data()),
+                                 diffs.CorrelationStructure(from.data()),
+                                 {},
+                                 {}};
       any_within = any_within || x.d.max <= tol;
       all.push_back(std::move(x));
       sources.emplace_back(cand, from);
@@ -158,8 +163,8 @@ CovResult BestCovariance(const SchemeCandidates& s, const Mat15& user, const Con
   return Pick(all);
 }
 
-JacResult BestJacobian(const SchemeCandidates& s, const Mat96& user, const Constraints& c, const Constraints& prefer,
-                       double tol) {
+JacResult BestJacobian(const SchemeCandidates& s, const Mat96& user, const Constraints& c,
+                       const Constraints& prefer, double tol) {
   std::vector<Scored<JacobianChoice>> all;
   std::vector<Mat96> arranged;
   std::vector<const JacobianCandidate*> sources;
@@ -167,15 +172,19 @@ JacResult BestJacobian(const SchemeCandidates& s, const Mat96& user, const Const
   if (prefer.J_bias_columns == all_columns[1]) std::swap(all_columns[0], all_columns[1]);
   bool any_within = false;
   for (const JacobianCandidate* cand :
-       Ordered(s.jacobians, c.jacobian_convention, prefer.jacobian_convention, [](auto& x) { return x.chart; }))
+       Ordered(s.jacobians, c.jacobian_convention, prefer.jacobian_convention,
+               [](auto& x) { return x.chart; }))
     for (const auto& columns : all_columns) {
       if (!c.J_bias_columns.empty() && columns != c.J_bias_columns) continue;
       for (int sign : {1, -1}) {
         if (c.J_bias_sign != 0 && sign != c.J_bias_sign) continue;
         arranged.push_back(Arranged(*cand, columns, sign));
         sources.push_back(cand);
-        Scored<JacobianChoice> x{
-            {cand->chart, columns, sign}, RelativeAboveFloorDiff(arranged.back(), user), 0.0, {}, {}};
+        Scored<JacobianChoice> x{{cand->chart, columns, sign},
+                                 RelativeAboveFloorDiff(arranged.back(), user),
+                                 0.0,
+                                 {},
+                                 {}};
         any_within = any_within || x.d.max <= tol;
         all.push_back(std::move(x));
       }
@@ -217,15 +226,17 @@ std::vector<double> Rank(const Explanation& e, const Tolerances& tol) {
       beyond_sum += r;
     }
   }
-  const double mismatched = static_cast<double>(e.J_bias_blocks.mismatched + e.cov_blocks.mismatched);
-  const double unexplained = static_cast<double>(e.J_bias_blocks.unexplained.size() + e.cov_blocks.unexplained.size());
+  const double mismatched =
+      static_cast<double>(e.J_bias_blocks.mismatched + e.cov_blocks.mismatched);
+  const double unexplained =
+      static_cast<double>(e.J_bias_blocks.unexplained.size() + e.cov_blocks.unexplained.size());
   return {static_cast<double>(beyond), within_sum, mismatched, unexplained, beyond_sum};
 }
 
 }  // namespace
 
-Explanation Explain(const std::vector<SchemeCandidates>& schemes, const UserNumbers& user, const Constraints& c,
-                    const Tolerances& tol, const Constraints& prefer) {
+Explanation Explain(const std::vector<SchemeCandidates>& schemes, const UserNumbers& user,
+                    const Constraints& c, const Tolerances& tol, const Constraints& prefer) {
   std::vector<Explanation> per_scheme;
   std::vector<std::vector<double>> ranks;
   for (const auto& s : schemes) {

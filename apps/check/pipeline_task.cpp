@@ -1,13 +1,14 @@
 #include "imuconv/check/pipeline_task.h"
 
 #include "imuconv/check/check.h"
-#include "imuconv/pipeline/pipeline_data.h"
 #include "imuconv/check/report.h"
+#include "imuconv/pipeline/pipeline_data.h"
 
 namespace imuconv::check {
 namespace {
 
-pipeline::CheckEvaluation Evaluate(const Registry& reg, const std::vector<ImuSample>& samples, const ImuNoise& noise,
+pipeline::CheckEvaluation Evaluate(const Registry& reg, const std::vector<ImuSample>& samples,
+                                   const ImuNoise& noise,
                                    const std::vector<pipeline::DeclaredMeasurement>& ms,
                                    const std::string& measurements_file) {
   CaseInput input;

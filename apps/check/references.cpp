@@ -13,9 +13,9 @@ ReferenceSchemes::ReferenceSchemes(const Registry& reg) : reg_(reg) {
   }
 }
 
-std::vector<ReferenceSchemes::Reference> ReferenceSchemes::compute(const std::vector<ImuSample>& samples, double t_s,
-                                                                   double t_e, const Vec3& bg, const Vec3& ba,
-                                                                   const ImuNoise& noise) const {
+std::vector<ReferenceSchemes::Reference> ReferenceSchemes::compute(
+    const std::vector<ImuSample>& samples, double t_s, double t_e, const Vec3& bg, const Vec3& ba,
+    const ImuNoise& noise) const {
   SampleWindow w;
   const Status st = MakeWindow(samples.data(), samples.size(), t_s, t_e, w);
   if (!st.ok()) throw Error(st.message());

@@ -44,8 +44,8 @@ class ReferenceSchemes {
     std::optional<Preintegrated> m;
     std::string not_applicable;  ///< why m is empty
   };
-  std::vector<Reference> compute(const std::vector<ImuSample>& samples, double t_s, double t_e, const Vec3& bg,
-                                 const Vec3& ba, const ImuNoise& noise) const;
+  std::vector<Reference> compute(const std::vector<ImuSample>& samples, double t_s, double t_e,
+                                 const Vec3& bg, const Vec3& ba, const ImuNoise& noise) const;
 
  private:
   const Registry& reg_;

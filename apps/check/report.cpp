@@ -33,8 +33,12 @@ json ExplanationJson(const Explanation& e) {
 }
 
 json FindingJson(const BlockFinding& f) {
-  return {{"matrix", f.matrix}, {"rows", f.rows},     {"cols", f.cols},
-          {"kind", f.kind},     {"factor", f.factor}, {"max_d", Number(f.max_d)},
+  return {{"matrix", f.matrix},
+          {"rows", f.rows},
+          {"cols", f.cols},
+          {"kind", f.kind},
+          {"factor", f.factor},
+          {"max_d", Number(f.max_d)},
           {"residual_d", Number(f.residual)}};
 }
 
@@ -49,7 +53,8 @@ json UnexplainedJson(const Explanation& e) {
   json out = json::array();
   for (const BlockAnalysis* a : {&e.J_bias_blocks, &e.cov_blocks})
     for (const auto& u : a->unexplained)
-      out.push_back({{"matrix", u.matrix}, {"rows", u.rows}, {"cols", u.cols}, {"max_d", Number(u.max_d)}});
+      out.push_back(
+          {{"matrix", u.matrix}, {"rows", u.rows}, {"cols", u.cols}, {"max_d", Number(u.max_d)}});
   return out;
 }
 
@@ -57,7 +62,8 @@ json EquivalentJson(const Equivalents& q) {
   json cov = json::array(), jac = json::array();
   for (const auto& c : q.cov) cov.push_back({{"convention", c.convention}, {"blocks", c.blocks}});
   for (const auto& j : q.J_bias)
-    jac.push_back({{"jacobian_convention", j.chart}, {"J_bias_columns", j.columns}, {"J_bias_sign", j.sign}});
+    jac.push_back(
+        {{"jacobian_convention", j.chart}, {"J_bias_columns", j.columns}, {"J_bias_sign", j.sign}});
   return {{"schemes", q.schemes}, {"cov", cov}, {"J_bias", jac}};
 }
 
@@ -94,13 +100,15 @@ json ReportJson(const CheckResult& r) {
     j["block_findings"] = BlockFindingsJson(m.best);
     j["unexplained_blocks"] = UnexplainedJson(m.best);
     j["sample_period"] = m.sample_period;
-    j["precision"] = {{"numbers", m.float32 ? "float32" : "float64"}, {"inferred", m.float32_inferred}};
+    j["precision"] = {{"numbers", m.float32 ? "float32" : "float64"},
+                      {"inferred", m.float32_inferred}};
     j["dt_difference"] = m.dt_difference ? json(*m.dt_difference) : json(nullptr);
     j["dt_rounding_bound"] = m.dt_rounding_bound;
     j["findings"] = m.judgement.findings;
     if (!m.not_applicable.empty()) {
       json na = json::array();
-      for (const auto& [scheme, reason] : m.not_applicable) na.push_back({{"scheme", scheme}, {"reason", reason}});
+      for (const auto& [scheme, reason] : m.not_applicable)
+        na.push_back({{"scheme", scheme}, {"reason", reason}});
       j["not_applicable"] = std::move(na);
     }
     out["measurements"].push_back(std::move(j));
@@ -110,27 +118,29 @@ json ReportJson(const CheckResult& r) {
 
 void PrintTable(std::ostream& out, const CheckResult& r) {
   const Tolerances& tol = CheckTolerances();
-  out << "  #  interval [s]           verdict       scheme    covariance                          J_bias              "
+  out << "  #  interval [s]           verdict       scheme    covariance                          "
+         "J_bias              "
          "max d: delta    J_bias   cov\n";
   for (const auto& m : r.measurements) {
     const Explanation& b = m.best;
     char head[64];
     std::snprintf(head, sizeof head, "%3zu  %9.3f .. %9.3f", m.index, m.t_start, m.t_end);
     std::string cov = b.convention + " " + BlockList(b.blocks);
-    std::string jac = b.jacobian_convention + (b.J_bias_columns.front() == "bg" ? " bg,ba" : " ba,bg") +
+    std::string jac = b.jacobian_convention +
+                      (b.J_bias_columns.front() == "bg" ? " bg,ba" : " ba,bg") +
                       (b.J_bias_sign > 0 ? " +" : " -");
     char line[400];
     std::snprintf(line, sizeof line, "%s  %-12s  %-8s  %-34s  %-18s  %-8s  %-8s %-8s\n", head,
-                  m.judgement.verdict == Verdict::consistent ? "consistent" : "INCONSISTENT", b.scheme.c_str(),
-                  cov.c_str(), jac.c_str(), Short(b.delta.max).c_str(), Short(b.J_bias.max).c_str(),
-                  Short(b.cov.max).c_str());
+                  m.judgement.verdict == Verdict::consistent ? "consistent" : "INCONSISTENT",
+                  b.scheme.c_str(), cov.c_str(), jac.c_str(), Short(b.delta.max).c_str(),
+                  Short(b.J_bias.max).c_str(), Short(b.cov.max).c_str());
     out << line;
     for (const auto& f : m.judgement.findings) out << "       - " << f << "\n";
     for (const auto& [scheme, reason] : m.not_applicable)
       out << "       - reference " << scheme << " not applicable: " << reason << "\n";
   }
-  out << "verdict: " << Word(r.verdict) << " (tolerances on max d: delta " << tol.delta << ", J_bias " << tol.J_bias
-      << ", cov " << tol.cov << "; docs/check.md)\n";
+  out << "verdict: " << Word(r.verdict) << " (tolerances on max d: delta " << tol.delta
+      << ", J_bias " << tol.J_bias << ", cov " << tol.cov << "; docs/check.md)\n";
 }
 
 }  // namespace imuconv::check

@@ -47,22 +47,26 @@ std::string SchemeWords(const std::string& scheme) {
 }
 
 std::string Diffs(const Explanation& e) {
-  return "max d: increment " + Num(e.delta.max) + ", J_bias " + Num(e.J_bias.max) + ", covariance " + Num(e.cov.max);
+  return "max d: increment " + Num(e.delta.max) + ", J_bias " + Num(e.J_bias.max) +
+         ", covariance " + Num(e.cov.max);
 }
 
 std::string ColumnsWords(const std::vector<std::string>& c) { return BlockList(c); }
 
 std::string SignWords(int sign) {
-  return sign > 0 ? "d/d(bias estimate)" : "-d/d(bias estimate), i.e. d/d(bias correction b_hat - b)";
+  return sign > 0 ? "d/d(bias estimate)"
+                  : "-d/d(bias estimate), i.e. d/d(bias correction b_hat - b)";
 }
 
 // Each block's median ratio of the user's variances to the nearest explanation's: a factor
 // common to all blocks is a scaled covariance; factors that differ by block are a wrong noise
 // model (a density used as a variance scales the gyro- and accelerometer-driven blocks by
 // different factors).
-std::string VarianceRatios(const SchemeCandidates& s, const Explanation& e, const UserNumbers& user) {
-  const auto it = std::find_if(s.covariances.begin(), s.covariances.end(),
-                               [&](const CovarianceCandidate& c) { return c.convention == e.convention; });
+std::string VarianceRatios(const SchemeCandidates& s, const Explanation& e,
+                           const UserNumbers& user) {
+  const auto it =
+      std::find_if(s.covariances.begin(), s.covariances.end(),
+                   [&](const CovarianceCandidate& c) { return c.convention == e.convention; });
   if (it == s.covariances.end()) return "";
   const Mat15 K = Reordered(*it, e.blocks);
   std::string out;
@@ -72,13 +76,16 @@ std::string VarianceRatios(const SchemeCandidates& s, const Explanation& e, cons
     std::sort(r, r + 3);
     out += (out.empty() ? "" : ", ") + e.blocks[b] + " " + Num(r[1]);
   }
-  return "the user's variances are, block by block (median over the axes), " + out + " times those of the nearest";
+  return "the user's variances are, block by block (median over the axes), " + out +
+         " times those of the nearest";
 }
 
 void CovarianceFindings(const Constraints& d, const Explanation& b, std::vector<std::string>& out) {
-  if (!d.convention.empty() && b.convention == d.convention && !d.blocks.empty() && b.blocks != d.blocks) {
-    out.push_back("the covariance is " + b.convention + ", but the blocks are " + BlockList(b.blocks) +
-                  ", not the declared " + BlockList(d.blocks) + "; fix: declare cov.blocks " + BlockList(b.blocks));
+  if (!d.convention.empty() && b.convention == d.convention && !d.blocks.empty() &&
+      b.blocks != d.blocks) {
+    out.push_back("the covariance is " + b.convention + ", but the blocks are " +
+                  BlockList(b.blocks) + ", not the declared " + BlockList(d.blocks) +
+                  "; fix: declare cov.blocks " + BlockList(b.blocks));
     return;
   }
   std::string what = "the covariance is " + b.convention + " with blocks " + BlockList(b.blocks);
@@ -88,14 +95,15 @@ void CovarianceFindings(const Constraints& d, const Explanation& b, std::vector<
   } else if (!d.blocks.empty() && b.blocks != d.blocks) {
     what += ", not the declared blocks " + BlockList(d.blocks);
   }
-  out.push_back(what + "; fix: declare cov.convention \"" + b.convention + "\" and cov.blocks " + BlockList(b.blocks));
+  out.push_back(what + "; fix: declare cov.convention \"" + b.convention + "\" and cov.blocks " +
+                BlockList(b.blocks));
 }
 
 void JacobianFindings(const Constraints& d, const Explanation& b, std::vector<std::string>& out) {
   std::vector<std::string> fixes;
   if (!d.jacobian_convention.empty() && b.jacobian_convention != d.jacobian_convention) {
-    out.push_back("J_bias's rows are in the chart " + b.jacobian_convention + ", not the declared " +
-                  d.jacobian_convention);
+    out.push_back("J_bias's rows are in the chart " + b.jacobian_convention +
+                  ", not the declared " + d.jacobian_convention);
     fixes.push_back("J_bias.convention \"" + b.jacobian_convention + "\"");
   }
   if (!d.J_bias_columns.empty() && b.J_bias_columns != d.J_bias_columns) {
@@ -109,8 +117,8 @@ void JacobianFindings(const Constraints& d, const Explanation& b, std::vector<st
     fixes.push_back("negate J_bias");
   }
   if (fixes.empty()) {
-    out.push_back("J_bias is " + b.jacobian_convention + " with columns " + ColumnsWords(b.J_bias_columns) + ", " +
-                  SignWords(b.J_bias_sign));
+    out.push_back("J_bias is " + b.jacobian_convention + " with columns " +
+                  ColumnsWords(b.J_bias_columns) + ", " + SignWords(b.J_bias_sign));
     return;
   }
   std::string f;
@@ -146,23 +154,28 @@ void EquivalentFindings(const Explanation& e, std::vector<std::string>& out) {
     for (const auto& s : e.equivalent.schemes) add("scheme " + s);
   }
   if (!e.equivalent.cov.empty()) {
-    named += std::string(named.empty() ? "" : ", ") + "the covariance in " + e.convention + " " + BlockList(e.blocks);
-    for (const auto& c : e.equivalent.cov) add("the covariance in " + c.convention + " " + BlockList(c.blocks));
+    named += std::string(named.empty() ? "" : ", ") + "the covariance in " + e.convention + " " +
+             BlockList(e.blocks);
+    for (const auto& c : e.equivalent.cov)
+      add("the covariance in " + c.convention + " " + BlockList(c.blocks));
   }
   if (!e.equivalent.J_bias.empty()) {
     named += std::string(named.empty() ? "" : ", ") +
              JacobianChoiceWords({e.jacobian_convention, e.J_bias_columns, e.J_bias_sign});
     for (const auto& j : e.equivalent.J_bias) add(JacobianChoiceWords(j));
   }
-  out.push_back("equivalent explanations, these are the same numbers (within the tie tolerance): " + named + "; " +
-                others + "; the one named is the first in the search order (the declaration, then the registry's)");
+  out.push_back(
+      "equivalent explanations, these are the same numbers (within the tie tolerance): " + named +
+      "; " + others +
+      "; the one named is the first in the search order (the declaration, then the registry's)");
 }
 
 void BlockFindingWords(const Explanation& e, double dt, std::vector<std::string>& out) {
   for (const BlockAnalysis* a : {&e.J_bias_blocks, &e.cov_blocks}) {
     for (const auto& f : a->findings) out.push_back(FindingWords(f, dt));
     for (const auto& u : a->unexplained)
-      out.push_back(u.matrix + " block (rows " + u.rows[0] + ", cols " + u.cols[0] + ") differs (max d " + Num(u.max_d) +
+      out.push_back(u.matrix + " block (rows " + u.rows[0] + ", cols " + u.cols[0] +
+                    ") differs (max d " + Num(u.max_d) +
                     ") by no sign, scale, swap, transposition or missing terms");
   }
 }
@@ -185,47 +198,53 @@ Judgement Judge(const Constraints& declared, const Explanation& e_d, const Expla
   if (Score(e_d, tol) <= 1.0) {
     j.verdict = Verdict::consistent;
     j.findings.push_back("consistent with " + SchemeWords(e_d.scheme) +
-                         (declared_words.empty() ? " (no chart was declared; the charts are those found)"
-                                                 : " under the declared " + declared_words) +
+                         (declared_words.empty()
+                              ? " (no chart was declared; the charts are those found)"
+                              : " under the declared " + declared_words) +
                          "; " + Diffs(e_d));
     if (declared.convention.empty() || declared.blocks.empty())
-      j.findings.push_back("the covariance's chart was not (fully) declared; it is " + e_d.convention +
-                           " with blocks " + BlockList(e_d.blocks));
+      j.findings.push_back("the covariance's chart was not (fully) declared; it is " +
+                           e_d.convention + " with blocks " + BlockList(e_d.blocks));
     if (declared.jacobian_convention.empty() || declared.J_bias_columns.empty())
-      j.findings.push_back("J_bias's chart was not (fully) declared; its rows are " + e_d.jacobian_convention +
-                           ", its columns " + BlockList(e_d.J_bias_columns));
+      j.findings.push_back("J_bias's chart was not (fully) declared; its rows are " +
+                           e_d.jacobian_convention + ", its columns " +
+                           BlockList(e_d.J_bias_columns));
     EquivalentFindings(e_d, j.findings);
     return j;
   }
   j.verdict = Verdict::inconsistent;
   if (Score(best, tol) <= 1.0) {
-    j.findings.push_back((declared_words.empty() ? std::string("J_bias as d/d(bias estimate), what a measurements "
-                                                               "file holds, does not fit (")
-                                                 : "the declaration (" + declared_words +
-                                                       ", J_bias as d/d(bias estimate)) does not fit (") +
-                         Diffs(e_d) + "); " + SchemeWords(best.scheme) + " explains the numbers (" + Diffs(best) + ")");
+    j.findings.push_back((declared_words.empty()
+                              ? std::string("J_bias as d/d(bias estimate), what a measurements "
+                                            "file holds, does not fit (")
+                              : "the declaration (" + declared_words +
+                                    ", J_bias as d/d(bias estimate)) does not fit (") +
+                         Diffs(e_d) + "); " + SchemeWords(best.scheme) + " explains the numbers (" +
+                         Diffs(best) + ")");
     if (e_d.cov.max > tol.cov) CovarianceFindings(declared, best, j.findings);
     if (e_d.J_bias.max > tol.J_bias) JacobianFindings(declared, best, j.findings);
     EquivalentFindings(best, j.findings);
     return j;
   }
   j.findings.push_back("nothing registered explains the numbers; the nearest explanation is " +
-                       SchemeWords(best.scheme) + " with the covariance in " + best.convention + " " +
-                       BlockList(best.blocks) + " and J_bias in " + best.jacobian_convention + " " +
-                       BlockList(best.J_bias_columns) + ", " + SignWords(best.J_bias_sign) + "; " + Diffs(best) +
-                       " (tolerance " + Num(tol.cov) + ")");
+                       SchemeWords(best.scheme) + " with the covariance in " + best.convention +
+                       " " + BlockList(best.blocks) + " and J_bias in " + best.jacobian_convention +
+                       " " + BlockList(best.J_bias_columns) + ", " + SignWords(best.J_bias_sign) +
+                       "; " + Diffs(best) + " (tolerance " + Num(tol.cov) + ")");
   if (best.delta.max > tol.delta)
-    j.findings.push_back(
-        "the increment agrees with no scheme (max d " + Num(best.delta.max) +
-        "): are the IMU samples, the interval and the bias estimate those the measurement was made from?");
+    j.findings.push_back("the increment agrees with no scheme (max d " + Num(best.delta.max) +
+                         "): are the IMU samples, the interval and the bias estimate those the "
+                         "measurement was made from?");
   if (best.J_bias.max > tol.J_bias)
-    j.findings.push_back("no chart, column order or sign explains J_bias (nearest max d " + Num(best.J_bias.max) + ")");
+    j.findings.push_back("no chart, column order or sign explains J_bias (nearest max d " +
+                         Num(best.J_bias.max) + ")");
   if (best.cov.max > tol.cov)
-    j.findings.push_back("no convention or block order explains the covariance (nearest max d " + Num(best.cov.max) +
-                         "); " + VarianceRatios(nearest, best, user));
+    j.findings.push_back("no convention or block order explains the covariance (nearest max d " +
+                         Num(best.cov.max) + "); " + VarianceRatios(nearest, best, user));
   else if (e_d.cov.max > tol.cov)
     CovarianceFindings(declared, best, j.findings);
-  if (best.J_bias.max <= tol.J_bias && e_d.J_bias.max > tol.J_bias) JacobianFindings(declared, best, j.findings);
+  if (best.J_bias.max <= tol.J_bias && e_d.J_bias.max > tol.J_bias)
+    JacobianFindings(declared, best, j.findings);
   BlockFindingWords(best, sample_period, j.findings);
   EquivalentFindings(best, j.findings);
   return j;

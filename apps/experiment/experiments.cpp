@@ -5,8 +5,8 @@
 #include <exception>
 #include <thread>
 
-#include "imuconv/check/difference.h"
 #include "imuconv/bridge.h"
+#include "imuconv/check/difference.h"
 #include "imuconv/printable.h"
 #include "imuconv/window.h"
 
@@ -113,8 +113,8 @@ SampleWindow Window(const std::vector<ImuSample>& s, const char* what) {
   return w;
 }
 
-std::vector<Pair> RunTrial(const Registry& reg, const Methods& m, const std::vector<Plan>& plans, const Options& o,
-                           std::uint64_t index) {
+std::vector<Pair> RunTrial(const Registry& reg, const Methods& m, const std::vector<Plan>& plans,
+                           const Options& o, std::uint64_t index) {
   const Trial t = MakeTrial(o.seed, index, o.spec);
   const std::vector<ImuSample> prop_samples = Subdivide(t.samples, o.propagator_substeps);
   const std::vector<ImuSample> pre_samples =
@@ -139,7 +139,8 @@ std::vector<Pair> RunTrial(const Registry& reg, const Methods& m, const std::vec
     in.window = w_prop;
     propagated = reg.propagate(o.propagator, kStateChart, in);
     for (int s = 0; s < 2; ++s)
-      by_preintegration[s] = PropagateByPreintegration(reg, native[s], t.x_s, t.cov_s_left, kStateChart, t.gravity);
+      by_preintegration[s] =
+          PropagateByPreintegration(reg, native[s], t.x_s, t.cov_s_left, kStateChart, t.gravity);
   }
 
   std::vector<Pair> pairs;
@@ -172,9 +173,11 @@ std::vector<Pair> RunTrial(const Registry& reg, const Methods& m, const std::vec
 
 Result RunExperiments(const Registry& reg, const Options& o) {
   if (o.trials < 1 || o.trials > kMaxTrials)
-    throw Error("trials: " + std::to_string(o.trials) + ", expected 1 to " + std::to_string(kMaxTrials));
+    throw Error("trials: " + std::to_string(o.trials) + ", expected 1 to " +
+                std::to_string(kMaxTrials));
   if (o.threads < 1 || o.threads > kMaxThreads)
-    throw Error("threads: " + std::to_string(o.threads) + ", expected 1 to " + std::to_string(kMaxThreads));
+    throw Error("threads: " + std::to_string(o.threads) + ", expected 1 to " +
+                std::to_string(kMaxThreads));
   if (!o.preint_by_prop && !o.prop_by_preint) throw Error("no experiment chosen");
   if (!reg.has(PluginKind::Propagator, o.propagator)) {
     std::string known;
@@ -183,7 +186,8 @@ Result RunExperiments(const Registry& reg, const Options& o) {
   }
   Methods m;
   m.propagator = ResolvePreintegrationMethod(reg, PluginKind::Propagator, o.propagator);
-  for (int s = 0; s < 2; ++s) m.schemes[s] = ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, kSchemes[s]);
+  for (int s = 0; s < 2; ++s)
+    m.schemes[s] = ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, kSchemes[s]);
 
   std::vector<Plan> plans = MakePlans(reg, o);
   const std::size_t n_plans = plans.size();
@@ -217,16 +221,18 @@ Result RunExperiments(const Registry& reg, const Options& o) {
         try {
           std::rethrow_exception(errors[k]);
         } catch (const std::exception& e) {
-          throw Error("trial " + std::to_string(first + k) + " (seed " + std::to_string(o.seed) + "): " + e.what());
+          throw Error("trial " + std::to_string(first + k) + " (seed " + std::to_string(o.seed) +
+                      "): " + e.what());
         }
       }
       for (std::size_t c = 0; c < n_plans; ++c) {
         const Pair& pr = batch[k][c];
         // A non-finite matrix is a defect of a plugin, not a difference to average.
         if (!pr.ref.allFinite() || !pr.user.allFinite())
-          throw Error("trial " + std::to_string(first + k) + " (seed " + std::to_string(o.seed) + "): " +
-                      plans[c].c.experiment + " " + plans[c].c.matrix + " with " + plans[c].c.preintegrator +
-                      ": a non-finite entry in the " + (pr.ref.allFinite() ? "compared" : "reference") + " matrix");
+          throw Error("trial " + std::to_string(first + k) + " (seed " + std::to_string(o.seed) +
+                      "): " + plans[c].c.experiment + " " + plans[c].c.matrix + " with " +
+                      plans[c].c.preintegrator + ": a non-finite entry in the " +
+                      (pr.ref.allFinite() ? "compared" : "reference") + " matrix");
         const Eigen::MatrixXd note = check::NoteEntries(pr.ref, pr.user);
         const Eigen::MatrixXd scaled = plans[c].c.scaled_metric == "correlation"
                                            ? check::CorrelationScaleEntries(pr.ref, pr.user)

@@ -81,10 +81,10 @@ Trial MakeTrial(std::uint64_t seed, std::uint64_t index, const TrialSpec& spec) 
     }
   }
 
-  trial.noise.gyro_noise_density = std::pow(10.0, rng.Uniform(-3.5, -2.0));  // rad/s/sqrt(Hz)
+  trial.noise.gyro_noise_density = std::pow(10.0, rng.Uniform(-3.5, -2.0));   // rad/s/sqrt(Hz)
   trial.noise.accel_noise_density = std::pow(10.0, rng.Uniform(-2.5, -1.0));  // m/s^2/sqrt(Hz)
-  trial.noise.gyro_random_walk = std::pow(10.0, rng.Uniform(-5.5, -4.0));    // rad/s^2/sqrt(Hz)
-  trial.noise.accel_random_walk = std::pow(10.0, rng.Uniform(-4.5, -3.0));   // m/s^3/sqrt(Hz)
+  trial.noise.gyro_random_walk = std::pow(10.0, rng.Uniform(-5.5, -4.0));     // rad/s^2/sqrt(Hz)
+  trial.noise.accel_random_walk = std::pow(10.0, rng.Uniform(-4.5, -3.0));    // m/s^3/sqrt(Hz)
 
   Eigen::Vector4d q(rng.Normal(), rng.Normal(), rng.Normal(), rng.Normal());  // w, x, y, z
   q.normalize();

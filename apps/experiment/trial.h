@@ -19,7 +19,7 @@ struct TrialSpec {
 struct Trial {
   std::vector<ImuSample> samples;  ///< rate * duration + 1 knots, t from 0
   ImuNoise noise;                  ///< continuous densities
-  ImuState x_s;                    ///< start state; its biases are also the preintegration's bias estimate
+  ImuState x_s;  ///< start state; its biases are also the preintegration's bias estimate
   Mat15 cov_s_left = Mat15::Zero();  ///< start covariance in `left`, [p, theta, v, bg, ba]
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
 };

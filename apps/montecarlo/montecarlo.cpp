@@ -54,9 +54,9 @@ enum class Feeding { forward, backward, centered };
 /// forward, and its note says so.
 Feeding FeedingOf(const PreintegrationMethod& method) {
   if (method.id == "basalt" || method.id == "basalt_as_configured") return Feeding::backward;
-  static const char* const kCentered[] = {"midpoint",          "rk4",          "openvins_discrete",
-                                          "openvins_analytical", "openvins_rk4", "vins_fusion",
-                                          "vins_fusion_as_configured"};
+  static const char* const kCentered[] = {
+      "midpoint",     "rk4",         "openvins_discrete",        "openvins_analytical",
+      "openvins_rk4", "vins_fusion", "vins_fusion_as_configured"};
   for (const char* id : kCentered)
     if (method.id == id) return Feeding::centered;
   return Feeding::forward;
@@ -76,8 +76,8 @@ const char* CellNote(Feeding f) {
 }
 
 /// Preintegrates over all of `samples` with the method (the case's noise, for the prediction).
-Preintegrated PreintegrateAll(const Registry& reg, const PreintegrationMethod& method, const std::vector<ImuSample>& s,
-                              const Input& in) {
+Preintegrated PreintegrateAll(const Registry& reg, const PreintegrationMethod& method,
+                              const std::vector<ImuSample>& s, const Input& in) {
   SampleWindow window;
   const Status st = MakeWindow(s.data(), s.size(), s.front().t, s.back().t, window);
   if (!st.ok()) throw Error("montecarlo: cannot window the samples: " + st.message());
@@ -94,11 +94,12 @@ std::optional<kernels::MeanKernel> MeanKernelOf(const PreintegrationMethod& meth
     PluginKind kind;
     MeanKernel kernel;
   };
-  static constexpr Entry kServed[] = {{"euler", PluginKind::Propagator, MeanKernel::kEuler},
-                                      {"midpoint", PluginKind::Propagator, MeanKernel::kMidpoint},
-                                      {"rk4", PluginKind::Propagator, MeanKernel::kRk4},
-                                      {"manifold", PluginKind::Preintegrator, MeanKernel::kManifold},
-                                      {"tangent", PluginKind::Preintegrator, MeanKernel::kTangent}};
+  static constexpr Entry kServed[] = {
+      {"euler", PluginKind::Propagator, MeanKernel::kEuler},
+      {"midpoint", PluginKind::Propagator, MeanKernel::kMidpoint},
+      {"rk4", PluginKind::Propagator, MeanKernel::kRk4},
+      {"manifold", PluginKind::Preintegrator, MeanKernel::kManifold},
+      {"tangent", PluginKind::Preintegrator, MeanKernel::kTangent}};
   for (const Entry& e : kServed)
     if (method.id == e.id && method.kind == e.kind) return e.kernel;
   return std::nullopt;
@@ -124,49 +125,61 @@ NoiseModel NoiseModelFor(const PreintegrationMethod& method) {
   if (method.id == "basalt" || method.id == "basalt_forward_zoh") {
     m.simulated = "basalt";
     m.note =
-        "white noise sigma^2/dt per sample; bias random walk in the increment's bias entries only, the samples "
-        "integrated at the constant bias estimate, as Basalt's preintegration assumes (docs/basalt.md)";
+        "white noise sigma^2/dt per sample; bias random walk in the increment's bias entries only, "
+        "the samples "
+        "integrated at the constant bias estimate, as Basalt's preintegration assumes "
+        "(docs/basalt.md)";
     return m;
   }
   if (method.id == "basalt_as_configured") {
     m.simulated = "basalt_per_sample";
     m.note =
-        "white noise with the two white-noise numbers as per-sample standard deviations (not divided by sqrt dt), "
-        "as basalt_as_configured reads them (Basalt's dicrete_time_*_noise_std), each sample held over the step "
-        "ending at it; bias random walk (densities) in the increment's bias entries only (docs/basalt.md)";
+        "white noise with the two white-noise numbers as per-sample standard deviations (not "
+        "divided by sqrt dt), "
+        "as basalt_as_configured reads them (Basalt's dicrete_time_*_noise_std), each sample held "
+        "over the step "
+        "ending at it; bias random walk (densities) in the increment's bias entries only "
+        "(docs/basalt.md)";
     return m;
   }
   m.simulated = "continuous";
-  m.note = "white noise sigma^2/dt per sample and a bias random walk sigma_b^2 dt per step, folded into the samples";
+  m.note =
+      "white noise sigma^2/dt per sample and a bias random walk sigma_b^2 dt per step, folded into "
+      "the samples";
   if (method.id == "vins_fusion_as_configured") {
     m.matches = false;
     m.note +=
-        "; MISMATCH: vins_fusion_as_configured reads the four numbers as VINS-Fusion's per-step standard deviations "
-        "(docs/vins-fusion.md), a model no per-sample noise reproduces (it takes the two ends of a step as "
-        "independent); with continuous densities its covariance is about dt/2 of the simulated one, so the "
+        "; MISMATCH: vins_fusion_as_configured reads the four numbers as VINS-Fusion's per-step "
+        "standard deviations "
+        "(docs/vins-fusion.md), a model no per-sample noise reproduces (it takes the two ends of a "
+        "step as "
+        "independent); with continuous densities its covariance is about dt/2 of the simulated "
+        "one, so the "
         "verdict measures that reading, not the scheme. Use `vins_fusion` for densities";
   }
   return m;
 }
 
 std::string DefaultConvention(const PreintegrationMethod& method) {
-  if (method.kind == PluginKind::Preintegrator && method.cov_convention) return method.cov_convention->id();
+  if (method.kind == PluginKind::Preintegrator && method.cov_convention)
+    return method.cov_convention->id();
   return "preint_reference";
 }
 
-Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method, const std::string& convention,
-                     const Input& input, const Options& options) {
+Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method,
+                     const std::string& convention, const Input& input, const Options& options) {
   std::vector<Vec15> errors;
   Result res = RunTrials(reg, method, convention, input, options, 0, options.trials, errors);
   Conclude(res, errors);
   return res;
 }
 
-Result RunTrials(const Registry& reg, const PreintegrationMethod& method, const std::string& convention,
-                 const Input& input, const Options& options, int first, int end, std::vector<Vec15>& errors) {
+Result RunTrials(const Registry& reg, const PreintegrationMethod& method,
+                 const std::string& convention, const Input& input, const Options& options,
+                 int first, int end, std::vector<Vec15>& errors) {
   if (first < 0 || first > end || end > options.trials)
-    throw Error("montecarlo: trials [" + std::to_string(first) + ", " + std::to_string(end) + ") are not within the " +
-                std::to_string(options.trials) + " trials of the run");
+    throw Error("montecarlo: trials [" + std::to_string(first) + ", " + std::to_string(end) +
+                ") are not within the " + std::to_string(options.trials) + " trials of the run");
   const auto conv = reg.increment_convention(convention);
   const std::vector<ImuSample>& z = input.samples;
   const std::size_t K = z.size() - 1;
@@ -183,7 +196,8 @@ Result RunTrials(const Registry& reg, const PreintegrationMethod& method, const 
   res.noise_model = NoiseModelFor(method);
   if (options.noise_scale != 1.0) {
     res.noise_model.matches = false;
-    res.noise_model.note += "; the simulated densities are scaled by " + std::to_string(options.noise_scale) +
+    res.noise_model.note += "; the simulated densities are scaled by " +
+                            std::to_string(options.noise_scale) +
                             " against the prediction's (--noise-scale), deliberately";
   }
   const bool walk_in_samples = res.noise_model.simulated == "continuous";
@@ -267,13 +281,14 @@ Result RunTrials(const Registry& reg, const PreintegrationMethod& method, const 
   auto worker = [&] {
     std::vector<ImuSample> truth(z);
     std::vector<double> draws(6 * (K + 1) + 6 * K);  // one trial's normals
-    SampleWindow window;  // over `truth`, rebuilt per trial below
+    SampleWindow window;                             // over `truth`, rebuilt per trial below
     for (int i = next++; i < end; i = next++) {
       try {
         // Trial i's own stream, from (seed, i) only: the same whatever thread runs it.
         // Per sample: white gyro and accel noise (3 + 3), then, but for the last, the walk's
         // step (3 + 3), in this order from one stream drawn at once.
-        Normal(SplitMix64(SplitMix64(options.seed) ^ static_cast<std::uint64_t>(i))).Fill(draws.data(), draws.size());
+        Normal(SplitMix64(SplitMix64(options.seed) ^ static_cast<std::uint64_t>(i)))
+            .Fill(draws.data(), draws.size());
         const double* n = draws.data();
         auto draw3 = [&n](double sd) {
           const Vec3 v(sd * n[0], sd * n[1], sd * n[2]);
@@ -303,8 +318,10 @@ Result RunTrials(const Registry& reg, const PreintegrationMethod& method, const 
           throw Error("montecarlo: cannot window the samples");
         Preintegrated m;
         if (mean_kernel) {
-          const Status st = kernels::IncrementMean(*mean_kernel, window, input.bg, input.ba, input.noise, m.delta);
-          if (!st.ok()) throw Error("montecarlo: trial " + std::to_string(i) + ": " + Printable(st.message()));
+          const Status st = kernels::IncrementMean(*mean_kernel, window, input.bg, input.ba,
+                                                   input.noise, m.delta);
+          if (!st.ok())
+            throw Error("montecarlo: trial " + std::to_string(i) + ": " + Printable(st.message()));
         } else {
           m = Preintegrate(reg, method, window, input.bg, input.ba, input.noise);
         }
@@ -341,7 +358,8 @@ Result RunTrials(const Registry& reg, const PreintegrationMethod& method, const 
   if (failure) std::rethrow_exception(failure);
   for (const Vec15& e : errors)
     if (!e.allFinite())
-      throw Error("montecarlo: a trial's end error is not finite (method " + Printable(method.id) + ")");
+      throw Error("montecarlo: a trial's end error is not finite (method " + Printable(method.id) +
+                  ")");
   return res;
 }
 
@@ -351,10 +369,13 @@ void Conclude(Result& res, const std::vector<Vec15>& errors) {
                 std::to_string(res.trials) + " trials");
   for (const Vec15& e : errors)
     if (!e.allFinite())
-      throw Error("montecarlo: a trial's end error is not finite (method " + Printable(res.method) + ")");
+      throw Error("montecarlo: a trial's end error is not finite (method " + Printable(res.method) +
+                  ")");
   if (!ComputeStatistics(errors, res.predicted, res.stats))
-    throw Error("montecarlo: the covariance " + Printable(res.method) + " predicts in " + Printable(res.convention) +
-                " is not positive definite (are all four noise densities of the case positive?); nothing to "
+    throw Error("montecarlo: the covariance " + Printable(res.method) + " predicts in " +
+                Printable(res.convention) +
+                " is not positive definite (are all four noise densities of the case positive?); "
+                "nothing to "
                 "compare the trials with");
   res.trial_nees = TrialNees(errors, res.predicted);  // for the report's histogram (trial_nees.h)
 
@@ -363,7 +384,8 @@ void Conclude(Result& res, const std::vector<Vec15>& errors) {
                 std::to_string(kBlockCount));
   for (int b = 0; b < kBlockCount; ++b) {
     BlockRatio& r = res.blocks[static_cast<std::size_t>(b)];
-    const Mat3 S = res.stats.sample_cov.block<3, 3>(3 * b, 3 * b), P = res.predicted.block<3, 3>(3 * b, 3 * b);
+    const Mat3 S = res.stats.sample_cov.block<3, 3>(3 * b, 3 * b),
+               P = res.predicted.block<3, 3>(3 * b, 3 * b);
     r.variance_ratio = S.trace() / P.trace();
     for (int a = 0; a < 3; ++a) r.axes[a] = S(a, a) / P(a, a);
   }
@@ -373,8 +395,9 @@ void Conclude(Result& res, const std::vector<Vec15>& errors) {
   const Statistics& st = res.stats;
   const auto refuse_non_finite = [&](const char* what, double x) {
     if (!std::isfinite(x))
-      throw Error("montecarlo: the " + std::string(what) + " is not finite (" + std::to_string(x) + ", method " +
-                  Printable(res.method) + "): the trials' end errors are too large to judge; no verdict is given");
+      throw Error("montecarlo: the " + std::string(what) + " is not finite (" + std::to_string(x) +
+                  ", method " + Printable(res.method) +
+                  "): the trials' end errors are too large to judge; no verdict is given");
   };
   refuse_non_finite("NEES mean", st.nees_mean);
   refuse_non_finite("KL divergence", st.kl);
@@ -400,24 +423,29 @@ void Conclude(Result& res, const std::vector<Vec15>& errors) {
   };
   const std::string level = fmt(100 * kTestLevel) + "%";
   if (!nees_ok)
-    res.reasons.push_back("NEES mean " + fmt(st.nees_mean) + " outside its " + fmt(100 * kNeesConfidence) +
-                          "% chi-square bounds [" + fmt(st.nees_bounds[0]) + ", " + fmt(st.nees_bounds[1]) +
-                          "] (p = " + fmt(st.nees_p_value) + " < " + level + "): the predicted covariance is " +
-                          (st.nees_mean > st.nees_bounds[1] ? "too small" : "too large"));
+    res.reasons.push_back(
+        "NEES mean " + fmt(st.nees_mean) + " outside its " + fmt(100 * kNeesConfidence) +
+        "% chi-square bounds [" + fmt(st.nees_bounds[0]) + ", " + fmt(st.nees_bounds[1]) +
+        "] (p = " + fmt(st.nees_p_value) + " < " + level + "): the predicted covariance is " +
+        (st.nees_mean > st.nees_bounds[1] ? "too small" : "too large"));
   if (!kl_ok)
-    res.reasons.push_back("KL divergence " + fmt(st.kl) + " above its " + fmt(100 * kKlLevel) + "% bound " +
-                          fmt(st.kl_bound) + " for N = " + std::to_string(st.trials) + " (p = " + fmt(st.kl_p_value) +
-                          " < " + level + "): the shape of the covariance differs");
+    res.reasons.push_back("KL divergence " + fmt(st.kl) + " above its " + fmt(100 * kKlLevel) +
+                          "% bound " + fmt(st.kl_bound) + " for N = " + std::to_string(st.trials) +
+                          " (p = " + fmt(st.kl_p_value) + " < " + level +
+                          "): the shape of the covariance differs");
   if (nees_ok && kl_ok)
-    res.reasons.push_back("NEES mean within its " + fmt(100 * kNeesConfidence) + "% bounds (p = " +
-                          fmt(st.nees_p_value) + ") and KL divergence below its " + fmt(100 * kKlLevel) +
+    res.reasons.push_back("NEES mean within its " + fmt(100 * kNeesConfidence) +
+                          "% bounds (p = " + fmt(st.nees_p_value) +
+                          ") and KL divergence below its " + fmt(100 * kKlLevel) +
                           "% bound (p = " + fmt(st.kl_p_value) + "); each test at " + level +
-                          ", so a right covariance is called inconsistent at most " + fmt(100 * kFalseAlarmRate) +
-                          "% of the time");
+                          ", so a right covariance is called inconsistent at most " +
+                          fmt(100 * kFalseAlarmRate) + "% of the time");
   if (st.trials < kKlChiSquareFromTrials)
-    res.reasons.push_back("N = " + std::to_string(st.trials) + " is below " + std::to_string(kKlChiSquareFromTrials) +
-                          ": the KL test's chi-square distribution is approximate there, and the false-alarm rate "
-                          "may exceed " + fmt(100 * kFalseAlarmRate) + "% (docs/montecarlo.md, \"The verdict\")");
+    res.reasons.push_back(
+        "N = " + std::to_string(st.trials) + " is below " + std::to_string(kKlChiSquareFromTrials) +
+        ": the KL test's chi-square distribution is approximate there, and the false-alarm rate "
+        "may exceed " +
+        fmt(100 * kFalseAlarmRate) + "% (docs/montecarlo.md, \"The verdict\")");
   if (!res.noise_model.matches)
     res.reasons.push_back(
         "the simulated noise is not the model the prediction assumes (noise_model.note): the "

@@ -98,8 +98,8 @@ std::string DefaultConvention(const PreintegrationMethod& method);
 /// seeded from (seed, i), ziggurat normals), so the result is the same bit for bit for any
 /// thread count. Throws imuconv::Error for a predicted covariance that is not positive definite
 /// or a trial that fails.
-Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method, const std::string& convention,
-                     const Input& input, const Options& options);
+Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method,
+                     const std::string& convention, const Input& input, const Options& options);
 
 /// Trials [first, end) of the run `options` describes (0 <= first <= end <= options.trials):
 /// RunMonteCarlo's work before the statistics. The result has every field but `stats`,
@@ -107,8 +107,9 @@ Result RunMonteCarlo(const Registry& reg, const PreintegrationMethod& method, co
 /// for bit what the whole run computes for them (trial i is seeded from (seed, i) alone). This
 /// is one shard of a run split across processes (docs/montecarlo.md, "Across machines"). Throws
 /// as RunMonteCarlo, and for a trial whose end error is not finite.
-Result RunTrials(const Registry& reg, const PreintegrationMethod& method, const std::string& convention,
-                 const Input& input, const Options& options, int first, int end, std::vector<Vec15>& errors);
+Result RunTrials(const Registry& reg, const PreintegrationMethod& method,
+                 const std::string& convention, const Input& input, const Options& options,
+                 int first, int end, std::vector<Vec15>& errors);
 
 /// The statistics, block ratios, verdict and reasons of `res` from all of its trials' end
 /// errors in trial order (`res.trials` of them): RunMonteCarlo's end, also the merge of its

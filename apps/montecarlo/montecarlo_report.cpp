@@ -12,7 +12,9 @@ std::string Fmt(const char* f, double x) {
   return buf;
 }
 
-const char* VerdictName(Verdict v) { return v == Verdict::consistent ? "consistent" : "inconsistent"; }
+const char* VerdictName(Verdict v) {
+  return v == Verdict::consistent ? "consistent" : "inconsistent";
+}
 
 }  // namespace
 
@@ -21,8 +23,9 @@ nlohmann::json ReportJson(const Result& r) {
   const Statistics& st = r.stats;
   json blocks = json::array();
   for (const BlockRatio& b : r.blocks)
-    blocks.push_back(
-        {{"block", b.block}, {"variance_ratio", b.variance_ratio}, {"axes", {b.axes[0], b.axes[1], b.axes[2]}}});
+    blocks.push_back({{"block", b.block},
+                      {"variance_ratio", b.variance_ratio},
+                      {"axes", {b.axes[0], b.axes[1], b.axes[2]}}});
   return json{{"method", r.method},
               {"method_kind", r.method_kind},
               {"convention", r.convention},
@@ -54,33 +57,40 @@ nlohmann::json ReportJson(const Result& r) {
 
 void PrintSummary(std::ostream& out, const Result& r) {
   const Statistics& st = r.stats;
-  out << "montecarlo: " << r.method << " (" << r.method_kind << "), scored in " << r.convention << "\n"
+  out << "montecarlo: " << r.method << " (" << r.method_kind << "), scored in " << r.convention
+      << "\n"
       << "  " << r.trials << " trials, seed " << r.seed << ", " << r.samples << " samples over "
       << Fmt("%.6g", r.duration) << " s\n"
-      << "  noise model: " << r.noise_model.simulated << (r.noise_model.matches ? "" : " (NOT the prediction's)")
-      << ": " << r.noise_model.note << "\n"
+      << "  noise model: " << r.noise_model.simulated
+      << (r.noise_model.matches ? "" : " (NOT the prediction's)") << ": " << r.noise_model.note
+      << "\n"
       << "  trials: "
       << (r.trial_path == "mean_only"
-              ? "the mean only, by the core's " + r.method + " kernel (the covariance computed once; its nominal " +
+              ? "the mean only, by the core's " + r.method +
+                    " kernel (the covariance computed once; its nominal " +
                     (r.mean_only_offset == 0.0 ? std::string("is the full path's bit for bit)")
                                                : "is within " + Fmt("%.2g", r.mean_only_offset) +
                                                      " standard deviations of the full path's)")
               : std::string("the method's full preintegration each"))
       << "\n\n"
-      << "  relative Frobenius error  " << Fmt("%.4g", st.relative_frobenius) << "   (|S - Sigma|_F / |Sigma|_F)\n"
-      << "  NEES mean                 " << Fmt("%.4g", st.nees_mean) << "   (" << Fmt("%.3g", 100 * kNeesConfidence)
-      << "% bounds [" << Fmt("%.4g", st.nees_bounds[0]) << ", " << Fmt("%.4g", st.nees_bounds[1])
+      << "  relative Frobenius error  " << Fmt("%.4g", st.relative_frobenius)
+      << "   (|S - Sigma|_F / |Sigma|_F)\n"
+      << "  NEES mean                 " << Fmt("%.4g", st.nees_mean) << "   ("
+      << Fmt("%.3g", 100 * kNeesConfidence) << "% bounds [" << Fmt("%.4g", st.nees_bounds[0])
+      << ", " << Fmt("%.4g", st.nees_bounds[1])
       << "], expected 15; p = " << Fmt("%.3g", st.nees_p_value) << ")\n"
-      << "  KL divergence             " << Fmt("%.4g", st.kl) << "   (" << Fmt("%.3g", 100 * kKlLevel) << "% bound "
-      << Fmt("%.4g", st.kl_bound) << "; p = " << Fmt("%.3g", st.kl_p_value) << ")\n\n"
+      << "  KL divergence             " << Fmt("%.4g", st.kl) << "   ("
+      << Fmt("%.3g", 100 * kKlLevel) << "% bound " << Fmt("%.4g", st.kl_bound)
+      << "; p = " << Fmt("%.3g", st.kl_p_value) << ")\n\n"
       << "  block   sample/predicted variance   (x, y, z)\n";
   for (const BlockRatio& b : r.blocks)
     out << "  " << b.block << std::string(8 - std::min<std::size_t>(b.block.size(), 7), ' ')
         << Fmt("%-28.4g", b.variance_ratio) << Fmt("%.3g, ", b.axes[0]) << Fmt("%.3g, ", b.axes[1])
         << Fmt("%.3g", b.axes[2]) << "\n";
-  out << "\n  verdict: " << VerdictName(r.verdict) << "   (false-alarm rate at most " << Fmt("%.3g", 100 * kFalseAlarmRate)
-      << "%: a right covariance is called inconsistent at most this often; p = " << Fmt("%.3g", r.verdict_p_value)
-      << ")\n";
+  out << "\n  verdict: " << VerdictName(r.verdict) << "   (false-alarm rate at most "
+      << Fmt("%.3g", 100 * kFalseAlarmRate)
+      << "%: a right covariance is called inconsistent at most this often; p = "
+      << Fmt("%.3g", r.verdict_p_value) << ")\n";
   for (const std::string& reason : r.reasons) out << "    - " << reason << "\n";
 }
 

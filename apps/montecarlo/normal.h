@@ -78,7 +78,8 @@ struct ZigguratTables {
   static constexpr double kR = 3.6541528853610088;
   double v = 0.0;
   std::array<double, kLayers + 1> x{};  ///< x_0 (pseudo-width of the base), x_1 = r, ..., x_256 = 0
-  std::array<double, kLayers + 1> f{};  ///< f(x_i); f_0 = f(r) (the base's rectangle top), f_256 = 1
+  std::array<double, kLayers + 1>
+      f{};  ///< f(x_i); f_0 = f(r) (the base's rectangle top), f_256 = 1
 
   ZigguratTables() {
     const double fr = std::exp(-0.5 * kR * kR);
@@ -129,7 +130,7 @@ class Normal {
   }
 
  private:
-  double Uniform() { return static_cast<double>(bits_() >> 11) * 0x1.0p-53; }        // [0, 1)
+  double Uniform() { return static_cast<double>(bits_() >> 11) * 0x1.0p-53; }              // [0, 1)
   double OpenUniform() { return (static_cast<double>(bits_() >> 11) + 1.0) * 0x1.0p-53; }  // (0, 1]
   /// r + the excess over r of a normal beyond r (Marsaglia 1964: e, e' exponential,
   /// e / r accepted when 2 e' > (e / r)^2).

@@ -4,8 +4,8 @@
 #include <sys/stat.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -29,8 +29,9 @@ namespace {
 using nlohmann::json;
 
 constexpr std::size_t kBytesPerTrial = sizeof(double) * kDim;
-constexpr std::size_t kHeaderLimit = std::size_t{1} << 20;  // the header is ~8 KB (225 hex floats, a note)
-constexpr std::size_t kTrailerSize = 9 + 16 + 1;            // "fnv1a_64 " + 16 hex digits + "\n"
+constexpr std::size_t kHeaderLimit = std::size_t{1}
+                                     << 20;       // the header is ~8 KB (225 hex floats, a note)
+constexpr std::size_t kTrailerSize = 9 + 16 + 1;  // "fnv1a_64 " + 16 hex digits + "\n"
 
 /// A double as a C99 hexadecimal float: strtod reads it back to the same bits.
 std::string HexFloat(double x) {
@@ -55,7 +56,8 @@ double HexFloatAt(const json& v, const std::string& at) {
   char* end = nullptr;
   errno = 0;
   const double x = std::strtod(s.c_str(), &end);
-  if (s.empty() || end != s.c_str() + s.size()) Bad(at, "expected a hexadecimal float, found " + Printable(s));
+  if (s.empty() || end != s.c_str() + s.size())
+    Bad(at, "expected a hexadecimal float, found " + Printable(s));
   // imuconv writes finite numbers only (a NaN or an infinity would reach the verdict as one).
   if (!std::isfinite(x)) Bad(at, "expected a finite number, found " + Printable(s));
   return x;
@@ -81,7 +83,8 @@ void PutLittleEndian(double x, char* out) {
 
 double GetLittleEndian(const char* in) {
   std::uint64_t u = 0;
-  for (int b = 0; b < 8; ++b) u |= static_cast<std::uint64_t>(static_cast<unsigned char>(in[b])) << (8 * b);
+  for (int b = 0; b < 8; ++b)
+    u |= static_cast<std::uint64_t>(static_cast<unsigned char>(in[b])) << (8 * b);
   double x;
   std::memcpy(&x, &u, sizeof x);
   return x;
@@ -89,9 +92,10 @@ double GetLittleEndian(const char* in) {
 
 /// The two first lines of a shard (magic, header) as written.
 std::string HeadText(int index, int count, int first, int end, const json& run) {
-  const json header = {{"shard", {{"index", index}, {"count", count}, {"first_trial", first}, {"end_trial", end}}},
-                       {"run", run},
-                       {"payload_bytes", static_cast<std::uint64_t>(end - first) * kBytesPerTrial}};
+  const json header = {
+      {"shard", {{"index", index}, {"count", count}, {"first_trial", first}, {"end_trial", end}}},
+      {"run", run},
+      {"payload_bytes", static_cast<std::uint64_t>(end - first) * kBytesPerTrial}};
   return std::string(kShardMagic) + "\n" + header.dump() + "\n";
 }
 
@@ -109,20 +113,25 @@ std::string Brief(const nlohmann::json& v) {
 }  // namespace
 
 std::pair<int, int> ShardTrials(int trials, int index, int count) {
-  const auto at = [&](int k) { return static_cast<int>(static_cast<long long>(k) * trials / count); };
+  const auto at = [&](int k) {
+    return static_cast<int>(static_cast<long long>(k) * trials / count);
+  };
   return {at(index), at(index + 1)};
 }
 
-json ShardProvenance(const Registry& reg, const PreintegrationMethod& method, const std::string& convention,
-                     const std::string& case_path) {
+json ShardProvenance(const Registry& reg, const PreintegrationMethod& method,
+                     const std::string& convention, const std::string& case_path) {
   const pipeline::FileDigest case_digest = pipeline::DigestFile(case_path);
   json plugins = json::array();
-  for (const PluginInfo* info : {&reg.info(method.kind, method.id), &reg.info(PluginKind::IncrementConvention, convention)})
+  for (const PluginInfo* info :
+       {&reg.info(method.kind, method.id), &reg.info(PluginKind::IncrementConvention, convention)})
     plugins.push_back({{"id", info->id}, {"file", info->file}, {"version", info->version}});
-  return {{"imuconv_version", IMUCONV_VERSION},
-          {"kernel_instance", kernels::IsaName(kernels::BestIsa())},
-          {"case", {{"path", case_path}, {"bytes", case_digest.bytes}, {"fnv1a_64", case_digest.hash.hex()}}},
-          {"plugins", plugins}};
+  return {
+      {"imuconv_version", IMUCONV_VERSION},
+      {"kernel_instance", kernels::IsaName(kernels::BestIsa())},
+      {"case",
+       {{"path", case_path}, {"bytes", case_digest.bytes}, {"fnv1a_64", case_digest.hash.hex()}}},
+      {"plugins", plugins}};
 }
 
 json ShardRunJson(const Result& head, const json& provenance) {
@@ -158,8 +167,10 @@ Result ResultFromRunJson(const json& run) {
   r.method_kind = StringAt(run, "method_kind", "");
   r.convention = StringAt(run, "convention", "");
   const std::uint64_t trials = CountAt(run, "trials", "");
-  if (trials < static_cast<std::uint64_t>(kDim + 1) || trials > static_cast<std::uint64_t>(kMaxTrials))
-    Bad("/trials", "expected 16 to " + std::to_string(kMaxTrials) + ", found " + std::to_string(trials));
+  if (trials < static_cast<std::uint64_t>(kDim + 1) ||
+      trials > static_cast<std::uint64_t>(kMaxTrials))
+    Bad("/trials",
+        "expected 16 to " + std::to_string(kMaxTrials) + ", found " + std::to_string(trials));
   r.trials = static_cast<int>(trials);
   r.seed = CountAt(run, "seed", "");
   r.noise_scale = HexFloatAt(Member(run, "noise_scale", ""), "/noise_scale");
@@ -190,11 +201,11 @@ Result ResultFromRunJson(const json& run) {
   return r;
 }
 
-void WriteShard(const std::function<void(std::string_view)>& sink, int index, int count, int first, int end,
-                const json& run, const std::vector<Vec15>& errors) {
+void WriteShard(const std::function<void(std::string_view)>& sink, int index, int count, int first,
+                int end, const json& run, const std::vector<Vec15>& errors) {
   if (errors.size() != static_cast<std::size_t>(end - first))
-    throw Error("montecarlo: " + std::to_string(errors.size()) + " end errors for trials [" + std::to_string(first) +
-                ", " + std::to_string(end) + ")");
+    throw Error("montecarlo: " + std::to_string(errors.size()) + " end errors for trials [" +
+                std::to_string(first) + ", " + std::to_string(end) + ")");
   pipeline::Fnv1a64 hash;
   const std::string head = HeadText(index, count, first, end, run);
   hash.add(head.data(), head.size());
@@ -224,7 +235,8 @@ ShardHeader ReadShardHeader(const std::string& file) {
   if (!in) FileFails(file, "cannot be opened");
   pipeline::RegisterInputPath(file, "a shard");  // no output may replace it (input_registry.h)
   const std::string not_shard = "not a montecarlo shard: it does not begin with the line \"" +
-                                std::string(kShardMagic) + "\" that imuconv montecarlo --shard K/N -o FILE writes";
+                                std::string(kShardMagic) +
+                                "\" that imuconv montecarlo --shard K/N -o FILE writes";
   std::string line;
   char c;
   while (line.size() <= kShardMagic.size() && in.get(c) && c != '\n') line.push_back(c);
@@ -233,15 +245,18 @@ ShardHeader ReadShardHeader(const std::string& file) {
       FileFails(file, "a montecarlo shard of another format version (\"" + Printable(line) +
                           "\"); this imuconv reads \"" + std::string(kShardMagic) + "\"");
     if (!line.empty() && line.front() == '{')
-      FileFails(file, not_shard + " (it is JSON: the shards of imuconv run --shard K/N are merged by imuconv merge)");
+      FileFails(
+          file,
+          not_shard +
+              " (it is JSON: the shards of imuconv run --shard K/N are merged by imuconv merge)");
     FileFails(file, not_shard);
   }
   std::string text;
   while (in.get(c) && c != '\n') {
     text.push_back(c);
     if (text.size() > kHeaderLimit)
-      FileFails(file, "its header line is longer than any imuconv writes (" + std::to_string(kHeaderLimit) +
-                          " bytes): a corrupted shard?");
+      FileFails(file, "its header line is longer than any imuconv writes (" +
+                          std::to_string(kHeaderLimit) + " bytes): a corrupted shard?");
   }
   if (!in) FileFails(file, "ends inside its header line (a truncated shard?)");
   json header;
@@ -251,9 +266,11 @@ ShardHeader ReadShardHeader(const std::string& file) {
   } catch (const pipeline::ConfigError& e) {
     const pipeline::Issue& first = e.issues().front();
     FileFails(file, "its header line is not JSON as imuconv writes it (a corrupted shard?): " +
-                        (first.pointer.empty() ? std::string() : Printable(first.pointer) + ": ") + first.message);
+                        (first.pointer.empty() ? std::string() : Printable(first.pointer) + ": ") +
+                        first.message);
   } catch (const pipeline::ReadError& e) {
-    FileFails(file, std::string("its header line cannot be read as JSON (a corrupted shard?): ") + e.what());
+    FileFails(file, std::string("its header line cannot be read as JSON (a corrupted shard?): ") +
+                        e.what());
   }
   ShardHeader h;
   h.file = file;
@@ -263,7 +280,8 @@ ShardHeader ReadShardHeader(const std::string& file) {
     if (shard == header.end() || !shard->is_object()) throw Error("/shard: expected an object");
     const auto field = [&](const char* key, int& v) {
       const auto it = shard->find(key);
-      if (it == shard->end() || !it->is_number_unsigned() || it->get<std::uint64_t>() > std::uint64_t{1} << 30)
+      if (it == shard->end() || !it->is_number_unsigned() ||
+          it->get<std::uint64_t>() > std::uint64_t{1} << 30)
         throw Error(std::string("/shard/") + key + ": expected a count");
       v = it->get<int>();
     };
@@ -275,31 +293,35 @@ ShardHeader ReadShardHeader(const std::string& file) {
     if (run == header.end() || !run->is_object()) throw Error("/run: expected an object");
     h.run = *run;
     const Result r = ResultFromRunJson(h.run);  // checks its form now, before any trial is read
-    if (h.count < 1 || h.index >= h.count || std::make_pair(h.first, h.end) != ShardTrials(r.trials, h.index, h.count))
-      throw Error("/shard: shard " + std::to_string(h.index) + " of " + std::to_string(h.count) + " of " +
-                  std::to_string(r.trials) + " trials holds trials [" +
+    if (h.count < 1 || h.index >= h.count ||
+        std::make_pair(h.first, h.end) != ShardTrials(r.trials, h.index, h.count))
+      throw Error("/shard: shard " + std::to_string(h.index) + " of " + std::to_string(h.count) +
+                  " of " + std::to_string(r.trials) + " trials holds trials [" +
                   std::to_string(ShardTrials(r.trials, h.index, h.count).first) + ", " +
                   std::to_string(ShardTrials(r.trials, h.index, h.count).second) + "), not [" +
                   std::to_string(h.first) + ", " + std::to_string(h.end) + ")");
     const auto payload = header.find("payload_bytes");
     if (payload == header.end() || !payload->is_number_unsigned() ||
-        payload->get<std::uint64_t>() != static_cast<std::uint64_t>(h.end - h.first) * kBytesPerTrial)
+        payload->get<std::uint64_t>() !=
+            static_cast<std::uint64_t>(h.end - h.first) * kBytesPerTrial)
       throw Error("/payload_bytes: expected " + std::to_string((h.end - h.first) * kBytesPerTrial) +
                   " (15 doubles for each of its trials)");
   } catch (const Error& e) {
     FileFails(file, std::string("its header is malformed (a corrupted shard?): ") + e.what());
   }
   h.payload_offset = kShardMagic.size() + 1 + text.size() + 1;
-  const std::uint64_t expected =
-      h.payload_offset + static_cast<std::uint64_t>(h.end - h.first) * kBytesPerTrial + kTrailerSize;
+  const std::uint64_t expected = h.payload_offset +
+                                 static_cast<std::uint64_t>(h.end - h.first) * kBytesPerTrial +
+                                 kTrailerSize;
   const auto actual = static_cast<std::uint64_t>(st.st_size);
   if (actual < expected)
     FileFails(file, "is truncated: " + std::to_string(actual) + " bytes, where its " +
-                        std::to_string(h.end - h.first) + " trials [" + std::to_string(h.first) + ", " +
-                        std::to_string(h.end) + ") need " + std::to_string(expected));
+                        std::to_string(h.end - h.first) + " trials [" + std::to_string(h.first) +
+                        ", " + std::to_string(h.end) + ") need " + std::to_string(expected));
   if (actual > expected)
-    FileFails(file, "has " + std::to_string(actual - expected) + " bytes after its end (" + std::to_string(expected) +
-                        " for its trials [" + std::to_string(h.first) + ", " + std::to_string(h.end) + "))");
+    FileFails(file, "has " + std::to_string(actual - expected) + " bytes after its end (" +
+                        std::to_string(expected) + " for its trials [" + std::to_string(h.first) +
+                        ", " + std::to_string(h.end) + "))");
   return h;
 }
 
@@ -321,10 +343,12 @@ void ReadShardErrors(const ShardHeader& h, Vec15* out) {
     const std::size_t n = std::min(trials - trial, buf.size() / kBytesPerTrial);
     in.read(buf.data(), static_cast<std::streamsize>(n * kBytesPerTrial));
     if (static_cast<std::size_t>(in.gcount()) != n * kBytesPerTrial)
-      FileFails(h.file, "ends early (a truncated shard, or one that changed while it was being merged?)");
+      FileFails(h.file,
+                "ends early (a truncated shard, or one that changed while it was being merged?)");
     hash.add(buf.data(), n * kBytesPerTrial);
     for (std::size_t t = 0; t < n; ++t)
-      for (int j = 0; j < kDim; ++j) out[trial + t][j] = GetLittleEndian(buf.data() + t * kBytesPerTrial + 8 * j);
+      for (int j = 0; j < kDim; ++j)
+        out[trial + t][j] = GetLittleEndian(buf.data() + t * kBytesPerTrial + 8 * j);
     trial += n;
   }
   std::string trailer(kTrailerSize, '\0');
@@ -334,9 +358,11 @@ void ReadShardErrors(const ShardHeader& h, Vec15* out) {
   if (trailer.rfind("fnv1a_64 ", 0) != 0 || trailer.back() != '\n')
     FileFails(h.file, "its last line is not \"fnv1a_64 <16 hex digits>\" (a corrupted shard?)");
   if (!head_ok || trailer != "fnv1a_64 " + hash.hex() + "\n")
-    FileFails(h.file, "is corrupted: its content does not match the FNV-1a 64 hash on its last line (" +
-                          Printable(trailer.substr(9, 16)) + " written, " + hash.hex() + " read)");
-  if (in.peek() != std::char_traits<char>::eof()) FileFails(h.file, "has bytes after its hash line");
+    FileFails(h.file,
+              "is corrupted: its content does not match the FNV-1a 64 hash on its last line (" +
+                  Printable(trailer.substr(9, 16)) + " written, " + hash.hex() + " read)");
+  if (in.peek() != std::char_traits<char>::eof())
+    FileFails(h.file, "has bytes after its hash line");
 }
 
 Result MergeShards(const std::vector<std::string>& files, std::string& case_path) {
@@ -346,23 +372,25 @@ Result MergeShards(const std::vector<std::string>& files, std::string& case_path
   // By index; a map, since a header may claim up to 2^30 shards (more than the trials is allowed).
   std::map<int, const ShardHeader*> by_index;
   for (const ShardHeader& h : heads) {
-    const std::string other = Printable(h.file) + " and " + Printable(a.file) + " are not shards of one run: ";
+    const std::string other =
+        Printable(h.file) + " and " + Printable(a.file) + " are not shards of one run: ";
     if (h.count != a.count)
-      throw Error(other + "one is shard " + std::to_string(h.index) + " of " + std::to_string(h.count) +
-                  ", the other of " + std::to_string(a.count));
+      throw Error(other + "one is shard " + std::to_string(h.index) + " of " +
+                  std::to_string(h.count) + ", the other of " + std::to_string(a.count));
     if (h.run != a.run) {
       for (auto it = a.run.begin(); it != a.run.end(); ++it) {
         const auto there = h.run.find(it.key());
         if (there == h.run.end() || *there != it.value())
           throw Error(other + "their /run/" + it.key() + " differ (" +
-                      (there == h.run.end() ? std::string("missing") : Brief(*there)) + " and " + Brief(it.value()) +
-                      ")");
+                      (there == h.run.end() ? std::string("missing") : Brief(*there)) + " and " +
+                      Brief(it.value()) + ")");
       }
       throw Error(other + "their /run objects differ (a member only in " + Printable(h.file) + ")");
     }
     if (const auto seen = by_index.find(h.index); seen != by_index.end())
       throw Error("shard " + std::to_string(h.index) + " of " + std::to_string(h.count) +
-                  " is given twice: " + Printable(seen->second->file) + " and " + Printable(h.file));
+                  " is given twice: " + Printable(seen->second->file) + " and " +
+                  Printable(h.file));
     by_index[h.index] = &h;
   }
   const std::size_t n_missing = static_cast<std::size_t>(a.count) - by_index.size();
@@ -373,8 +401,9 @@ Result MergeShards(const std::vector<std::string>& files, std::string& case_path
       ++listed;
     }
   if (n_missing)
-    throw Error("missing " + std::to_string(n_missing) + " of the " + std::to_string(a.count) + " shards (index " +
-                missing + (n_missing > 20 ? ", ..." : "") + "); every shard K/N of the run is needed");
+    throw Error("missing " + std::to_string(n_missing) + " of the " + std::to_string(a.count) +
+                " shards (index " + missing + (n_missing > 20 ? ", ..." : "") +
+                "); every shard K/N of the run is needed");
   Result result;
   try {
     result = ResultFromRunJson(a.run);
@@ -392,9 +421,11 @@ Result MergeShards(const std::vector<std::string>& files, std::string& case_path
   } catch (const Error& e) {
     // Conclude knows no file: the shards' values are what it judged.
     std::string names;
-    for (const auto& [index, h] : by_index) names += (names.empty() ? "" : ", ") + Printable(h->file);
+    for (const auto& [index, h] : by_index)
+      names += (names.empty() ? "" : ", ") + Printable(h->file);
     if (names.size() > 300) names = names.substr(0, 297) + "...";
-    throw Error("the shards " + names + " (" + std::to_string(a.count) + " of one run): " + e.what());
+    throw Error("the shards " + names + " (" + std::to_string(a.count) +
+                " of one run): " + e.what());
   }
   return result;
 }

@@ -30,16 +30,16 @@
 
 namespace imuconv::montecarlo {
 
-/// Trials [first, end) of shard `index` of `count` of `trials`: [index T / count, (index+1) T / count)
-/// rounded down, so that the shards are contiguous and differ in size by at most one trial (and
-/// some are empty when count > T).
+/// Trials [first, end) of shard `index` of `count` of `trials`: [index T / count, (index+1) T /
+/// count) rounded down, so that the shards are contiguous and differ in size by at most one trial
+/// (and some are empty when count > T).
 std::pair<int, int> ShardTrials(int trials, int index, int count);
 
 /// What a shard file says of itself (its line 2).
 struct ShardHeader {
   std::string file;  ///< where it was read from
   int index = 0, count = 0, first = 0, end = 0;
-  nlohmann::json run;                 ///< the identity, compared whole across shards
+  nlohmann::json run;                ///< the identity, compared whole across shards
   std::uint64_t payload_offset = 0;  ///< where its errors begin in the file
 };
 
@@ -49,8 +49,8 @@ struct ShardHeader {
 /// last bits depend on it, FMA or not), so that shards from CPUs that would round differently
 /// are refused by the merge instead of merged to bytes no one run gives. Throws Error naming
 /// the case file if it cannot be read.
-nlohmann::json ShardProvenance(const Registry& reg, const PreintegrationMethod& method, const std::string& convention,
-                               const std::string& case_path);
+nlohmann::json ShardProvenance(const Registry& reg, const PreintegrationMethod& method,
+                               const std::string& convention, const std::string& case_path);
 
 /// The "run" object for `head` (a RunTrials result) and its provenance: one JSON object.
 nlohmann::json ShardRunJson(const Result& head, const nlohmann::json& provenance);
@@ -60,8 +60,8 @@ nlohmann::json ShardRunJson(const Result& head, const nlohmann::json& provenance
 Result ResultFromRunJson(const nlohmann::json& run);
 
 /// Writes a whole shard file through `sink` (called with pieces of at most 64 KiB).
-void WriteShard(const std::function<void(std::string_view)>& sink, int index, int count, int first, int end,
-                const nlohmann::json& run, const std::vector<Vec15>& errors);
+void WriteShard(const std::function<void(std::string_view)>& sink, int index, int count, int first,
+                int end, const nlohmann::json& run, const std::vector<Vec15>& errors);
 
 /// Reads and checks a shard's first two lines and its size against them. Throws Error starting
 /// with the file's name: not a shard, an unknown version, a malformed header, a truncated file

@@ -46,14 +46,17 @@ namespace imuconv::montecarlo {
 /// Standard normal quantile (Acklam's rational approximation, relative error below 1.2e-9,
 /// then one Newton step with erfc): enough for confidence bounds.
 inline double NormalQuantile(double p) {
-  static constexpr double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,  -2.759285104469687e+02,
-                                 1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
-  static constexpr double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
-                                 6.680131188771972e+01, -1.328068155288572e+01};
-  static constexpr double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
-                                 -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00};
-  static constexpr double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
-                                 3.754408661907416e+00};
+  static constexpr double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,
+                                 -2.759285104469687e+02, 1.383577518672690e+02,
+                                 -3.066479806614716e+01, 2.506628277459239e+00};
+  static constexpr double b[] = {-5.447609879822406e+01, 1.615858368580409e+02,
+                                 -1.556989798598866e+02, 6.680131188771972e+01,
+                                 -1.328068155288572e+01};
+  static constexpr double c[] = {-7.784894002430293e-03, -3.223964580411365e-01,
+                                 -2.400758277161838e+00, -2.549732539343734e+00,
+                                 4.374664141464968e+00,  2.938163982698783e+00};
+  static constexpr double d[] = {7.784695709041462e-03, 3.224671290700398e-01,
+                                 2.445134137142996e+00, 3.754408661907416e+00};
   const double plow = 0.02425;
   double x;
   if (p < plow) {
@@ -98,10 +101,12 @@ constexpr double kKlLevel = 1.0 - kTestLevel;
 /// From this many trials on, the corrected chi-square(135) is the KL statistic's null
 /// distribution to within the simulation's resolution: the rate of kl_p_value < 0.5 % on
 /// exact Gaussian errors measured 0.50 % and 0.57 % at N = 200 (4000 and 10 000 replicas,
-/// standard error 0.07 %), 0.53 % at N = 1000 (15 000), but 0.70 % at N = 50 and 5.4 % at N = 20, where the O(N^-2) terms Bartlett's factor leaves are
-/// not small (15 dimensions from 20 draws). Below it the output says that the rate is not held.
+/// standard error 0.07 %), 0.53 % at N = 1000 (15 000), but 0.70 % at N = 50 and 5.4 % at N = 20,
+/// where the O(N^-2) terms Bartlett's factor leaves are not small (15 dimensions from 20 draws).
+/// Below it the output says that the rate is not held.
 constexpr int kKlChiSquareFromTrials = 200;
-/// Degrees of freedom of the KL likelihood-ratio statistic: 15 for the mean, 120 for the covariance.
+/// Degrees of freedom of the KL likelihood-ratio statistic: 15 for the mean, 120 for the
+/// covariance.
 constexpr int kKlDof = kDim * (kDim + 3) / 2;
 
 struct Statistics {
@@ -121,7 +126,8 @@ struct Statistics {
 /// kTestLevel / 2 and 1 - kTestLevel / 2, divided by N.
 inline std::array<double, 2> NeesBounds(int trials) {
   const double dof = kDim * static_cast<double>(trials), alpha = 1.0 - kNeesConfidence;
-  return {ChiSquareQuantileExact(dof, alpha / 2) / trials, ChiSquareQuantileExact(dof, 1 - alpha / 2) / trials};
+  return {ChiSquareQuantileExact(dof, alpha / 2) / trials,
+          ChiSquareQuantileExact(dof, 1 - alpha / 2) / trials};
 }
 
 /// The two-sided p-value of a NEES mean over N trials: 2 min(Pr(X <= N m), Pr(X >= N m)),
@@ -150,7 +156,8 @@ inline double KlPValue(int trials, double kl) {
 
 /// The statistics of `errors` (at least 16, so that S is full rank) against `Sigma`, which
 /// must be positive definite (`ok` false otherwise). The sums run in the order of `errors`.
-inline bool ComputeStatistics(const std::vector<Vec15>& errors, const Mat15& Sigma, Statistics& st) {
+inline bool ComputeStatistics(const std::vector<Vec15>& errors, const Mat15& Sigma,
+                              Statistics& st) {
   const Eigen::LLT<Mat15> llt(Sigma);
   if (llt.info() != Eigen::Success || errors.size() < kDim + 1) return false;
   const int n = static_cast<int>(errors.size());

@@ -9,12 +9,13 @@
 namespace imuconv::nees {
 
 const char* const kOffsetRule =
-    "|mean| > rms / sqrt(2): the mean of the standardized error is larger than its standard deviation about "
+    "|mean| > rms / sqrt(2): the mean of the standardized error is larger than its standard "
+    "deviation about "
     "the mean";
 
 const std::vector<std::string>& ComponentNames() {
-  static const std::vector<std::string> names = {"p.x",     "p.y",     "p.z", "theta.x", "theta.y",
-                                                 "theta.z", "v.x",     "v.y", "v.z"};
+  static const std::vector<std::string> names = {"p.x",     "p.y", "p.z", "theta.x", "theta.y",
+                                                 "theta.z", "v.x", "v.y", "v.z"};
   return names;
 }
 
@@ -33,8 +34,8 @@ double SignTestPValue(std::size_t k, std::size_t n) {
 
 std::vector<ComponentStatistics> ComponentStatisticsOf(const std::vector<Vec9>& error,
                                                        const std::vector<Mat9>& cov_gyro,
-                                                       const std::vector<Mat9>& cov_accel, double k_gyro,
-                                                       double k_accel) {
+                                                       const std::vector<Mat9>& cov_accel,
+                                                       double k_gyro, double k_accel) {
   std::vector<ComponentStatistics> out(9);
   for (int c = 0; c < 9; ++c) {
     ComponentStatistics& s = out[static_cast<std::size_t>(c)];

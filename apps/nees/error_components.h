@@ -12,7 +12,7 @@
 namespace imuconv::nees {
 
 struct ComponentStatistics {
-  std::string name;               ///< "p.x" ... "v.z"
+  std::string name;                ///< "p.x" ... "v.z"
   double mean_standardized = 0.0;  ///< mean over windows of e_i / sigma_i
   double rms_standardized = 0.0;   ///< sqrt(mean of (e_i / sigma_i)^2)
   std::size_t positive = 0;        ///< windows with e_i > 0
@@ -39,7 +39,7 @@ double SignTestPValue(std::size_t k, std::size_t n);
 /// is 0 or not finite in a window skip that window.
 std::vector<ComponentStatistics> ComponentStatisticsOf(const std::vector<Vec9>& error,
                                                        const std::vector<Mat9>& cov_gyro,
-                                                       const std::vector<Mat9>& cov_accel, double k_gyro,
-                                                       double k_accel);
+                                                       const std::vector<Mat9>& cov_accel,
+                                                       double k_gyro, double k_accel);
 
 }  // namespace imuconv::nees

@@ -34,7 +34,8 @@ std::string Seconds(double s) {
 void PickBlocks(const Vec15& d, const Mat15& cov, const int (&offsets)[3], Vec9& e, Mat9& P) {
   for (int i = 0; i < 3; ++i) {
     e.segment<3>(3 * i) = d.segment<3>(offsets[i]);
-    for (int j = 0; j < 3; ++j) P.block<3, 3>(3 * i, 3 * j) = cov.block<3, 3>(offsets[i], offsets[j]);
+    for (int j = 0; j < 3; ++j)
+      P.block<3, 3>(3 * i, 3 * j) = cov.block<3, 3>(offsets[i], offsets[j]);
   }
 }
 
@@ -42,10 +43,11 @@ void PickBlocks(const Vec15& d, const Mat15& cov, const int (&offsets)[3], Vec9&
 // covariance's gyro and accelerometer parts (each propagated with that sensor's densities alone;
 // the end state is the same in all three runs, the noise does not move the mean).
 double Window(const Registry& reg, const pipeline::ImuData& imu, const pipeline::GroundTruth& gt,
-              const Options& options, const int (&offsets)[3], double t_s, double t_e, Vec9& error, Vec9& sigma,
-              Mat9& cov_gyro, Mat9& cov_accel) {
+              const Options& options, const int (&offsets)[3], double t_s, double t_e, Vec9& error,
+              Vec9& sigma, Mat9& cov_gyro, Mat9& cov_accel) {
   const auto x_s = gt.at(t_s), x_gt = gt.at(t_e);
-  if (!x_s || !x_gt) throw Error("window [" + Seconds(t_s) + ", " + Seconds(t_e) + "] leaves the ground truth");
+  if (!x_s || !x_gt)
+    throw Error("window [" + Seconds(t_s) + ", " + Seconds(t_e) + "] leaves the ground truth");
   PropagationInput in;
   in.x_s = *x_s;  // the ground truth's biases included: the error measures the noise model only
   in.cov_s = Mat15::Zero();
@@ -65,9 +67,11 @@ double Window(const Registry& reg, const pipeline::ImuData& imu, const pipeline:
   sigma = P.diagonal().cwiseSqrt();
   Vec9 unused;
   in.noise = ImuNoise{options.noise.gyro_noise_density, 0.0, options.noise.gyro_random_walk, 0.0};
-  PickBlocks(d, reg.propagate(options.method, options.convention, in).cov, offsets, unused, cov_gyro);
+  PickBlocks(d, reg.propagate(options.method, options.convention, in).cov, offsets, unused,
+             cov_gyro);
   in.noise = ImuNoise{0.0, options.noise.accel_noise_density, 0.0, options.noise.accel_random_walk};
-  PickBlocks(d, reg.propagate(options.method, options.convention, in).cov, offsets, unused, cov_accel);
+  PickBlocks(d, reg.propagate(options.method, options.convention, in).cov, offsets, unused,
+             cov_accel);
   return llt.matrixL().solve(error).squaredNorm();
 }
 
@@ -77,25 +81,32 @@ Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline
                const Options& options) {
   if (!reg.has(PluginKind::Propagator, options.method)) {
     std::string known;
-    for (const auto& id : reg.ids(PluginKind::Propagator)) known += (known.empty() ? "" : ", ") + id;
-    const std::string hint = reg.has(PluginKind::Preintegrator, options.method)
-                                 ? " (it is a preintegrator; nees propagates states from the ground truth)"
-                                 : "";
+    for (const auto& id : reg.ids(PluginKind::Propagator))
+      known += (known.empty() ? "" : ", ") + id;
+    const std::string hint =
+        reg.has(PluginKind::Preintegrator, options.method)
+            ? " (it is a preintegrator; nees propagates states from the ground truth)"
+            : "";
     throw Error("--method: unknown propagator " + Printable(options.method) + hint +
                 DidYouMean(options.method, reg.ids(PluginKind::Propagator)) + "; known: " + known);
   }
   const ImuNoise& q = options.noise;
-  if (q.gyro_noise_density == 0 && q.accel_noise_density == 0 && q.gyro_random_walk == 0 && q.accel_random_walk == 0)
-    throw Error("--noise: all four densities are zero; the propagated covariance would be zero and NEES undefined");
+  if (q.gyro_noise_density == 0 && q.accel_noise_density == 0 && q.gyro_random_walk == 0 &&
+      q.accel_random_walk == 0)
+    throw Error(
+        "--noise: all four densities are zero; the propagated covariance would be zero and NEES "
+        "undefined");
   const BlockLabels labels = reg.state_convention(options.convention)->labels();
-  const int offsets[3] = {BlockOffset(labels, "p"), BlockOffset(labels, "theta"), BlockOffset(labels, "v")};
+  const int offsets[3] = {BlockOffset(labels, "p"), BlockOffset(labels, "theta"),
+                          BlockOffset(labels, "v")};
 
   Result r;
   r.method = options.method;
   r.convention = options.convention;
   r.noise = options.noise;
   r.chi2 = ChiSquare9();
-  if (imu.samples.size() < 2 || gt.t.size() < 2) throw Error("fewer than two IMU samples or ground-truth rows");
+  if (imu.samples.size() < 2 || gt.t.size() < 2)
+    throw Error("fewer than two IMU samples or ground-truth rows");
   r.t_begin = std::max(imu.samples.front().t, gt.t.front());
   r.t_end = std::min(imu.samples.back().t, gt.t.back());
   const double span = r.t_end - r.t_begin;
@@ -114,8 +125,8 @@ Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline
     // A stride far below the sample period only repeats windows; a bound keeps a typo (1e-9)
     // from running for hours.
     if ((span - length) / w.stride + 1 > static_cast<double>(kMaxWindows))
-      throw Error("--stride " + Seconds(w.stride) + ": more than " + std::to_string(kMaxWindows) + " windows of " +
-                  Seconds(length));
+      throw Error("--stride " + Seconds(w.stride) + ": more than " + std::to_string(kMaxWindows) +
+                  " windows of " + Seconds(length));
     for (std::size_t i = 0;; ++i) {
       // Starts by multiplication, not accumulation, so they carry no drift.
       const double t_s = r.t_begin + static_cast<double>(i) * w.stride;
@@ -125,14 +136,16 @@ Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline
       w.t_start.push_back(t_s);
       Vec9 e, sigma;
       Mat9 cov_gyro, cov_accel;
-      w.nees.push_back(Window(reg, imu, gt, options, offsets, t_s, t_e, e, sigma, cov_gyro, cov_accel));
+      w.nees.push_back(
+          Window(reg, imu, gt, options, offsets, t_s, t_e, e, sigma, cov_gyro, cov_accel));
       w.error.push_back(e);
       w.sigma.push_back(sigma);
       w.cov_gyro.push_back(cov_gyro);
       w.cov_accel.push_back(cov_accel);
     }
     w.median = SampleMedian(w.nees);
-    w.mean = std::accumulate(w.nees.begin(), w.nees.end(), 0.0) / static_cast<double>(w.nees.size());
+    w.mean =
+        std::accumulate(w.nees.begin(), w.nees.end(), 0.0) / static_cast<double>(w.nees.size());
     w.p95 = SampleQuantile(w.nees, 0.95);
     std::size_t inside = 0;
     for (const double v : w.nees) inside += (v >= r.chi2.lower && v <= r.chi2.upper) ? 1 : 0;
@@ -141,7 +154,8 @@ Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline
     w.factor_gyro = FitGyroFactor(w.error, w.cov_gyro);
     w.factor_accel = FitAccelFactor(w.error, w.cov_gyro, w.cov_accel, w.factor_gyro);
     if (std::isfinite(w.factor_gyro) && std::isfinite(w.factor_accel))
-      w.components = ComponentStatisticsOf(w.error, w.cov_gyro, w.cov_accel, w.factor_gyro, w.factor_accel);
+      w.components =
+          ComponentStatisticsOf(w.error, w.cov_gyro, w.cov_accel, w.factor_gyro, w.factor_accel);
     r.windows.push_back(std::move(w));
   }
   return r;

@@ -67,7 +67,7 @@ struct WindowLengthResult {
   std::vector<Mat9> cov_gyro, cov_accel;
   double median = 0.0, mean = 0.0, p95 = 0.0;
   double fraction_inside = 0.0;  ///< of the NEES values within [lower, upper] of ChiSquare9()
-  double factor = 0.0;           ///< k = sqrt(median / chi2_9 median), one scale on all four densities
+  double factor = 0.0;  ///< k = sqrt(median / chi2_9 median), one scale on all four densities
   /// The two factors of split_factors.h; NaN when undefined (a sensor's densities are zero).
   double factor_gyro = 0.0, factor_accel = 0.0;
   /// The nine components under k_gyro^2 P_g + k_accel^2 P_a (empty when a factor is NaN).
@@ -78,7 +78,8 @@ struct Result {
   std::string method, convention;
   ImuNoise noise;
   ChiSquareReference chi2;
-  double t_begin = 0.0, t_end = 0.0;  ///< the span covered by both the IMU data and the ground truth
+  double t_begin = 0.0,
+         t_end = 0.0;  ///< the span covered by both the IMU data and the ground truth
   std::vector<WindowLengthResult> windows;
 };
 

@@ -10,7 +10,9 @@ namespace imuconv::nees {
 namespace {
 
 // A factor or statistic that may be undefined (NaN): JSON null.
-nlohmann::json NumberOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+nlohmann::json NumberOrNull(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
 
 nlohmann::json Rows(const Mat9& m) {
   nlohmann::json rows = nlohmann::json::array();
@@ -27,8 +29,10 @@ nlohmann::json Vector(const Vec9& v) { return std::vector<double>(v.data(), v.da
 }  // namespace
 
 const char* const kOffsetCauses =
-    "a systematic offset no noise scale explains. Common causes: a bias error in the ground truth (its biases\n"
-    "start every window), a misaligned gravity or body frame, a time offset between the IMU and the ground truth.\n"
+    "a systematic offset no noise scale explains. Common causes: a bias error in the ground truth "
+    "(its biases\n"
+    "start every window), a misaligned gravity or body frame, a time offset between the IMU and "
+    "the ground truth.\n"
     "Which one it is cannot be told from these numbers alone.";
 
 nlohmann::json ReportJson(const Result& r) {
@@ -44,7 +48,8 @@ nlohmann::json ReportJson(const Result& r) {
                             {"nonzero", c.nonzero},
                             {"sign_p_value", c.sign_p_value},
                             {"offset", c.offset}});
-    json error = json::array(), sigma = json::array(), cov_gyro = json::array(), cov_accel = json::array();
+    json error = json::array(), sigma = json::array(), cov_gyro = json::array(),
+         cov_accel = json::array();
     for (std::size_t i = 0; i < w.error.size(); ++i) {
       error.push_back(Vector(w.error[i]));
       sigma.push_back(Vector(w.sigma[i]));
@@ -60,7 +65,8 @@ nlohmann::json ReportJson(const Result& r) {
                        {"fraction_inside", w.fraction_inside},
                        {"factor", w.factor},
                        {"factors",
-                        {{"all", w.factor}, {"gyro", NumberOrNull(w.factor_gyro)},
+                        {{"all", w.factor},
+                         {"gyro", NumberOrNull(w.factor_gyro)},
                          {"accel", NumberOrNull(w.factor_accel)}}},
                        {"components", components},
                        {"t_start", w.t_start},
@@ -91,27 +97,35 @@ nlohmann::json ReportJson(const Result& r) {
 
 void PrintSummary(std::ostream& out, const Result& r) {
   char line[256];
-  out << "nees: " << r.method << " in the " << r.convention << " chart, error [p, theta, v] (" << kDof << " dof)\n";
-  std::snprintf(line, sizeof line, "chi-square(%d): median %.4f, %.0f %% bounds [%.4f, %.4f]\n", kDof, r.chi2.median,
-                100 * kConfidence, r.chi2.lower, r.chi2.upper);
+  out << "nees: " << r.method << " in the " << r.convention << " chart, error [p, theta, v] ("
+      << kDof << " dof)\n";
+  std::snprintf(line, sizeof line, "chi-square(%d): median %.4f, %.0f %% bounds [%.4f, %.4f]\n",
+                kDof, r.chi2.median, 100 * kConfidence, r.chi2.lower, r.chi2.upper);
   out << line;
-  std::snprintf(line, sizeof line, "%10s %10s %7s %12s %12s %12s %8s %8s\n", "window s", "stride s", "count", "median",
-                "mean", "p95", "inside", "factor");
+  std::snprintf(line, sizeof line, "%10s %10s %7s %12s %12s %12s %8s %8s\n", "window s", "stride s",
+                "count", "median", "mean", "p95", "inside", "factor");
   out << line;
   for (const WindowLengthResult& w : r.windows) {
-    std::snprintf(line, sizeof line, "%10.4g %10.4g %7zu %12.4g %12.4g %12.4g %7.1f%% %8.4g\n", w.length, w.stride,
-                  w.nees.size(), w.median, w.mean, w.p95, 100 * w.fraction_inside, w.factor);
+    std::snprintf(line, sizeof line, "%10.4g %10.4g %7zu %12.4g %12.4g %12.4g %7.1f%% %8.4g\n",
+                  w.length, w.stride, w.nees.size(), w.median, w.mean, w.p95,
+                  100 * w.fraction_inside, w.factor);
     out << line;
   }
-  out << "factor k: the one scale on all four noise densities that puts the median NEES on the chi-square median\n"
-         "(NEES scales as 1/k^2). k > 1: the data's errors are larger than the declared densities predict, so\n"
-         "multiply the densities by k; k < 1: the densities are pessimistic. Datasheet densities are known to be\n"
-         "optimistic on real data (unmodelled vibration, temperature, axis misalignment, ground-truth error).\n";
-  std::snprintf(line, sizeof line, "chi-square(3) median %.4f: each sensor's factor is fitted on one 3-dof block\n",
+  out << "factor k: the one scale on all four noise densities that puts the median NEES on the "
+         "chi-square median\n"
+         "(NEES scales as 1/k^2). k > 1: the data's errors are larger than the declared densities "
+         "predict, so\n"
+         "multiply the densities by k; k < 1: the densities are pessimistic. Datasheet densities "
+         "are known to be\n"
+         "optimistic on real data (unmodelled vibration, temperature, axis misalignment, "
+         "ground-truth error).\n";
+  std::snprintf(line, sizeof line,
+                "chi-square(3) median %.4f: each sensor's factor is fitted on one 3-dof block\n",
                 ChiSquare3Median());
   out << "\n" << line;
   for (const WindowLengthResult& w : r.windows) {
-    std::snprintf(line, sizeof line, "%.4g s windows: k_all %.4g, k_gyro %.4g (theta block), k_accel %.4g (v block)\n",
+    std::snprintf(line, sizeof line,
+                  "%.4g s windows: k_all %.4g, k_gyro %.4g (theta block), k_accel %.4g (v block)\n",
                   w.length, w.factor, w.factor_gyro, w.factor_accel);
     out << line;
     if (w.components.empty()) {
@@ -119,16 +133,21 @@ void PrintSummary(std::ostream& out, const Result& r) {
       continue;
     }
     for (const ComponentStatistics& c : w.components) {
-      std::snprintf(line, sizeof line, "  %-8s mean %+8.3f  rms %7.3f  %6zu of %-6zu positive  sign test p %9.3g%s\n",
-                    c.name.c_str(), c.mean_standardized, c.rms_standardized, c.positive, c.nonzero, c.sign_p_value,
-                    c.offset ? "  OFFSET" : "");
+      std::snprintf(line, sizeof line,
+                    "  %-8s mean %+8.3f  rms %7.3f  %6zu of %-6zu positive  sign test p %9.3g%s\n",
+                    c.name.c_str(), c.mean_standardized, c.rms_standardized, c.positive, c.nonzero,
+                    c.sign_p_value, c.offset ? "  OFFSET" : "");
       out << line;
     }
   }
-  out << "k_gyro scales the gyro densities (white noise and random walk) so theta's median NEES is chi-square(3)'s;\n"
-         "k_accel then scales the accelerometer's so v's is. Components: each error over its sigma under the two\n"
+  out << "k_gyro scales the gyro densities (white noise and random walk) so theta's median NEES is "
+         "chi-square(3)'s;\n"
+         "k_accel then scales the accelerometer's so v's is. Components: each error over its sigma "
+         "under the two\n"
          "factors, across windows (mean ~0 and rms ~1 if the noise explains it).\n"
-         "OFFSET: " << kOffsetRule << ";\n" << kOffsetCauses << "\n";
+         "OFFSET: "
+      << kOffsetRule << ";\n"
+      << kOffsetCauses << "\n";
 }
 
 }  // namespace imuconv::nees

@@ -19,6 +19,8 @@ inline double SampleQuantile(std::vector<double> values, double q) {
   return values[below] + (h - static_cast<double>(below)) * (values[below + 1] - values[below]);
 }
 
-inline double SampleMedian(const std::vector<double>& values) { return SampleQuantile(values, 0.5); }
+inline double SampleMedian(const std::vector<double>& values) {
+  return SampleQuantile(values, 0.5);
+}
 
 }  // namespace imuconv::nees

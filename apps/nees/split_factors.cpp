@@ -30,7 +30,8 @@ double ChiSquare3Median() {
 }
 
 double BlockNees(const Vec9& error, const Mat9& cov, int offset) {
-  const Mat3 block = 0.5 * (cov.block<3, 3>(offset, offset) + cov.block<3, 3>(offset, offset).transpose());
+  const Mat3 block =
+      0.5 * (cov.block<3, 3>(offset, offset) + cov.block<3, 3>(offset, offset).transpose());
   const Eigen::LLT<Mat3> llt(block);
   if (llt.info() != Eigen::Success)  // Eigen's LLT fails on a pivot <= 0: not positive definite
     return std::numeric_limits<double>::infinity();

@@ -24,7 +24,8 @@ using namespace imuconv::kernels;
 /// The whole case, first sample to last, at the bias estimate given.
 PreintegrationInput Input(const Case& k, const Vec3& bg, const Vec3& ba) {
   PreintegrationInput in;
-  const Status st = MakeWindow(k.samples.data(), k.samples.size(), k.samples.front().t, k.samples.back().t, in.window);
+  const Status st = MakeWindow(k.samples.data(), k.samples.size(), k.samples.front().t,
+                               k.samples.back().t, in.window);
   if (!st.ok()) throw Error("/imu: " + st.message());
   in.bg = bg;
   in.ba = ba;
@@ -47,8 +48,8 @@ Eigen::Quaterniond QuaternionExp(const Vec3& dtheta) {
 // ---- vins-fusion -----------------------------------------------------------------------
 
 json VinsStateJson(const VinsFusionFactorState& x) {
-  return {{"P", ToJsonVec(x.P)},   {"Q_wxyz", Wxyz(x.Q)},  {"R", ToJson(x.Q.toRotationMatrix())},
-          {"V", ToJsonVec(x.V)},   {"Ba", ToJsonVec(x.Ba)}, {"Bg", ToJsonVec(x.Bg)}};
+  return {{"P", ToJsonVec(x.P)}, {"Q_wxyz", Wxyz(x.Q)},   {"R", ToJson(x.Q.toRotationMatrix())},
+          {"V", ToJsonVec(x.V)}, {"Ba", ToJsonVec(x.Ba)}, {"Bg", ToJsonVec(x.Bg)}};
 }
 
 json VinsOutputJson(const VinsFusionFactorOutput& o) {
@@ -137,7 +138,8 @@ json VinsFusion(const Case& k) {
 
 // ---- basalt ----------------------------------------------------------------------------
 
-constexpr double kBasaltImuRate = 200.0;  // imu_update_rate of the anchors (the cases' nominal rate)
+constexpr double kBasaltImuRate =
+    200.0;  // imu_update_rate of the anchors (the cases' nominal rate)
 
 /// A Basalt state with its quaternion (kept beside the matrix so that its sign is the one a
 /// product of Sophus rotations has) and time.
@@ -148,8 +150,11 @@ struct BasaltStateOut {
 };
 
 json BasaltStateJson(const BasaltStateOut& s) {
-  return {
-      {"R", ToJson(s.x.R)}, {"p", ToJsonVec(s.x.p)}, {"q_wxyz", Wxyz(s.q)}, {"t_ns", s.t_ns}, {"v", ToJsonVec(s.x.v)}};
+  return {{"R", ToJson(s.x.R)},
+          {"p", ToJsonVec(s.x.p)},
+          {"q_wxyz", Wxyz(s.q)},
+          {"t_ns", s.t_ns},
+          {"v", ToJsonVec(s.x.v)}};
 }
 
 json BasaltResidualJson(const BasaltResidual& r) {
@@ -179,7 +184,8 @@ json BasaltFeedingJson(const Case& k, BasaltFeeding feeding, const BasaltSampleV
   BasaltMeasurement m;
   m.bias_gyro_lin = k.x_s.bg;
   m.bias_accel_lin = k.x_s.ba;
-  Require(IntegrateBasalt(Input(k, k.x_s.bg, k.x_s.ba), feeding, variances, m.pre), "Basalt preintegration");
+  Require(IntegrateBasalt(Input(k, k.x_s.bg, k.x_s.ba), feeding, variances, m.pre),
+          "Basalt preintegration");
   json out;
   out["start_t_ns"] = s0.t_ns;
   out["dt_ns"] = m.pre.dt_ns;
@@ -199,7 +205,8 @@ json BasaltFeedingJson(const Case& k, BasaltFeeding feeding, const BasaltSampleV
   pred.q = s0.q * delta.q;
   pred.t_ns = s0.t_ns + m.pre.dt_ns;
   out["predict"] = BasaltStateJson(pred);
-  out["residual_at_predict"] = ToJsonVec(BasaltResidualOf(m, s0.x, g, pred.x, k.x_s.bg, k.x_s.ba).residual);
+  out["residual_at_predict"] =
+      ToJsonVec(BasaltResidualOf(m, s0.x, g, pred.x, k.x_s.bg, k.x_s.ba).residual);
 
   // End state: the prediction retracted by end_perturbation [dth, dp, dv, ...].
   const Vec15& e = k.end_perturbation;
@@ -209,35 +216,41 @@ json BasaltFeedingJson(const Case& k, BasaltFeeding feeding, const BasaltSampleV
   s1.x.p = pred.x.p + pred.x.R * e.segment<3>(3);
   s1.x.v = pred.x.v + pred.x.R * e.segment<3>(6);
   const Vec3 bg_new = k.x_s.bg + k.dbg, ba_new = k.x_s.ba + k.dba;
-  out["factor"] = {{"state0", BasaltStateJson(s0)},
-                   {"state1", BasaltStateJson(s1)},
-                   {"curr_bg", ToJsonVec(k.x_s.bg)},
-                   {"curr_ba", ToJsonVec(k.x_s.ba)},
-                   {"curr_bg_new", ToJsonVec(bg_new)},
-                   {"curr_ba_new", ToJsonVec(ba_new)},
-                   {"at_lin_bias", BasaltResidualJson(BasaltResidualOf(m, s0.x, g, s1.x, k.x_s.bg, k.x_s.ba))},
-                   {"at_new_bias", BasaltResidualJson(BasaltResidualOf(m, s0.x, g, s1.x, bg_new, ba_new))}};
+  out["factor"] = {
+      {"state0", BasaltStateJson(s0)},
+      {"state1", BasaltStateJson(s1)},
+      {"curr_bg", ToJsonVec(k.x_s.bg)},
+      {"curr_ba", ToJsonVec(k.x_s.ba)},
+      {"curr_bg_new", ToJsonVec(bg_new)},
+      {"curr_ba_new", ToJsonVec(ba_new)},
+      {"at_lin_bias", BasaltResidualJson(BasaltResidualOf(m, s0.x, g, s1.x, k.x_s.bg, k.x_s.ba))},
+      {"at_new_bias", BasaltResidualJson(BasaltResidualOf(m, s0.x, g, s1.x, bg_new, ba_new))}};
 
   const BasaltPoseVelState c = BasaltCorrectedDelta(m, bg_new, ba_new);
   BasaltPreintegration re;
-  Require(IntegrateBasalt(Input(k, bg_new, ba_new), feeding, variances, re, false), "Basalt re-integration");
-  out["bias_correction"] = {{"bg_new", ToJsonVec(bg_new)},
-                            {"ba_new", ToJsonVec(ba_new)},
-                            {"first_order", {{"R", ToJson(c.R)}, {"p", ToJsonVec(c.p)}, {"v", ToJsonVec(c.v)}}},
-                            {"reintegrated", BasaltStateJson(BasaltDelta(re))}};
+  Require(IntegrateBasalt(Input(k, bg_new, ba_new), feeding, variances, re, false),
+          "Basalt re-integration");
+  out["bias_correction"] = {
+      {"bg_new", ToJsonVec(bg_new)},
+      {"ba_new", ToJsonVec(ba_new)},
+      {"first_order", {{"R", ToJson(c.R)}, {"p", ToJsonVec(c.p)}, {"v", ToJsonVec(c.v)}}},
+      {"reintegrated", BasaltStateJson(BasaltDelta(re))}};
   return out;
 }
 
 json Basalt(const Case& k) {
   // Basalt's VIO: dicrete_time_*_noise_std()^2 = density^2 x imu_update_rate, per sample.
   BasaltSampleVariances variances;
-  variances.accel.setConstant(k.noise.accel_noise_density * k.noise.accel_noise_density * kBasaltImuRate);
-  variances.gyro.setConstant(k.noise.gyro_noise_density * k.noise.gyro_noise_density * kBasaltImuRate);
+  variances.accel.setConstant(k.noise.accel_noise_density * k.noise.accel_noise_density *
+                              kBasaltImuRate);
+  variances.gyro.setConstant(k.noise.gyro_noise_density * k.noise.gyro_noise_density *
+                             kBasaltImuRate);
   BasaltStateOut s0;
   s0.x.R = k.x_s.R;
   s0.x.p = k.x_s.p;
   s0.x.v = k.x_s.v;
-  s0.q = Eigen::Quaterniond(k.q_s_wxyz[0], k.q_s_wxyz[1], k.q_s_wxyz[2], k.q_s_wxyz[3]).normalized();
+  s0.q =
+      Eigen::Quaterniond(k.q_s_wxyz[0], k.q_s_wxyz[1], k.q_s_wxyz[2], k.q_s_wxyz[3]).normalized();
   s0.t_ns = std::llround(k.samples.front().t * 1e9);  // Basalt's integer nanoseconds
   json out;
   out["native"] = BasaltFeedingJson(k, BasaltFeeding::kNative, variances, s0);
@@ -256,11 +269,13 @@ json OpenVins(const Registry& reg, const Case& k) {
   // P0: cov_s_left in OpenVINS's error state (theta_I = R^T dtheta_world, order changed).
   const Mat15 P0 = reg.convert_covariance("left", "openvins_jpl", k.x_s, k.cov_s_left);
   double dt_summed = 0.0;
-  for (std::size_t s = 0; s + 1 < k.samples.size(); ++s) dt_summed += k.samples[s + 1].t - k.samples[s].t;
+  for (std::size_t s = 0; s + 1 < k.samples.size(); ++s)
+    dt_summed += k.samples[s + 1].t - k.samples[s].t;
 
   json out, written = json::array(), missing = json::array();
-  const std::pair<const char*, const char*> methods[] = {
-      {"discrete", "openvins_discrete"}, {"rk4", "openvins_rk4"}, {"analytical", "openvins_analytical"}};
+  const std::pair<const char*, const char*> methods[] = {{"discrete", "openvins_discrete"},
+                                                         {"rk4", "openvins_rk4"},
+                                                         {"analytical", "openvins_analytical"}};
   for (const auto& [key, id] : methods) {
     if (!reg.has(PluginKind::Propagator, id)) {
       missing.push_back(id);
@@ -286,7 +301,9 @@ json OpenVins(const Registry& reg, const Case& k) {
     written.push_back(id);
   }
   if (written.empty())
-    throw Error("no OpenVINS propagator is registered (openvins_discrete, openvins_rk4, openvins_analytical)");
+    throw Error(
+        "no OpenVINS propagator is registered (openvins_discrete, openvins_rk4, "
+        "openvins_analytical)");
   out["methods_written"] = written;
   out["methods_missing"] = missing;
   return out;
@@ -301,9 +318,12 @@ const std::vector<std::string>& AnchorNames() {
 
 json RunAnchor(const Registry& reg, const json& case_json, const std::string& name) {
   if (name != "vins-fusion" && name != "basalt" && name != "openvins")
-    throw Error("--anchor: unknown anchor '" + Printable(name) + "'; expected vins-fusion, basalt or openvins");
+    throw Error("--anchor: unknown anchor '" + Printable(name) +
+                "'; expected vins-fusion, basalt or openvins");
   const Case k = ParseCase(case_json);
-  json out = name == "vins-fusion" ? VinsFusion(k) : name == "basalt" ? Basalt(k) : OpenVins(reg, k);
+  json out = name == "vins-fusion" ? VinsFusion(k)
+             : name == "basalt"    ? Basalt(k)
+                                   : OpenVins(reg, k);
   out["case_id"] = case_json.contains("case_id") ? case_json.at("case_id") : json("");
   out["anchor"] = name;
   out["generator"] = "imuconv refcase --anchor";

@@ -30,6 +30,7 @@ const std::vector<std::string>& AnchorNames();
 
 /// Throws imuconv::Error for an unknown name, a case that fails ParseCase's checks (naming
 /// the JSON pointer) or a result refused by CheckResults.
-nlohmann::json RunAnchor(const Registry& reg, const nlohmann::json& case_json, const std::string& name);
+nlohmann::json RunAnchor(const Registry& reg, const nlohmann::json& case_json,
+                         const std::string& name);
 
 }  // namespace imuconv::refcase

@@ -50,29 +50,35 @@ const std::vector<CaseKey>& Keys() {
   return keys;
 }
 
-std::string Pointer(const CaseKey& k) { return std::string(*k.parent ? "/" : "") + k.parent + "/" + k.key; }
+std::string Pointer(const CaseKey& k) {
+  return std::string(*k.parent ? "/" : "") + k.parent + "/" + k.key;
+}
 
 }  // namespace
 
 Case ParseCase(const json& case_json, CaseKeys keys, std::vector<std::string>* defaulted) {
-  if (!case_json.is_object()) return ParseCase(case_json);  // refused there, as "expected a JSON object"
+  if (!case_json.is_object())
+    return ParseCase(case_json);  // refused there, as "expected a JSON object"
   json filled = case_json;
   std::string missing;
   for (const CaseKey& k : Keys()) {
     const bool has_parent = !*k.parent || filled.contains(k.parent);
-    if (has_parent && *k.parent && !filled.at(k.parent).is_object()) continue;  // refused by ParseCase
+    if (has_parent && *k.parent && !filled.at(k.parent).is_object())
+      continue;  // refused by ParseCase
     if (has_parent && (*k.parent ? filled.at(k.parent) : filled).contains(k.key)) continue;
     if (k.needed_by_every_command || keys == CaseKeys::all_required) {
       missing += (missing.empty() ? "" : ", ") + Pointer(k);
     } else {
-      json& parent = *k.parent ? filled[k.parent] : filled;  // an absent parent becomes an object here
+      json& parent =
+          *k.parent ? filled[k.parent] : filled;  // an absent parent becomes an object here
       parent[k.key] = k.standard;
       if (defaulted) defaulted->push_back(Pointer(k));
     }
   }
   if (!missing.empty())
     throw Error(missing + ": missing (" +
-                (keys == CaseKeys::all_required ? "every key" : "the samples and the four noise densities") +
+                (keys == CaseKeys::all_required ? "every key"
+                                                : "the samples and the four noise densities") +
                 " of tests/data/reference/FORMAT.md must be given)");
   return ParseCase(filled);
 }

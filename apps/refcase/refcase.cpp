@@ -26,7 +26,8 @@ using json = nlohmann::json;
 /// RFC 6901 token of a key, made printable for a message.
 std::string Token(const std::string& key) {
   std::string t;
-  for (char c : key) t += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
+  for (char c : key)
+    t += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
   return Printable(t);
 }
 
@@ -40,7 +41,8 @@ std::string Num(double v) {
 /// The object at `ptr`, with no key outside `keys` (a misspelt optional key would otherwise
 /// be ignored).
 const json& Object(const json& j, const std::string& ptr, std::initializer_list<const char*> keys) {
-  if (!j.is_object()) throw Error((ptr.empty() ? std::string("the document") : ptr) + ": expected a JSON object");
+  if (!j.is_object())
+    throw Error((ptr.empty() ? std::string("the document") : ptr) + ": expected a JSON object");
   for (auto it = j.begin(); it != j.end(); ++it) {
     if (std::none_of(keys.begin(), keys.end(), [&](const char* k) { return it.key() == k; })) {
       std::string known;
@@ -76,26 +78,35 @@ Vec3 Vector3(const json& j, const std::string& ptr) {
 
 /// An array of strings that, when present, must be exactly `expected` (the layout the runner
 /// assumes: a case written for another column or block order must not be read as this one).
-void FixedLabels(const json& parent, const char* key, const std::string& ptr, const std::vector<std::string>& expected) {
+void FixedLabels(const json& parent, const char* key, const std::string& ptr,
+                 const std::vector<std::string>& expected) {
   if (!parent.contains(key)) return;
   const json& j = parent.at(key);
   std::string want;
   for (const auto& e : expected) want += std::string(want.empty() ? "[" : ", ") + "\"" + e + "\"";
   want += "]";
   bool same = j.is_array() && j.size() == expected.size();
-  for (std::size_t i = 0; same && i < expected.size(); ++i) same = j[i].is_string() && j[i].get<std::string>() == expected[i];
-  if (!same) throw Error(ptr + "/" + key + ": expected " + want + " (the only layout imuconv refcase reads)");
+  for (std::size_t i = 0; same && i < expected.size(); ++i)
+    same = j[i].is_string() && j[i].get<std::string>() == expected[i];
+  if (!same)
+    throw Error(ptr + "/" + key + ": expected " + want +
+                " (the only layout imuconv refcase reads)");
 }
 
 /// Same rule and tolerance as `imuconv run` (StateFromJson): a unit quaternion within 1e-6,
 /// never an all-zero one taken as the identity or a scaled one normalised in silence.
 Mat3 Rotation(const json& q, const std::string& ptr) {
-  if (!q.is_array() || q.size() != 4) throw Error(ptr + ": expected a quaternion [w, x, y, z] (4 numbers)");
+  if (!q.is_array() || q.size() != 4)
+    throw Error(ptr + ": expected a quaternion [w, x, y, z] (4 numbers)");
   Eigen::Vector4d v;
-  for (int i = 0; i < 4; ++i) v[i] = Number(q[static_cast<std::size_t>(i)], ptr + "/" + std::to_string(i));
+  for (int i = 0; i < 4; ++i)
+    v[i] = Number(q[static_cast<std::size_t>(i)], ptr + "/" + std::to_string(i));
   const double norm = v.norm();
   if (!(std::abs(norm - 1.0) <= 1e-6))
-    throw Error(ptr + ": expected a unit quaternion [w, x, y, z] (norm within 1e-6 of 1), found one of norm " + Num(norm));
+    throw Error(
+        ptr +
+        ": expected a unit quaternion [w, x, y, z] (norm within 1e-6 of 1), found one of norm " +
+        Num(norm));
   return so3::FromQuaternionWxyz(v[0], v[1], v[2], v[3]);
 }
 
@@ -132,11 +143,13 @@ json ToJsonVec(const Eigen::VectorXd& v) {
 
 namespace {
 
-json NavJson(const ImuState& x) { return {{"R", ToJson(x.R)}, {"p", ToJsonVec(x.p)}, {"v", ToJsonVec(x.v)}}; }
+json NavJson(const ImuState& x) {
+  return {{"R", ToJson(x.R)}, {"p", ToJsonVec(x.p)}, {"v", ToJsonVec(x.v)}};
+}
 
 json FullStateJson(const ImuState& x) {
-  return {{"R", ToJson(x.R)},   {"q_wxyz", ToJsonVec(so3::ToQuaternionWxyz(x.R))},
-          {"p", ToJsonVec(x.p)}, {"v", ToJsonVec(x.v)},
+  return {{"R", ToJson(x.R)},      {"q_wxyz", ToJsonVec(so3::ToQuaternionWxyz(x.R))},
+          {"p", ToJsonVec(x.p)},   {"v", ToJsonVec(x.v)},
           {"bg", ToJsonVec(x.bg)}, {"ba", ToJsonVec(x.ba)}};
 }
 
@@ -149,33 +162,40 @@ void CheckTiming(const std::vector<ImuSample>& s) {
   std::vector<double> t(s.size());
   for (std::size_t i = 0; i < s.size(); ++i) t[i] = s[i].t;
   const pipeline::TimingPolicy policy;
-  const auto issue = pipeline::FindTimingIssue(t, policy, pipeline::TimeUnit::s, pipeline::TimeSource::imu);
+  const auto issue =
+      pipeline::FindTimingIssue(t, policy, pipeline::TimeUnit::s, pipeline::TimeSource::imu);
   if (!issue) return;
   const double median = issue->median_period;
   if (issue->kind == pipeline::TimingIssue::Kind::rate)
-    throw Error("/imu: the median period is " + Num(median) + " s (rate " + Num(1.0 / median) + " Hz); an IMU rate is expected between " +
-                Num(pipeline::kMinRateHz) + " Hz and " + Num(pipeline::kMaxRateHz / 1000) + " kHz: t must be in seconds (FORMAT.md)");
+    throw Error("/imu: the median period is " + Num(median) + " s (rate " + Num(1.0 / median) +
+                " Hz); an IMU rate is expected between " + Num(pipeline::kMinRateHz) + " Hz and " +
+                Num(pipeline::kMaxRateHz / 1000) + " kHz: t must be in seconds (FORMAT.md)");
   throw Error("/imu/" + std::to_string(issue->index) + "/0: gap of " + Num(issue->gap) +
-              " s before this sample (the median period is " + Num(median) + " s; limit " + Num(policy.max_gap_factor) +
-              " x median = " + Num(issue->limit) + " s): a reference case must be sampled without gaps");
+              " s before this sample (the median period is " + Num(median) + " s; limit " +
+              Num(policy.max_gap_factor) + " x median = " + Num(issue->limit) +
+              " s): a reference case must be sampled without gaps");
 }
 
 }  // namespace
 
 Case ParseCase(const json& c) {
   Case k;
-  Object(c, "", {"case_id", "kind", "gravity", "noise", "imu_columns", "imu", "state_s", "cov_s_left", "end_perturbation",
-                 "bias_delta"});
+  Object(c, "",
+         {"case_id", "kind", "gravity", "noise", "imu_columns", "imu", "state_s", "cov_s_left",
+          "end_perturbation", "bias_delta"});
   for (const char* key : {"case_id", "kind"})
-    if (c.contains(key) && !c.at(key).is_string()) throw Error(std::string("/") + key + ": expected a string");
+    if (c.contains(key) && !c.at(key).is_string())
+      throw Error(std::string("/") + key + ": expected a string");
   FixedLabels(c, "imu_columns", "", {"t", "wx", "wy", "wz", "ax", "ay", "az"});
   const json& imu = At(c, "imu", "");
-  if (!imu.is_array() || imu.size() < 2) throw Error("/imu: expected an array of at least two rows [t, wx, wy, wz, ax, ay, az]");
+  if (!imu.is_array() || imu.size() < 2)
+    throw Error("/imu: expected an array of at least two rows [t, wx, wy, wz, ax, ay, az]");
   k.samples.reserve(imu.size());
   for (std::size_t i = 0; i < imu.size(); ++i) {
     const std::string ptr = "/imu/" + std::to_string(i);
     const json& row = imu[i];
-    if (!row.is_array() || row.size() != 7) throw Error(ptr + ": expected [t, wx, wy, wz, ax, ay, az]");
+    if (!row.is_array() || row.size() != 7)
+      throw Error(ptr + ": expected [t, wx, wy, wz, ax, ay, az]");
     ImuSample s;
     s.t = Number(row[0], ptr + "/0");
     for (int a = 0; a < 3; ++a) {
@@ -183,39 +203,50 @@ Case ParseCase(const json& c) {
       s.accel[a] = Number(row[4 + a], ptr + "/" + std::to_string(4 + a));
     }
     if (!k.samples.empty() && !(s.t > k.samples.back().t))
-      throw Error(ptr + "/0: time " + Num(s.t) + " s does not increase (the previous sample is at " +
-                  Num(k.samples.back().t) + " s)");
+      throw Error(ptr + "/0: time " + Num(s.t) +
+                  " s does not increase (the previous sample is at " + Num(k.samples.back().t) +
+                  " s)");
     k.samples.push_back(s);
   }
   CheckTiming(k.samples);
   k.gravity = Vector3(At(c, "gravity", ""), "/gravity");
-  const json& n = Object(At(c, "noise", ""), "/noise",
-                         {"gyro_noise_density", "accel_noise_density", "gyro_random_walk", "accel_random_walk"});
-  k.noise.gyro_noise_density = NonNegative(At(n, "gyro_noise_density", "/noise"), "/noise/gyro_noise_density");
-  k.noise.accel_noise_density = NonNegative(At(n, "accel_noise_density", "/noise"), "/noise/accel_noise_density");
-  k.noise.gyro_random_walk = NonNegative(At(n, "gyro_random_walk", "/noise"), "/noise/gyro_random_walk");
-  k.noise.accel_random_walk = NonNegative(At(n, "accel_random_walk", "/noise"), "/noise/accel_random_walk");
+  const json& n = Object(
+      At(c, "noise", ""), "/noise",
+      {"gyro_noise_density", "accel_noise_density", "gyro_random_walk", "accel_random_walk"});
+  k.noise.gyro_noise_density =
+      NonNegative(At(n, "gyro_noise_density", "/noise"), "/noise/gyro_noise_density");
+  k.noise.accel_noise_density =
+      NonNegative(At(n, "accel_noise_density", "/noise"), "/noise/accel_noise_density");
+  k.noise.gyro_random_walk =
+      NonNegative(At(n, "gyro_random_walk", "/noise"), "/noise/gyro_random_walk");
+  k.noise.accel_random_walk =
+      NonNegative(At(n, "accel_random_walk", "/noise"), "/noise/accel_random_walk");
   const json& s = Object(At(c, "state_s", ""), "/state_s", {"p", "q_wxyz", "v", "bg", "ba"});
   k.x_s.R = Rotation(At(s, "q_wxyz", "/state_s"), "/state_s/q_wxyz");
-  for (std::size_t i = 0; i < 4; ++i) k.q_s_wxyz[static_cast<Eigen::Index>(i)] = s.at("q_wxyz").at(i).get<double>();
+  for (std::size_t i = 0; i < 4; ++i)
+    k.q_s_wxyz[static_cast<Eigen::Index>(i)] = s.at("q_wxyz").at(i).get<double>();
   k.x_s.p = Vector3(At(s, "p", "/state_s"), "/state_s/p");
   k.x_s.v = Vector3(At(s, "v", "/state_s"), "/state_s/v");
   k.x_s.bg = Vector3(At(s, "bg", "/state_s"), "/state_s/bg");
   k.x_s.ba = Vector3(At(s, "ba", "/state_s"), "/state_s/ba");
-  const json& cs = Object(At(c, "cov_s_left", ""), "/cov_s_left", {"order", "definition", "matrix"});
+  const json& cs =
+      Object(At(c, "cov_s_left", ""), "/cov_s_left", {"order", "definition", "matrix"});
   FixedLabels(cs, "order", "/cov_s_left", {"p", "theta", "v", "bg", "ba"});
-  if (cs.contains("definition") && !cs.at("definition").is_string()) throw Error("/cov_s_left/definition: expected a string");
+  if (cs.contains("definition") && !cs.at("definition").is_string())
+    throw Error("/cov_s_left/definition: expected a string");
   const json& cov = At(cs, "matrix", "/cov_s_left");
   if (!cov.is_array() || cov.size() != 15) throw Error("/cov_s_left/matrix: expected 15 rows");
   for (int i = 0; i < 15; ++i) {
     const std::string ptr = "/cov_s_left/matrix/" + std::to_string(i);
     if (!cov[i].is_array() || cov[i].size() != 15) throw Error(ptr + ": expected 15 numbers");
-    for (int j = 0; j < 15; ++j) k.cov_s_left(i, j) = Number(cov[i][j], ptr + "/" + std::to_string(j));
+    for (int j = 0; j < 15; ++j)
+      k.cov_s_left(i, j) = Number(cov[i][j], ptr + "/" + std::to_string(j));
   }
   CheckCovariance(k.cov_s_left, "/cov_s_left/matrix");
   const json& e = At(c, "end_perturbation", "");
   if (!e.is_array() || e.size() != 15) throw Error("/end_perturbation: expected 15 numbers");
-  for (int i = 0; i < 15; ++i) k.end_perturbation[i] = Number(e[i], "/end_perturbation/" + std::to_string(i));
+  for (int i = 0; i < 15; ++i)
+    k.end_perturbation[i] = Number(e[i], "/end_perturbation/" + std::to_string(i));
   const json& bd = Object(At(c, "bias_delta", ""), "/bias_delta", {"bg", "ba"});
   k.dbg = Vector3(At(bd, "bg", "/bias_delta"), "/bias_delta/bg");
   k.dba = Vector3(At(bd, "ba", "/bias_delta"), "/bias_delta/ba");
@@ -229,22 +260,28 @@ void CheckResults(const json& j, const std::string& ptr) {
   if (j.is_number_float() && !std::isfinite(j.get<double>()))
     throw Error("produced a non-finite number (output " + ptr + "); no output is written");
   if (j.is_object()) {
-    for (auto it = j.begin(); it != j.end(); ++it) CheckResults(it.value(), ptr + "/" + Token(it.key()));
+    for (auto it = j.begin(); it != j.end(); ++it)
+      CheckResults(it.value(), ptr + "/" + Token(it.key()));
     for (const char* key : {"cov15", "cov9", "cov", "covariance", "Qd_summed"}) {
       if (!j.contains(key)) continue;
       const json& m = j.at(key);
-      if (!m.is_array() || !std::all_of(m.begin(), m.end(), [&](const json& r) { return r.is_array() && r.size() == m.size(); }))
+      if (!m.is_array() || !std::all_of(m.begin(), m.end(), [&](const json& r) {
+            return r.is_array() && r.size() == m.size();
+          }))
         continue;  // "orders" names them with strings
       // J S J^T and Phi P Phi^T + Q of a positive semi-definite S or P have non-negative
       // variances up to round-off, far below 1e-9 of the largest variance.
       double scale = 0.0;
-      for (std::size_t i = 0; i < m.size(); ++i) scale = std::max(scale, std::abs(m[i][i].get<double>()));
+      for (std::size_t i = 0; i < m.size(); ++i)
+        scale = std::max(scale, std::abs(m[i][i].get<double>()));
       for (std::size_t i = 0; i < m.size(); ++i)
         if (m[i][i].get<double>() < -kCovarianceTol * scale)
-          throw Error("computed a covariance with a negative variance, entry (" + std::to_string(i) + ", " +
-                      std::to_string(i) + ") = " + Num(m[i][i].get<double>()) + " (output " + ptr + "/" + key +
+          throw Error("computed a covariance with a negative variance, entry (" +
+                      std::to_string(i) + ", " + std::to_string(i) +
+                      ") = " + Num(m[i][i].get<double>()) + " (output " + ptr + "/" + key +
                       "; tolerance 1e-9 of the largest variance " + Num(scale) +
-                      "). The inputs were checked, so this is a defect of imuconv or of a plugin: please report it. "
+                      "). The inputs were checked, so this is a defect of imuconv or of a plugin: "
+                      "please report it. "
                       "No output is written");
     }
   } else if (j.is_array()) {
@@ -271,8 +308,8 @@ struct Method {
   std::string convention;     // increment convention of the slot
 };
 
-Preintegrated Measure(const Registry& reg, const Method& m, const SampleWindow& w, const Vec3& bg, const Vec3& ba,
-                      const ImuNoise& noise) {
+Preintegrated Measure(const Registry& reg, const Method& m, const SampleWindow& w, const Vec3& bg,
+                      const Vec3& ba, const ImuNoise& noise) {
   if (!m.propagator.empty()) return PreintegrateByPropagation(reg, m.propagator, w, bg, ba, noise);
   return PreintegrateNative(reg, m.preintegrator, w, bg, ba, noise);
 }
@@ -285,13 +322,15 @@ Vec9 Xi(const PreintIncrement& d) {
   return xi;
 }
 
-json Slot(const Registry& reg, const Case& k, const Method& method, const SampleWindow& w, const char* variant) {
+json Slot(const Registry& reg, const Case& k, const Method& method, const SampleWindow& w,
+          const char* variant) {
   const Preintegrated m = Measure(reg, method, w, k.x_s.bg, k.x_s.ba, k.noise);
   const Preintegrated in = Express(reg, m, method.convention);
   ImuNoise no_walk = k.noise;
   no_walk.gyro_random_walk = 0.0;
   no_walk.accel_random_walk = 0.0;
-  const Preintegrated in9 = Express(reg, Measure(reg, method, w, k.x_s.bg, k.x_s.ba, no_walk), method.convention);
+  const Preintegrated in9 =
+      Express(reg, Measure(reg, method, w, k.x_s.bg, k.x_s.ba, no_walk), method.convention);
 
   json s;
   s["variant"] = variant;
@@ -309,16 +348,18 @@ json Slot(const Registry& reg, const Case& k, const Method& method, const Sample
 
   // First-order bias correction in the chart of the slot's bias Jacobian, and re-integration.
   const Vec3 bg_new = k.x_s.bg + k.dbg, ba_new = k.x_s.ba + k.dba;
-  const PreintIncrement corrected = BiasCorrectedDelta(reg, m, in.jacobian_convention, bg_new, ba_new);
+  const PreintIncrement corrected =
+      BiasCorrectedDelta(reg, m, in.jacobian_convention, bg_new, ba_new);
   ImuState x_new = k.x_s;
   x_new.bg = bg_new;
   x_new.ba = ba_new;
   const Preintegrated m_new = Measure(reg, method, w, bg_new, ba_new, k.noise);
-  s["bias_correction"] = {{"bg_new", ToJsonVec(bg_new)},
-                          {"ba_new", ToJsonVec(ba_new)},
-                          {"first_order_delta_xi", ToJsonVec(Xi(corrected))},
-                          {"first_order_predict", NavJson(Predict(x_new, corrected, m.dt, k.gravity))},
-                          {"reintegrated_predict", NavJson(Predict(x_new, m_new.delta, m_new.dt, k.gravity))}};
+  s["bias_correction"] = {
+      {"bg_new", ToJsonVec(bg_new)},
+      {"ba_new", ToJsonVec(ba_new)},
+      {"first_order_delta_xi", ToJsonVec(Xi(corrected))},
+      {"first_order_predict", NavJson(Predict(x_new, corrected, m.dt, k.gravity))},
+      {"reintegrated_predict", NavJson(Predict(x_new, m_new.delta, m_new.dt, k.gravity))}};
 
   // Factor: end state = prediction retracted in gtsam_navstate by [dtheta, dp, dv]; biases =
   // start biases + [dbg, dba]; Jacobians in the chart of GTSAM's ImuFactor variables.
@@ -332,7 +373,8 @@ json Slot(const Registry& reg, const Case& k, const Method& method, const Sample
   navstate->retract(pred, d, x_e);
   x_e.bg = k.x_s.bg + k.end_perturbation.segment<3>(9);
   x_e.ba = k.x_s.ba + k.end_perturbation.segment<3>(12);
-  const Residual r = ComputeResidual(reg, ResidualKind::Gtsam, m, k.x_s, x_e, "gtsam_pose3_vel", k.gravity);
+  const Residual r =
+      ComputeResidual(reg, ResidualKind::Gtsam, m, k.x_s, x_e, "gtsam_pose3_vel", k.gravity);
   const BlockLabels pl = reg.state_convention("gtsam_pose3_vel")->labels();
   const int th = BlockOffset(pl, "theta"), tt = BlockOffset(pl, "p"), vv = BlockOffset(pl, "v"),
             ba = BlockOffset(pl, "ba"), bg = BlockOffset(pl, "bg");
@@ -357,7 +399,8 @@ json Slot(const Registry& reg, const Case& k, const Method& method, const Sample
   return s;
 }
 
-json PropagationBlock(const Registry& reg, const Case& k, const std::string& propagator, const SampleWindow& w) {
+json PropagationBlock(const Registry& reg, const Case& k, const std::string& propagator,
+                      const SampleWindow& w) {
   PropagationInput in;
   in.x_s = k.x_s;
   in.cov_s = k.cov_s_left;
@@ -365,8 +408,11 @@ json PropagationBlock(const Registry& reg, const Case& k, const std::string& pro
   in.gravity = k.gravity;
   in.window = w;
   const PropagationResult r = reg.propagate(propagator, "left", in);
-  return {{"convention", "left"}, {"blocks", {"p", "theta", "v", "bg", "ba"}}, {"state_e", FullStateJson(r.x_e)},
-          {"Phi", ToJson(r.Phi)},  {"cov", ToJson(r.cov)}};
+  return {{"convention", "left"},
+          {"blocks", {"p", "theta", "v", "bg", "ba"}},
+          {"state_e", FullStateJson(r.x_e)},
+          {"Phi", ToJson(r.Phi)},
+          {"cov", ToJson(r.cov)}};
 }
 
 }  // namespace
@@ -399,15 +445,18 @@ json Run(const Registry& reg, const json& case_json) {
   out["mid_exact"]["manifold"] = Slot(reg, k, {"midpoint", "", "gtsam_manifold"}, zoh, "manifold");
   out["mid_exact"]["tangent"] = Slot(reg, k, {"", "tangent", "gtsam_tangent"}, mid_zoh, "tangent");
 
-  for (const char* p : {"euler", "midpoint", "rk4"}) out["propagation"][p] = PropagationBlock(reg, k, p, zoh);
+  for (const char* p : {"euler", "midpoint", "rk4"})
+    out["propagation"][p] = PropagationBlock(reg, k, p, zoh);
   // Propagation by preintegration of the zoh.manifold measurement (paper, section 3.2).
   const Preintegrated m = PreintegrateByPropagation(reg, "euler", zoh, k.x_s.bg, k.x_s.ba, k.noise);
-  const PropagationResult r = PropagateByPreintegration(reg, m, k.x_s, k.cov_s_left, "left", k.gravity);
-  out["propagation"]["by_preintegration_zoh_manifold"] = {{"convention", "left"},
-                                                          {"blocks", {"p", "theta", "v", "bg", "ba"}},
-                                                          {"state_e", FullStateJson(r.x_e)},
-                                                          {"Phi", ToJson(r.Phi)},
-                                                          {"cov", ToJson(r.cov)}};
+  const PropagationResult r =
+      PropagateByPreintegration(reg, m, k.x_s, k.cov_s_left, "left", k.gravity);
+  out["propagation"]["by_preintegration_zoh_manifold"] = {
+      {"convention", "left"},
+      {"blocks", {"p", "theta", "v", "bg", "ba"}},
+      {"state_e", FullStateJson(r.x_e)},
+      {"Phi", ToJson(r.Phi)},
+      {"cov", ToJson(r.cov)}};
   CheckResults(out, "");
   return out;
 }

@@ -44,7 +44,8 @@ enum class CaseKeys {
 /// As ParseCase above, with every missing key named in one error (all of them at once,
 /// "/gravity, /state_s/q_wxyz: missing ..."), and under samples_and_noise the others filled
 /// with their standard values, their pointers appended to `defaulted` when given.
-Case ParseCase(const nlohmann::json& case_json, CaseKeys keys, std::vector<std::string>* defaulted = nullptr);
+Case ParseCase(const nlohmann::json& case_json, CaseKeys keys,
+               std::vector<std::string>* defaulted = nullptr);
 
 /// Refuses a computed document with a non-finite number or a covariance ("cov15", "cov9",
 /// "cov", "covariance", "Qd_summed") with a variance below -1e-9 of the largest, naming the

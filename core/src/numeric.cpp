@@ -78,20 +78,22 @@ std::string CovarianceProblem(const Eigen::MatrixXd& C, double tol) {
       }
   for (Eigen::Index i = 0; i < n; ++i)
     if (C(i, i) < 0.0) {
-      o << "diagonal entry (" << i << ", " << i << ") = " << C(i, i) << " is negative: a variance cannot be negative";
+      o << "diagonal entry (" << i << ", " << i << ") = " << C(i, i)
+        << " is negative: a variance cannot be negative";
       return o.str();
     }
   // The correlation scale: s_i = sqrt(C_ii). A zero variance gets the smallest positive
   // scale, so that a non-zero entry in its row shows up as a correlation far above 1.
   Eigen::VectorXd s(n);
-  for (Eigen::Index i = 0; i < n; ++i) s[i] = std::sqrt(std::max(C(i, i), std::numeric_limits<double>::min()));
+  for (Eigen::Index i = 0; i < n; ++i)
+    s[i] = std::sqrt(std::max(C(i, i), std::numeric_limits<double>::min()));
   for (Eigen::Index i = 0; i < n; ++i)
     for (Eigen::Index j = i + 1; j < n; ++j) {
       const double r = std::abs(C(i, j) - C(j, i)) / (s[i] * s[j]);
       if (r > tol) {
-        o << "not symmetric: entries (" << i << ", " << j << ") = " << C(i, j) << " and (" << j << ", " << i
-          << ") = " << C(j, i) << " differ by " << r << " on the correlation scale (|C_ij - C_ji| / sqrt(C_ii C_jj); tolerance "
-          << tol << ")";
+        o << "not symmetric: entries (" << i << ", " << j << ") = " << C(i, j) << " and (" << j
+          << ", " << i << ") = " << C(j, i) << " differ by " << r
+          << " on the correlation scale (|C_ij - C_ji| / sqrt(C_ii C_jj); tolerance " << tol << ")";
         return o.str();
       }
     }
@@ -102,7 +104,8 @@ std::string CovarianceProblem(const Eigen::MatrixXd& C, double tol) {
   if (min_r < -tol) {
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig_c(sym, Eigen::EigenvaluesOnly);
     o << "not positive semi-definite: smallest eigenvalue " << eig_c.eigenvalues().minCoeff()
-      << " (of the correlation matrix C_ij / sqrt(C_ii C_jj): " << min_r << "; tolerance " << -tol << ")";
+      << " (of the correlation matrix C_ij / sqrt(C_ii C_jj): " << min_r << "; tolerance " << -tol
+      << ")";
     return o.str();
   }
   return {};

@@ -6,7 +6,8 @@
 
 namespace imuconv {
 
-Status MakeWindow(const ImuSample* samples, std::size_t n, double t_s, double t_e, SampleWindow& out) {
+Status MakeWindow(const ImuSample* samples, std::size_t n, double t_s, double t_e,
+                  SampleWindow& out) {
   std::ostringstream msg;
   msg.precision(17);
   if (!(std::isfinite(t_s) && std::isfinite(t_e)) || !(t_e > t_s)) {
@@ -17,13 +18,15 @@ Status MakeWindow(const ImuSample* samples, std::size_t n, double t_s, double t_
   // A knot within a nanosecond of a sample is that sample (kSameInstant, window.h).
   const auto by_time = [](const ImuSample& s, double t) { return s.t < t; };
   const auto snap = [&](double t) {
-    const std::size_t i = std::lower_bound(samples, samples + n, t - kSameInstant, by_time) - samples;
+    const std::size_t i =
+        std::lower_bound(samples, samples + n, t - kSameInstant, by_time) - samples;
     return i < n && std::abs(samples[i].t - t) < kSameInstant ? samples[i].t : t;
   };
   t_s = snap(t_s);
   t_e = snap(t_e);
   if (!(t_e > t_s)) {
-    msg << "interval [" << t_s << ", " << t_e << "] is shorter than a nanosecond (its ends are one sample)";
+    msg << "interval [" << t_s << ", " << t_e
+        << "] is shorter than a nanosecond (its ends are one sample)";
     return Status::Error(msg.str());
   }
   if (t_s < samples[0].t || t_e > samples[n - 1].t) {

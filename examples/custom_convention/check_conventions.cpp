@@ -59,10 +59,12 @@ std::vector<ImuSample> Samples() {
 
 int main() {
   Registry reg;
-  for (const auto& issue : reg.load_search_path()) std::printf("load issue: %s\n", issue.message.c_str());
+  for (const auto& issue : reg.load_search_path())
+    std::printf("load issue: %s\n", issue.message.c_str());
   const bool loaded = reg.has(PluginKind::StateConvention, "euler_angles") &&
                       reg.has(PluginKind::Propagator, "midpoint_substeps");
-  std::printf("euler_angles and midpoint_substeps loaded: %s\n", loaded ? "yes" : "NO (set IMUCONV_PLUGIN_PATH)");
+  std::printf("euler_angles and midpoint_substeps loaded: %s\n",
+              loaded ? "yes" : "NO (set IMUCONV_PLUGIN_PATH)");
   if (!loaded) return 1;
 
   std::mt19937 rng(11);
@@ -78,10 +80,14 @@ int main() {
         mine->retract(x, d, y);
         c->local(x, y, out);
       });
-      const Mat15 round_trip = reg.conversion("euler_angles", other, x) * reg.conversion(other, "euler_angles", x);
-      const std::string a = "state " + std::to_string(trial) + ": euler_angles -> " + other + " vs central differences";
-      const std::string b = "state " + std::to_string(trial) + ": " + other + " -> euler_angles -> " + other + " - I";
-      const double ea = (J - Jn).cwiseAbs().maxCoeff(), eb = (round_trip - Mat15::Identity()).cwiseAbs().maxCoeff();
+      const Mat15 round_trip =
+          reg.conversion("euler_angles", other, x) * reg.conversion(other, "euler_angles", x);
+      const std::string a = "state " + std::to_string(trial) + ": euler_angles -> " + other +
+                            " vs central differences";
+      const std::string b =
+          "state " + std::to_string(trial) + ": " + other + " -> euler_angles -> " + other + " - I";
+      const double ea = (J - Jn).cwiseAbs().maxCoeff(),
+                   eb = (round_trip - Mat15::Identity()).cwiseAbs().maxCoeff();
       Expect(ea <= 1e-6, a.c_str(), ea, 1e-6);
       Expect(eb <= 1e-8, b.c_str(), eb, 1e-8);
     }
@@ -102,14 +108,24 @@ int main() {
   const PropagationResult mid = reg.propagate("midpoint", "euler_angles", in);
   const PropagationResult rk4 = reg.propagate("rk4", "euler_angles", in);
   auto ratio = [&](auto field) { return field(mid, rk4) / field(sub, rk4); };
-  const double rp = ratio([](const PropagationResult& a, const PropagationResult& b) { return (a.x_e.p - b.x_e.p).norm(); });
-  const double rv = ratio([](const PropagationResult& a, const PropagationResult& b) { return (a.x_e.v - b.x_e.v).norm(); });
-  const double rPhi = ratio([](const PropagationResult& a, const PropagationResult& b) { return (a.Phi - b.Phi).norm(); });
-  const double rcov = ratio([](const PropagationResult& a, const PropagationResult& b) { return (a.cov - b.cov).norm(); });
-  for (auto [what, r] : {std::pair{"p", rp}, std::pair{"v", rv}, std::pair{"Phi", rPhi}, std::pair{"cov", rcov}}) {
+  const double rp = ratio([](const PropagationResult& a, const PropagationResult& b) {
+    return (a.x_e.p - b.x_e.p).norm();
+  });
+  const double rv = ratio([](const PropagationResult& a, const PropagationResult& b) {
+    return (a.x_e.v - b.x_e.v).norm();
+  });
+  const double rPhi = ratio([](const PropagationResult& a, const PropagationResult& b) {
+    return (a.Phi - b.Phi).norm();
+  });
+  const double rcov = ratio([](const PropagationResult& a, const PropagationResult& b) {
+    return (a.cov - b.cov).norm();
+  });
+  for (auto [what, r] :
+       {std::pair{"p", rp}, std::pair{"v", rv}, std::pair{"Phi", rPhi}, std::pair{"cov", rcov}}) {
     const bool ok = r >= 3.5 && r <= 4.5;
     std::printf("%-70s %.2f in [3.5, 4.5]  %s\n",
-                (std::string("|midpoint - rk4| / |midpoint_substeps - rk4| in ") + what).c_str(), r, ok ? "ok" : "FAILED");
+                (std::string("|midpoint - rk4| / |midpoint_substeps - rk4| in ") + what).c_str(), r,
+                ok ? "ok" : "FAILED");
     if (!ok) ++failures;
   }
   std::printf("%s\n", failures ? "FAILED" : "all checks passed");

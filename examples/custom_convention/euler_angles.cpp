@@ -31,7 +31,8 @@ Mat3 FromRollPitchYaw(const Vec3& rpy) {
 }
 
 Vec3 RollPitchYaw(const Mat3& R) {
-  return Vec3(std::atan2(R(2, 1), R(2, 2)), std::asin(std::clamp(-R(2, 0), -1.0, 1.0)), std::atan2(R(1, 0), R(0, 0)));
+  return Vec3(std::atan2(R(2, 1), R(2, 2)), std::asin(std::clamp(-R(2, 0), -1.0, 1.0)),
+              std::atan2(R(1, 0), R(0, 0)));
 }
 
 /// An angle difference in (-pi, pi]: roll and yaw wrap.
@@ -39,7 +40,9 @@ double Wrapped(double a) { return std::remainder(a, 2.0 * M_PI); }
 
 class EulerAngles : public imuconv::StateConvention {
  public:
-  imuconv::BlockOrder order() const noexcept override { return {Block::p, Block::v, Block::theta, Block::ba, Block::bg}; }
+  imuconv::BlockOrder order() const noexcept override {
+    return {Block::p, Block::v, Block::theta, Block::ba, Block::bg};
+  }
   void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
     y.p = x.p + d.segment<3>(0);
     y.v = x.v + d.segment<3>(3);
@@ -60,4 +63,5 @@ class EulerAngles : public imuconv::StateConvention {
 }  // namespace
 
 IMUCONV_PLUGIN(StateConvention, EulerAngles, "euler_angles", "1.0.0",
-               "roll-pitch-yaw EKF error state: p+dp, v+dv (world), rpy+drpy (ZYX), b+db; [p, v, theta, ba, bg]")
+               "roll-pitch-yaw EKF error state: p+dp, v+dv (world), rpy+drpy (ZYX), b+db; [p, v, "
+               "theta, ba, bg]")

@@ -16,14 +16,15 @@ namespace {
 constexpr int kSubsteps = 4;
 
 struct MidpointSubsteps {
-  imuconv::Status operator()(const imuconv::PropagationInput& in, imuconv::PropagationResult& out) const {
+  imuconv::Status operator()(const imuconv::PropagationInput& in,
+                             imuconv::PropagationResult& out) const {
     const imuconv::SampleWindow& w = in.window;
     std::vector<imuconv::ImuSample> dense;
     dense.reserve((w.size() - 1) * kSubsteps + 1);
     for (std::size_t k = 0; k + 1 < w.size(); ++k)
       for (int j = 0; j < kSubsteps; ++j)
-        dense.push_back(
-            imuconv::InterpolateSample(w[k], w[k + 1], w[k].t + (w[k + 1].t - w[k].t) * j / double(kSubsteps)));
+        dense.push_back(imuconv::InterpolateSample(
+            w[k], w[k + 1], w[k].t + (w[k + 1].t - w[k].t) * j / double(kSubsteps)));
     dense.push_back(w[w.size() - 1]);
     imuconv::PropagationInput fine = in;
     fine.window.samples = dense.data();
@@ -37,5 +38,6 @@ struct MidpointSubsteps {
 
 }  // namespace
 
-IMUCONV_PLUGIN(Propagator, imuconv::plugin::KernelPropagator<MidpointSubsteps>, "midpoint_substeps", "1.0.0",
+IMUCONV_PLUGIN(Propagator, imuconv::plugin::KernelPropagator<MidpointSubsteps>, "midpoint_substeps",
+               "1.0.0",
                "midpoint rule on 4 linearly interpolated substeps per sample interval; native left")

@@ -20,7 +20,8 @@ constexpr BlockOrder kOrder{Block::p, Block::theta, Block::v, Block::bg, Block::
 
 class BasaltIncrement : public imuconv::plugin::IncrementChart<kOrder, 1> {
  public:
-  void retract(const PreintIncrement& x, const Vec15& d, PreintIncrement& y) const noexcept override {
+  void retract(const PreintIncrement& x, const Vec15& d,
+               PreintIncrement& y) const noexcept override {
     y.dR = so3::Exp(d.segment<3>(theta)) * x.dR;
     y.dp = x.dp + d.segment<3>(p);
     y.dv = x.dv + d.segment<3>(v);
@@ -44,6 +45,6 @@ class BasaltIncrement : public imuconv::plugin::IncrementChart<kOrder, 1> {
 
 }  // namespace
 
-IMUCONV_PLUGIN(
-    IncrementConvention, BasaltIncrement, "basalt", "1.0.0",
-    "Basalt IntegratedImuMeasurement delta state: dp + dp, Exp(dtheta) dR, dv + dv, Db + db; [p,theta,v,bg,ba]")
+IMUCONV_PLUGIN(IncrementConvention, BasaltIncrement, "basalt", "1.0.0",
+               "Basalt IntegratedImuMeasurement delta state: dp + dp, Exp(dtheta) dR, dv + dv, Db "
+               "+ db; [p,theta,v,bg,ba]")

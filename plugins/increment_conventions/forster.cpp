@@ -21,9 +21,11 @@ bool MinusIdentity(Mat15& J) {
   return true;
 }
 
-class ForsterIncrement : public imuconv::plugin::IncrementChart<imuconv::kPreintReferenceOrder, -1> {
+class ForsterIncrement
+    : public imuconv::plugin::IncrementChart<imuconv::kPreintReferenceOrder, -1> {
  public:
-  void retract(const PreintIncrement& x, const Vec15& d, PreintIncrement& y) const noexcept override {
+  void retract(const PreintIncrement& x, const Vec15& d,
+               PreintIncrement& y) const noexcept override {
     y.dR = x.dR * so3::Exp(-d.segment<3>(theta));
     y.dp = x.dp - d.segment<3>(p);
     y.dv = x.dv - d.segment<3>(v);
@@ -37,11 +39,16 @@ class ForsterIncrement : public imuconv::plugin::IncrementChart<imuconv::kPreint
     LocalBiases(x, y, d);
   }
 
-  bool J_ref_this(const PreintIncrement&, Mat15& J) const noexcept override { return MinusIdentity(J); }
-  bool J_this_ref(const PreintIncrement&, Mat15& J) const noexcept override { return MinusIdentity(J); }
+  bool J_ref_this(const PreintIncrement&, Mat15& J) const noexcept override {
+    return MinusIdentity(J);
+  }
+  bool J_this_ref(const PreintIncrement&, Mat15& J) const noexcept override {
+    return MinusIdentity(J);
+  }
 };
 
 }  // namespace
 
 IMUCONV_PLUGIN(IncrementConvention, ForsterIncrement, "forster", "1.0.0",
-               "Forster et al. TRO 2017 (paper's f): dR Exp(-dtheta), dp - dp, dv - dv, Db - db; [theta,p,v,bg,ba]")
+               "Forster et al. TRO 2017 (paper's f): dR Exp(-dtheta), dp - dp, dv - dv, Db - db; "
+               "[theta,p,v,bg,ba]")

@@ -24,11 +24,13 @@ constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::
 constexpr std::array kBodyFrame{Block::p, Block::v};  // the reference's blocks rotated by Delta R^T
 
 class GtsamManifold
-    : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::IncrementChart<kOrder, -1>, kBodyFrame> {
+    : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::IncrementChart<kOrder, -1>,
+                                                 kBodyFrame> {
  public:
   const char* jacobian_convention() const noexcept override { return "gtsam_manifold_jacobian"; }
 
-  void retract(const PreintIncrement& x, const Vec15& d, PreintIncrement& y) const noexcept override {
+  void retract(const PreintIncrement& x, const Vec15& d,
+               PreintIncrement& y) const noexcept override {
     y.dR = x.dR * so3::Exp(d.segment<3>(theta));
     y.dp = x.dp + x.dR * d.segment<3>(p);
     y.dv = x.dv + x.dR * d.segment<3>(v);
@@ -47,5 +49,6 @@ class GtsamManifold
 }  // namespace
 
 IMUCONV_PLUGIN(IncrementConvention, GtsamManifold, "gtsam_manifold", "1.0.0",
-               "GTSAM ManifoldPreintegration covariance (paper's c): dR Exp(dtheta), dp + dR dp, dv + dR dv, Db - db; "
+               "GTSAM ManifoldPreintegration covariance (paper's c): dR Exp(dtheta), dp + dR dp, "
+               "dv + dR dv, Db - db; "
                "[theta,p,v,ba,bg]")

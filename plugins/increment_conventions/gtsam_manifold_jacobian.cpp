@@ -27,5 +27,6 @@ using GtsamManifoldJacobian = imuconv::plugin::RightPerturbedIncrementChart<kOrd
 }  // namespace
 
 IMUCONV_PLUGIN(IncrementConvention, GtsamManifoldJacobian, "gtsam_manifold_jacobian", "1.0.0",
-               "GTSAM preintegration bias-Jacobian chart (paper's j): dR Exp(dtheta), dp + dp, dv + dv, Db - db; "
+               "GTSAM preintegration bias-Jacobian chart (paper's j): dR Exp(dtheta), dp + dp, dv "
+               "+ dv, Db - db; "
                "[theta,p,v,ba,bg]")

@@ -26,7 +26,8 @@ constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::
 
 class GtsamTangent : public imuconv::plugin::IncrementChart<kOrder, -1> {
  public:
-  void retract(const PreintIncrement& x, const Vec15& d, PreintIncrement& y) const noexcept override {
+  void retract(const PreintIncrement& x, const Vec15& d,
+               PreintIncrement& y) const noexcept override {
     y.dR = so3::Exp(so3::Log(x.dR) + d.segment<3>(theta));
     y.dp = x.dp + d.segment<3>(p);
     y.dv = x.dv + d.segment<3>(v);
@@ -51,4 +52,5 @@ class GtsamTangent : public imuconv::plugin::IncrementChart<kOrder, -1> {
 }  // namespace
 
 IMUCONV_PLUGIN(IncrementConvention, GtsamTangent, "gtsam_tangent", "1.0.0",
-               "GTSAM TangentPreintegration: Exp(Log dR + dtheta), dp + dp, dv + dv, Db - db; [theta,p,v,ba,bg]")
+               "GTSAM TangentPreintegration: Exp(Log dR + dtheta), dp + dp, dv + dv, Db - db; "
+               "[theta,p,v,ba,bg]")

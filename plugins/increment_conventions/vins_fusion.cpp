@@ -25,4 +25,5 @@ using VinsFusionIncrement = imuconv::plugin::RightPerturbedIncrementChart<kOrder
 }  // namespace
 
 IMUCONV_PLUGIN(IncrementConvention, VinsFusionIncrement, "vins_fusion", "1.0.0",
-               "VINS-Fusion IntegrationBase: dp + dp, dq (x) [1, dtheta/2], dv + dv, Db + db; [p,theta,v,ba,bg]")
+               "VINS-Fusion IntegrationBase: dp + dp, dq (x) [1, dtheta/2], dv + dv, Db + db; "
+               "[p,theta,v,ba,bg]")

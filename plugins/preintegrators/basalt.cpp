@@ -12,5 +12,6 @@ namespace {
 using Scheme = imuconv::kernels::BasaltScheme<imuconv::kernels::BasaltFeeding::kNative>;
 }  // namespace
 
-IMUCONV_PLUGIN(Preintegrator, imuconv::plugin::KernelPreintegrator<Scheme>, "basalt", "1.0.0",
-               "Basalt IntegratedImuMeasurement, each sample held over the step ending at its stamp")
+IMUCONV_PLUGIN(
+    Preintegrator, imuconv::plugin::KernelPreintegrator<Scheme>, "basalt", "1.0.0",
+    "Basalt IntegratedImuMeasurement, each sample held over the step ending at its stamp")

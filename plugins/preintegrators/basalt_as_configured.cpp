@@ -16,5 +16,7 @@ using Scheme = imuconv::kernels::BasaltScheme<imuconv::kernels::BasaltFeeding::k
                                               imuconv::kernels::BasaltNoiseMapping::kAsConfigured>;
 }  // namespace
 
-IMUCONV_PLUGIN(Preintegrator, imuconv::plugin::KernelPreintegrator<Scheme>, "basalt_as_configured", "1.0.0",
-               "Basalt IntegratedImuMeasurement, native feeding; noise numbers used as its per-sample standard deviations")
+IMUCONV_PLUGIN(Preintegrator, imuconv::plugin::KernelPreintegrator<Scheme>, "basalt_as_configured",
+               "1.0.0",
+               "Basalt IntegratedImuMeasurement, native feeding; noise numbers used as its "
+               "per-sample standard deviations")

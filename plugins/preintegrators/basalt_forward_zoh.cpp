@@ -9,5 +9,7 @@ namespace {
 using Scheme = imuconv::kernels::BasaltScheme<imuconv::kernels::BasaltFeeding::kForwardZoh>;
 }  // namespace
 
-IMUCONV_PLUGIN(Preintegrator, imuconv::plugin::KernelPreintegrator<Scheme>, "basalt_forward_zoh", "1.0.0",
-               "Basalt IntegratedImuMeasurement, each sample held over the step starting at its stamp (GTSAM zoh)")
+IMUCONV_PLUGIN(Preintegrator, imuconv::plugin::KernelPreintegrator<Scheme>, "basalt_forward_zoh",
+               "1.0.0",
+               "Basalt IntegratedImuMeasurement, each sample held over the step starting at its "
+               "stamp (GTSAM zoh)")

@@ -12,7 +12,8 @@ namespace {
 struct Manifold {
   static constexpr const char* kCovConvention = "gtsam_manifold";
   static constexpr const char* kJacobianConvention = "gtsam_manifold_jacobian";
-  imuconv::Status operator()(const imuconv::PreintegrationInput& in, imuconv::Preintegrated& out) const {
+  imuconv::Status operator()(const imuconv::PreintegrationInput& in,
+                             imuconv::Preintegrated& out) const {
     return imuconv::kernels::IntegrateManifold(in, out);
   }
 };

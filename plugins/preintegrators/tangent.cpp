@@ -12,7 +12,8 @@ namespace {
 struct Tangent {
   static constexpr const char* kCovConvention = "gtsam_tangent";
   static constexpr const char* kJacobianConvention = "gtsam_tangent";
-  imuconv::Status operator()(const imuconv::PreintegrationInput& in, imuconv::Preintegrated& out) const {
+  imuconv::Status operator()(const imuconv::PreintegrationInput& in,
+                             imuconv::Preintegrated& out) const {
     return imuconv::kernels::IntegrateTangent(in, out);
   }
 };

@@ -12,7 +12,8 @@
 #include "imuconv/plugin_abi.h"
 
 namespace {
-using Scheme = imuconv::kernels::VinsFusionScheme<imuconv::kernels::VinsNoiseMapping::kFromDensities>;
+using Scheme =
+    imuconv::kernels::VinsFusionScheme<imuconv::kernels::VinsNoiseMapping::kFromDensities>;
 }  // namespace
 
 IMUCONV_PLUGIN(Preintegrator, imuconv::plugin::KernelPreintegrator<Scheme>, "vins_fusion", "1.0.0",

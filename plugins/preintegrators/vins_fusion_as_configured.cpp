@@ -10,8 +10,11 @@
 #include "imuconv/plugin_abi.h"
 
 namespace {
-using Scheme = imuconv::kernels::VinsFusionScheme<imuconv::kernels::VinsNoiseMapping::kAsConfigured>;
+using Scheme =
+    imuconv::kernels::VinsFusionScheme<imuconv::kernels::VinsNoiseMapping::kAsConfigured>;
 }  // namespace
 
-IMUCONV_PLUGIN(Preintegrator, imuconv::plugin::KernelPreintegrator<Scheme>, "vins_fusion_as_configured", "1.0.0",
-               "VINS-Fusion IntegrationBase midpoint scheme; noise numbers used as its acc_n, gyr_n, acc_w, gyr_w")
+IMUCONV_PLUGIN(Preintegrator, imuconv::plugin::KernelPreintegrator<Scheme>,
+               "vins_fusion_as_configured", "1.0.0",
+               "VINS-Fusion IntegrationBase midpoint scheme; noise numbers used as its acc_n, "
+               "gyr_n, acc_w, gyr_w")

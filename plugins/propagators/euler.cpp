@@ -9,7 +9,8 @@
 namespace {
 
 struct Euler {
-  imuconv::Status operator()(const imuconv::PropagationInput& in, imuconv::PropagationResult& out) const {
+  imuconv::Status operator()(const imuconv::PropagationInput& in,
+                             imuconv::PropagationResult& out) const {
     return imuconv::kernels::PropagateHeld<imuconv::kernels::Hold::Euler>(in, out);
   }
 };

@@ -6,8 +6,8 @@
 //   R' = R Exp(w dt),  v' = v + R Xi_1 a + g dt,  p' = p + v dt + R Xi_2 a + g dt^2/2;
 // Xi_3 and Xi_4 are minus the derivatives of Xi_1 a and Xi_2 a with respect to w, so the
 // transition
-//   F_th,bg = -dR Jl(w dt) dt, F_v,th = -[v' - v - g dt]x R, F_p,th = -[p' - p - v dt - g dt^2/2]x R,
-//   F_p,bg = R Xi_4, F_v,bg = R Xi_3, F_p,ba = -R Xi_2, F_v,ba = -R Xi_1
+//   F_th,bg = -dR Jl(w dt) dt, F_v,th = -[v' - v - g dt]x R, F_p,th = -[p' - p - v dt - g dt^2/2]x
+//   R, F_p,bg = R Xi_4, F_v,bg = R Xi_3, F_p,ba = -R Xi_2, F_v,ba = -R Xi_1
 // is the exact derivative of this step (except below |w| = pi/360 rad/s, where OpenVINS
 // switches to first-order forms of the Xi, kept here). Qd = G diag(sigma^2 / dt) G^T with G
 // the bias columns (measurement noise) and dt I (random walks), for the continuous
@@ -21,9 +21,11 @@
 #include "imuconv/plugin_abi.h"
 
 namespace {
-using Analytical = imuconv::kernels::OpenVinsPropagation<imuconv::kernels::OpenVinsMean::kAnalytical>;
+using Analytical =
+    imuconv::kernels::OpenVinsPropagation<imuconv::kernels::OpenVinsMean::kAnalytical>;
 }  // namespace
 
-IMUCONV_PLUGIN(Propagator, imuconv::plugin::KernelPropagator<Analytical>, "openvins_analytical", "1.0.0",
+IMUCONV_PLUGIN(Propagator, imuconv::plugin::KernelPropagator<Analytical>, "openvins_analytical",
+               "1.0.0",
                "OpenVINS ANALYTICAL propagation (mean w, a held, closed-form Xi integrals; "
                "compute_F_and_G_analytic transition and noise); native left")

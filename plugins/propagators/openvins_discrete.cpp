@@ -19,13 +19,16 @@
 namespace {
 
 struct OpenVinsDiscrete {
-  imuconv::Status operator()(const imuconv::PropagationInput& in, imuconv::PropagationResult& out) const {
+  imuconv::Status operator()(const imuconv::PropagationInput& in,
+                             imuconv::PropagationResult& out) const {
     return imuconv::kernels::PropagateHeld<imuconv::kernels::Hold::Midpoint>(in, out);
   }
 };
 
 }  // namespace
 
-IMUCONV_PLUGIN(Propagator, imuconv::plugin::KernelPropagator<OpenVinsDiscrete>, "openvins_discrete", "1.0.0",
-               "OpenVINS DISCRETE propagation (the midpoint hold: mean of two samples, exact rotation, Euler v and p); "
+IMUCONV_PLUGIN(Propagator, imuconv::plugin::KernelPropagator<OpenVinsDiscrete>, "openvins_discrete",
+               "1.0.0",
+               "OpenVINS DISCRETE propagation (the midpoint hold: mean of two samples, exact "
+               "rotation, Euler v and p); "
                "native left")

@@ -6,8 +6,8 @@
 // normalised), the velocity (v' = R C(dq)^T a + g) and the position (p' = v). The transition
 // and the noise are not the RK4 step's derivative but OpenVINS's closed forms for the mean
 // w, a held over the interval (the Xi integrals), evaluated at the RK4 end state:
-//   F_th,bg = -dR Jl(w dt) dt, F_v,th = -[v' - v - g dt]x R, F_p,th = -[p' - p - v dt - g dt^2/2]x R,
-//   F_p,bg = R Xi_4, F_v,bg = R Xi_3, F_p,ba = -R Xi_2, F_v,ba = -R Xi_1,
+//   F_th,bg = -dR Jl(w dt) dt, F_v,th = -[v' - v - g dt]x R, F_p,th = -[p' - p - v dt - g dt^2/2]x
+//   R, F_p,bg = R Xi_4, F_v,bg = R Xi_3, F_p,ba = -R Xi_2, F_v,ba = -R Xi_1,
 // and Qd = G diag(sigma^2 / dt) G^T with G the bias columns (measurement noise) and dt I
 // (random walks), for the continuous densities sigma (NoiseManager; Trawny eq. 129-130).
 // core/include/imuconv/kernels/openvins.h derives the blocks and their form in the `left`
@@ -23,5 +23,6 @@ using Rk4 = imuconv::kernels::OpenVinsPropagation<imuconv::kernels::OpenVinsMean
 }  // namespace
 
 IMUCONV_PLUGIN(Propagator, imuconv::plugin::KernelPropagator<Rk4>, "openvins_rk4", "1.0.0",
-               "OpenVINS RK4 propagation (RK4 of the linearly interpolated samples on the JPL quaternion, p, v; "
+               "OpenVINS RK4 propagation (RK4 of the linearly interpolated samples on the JPL "
+               "quaternion, p, v; "
                "compute_F_and_G_analytic transition and noise); native left")

@@ -14,13 +14,14 @@
 namespace {
 
 struct Rk4 {  // one step per knot interval
-  imuconv::Status operator()(const imuconv::PropagationInput& in, imuconv::PropagationResult& out) const {
+  imuconv::Status operator()(const imuconv::PropagationInput& in,
+                             imuconv::PropagationResult& out) const {
     return imuconv::kernels::PropagateRk4(in, out, 1);
   }
 };
 
 }  // namespace
 
-IMUCONV_PLUGIN(
-    Propagator, imuconv::plugin::KernelPropagator<Rk4>, "rk4", "1.1.0",
-    "4th-order (Magnus + node quadratures) state, Phi and covariance, linearly interpolated input; native left")
+IMUCONV_PLUGIN(Propagator, imuconv::plugin::KernelPropagator<Rk4>, "rk4", "1.1.0",
+               "4th-order (Magnus + node quadratures) state, Phi and covariance, linearly "
+               "interpolated input; native left")

@@ -17,7 +17,8 @@ using namespace imuconv::plugin::prelude;
 constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::bg, Block::ba};
 constexpr std::array kBodyFrame{Block::theta, Block::p};  // left's blocks rotated by R^T
 
-class Forster : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::StateChart<kOrder>, kBodyFrame> {
+class Forster
+    : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::StateChart<kOrder>, kBodyFrame> {
  public:
   void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
     y.R = x.R * so3::Exp(d.segment<3>(theta));
@@ -37,5 +38,6 @@ class Forster : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::Stat
 
 }  // namespace
 
-IMUCONV_PLUGIN(StateConvention, Forster, "forster", "1.0.0",
-               "Forster et al. TRO 2017: R Exp(dtheta), p + R dp, v + dv, b + db; [theta,p,v,bg,ba]")
+IMUCONV_PLUGIN(
+    StateConvention, Forster, "forster", "1.0.0",
+    "Forster et al. TRO 2017: R Exp(dtheta), p + R dp, v + dv, b + db; [theta,p,v,bg,ba]")

@@ -20,7 +20,8 @@ using namespace imuconv::plugin::prelude;
 constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
 constexpr std::array kBodyFrame{Block::theta, Block::p, Block::v};  // left's blocks rotated by R^T
 
-class GtsamNavState : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::StateChart<kOrder>, kBodyFrame> {
+class GtsamNavState
+    : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::StateChart<kOrder>, kBodyFrame> {
  public:
   void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
     y.R = x.R * so3::Exp(d.segment<3>(theta));
@@ -40,5 +41,6 @@ class GtsamNavState : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin
 
 }  // namespace
 
-IMUCONV_PLUGIN(StateConvention, GtsamNavState, "gtsam_navstate", "1.0.0",
-               "gtsam::NavState::retract: R Exp(dtheta), p + R dp, v + R dv, b + db; [theta,p,v,ba,bg]")
+IMUCONV_PLUGIN(
+    StateConvention, GtsamNavState, "gtsam_navstate", "1.0.0",
+    "gtsam::NavState::retract: R Exp(dtheta), p + R dp, v + R dv, b + db; [theta,p,v,ba,bg]")

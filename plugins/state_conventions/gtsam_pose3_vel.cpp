@@ -4,7 +4,8 @@
 // GTSAM_POSE3_EXPMAP and GTSAM_ROT3_EXPMAP, its default options; without them Pose3
 // retracts differently beyond first order and only the Jacobians below still agree):
 //   R = R^ Exp(theta),  p = p^ + R^ Jl(theta) t,  v = v^ + dv (world frame),
-//   ba = ba^ + dba,  bg = bg^ + dbg,                      order [theta, t, v, ba, bg], where t, Pose3's
+//   ba = ba^ + dba,  bg = bg^ + dbg,                      order [theta, t, v, ba, bg], where t,
+//   Pose3's
 // translation coordinate, is the block that perturbs p (labelled "p").
 // Jl is SO(3)'s left Jacobian, which is the V matrix of Pose3::Expmap(theta, t) =
 // (Exp(theta), V(theta) t). local inverts it: theta = Log(R^T R_y),
@@ -24,9 +25,11 @@ using namespace imuconv::plugin::prelude;
 
 // t is the p block.
 constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
-constexpr std::array kBodyFrame{Block::theta, Block::p};  // left's blocks rotated by R^T (to first order)
+constexpr std::array kBodyFrame{Block::theta,
+                                Block::p};  // left's blocks rotated by R^T (to first order)
 
-class GtsamPose3Vel : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::StateChart<kOrder>, kBodyFrame> {
+class GtsamPose3Vel
+    : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::StateChart<kOrder>, kBodyFrame> {
  public:
   void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
     const Vec3 th = d.segment<3>(theta);
@@ -48,5 +51,6 @@ class GtsamPose3Vel : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin
 
 }  // namespace
 
-IMUCONV_PLUGIN(StateConvention, GtsamPose3Vel, "gtsam_pose3_vel", "1.0.0",
-               "GTSAM ImuFactor variables: Pose3 Expmap, world-frame v + dv, b + db; [theta,t,v,ba,bg]")
+IMUCONV_PLUGIN(
+    StateConvention, GtsamPose3Vel, "gtsam_pose3_vel", "1.0.0",
+    "GTSAM ImuFactor variables: Pose3 Expmap, world-frame v + dv, b + db; [theta,t,v,ba,bg]")

@@ -12,8 +12,12 @@ using imuconv::Vec15;
 
 class Left : public imuconv::plugin::StateChart<imuconv::kLeftOrder> {
  public:
-  void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override { imuconv::LeftRetract(x, d, y); }
-  void local(const ImuState& x, const ImuState& y, Vec15& d) const noexcept override { imuconv::LeftLocal(x, y, d); }
+  void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
+    imuconv::LeftRetract(x, d, y);
+  }
+  void local(const ImuState& x, const ImuState& y, Vec15& d) const noexcept override {
+    imuconv::LeftLocal(x, y, d);
+  }
   // The reference chart itself: both Jacobians are the identity.
   bool J_ref_this(const ImuState&, Mat15& J) const noexcept override { return RefThis(J, {}); }
   bool J_this_ref(const ImuState&, Mat15& J) const noexcept override { return ThisRef(J, {}); }
@@ -21,4 +25,5 @@ class Left : public imuconv::plugin::StateChart<imuconv::kLeftOrder> {
 
 }  // namespace
 
-IMUCONV_PLUGIN(StateConvention, Left, "left", "1.0.0", "paper's left error state: p+dp, Exp(dtheta)R, v+dv, b+db")
+IMUCONV_PLUGIN(StateConvention, Left, "left", "1.0.0",
+               "paper's left error state: p+dp, Exp(dtheta)R, v+dv, b+db")

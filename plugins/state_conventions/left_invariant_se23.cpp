@@ -18,9 +18,11 @@ namespace {
 using namespace imuconv::plugin::prelude;
 
 constexpr BlockOrder kOrder{Block::theta, Block::v, Block::p, Block::bg, Block::ba};
-constexpr std::array kBodyFrame{Block::theta, Block::v, Block::p};  // left's blocks rotated by R^T (to first order)
+constexpr std::array kBodyFrame{Block::theta, Block::v,
+                                Block::p};  // left's blocks rotated by R^T (to first order)
 
-class LeftInvariantSe23 : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::StateChart<kOrder>, kBodyFrame> {
+class LeftInvariantSe23
+    : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::StateChart<kOrder>, kBodyFrame> {
  public:
   void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
     const Vec3 phi = d.segment<3>(theta);

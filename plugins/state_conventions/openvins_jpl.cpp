@@ -65,7 +65,9 @@ class OpenVinsJpl : public imuconv::plugin::StateChart<kOrder> {
     LocalBiases(x, y, d);
   }
 
-  bool J_ref_this(const ImuState& x, Mat15& J) const noexcept override { return RefThis(J, {{Block::theta, x.R}}); }
+  bool J_ref_this(const ImuState& x, Mat15& J) const noexcept override {
+    return RefThis(J, {{Block::theta, x.R}});
+  }
   bool J_this_ref(const ImuState& x, Mat15& J) const noexcept override {
     return ThisRef(J, {{Block::theta, x.R.transpose()}});
   }
@@ -74,4 +76,5 @@ class OpenVinsJpl : public imuconv::plugin::StateChart<kOrder> {
 }  // namespace
 
 IMUCONV_PLUGIN(StateConvention, OpenVinsJpl, "openvins_jpl", "1.0.0",
-               "OpenVINS JPL q_GtoI update dq(x)q, dq = [dtheta/2; 1] normalised; p, v, b additive; [theta,p,v,bg,ba]")
+               "OpenVINS JPL q_GtoI update dq(x)q, dq = [dtheta/2; 1] normalised; p, v, b "
+               "additive; [theta,p,v,bg,ba]")

@@ -37,7 +37,8 @@ inline std::string ShapeText(const py::array& a) {
 }
 
 inline Float64Array AsFloat64(py::handle obj, const char* name) {
-  if (obj.is_none()) throw py::value_error(std::string(name) + ": expected an array of numbers, got None");
+  if (obj.is_none())
+    throw py::value_error(std::string(name) + ": expected an array of numbers, got None");
   Float64Array a = Float64Array::ensure(obj);  // empty (error cleared) when obj is not numeric
   if (!a) throw py::value_error(std::string(name) + ": expected an array of numbers");
   return a;
@@ -46,19 +47,21 @@ inline Float64Array AsFloat64(py::handle obj, const char* name) {
 inline void RequireFinite(const double* data, py::ssize_t n, const char* name) {
   for (py::ssize_t i = 0; i < n; ++i)
     if (!std::isfinite(data[i]))
-      throw py::value_error(std::string(name) + ": entry " + std::to_string(i) + " (flat index) is not finite");
+      throw py::value_error(std::string(name) + ": entry " + std::to_string(i) +
+                            " (flat index) is not finite");
 }
 
 /// An R x C matrix (shape (R, C)); a vector (C == 1) is given as shape (R,).
 template <int R, int C>
 Eigen::Matrix<double, R, C> ToFixed(py::handle obj, const char* name) {
   const Float64Array a = AsFloat64(obj, name);
-  const bool ok = C == 1 ? (a.ndim() == 1 && a.shape(0) == R) : (a.ndim() == 2 && a.shape(0) == R && a.shape(1) == C);
+  const bool ok = C == 1 ? (a.ndim() == 1 && a.shape(0) == R)
+                         : (a.ndim() == 2 && a.shape(0) == R && a.shape(1) == C);
   if (!ok)
-    throw py::value_error(
-        std::string(name) + ": expected shape " +
-        (C == 1 ? "(" + std::to_string(R) + ",)" : "(" + std::to_string(R) + ", " + std::to_string(C) + ")") +
-        ", got " + ShapeText(a));
+    throw py::value_error(std::string(name) + ": expected shape " +
+                          (C == 1 ? "(" + std::to_string(R) + ",)"
+                                  : "(" + std::to_string(R) + ", " + std::to_string(C) + ")") +
+                          ", got " + ShapeText(a));
   RequireFinite(a.data(), a.size(), name);
   Eigen::Matrix<double, R, C> m;
   for (int i = 0; i < R; ++i)
@@ -74,7 +77,8 @@ py::array ToArray(const Eigen::MatrixBase<Derived>& m) {
     for (Eigen::Index i = 0; i < m.size(); ++i) out.mutable_data()[i] = m(i);
     return std::move(out);
   } else {
-    py::array_t<double> out({static_cast<py::ssize_t>(m.rows()), static_cast<py::ssize_t>(m.cols())});
+    py::array_t<double> out(
+        {static_cast<py::ssize_t>(m.rows()), static_cast<py::ssize_t>(m.cols())});
     for (Eigen::Index i = 0; i < m.rows(); ++i)
       for (Eigen::Index j = 0; j < m.cols(); ++j) out.mutable_data()[i * m.cols() + j] = m(i, j);
     return std::move(out);

@@ -16,8 +16,9 @@ namespace finite_detail {
 
 inline void Require(bool finite, const char* call, const char* field) {
   if (!finite)
-    throw py::value_error(std::string(call) + ": produced a non-finite number (" + field +
-                          "); the inputs are too large for double precision (samples, noise, covariance or state)");
+    throw py::value_error(
+        std::string(call) + ": produced a non-finite number (" + field +
+        "); the inputs are too large for double precision (samples, noise, covariance or state)");
 }
 
 inline void RequireIncrement(const PreintIncrement& d, const char* call) {
@@ -39,8 +40,8 @@ inline Preintegrated FiniteMeasurement(Preintegrated m, const char* call) {
 }
 
 inline PropagationResult FinitePropagation(PropagationResult p, const char* call) {
-  finite_detail::Require(p.x_e.R.allFinite() && p.x_e.p.allFinite() && p.x_e.v.allFinite() && p.x_e.bg.allFinite() &&
-                             p.x_e.ba.allFinite(),
+  finite_detail::Require(p.x_e.R.allFinite() && p.x_e.p.allFinite() && p.x_e.v.allFinite() &&
+                             p.x_e.bg.allFinite() && p.x_e.ba.allFinite(),
                          call, "x_e");
   finite_detail::Require(p.Phi.allFinite(), call, "Phi");
   finite_detail::Require(p.cov.allFinite(), call, "cov");
@@ -49,7 +50,8 @@ inline PropagationResult FinitePropagation(PropagationResult p, const char* call
 
 inline Residual FiniteResidual(Residual r, const char* call) {
   finite_detail::Require(r.r.allFinite(), call, "r");
-  finite_detail::Require(r.H_start.allFinite() && r.H_end.allFinite() && r.H_increment.allFinite(), call, "Jacobians");
+  finite_detail::Require(r.H_start.allFinite() && r.H_end.allFinite() && r.H_increment.allFinite(),
+                         call, "Jacobians");
   finite_detail::Require(r.cov.allFinite(), call, "cov");
   return r;
 }

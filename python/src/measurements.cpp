@@ -15,8 +15,8 @@
 #include "imuconv/check/report.h"
 #include "imuconv/pipeline/imu_plausibility.h"
 #include "imuconv/pipeline/json_writer.h"
-#include "imuconv/pipeline/output_file.h"
 #include "imuconv/pipeline/measurement.h"
+#include "imuconv/pipeline/output_file.h"
 
 namespace imuconv::python {
 namespace {
@@ -36,7 +36,8 @@ std::vector<py::handle> Items(py::handle measurements) {
   std::vector<py::handle> out;
   if (py::isinstance<py::list>(measurements) || py::isinstance<py::tuple>(measurements)) {
     for (py::handle h : measurements) out.push_back(h);
-    if (out.empty()) throw py::value_error("measurements: an empty list (give at least one measurement)");
+    if (out.empty())
+      throw py::value_error("measurements: an empty list (give at least one measurement)");
   } else {
     out.push_back(measurements);
   }
@@ -44,7 +45,8 @@ std::vector<py::handle> Items(py::handle measurements) {
 }
 
 /// t_start: None, one number (one measurement) or one number per measurement.
-std::vector<std::optional<double>> Starts(py::handle t_start, std::size_t n, std::optional<double> fallback) {
+std::vector<std::optional<double>> Starts(py::handle t_start, std::size_t n,
+                                          std::optional<double> fallback) {
   std::vector<std::optional<double>> out(n, fallback);
   if (t_start.is_none()) return out;
   // One number, a list or an array alike, through NumPy (a string or an object is a ValueError).
@@ -59,10 +61,12 @@ std::vector<std::optional<double>> Starts(py::handle t_start, std::size_t n, std
     throw py::value_error("t_start: expected a number or a list of numbers");
   }
   if (given.size() != n)
-    throw py::value_error("t_start: expected " + std::to_string(n) + " start time(s), one per measurement, got " +
+    throw py::value_error("t_start: expected " + std::to_string(n) +
+                          " start time(s), one per measurement, got " +
                           std::to_string(given.size()));
   for (std::size_t k = 0; k < n; ++k) {
-    if (!std::isfinite(given[k])) throw py::value_error("t_start[" + std::to_string(k) + "]: must be finite");
+    if (!std::isfinite(given[k]))
+      throw py::value_error("t_start[" + std::to_string(k) + "]: must be finite");
     out[k] = given[k];
   }
   return out;
@@ -72,8 +76,10 @@ std::vector<std::optional<double>> Starts(py::handle t_start, std::size_t n, std
 /// it (t_start, t_end = t_start + dt when the start is known; J_bias and cov in
 /// preint_reference; "expressed" in each of `conventions`).
 std::string DocumentText(const LoadedRegistry& r, const std::vector<Preintegrated>& ms,
-                         const std::vector<std::optional<double>>& starts, const std::vector<std::string>& conventions) {
-  for (const auto& c : conventions) r.info(PluginKind::IncrementConvention, c);  // an unknown id: Error, named
+                         const std::vector<std::optional<double>>& starts,
+                         const std::vector<std::string>& conventions) {
+  for (const auto& c : conventions)
+    r.info(PluginKind::IncrementConvention, c);  // an unknown id: Error, named
   std::string text;
   pipeline::JsonWriter w(text);
   w.begin_object();
@@ -92,12 +98,14 @@ std::string DocumentText(const LoadedRegistry& r, const std::vector<Preintegrate
   return text;
 }
 
-std::vector<Preintegrated> PreintegratedItems(const LoadedRegistry& r, const std::vector<py::handle>& items) {
+std::vector<Preintegrated> PreintegratedItems(const LoadedRegistry& r,
+                                              const std::vector<py::handle>& items) {
   std::vector<Preintegrated> out;
   for (std::size_t k = 0; k < items.size(); ++k) {
     auto m = AsPreintegrated(r, items[k]);
     if (!m)
-      throw py::value_error("measurements[" + std::to_string(k) + "]: expected a Preintegrated or an Expressed, got " +
+      throw py::value_error("measurements[" + std::to_string(k) +
+                            "]: expected a Preintegrated or an Expressed, got " +
                             std::string(py::str(py::type::of(items[k]).attr("__name__"))));
     out.push_back(std::move(*m));
   }
@@ -110,15 +118,17 @@ json DictDocument(py::handle d) {
   const py::module_ pyjson = py::module_::import("json");
   const py::cpp_function to_list([](py::handle o) -> py::object {
     if (py::hasattr(o, "tolist")) return o.attr("tolist")();
-    throw py::type_error("measurements: a value of type " + std::string(py::str(py::type::of(o).attr("__name__"))) +
+    throw py::type_error("measurements: a value of type " +
+                         std::string(py::str(py::type::of(o).attr("__name__"))) +
                          " is not a number, list, dict or NumPy array");
   });
   py::object text;
   try {
     text = pyjson.attr("dumps")(d, py::arg("default") = to_list, py::arg("allow_nan") = false);
   } catch (py::error_already_set& e) {
-    if (e.matches(PyExc_ValueError)) throw py::value_error("measurements: " + std::string(py::str(e.value())) +
-                                                           " (every number must be finite)");
+    if (e.matches(PyExc_ValueError))
+      throw py::value_error("measurements: " + std::string(py::str(e.value())) +
+                            " (every number must be finite)");
     throw;
   }
   json doc = json::parse(text.cast<std::string>());
@@ -127,7 +137,8 @@ json DictDocument(py::handle d) {
 }
 
 bool IsPath(py::handle h) {
-  return py::isinstance<py::str>(h) || py::isinstance(h, py::module_::import("os").attr("PathLike"));
+  return py::isinstance<py::str>(h) ||
+         py::isinstance(h, py::module_::import("os").attr("PathLike"));
 }
 
 std::string PathText(py::handle h) { return py::str(py::module_::import("os").attr("fspath")(h)); }
@@ -152,21 +163,26 @@ void BindMeasurements(py::module_& m) {
         out.write(text);
         out.commit();
       },
-      py::arg("path"), py::arg("reg"), py::arg("measurements"), py::kw_only(), py::arg("t_start") = py::none(),
-      py::arg("conventions") = std::vector<std::string>{},
-      "Writes a measurements file (schemas/measurements.schema.json) from a Preintegrated, an Expressed or a list "
-      "of them, as a preintegrate task writes its measurements: J_bias and cov in preint_reference, and also "
-      "expressed in each of `conventions`. t_start: each measurement's start time (one number, or one per "
-      "measurement; t_end = t_start + dt); without it the file has no times. The file is replaced atomically "
+      py::arg("path"), py::arg("reg"), py::arg("measurements"), py::kw_only(),
+      py::arg("t_start") = py::none(), py::arg("conventions") = std::vector<std::string>{},
+      "Writes a measurements file (schemas/measurements.schema.json) from a Preintegrated, an "
+      "Expressed or a list "
+      "of them, as a preintegrate task writes its measurements: J_bias and cov in "
+      "preint_reference, and also "
+      "expressed in each of `conventions`. t_start: each measurement's start time (one number, or "
+      "one per "
+      "measurement; t_end = t_start + dt); without it the file has no times. The file is replaced "
+      "atomically "
       "(never half written); `imuconv check`, imuconv.check and the pipeline's tasks read it.");
 
   m.def(
       "check",
-      [](const LoadedRegistry& r, py::handle measurements, py::handle case_file, py::handle samples, py::handle noise,
-         py::handle t_start) {
+      [](const LoadedRegistry& r, py::handle measurements, py::handle case_file, py::handle samples,
+         py::handle noise, py::handle t_start) {
         if (case_file.is_none() == samples.is_none())
-          throw py::value_error("give the IMU samples with one of case= (a reference case file) and samples= (an "
-                                "(N, 7) array, with noise=)");
+          throw py::value_error(
+              "give the IMU samples with one of case= (a reference case file) and samples= (an "
+              "(N, 7) array, with noise=)");
         if (!case_file.is_none() && !noise.is_none())
           throw py::value_error("noise: the case file holds its noise; noise= goes with samples=");
         check::CaseInput input;
@@ -186,11 +202,15 @@ void BindMeasurements(py::module_& m) {
         std::string meas_name;
         if (IsPath(measurements)) {
           meas_name = PathText(measurements);
-          if (!t_start.is_none()) throw py::value_error("t_start: a measurements file holds its own times");
+          if (!t_start.is_none())
+            throw py::value_error("t_start: a measurements file holds its own times");
         } else if (py::isinstance<py::dict>(measurements) ||
-                   ((py::isinstance<py::list>(measurements) || py::isinstance<py::tuple>(measurements)) &&
-                    py::len(measurements) > 0 && py::isinstance<py::dict>(measurements[py::int_(0)]))) {
-          if (!t_start.is_none()) throw py::value_error("t_start: a dict holds its own t_start and t_end");
+                   ((py::isinstance<py::list>(measurements) ||
+                     py::isinstance<py::tuple>(measurements)) &&
+                    py::len(measurements) > 0 &&
+                    py::isinstance<py::dict>(measurements[py::int_(0)]))) {
+          if (!t_start.is_none())
+            throw py::value_error("t_start: a dict holds its own t_start and t_end");
           meas_name = "measurements (dict)";
           if (py::isinstance<py::dict>(measurements)) {
             doc = DictDocument(measurements);
@@ -218,18 +238,27 @@ void BindMeasurements(py::module_& m) {
           report = out.dump();
         }
         for (const auto& w : warnings)
-          if (PyErr_WarnEx(PyExc_UserWarning, ("imuconv: " + w).c_str(), 1) != 0) throw py::error_already_set();
+          if (PyErr_WarnEx(PyExc_UserWarning, ("imuconv: " + w).c_str(), 1) != 0)
+            throw py::error_already_set();
         return py::module_::import("json").attr("loads")(report);
       },
       py::arg("reg"), py::arg("measurements"), py::kw_only(), py::arg("case") = py::none(),
-      py::arg("samples") = py::none(), py::arg("noise") = py::none(), py::arg("t_start") = py::none(),
-      "imuconv check as a call. measurements: a measurements file (any chart may be \"unknown\"), a dict in that "
-      "file's form (one measurement or the whole document; NumPy arrays allowed; charts may be \"unknown\"), or a "
-      "Preintegrated / Expressed (or a list of them), whose start time is t_start (default: the first sample's). "
-      "The samples: case= (a reference case file) or samples= (N, 7: t, wx, wy, wz, ax, ay, az) with noise= (the "
-      "four densities). Returns the report `imuconv check --json` prints (schemas/check_output.schema.json), with "
-      "'warnings' when the samples look mistaken (units, column order; also issued as UserWarning). Unusable input "
-      "raises imuconv.Error naming the file (or value) and pointer, or ValueError naming the argument.");
+      py::arg("samples") = py::none(), py::arg("noise") = py::none(),
+      py::arg("t_start") = py::none(),
+      "imuconv check as a call. measurements: a measurements file (any chart may be \"unknown\"), "
+      "a dict in that "
+      "file's form (one measurement or the whole document; NumPy arrays allowed; charts may be "
+      "\"unknown\"), or a "
+      "Preintegrated / Expressed (or a list of them), whose start time is t_start (default: the "
+      "first sample's). "
+      "The samples: case= (a reference case file) or samples= (N, 7: t, wx, wy, wz, ax, ay, az) "
+      "with noise= (the "
+      "four densities). Returns the report `imuconv check --json` prints "
+      "(schemas/check_output.schema.json), with "
+      "'warnings' when the samples look mistaken (units, column order; also issued as "
+      "UserWarning). Unusable input "
+      "raises imuconv.Error naming the file (or value) and pointer, or ValueError naming the "
+      "argument.");
 }
 
 }  // namespace imuconv::python

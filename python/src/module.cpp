@@ -12,7 +12,8 @@
 PYBIND11_MODULE(_imuconv, m) {
   namespace py = pybind11;
   m.doc() =
-      "imuconv: IMU propagation and preintegration as one computation, with perturbation conventions as "
+      "imuconv: IMU propagation and preintegration as one computation, with perturbation "
+      "conventions as "
       "plugins and the conversion Jacobians between any two of them.";
   // Every error of the library (its message names the file, id or value at fault) is
   // imuconv.Error, a RuntimeError; bad arguments are ValueError.

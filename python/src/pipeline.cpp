@@ -50,7 +50,8 @@ void BindPipeline(py::module_& m) {
           result = pipeline::RunToArrays(p, o);
           log_text = log.str();
         }
-        if (!log_text.empty() && PyErr_WarnEx(PyExc_RuntimeWarning, ("imuconv: " + log_text).c_str(), 1) != 0)
+        if (!log_text.empty() &&
+            PyErr_WarnEx(PyExc_RuntimeWarning, ("imuconv: " + log_text).c_str(), 1) != 0)
           throw py::error_already_set();
         py::dict out;
         for (const auto& [key, array] : result.arrays) out[py::str(key)] = ToNumpy(array);
@@ -59,9 +60,12 @@ void BindPipeline(py::module_& m) {
       },
       py::arg("pipeline"), py::kw_only(), py::arg("plugin_dirs") = std::vector<std::string>{},
       py::arg("threads") = 0u,
-      "Runs a JSON pipeline file and returns its result as a dict of NumPy arrays, keyed as `imuconv run -o "
-      "OUT.npz` keys them (e.g. 'tasks/kf_rk4/measurements/J_bias/matrix', shape (n, 9, 6)), with the sidecar "
-      "(conventions, block orders, scalars) as a dict under 'meta'. The numbers are the JSON output's, bit for bit; "
+      "Runs a JSON pipeline file and returns its result as a dict of NumPy arrays, keyed as "
+      "`imuconv run -o "
+      "OUT.npz` keys them (e.g. 'tasks/kf_rk4/measurements/J_bias/matrix', shape (n, 9, 6)), with "
+      "the sidecar "
+      "(conventions, block orders, scalars) as a dict under 'meta'. The numbers are the JSON "
+      "output's, bit for bit; "
       "threads: 0 = every core (the result does not depend on it).");
   // imuconv.check: measurements.cpp (files and values).
 }

@@ -30,11 +30,12 @@ py::dict InfoDict(const PluginInfo& p) {
 }
 
 PluginKind KindFromName(const std::string& name) {
-  for (PluginKind k : {PluginKind::StateConvention, PluginKind::IncrementConvention, PluginKind::Propagator,
-                       PluginKind::Preintegrator})
+  for (PluginKind k : {PluginKind::StateConvention, PluginKind::IncrementConvention,
+                       PluginKind::Propagator, PluginKind::Preintegrator})
     if (name == KindName(k)) return k;
-  throw py::value_error("unknown plugin kind '" + name +
-                        "' (expected state_convention, preint_convention, propagator or preintegrator)");
+  throw py::value_error(
+      "unknown plugin kind '" + name +
+      "' (expected state_convention, preint_convention, propagator or preintegrator)");
 }
 
 }  // namespace
@@ -42,7 +43,8 @@ PluginKind KindFromName(const std::string& name) {
 Mat15 CheckedCovariance(py::handle obj, const char* name) {
   const Mat15 S = ToFixed<15, 15>(obj, name);
   const std::string problem = CovarianceProblem(S);
-  if (!problem.empty()) throw py::value_error(std::string(name) + ": not a valid covariance: " + problem);
+  if (!problem.empty())
+    throw py::value_error(std::string(name) + ": not a valid covariance: " + problem);
   return S;
 }
 
@@ -62,14 +64,16 @@ void BindRegistry(py::module_& m) {
                 throw py::error_already_set();  // warnings turned into errors
             return r;
           }),
-          py::arg("plugin_dirs") = std::vector<std::string>{}, py::kw_only(), py::arg("allow_override") = false);
+          py::arg("plugin_dirs") = std::vector<std::string>{}, py::kw_only(),
+          py::arg("allow_override") = false);
   reg.def("__repr__", [](const LoadedRegistry& r) {
     // What is loaded, kind by kind, and whether anything failed: the first question about a
     // registry in an interactive session.
     std::string t = "Registry(";
-    for (const auto kind : {PluginKind::StateConvention, PluginKind::IncrementConvention, PluginKind::Propagator,
-                            PluginKind::Preintegrator}) {
-      t += std::string(KindName(kind)) + "=" + Labels(r.ids(kind)) + ", ";  // as reg.ids(kind) names them
+    for (const auto kind : {PluginKind::StateConvention, PluginKind::IncrementConvention,
+                            PluginKind::Propagator, PluginKind::Preintegrator}) {
+      t += std::string(KindName(kind)) + "=" + Labels(r.ids(kind)) +
+           ", ";  // as reg.ids(kind) names them
     }
     return t + "load_issues=" + std::to_string(r.load_issues.size()) + ")";
   });
@@ -94,11 +98,14 @@ void BindRegistry(py::module_& m) {
         for (const auto& p : r.plugins()) out.append(InfoDict(p));
         return out;
       },
-      "Every loaded plugin: dicts with id, kind, file, version, summary, blocks, native_convention, "
+      "Every loaded plugin: dicts with id, kind, file, version, summary, blocks, "
+      "native_convention, "
       "jacobian_convention, analytic_jacobians.");
   reg.def(
-      "ids", [](const LoadedRegistry& r, const std::string& kind) { return r.ids(KindFromName(kind)); },
-      py::arg("kind"), "The ids of one kind: state_convention, preint_convention, propagator or preintegrator.");
+      "ids",
+      [](const LoadedRegistry& r, const std::string& kind) { return r.ids(KindFromName(kind)); },
+      py::arg("kind"),
+      "The ids of one kind: state_convention, preint_convention, propagator or preintegrator.");
   reg.def(
       "info",
       [](const LoadedRegistry& r, const std::string& kind, const std::string& id) {
@@ -106,13 +113,15 @@ void BindRegistry(py::module_& m) {
       },
       py::arg("kind"), py::arg("id"));
   reg.def_static(
-      "search_path", [](const std::vector<std::string>& dirs) { return Registry::search_path(dirs); },
+      "search_path",
+      [](const std::vector<std::string>& dirs) { return Registry::search_path(dirs); },
       py::arg("plugin_dirs") = std::vector<std::string>{});
 
   // ---- state conventions
   reg.def(
       "conversion",
-      [](const LoadedRegistry& r, const std::string& from, const std::string& to, const ImuState& x) {
+      [](const LoadedRegistry& r, const std::string& from, const std::string& to,
+         const ImuState& x) {
         Mat15 J;
         {
           py::gil_scoped_release release;
@@ -121,11 +130,13 @@ void BindRegistry(py::module_& m) {
         return ToArray(J);
       },
       py::arg("from_convention"), py::arg("to_convention"), py::arg("x"),
-      "d dx_to / d dx_from at x (15, 15): the Jacobian that carries a perturbation in one state convention "
+      "d dx_to / d dx_from at x (15, 15): the Jacobian that carries a perturbation in one state "
+      "convention "
       "into another.");
   reg.def(
       "convert_covariance",
-      [](const LoadedRegistry& r, const std::string& from, const std::string& to, const ImuState& x, py::handle S) {
+      [](const LoadedRegistry& r, const std::string& from, const std::string& to, const ImuState& x,
+         py::handle S) {
         const Mat15 cov = CheckedCovariance(S, "S");
         Mat15 out;
         {
@@ -138,8 +149,8 @@ void BindRegistry(py::module_& m) {
       "A covariance at x in one state convention, in another: J S J^T.");
   reg.def(
       "convert_transition",
-      [](const LoadedRegistry& r, const std::string& from, const std::string& to, const ImuState& x_s,
-         const ImuState& x_e, py::handle Phi) {
+      [](const LoadedRegistry& r, const std::string& from, const std::string& to,
+         const ImuState& x_s, const ImuState& x_e, py::handle Phi) {
         const Mat15 P = ToFixed<15, 15>(Phi, "Phi");
         Mat15 out;
         {
@@ -148,7 +159,8 @@ void BindRegistry(py::module_& m) {
         }
         return ToArray(out);
       },
-      py::arg("from_convention"), py::arg("to_convention"), py::arg("x_s"), py::arg("x_e"), py::arg("Phi"),
+      py::arg("from_convention"), py::arg("to_convention"), py::arg("x_s"), py::arg("x_e"),
+      py::arg("Phi"),
       "A transition matrix from x_s to x_e, in another state convention: J_e Phi J_s^-1.");
   reg.def(
       "retract",
@@ -158,27 +170,30 @@ void BindRegistry(py::module_& m) {
         r.state_convention(convention)->retract(x, dx, y);
         return y;
       },
-      py::arg("convention"), py::arg("x"), py::arg("d"), "The state convention's chart: x perturbed by d (15,).");
+      py::arg("convention"), py::arg("x"), py::arg("d"),
+      "The state convention's chart: x perturbed by d (15,).");
   reg.def(
       "local",
-      [](const LoadedRegistry& r, const std::string& convention, const ImuState& x, const ImuState& y) {
+      [](const LoadedRegistry& r, const std::string& convention, const ImuState& x,
+         const ImuState& y) {
         Vec15 d;
         r.state_convention(convention)->local(x, y, d);
         return ToArray(d);
       },
-      py::arg("convention"), py::arg("x"), py::arg("y"), "The state convention's chart: d with retract(x, d) = y.");
+      py::arg("convention"), py::arg("x"), py::arg("y"),
+      "The state convention's chart: d with retract(x, d) = y.");
 
   // ---- increment conventions
   reg.def(
       "increment_conversion",
-      [](const LoadedRegistry& r, const std::string& from, const std::string& to, const PreintIncrement& d) {
-        return ToArray(r.conversion(from, to, d));
-      },
+      [](const LoadedRegistry& r, const std::string& from, const std::string& to,
+         const PreintIncrement& d) { return ToArray(r.conversion(from, to, d)); },
       py::arg("from_convention"), py::arg("to_convention"), py::arg("delta"),
       "d dx_to / d dx_from at the increment delta (15, 15).");
   reg.def(
       "increment_retract",
-      [](const LoadedRegistry& r, const std::string& convention, const PreintIncrement& x, py::handle d) {
+      [](const LoadedRegistry& r, const std::string& convention, const PreintIncrement& x,
+         py::handle d) {
         const Vec15 dx = ToFixed<15, 1>(d, "d");
         PreintIncrement y;
         r.increment_convention(convention)->retract(x, dx, y);
@@ -187,7 +202,8 @@ void BindRegistry(py::module_& m) {
       py::arg("convention"), py::arg("delta"), py::arg("d"));
   reg.def(
       "increment_local",
-      [](const LoadedRegistry& r, const std::string& convention, const PreintIncrement& x, const PreintIncrement& y) {
+      [](const LoadedRegistry& r, const std::string& convention, const PreintIncrement& x,
+         const PreintIncrement& y) {
         Vec15 d;
         r.increment_convention(convention)->local(x, y, d);
         return ToArray(d);
@@ -198,7 +214,8 @@ void BindRegistry(py::module_& m) {
       [](const LoadedRegistry& r, const std::string& kind, const std::string& id) {
         return r.info(KindFromName(kind), id).blocks;
       },
-      py::arg("kind"), py::arg("id"), "A convention's block order, e.g. ['theta', 'p', 'v', 'bg', 'ba'].");
+      py::arg("kind"), py::arg("id"),
+      "A convention's block order, e.g. ['theta', 'p', 'v', 'bg', 'ba'].");
 }
 
 }  // namespace imuconv::python

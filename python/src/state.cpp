@@ -21,7 +21,8 @@ constexpr double kUnitTol = 1e-6;
 Mat3 RotationFromQuaternion(const Eigen::Vector4d& q_wxyz, const char* name) {
   const double n = q_wxyz.norm();
   if (std::abs(n - 1.0) > kUnitTol)
-    throw py::value_error(std::string(name) + ": not a unit quaternion (norm " + Num(n) + ", allowed 1 +- 1e-6)");
+    throw py::value_error(std::string(name) + ": not a unit quaternion (norm " + Num(n) +
+                          ", allowed 1 +- 1e-6)");
   return so3::FromQuaternionWxyz(q_wxyz[0], q_wxyz[1], q_wxyz[2], q_wxyz[3]);
 }
 
@@ -29,8 +30,8 @@ Mat3 CheckedRotation(py::handle obj, const char* name) {
   const Mat3 R = ToFixed<3, 3>(obj, name);
   const double err = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
   if (err > kUnitTol || R.determinant() < 0.0)
-    throw py::value_error(std::string(name) + ": not a rotation matrix (|R^T R - I| = " + Num(err) + ", det " +
-                          Num(R.determinant()) + "; allowed 1e-6 and det > 0)");
+    throw py::value_error(std::string(name) + ": not a rotation matrix (|R^T R - I| = " + Num(err) +
+                          ", det " + Num(R.determinant()) + "; allowed 1e-6 and det > 0)");
   return R;
 }
 
@@ -48,7 +49,9 @@ Mat3 OneRotation(py::handle q_wxyz, py::handle R, py::handle q_GtoI_xyzw, const 
   return RotationFromQuaternion(Eigen::Vector4d(jpl[3], jpl[0], jpl[1], jpl[2]), "q_GtoI_xyzw");
 }
 
-Vec3 OrZero(py::handle obj, const char* name) { return obj.is_none() ? Vec3::Zero() : ToFixed<3, 1>(obj, name); }
+Vec3 OrZero(py::handle obj, const char* name) {
+  return obj.is_none() ? Vec3::Zero() : ToFixed<3, 1>(obj, name);
+}
 
 template <typename T>
 void Vec3Property(py::class_<T>& c, const char* name, Vec3 T::*member, const char* doc) {
@@ -59,7 +62,9 @@ void Vec3Property(py::class_<T>& c, const char* name, Vec3 T::*member, const cha
 
 }  // namespace
 
-std::string VecText(const Vec3& v) { return "[" + Num(v[0]) + ", " + Num(v[1]) + ", " + Num(v[2]) + "]"; }
+std::string VecText(const Vec3& v) {
+  return "[" + Num(v[0]) + ", " + Num(v[1]) + ", " + Num(v[2]) + "]";
+}
 
 std::string Labels(const std::vector<std::string>& labels) {
   std::string t = "[";
@@ -74,16 +79,18 @@ std::string IncrementText(const PreintIncrement& d) {
   std::string t = "rotation " + Num(angle * 180.0 / M_PI) + " deg";
   if (angle > 0.0) t += " about " + VecText(phi / angle);
   t += ", dp=" + VecText(d.dp) + ", dv=" + VecText(d.dv);
-  if (!d.dbg.isZero(0.0) || !d.dba.isZero(0.0)) t += ", dbg=" + VecText(d.dbg) + ", dba=" + VecText(d.dba);
+  if (!d.dbg.isZero(0.0) || !d.dba.isZero(0.0))
+    t += ", dbg=" + VecText(d.dbg) + ", dba=" + VecText(d.dba);
   return t;
 }
 
 void BindValues(py::module_& m) {
-  py::class_<ImuState> state(m, "State",
-                             "The 15-dof IMU state: body-to-world rotation, position and velocity of the body in the "
-                             "world frame, gyroscope and accelerometer biases.");
-  state.def(py::init([](py::handle p, py::handle q_wxyz, py::handle v, py::handle bg, py::handle ba, py::handle R,
-                        py::handle q_GtoI_xyzw) {
+  py::class_<ImuState> state(
+      m, "State",
+      "The 15-dof IMU state: body-to-world rotation, position and velocity of the body in the "
+      "world frame, gyroscope and accelerometer biases.");
+  state.def(py::init([](py::handle p, py::handle q_wxyz, py::handle v, py::handle bg, py::handle ba,
+                        py::handle R, py::handle q_GtoI_xyzw) {
               ImuState x;
               x.R = OneRotation(q_wxyz, R, q_GtoI_xyzw, "State");
               x.p = OrZero(p, "p");
@@ -92,17 +99,21 @@ void BindValues(py::module_& m) {
               x.ba = OrZero(ba, "ba");
               return x;
             }),
-            py::kw_only(), py::arg("p") = py::none(), py::arg("q_wxyz") = py::none(), py::arg("v") = py::none(),
-            py::arg("bg") = py::none(), py::arg("ba") = py::none(), py::arg("R") = py::none(),
-            py::arg("q_GtoI_xyzw") = py::none(),
-            "State(*, p, q_wxyz | R | q_GtoI_xyzw, v, bg, ba). q_wxyz is Hamilton, body to world (unit within "
-            "1e-6); R the body-to-world rotation matrix; q_GtoI_xyzw OpenVINS's JPL quaternion as it stores it. "
+            py::kw_only(), py::arg("p") = py::none(), py::arg("q_wxyz") = py::none(),
+            py::arg("v") = py::none(), py::arg("bg") = py::none(), py::arg("ba") = py::none(),
+            py::arg("R") = py::none(), py::arg("q_GtoI_xyzw") = py::none(),
+            "State(*, p, q_wxyz | R | q_GtoI_xyzw, v, bg, ba). q_wxyz is Hamilton, body to world "
+            "(unit within "
+            "1e-6); R the body-to-world rotation matrix; q_GtoI_xyzw OpenVINS's JPL quaternion as "
+            "it stores it. "
             "p, v, bg, ba default to zero.");
   state.def_property(
       "R", [](const ImuState& s) { return ToArray(s.R); },
-      [](ImuState& s, py::handle R) { s.R = CheckedRotation(R, "R"); }, "body-to-world rotation matrix (3, 3)");
+      [](ImuState& s, py::handle R) { s.R = CheckedRotation(R, "R"); },
+      "body-to-world rotation matrix (3, 3)");
   state.def_property_readonly(
-      "q_wxyz", [](const ImuState& s) { return ToArray(Eigen::Vector4d(so3::ToQuaternionWxyz(s.R))); },
+      "q_wxyz",
+      [](const ImuState& s) { return ToArray(Eigen::Vector4d(so3::ToQuaternionWxyz(s.R))); },
       "Hamilton quaternion [w, x, y, z] of R, w >= 0");
   Vec3Property(state, "p", &ImuState::p, "position of the body in the world (3,)");
   Vec3Property(state, "v", &ImuState::v, "velocity of the body in the world (3,)");
@@ -119,9 +130,10 @@ void BindValues(py::module_& m) {
            ", ba=" + vec(s.ba) + ")";
   });
 
-  py::class_<PreintIncrement> inc(m, "Increment",
-                                  "A preintegrated increment: rotation dR, position dp and velocity dv in the start "
-                                  "body frame, and the accumulated bias random walk dbg, dba (zero as an estimate).");
+  py::class_<PreintIncrement> inc(
+      m, "Increment",
+      "A preintegrated increment: rotation dR, position dp and velocity dv in the start "
+      "body frame, and the accumulated bias random walk dbg, dba (zero as an estimate).");
   inc.def(py::init([](py::handle dR, py::handle q_wxyz, py::handle dp, py::handle dv) {
             PreintIncrement d;
             d.dR = OneRotation(q_wxyz, dR, py::none(), "Increment");
@@ -129,24 +141,29 @@ void BindValues(py::module_& m) {
             d.dv = OrZero(dv, "dv");
             return d;
           }),
-          py::kw_only(), py::arg("dR") = py::none(), py::arg("q_wxyz") = py::none(), py::arg("dp") = py::none(),
-          py::arg("dv") = py::none(), "Increment(*, dR | q_wxyz, dp, dv)");
+          py::kw_only(), py::arg("dR") = py::none(), py::arg("q_wxyz") = py::none(),
+          py::arg("dp") = py::none(), py::arg("dv") = py::none(),
+          "Increment(*, dR | q_wxyz, dp, dv)");
   inc.def_property(
       "dR", [](const PreintIncrement& d) { return ToArray(d.dR); },
-      [](PreintIncrement& d, py::handle R) { d.dR = CheckedRotation(R, "dR"); }, "rotation increment (3, 3)");
-  inc.def_property_readonly(
-      "q_wxyz", [](const PreintIncrement& d) { return ToArray(Eigen::Vector4d(so3::ToQuaternionWxyz(d.dR))); });
+      [](PreintIncrement& d, py::handle R) { d.dR = CheckedRotation(R, "dR"); },
+      "rotation increment (3, 3)");
+  inc.def_property_readonly("q_wxyz", [](const PreintIncrement& d) {
+    return ToArray(Eigen::Vector4d(so3::ToQuaternionWxyz(d.dR)));
+  });
   Vec3Property(inc, "dp", &PreintIncrement::dp, "position increment (3,)");
   Vec3Property(inc, "dv", &PreintIncrement::dv, "velocity increment (3,)");
   Vec3Property(inc, "dbg", &PreintIncrement::dbg, "gyroscope bias random walk (3,)");
   Vec3Property(inc, "dba", &PreintIncrement::dba, "accelerometer bias random walk (3,)");
-  inc.def("__repr__", [](const PreintIncrement& d) { return "Increment(" + IncrementText(d) + ")"; });
+  inc.def("__repr__",
+          [](const PreintIncrement& d) { return "Increment(" + IncrementText(d) + ")"; });
 }
 
 ImuNoise ReadNoise(py::handle noise) {
   if (noise.is_none())
     throw py::value_error(
-        "noise: required (a dict with gyro_noise_density, accel_noise_density, gyro_random_walk, accel_random_walk)");
+        "noise: required (a dict with gyro_noise_density, accel_noise_density, gyro_random_walk, "
+        "accel_random_walk)");
   if (!py::isinstance<py::dict>(noise)) throw py::value_error("noise: expected a dict");
   const py::dict d = py::reinterpret_borrow<py::dict>(noise);
   ImuNoise q;
@@ -159,9 +176,9 @@ ImuNoise ReadNoise(py::handle noise) {
     bool known = false;
     for (const auto& f : fields) known |= key == f.first;
     if (!known)
-      throw py::value_error(
-          "noise: unknown key '" + key +
-          "' (expected gyro_noise_density, accel_noise_density, gyro_random_walk, accel_random_walk)");
+      throw py::value_error("noise: unknown key '" + key +
+                            "' (expected gyro_noise_density, accel_noise_density, "
+                            "gyro_random_walk, accel_random_walk)");
   }
   for (const auto& [key, out] : fields) {
     if (!d.contains(key)) throw py::value_error(std::string("noise: missing '") + key + "'");
@@ -172,7 +189,8 @@ ImuNoise ReadNoise(py::handle noise) {
       throw py::value_error(std::string("noise['") + key + "']: expected a number");
     }
     if (!std::isfinite(value) || value < 0.0)
-      throw py::value_error(std::string("noise['") + key + "']: expected a finite number >= 0, got " + Num(value));
+      throw py::value_error(std::string("noise['") + key +
+                            "']: expected a finite number >= 0, got " + Num(value));
     *out = value;
   }
   return q;
@@ -181,8 +199,9 @@ ImuNoise ReadNoise(py::handle noise) {
 std::vector<ImuSample> ReadSamples(py::handle samples, bool allow_gaps) {
   const Float64Array a = AsFloat64(samples, "samples");
   if (a.ndim() != 2 || a.shape(1) != 7 || a.shape(0) < 2)
-    throw py::value_error("samples: expected shape (N, 7) with N >= 2 (rows t, wx, wy, wz, ax, ay, az), got " +
-                          ShapeText(a));
+    throw py::value_error(
+        "samples: expected shape (N, 7) with N >= 2 (rows t, wx, wy, wz, ax, ay, az), got " +
+        ShapeText(a));
   std::vector<ImuSample> out(static_cast<std::size_t>(a.shape(0)));
   const double* r = a.data();
   for (std::size_t k = 0; k < out.size(); ++k, r += 7) {
@@ -193,17 +212,21 @@ std::vector<ImuSample> ReadSamples(py::handle samples, bool allow_gaps) {
   // The pipeline's checks (finite, increasing, rate, gaps), with its sentences.
   pipeline::TimingPolicy policy;
   policy.allow_gaps = allow_gaps;
-  if (const auto issue =
-          pipeline::FindSampleIssue(out, policy, pipeline::TimeUnit::s, pipeline::TimeSource::imu_array))
-    throw py::value_error("samples: " + (issue->index ? "row " + std::to_string(*issue->index) + ": " : std::string()) +
-                          issue->message);
+  if (const auto issue = pipeline::FindSampleIssue(out, policy, pipeline::TimeUnit::s,
+                                                   pipeline::TimeSource::imu_array))
+    throw py::value_error(
+        "samples: " +
+        (issue->index ? "row " + std::to_string(*issue->index) + ": " : std::string()) +
+        issue->message);
   return out;
 }
 
 void RequireUsableNoise(const ImuNoise& noise, const std::vector<ImuSample>& samples) {
   double shortest = samples.at(1).t - samples[0].t;
-  for (std::size_t k = 2; k < samples.size(); ++k) shortest = std::min(shortest, samples[k].t - samples[k - 1].t);
-  if (const auto issue = pipeline::FindNoiseIssue(noise, shortest)) throw py::value_error("noise: " + *issue);
+  for (std::size_t k = 2; k < samples.size(); ++k)
+    shortest = std::min(shortest, samples[k].t - samples[k - 1].t);
+  if (const auto issue = pipeline::FindNoiseIssue(noise, shortest))
+    throw py::value_error("noise: " + *issue);
 }
 
 }  // namespace imuconv::python

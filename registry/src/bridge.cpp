@@ -14,8 +14,8 @@ constexpr const char* kRef = "preint_reference";
 
 // Offsets of a chart's (theta, p, v) blocks in its own order, and of its two bias blocks.
 struct ChartLayout {
-  std::array<int, 3> nav;   // offsets of the non-bias blocks, in the chart's order
-  std::array<int, 2> bias;  // offsets of the bias blocks, in the chart's order
+  std::array<int, 3> nav;         // offsets of the non-bias blocks, in the chart's order
+  std::array<int, 2> bias;        // offsets of the bias blocks, in the chart's order
   std::array<int, 2> bias_is_bg;  // 1 where that bias block is bg
 };
 
@@ -51,7 +51,8 @@ Eigen::Matrix<double, 15, 6> EmbedChartJacobian(const Mat96& J, const ChartLayou
 Mat96 ExtractChartJacobian(const Eigen::Matrix<double, 15, 6>& full, const ChartLayout& l) {
   Mat96 J;
   for (int r = 0; r < 3; ++r)
-    for (int k = 0; k < 2; ++k) J.block<3, 3>(3 * r, 3 * k) = full.block<3, 3>(l.nav[r], RefBiasColumn(l, k));
+    for (int k = 0; k < 2; ++k)
+      J.block<3, 3>(3 * r, 3 * k) = full.block<3, 3>(l.nav[r], RefBiasColumn(l, k));
   return J;
 }
 
@@ -88,14 +89,16 @@ Mat15 CorrectionTransport(const Preintegrated& m, const Vec3& bg, const Vec3& ba
   Eigen::Matrix<double, 6, 1> db;
   db << bg - m.bg_hat, ba - m.ba_hat;
   Mat15 T = Mat15::Identity();
-  T.block<3, 3>(pref_idx::theta, pref_idx::theta) = so3::Exp(m.J_bias.topRows<3>() * db).transpose();
+  T.block<3, 3>(pref_idx::theta, pref_idx::theta) =
+      so3::Exp(m.J_bias.topRows<3>() * db).transpose();
   return T;
 }
 
 // Phi_e|s in the left chart (paper, section 3.2): d f / d dx_s plus [0, G^nn J_bs P_b], with
 // the bias-correction curvature: the rotation rows of dR^ Exp(J_theta db) differentiate to
 // Jr(J_theta db) J_theta. Columns of J_bias are [bg, ba], the left chart's bias order.
-Mat15 PredictionTransition(const Preintegrated& m, const ImuState& x_s, const Mat15& F_s, const Mat15& G) {
+Mat15 PredictionTransition(const Preintegrated& m, const ImuState& x_s, const Mat15& F_s,
+                           const Mat15& G) {
   Eigen::Matrix<double, 6, 1> db;
   db << x_s.bg - m.bg_hat, x_s.ba - m.ba_hat;
   Mat96 J = m.J_bias;
@@ -107,7 +110,8 @@ Mat15 PredictionTransition(const Preintegrated& m, const ImuState& x_s, const Ma
 
 }  // namespace
 
-PreintegrationMethod ResolvePreintegrationMethod(const Registry& reg, PluginKind kind, std::string_view id) {
+PreintegrationMethod ResolvePreintegrationMethod(const Registry& reg, PluginKind kind,
+                                                 std::string_view id) {
   PreintegrationMethod m;
   m.id = std::string(id);
   m.kind = kind;
@@ -121,7 +125,8 @@ PreintegrationMethod ResolvePreintegrationMethod(const Registry& reg, PluginKind
     m.jacobian_convention = reg.increment_convention(m.preintegrator->jacobian_convention());
     m.reference_increment = reg.increment_convention(kRef);
   } else {
-    throw Error("method " + Quoted(id) + ": a preintegration method is a propagator or a preintegrator, not a " +
+    throw Error("method " + Quoted(id) +
+                ": a preintegration method is a propagator or a preintegrator, not a " +
                 KindName(kind));
   }
   return m;
@@ -129,10 +134,11 @@ PreintegrationMethod ResolvePreintegrationMethod(const Registry& reg, PluginKind
 
 namespace {
 
-Preintegrated ByPropagation(const PreintegrationMethod& method, const SampleWindow& window, const Vec3& bg,
-                            const Vec3& ba, const ImuNoise& noise) {
+Preintegrated ByPropagation(const PreintegrationMethod& method, const SampleWindow& window,
+                            const Vec3& bg, const Vec3& ba, const ImuNoise& noise) {
   const PropagationInput in = PreintegrationByPropagationStart(window, bg, ba, noise);
-  const PropagationResult r = PropagateIn(*method.propagator, *method.native_state, *method.reference_state, in);
+  const PropagationResult r =
+      PropagateIn(*method.propagator, *method.native_state, *method.reference_state, in);
 
   Preintegrated m;
   m.convention = kRef;
@@ -159,12 +165,13 @@ Preintegrated ByPropagation(const PreintegrationMethod& method, const SampleWind
 }
 
 // A measurement in `cov` (J_bias rows in the chart of `jc`) brought into `ref`.
-Preintegrated FromResolved(const IncrementConvention& cov, const IncrementConvention& jc, const IncrementConvention& ref,
-                           const Preintegrated& in) {
+Preintegrated FromResolved(const IncrementConvention& cov, const IncrementConvention& jc,
+                           const IncrementConvention& ref, const Preintegrated& in) {
   Preintegrated m = in;  // dt, delta and the bias estimate do not depend on a chart
   const Mat15 J = Conversion(cov, ref, in.delta);
   m.cov = Symmetrized(J * in.cov * J.transpose());
-  const Eigen::Matrix<double, 15, 6> chart_full = EmbedChartJacobian(in.J_bias, Layout(jc.labels()));
+  const Eigen::Matrix<double, 15, 6> chart_full =
+      EmbedChartJacobian(in.J_bias, Layout(jc.labels()));
   m.J_bias = (Conversion(jc, ref, in.delta) * chart_full).topRows<9>();
   m.convention = ref.id();
   m.jacobian_convention = ref.id();
@@ -184,12 +191,14 @@ Preintegrated Native(const PreintegrationMethod& method, const SampleWindow& win
   // The plugin wrote the numbers only (preintegrated.h); its charts are the ones it declares.
   native.convention = method.cov_convention->id();
   native.jacobian_convention = method.jacobian_convention->id();
-  return FromResolved(*method.cov_convention, *method.jacobian_convention, *method.reference_increment, native);
+  return FromResolved(*method.cov_convention, *method.jacobian_convention,
+                      *method.reference_increment, native);
 }
 
 // `m` itself when it is in the reference charts, else its FromConvention in `converted`: the
 // computations below are written in preint_reference.
-const Preintegrated& InReference(const Registry& reg, const Preintegrated& m, Preintegrated& converted) {
+const Preintegrated& InReference(const Registry& reg, const Preintegrated& m,
+                                 Preintegrated& converted) {
   if (m.in_reference_charts()) return m;
   converted = FromConvention(reg, m);
   return converted;
@@ -197,25 +206,32 @@ const Preintegrated& InReference(const Registry& reg, const Preintegrated& m, Pr
 
 }  // namespace
 
-Preintegrated Preintegrate(const Registry& /*reg*/, const PreintegrationMethod& method, const SampleWindow& window,
-                           const Vec3& bg, const Vec3& ba, const ImuNoise& noise) {
+Preintegrated Preintegrate(const Registry& /*reg*/, const PreintegrationMethod& method,
+                           const SampleWindow& window, const Vec3& bg, const Vec3& ba,
+                           const ImuNoise& noise) {
   if (method.propagator) return ByPropagation(method, window, bg, ba, noise);
   if (method.preintegrator) return Native(method, window, bg, ba, noise);
-  throw Error("method " + Quoted(method.id) + " was not resolved (use ResolvePreintegrationMethod)");
+  throw Error("method " + Quoted(method.id) +
+              " was not resolved (use ResolvePreintegrationMethod)");
 }
 
-Preintegrated PreintegrateByPropagation(const Registry& reg, std::string_view propagator, const SampleWindow& window,
-                                        const Vec3& bg, const Vec3& ba, const ImuNoise& noise) {
-  return Preintegrate(reg, ResolvePreintegrationMethod(reg, PluginKind::Propagator, propagator), window, bg, ba, noise);
+Preintegrated PreintegrateByPropagation(const Registry& reg, std::string_view propagator,
+                                        const SampleWindow& window, const Vec3& bg, const Vec3& ba,
+                                        const ImuNoise& noise) {
+  return Preintegrate(reg, ResolvePreintegrationMethod(reg, PluginKind::Propagator, propagator),
+                      window, bg, ba, noise);
 }
 
-Preintegrated PreintegrateNative(const Registry& reg, std::string_view preintegrator, const SampleWindow& window,
-                                 const Vec3& bg, const Vec3& ba, const ImuNoise& noise) {
-  return Preintegrate(reg, ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, preintegrator), window, bg,
-                      ba, noise);
+Preintegrated PreintegrateNative(const Registry& reg, std::string_view preintegrator,
+                                 const SampleWindow& window, const Vec3& bg, const Vec3& ba,
+                                 const ImuNoise& noise) {
+  return Preintegrate(reg,
+                      ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, preintegrator),
+                      window, bg, ba, noise);
 }
 
-Preintegrated Express(const Registry& reg, const Preintegrated& given, std::string_view convention) {
+Preintegrated Express(const Registry& reg, const Preintegrated& given,
+                      std::string_view convention) {
   Preintegrated converted;
   const Preintegrated& m = InReference(reg, given, converted);
   const auto conv = reg.increment_convention(convention);
@@ -228,23 +244,28 @@ Preintegrated Express(const Registry& reg, const Preintegrated& given, std::stri
   const auto jc = reg.increment_convention(out.jacobian_convention);
   Eigen::Matrix<double, 15, 6> ref_full = Eigen::Matrix<double, 15, 6>::Zero();
   ref_full.topRows<9>() = m.J_bias;
-  const Eigen::Matrix<double, 15, 6> chart_full = reg.conversion(kRef, out.jacobian_convention, m.delta) * ref_full;
+  const Eigen::Matrix<double, 15, 6> chart_full =
+      reg.conversion(kRef, out.jacobian_convention, m.delta) * ref_full;
   out.J_bias = ExtractChartJacobian(chart_full, Layout(jc->labels()));
   return out;
 }
 
 Preintegrated FromConvention(const Registry& reg, const Preintegrated& in) {
   if (in.convention.empty())
-    throw Error("a preintegrated measurement whose charts are not stated (its convention, the chart of cov, is "
-                "empty): name the increment convention its numbers are in");
+    throw Error(
+        "a preintegrated measurement whose charts are not stated (its convention, the chart of "
+        "cov, is "
+        "empty): name the increment convention its numbers are in");
   const auto cov = reg.increment_convention(in.convention);
-  const auto jc = reg.increment_convention(in.jacobian_convention.empty() ? std::string_view(cov->jacobian_convention())
-                                                                       : std::string_view(in.jacobian_convention));
+  const auto jc = reg.increment_convention(in.jacobian_convention.empty()
+                                               ? std::string_view(cov->jacobian_convention())
+                                               : std::string_view(in.jacobian_convention));
   return FromResolved(*cov, *jc, *reg.increment_convention(kRef), in);
 }
 
-PropagationResult PropagateByPreintegration(const Registry& reg, const Preintegrated& given, const ImuState& x_s,
-                                            const Mat15& cov_s, std::string_view state_convention,
+PropagationResult PropagateByPreintegration(const Registry& reg, const Preintegrated& given,
+                                            const ImuState& x_s, const Mat15& cov_s,
+                                            std::string_view state_convention,
                                             const Vec3& gravity) {
   Preintegrated converted;
   const Preintegrated& m = InReference(reg, given, converted);
@@ -266,26 +287,30 @@ PropagationResult PropagateByPreintegration(const Registry& reg, const Preintegr
   return out;
 }
 
-PreintIncrement BiasCorrectedDelta(const Registry& reg, const Preintegrated& given, std::string_view jacobian_convention,
-                                   const Vec3& bg, const Vec3& ba) {
+PreintIncrement BiasCorrectedDelta(const Registry& reg, const Preintegrated& given,
+                                   std::string_view jacobian_convention, const Vec3& bg,
+                                   const Vec3& ba) {
   Preintegrated converted;
   const Preintegrated& m = InReference(reg, given, converted);
   const auto jc = reg.increment_convention(jacobian_convention);
   const ChartLayout l = Layout(jc->labels());
   Eigen::Matrix<double, 15, 6> ref_full = Eigen::Matrix<double, 15, 6>::Zero();
   ref_full.topRows<9>() = m.J_bias;
-  const Eigen::Matrix<double, 15, 6> chart_full = reg.conversion(kRef, jacobian_convention, m.delta) * ref_full;
+  const Eigen::Matrix<double, 15, 6> chart_full =
+      reg.conversion(kRef, jacobian_convention, m.delta) * ref_full;
   Eigen::Matrix<double, 6, 1> db;  // [bg, ba]
   db << bg - m.bg_hat, ba - m.ba_hat;
   Vec15 w = chart_full * db;
-  for (int k = 0; k < 2; ++k) w.segment<3>(l.bias[k]).setZero();  // the bias estimate does not move Delta b
+  for (int k = 0; k < 2; ++k)
+    w.segment<3>(l.bias[k]).setZero();  // the bias estimate does not move Delta b
   PreintIncrement out;
   jc->retract(m.delta, w, out);
   return out;
 }
 
-Residual ComputeResidual(const Registry& reg, ResidualKind kind, const Preintegrated& given, const ImuState& x_s,
-                         const ImuState& x_e, std::string_view state_convention, const Vec3& gravity) {
+Residual ComputeResidual(const Registry& reg, ResidualKind kind, const Preintegrated& given,
+                         const ImuState& x_s, const ImuState& x_e,
+                         std::string_view state_convention, const Vec3& gravity) {
   using namespace left_idx;
   Preintegrated converted;
   const Preintegrated& m = InReference(reg, given, converted);

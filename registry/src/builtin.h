@@ -7,7 +7,8 @@ namespace imuconv::detail {
 
 /// `preint_reference`: dR = dR^ Exp(dtheta), dp, dv, Delta b additive; [theta, p, v, bg, ba]:
 /// the right-perturbed increment chart in its own order and sign (identity Jacobians).
-class PreintReferenceConvention final : public plugin::RightPerturbedIncrementChart<kPreintReferenceOrder, 1> {
+class PreintReferenceConvention final
+    : public plugin::RightPerturbedIncrementChart<kPreintReferenceOrder, 1> {
  public:
   const char* id() const noexcept override { return ReferenceChart<PreintIncrement>::id; }
 };

@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "imuconv/numeric.h"
-#include "numeric_jacobian.h"
 #include "imuconv/reference_charts.h"
 #include "imuconv/so3.h"
+#include "numeric_jacobian.h"
 
 namespace imuconv::detail {
 namespace {
@@ -85,7 +85,8 @@ std::string OrderProblem(const BlockOrder& order) {
   std::string got;
   for (Block b : order.blocks) {
     const char* name = BlockName(b);
-    got += (got.empty() ? "" : ", ") + (name ? std::string(name) : "block #" + std::to_string(static_cast<int>(b)));
+    got += (got.empty() ? "" : ", ") +
+           (name ? std::string(name) : "block #" + std::to_string(static_cast<int>(b)));
   }
   return "block order must be a permutation of p, theta, v, bg, ba (got " + got + ")";
 }
@@ -94,8 +95,8 @@ std::string OrderProblem(const BlockOrder& order) {
 std::string JacobianProblem(const Mat15& J, const Mat15& Jn, const char* name, std::size_t k) {
   const double err = (J - Jn).cwiseAbs().maxCoeff();
   if (err <= kJacobianCheckTol * std::max(1.0, Jn.cwiseAbs().maxCoeff())) return {};
-  return std::string("analytic ") + name + " differs from numerical differences by " + FormatMax(err) +
-         " at check state " + std::to_string(k);
+  return std::string("analytic ") + name + " differs from numerical differences by " +
+         FormatMax(err) + " at check state " + std::to_string(k);
 }
 
 }  // namespace
@@ -123,12 +124,14 @@ std::string CheckConvention(const Chart<Value>& c, bool* analytic) {
     const bool has_to = c.J_ref_this(x, J_ref_this);
     const bool has_from = c.J_this_ref(x, J_this_ref);
     if (has_to) {
-      if (std::string e = JacobianProblem(J_ref_this, NumericJacobian(c, ref, x), "J_ref_this", k); !e.empty())
+      if (std::string e = JacobianProblem(J_ref_this, NumericJacobian(c, ref, x), "J_ref_this", k);
+          !e.empty())
         return e;
       *analytic = true;
     }
     if (has_from)
-      if (std::string e = JacobianProblem(J_this_ref, NumericJacobian(ref, c, x), "J_this_ref", k); !e.empty())
+      if (std::string e = JacobianProblem(J_this_ref, NumericJacobian(ref, c, x), "J_this_ref", k);
+          !e.empty())
         return e;
   }
   return {};

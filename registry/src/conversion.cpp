@@ -4,10 +4,10 @@
 #include <string>
 
 #include "imuconv/numeric.h"
-#include "numeric_jacobian.h"
 #include "imuconv/printable.h"
 #include "imuconv/reference_charts.h"
 #include "imuconv/registry.h"
+#include "numeric_jacobian.h"
 
 namespace imuconv {
 namespace {
@@ -29,7 +29,9 @@ Mat15 BlockSparseProduct(const Mat15& A, const Mat15& B) {
     for (int k = 0; k < 5; ++k) {
       if (!(maskA[i] >> k & 1u)) continue;
       for (int j = 0; j < 5; ++j)
-        if (maskB[k] >> j & 1u) C.block<3, 3>(3 * i, 3 * j).noalias() += A.block<3, 3>(3 * i, 3 * k) * B.block<3, 3>(3 * k, 3 * j);
+        if (maskB[k] >> j & 1u)
+          C.block<3, 3>(3 * i, 3 * j).noalias() +=
+              A.block<3, 3>(3 * i, 3 * k) * B.block<3, 3>(3 * k, 3 * j);
     }
   return C;
 }
@@ -57,23 +59,24 @@ Mat15 Conversion(const Chart<Value>& from, const Chart<Value>& to, const Value& 
 }
 
 template <class Value>
-Mat15 ConvertCovariance(const Chart<Value>& from, const Chart<Value>& to, const Value& x, const Mat15& S) {
+Mat15 ConvertCovariance(const Chart<Value>& from, const Chart<Value>& to, const Value& x,
+                        const Mat15& S) {
   const Mat15 J = Conversion(from, to, x);
   Mat15 out = J * S * J.transpose();
   return 0.5 * (out + out.transpose());
 }
 
 template <class Value>
-Mat15 ConvertTransition(const Chart<Value>& from, const Chart<Value>& to, const Value& x_s, const Value& x_e,
-                        const Mat15& Phi) {
+Mat15 ConvertTransition(const Chart<Value>& from, const Chart<Value>& to, const Value& x_s,
+                        const Value& x_e, const Mat15& Phi) {
   return Conversion(from, to, x_e) * Phi * Conversion(to, from, x_s);
 }
 
 IMUCONV_CONVERSION_INSTANCES(, ImuState)
 IMUCONV_CONVERSION_INSTANCES(, PreintIncrement)
 
-PropagationResult PropagateIn(const Propagator& prop, const StateConvention& native, const StateConvention& convention,
-                              const PropagationInput& in) {
+PropagationResult PropagateIn(const Propagator& prop, const StateConvention& native,
+                              const StateConvention& convention, const PropagationInput& in) {
   PropagationInput nin = in;
   const bool convert = !SameId(convention.id(), native.id());
   if (convert) nin.cov_s = ConvertCovariance(convention, native, in.x_s, in.cov_s);

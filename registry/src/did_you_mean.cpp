@@ -10,7 +10,7 @@ namespace imuconv {
 namespace {
 
 constexpr std::size_t kLongestCompared = 256;  // hostile names cost O(n*m): bounded here
-constexpr std::size_t kMostSlips = 3;           // beyond, a "suggestion" merely shares letters
+constexpr std::size_t kMostSlips = 3;          // beyond, a "suggestion" merely shares letters
 
 char Fold(char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; }
 
@@ -18,7 +18,8 @@ char Fold(char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a
 
 std::size_t EditDistance(std::string_view a, std::string_view b) {
   const std::size_t n = a.size(), m = b.size();
-  if (n > kLongestCompared || m > kLongestCompared) return (n > m ? n - m : m - n) + kLongestCompared;
+  if (n > kLongestCompared || m > kLongestCompared)
+    return (n > m ? n - m : m - n) + kLongestCompared;
   // Three rows of the dynamic programme: the transposition looks two rows back.
   std::vector<std::size_t> prev2(m + 1), prev(m + 1), row(m + 1);
   for (std::size_t j = 0; j <= m; ++j) prev[j] = j;
@@ -37,8 +38,10 @@ std::size_t EditDistance(std::string_view a, std::string_view b) {
   return prev[m];
 }
 
-std::vector<std::string> ClosestNames(std::string_view word, const std::vector<std::string>& known) {
-  if (word.size() > kLongestCompared || std::find(known.begin(), known.end(), word) != known.end()) return {};
+std::vector<std::string> ClosestNames(std::string_view word,
+                                      const std::vector<std::string>& known) {
+  if (word.size() > kLongestCompared || std::find(known.begin(), known.end(), word) != known.end())
+    return {};
   const std::size_t allowed = std::clamp<std::size_t>(word.size() / 4, 1, kMostSlips);
   std::size_t best = std::numeric_limits<std::size_t>::max();
   std::vector<std::string> out;

@@ -40,16 +40,18 @@ std::vector<std::string> BlockVector(const BlockLabels& l) { return {l.begin(), 
 // error; load_directory and load_search_path make it fatal unless an override is allowed.
 class DuplicateId : public Error {
  public:
-  DuplicateId(PluginKind kind, const std::string& id, const std::string& first, const std::string& second)
-      : Error("duplicate " + std::string(KindName(kind)) + " plugin id " + Quoted(id) + ": " + Quoted(first) +
-              " (found first) and " + Quoted(second)),
+  DuplicateId(PluginKind kind, const std::string& id, const std::string& first,
+              const std::string& second)
+      : Error("duplicate " + std::string(KindName(kind)) + " plugin id " + Quoted(id) + ": " +
+              Quoted(first) + " (found first) and " + Quoted(second)),
         kind_(kind),
         id_(id),
         first_(first),
         second_(second) {}
   std::string override_message() const {
-    return "duplicate " + std::string(KindName(kind_)) + " plugin id " + Quoted(id_) + ": " + Quoted(second_) +
-           " is ignored and " + Quoted(first_) + ", earlier on the search path, is used (override allowed)";
+    return "duplicate " + std::string(KindName(kind_)) + " plugin id " + Quoted(id_) + ": " +
+           Quoted(second_) + " is ignored and " + Quoted(first_) +
+           ", earlier on the search path, is used (override allowed)";
   }
 
  private:
@@ -67,13 +69,16 @@ struct DlHandle {
 };
 
 std::string WithOverrideHint(const std::vector<std::string>& duplicates) {
-  std::string msg = duplicates.size() == 1 ? duplicates[0]
-                                           : std::to_string(duplicates.size()) + " duplicate plugin ids:";
+  std::string msg = duplicates.size() == 1
+                        ? duplicates[0]
+                        : std::to_string(duplicates.size()) + " duplicate plugin ids:";
   if (duplicates.size() > 1)
     for (const auto& d : duplicates) msg += "\n" + d;
-  return msg + "\nrefusing to choose between two plugins with one id: remove one, or allow the override "
-               "(imuconv: --allow-plugin-override; a pipeline: \"allow_plugin_override\": true) to use the one "
-               "earlier on the search path";
+  return msg +
+         "\nrefusing to choose between two plugins with one id: remove one, or allow the override "
+         "(imuconv: --allow-plugin-override; a pipeline: \"allow_plugin_override\": true) to use "
+         "the one "
+         "earlier on the search path";
 }
 
 // Loads every imuconv_plugin_*.so in dir into reg. Failures become issues; duplicate ids are
@@ -97,8 +102,8 @@ void LoadOne(const std::string& what, const LoadOptions& options, std::vector<Lo
   }
 }
 
-void ScanDirectory(Registry& reg, const std::string& dir, const LoadOptions& options, std::vector<LoadIssue>& issues,
-                   std::vector<std::string>& duplicates) {
+void ScanDirectory(Registry& reg, const std::string& dir, const LoadOptions& options,
+                   std::vector<LoadIssue>& issues, std::vector<std::string>& duplicates) {
   std::error_code ec;
   const fs::file_status st = fs::status(dir, ec);
   if (st.type() == fs::file_type::not_found) {
@@ -121,7 +126,8 @@ void ScanDirectory(Registry& reg, const std::string& dir, const LoadOptions& opt
   }
   for (const fs::directory_iterator end{}; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    if (name.size() > 3 && name.rfind("imuconv_plugin_", 0) == 0 && name.compare(name.size() - 3, 3, ".so") == 0)
+    if (name.size() > 3 && name.rfind("imuconv_plugin_", 0) == 0 &&
+        name.compare(name.size() - 3, 3, ".so") == 0)
       files.push_back(it->path().string());
   }
   if (ec) issues.push_back({dir, "listing the plugin directory stopped early: " + ec.message()});
@@ -134,7 +140,8 @@ void ScanDirectory(Registry& reg, const std::string& dir, const LoadOptions& opt
 void Registry::load_file(const std::string& path) {
   const std::string where = Quoted(path);
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0 && errno == ENOENT) throw Error("plugin file " + where + " does not exist");
+  if (::stat(path.c_str(), &st) != 0 && errno == ENOENT)
+    throw Error("plugin file " + where + " does not exist");
   if (const std::string why = detail::NotASharedObject(path); !why.empty())
     throw Error("cannot load " + where + ": it " + why);
   // One file is one identity (device, inode), whatever path or link names it.
@@ -150,23 +157,28 @@ void Registry::load_file(const std::string& path) {
   probe.h = ::dlopen(abs.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (probe.h == nullptr) {
     const char* why = ::dlerror();
-    throw Error("cannot load " + where + " as a shared library: " + Printable(why ? why : "dlopen failed"));
+    throw Error("cannot load " + where +
+                " as a shared library: " + Printable(why ? why : "dlopen failed"));
   }
   auto lib = std::make_shared<boost::dll::shared_library>();
   boost::dll::fs::error_code ec;
   lib->load(abs, boost::dll::load_mode::rtld_now | boost::dll::load_mode::rtld_local, ec);
   if (ec || !lib->is_loaded())
-    throw Error("cannot load " + where + " as a shared library: " + (ec ? ec.message() : "unknown error"));
+    throw Error("cannot load " + where +
+                " as a shared library: " + (ec ? ec.message() : "unknown error"));
   for (const char* sym : {"imuconv_plugin_abi", "imuconv_plugin_describe", "imuconv_plugin_create",
                           "imuconv_plugin_destroy"}) {
-    if (!lib->has(sym)) throw Error(where + " is not an imuconv plugin: it does not export '" + sym + "'");
+    if (!lib->has(sym))
+      throw Error(where + " is not an imuconv plugin: it does not export '" + sym + "'");
   }
   // The entry points are fetched without noexcept: one that throws anyway is caught by
   // CallPlugin and named, instead of reaching std::terminate through a noexcept call. The
   // library stays loaded while any object created from it lives (the destroy function holds it).
   EntryPoints e;
   e.abi = [lib] { return lib->get_alias<int()>("imuconv_plugin_abi")(); };
-  e.describe = [lib] { return lib->get_alias<const PluginDescriptor*()>("imuconv_plugin_describe")(); };
+  e.describe = [lib] {
+    return lib->get_alias<const PluginDescriptor*()>("imuconv_plugin_describe")();
+  };
   e.create = [lib] { return lib->get_alias<void*()>("imuconv_plugin_create")(); };
   auto destroy = lib->get_alias<void(void*)>("imuconv_plugin_destroy");
   e.destroy = [lib, destroy](void* p) { destroy(p); };
@@ -197,17 +209,20 @@ void Registry::adopt(const std::string& path, const EntryPoints& e) {
   const int abi = detail::CallPlugin(path, "imuconv_plugin_abi()", e.abi);
   if (abi != kPluginAbiVersion)
     throw Error(where + " was built for imuconv plugin ABI version " + std::to_string(abi) +
-                "; this imuconv speaks version " + std::to_string(kPluginAbiVersion) + ": rebuild the plugin");
+                "; this imuconv speaks version " + std::to_string(kPluginAbiVersion) +
+                ": rebuild the plugin");
   const PluginDescriptor* d = detail::CallPlugin(path, "imuconv_plugin_describe()", e.describe);
   if (d == nullptr) throw Error(where + " returned no plugin descriptor");
   const AbiFingerprint want;
   const AbiFingerprint& got = d->fingerprint;
-  if (got.abi_version != want.abi_version || got.eigen_max_static_align != want.eigen_max_static_align ||
+  if (got.abi_version != want.abi_version ||
+      got.eigen_max_static_align != want.eigen_max_static_align ||
       got.sizeof_state != want.sizeof_state || got.sizeof_window != want.sizeof_window ||
       got.gnu_major != want.gnu_major || got.cxx_abi != want.cxx_abi)
     throw Error(where + " has an incompatible binary layout (Eigen alignment " +
-                std::to_string(got.eigen_max_static_align) + " vs " + std::to_string(want.eigen_max_static_align) +
-                ", ImuState size " + std::to_string(got.sizeof_state) + " vs " + std::to_string(want.sizeof_state) +
+                std::to_string(got.eigen_max_static_align) + " vs " +
+                std::to_string(want.eigen_max_static_align) + ", ImuState size " +
+                std::to_string(got.sizeof_state) + " vs " + std::to_string(want.sizeof_state) +
                 ", g++ " + std::to_string(got.gnu_major) + " vs " + std::to_string(want.gnu_major) +
                 "): rebuild it with the same compiler and flags as imuconv");
   const int kind_value = static_cast<int>(d->kind);
@@ -222,7 +237,8 @@ void Registry::adopt(const std::string& path, const EntryPoints& e) {
   if (const std::string why = detail::TextProblem(d->summary); !why.empty())
     throw Error("plugin " + where + " (" + Quoted(id) + "): its descriptor's summary " + why +
                 " (expected a one-line UTF-8 description)");
-  if (const PluginInfo* other = impl_->find(d->kind, id)) throw DuplicateId(d->kind, id, other->file, path);
+  if (const PluginInfo* other = impl_->find(d->kind, id))
+    throw DuplicateId(d->kind, id, other->file, path);
 
   // 2. Create inside the plugin; destroy inside the plugin; the deleter keeps it alive.
   void* raw = detail::CallPlugin(path, "imuconv_plugin_create()", e.create);
@@ -247,10 +263,13 @@ void Registry::adopt(const std::string& path, const EntryPoints& e) {
     });
   };
   auto id_check = [&](const char* got_id) {
-    if (got_id == nullptr) throw Error("plugin " + where + ": id() returned a null pointer (expected " + Quoted(id) + ")");
+    if (got_id == nullptr)
+      throw Error("plugin " + where + ": id() returned a null pointer (expected " + Quoted(id) +
+                  ")");
     const std::string_view got_view(got_id, strnlen(got_id, detail::kMaxPluginIdLength + 1));
     if (got_view != id)
-      throw Error("plugin " + where + ": object id " + Quoted(got_view) + " differs from the descriptor's id " + Quoted(id));
+      throw Error("plugin " + where + ": object id " + Quoted(got_view) +
+                  " differs from the descriptor's id " + Quoted(id));
   };
   // An id naming another plugin (a convention), returned by the object.
   auto ref_id = [&](const char* got, const char* what) -> std::string {
@@ -265,14 +284,16 @@ void Registry::adopt(const std::string& path, const EntryPoints& e) {
     id_check(obj->id());
     bool analytic = false;
     const std::string err = detail::CheckConvention(*obj, &analytic);
-    if (!err.empty()) throw Error(std::string(what) + " " + Quoted(id) + " in " + where + " is refused: " + err);
+    if (!err.empty())
+      throw Error(std::string(what) + " " + Quoted(id) + " in " + where + " is refused: " + err);
     info.blocks = BlockVector(obj->labels());
     info.analytic_jacobians = analytic;
     return obj;
   };
   switch (d->kind) {
     case PluginKind::StateConvention:
-      impl_->states.emplace(id, adopt_chart(static_cast<StateConvention*>(raw), "state convention"));
+      impl_->states.emplace(id,
+                            adopt_chart(static_cast<StateConvention*>(raw), "state convention"));
       break;
     case PluginKind::IncrementConvention: {
       auto obj = adopt_chart(static_cast<IncrementConvention*>(raw), "increment convention");
@@ -299,7 +320,8 @@ void Registry::adopt(const std::string& path, const EntryPoints& e) {
   impl_->infos.push_back(std::move(info));
 }
 
-std::vector<LoadIssue> Registry::load_directory(const std::string& dir, const LoadOptions& options) {
+std::vector<LoadIssue> Registry::load_directory(const std::string& dir,
+                                                const LoadOptions& options) {
   std::vector<LoadIssue> issues;
   std::vector<std::string> duplicates;
   ScanDirectory(*this, dir, options, issues, duplicates);
@@ -325,7 +347,8 @@ std::vector<std::string> Registry::search_path(const std::vector<std::string>& e
     std::size_t start = 0;
     while (start <= s.size()) {
       const std::size_t colon = s.find(':', start);
-      const std::string part = s.substr(start, colon == std::string::npos ? std::string::npos : colon - start);
+      const std::string part =
+          s.substr(start, colon == std::string::npos ? std::string::npos : colon - start);
       if (!part.empty()) dirs.push_back(part);
       if (colon == std::string::npos) break;
       start = colon + 1;

@@ -21,8 +21,8 @@
 #include <utility>
 
 #include "imuconv/printable.h"
-#include "imuconv/utf8.h"
 #include "imuconv/registry.h"
+#include "imuconv/utf8.h"
 
 namespace imuconv::detail {
 
@@ -36,10 +36,11 @@ inline std::string IdProblem(const char* id) {
   const std::string_view s(id, strnlen(id, kMaxPluginIdLength + 1));
   if (s.empty()) return "is empty";
   if (s.size() > kMaxPluginIdLength)
-    return "is longer than " + std::to_string(kMaxPluginIdLength) + " characters (" + Quoted(s) + "...)";
+    return "is longer than " + std::to_string(kMaxPluginIdLength) + " characters (" + Quoted(s) +
+           "...)";
   for (char c : s) {
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
-                    c == '-' || c == '.';
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                    c == '_' || c == '-' || c == '.';
     if (!ok) return Quoted(s) + " has a character other than letters, digits, '_', '-' and '.'";
   }
   return {};
@@ -56,7 +57,8 @@ inline std::string TextProblem(const char* text) {
   if (text == nullptr) return "is a null pointer";
   const std::string_view s(text, strnlen(text, kMaxPluginTextLength + 1));
   if (s.size() > kMaxPluginTextLength)
-    return "is longer than " + std::to_string(kMaxPluginTextLength) + " bytes (" + Quoted(s.substr(0, 40)) + "...)";
+    return "is longer than " + std::to_string(kMaxPluginTextLength) + " bytes (" +
+           Quoted(s.substr(0, 40)) + "...)";
   if (const std::size_t bad = FirstInvalidUtf8(s); bad != std::string_view::npos)
     return Quoted(s) + " is not UTF-8 (byte " + std::to_string(bad) + ")";
   return {};
@@ -92,9 +94,9 @@ struct HostElf {
 
 /// A readable name of an ELF machine number (e_machine), for messages.
 inline std::string ElfMachineName(unsigned machine) {
-  static constexpr std::pair<unsigned, const char*> kNames[] = {{EM_386, "x86 (32-bit)"}, {EM_PPC64, "PowerPC 64"},
-                                                                {EM_ARM, "ARM (32-bit)"}, {EM_X86_64, "x86-64"},
-                                                                {EM_AARCH64, "aarch64"},  {EM_RISCV, "RISC-V"}};
+  static constexpr std::pair<unsigned, const char*> kNames[] = {
+      {EM_386, "x86 (32-bit)"}, {EM_PPC64, "PowerPC 64"}, {EM_ARM, "ARM (32-bit)"},
+      {EM_X86_64, "x86-64"},    {EM_AARCH64, "aarch64"},  {EM_RISCV, "RISC-V"}};
   for (const auto& [number, name] : kNames)
     if (number == machine) return name;
   return "ELF machine " + std::to_string(machine);
@@ -108,8 +110,10 @@ inline std::string ElfMachineName(unsigned machine) {
 /// first, then open non-blocking and fstat again).
 inline std::string NotASharedObject(const std::string& path) {
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return std::string("cannot be examined: ") + std::strerror(errno);
-  if (!S_ISREG(st.st_mode)) return S_ISDIR(st.st_mode) ? "is a directory, not a plugin file" : "is not a regular file";
+  if (::stat(path.c_str(), &st) != 0)
+    return std::string("cannot be examined: ") + std::strerror(errno);
+  if (!S_ISREG(st.st_mode))
+    return S_ISDIR(st.st_mode) ? "is a directory, not a plugin file" : "is not a regular file";
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
   if (fd < 0) return std::string("cannot be opened: ") + std::strerror(errno);
   unsigned char h[20] = {};  // e_ident, e_type, e_machine
@@ -123,27 +127,35 @@ inline std::string NotASharedObject(const std::string& path) {
   ::close(fd);
   if (!regular) return "is not a regular file";
   if (got < 0) return std::string("cannot be read: ") + std::strerror(read_errno);
-  if (st.st_size == 0 || got == 0) return "is empty (expected an ELF shared object built with imuconv_add_plugin)";
+  if (st.st_size == 0 || got == 0)
+    return "is empty (expected an ELF shared object built with imuconv_add_plugin)";
   if (got < 4 || h[0] != 0x7f || h[1] != 'E' || h[2] != 'L' || h[3] != 'F')
-    return "is not an ELF shared object (it does not start with the ELF magic bytes; expected a plugin built with "
+    return "is not an ELF shared object (it does not start with the ELF magic bytes; expected a "
+           "plugin built with "
            "imuconv_add_plugin)";
-  if (got < static_cast<ssize_t>(sizeof h)) return "is a truncated ELF file (" + std::to_string(got) + " bytes)";
+  if (got < static_cast<ssize_t>(sizeof h))
+    return "is a truncated ELF file (" + std::to_string(got) + " bytes)";
   // A 16-bit field in the file's byte order (e_ident[EI_DATA]): e_type at 16, e_machine at 18.
   const auto half = [&h](int at) {
-    return h[EI_DATA] == ELFDATA2MSB ? unsigned(h[at] << 8 | h[at + 1]) : unsigned(h[at + 1] << 8 | h[at]);
+    return h[EI_DATA] == ELFDATA2MSB ? unsigned(h[at] << 8 | h[at + 1])
+                                     : unsigned(h[at + 1] << 8 | h[at]);
   };
   const unsigned type = half(16);
-  if (type != ET_DYN) return "is an ELF file but not a shared object (ELF type " + std::to_string(type) + ")";
+  if (type != ET_DYN)
+    return "is an ELF file but not a shared object (ELF type " + std::to_string(type) + ")";
   const HostElf host;
   const auto bits = [](unsigned char elf_class) {
-    return elf_class == ELFCLASS32 ? "32-bit" : elf_class == ELFCLASS64 ? "64-bit" : "unknown-class";
+    return elf_class == ELFCLASS32   ? "32-bit"
+           : elf_class == ELFCLASS64 ? "64-bit"
+                                     : "unknown-class";
   };
   if (h[EI_CLASS] != host.elf_class)
-    return std::string("is a ") + bits(h[EI_CLASS]) + " ELF shared object; this program is " + bits(host.elf_class) +
-           " (rebuild the plugin for this machine)";
+    return std::string("is a ") + bits(h[EI_CLASS]) + " ELF shared object; this program is " +
+           bits(host.elf_class) + " (rebuild the plugin for this machine)";
   if (h[EI_DATA] != host.byte_order)
     return std::string("is an ELF shared object of the other byte order (") +
-           (h[EI_DATA] == ELFDATA2MSB ? "big" : "little") + " endian; rebuild the plugin for this machine)";
+           (h[EI_DATA] == ELFDATA2MSB ? "big" : "little") +
+           " endian; rebuild the plugin for this machine)";
   const unsigned machine = half(18);
   if (host.machine != 0 && machine != host.machine)
     return "is an ELF shared object for " + ElfMachineName(machine) + "; this program runs on " +
@@ -174,7 +186,8 @@ auto CallPlugin(const std::string& path, std::string_view what, F&& f) -> declty
   try {
     return std::forward<F>(f)();
   } catch (...) {
-    throw Error("plugin " + Quoted(path) + ": " + std::string(what) + " threw " + CurrentExceptionText());
+    throw Error("plugin " + Quoted(path) + ": " + std::string(what) + " threw " +
+                CurrentExceptionText());
   }
 }
 

@@ -1,8 +1,8 @@
 #include "imuconv/registry.h"
 
 #include "builtin.h"
-#include "registry_impl.h"
 #include "imuconv/conversion.h"
+#include "registry_impl.h"
 
 namespace imuconv {
 
@@ -34,11 +34,13 @@ const std::vector<PluginInfo>& Registry::plugins() const { return impl_->infos; 
 
 const PluginInfo& Registry::info(PluginKind kind, std::string_view id) const {
   if (const PluginInfo* i = impl_->find(kind, id)) return *i;
-  throw Error("no " + std::string(KindName(kind)) + " plugin with id " + Quoted(id) +
-              " is loaded" + DidYouMean(id, ids(kind)) + "; known: " + KnownIds(ids(kind)));
+  throw Error("no " + std::string(KindName(kind)) + " plugin with id " + Quoted(id) + " is loaded" +
+              DidYouMean(id, ids(kind)) + "; known: " + KnownIds(ids(kind)));
 }
 
-bool Registry::has(PluginKind kind, std::string_view id) const { return impl_->find(kind, id) != nullptr; }
+bool Registry::has(PluginKind kind, std::string_view id) const {
+  return impl_->find(kind, id) != nullptr;
+}
 
 std::vector<std::string> Registry::ids(PluginKind kind) const {
   std::vector<std::string> out;
@@ -50,7 +52,8 @@ std::vector<std::string> Registry::ids(PluginKind kind) const {
 std::shared_ptr<const StateConvention> Registry::state_convention(std::string_view id) const {
   return impl_->get(impl_->states, PluginKind::StateConvention, id);
 }
-std::shared_ptr<const IncrementConvention> Registry::increment_convention(std::string_view id) const {
+std::shared_ptr<const IncrementConvention> Registry::increment_convention(
+    std::string_view id) const {
   return impl_->get(impl_->increments, PluginKind::IncrementConvention, id);
 }
 std::shared_ptr<const Propagator> Registry::propagator(std::string_view id) const {
@@ -75,12 +78,13 @@ Mat15 Registry::conversion(std::string_view from, std::string_view to, const Val
   return Conversion(impl_->chart<Value>(from), impl_->chart<Value>(to), x);
 }
 template <class Value>
-Mat15 Registry::convert_covariance(std::string_view from, std::string_view to, const Value& x, const Mat15& S) const {
+Mat15 Registry::convert_covariance(std::string_view from, std::string_view to, const Value& x,
+                                   const Mat15& S) const {
   return ConvertCovariance(impl_->chart<Value>(from), impl_->chart<Value>(to), x, S);
 }
 template <class Value>
-Mat15 Registry::convert_transition(std::string_view from, std::string_view to, const Value& x_s, const Value& x_e,
-                                   const Mat15& Phi) const {
+Mat15 Registry::convert_transition(std::string_view from, std::string_view to, const Value& x_s,
+                                   const Value& x_e, const Mat15& Phi) const {
   return ConvertTransition(impl_->chart<Value>(from), impl_->chart<Value>(to), x_s, x_e, Phi);
 }
 
@@ -90,7 +94,8 @@ IMUCONV_REGISTRY_CONVERSIONS(, PreintIncrement)
 PropagationResult Registry::propagate(std::string_view propagator_id, std::string_view convention,
                                       const PropagationInput& in) const {
   const Propagator* prop = impl_->raw(impl_->propagators, PluginKind::Propagator, propagator_id);
-  return PropagateIn(*prop, impl_->chart<ImuState>(prop->native_convention()), impl_->chart<ImuState>(convention), in);
+  return PropagateIn(*prop, impl_->chart<ImuState>(prop->native_convention()),
+                     impl_->chart<ImuState>(convention), in);
 }
 
 }  // namespace imuconv

@@ -24,7 +24,8 @@ using IdMap = std::map<std::string, std::shared_ptr<const T>, std::less<>>;
 /// The plugin kind of a convention over Value.
 template <class Value>
 constexpr PluginKind ChartKind() {
-  return std::is_same_v<Value, ImuState> ? PluginKind::StateConvention : PluginKind::IncrementConvention;
+  return std::is_same_v<Value, ImuState> ? PluginKind::StateConvention
+                                         : PluginKind::IncrementConvention;
 }
 
 inline std::string KnownIds(const std::vector<std::string>& ids) {
@@ -40,12 +41,14 @@ struct Registry::Impl {
   IdMap<Propagator> propagators;
   IdMap<Preintegrator> preintegrators;
   std::map<std::pair<dev_t, ino_t>, std::string> loaded_files;  // identity -> path it was loaded as
-  std::size_t compiled_in_adopted = 0;                          // entries of detail::CompiledInPlugins() adopted
+  std::size_t compiled_in_adopted = 0;  // entries of detail::CompiledInPlugins() adopted
 
   template <class Value>
   IdMap<Chart<Value>>& charts() {
-    if constexpr (std::is_same_v<Value, ImuState>) return states;
-    else return increments;
+    if constexpr (std::is_same_v<Value, ImuState>)
+      return states;
+    else
+      return increments;
   }
   template <class Value>
   const IdMap<Chart<Value>>& charts() const {

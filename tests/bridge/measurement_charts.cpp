@@ -22,7 +22,8 @@ constexpr const char* kRef = ReferenceChart<PreintIncrement>::id;
 // Charts with other block orders, signs and bias-Jacobian charts than the reference one:
 // GTSAM's (J_bias in a chart of its own), VINS-Fusion's and Basalt's (p before theta), Forster's
 // (negated perturbation).
-const char* const kCharts[] = {"gtsam_manifold", "gtsam_tangent", "vins_fusion", "basalt", "forster"};
+const char* const kCharts[] = {"gtsam_manifold", "gtsam_tangent", "vins_fusion", "basalt",
+                               "forster"};
 
 // A round trip through a chart and back multiplies by a conversion and its inverse, each a
 // product of 15x15 matrices whose entries are O(1) to O(10) at this 1 s increment: the round-off
@@ -44,10 +45,12 @@ struct Scenario {
     x_s.R = so3::Exp(Vec3(0.3, -1.1, 0.7));
     x_s.p = Vec3(3, -2, 1);
     x_s.v = Vec3(0.5, 1.5, -0.2);
-    x_s.bg = bg + Vec3(1e-3, -2e-3, 1e-3);  // not the measurement's estimate: the correction is exercised
+    x_s.bg = bg + Vec3(1e-3, -2e-3,
+                       1e-3);  // not the measurement's estimate: the correction is exercised
     x_s.ba = ba + Vec3(-0.01, 0.02, 0.01);
     Vec15 d;
-    d << 0.02, -0.01, 0.03, 0.05, -0.02, 0.01, 0.03, 0.02, -0.04, 1e-3, -2e-3, 5e-4, 0.01, -0.02, 0.03;
+    d << 0.02, -0.01, 0.03, 0.05, -0.02, 0.01, 0.03, 0.02, -0.04, 1e-3, -2e-3, 5e-4, 0.01, -0.02,
+        0.03;
     LeftRetract(Predict(x_s, m.delta, m.dt, g), d, x_e);
   }
 };
@@ -61,7 +64,8 @@ TEST(MeasurementCharts, PreintegrationIsLabelledWithTheReferenceCharts) {
   EXPECT_EQ(s.m.convention, kRef);
   EXPECT_EQ(s.m.jacobian_convention, kRef);
   EXPECT_TRUE(s.m.in_reference_charts());
-  const Preintegrated p = PreintegrateByPropagation(Plugins(), "rk4", s.w, s.bg, s.ba, test::TestNoise());
+  const Preintegrated p =
+      PreintegrateByPropagation(Plugins(), "rk4", s.w, s.bg, s.ba, test::TestNoise());
   EXPECT_TRUE(p.in_reference_charts());
 }
 
@@ -71,7 +75,8 @@ TEST(MeasurementCharts, ExpressNamesItsChartsAndFromConventionReadsThem) {
     SCOPED_TRACE(c);
     const Preintegrated e = Express(Plugins(), s.m, c);
     EXPECT_EQ(e.convention, c);
-    EXPECT_EQ(e.jacobian_convention, Plugins().info(PluginKind::IncrementConvention, c).jacobian_convention);
+    EXPECT_EQ(e.jacobian_convention,
+              Plugins().info(PluginKind::IncrementConvention, c).jacobian_convention);
     EXPECT_FALSE(e.in_reference_charts());
     const Preintegrated back = FromConvention(Plugins(), e);
     EXPECT_TRUE(back.in_reference_charts());
@@ -85,22 +90,27 @@ TEST(MeasurementCharts, ExpressNamesItsChartsAndFromConventionReadsThem) {
 // gives the answer of the reference measurement.
 TEST(MeasurementCharts, ComputationsTakeAMeasurementInAnyCharts) {
   const Scenario s;
-  const PropagationResult p_ref = PropagateByPreintegration(Plugins(), s.m, s.x_s, s.cov_s, "forster", s.g);
-  const Residual r_ref = ComputeResidual(Plugins(), ResidualKind::Gtsam, s.m, s.x_s, s.x_e, "gtsam_navstate", s.g);
+  const PropagationResult p_ref =
+      PropagateByPreintegration(Plugins(), s.m, s.x_s, s.cov_s, "forster", s.g);
+  const Residual r_ref =
+      ComputeResidual(Plugins(), ResidualKind::Gtsam, s.m, s.x_s, s.x_e, "gtsam_navstate", s.g);
   const PreintIncrement c_ref =
       BiasCorrectedDelta(Plugins(), s.m, "gtsam_manifold_jacobian", s.x_s.bg, s.x_s.ba);
   for (const char* c : kCharts) {
     SCOPED_TRACE(c);
     const Preintegrated e = Express(Plugins(), s.m, c);
-    const PropagationResult p = PropagateByPreintegration(Plugins(), e, s.x_s, s.cov_s, "forster", s.g);
+    const PropagationResult p =
+        PropagateByPreintegration(Plugins(), e, s.x_s, s.cov_s, "forster", s.g);
     EXPECT_LE(test::CorrelationScaleDiff(p_ref.cov, p.cov).d, kRoundTrip);
     EXPECT_LE(MaxRelative(p_ref.Phi, p.Phi), kRoundTrip);
     EXPECT_LE((p_ref.x_e.p - p.x_e.p).norm(), kRoundTrip * p_ref.x_e.p.norm());
-    const Residual r = ComputeResidual(Plugins(), ResidualKind::Gtsam, e, s.x_s, s.x_e, "gtsam_navstate", s.g);
+    const Residual r =
+        ComputeResidual(Plugins(), ResidualKind::Gtsam, e, s.x_s, s.x_e, "gtsam_navstate", s.g);
     EXPECT_LE(MaxRelative(r_ref.r, r.r), kRoundTrip);
     EXPECT_LE(test::CorrelationScaleDiff(r_ref.cov, r.cov).d, kRoundTrip);
     EXPECT_LE(MaxRelative(r_ref.H_start, r.H_start), kRoundTrip);
-    const PreintIncrement d = BiasCorrectedDelta(Plugins(), e, "gtsam_manifold_jacobian", s.x_s.bg, s.x_s.ba);
+    const PreintIncrement d =
+        BiasCorrectedDelta(Plugins(), e, "gtsam_manifold_jacobian", s.x_s.bg, s.x_s.ba);
     EXPECT_LE(so3::Log(c_ref.dR.transpose() * d.dR).norm(), kRoundTrip);
     EXPECT_LE((c_ref.dp - d.dp).norm(), kRoundTrip * c_ref.dp.norm());
     // Expressing an expressed measurement in another chart goes through the reference one.
@@ -143,14 +153,16 @@ TEST(MeasurementCharts, AMeasurementWhoseChartsAreNotStatedIsRefused) {
       if (call == 2) (void)FromConvention(Plugins(), raw);
       ADD_FAILURE() << "a measurement without charts was taken";
     } catch (const Error& err) {
-      EXPECT_NE(std::string(err.what()).find("charts are not stated"), std::string::npos) << err.what();
+      EXPECT_NE(std::string(err.what()).find("charts are not stated"), std::string::npos)
+          << err.what();
     }
   }
   // Stated, the same numbers are GTSAM's manifold measurement, as the preintegrate path takes them.
   raw.convention = "gtsam_manifold";
   raw.jacobian_convention = "gtsam_manifold_jacobian";
   const Preintegrated imported = FromConvention(Plugins(), raw);
-  EXPECT_EQ((imported.cov - s.m.cov).cwiseAbs().maxCoeff(), 0.0);  // the same operations as Preintegrate
+  EXPECT_EQ((imported.cov - s.m.cov).cwiseAbs().maxCoeff(),
+            0.0);  // the same operations as Preintegrate
   EXPECT_EQ((imported.J_bias - s.m.J_bias).cwiseAbs().maxCoeff(), 0.0);
 }
 

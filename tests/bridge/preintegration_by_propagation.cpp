@@ -18,7 +18,8 @@ TEST_P(ByPropagation, BiasJacobianMatchesReintegration) {
   const auto imu = test::SmoothImu(1.0);
   const SampleWindow w = test::WholeWindow(imu);
   const Vec3 bg(0.01, -0.02, 0.005), ba(0.1, 0.05, -0.2);
-  const Preintegrated m = PreintegrateByPropagation(Plugins(), GetParam(), w, bg, ba, test::TestNoise());
+  const Preintegrated m =
+      PreintegrateByPropagation(Plugins(), GetParam(), w, bg, ba, test::TestNoise());
   // Central differences of the re-integrated increment in preint_reference, h = 1e-6:
   // truncation ~h^2 |f'''| ~ 1e-12, rounding ~1e-16 |f| / h ~ 1e-10 relative to |J| ~ 0.1..1.
   const double h = 1e-6;
@@ -26,8 +27,10 @@ TEST_P(ByPropagation, BiasJacobianMatchesReintegration) {
   for (int i = 0; i < 6; ++i) {
     Vec3 dbg = Vec3::Zero(), dba = Vec3::Zero();
     (i < 3 ? dbg[i] : dba[i - 3]) = h;
-    const Preintegrated mp = PreintegrateByPropagation(Plugins(), GetParam(), w, bg + dbg, ba + dba, test::TestNoise());
-    const Preintegrated mm = PreintegrateByPropagation(Plugins(), GetParam(), w, bg - dbg, ba - dba, test::TestNoise());
+    const Preintegrated mp =
+        PreintegrateByPropagation(Plugins(), GetParam(), w, bg + dbg, ba + dba, test::TestNoise());
+    const Preintegrated mm =
+        PreintegrateByPropagation(Plugins(), GetParam(), w, bg - dbg, ba - dba, test::TestNoise());
     Vec15 dp, dm;
     PreintReferenceLocal(m.delta, mp.delta, dp);
     PreintReferenceLocal(m.delta, mm.delta, dm);
@@ -38,8 +41,9 @@ TEST_P(ByPropagation, BiasJacobianMatchesReintegration) {
 
 TEST_P(ByPropagation, ExpressAndBackIsLossless) {
   const auto imu = test::SmoothImu(1.0);
-  const Preintegrated m = PreintegrateByPropagation(Plugins(), GetParam(), test::WholeWindow(imu), Vec3(0.01, 0, 0),
-                                                    Vec3(0, 0.1, 0), test::TestNoise());
+  const Preintegrated m =
+      PreintegrateByPropagation(Plugins(), GetParam(), test::WholeWindow(imu), Vec3(0.01, 0, 0),
+                                Vec3(0, 0.1, 0), test::TestNoise());
   for (const auto& id : Plugins().ids(PluginKind::IncrementConvention)) {
     const Preintegrated back = FromConvention(Plugins(), Express(Plugins(), m, id));
     // Two conversions by exactly inverse Jacobians: rounding only.

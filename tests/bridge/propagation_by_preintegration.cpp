@@ -40,15 +40,18 @@ TEST_P(ByPreintegration, PhiMatchesCentralDifferencesOfThePrediction) {
   // The start bias differs from the measurement's bias estimate, so the first-order bias
   // correction and its curvature are exercised.
   Scenario s;
-  const Preintegrated m = PreintegrateByPropagation(Plugins(), "rk4", s.w, s.x_s.bg - Vec3(2e-3, 1e-3, -1e-3),
-                                                    s.x_s.ba + Vec3(0.02, -0.01, 0.03), test::TestNoise());
+  const Preintegrated m =
+      PreintegrateByPropagation(Plugins(), "rk4", s.w, s.x_s.bg - Vec3(2e-3, 1e-3, -1e-3),
+                                s.x_s.ba + Vec3(0.02, -0.01, 0.03), test::TestNoise());
   const std::string conv = GetParam();
   const auto c = Plugins().state_convention(conv);
-  const PropagationResult r = PropagateByPreintegration(Plugins(), m, s.x_s, Mat15::Identity(), conv, s.g);
+  const PropagationResult r =
+      PropagateByPreintegration(Plugins(), m, s.x_s, Mat15::Identity(), conv, s.g);
   const Mat15 num = CentralJacobian([&](const Vec15& e, Vec15& out) {
     ImuState xs2;
     c->retract(s.x_s, e, xs2);
-    const PropagationResult r2 = PropagateByPreintegration(Plugins(), m, xs2, Mat15::Identity(), conv, s.g);
+    const PropagationResult r2 =
+        PropagateByPreintegration(Plugins(), m, xs2, Mat15::Identity(), conv, s.g);
     c->local(r.x_e, r2.x_e, out);
   });
   // h = 1e-6 central differences of a map with O(1..10) second derivatives: ~1e-9 relative.
@@ -62,7 +65,8 @@ TEST_P(ByPreintegration, AgreesWithThePropagatorItCameFrom) {
   Scenario s;
   const std::string conv = GetParam();
   const Mat15 cov_conv = Plugins().convert_covariance("left", conv, s.x_s, s.cov_left);
-  const Preintegrated m = PreintegrateByPropagation(Plugins(), "rk4", s.w, s.x_s.bg, s.x_s.ba, test::TestNoise());
+  const Preintegrated m =
+      PreintegrateByPropagation(Plugins(), "rk4", s.w, s.x_s.bg, s.x_s.ba, test::TestNoise());
   const PropagationResult a = PropagateByPreintegration(Plugins(), m, s.x_s, cov_conv, conv, s.g);
   const PropagationResult b = Plugins().propagate("rk4", conv, s.Input(s.x_s, cov_conv));
   Vec15 d;
@@ -91,8 +95,10 @@ TEST_P(ByPreintegration, StartBiasAwayFromTheEstimateAgreesWithThePropagatorToSe
     ImuState x_s = s.x_s;  // the true start bias, b^ + scale db
     x_s.bg += scale * dbg;
     x_s.ba += scale * dba;
-    const Preintegrated m = PreintegrateByPropagation(Plugins(), "rk4", s.w, s.x_s.bg, s.x_s.ba, test::TestNoise());
-    const PropagationResult a = PropagateByPreintegration(Plugins(), m, x_s, Mat15::Identity(), conv, s.g);
+    const Preintegrated m =
+        PreintegrateByPropagation(Plugins(), "rk4", s.w, s.x_s.bg, s.x_s.ba, test::TestNoise());
+    const PropagationResult a =
+        PropagateByPreintegration(Plugins(), m, x_s, Mat15::Identity(), conv, s.g);
     const PropagationResult b = Plugins().propagate("rk4", conv, s.Input(x_s, Mat15::Identity()));
     Vec15 d;
     Plugins().state_convention(conv)->local(b.x_e, a.x_e, d);
@@ -100,16 +106,19 @@ TEST_P(ByPreintegration, StartBiasAwayFromTheEstimateAgreesWithThePropagatorToSe
   };
   const double full = state_difference(1.0), half = state_difference(0.5);
   const double bound = (dbg.norm() * T) * (dba.norm() * T + a_max * dbg.norm() * T * T);
-  std::printf("[ measured ] %s: max |local(propagated, by preintegration)| %.3g at db, %.3g at db/2 (ratio %.2f); "
-              "bound %.3g\n",
-              conv.c_str(), full, half, full / half, bound);
+  std::printf(
+      "[ measured ] %s: max |local(propagated, by preintegration)| %.3g at db, %.3g at db/2 (ratio "
+      "%.2f); "
+      "bound %.3g\n",
+      conv.c_str(), full, half, full / half, bound);
   EXPECT_LT(full, bound) << conv;
   EXPECT_GT(full / half, 3.0) << conv << ": the difference is not second order in the bias offset";
   EXPECT_LT(full / half, 5.0) << conv;
 }
 
 INSTANTIATE_TEST_SUITE_P(Conventions, ByPreintegration,
-                         ::testing::Values("left", "gtsam_navstate", "gtsam_pose3_vel", "forster", "openvins_jpl",
-                                           "right_invariant_se23", "left_invariant_se23"));
+                         ::testing::Values("left", "gtsam_navstate", "gtsam_pose3_vel", "forster",
+                                           "openvins_jpl", "right_invariant_se23",
+                                           "left_invariant_se23"));
 
 }  // namespace

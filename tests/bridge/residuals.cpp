@@ -25,7 +25,8 @@ struct Scenario : test::SmoothScenario {
     // An end state near (not at) the prediction.
     const ImuState pred = Predict(x_s, m.delta, m.dt, g);
     Vec15 d;
-    d << 0.02, -0.01, 0.03, 0.05, -0.02, 0.01, 0.03, 0.02, -0.04, 1e-3, -2e-3, 5e-4, 0.01, -0.02, 0.03;
+    d << 0.02, -0.01, 0.03, 0.05, -0.02, 0.01, 0.03, 0.02, -0.04, 1e-3, -2e-3, 5e-4, 0.01, -0.02,
+        0.03;
     LeftRetract(pred, d, x_e);
   }
 };
@@ -71,10 +72,11 @@ TEST_P(ResidualJacobians, IncrementJacobianAndCovariance) {
   EXPECT_LT(test::RelErr(r.cov, Mat15(r.H_increment * s.m.cov * r.H_increment.transpose())), 1e-14);
 }
 
-INSTANTIATE_TEST_SUITE_P(KindsAndConventions, ResidualJacobians,
-                         ::testing::Combine(::testing::Values(ResidualKind::Gtsam, ResidualKind::Forster),
-                                            ::testing::Values("left", "gtsam_pose3_vel", "gtsam_navstate", "forster",
-                                                              "right_invariant_se23")));
+INSTANTIATE_TEST_SUITE_P(
+    KindsAndConventions, ResidualJacobians,
+    ::testing::Combine(::testing::Values(ResidualKind::Gtsam, ResidualKind::Forster),
+                       ::testing::Values("left", "gtsam_pose3_vel", "gtsam_navstate", "forster",
+                                         "right_invariant_se23")));
 
 // The paper's closed forms for d r / d dx_se (GTSAM residual; the bias rows carry +I
 // because our bias residual is b_e - b_pred, where the paper writes b_pred - b_e):
@@ -87,12 +89,15 @@ TEST(ResidualIncrementJacobian, MatchesThePapersClosedForms) {
   Scenario s;
   s.m.bg_hat = s.x_s.bg;  // at the estimate, so the increment is not bias-corrected
   s.m.ba_hat = s.x_s.ba;
-  const Residual g = ComputeResidual(Plugins(), ResidualKind::Gtsam, s.m, s.x_s, s.x_e, "left", s.g);
-  const Residual f = ComputeResidual(Plugins(), ResidualKind::Forster, s.m, s.x_s, s.x_e, "left", s.g);
+  const Residual g =
+      ComputeResidual(Plugins(), ResidualKind::Gtsam, s.m, s.x_s, s.x_e, "left", s.g);
+  const Residual f =
+      ComputeResidual(Plugins(), ResidualKind::Forster, s.m, s.x_s, s.x_e, "left", s.g);
   const Mat3 JrInv = so3::JrInv(g.r.head<3>());
   const Mat3 Ms = s.x_e.R.transpose() * s.x_s.R;
   const Mat3 Mc = Ms * s.m.delta.dR;
-  auto expect = [&](const Mat15& H, const char* chart, const Mat3& Rth, const Mat3& M, bool gtsam_bias_order) {
+  auto expect = [&](const Mat15& H, const char* chart, const Mat3& Rth, const Mat3& M,
+                    bool gtsam_bias_order) {
     Mat15 want = Mat15::Zero();
     want.block<3, 3>(0, 0) = Rth;
     want.block<3, 3>(3, 3) = M;

@@ -21,9 +21,11 @@ inline std::vector<ImuSample> SmoothImu(double duration, double rate = 200.0, do
     const double t = k / rate;
     ImuSample z;
     z.t = t0 + t;
-    z.gyro = Vec3(0.5 * std::sin(1.3 * t + 0.2), -0.4 * std::cos(0.7 * t), 0.3 * std::sin(2.1 * t + 1.0)) +
+    z.gyro = Vec3(0.5 * std::sin(1.3 * t + 0.2), -0.4 * std::cos(0.7 * t),
+                  0.3 * std::sin(2.1 * t + 1.0)) +
              Vec3(0.01, -0.02, 0.015);
-    z.accel = Vec3(1.5 * std::cos(0.9 * t), 2.0 * std::sin(1.7 * t + 0.3), 9.81 + 0.8 * std::sin(0.5 * t)) +
+    z.accel = Vec3(1.5 * std::cos(0.9 * t), 2.0 * std::sin(1.7 * t + 0.3),
+                   9.81 + 0.8 * std::sin(0.5 * t)) +
               Vec3(0.05, 0.1, -0.08);
     s.push_back(z);
   }

@@ -44,11 +44,14 @@ class Check : public ::testing::Test {
   }
   /// Runs imuconv check --json on one file of `measurements`; every --json output is kept for
   /// the schema test.
-  static Checked Run(const json& measurements, const std::string& case_id, const std::string& name) {
-    const std::string file = Tmp().write(name + ".json", json{{"measurements", measurements}}.dump());
-    const CommandResult r = RunImuconv("check " + ShellQuote(file) + " --case " +
-                                           ShellQuote(DataPath("reference/cases/" + case_id + ".json")) + " --json",
-                                       Tmp());
+  static Checked Run(const json& measurements, const std::string& case_id,
+                     const std::string& name) {
+    const std::string file =
+        Tmp().write(name + ".json", json{{"measurements", measurements}}.dump());
+    const CommandResult r =
+        RunImuconv("check " + ShellQuote(file) + " --case " +
+                       ShellQuote(DataPath("reference/cases/" + case_id + ".json")) + " --json",
+                   Tmp());
     Checked c{r.exit_code, json(), r.err};
     if (r.exit_code == 0 || r.exit_code == 1) {
       c.out = json::parse(r.out);
@@ -66,12 +69,15 @@ class Check : public ::testing::Test {
     const json& b = out["measurements"][0]["best"];
     std::string blocks, cols;
     for (const auto& x : b["blocks"]) blocks += (blocks.empty() ? "" : ",") + x.get<std::string>();
-    for (const auto& x : b["J_bias_columns"]) cols += (cols.empty() ? "" : ",") + x.get<std::string>();
-    std::printf("  %-12s %s: %s %s [%s], J %s [%s] sign %d; max d delta %.2g J_bias %.2g cov %.2g\n", what.c_str(),
-                out["measurements"][0]["verdict"].get<std::string>().c_str(), b["scheme"].get<std::string>().c_str(),
-                b["convention"].get<std::string>().c_str(), blocks.c_str(),
-                b["jacobian_convention"].get<std::string>().c_str(), cols.c_str(), b["J_bias_sign"].get<int>(),
-                b["delta"]["max_d"].get<double>(), b["J_bias"]["max_d"].get<double>(), b["cov"]["max_d"].get<double>());
+    for (const auto& x : b["J_bias_columns"])
+      cols += (cols.empty() ? "" : ",") + x.get<std::string>();
+    std::printf(
+        "  %-12s %s: %s %s [%s], J %s [%s] sign %d; max d delta %.2g J_bias %.2g cov %.2g\n",
+        what.c_str(), out["measurements"][0]["verdict"].get<std::string>().c_str(),
+        b["scheme"].get<std::string>().c_str(), b["convention"].get<std::string>().c_str(),
+        blocks.c_str(), b["jacobian_convention"].get<std::string>().c_str(), cols.c_str(),
+        b["J_bias_sign"].get<int>(), b["delta"]["max_d"].get<double>(),
+        b["J_bias"]["max_d"].get<double>(), b["cov"]["max_d"].get<double>());
   }
   static std::string Findings(const json& m) {
     std::string s;
@@ -113,14 +119,17 @@ TEST_F(Check, GtsamNumbersStoredAsFloatAreConsistent) {
   Print("float", c.out);
   const json& r = c.out["measurements"][0];
   EXPECT_EQ(r["best"]["scheme"], "euler");
-  for (const char* part : {"delta", "J_bias", "cov"}) EXPECT_LE(r["best"][part]["max_d"].get<double>(), 1e-5) << part;
+  for (const char* part : {"delta", "J_bias", "cov"})
+    EXPECT_LE(r["best"][part]["max_d"].get<double>(), 1e-5) << part;
 }
 
 TEST_F(Check, UndeclaredChartsAreFound) {
   json m = GtsamMeasurement("smooth-0");
   m["cov"]["convention"] = "unknown";
   m["cov"]["blocks"] = "unknown";
-  m["J_bias"] = {{"convention", "unknown"}, {"cols", {{"blocks", "unknown"}}}, {"matrix", m["J_bias"]["matrix"]}};
+  m["J_bias"] = {{"convention", "unknown"},
+                 {"cols", {{"blocks", "unknown"}}},
+                 {"matrix", m["J_bias"]["matrix"]}};
   const Checked c = Run(json::array({m}), "smooth-0", "undeclared");
   ASSERT_EQ(c.exit_code, 0) << c.err;
   Print("undeclared", c.out);
@@ -167,7 +176,8 @@ TEST_F(Check, PermutedBlocksAreFound) {
     std::vector<std::string> order;
     for (int i = 0; i < 5; ++i) {
       order.push_back(own[perm[i]]);
-      for (int j = 0; j < 5; ++j) permuted.block<3, 3>(3 * i, 3 * j) = cov.block<3, 3>(3 * perm[i], 3 * perm[j]);
+      for (int j = 0; j < 5; ++j)
+        permuted.block<3, 3>(3 * i, 3 * j) = cov.block<3, 3>(3 * perm[i], 3 * perm[j]);
     }
     m["cov"]["matrix"] = JsonRows(permuted);
     const Checked c = Run(json::array({m}), "smooth-0", "permuted" + std::to_string(trial));
@@ -197,7 +207,8 @@ TEST_F(Check, SwappedJacobianColumnsAreFound) {
   const json& r = c.out["measurements"][0];
   EXPECT_EQ(r["best"]["J_bias_columns"], json({"bg", "ba"}));
   EXPECT_LE(r["best"]["J_bias"]["max_d"].get<double>(), 1e-9);
-  EXPECT_TRUE(Has(Findings(r), "J_bias's columns are [bg, ba], not the declared [ba, bg]")) << Findings(r);
+  EXPECT_TRUE(Has(Findings(r), "J_bias's columns are [bg, ba], not the declared [ba, bg]"))
+      << Findings(r);
 }
 
 TEST_F(Check, FlippedJacobianSignIsFound) {
@@ -237,13 +248,14 @@ TEST_F(Check, DensityUsedAsVarianceIsExplainedByNothing) {
   const json c = CaseJson("white-0");
   const std::vector<ImuSample> samples = CaseSamples(c);
   ImuNoise squared = CaseNoise(c);
-  for (double* d : {&squared.gyro_noise_density, &squared.accel_noise_density, &squared.gyro_random_walk,
-                    &squared.accel_random_walk})
+  for (double* d : {&squared.gyro_noise_density, &squared.accel_noise_density,
+                    &squared.gyro_random_walk, &squared.accel_random_walk})
     *d = *d * *d;
   SampleWindow w;
-  ASSERT_TRUE(MakeWindow(samples.data(), samples.size(), samples.front().t, samples.back().t, w).ok());
-  const Preintegrated p = PreintegrateByPropagation(Plugins(), "euler", w, JsonVec3(c["state_s"]["bg"]),
-                                                    JsonVec3(c["state_s"]["ba"]), squared);
+  ASSERT_TRUE(
+      MakeWindow(samples.data(), samples.size(), samples.front().t, samples.back().t, w).ok());
+  const Preintegrated p = PreintegrateByPropagation(
+      Plugins(), "euler", w, JsonVec3(c["state_s"]["bg"]), JsonVec3(c["state_s"]["ba"]), squared);
   json m = GtsamMeasurement("white-0");
   m["cov"]["matrix"] = JsonRows(Express(Plugins(), p, "gtsam_manifold").cov);
   const Checked r = Run(json::array({m}), "white-0", "variance");
@@ -257,7 +269,8 @@ TEST_F(Check, DensityUsedAsVarianceIsExplainedByNothing) {
   // on the correlation scale each diagonal entry is off by nearly all of itself: d -> 1.
   EXPECT_GT(o["best"]["cov"]["max_d"].get<double>(), 0.99);
   EXPECT_LE(o["best"]["J_bias"]["max_d"].get<double>(), 1e-9);  // the noise does not touch J_bias
-  EXPECT_TRUE(Has(Findings(o), "no convention or block order explains the covariance")) << Findings(o);
+  EXPECT_TRUE(Has(Findings(o), "no convention or block order explains the covariance"))
+      << Findings(o);
   // The ratios name the cause: the rotation block is driven by the gyro's white noise alone
   // (its random walk adds 0.2 % over these 10 s), so its variances shrank by the gyro density
   // squared; the two digits printed are those of gyro_noise_density^2.
@@ -271,8 +284,8 @@ TEST_F(Check, DensityUsedAsVarianceIsExplainedByNothing) {
 
 // `intervals` 1 s intervals of a case from its start, preintegrated by `method` (a propagator or
 // a native preintegrator), written in `convention` fully declared, or with every chart "unknown".
-json OwnMeasurements(const std::string& id, const std::string& method, bool native, const std::string& convention,
-                     bool declared, int intervals) {
+json OwnMeasurements(const std::string& id, const std::string& method, bool native,
+                     const std::string& convention, bool declared, int intervals) {
   const json c = CaseJson(id);
   const std::vector<ImuSample> samples = CaseSamples(c);
   const Registry& reg = Plugins();
@@ -283,8 +296,9 @@ json OwnMeasurements(const std::string& id, const std::string& method, bool nati
     const double ts = t0 + k, te = t0 + k + 1;
     EXPECT_TRUE(MakeWindow(samples.data(), samples.size(), ts, te, w).ok());
     const Vec3 bg = JsonVec3(c["state_s"]["bg"]), ba = JsonVec3(c["state_s"]["ba"]);
-    const Preintegrated p = native ? PreintegrateNative(reg, method, w, bg, ba, CaseNoise(c))
-                                   : PreintegrateByPropagation(reg, method, w, bg, ba, CaseNoise(c));
+    const Preintegrated p = native
+                                ? PreintegrateNative(reg, method, w, bg, ba, CaseNoise(c))
+                                : PreintegrateByPropagation(reg, method, w, bg, ba, CaseNoise(c));
     const Preintegrated in = Express(reg, p, convention);
     const auto& cov_blocks = reg.info(PluginKind::IncrementConvention, convention).blocks;
     std::vector<std::string> rows, cols;
@@ -349,8 +363,8 @@ TEST_F(Check, OwnMeasurementsInEveryConventionAreConsistent) {
       EXPECT_LE(worst_i, 1e-9) << what[i];
       worst = std::max(worst, worst_i);
     }
-    std::printf("  %-28s worst max d %.2g over %zu measurements in %zu conventions\n", method.c_str(), worst,
-                ms.size(), conventions.size());
+    std::printf("  %-28s worst max d %.2g over %zu measurements in %zu conventions\n",
+                method.c_str(), worst, ms.size(), conventions.size());
   }
 }
 
@@ -359,13 +373,14 @@ TEST_F(Check, OwnMeasurementsInEveryConventionAreConsistent) {
 TEST_F(Check, UnusableInputExitsWithTwoNamingFileAndPointer) {
   TempDir& tmp = Tmp();
   const std::string case_path = ShellQuote(DataPath("reference/cases/smooth-0.json"));
-  CommandResult r = RunImuconv("check " + ShellQuote(tmp.file("missing.json")) + " --case " + case_path, tmp);
+  CommandResult r =
+      RunImuconv("check " + ShellQuote(tmp.file("missing.json")) + " --case " + case_path, tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "missing.json")) << r.err;
 
   json m = GtsamMeasurement("smooth-0");
-  r = RunImuconv("check " + ShellQuote(tmp.write("ok.json", json{{"measurements", {m}}}.dump())) + " --case " +
-                     ShellQuote(tmp.file("no-case.json")),
+  r = RunImuconv("check " + ShellQuote(tmp.write("ok.json", json{{"measurements", {m}}}.dump())) +
+                     " --case " + ShellQuote(tmp.file("no-case.json")),
                  tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "no-case.json")) << r.err;
@@ -373,32 +388,36 @@ TEST_F(Check, UnusableInputExitsWithTwoNamingFileAndPointer) {
   // A case whose samples have a gap (rows 500..599 removed: 0.5 s at 200 Hz).
   json gap_case = CaseJson("smooth-0");
   gap_case["imu"].erase(gap_case["imu"].begin() + 500, gap_case["imu"].begin() + 600);
-  r = RunImuconv(
-      "check " + ShellQuote(tmp.file("ok.json")) + " --case " + ShellQuote(tmp.write("gap.json", gap_case.dump())),
-      tmp);
+  r = RunImuconv("check " + ShellQuote(tmp.file("ok.json")) + " --case " +
+                     ShellQuote(tmp.write("gap.json", gap_case.dump())),
+                 tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "gap.json") && Has(r.err, "/imu/500/0") && Has(r.err, "gap")) << r.err;
 
   json bad = m;
   bad["cov"]["matrix"].erase(bad["cov"]["matrix"].begin());  // 14 rows
-  r = RunImuconv(
-      "check " + ShellQuote(tmp.write("bad.json", json{{"measurements", {bad}}}.dump())) + " --case " + case_path, tmp);
+  r = RunImuconv("check " +
+                     ShellQuote(tmp.write("bad.json", json{{"measurements", {bad}}}.dump())) +
+                     " --case " + case_path,
+                 tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "bad.json") && Has(r.err, "/measurements/0/cov/matrix")) << r.err;
 
   json typo = m;
   typo["cov"]["convention"] = "gtsam_manifolds";
-  r = RunImuconv(
-      "check " + ShellQuote(tmp.write("typo.json", json{{"measurements", {typo}}}.dump())) + " --case " + case_path,
-      tmp);
+  r = RunImuconv("check " +
+                     ShellQuote(tmp.write("typo.json", json{{"measurements", {typo}}}.dump())) +
+                     " --case " + case_path,
+                 tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "/measurements/0/cov/convention")) << r.err;
 
   json blocks = m;
   blocks["cov"]["blocks"] = {"theta", "p", "v", "ba", "ba"};
-  r = RunImuconv(
-      "check " + ShellQuote(tmp.write("blocks.json", json{{"measurements", {blocks}}}.dump())) + " --case " + case_path,
-      tmp);
+  r = RunImuconv("check " +
+                     ShellQuote(tmp.write("blocks.json", json{{"measurements", {blocks}}}.dump())) +
+                     " --case " + case_path,
+                 tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "/measurements/0/cov/blocks") && Has(r.err, "not an ordering")) << r.err;
 
@@ -406,11 +425,13 @@ TEST_F(Check, UnusableInputExitsWithTwoNamingFileAndPointer) {
   json late = m;
   late["t_start"] = m["t_start"].get<double>() + 100.0;
   late["t_end"] = m["t_end"].get<double>() + 100.0;
-  r = RunImuconv(
-      "check " + ShellQuote(tmp.write("late.json", json{{"measurements", {m, late}}}.dump())) + " --case " + case_path,
-      tmp);
+  r = RunImuconv("check " +
+                     ShellQuote(tmp.write("late.json", json{{"measurements", {m, late}}}.dump())) +
+                     " --case " + case_path,
+                 tmp);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "late.json") && Has(r.err, "/measurements/1") && Has(r.err, "not inside the case's samples"))
+  EXPECT_TRUE(Has(r.err, "late.json") && Has(r.err, "/measurements/1") &&
+              Has(r.err, "not inside the case's samples"))
       << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
 }
@@ -422,10 +443,13 @@ TEST_F(Check, TableWithoutJson) {
   json flipped = GtsamMeasurement("smooth-0", &J);
   flipped["J_bias"]["matrix"] = JsonRows(-J);
   const std::string f = tmp.write("table.json", json{{"measurements", {m, flipped}}}.dump());
-  const CommandResult r =
-      RunImuconv("check " + ShellQuote(f) + " --case " + ShellQuote(DataPath("reference/cases/smooth-0.json")), tmp);
+  const CommandResult r = RunImuconv(
+      "check " + ShellQuote(f) + " --case " + ShellQuote(DataPath("reference/cases/smooth-0.json")),
+      tmp);
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_TRUE(Has(r.out, "consistent") && Has(r.out, "INCONSISTENT") && Has(r.out, "verdict: inconsistent")) << r.out;
+  EXPECT_TRUE(Has(r.out, "consistent") && Has(r.out, "INCONSISTENT") &&
+              Has(r.out, "verdict: inconsistent"))
+      << r.out;
 }
 
 // Outputs of every kind (consistent; a wrong declaration with its fix; nothing explains;

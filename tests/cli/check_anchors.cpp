@@ -36,13 +36,15 @@ json OrbSlam3Measurement() {
   J.block<3, 3>(3, 3) = JsonMatrix(p["JPa"]);
   J.block<3, 3>(6, 0) = JsonMatrix(p["JVg"]);
   J.block<3, 3>(6, 3) = JsonMatrix(p["JVa"]);
-  return {{"t_start", c["imu"].front()[0]},
-          {"t_end", c["imu"].back()[0]},
-          {"dt", p["dT"]},
-          {"bias_estimate", {{"bg", a["inputs"]["bias_lin_float"]["bg"]}, {"ba", a["inputs"]["bias_lin_float"]["ba"]}}},
-          {"delta", {{"R", p["dR"]}, {"dp", p["dP"]}, {"dv", p["dV"]}}},
-          {"J_bias", {{"convention", "unknown"}, {"matrix", JsonRows(J)}}},
-          {"cov", {{"convention", "unknown"}, {"matrix", p["C"]["matrix"]}}}};
+  return {
+      {"t_start", c["imu"].front()[0]},
+      {"t_end", c["imu"].back()[0]},
+      {"dt", p["dT"]},
+      {"bias_estimate",
+       {{"bg", a["inputs"]["bias_lin_float"]["bg"]}, {"ba", a["inputs"]["bias_lin_float"]["ba"]}}},
+      {"delta", {{"R", p["dR"]}, {"dp", p["dP"]}, {"dv", p["dV"]}}},
+      {"J_bias", {{"convention", "unknown"}, {"matrix", JsonRows(J)}}},
+      {"cov", {{"convention", "unknown"}, {"matrix", p["C"]["matrix"]}}}};
 }
 
 /// OKVIS2's ImuError preintegration as a measurement: the increment Delta_R,
@@ -61,13 +63,15 @@ json Okvis2Measurement() {
   J.block<3, 3>(3, 0) = -JsonMatrix(p["dalpha_db_g"]);
   J.block<3, 3>(6, 0) = JsonMatrix(p["dv_db_g"]);
   J.block<3, 3>(6, 3) = -JsonMatrix(p["C_integral"]);
-  return {{"t_start", c["imu"].front()[0]},
-          {"t_end", c["imu"].back()[0]},
-          {"dt", a["inputs"]["Delta_t"]},
-          {"bias_estimate", {{"bg", a["inputs"]["state_start"]["bg"]}, {"ba", a["inputs"]["state_start"]["ba"]}}},
-          {"delta", {{"R", p["Delta_R"]}, {"dp", p["acc_doubleintegral"]}, {"dv", p["acc_integral"]}}},
-          {"J_bias", {{"convention", "unknown"}, {"matrix", JsonRows(J)}}},
-          {"cov", {{"convention", "unknown"}, {"matrix", p["P_delta"]["matrix"]}}}};
+  return {
+      {"t_start", c["imu"].front()[0]},
+      {"t_end", c["imu"].back()[0]},
+      {"dt", a["inputs"]["Delta_t"]},
+      {"bias_estimate",
+       {{"bg", a["inputs"]["state_start"]["bg"]}, {"ba", a["inputs"]["state_start"]["ba"]}}},
+      {"delta", {{"R", p["Delta_R"]}, {"dp", p["acc_doubleintegral"]}, {"dv", p["acc_integral"]}}},
+      {"J_bias", {{"convention", "unknown"}, {"matrix", JsonRows(J)}}},
+      {"cov", {{"convention", "unknown"}, {"matrix", p["P_delta"]["matrix"]}}}};
 }
 
 struct Checked {
@@ -80,8 +84,8 @@ Checked RunCheck(const json& m, const std::string& name) {
   static TempDir tmp;
   const std::string file = tmp.write(name + ".json", json{{"measurements", {m}}}.dump());
   const CommandResult r = RunImuconv(
-      "check " + ShellQuote(file) + " --case " + ShellQuote(DataPath(std::string("reference/cases/") + kCase + ".json")) +
-          " --json",
+      "check " + ShellQuote(file) + " --case " +
+          ShellQuote(DataPath(std::string("reference/cases/") + kCase + ".json")) + " --json",
       tmp);
   Checked c{r.exit_code, json(), r.err, ""};
   if (r.exit_code == 0 || r.exit_code == 1) {
@@ -132,7 +136,8 @@ TEST(CheckAnchors, OrbSlam3IsJudgedAndItsMissingCrossTermsNamed) {
     }
   }
   EXPECT_GE(missing, 1) << c.findings;
-  EXPECT_NE(c.findings.find("is zero where the reference is not: terms never formed"), std::string::npos);
+  EXPECT_NE(c.findings.find("is zero where the reference is not: terms never formed"),
+            std::string::npos);
   EXPECT_TRUE(m["unexplained_blocks"].empty()) << m["unexplained_blocks"].dump(1);
 }
 

@@ -35,7 +35,8 @@ const char* const kCase = "smooth-0";
 double BlockCorrelation(const Eigen::MatrixXd& K, int r, int c) {
   double m = 0.0;
   for (int i = r; i < r + 3; ++i)
-    for (int j = c; j < c + 3; ++j) m = std::max(m, std::abs(K(i, j)) / std::sqrt(K(i, i) * K(j, j)));
+    for (int j = c; j < c + 3; ++j)
+      m = std::max(m, std::abs(K(i, j)) / std::sqrt(K(i, i) * K(j, j)));
   return m;
 }
 
@@ -50,10 +51,10 @@ class CheckBlocks : public ::testing::Test {
   /// imuconv check --json on one measurement: measurement 0 of the output.
   static json Run(const json& m, const std::string& name, int expect_exit = 1) {
     const std::string file = Tmp().write(name + ".json", json{{"measurements", {m}}}.dump());
-    const CommandResult r = RunImuconv("check " + ShellQuote(file) + " --case " +
-                                           ShellQuote(DataPath("reference/cases/" + std::string(kCase) + ".json")) +
-                                           " --json",
-                                       Tmp());
+    const CommandResult r = RunImuconv(
+        "check " + ShellQuote(file) + " --case " +
+            ShellQuote(DataPath("reference/cases/" + std::string(kCase) + ".json")) + " --json",
+        Tmp());
     EXPECT_EQ(r.exit_code, expect_exit) << name << "\n" << r.err << r.out;
     if (r.exit_code != 0 && r.exit_code != 1) return json::object();
     const json out = json::parse(r.out);
@@ -97,7 +98,8 @@ TEST_F(CheckBlocks, OneNegatedBlockKeepsTheDeclaredChartAndNamesTheBlock) {
   EXPECT_EQ(f["kind"], "sign");
   EXPECT_EQ(f["factor"], -1.0);
   EXPECT_TRUE(r["unexplained_blocks"].empty());
-  EXPECT_TRUE(Has(Findings(r), "J_bias block (rows theta, cols bg) has the opposite sign")) << Findings(r);
+  EXPECT_TRUE(Has(Findings(r), "J_bias block (rows theta, cols bg) has the opposite sign"))
+      << Findings(r);
 }
 
 // J_bias's (p, ba) block per step (x 1/dt, dt the sample period).
@@ -191,7 +193,8 @@ TEST_F(CheckBlocks, NegatedCovarianceBlocksAreNamed) {
   Eigen::MatrixXd J, cov;
   json m = GtsamMeasurement(kCase, &J, &cov);
   std::set<std::string> expect;
-  for (const auto& [s, r] : {std::pair<const char*, int>{"theta", kTheta}, {"p", kP}, {"v", kV}, {"ba", kBa}})
+  for (const auto& [s, r] :
+       {std::pair<const char*, int>{"theta", kTheta}, {"p", kP}, {"v", kV}, {"ba", kBa}})
     if (2.0 * BlockCorrelation(cov, r, kBg) > kTol) expect.insert(s);
   ASSERT_GE(expect.size(), 2u);
   Eigen::VectorXd s = Eigen::VectorXd::Ones(15);
@@ -251,7 +254,8 @@ TEST_F(CheckBlocks, EquivalentExplanationsAreListedAndThePickIsStable) {
   EXPECT_EQ(first["equivalent"], again["equivalent"]);
   EXPECT_EQ(first["best"]["jacobian_convention"], "gtsam_manifold_jacobian");
   EXPECT_EQ(first["best"]["J_bias_sign"], -1);
-  const json forster = {{"jacobian_convention", "forster"}, {"J_bias_columns", {"ba", "bg"}}, {"J_bias_sign", 1}};
+  const json forster = {
+      {"jacobian_convention", "forster"}, {"J_bias_columns", {"ba", "bg"}}, {"J_bias_sign", 1}};
   bool listed = false;
   for (const json& e : first["equivalent"]["J_bias"]) listed = listed || e == forster;
   EXPECT_TRUE(listed) << first["equivalent"].dump(1);
@@ -268,7 +272,8 @@ TEST_F(CheckBlocks, ConsistentWithNothingDeclaredDoesNotSayDeclared) {
   EXPECT_FALSE(Has(Findings(r), "under the declared")) << Findings(r);
   EXPECT_TRUE(Has(Findings(r), "no chart was declared")) << Findings(r);
   const json d = Run(GtsamMeasurement(kCase, &J, &cov), "declared", 0);
-  EXPECT_TRUE(Has(Findings(d), "under the declared covariance convention gtsam_manifold")) << Findings(d);
+  EXPECT_TRUE(Has(Findings(d), "under the declared covariance convention gtsam_manifold"))
+      << Findings(d);
 }
 
 // The precision of the numbers and dt (the measurements reader's rule, measurement.h): a
@@ -285,9 +290,10 @@ TEST_F(CheckBlocks, PrecisionAndDtAreJudgedNotRefused) {
   a["cov"]["matrix"] = JsonRows(asym);
   {
     const std::string file = Tmp().write("asym64.json", json{{"measurements", {a}}}.dump());
-    const CommandResult r = RunImuconv("check " + ShellQuote(file) + " --case " +
-                                           ShellQuote(DataPath(std::string("reference/cases/") + kCase + ".json")),
-                                       Tmp());
+    const CommandResult r =
+        RunImuconv("check " + ShellQuote(file) + " --case " +
+                       ShellQuote(DataPath(std::string("reference/cases/") + kCase + ".json")),
+                   Tmp());
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_TRUE(Has(r.err, "/measurements/0/cov/matrix")) << r.err;
   }
@@ -306,9 +312,10 @@ TEST_F(CheckBlocks, PrecisionAndDtAreJudgedNotRefused) {
   json bad = m;
   bad["precision"] = "float16";
   const std::string file = Tmp().write("float16.json", json{{"measurements", {bad}}}.dump());
-  const CommandResult r = RunImuconv(
-      "check " + ShellQuote(file) + " --case " + ShellQuote(DataPath(std::string("reference/cases/") + kCase + ".json")),
-      Tmp());
+  const CommandResult r =
+      RunImuconv("check " + ShellQuote(file) + " --case " +
+                     ShellQuote(DataPath(std::string("reference/cases/") + kCase + ".json")),
+                 Tmp());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "/measurements/0/precision")) << r.err;
 }

@@ -56,15 +56,24 @@ json CasePipeline(const json& c, const std::string& csv_file, const std::string&
             {"time_unit", "ms"},
             {"time_origin", 0},
             {"columns",
-             {{"t", "time_ms"}, {"wx", "wx"}, {"wy", "wy"}, {"wz", "wz"}, {"ax", "ax"}, {"ay", "ay"}, {"az", "az"}}}}},
-          {"tasks", json::array({{{"type", "check"}, {"name", "chk"}, {"measurements", {{"file", meas_file}}}}})}};
+             {{"t", "time_ms"},
+              {"wx", "wx"},
+              {"wy", "wy"},
+              {"wz", "wz"},
+              {"ax", "ax"},
+              {"ay", "ay"},
+              {"az", "az"}}}}},
+          {"tasks",
+           json::array(
+               {{{"type", "check"}, {"name", "chk"}, {"measurements", {{"file", meas_file}}}}})}};
 }
 
 struct CaseFiles {
   std::string meas, pipeline, case_file;
 };
 
-CaseFiles Write(const TempDir& tmp, const std::string& id, const json& measurements, const std::string& tag) {
+CaseFiles Write(const TempDir& tmp, const std::string& id, const json& measurements,
+                const std::string& tag) {
   const json c = CaseJson(id);
   CaseFiles s;
   s.case_file = DataPath("reference/cases/" + id + ".json");
@@ -75,11 +84,13 @@ CaseFiles Write(const TempDir& tmp, const std::string& id, const json& measureme
 }
 
 void ExpectSameExplanation(const json& a, const json& b, const std::string& what) {
-  for (const char* key : {"scheme", "convention", "blocks", "jacobian_convention", "J_bias_columns", "J_bias_sign"})
+  for (const char* key :
+       {"scheme", "convention", "blocks", "jacobian_convention", "J_bias_columns", "J_bias_sign"})
     EXPECT_EQ(a[key], b[key]) << what << " " << key;
   for (const char* part : {"delta", "J_bias", "cov"})
     for (const char* stat : {"max_d", "mean_d"})
-      EXPECT_NEAR(a[part][stat].get<double>(), b[part][stat].get<double>(), 1e-9) << what << " " << part << stat;
+      EXPECT_NEAR(a[part][stat].get<double>(), b[part][stat].get<double>(), 1e-9)
+          << what << " " << part << stat;
 }
 
 void ExpectSameCheck(const json& from_case, const json& from_pipeline, const std::string& what) {
@@ -89,7 +100,8 @@ void ExpectSameCheck(const json& from_case, const json& from_pipeline, const std
   for (std::size_t i = 0; i < from_case["measurements"].size(); ++i) {
     const json& a = from_case["measurements"][i];
     const json& b = from_pipeline["measurements"][i];
-    for (const char* key : {"index", "pointer", "verdict", "declared"}) EXPECT_EQ(a[key], b[key]) << what << key;
+    for (const char* key : {"index", "pointer", "verdict", "declared"})
+      EXPECT_EQ(a[key], b[key]) << what << key;
     ASSERT_EQ(a["findings"].size(), b["findings"].size()) << what;
     // The findings' words; their numbers (max d in %.2g) are compared above.
     const std::regex number("[0-9.]+e-[0-9]+");
@@ -99,7 +111,8 @@ void ExpectSameCheck(const json& from_case, const json& from_pipeline, const std
           << what;
     EXPECT_NEAR(a["t_start"].get<double>(), b["t_start"].get<double>(), 1e-9) << what;
     EXPECT_NEAR(a["t_end"].get<double>(), b["t_end"].get<double>(), 1e-9) << what;
-    ExpectSameExplanation(a["under_declaration"], b["under_declaration"], what + " under_declaration");
+    ExpectSameExplanation(a["under_declaration"], b["under_declaration"],
+                          what + " under_declaration");
     ExpectSameExplanation(a["best"], b["best"], what + " best");
   }
 }
@@ -113,17 +126,17 @@ TEST(CheckPipeline, SameVerdictAndNumbersAsTheCase) {
       const json m = doubled ? DoubledCov(GtsamMeasurement(id)) : GtsamMeasurement(id);
       const std::string tag = std::string(id) + (doubled ? "-doubled" : "-plain");
       const CaseFiles s = Write(tmp, id, json::array({m}), tag);
-      const CommandResult by_case =
-          RunImuconv("check " + ShellQuote(s.meas) + " --case " + ShellQuote(s.case_file) + " --json", tmp);
-      const CommandResult by_pipeline =
-          RunImuconv("check " + ShellQuote(s.meas) + " --pipeline " + ShellQuote(s.pipeline) + " --json", tmp);
+      const CommandResult by_case = RunImuconv(
+          "check " + ShellQuote(s.meas) + " --case " + ShellQuote(s.case_file) + " --json", tmp);
+      const CommandResult by_pipeline = RunImuconv(
+          "check " + ShellQuote(s.meas) + " --pipeline " + ShellQuote(s.pipeline) + " --json", tmp);
       ASSERT_EQ(by_case.exit_code, doubled ? 1 : 0) << tag << by_case.err;
       ASSERT_EQ(by_pipeline.exit_code, by_case.exit_code) << tag << by_pipeline.err;
       const json a = json::parse(by_case.out), b = json::parse(by_pipeline.out);
       EXPECT_EQ(b["verdict"], doubled ? "inconsistent" : "consistent") << tag;
       ExpectSameCheck(a, b, tag);
-      std::printf("  %-22s verdict %s, best %s %s, max d cov: case %.3g, pipeline %.3g\n", tag.c_str(),
-                  b["verdict"].get<std::string>().c_str(),
+      std::printf("  %-22s verdict %s, best %s %s, max d cov: case %.3g, pipeline %.3g\n",
+                  tag.c_str(), b["verdict"].get<std::string>().c_str(),
                   b["measurements"][0]["best"]["scheme"].get<std::string>().c_str(),
                   b["measurements"][0]["best"]["convention"].get<std::string>().c_str(),
                   a["measurements"][0]["best"]["cov"]["max_d"].get<double>(),
@@ -142,8 +155,10 @@ TEST(CheckTask, RunWritesWhatCheckPrintsAndExits1WhenInconsistent) {
     const std::string tag = std::string("run-") + (doubled ? "doubled" : "plain");
     const CaseFiles s = Write(tmp, id, json::array({m}), tag);
     const std::string out = tmp.file(tag + ".out.json");
-    const CommandResult run = RunImuconv("run -q " + ShellQuote(s.pipeline) + " -o " + ShellQuote(out), tmp);
-    // 1 (exit_codes.h): the run completed and wrote its document, and a check task found an inconsistency.
+    const CommandResult run =
+        RunImuconv("run -q " + ShellQuote(s.pipeline) + " -o " + ShellQuote(out), tmp);
+    // 1 (exit_codes.h): the run completed and wrote its document, and a check task found an
+    // inconsistency.
     ASSERT_EQ(run.exit_code, doubled ? 1 : 0) << run.err;
     if (doubled) {
       EXPECT_TRUE(Has(run.err, "check task 'chk': inconsistent")) << run.err;
@@ -154,16 +169,16 @@ TEST(CheckTask, RunWritesWhatCheckPrintsAndExits1WhenInconsistent) {
     EXPECT_EQ(task["name"], "chk");
     EXPECT_EQ(task["measurements_file"], s.meas);
     // The same samples read by the same readers: check --pipeline's numbers exactly.
-    const CommandResult check =
-        RunImuconv("check " + ShellQuote(s.meas) + " --pipeline " + ShellQuote(s.pipeline) + " --json", tmp);
+    const CommandResult check = RunImuconv(
+        "check " + ShellQuote(s.meas) + " --pipeline " + ShellQuote(s.pipeline) + " --json", tmp);
     ASSERT_EQ(check.exit_code, doubled ? 1 : 0) << check.err;
     const json c = json::parse(check.out);
     EXPECT_EQ(task["verdict"], c["verdict"]);
     EXPECT_EQ(task["tolerances"], c["tolerances"]);
     EXPECT_EQ(task["measurements"], c["measurements"]);
     // And the reference case's, within the CSV's rounding of the times.
-    const CommandResult by_case =
-        RunImuconv("check " + ShellQuote(s.meas) + " --case " + ShellQuote(s.case_file) + " --json", tmp);
+    const CommandResult by_case = RunImuconv(
+        "check " + ShellQuote(s.meas) + " --case " + ShellQuote(s.case_file) + " --json", tmp);
     ExpectSameCheck(json::parse(by_case.out), task, tag);
   }
 }
@@ -176,20 +191,22 @@ TEST(CheckTask, OtherTasksNarrowingTheKeptRangeDoNotNarrowTheCheck) {
   const CaseFiles s = Write(tmp, "smooth-0", json::array({GtsamMeasurement("smooth-0")}), "narrow");
   json p = ReadJson(s.pipeline);
   const double t0 = c["imu"].front()[0].get<double>();
-  p["tasks"].push_back({{"type", "propagate"},
-                        {"name", "short"},
-                        {"propagator", "euler"},
-                        {"start", {{"state", {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {0, 0, 0}}}}}},
-                        {"interval", {{"t_start", t0}, {"t_end", t0 + 0.1}}}});
+  p["tasks"].push_back(
+      {{"type", "propagate"},
+       {"name", "short"},
+       {"propagator", "euler"},
+       {"start", {{"state", {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {0, 0, 0}}}}}},
+       {"interval", {{"t_start", t0}, {"t_end", t0 + 0.1}}}});
   const std::string pipeline = tmp.write("narrow2.pipeline.json", p.dump(1));
   const std::string out = tmp.file("narrow.out.json");
-  const CommandResult run = RunImuconv("run -q " + ShellQuote(pipeline) + " -o " + ShellQuote(out), tmp);
+  const CommandResult run =
+      RunImuconv("run -q " + ShellQuote(pipeline) + " -o " + ShellQuote(out), tmp);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const json doc = ReadJson(out);
   ASSERT_TRUE(doc["imu"].contains("kept_range")) << doc["imu"].dump();
   EXPECT_EQ(doc["tasks"][0]["verdict"], "consistent");
-  const CommandResult by_case =
-      RunImuconv("check " + ShellQuote(s.meas) + " --case " + ShellQuote(s.case_file) + " --json", tmp);
+  const CommandResult by_case = RunImuconv(
+      "check " + ShellQuote(s.meas) + " --case " + ShellQuote(s.case_file) + " --json", tmp);
   ExpectSameCheck(json::parse(by_case.out), doc["tasks"][0], "narrowed");
 }
 
@@ -197,13 +214,14 @@ TEST(CheckTask, OtherTasksNarrowingTheKeptRangeDoNotNarrowTheCheck) {
 
 TEST(CheckPipelineHostile, RefusedByFileAndPointer) {
   const TempDir tmp;
-  const CaseFiles s = Write(tmp, "smooth-0", json::array({GtsamMeasurement("smooth-0")}), "hostile");
+  const CaseFiles s =
+      Write(tmp, "smooth-0", json::array({GtsamMeasurement("smooth-0")}), "hostile");
   const std::string q_meas = ShellQuote(s.meas);
 
   // Both sources, or none: a usage error (2), nothing checked.
-  CommandResult r = RunImuconv(
-      "check " + q_meas + " --case " + ShellQuote(s.case_file) + " --pipeline " + ShellQuote(s.pipeline) + " --json",
-      tmp);
+  CommandResult r = RunImuconv("check " + q_meas + " --case " + ShellQuote(s.case_file) +
+                                   " --pipeline " + ShellQuote(s.pipeline) + " --json",
+                               tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "--pipeline") && Has(r.err, "--case")) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
@@ -214,9 +232,12 @@ TEST(CheckPipelineHostile, RefusedByFileAndPointer) {
   // A pipeline without /noise.
   json p = ReadJson(s.pipeline);
   p.erase("noise");
-  r = RunImuconv("check " + q_meas + " --pipeline " + ShellQuote(tmp.write("no_noise.json", p.dump())), tmp);
+  r = RunImuconv(
+      "check " + q_meas + " --pipeline " + ShellQuote(tmp.write("no_noise.json", p.dump())), tmp);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "no_noise.json") && Has(r.err, "/noise") && Has(r.err, "required key is missing")) << r.err;
+  EXPECT_TRUE(Has(r.err, "no_noise.json") && Has(r.err, "/noise") &&
+              Has(r.err, "required key is missing"))
+      << r.err;
   // ... and as a run's check task: refused before any task runs, nothing written.
   const std::string out = tmp.file("never.json");
   r = RunImuconv("run -q " + ShellQuote(tmp.file("no_noise.json")) + " -o " + ShellQuote(out), tmp);
@@ -227,7 +248,8 @@ TEST(CheckPipelineHostile, RefusedByFileAndPointer) {
   // A CSV column that is not in the header: the CSV reader's message, with the file.
   p = ReadJson(s.pipeline);
   p["imu"]["columns"]["wx"] = "gyro_x";
-  r = RunImuconv("check " + q_meas + " --pipeline " + ShellQuote(tmp.write("bad_column.json", p.dump())), tmp);
+  r = RunImuconv(
+      "check " + q_meas + " --pipeline " + ShellQuote(tmp.write("bad_column.json", p.dump())), tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "hostile.csv") && Has(r.err, "gyro_x")) << r.err;
 
@@ -250,13 +272,15 @@ TEST(CheckPipelineHostile, RefusedByFileAndPointer) {
   // The check task's measurements as a task name, and a missing measurements file.
   p = ReadJson(s.pipeline);
   p["tasks"][0]["measurements"] = "pre";
-  r = RunImuconv("run -q " + ShellQuote(tmp.write("by_name.json", p.dump())) + " -o " + ShellQuote(out), tmp);
+  r = RunImuconv(
+      "run -q " + ShellQuote(tmp.write("by_name.json", p.dump())) + " -o " + ShellQuote(out), tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "by_name.json") && Has(r.err, "/tasks/0/measurements") &&
               Has(r.err, "expected {\"file\": PATH}"))
       << r.err;
   p["tasks"][0]["measurements"] = {{"file", "nowhere.json"}};
-  r = RunImuconv("run -q " + ShellQuote(tmp.write("missing.json", p.dump())) + " -o " + ShellQuote(out), tmp);
+  r = RunImuconv(
+      "run -q " + ShellQuote(tmp.write("missing.json", p.dump())) + " -o " + ShellQuote(out), tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "nowhere.json")) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out));

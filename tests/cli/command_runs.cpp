@@ -25,9 +25,11 @@ using nlohmann::json;
 
 const std::string kCase = SourcePath("tests/data/reference/cases/smooth-0.json");
 // GTSAM's manifold preintegration of smooth-0, one measurement (examples/data/SOURCE.md).
-const std::string kMeasurements = SourcePath("examples/data/gtsam_smooth0_manifold.measurements.json");
+const std::string kMeasurements =
+    SourcePath("examples/data/gtsam_smooth0_manifold.measurements.json");
 const std::string kImu = SourcePath("examples/data/V1_01_easy_imu0_slice.csv");
-const std::string kGroundTruth = SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv");
+const std::string kGroundTruth =
+    SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv");
 
 bool Has(const std::string& s, const std::string& sub) { return s.find(sub) != std::string::npos; }
 
@@ -78,10 +80,10 @@ TEST(CommandRuns, CheckRunsWithoutTheCommandLineAsTheProgramDoes) {
   EXPECT_TRUE(std::filesystem::is_regular_file(o.report_path));
   EXPECT_TRUE(Has(run.err, "wrote " + o.report_path)) << run.err;
 
-  const CommandResult program = RunImuconv(
-      "check " + ShellQuote(kMeasurements) + " --case " + ShellQuote(kCase) + " --json --report " +
-          ShellQuote(tmp.file("program.html")),
-      tmp);
+  const CommandResult program =
+      RunImuconv("check " + ShellQuote(kMeasurements) + " --case " + ShellQuote(kCase) +
+                     " --json --report " + ShellQuote(tmp.file("program.html")),
+                 tmp);
   EXPECT_EQ(program.exit_code, run.exit_code);
   EXPECT_EQ(program.out, run.out);
 }
@@ -131,9 +133,10 @@ TEST(CommandRuns, MontecarloRunsWithoutTheCommandLineAsTheProgramDoes) {
   EXPECT_EQ(j.at("seed"), 1);
   EXPECT_EQ(j.at("verdict") == "consistent", run.exit_code == 0);
 
-  const CommandResult program = RunImuconv(
-      "montecarlo --case " + ShellQuote(kCase) + " --method euler --trials 20 --seed 1 --duration 0.2 --threads 1 --json",
-      tmp);
+  const CommandResult program =
+      RunImuconv("montecarlo --case " + ShellQuote(kCase) +
+                     " --method euler --trials 20 --seed 1 --duration 0.2 --threads 1 --json",
+                 tmp);
   EXPECT_EQ(program.exit_code, run.exit_code);
   EXPECT_EQ(program.out, run.out);
 }
@@ -151,7 +154,8 @@ TEST(CommandRuns, MontecarloShardsMergeToTheWholeRun) {
     shard.shard_output = tmp.file(std::string("shard") + k);
     const Captured written = Capture([&] { return RunMontecarloCommand(ctx, shard); });
     ASSERT_EQ(written.exit_code, 0) << written.err;
-    EXPECT_TRUE(Has(written.out, "wrote " + *shard.shard_output)) << written.out;  // the shard's only output
+    EXPECT_TRUE(Has(written.out, "wrote " + *shard.shard_output))
+        << written.out;  // the shard's only output
   }
   imuconv::cli::MontecarloCommandOptions merge;
   merge.merge_files = {tmp.file("shard1"), tmp.file("shard0")};
@@ -170,15 +174,19 @@ TEST(CommandRuns, MontecarloRefusalsNameTheOption) {
   merge.noise_scale = 2.0;
   const Captured scale = Capture([&] { return RunMontecarloCommand(ctx, merge); });
   EXPECT_EQ(scale.exit_code, imuconv::cli::kExitBadInput);
-  EXPECT_EQ(scale.err, "imuconv: error: --merge takes the run from its shards; --noise-scale is not used with it\n");
+  EXPECT_EQ(
+      scale.err,
+      "imuconv: error: --merge takes the run from its shards; --noise-scale is not used with it\n");
   merge.noise_scale.reset();
   merge.shard_output = "x";
   const Captured output = Capture([&] { return RunMontecarloCommand(ctx, merge); });
   EXPECT_TRUE(Has(output.err, "; --output is not used with it")) << output.err;
   // A run misses what it needs; a shard needs its file.
-  const Captured missing = Capture([&] { return RunMontecarloCommand(ctx, imuconv::cli::MontecarloCommandOptions{}); });
+  const Captured missing =
+      Capture([&] { return RunMontecarloCommand(ctx, imuconv::cli::MontecarloCommandOptions{}); });
   EXPECT_EQ(missing.exit_code, imuconv::cli::kExitBadInput);
-  EXPECT_TRUE(Has(missing.err, "--case (or --pipeline), --method, --trials, --seed: required")) << missing.err;
+  EXPECT_TRUE(Has(missing.err, "--case (or --pipeline), --method, --trials, --seed: required"))
+      << missing.err;
   imuconv::cli::MontecarloCommandOptions shard = SmallRun();
   shard.shard = "0/2";
   const Captured no_file = Capture([&] { return RunMontecarloCommand(ctx, shard); });
@@ -210,8 +218,8 @@ TEST(CommandRuns, NeesRunsWithoutTheCommandLineAsTheProgramDoes) {
   EXPECT_EQ(j.at("windows").size(), 2u);  // one entry per window length
 
   const CommandResult program =
-      RunImuconv("nees --imu " + ShellQuote(kImu) + " --ground-truth " + ShellQuote(kGroundTruth) + " --noise " +
-                     ShellQuote(noise) + " --windows 0.5,1 --method rk4 --json",
+      RunImuconv("nees --imu " + ShellQuote(kImu) + " --ground-truth " + ShellQuote(kGroundTruth) +
+                     " --noise " + ShellQuote(noise) + " --windows 0.5,1 --method rk4 --json",
                  tmp);
   EXPECT_EQ(program.exit_code, run.exit_code);
   EXPECT_EQ(program.out, run.out);

@@ -12,7 +12,8 @@
 namespace imuconv::test {
 
 inline const std::string kEurocSliceImu = SourcePath("examples/data/V1_01_easy_imu0_slice.csv");
-inline const std::string kEurocSliceGroundTruth = SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv");
+inline const std::string kEurocSliceGroundTruth =
+    SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv");
 
 /// Copies both files into `tmp`/data/ under their own names.
 inline void CopyEurocSlice(const TempDir& tmp) {
@@ -34,7 +35,8 @@ inline nlohmann::json EurocSlicePipeline(const nlohmann::json& tasks, double gra
   return {{"gravity", {0.0, 0.0, gravity_z}},
           {"noise", kEurocNoise},
           {"imu", {{"format", "euroc"}, {"path", "data/V1_01_easy_imu0_slice.csv"}}},
-          {"ground_truth", {{"format", "euroc"}, {"path", "data/V1_01_easy_groundtruth_vicon2gt_slice.csv"}}},
+          {"ground_truth",
+           {{"format", "euroc"}, {"path", "data/V1_01_easy_groundtruth_vicon2gt_slice.csv"}}},
           {"tasks", tasks}};
 }
 

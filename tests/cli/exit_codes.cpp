@@ -16,8 +16,9 @@ namespace {
 using namespace imuconv::test;
 using nlohmann::json;
 
-const char* const kSubcommands[] = {"plugins", "conversion", "convert", "run",  "merge",     "refcase",
-                                    "bench",   "check",      "montecarlo", "nees", "experiment"};
+const char* const kSubcommands[] = {"plugins",    "conversion", "convert",   "run",
+                                    "merge",      "refcase",    "bench",     "check",
+                                    "montecarlo", "nees",       "experiment"};
 
 TEST(ExitCodes, EveryHelpPrintsTheTable) {
   const TempDir tmp;
@@ -26,8 +27,10 @@ TEST(ExitCodes, EveryHelpPrintsTheTable) {
   for (const auto& a : args) {
     const CommandResult r = RunImuconv(a, tmp);
     EXPECT_EQ(r.exit_code, 0) << a << r.err;
-    EXPECT_TRUE(Has(r.out, "Exit codes (every command): 0 ok, or consistent; 1 judged inconsistent") &&
-                Has(r.out, "2 bad input") && Has(r.out, "3 internal error") && Has(r.out, "docs/exit-codes.md"))
+    EXPECT_TRUE(
+        Has(r.out, "Exit codes (every command): 0 ok, or consistent; 1 judged inconsistent") &&
+        Has(r.out, "2 bad input") && Has(r.out, "3 internal error") &&
+        Has(r.out, "docs/exit-codes.md"))
         << a << "\n"
         << r.out;
   }
@@ -45,7 +48,8 @@ TEST(ExitCodes, EverySubcommandExits2OnBadInput) {
       {"conversion --from left --to no_such_chart --state " + state, "no_such_chart"},
       // convert exited 1 here before the table (check, nees and montecarlo exited 2).
       {"convert --what jacobian --from left --to no_such_chart --state " + state, "no_such_chart"},
-      {"convert --what jacobian --from left --to gtsam_navstate --state " + missing, "missing.json"},
+      {"convert --what jacobian --from left --to gtsam_navstate --state " + missing,
+       "missing.json"},
       {"run " + missing + " -o " + ShellQuote(tmp.file("o.json")), "missing.json"},
       {"run " + not_json + " -o " + ShellQuote(tmp.file("o.json")), "not_json.json"},
       {"merge -o " + ShellQuote(tmp.file("m.json")) + " " + not_json, "not_json.json"},
@@ -53,7 +57,8 @@ TEST(ExitCodes, EverySubcommandExits2OnBadInput) {
       {"bench --bogus", "--bogus"},
       {"check " + missing + " --case " + smooth, "missing.json"},
       {"montecarlo --case " + missing + " --method euler --trials 100 --seed 1", "missing.json"},
-      {"nees --imu " + missing + " --ground-truth " + missing + " --noise " + missing + " --windows 1 --method rk4",
+      {"nees --imu " + missing + " --ground-truth " + missing + " --noise " + missing +
+           " --windows 1 --method rk4",
        "missing.json"},
       {"experiment both --trials 0", "--trials"},
   };
@@ -86,36 +91,47 @@ TEST(DidYouMean, ASubcommandTypoNamesTheNearest) {
   CommandResult r = RunImuconv("chek a.json --case b.json", tmp);
   EXPECT_EQ(r.exit_code, 2);
   // CLI11 alone said only "A subcommand is required".
-  EXPECT_TRUE(Has(r.err, "unknown subcommand 'chek' (did you mean 'check'?); the subcommands are: ")) << r.err;
+  EXPECT_TRUE(
+      Has(r.err, "unknown subcommand 'chek' (did you mean 'check'?); the subcommands are: "))
+      << r.err;
   r = RunImuconv("-q montecarol --case x.json", tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "unknown subcommand 'montecarol' (did you mean 'montecarlo'?)")) << r.err;
   // Nothing close: the list, no guess.
   r = RunImuconv("frobnicate", tmp);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "unknown subcommand 'frobnicate'; the subcommands are: plugins, ")) << r.err;
+  EXPECT_TRUE(Has(r.err, "unknown subcommand 'frobnicate'; the subcommands are: plugins, "))
+      << r.err;
   // The values of a main option are not taken for the subcommand.
   r = RunImuconv("--plugin-dir " + ShellQuote(tmp.path()) + " chek", tmp);
   EXPECT_TRUE(Has(r.err, "unknown subcommand 'chek' (did you mean 'check'?)")) << r.err;
   r = RunImuconv("--quite run p.json", tmp);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "unknown option '--quite' (did you mean '--quiet'?) before the subcommand")) << r.err;
+  EXPECT_TRUE(
+      Has(r.err, "unknown option '--quite' (did you mean '--quiet'?) before the subcommand"))
+      << r.err;
 }
 
 TEST(DidYouMean, AFlagTypoNamesTheNearestFlagOfThatSubcommand) {
   const TempDir tmp;
   const std::string smooth = ShellQuote(DataPath("reference/cases/smooth-0.json"));
-  CommandResult r = RunImuconv("montecarlo --case " + smooth + " --method euler --trails 100 --seed 1", tmp);
+  CommandResult r =
+      RunImuconv("montecarlo --case " + smooth + " --method euler --trails 100 --seed 1", tmp);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "unknown option '--trails' for 'imuconv montecarlo' (did you mean '--trials'?)")) << r.err;
+  EXPECT_TRUE(
+      Has(r.err, "unknown option '--trails' for 'imuconv montecarlo' (did you mean '--trials'?)"))
+      << r.err;
   r = RunImuconv("nees --pipeline p.json --window 1 --method rk4", tmp);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "unknown option '--window' for 'imuconv nees' (did you mean '--windows'?)")) << r.err;
+  EXPECT_TRUE(
+      Has(r.err, "unknown option '--window' for 'imuconv nees' (did you mean '--windows'?)"))
+      << r.err;
   r = RunImuconv("check m.json --case c.json --jsno", tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "(did you mean '--json'?)")) << r.err;
   // A hidden option is accepted but never suggested; a negative number is a value, not a flag.
-  r = RunImuconv("montecarlo --case " + smooth + " --method euler --trials 100 --seed 1 --noise-scal 2", tmp);
+  r = RunImuconv(
+      "montecarlo --case " + smooth + " --method euler --trials 100 --seed 1 --noise-scal 2", tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "unknown option '--noise-scal' for 'imuconv montecarlo'")) << r.err;
   EXPECT_FALSE(Has(r.err, "did you mean '--noise-scale'")) << r.err;
@@ -130,18 +146,23 @@ TEST(DidYouMean, APluginIdTypoNamesTheNearestId) {
   const TempDir tmp;
   const std::string state = ShellQuote(SourcePath("examples/hover.state.json"));
   // On the command line (convert's own check of the id) ...
-  CommandResult r = RunImuconv("convert --what jacobian --from left --to gtsam_NavState --state " + state, tmp);
+  CommandResult r =
+      RunImuconv("convert --what jacobian --from left --to gtsam_NavState --state " + state, tmp);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "unknown state convention 'gtsam_NavState' (did you mean 'gtsam_navstate'?); known: "))
+  EXPECT_TRUE(Has(
+      r.err, "unknown state convention 'gtsam_NavState' (did you mean 'gtsam_navstate'?); known: "))
       << r.err;
   // ... and in a pipeline (the pipeline's id checks, by JSON pointer): examples/inline_basics.json
   // with its first task's propagator mistyped.
   json p = ReadJson(SourcePath("examples/inline_basics.json"));
   ASSERT_EQ(p["tasks"][0]["propagator"], "rk4");
   p["tasks"][0]["propagator"] = "RK4";
-  r = RunImuconv("run " + ShellQuote(tmp.write("p.json", p.dump())) + " -o " + ShellQuote(tmp.file("o.json")), tmp);
+  r = RunImuconv(
+      "run " + ShellQuote(tmp.write("p.json", p.dump())) + " -o " + ShellQuote(tmp.file("o.json")),
+      tmp);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "/tasks/0/propagator") && Has(r.err, "unknown propagator 'RK4' (did you mean 'rk4'?)"))
+  EXPECT_TRUE(Has(r.err, "/tasks/0/propagator") &&
+              Has(r.err, "unknown propagator 'RK4' (did you mean 'rk4'?)"))
       << r.err;
 }
 

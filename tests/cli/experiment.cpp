@@ -28,7 +28,9 @@ namespace {
 using namespace imuconv::test;
 using nlohmann::json;
 
-CommandResult Experiment(const std::string& args, const TempDir& tmp) { return RunImuconv("experiment " + args, tmp); }
+CommandResult Experiment(const std::string& args, const TempDir& tmp) {
+  return RunImuconv("experiment " + args, tmp);
+}
 
 json RunJson(const std::string& args, const TempDir& tmp) {
   const CommandResult r = Experiment(args + " --json", tmp);
@@ -40,7 +42,8 @@ json RunJson(const std::string& args, const TempDir& tmp) {
 const json& Find(const json& doc, const std::string& experiment, const std::string& matrix,
                  const std::string& scheme) {
   for (const json& c : doc["comparisons"])
-    if (c["experiment"] == experiment && c["matrix"] == matrix && c["preintegrator"] == scheme) return c;
+    if (c["experiment"] == experiment && c["matrix"] == matrix && c["preintegrator"] == scheme)
+      return c;
   static const json none;
   ADD_FAILURE() << "no comparison " << experiment << " " << matrix << " " << scheme;
   return none;
@@ -89,7 +92,8 @@ TEST(ExperimentPieces, TrialsAreOneMotionSampledAtAnyRate) {
   EXPECT_NE(a.samples.back().accel, other.samples.back().accel);
   // A start covariance is a covariance (symmetric positive definite), a rotation a rotation.
   EXPECT_EQ(a.cov_s_left, a.cov_s_left.transpose());
-  EXPECT_GT(Eigen::SelfAdjointEigenSolver<imuconv::Mat15>(a.cov_s_left).eigenvalues().minCoeff(), 0.0);
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<imuconv::Mat15>(a.cov_s_left).eigenvalues().minCoeff(),
+            0.0);
   EXPECT_LT((a.x_s.R.transpose() * a.x_s.R - imuconv::Mat3::Identity()).norm(), 1e-14);
 }
 
@@ -121,14 +125,16 @@ TEST(ExperimentPieces, MidInputAndSubdivision) {
 
 TEST(Experiment, SameSchemePropagatorLeavesOnlyRounding) {
   TempDir tmp;
-  const json doc = RunJson("both --propagator openvins_discrete --trials 3 --duration 2 --seed 7", tmp);
+  const json doc =
+      RunJson("both --propagator openvins_discrete --trials 3 --duration 2 --seed 7", tmp);
   ASSERT_EQ(doc["comparisons"].size(), 8u);
   for (const json& c : doc["comparisons"]) {
     const double note_max = c["note_d"]["max"], scaled_max = c["scaled_d"]["max"];
-    std::printf("%s %s %s: note d max %.3g, scaled d max %.3g\n", c["experiment"].get<std::string>().c_str(),
-                c["matrix"].get<std::string>().c_str(), c["preintegrator"].get<std::string>().c_str(), note_max,
-                scaled_max);
-    const std::string what = c["experiment"].get<std::string>() + " " + c["matrix"].get<std::string>() + " " +
+    std::printf("%s %s %s: note d max %.3g, scaled d max %.3g\n",
+                c["experiment"].get<std::string>().c_str(), c["matrix"].get<std::string>().c_str(),
+                c["preintegrator"].get<std::string>().c_str(), note_max, scaled_max);
+    const std::string what = c["experiment"].get<std::string>() + " " +
+                             c["matrix"].get<std::string>() + " " +
                              c["preintegrator"].get<std::string>();
     if (c["preintegrator"] == "manifold") {
       // The same discrete map on both sides (GTSAM's manifold recursion, OpenVINS's discrete
@@ -157,11 +163,14 @@ TEST(Experiment, Rk4DifferenceIsTheFirstOrderErrorOfGtsamsSchemes) {
   ASSERT_EQ(fine_rk4["comparisons"].size(), 8u);
   for (std::size_t i = 0; i < 8; ++i) {
     const json& c = base["comparisons"][i];
-    const double d = c["scaled_d"]["mean"], d_rate = fine_rate["comparisons"][i]["scaled_d"]["mean"],
+    const double d = c["scaled_d"]["mean"],
+                 d_rate = fine_rate["comparisons"][i]["scaled_d"]["mean"],
                  d_rk4 = fine_rk4["comparisons"][i]["scaled_d"]["mean"];
-    std::printf("%s %s %s: d %.4g, at 400 Hz %.4g (ratio %.4f), rk4 step halved %.4g (change %.2g)\n",
-                c["experiment"].get<std::string>().c_str(), c["matrix"].get<std::string>().c_str(),
-                c["preintegrator"].get<std::string>().c_str(), d, d_rate, d / d_rate, d_rk4, d_rk4 / d - 1.0);
+    std::printf(
+        "%s %s %s: d %.4g, at 400 Hz %.4g (ratio %.4f), rk4 step halved %.4g (change %.2g)\n",
+        c["experiment"].get<std::string>().c_str(), c["matrix"].get<std::string>().c_str(),
+        c["preintegrator"].get<std::string>().c_str(), d, d_rate, d / d_rate, d_rk4,
+        d_rk4 / d - 1.0);
     ASSERT_GT(d, 1e-6) << c.dump();
     // GTSAM's schemes freeze the rotation over a step for p and v and take the noise as
     // sigma^2/dt per step: first-order, so the difference halves with the step (ratio 2 + O(h);
@@ -181,7 +190,8 @@ TEST(Experiment, DeterministicForASeedAndAnyThreadCount) {
   const CommandResult one = Experiment(args + " --threads 1", tmp);
   const CommandResult two = Experiment(args + " --threads 2", tmp);
   const CommandResult again = Experiment(args + " --threads 2", tmp);
-  const CommandResult other = Experiment("both --trials 3 --duration 1 --seed 6 --json --threads 2", tmp);
+  const CommandResult other =
+      Experiment("both --trials 3 --duration 1 --seed 6 --json --threads 2", tmp);
   ASSERT_EQ(one.exit_code, 0) << one.err;
   ASSERT_EQ(two.exit_code, 0) << two.err;
   EXPECT_EQ(one.out, two.out);
@@ -231,8 +241,8 @@ TEST(Experiment, TextSaysWhatTheNumbersAre) {
   TempDir tmp;
   const CommandResult r = Experiment("both --trials 2 --seed 1 --duration 1", tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const char* piece : {"preintegration by propagation", "propagation by preintegration", "Why not zero",
-                            "gtsam_manifold_jacobian"})
+  for (const char* piece : {"preintegration by propagation", "propagation by preintegration",
+                            "Why not zero", "gtsam_manifold_jacobian"})
     EXPECT_TRUE(Has(r.out, piece)) << piece << " in:\n" << r.out;
 }
 
@@ -251,10 +261,11 @@ TEST(Experiment, ReportHoldsTheEightHeatmaps) {
   ASSERT_TRUE(in) << path;
   const std::string html((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::size_t svgs = 0;
-  for (std::size_t at = html.find("<svg"); at != std::string::npos; at = html.find("<svg", at + 1)) ++svgs;
+  for (std::size_t at = html.find("<svg"); at != std::string::npos; at = html.find("<svg", at + 1))
+    ++svgs;
   EXPECT_EQ(svgs, 8u);
-  for (const char* text : {"Figure 1", "Figure 2", "gtsam_manifold_jacobian", "bias Jacobian", "transition matrix Phi",
-                           "propagated covariance"})
+  for (const char* text : {"Figure 1", "Figure 2", "gtsam_manifold_jacobian", "bias Jacobian",
+                           "transition matrix Phi", "propagated covariance"})
     EXPECT_TRUE(Has(html, text)) << text;
 
   const CommandResult dir = Experiment(args + " --report " + ShellQuote(tmp.path()), tmp);

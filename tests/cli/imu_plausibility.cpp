@@ -50,7 +50,8 @@ json WithMistake(json imu, Mistake m) {
 double MedianNorm(const json& imu, int first) {
   std::vector<double> n;
   for (const auto& r : imu)
-    n.push_back(std::sqrt(std::pow(r[first].get<double>(), 2) + std::pow(r[first + 1].get<double>(), 2) +
+    n.push_back(std::sqrt(std::pow(r[first].get<double>(), 2) +
+                          std::pow(r[first + 1].get<double>(), 2) +
                           std::pow(r[first + 2].get<double>(), 2)));
   std::sort(n.begin(), n.end());
   const std::size_t k = n.size() / 2;
@@ -78,7 +79,14 @@ json Pipeline(const json& c, const std::string& csv) {
             {"header_rows", 1},
             {"time_unit", "s"},
             {"time_origin", 0},
-            {"columns", {{"t", "t"}, {"wx", "wx"}, {"wy", "wy"}, {"wz", "wz"}, {"ax", "ax"}, {"ay", "ay"}, {"az", "az"}}}}},
+            {"columns",
+             {{"t", "t"},
+              {"wx", "wx"},
+              {"wy", "wy"},
+              {"wz", "wz"},
+              {"ax", "ax"},
+              {"ay", "ay"},
+              {"az", "az"}}}}},
           {"tasks",
            {{{"type", "propagate"},
              {"name", "p"},
@@ -86,7 +94,11 @@ json Pipeline(const json& c, const std::string& csv) {
              {"state_convention", "left"},
              {"start",
               {{"state",
-                {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {0, 0, 0}}, {"bg", {0, 0, 0}}, {"ba", {0, 0, 0}}}}}},
+                {{"p", {0, 0, 0}},
+                 {"q_wxyz", {1, 0, 0, 0}},
+                 {"v", {0, 0, 0}},
+                 {"bg", {0, 0, 0}},
+                 {"ba", {0, 0, 0}}}}}},
              {"interval", {{"t_start", t0}, {"t_end", t1}}}}}}};
 }
 
@@ -94,17 +106,19 @@ json Pipeline(const json& c, const std::string& csv) {
 std::vector<std::string> Expected(Mistake m, const json& imu) {
   const double g = MedianNorm(imu, 1), a = MedianNorm(imu, 4);
   switch (m) {
-    case Mistake::none: return {};
+    case Mistake::none:
+      return {};
     case Mistake::swapped:
       return {"the gyro and accelerometer columns look swapped: median |gyro| " + G4(g),
               "and median |accel| " + G4(a) + " (expected near 9.81 m/s^2, gravity) over " +
                   std::to_string(imu.size()) + " samples"};
     case Mistake::accel_in_g:
-      return {"the accelerometer looks like it is in g, not m/s^2: median |accel| " + G4(a) + " over " +
-              std::to_string(imu.size()) + " samples"};
+      return {"the accelerometer looks like it is in g, not m/s^2: median |accel| " + G4(a) +
+              " over " + std::to_string(imu.size()) + " samples"};
     case Mistake::gyro_in_deg:
       return {"the gyro looks like it is in deg/s, not rad/s: median |gyro| " + G4(g),
-              "(" + G4(g * 180.0 / M_PI) + " deg/s if it were rad/s; " + G4(g * M_PI / 180.0) + " rad/s if it is deg/s)"};
+              "(" + G4(g * 180.0 / M_PI) + " deg/s if it were rad/s; " + G4(g * M_PI / 180.0) +
+                  " rad/s if it is deg/s)"};
   }
   return {};
 }
@@ -121,7 +135,8 @@ TEST(ImuPlausibility, RunWarnsWithTheEvidenceAndStillRuns) {
       const std::string csv = tmp.write(tag + ".csv", Csv(imu));
       const std::string p = tmp.write(tag + ".json", Pipeline(c, csv).dump());
       // -q: warnings are kept (only summaries and "wrote" lines go).
-      const CommandResult r = RunImuconv("-q run " + ShellQuote(p) + " -o " + ShellQuote(tmp.file(tag + ".out.json")), tmp);
+      const CommandResult r = RunImuconv(
+          "-q run " + ShellQuote(p) + " -o " + ShellQuote(tmp.file(tag + ".out.json")), tmp);
       EXPECT_EQ(r.exit_code, 0) << tag << r.err;
       // At rest (static-0) the gyro reads ~0 in any unit: only the accelerometer's mistakes show.
       const bool visible = !(std::string(id) == "static-0" && m == Mistake::gyro_in_deg);
@@ -131,7 +146,8 @@ TEST(ImuPlausibility, RunWarnsWithTheEvidenceAndStillRuns) {
         continue;
       }
       EXPECT_TRUE(Has(r.err, "warning: " + csv + ": ")) << tag << r.err;
-      for (const auto& w : want) EXPECT_TRUE(Has(r.err, w)) << tag << "\nwant: " << w << "\n" << r.err;
+      for (const auto& w : want)
+        EXPECT_TRUE(Has(r.err, w)) << tag << "\nwant: " << w << "\n" << r.err;
       // One mistake, one warning.
       EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << tag << r.err;
     }
@@ -158,8 +174,10 @@ TEST(ImuPlausibility, CheckPutsTheWarningsInItsJson) {
   for (const Mistake m : kAll) {
     json bad = c;
     bad["imu"] = WithMistake(c["imu"], m);
-    const std::string cf = tmp.write("case" + std::to_string(static_cast<int>(m)) + ".json", bad.dump());
-    const CommandResult r = RunImuconv("check " + ShellQuote(mf) + " --case " + ShellQuote(cf) + " --json", tmp);
+    const std::string cf =
+        tmp.write("case" + std::to_string(static_cast<int>(m)) + ".json", bad.dump());
+    const CommandResult r =
+        RunImuconv("check " + ShellQuote(mf) + " --case " + ShellQuote(cf) + " --json", tmp);
     // A warning is not an error: the check is judged (0 or 1), never refused (2).
     EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 1) << r.exit_code << r.err;
     const json out = json::parse(r.out);
@@ -183,12 +201,17 @@ TEST(ImuPlausibility, NeesOnSwappedColumnsWarns) {
   // nees fits a factor in the thousands and exits 0, as before, but now says why.
   const TempDir tmp;
   for (const bool swapped : {false, true}) {
-    const json cols = swapped ? json{{"t", 0}, {"wx", 4}, {"wy", 5}, {"wz", 6}, {"ax", 1}, {"ay", 2}, {"az", 3}}
-                              : json{{"t", 0}, {"wx", 1}, {"wy", 2}, {"wz", 3}, {"ax", 4}, {"ay", 5}, {"az", 6}};
-    const json p = NeesPipeline(
-        {{"format", "csv"}, {"path", kEurocSliceImu}, {"comment", "#"}, {"time_unit", "ns"}, {"columns", cols}});
+    const json cols =
+        swapped ? json{{"t", 0}, {"wx", 4}, {"wy", 5}, {"wz", 6}, {"ax", 1}, {"ay", 2}, {"az", 3}}
+                : json{{"t", 0}, {"wx", 1}, {"wy", 2}, {"wz", 3}, {"ax", 4}, {"ay", 5}, {"az", 6}};
+    const json p = NeesPipeline({{"format", "csv"},
+                                 {"path", kEurocSliceImu},
+                                 {"comment", "#"},
+                                 {"time_unit", "ns"},
+                                 {"columns", cols}});
     const std::string pf = tmp.write(swapped ? "swapped.json" : "plain.json", p.dump());
-    const CommandResult r = RunImuconv("nees --pipeline " + ShellQuote(pf) + " --windows 1 --method rk4 --json", tmp);
+    const CommandResult r =
+        RunImuconv("nees --pipeline " + ShellQuote(pf) + " --windows 1 --method rk4 --json", tmp);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const json out = json::parse(r.out);
     if (!swapped) {
@@ -197,7 +220,8 @@ TEST(ImuPlausibility, NeesOnSwappedColumnsWarns) {
       continue;
     }
     ASSERT_TRUE(out.contains("warnings")) << r.out;
-    EXPECT_TRUE(Has(out["warnings"][0].get<std::string>(), "the gyro and accelerometer columns look swapped"))
+    EXPECT_TRUE(Has(out["warnings"][0].get<std::string>(),
+                    "the gyro and accelerometer columns look swapped"))
         << out["warnings"];
     EXPECT_TRUE(Has(r.err, "imuconv: warning: ")) << r.err;
   }

@@ -33,7 +33,8 @@ using nlohmann::json;
 std::map<std::string, std::string> Snapshot(const std::string& dir) {
   std::map<std::string, std::string> m;
   for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file() && e.path().filename().string()[0] != '.') m[e.path().string()] = ReadText(e.path().string());
+    if (e.is_regular_file() && e.path().filename().string()[0] != '.')
+      m[e.path().string()] = ReadText(e.path().string());
   return m;
 }
 
@@ -48,7 +49,8 @@ std::vector<std::string> Temporaries(const std::string& dir) {
 /// Runs `command` (a shell command line; the binary is $IMUCONV) in `dir`, with the
 /// redirections it gives itself; stderr to dir/.err unless the command says otherwise.
 CommandResult Shell(const std::string& command, const TempDir& tmp) {
-  const std::string cmd = "cd " + ShellQuote(tmp.path()) + " && env -u IMUCONV_PLUGIN_PATH IMUCONV=" + ShellQuote(Binary()) +
+  const std::string cmd = "cd " + ShellQuote(tmp.path()) +
+                          " && env -u IMUCONV_PLUGIN_PATH IMUCONV=" + ShellQuote(Binary()) +
                           " sh -c " + ShellQuote(command);
   const int status = std::system(cmd.c_str());
   CommandResult r;
@@ -87,9 +89,11 @@ TEST(InputsNeverWritten, NeesReportNamingAFileThePipelineNamesIsRefused) {
   TempDir tmp;
   const Euroc e = CopyEuroc(tmp);
   fs::create_directories(tmp.file("elsewhere"));
-  fs::create_symlink(e.kalibr, tmp.file("elsewhere/report.html"));  // another directory, another name
+  fs::create_symlink(e.kalibr,
+                     tmp.file("elsewhere/report.html"));  // another directory, another name
   const auto before = Snapshot(tmp.path());
-  const std::string nees = "-q nees --pipeline " + ShellQuote(e.pipeline) + " --windows 0.5 --method rk4";
+  const std::string nees =
+      "-q nees --pipeline " + ShellQuote(e.pipeline) + " --windows 0.5 --method rk4";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {e.imu, e.imu},
       {e.gt, e.gt},
@@ -100,18 +104,21 @@ TEST(InputsNeverWritten, NeesReportNamingAFileThePipelineNamesIsRefused) {
     const CommandResult r = RunImuconv(nees + " --report " + ShellQuote(report), tmp);
     EXPECT_EQ(r.exit_code, 2) << report << "\n" << r.err;  // nees: 2 = no result
     EXPECT_TRUE(Has(r.err, "is the same file as the input file")) << r.err;
-    EXPECT_TRUE(Has(r.err, fs::path(input).filename().string() + ": refusing to overwrite it")) << r.err;
+    EXPECT_TRUE(Has(r.err, fs::path(input).filename().string() + ": refusing to overwrite it"))
+        << r.err;
   }
   // /dev/fd/3 opened read-write on the IMU CSV by the shell: written through, it would land on
   // the samples at offset 0. The descriptor's file is the input, whatever its name.
-  const CommandResult r =
-      Shell("\"$IMUCONV\" " + nees + " --report /dev/fd/3 3<>" + ShellQuote(e.imu) + " > /dev/null 2> .err", tmp);
+  const CommandResult r = Shell("\"$IMUCONV\" " + nees + " --report /dev/fd/3 3<>" +
+                                    ShellQuote(e.imu) + " > /dev/null 2> .err",
+                                tmp);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "/dev/fd/3: is the same file as the input file")) << r.err;
   EXPECT_TRUE(Snapshot(tmp.path()) == before) << "an input changed";
   EXPECT_TRUE(Temporaries(tmp.path()).empty());
   // Sanity: the same command writes a report elsewhere.
-  const CommandResult ok = RunImuconv(nees + " --report " + ShellQuote(tmp.file("report.html")), tmp);
+  const CommandResult ok =
+      RunImuconv(nees + " --report " + ShellQuote(tmp.file("report.html")), tmp);
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
   EXPECT_TRUE(Has(ReadText(tmp.file("report.html")), "<html")) << "a report was written";
 }
@@ -132,16 +139,25 @@ CheckFiles CheckInputs(const TempDir& tmp) {
     csv += "\n";
   }
   f.csv = tmp.write("smooth.csv", csv);
-  const json p = {{"noise", c["noise"]},
-                  {"imu",
-                   {{"format", "csv"},
-                    {"path", f.csv},
-                    {"delimiter", ";"},
-                    {"header_rows", 1},
-                    {"time_unit", "s"},
-                    {"time_origin", 0},
-                    {"columns", {{"t", "t"}, {"wx", "wx"}, {"wy", "wy"}, {"wz", "wz"}, {"ax", "ax"}, {"ay", "ay"}, {"az", "az"}}}}},
-                  {"tasks", json::array({{{"type", "check"}, {"name", "chk"}, {"measurements", {{"file", f.meas}}}}})}};
+  const json p = {
+      {"noise", c["noise"]},
+      {"imu",
+       {{"format", "csv"},
+        {"path", f.csv},
+        {"delimiter", ";"},
+        {"header_rows", 1},
+        {"time_unit", "s"},
+        {"time_origin", 0},
+        {"columns",
+         {{"t", "t"},
+          {"wx", "wx"},
+          {"wy", "wy"},
+          {"wz", "wz"},
+          {"ax", "ax"},
+          {"ay", "ay"},
+          {"az", "az"}}}}},
+      {"tasks",
+       json::array({{{"type", "check"}, {"name", "chk"}, {"measurements", {{"file", f.meas}}}}})}};
   f.pipeline = tmp.write("smooth.pipeline.json", p.dump(1));
   return f;
 }
@@ -152,11 +168,14 @@ TEST(InputsNeverWritten, CheckReportNamingThePipelinesSamplesIsRefused) {
   fs::create_directories(tmp.file("links"));
   fs::create_symlink(f.csv, tmp.file("links/samples.html"));
   const auto before = Snapshot(tmp.path());
-  const std::string check = "-q check " + ShellQuote(f.meas) + " --pipeline " + ShellQuote(f.pipeline);
+  const std::string check =
+      "-q check " + ShellQuote(f.meas) + " --pipeline " + ShellQuote(f.pipeline);
   for (const std::string& report : {f.csv, tmp.file("links/samples.html")}) {
     const CommandResult r = RunImuconv(check + " --report " + ShellQuote(report), tmp);
     EXPECT_EQ(r.exit_code, 2) << report << "\n" << r.err;  // check: 2 = nothing could be checked
-    EXPECT_TRUE(Has(r.err, "is the same file as the input file " + f.csv + ": refusing to overwrite it")) << r.err;
+    EXPECT_TRUE(
+        Has(r.err, "is the same file as the input file " + f.csv + ": refusing to overwrite it"))
+        << r.err;
   }
   EXPECT_TRUE(Snapshot(tmp.path()) == before) << "an input changed";
   EXPECT_TRUE(Temporaries(tmp.path()).empty());
@@ -172,15 +191,16 @@ TEST(InputsNeverWritten, PipelineOutputKeyCannotLeaveThroughALink) {
   fs::create_directories(tmp.file("inner/data"));
   fs::create_directories(tmp.file("outside"));
   for (const char* d : {"generic_imu_seconds.csv", "V1_01_easy_groundtruth_vicon2gt_slice.csv"})
-    fs::copy_file(SourcePath(std::string("examples/data/") + d), tmp.file(std::string("inner/data/") + d));
+    fs::copy_file(SourcePath(std::string("examples/data/") + d),
+                  tmp.file(std::string("inner/data/") + d));
   json doc = ReadJson(SourcePath("examples/generic_csv.json"));
   doc.erase("$schema");
   const std::string victim = tmp.write("outside/victim.txt", "not yours\n");
-  fs::create_symlink("../outside/victim.txt", tmp.file("inner/out.json"));   // the example
-  fs::create_symlink("../outside", tmp.file("inner/sub"));                   // a linked directory
-  fs::create_symlink("hop.json", tmp.file("inner/chain.json"));              // inside, then out
+  fs::create_symlink("../outside/victim.txt", tmp.file("inner/out.json"));  // the example
+  fs::create_symlink("../outside", tmp.file("inner/sub"));                  // a linked directory
+  fs::create_symlink("hop.json", tmp.file("inner/chain.json"));             // inside, then out
   fs::create_symlink(victim, tmp.file("inner/hop.json"));
-  fs::create_symlink("/dev/fd/1", tmp.file("inner/fd.json"));                // our stdout
+  fs::create_symlink("/dev/fd/1", tmp.file("inner/fd.json"));  // our stdout
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"out.json", "leads outside the pipeline's directory"},
       {"sub/victim.txt", "leads outside the pipeline's directory"},
@@ -217,7 +237,8 @@ TEST(InputsNeverWritten, PipelineOutputKeyCannotLeaveThroughALink) {
 std::string CopyGeneric(const TempDir& tmp) {
   fs::create_directories(tmp.file("data"));
   for (const char* d : {"generic_imu_seconds.csv", "V1_01_easy_groundtruth_vicon2gt_slice.csv"})
-    fs::copy_file(SourcePath(std::string("examples/data/") + d), tmp.file(std::string("data/") + d));
+    fs::copy_file(SourcePath(std::string("examples/data/") + d),
+                  tmp.file(std::string("data/") + d));
   json doc = ReadJson(SourcePath("examples/generic_csv.json"));
   doc.erase("$schema");
   return tmp.write("generic.json", doc.dump(1));
@@ -260,7 +281,8 @@ TEST(InputsNeverWritten, EmptyOutputPathIsRefusedNamingTheFlag) {
       {"refcase " + c + " -o ''", "--output"},
       {"check " + ShellQuote(p) + " --case " + c + " --report ''", "--report"},
       {"montecarlo --case " + c + " --method rk4 --trials 20 --seed 1 --report ''", "--report"},
-      {"montecarlo --case " + c + " --method rk4 --trials 20 --seed 1 --shard 0/2 -o ''", "--output"},
+      {"montecarlo --case " + c + " --method rk4 --trials 20 --seed 1 --shard 0/2 -o ''",
+       "--output"},
       {"nees --pipeline " + ShellQuote(p) + " --windows 0.5 --method rk4 --report ''", "--report"},
       {"experiment both --report ''", "--report"},
   };
@@ -285,8 +307,10 @@ TEST(InputsNeverWritten, ReplacedOutputKeepsItsWholeModeAndExtendedAttributes) {
     ASSERT_EQ(::chmod(out.c_str(), mode), 0);
     struct stat st {};
     ASSERT_EQ(::stat(out.c_str(), &st), 0);
-    if ((st.st_mode & 07777) != mode) GTEST_SKIP() << "this file system does not keep mode " << std::oct << mode;
-    const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(out) + " -q", tmp);
+    if ((st.st_mode & 07777) != mode)
+      GTEST_SKIP() << "this file system does not keep mode " << std::oct << mode;
+    const CommandResult r =
+        RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(out) + " -q", tmp);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     ASSERT_EQ(::stat(out.c_str(), &st), 0);
     EXPECT_EQ(st.st_mode & 07777, mode) << std::oct << (st.st_mode & 07777);
@@ -297,11 +321,13 @@ TEST(InputsNeverWritten, ReplacedOutputKeepsItsWholeModeAndExtendedAttributes) {
   if (::setxattr(out.c_str(), "user.imuconv.origin", "lab-3", 5, 0) != 0)
     GTEST_SKIP() << "no user.* extended attributes on this file system: " << std::strerror(errno);
   ASSERT_EQ(::setxattr(out.c_str(), "user.imuconv.blob", binary.data(), binary.size(), 0), 0);
-  const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(out) + " -q", tmp);
+  const CommandResult r =
+      RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(out) + " -q", tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(Has(r.err, "warning")) << r.err;
   char buf[16] = {};
-  ASSERT_EQ(::getxattr(out.c_str(), "user.imuconv.origin", buf, sizeof buf), 5) << std::strerror(errno);
+  ASSERT_EQ(::getxattr(out.c_str(), "user.imuconv.origin", buf, sizeof buf), 5)
+      << std::strerror(errno);
   EXPECT_EQ(std::string(buf, 5), "lab-3");
   ASSERT_EQ(::getxattr(out.c_str(), "user.imuconv.blob", buf, sizeof buf), 3);
   EXPECT_EQ(std::string(buf, 3), binary);

@@ -26,9 +26,13 @@ using namespace imuconv;
 using namespace imuconv::test;
 using nlohmann::json;
 
-std::string CasePath(const std::string& id) { return ShellQuote(DataPath("reference/cases/" + id + ".json")); }
+std::string CasePath(const std::string& id) {
+  return ShellQuote(DataPath("reference/cases/" + id + ".json"));
+}
 
-CommandResult Montecarlo(const std::string& args, const TempDir& tmp) { return RunImuconv("montecarlo " + args, tmp); }
+CommandResult Montecarlo(const std::string& args, const TempDir& tmp) {
+  return RunImuconv("montecarlo " + args, tmp);
+}
 
 // ---- the bounds, against printed chi-square tables (any statistics text, e.g. Abramowitz and
 // Stegun table 26.8) ----
@@ -68,7 +72,8 @@ TEST(MontecarloBounds, StatisticsOnExactGaussianSamples) {
   std::normal_distribution<double> n01;
   Mat15 A;
   for (int i = 0; i < 15; ++i)
-    for (int j = 0; j < 15; ++j) A(i, j) = n01(rng) * (i == j ? 3.0 : 0.5) * std::pow(10.0, -(i / 3));
+    for (int j = 0; j < 15; ++j)
+      A(i, j) = n01(rng) * (i == j ? 3.0 : 0.5) * std::pow(10.0, -(i / 3));
   const Mat15 Sigma = A * A.transpose();
   const Mat15 L = Sigma.llt().matrixL();
   std::vector<Vec15> errors(2000);
@@ -80,8 +85,10 @@ TEST(MontecarloBounds, StatisticsOnExactGaussianSamples) {
   montecarlo::Statistics st;
   ASSERT_TRUE(montecarlo::ComputeStatistics(errors, Sigma, st));
   std::printf(
-      "[ measured ] exact Gaussian N = 2000: NEES %.3f [%.3f, %.3f], KL %.4f (bound %.4f), rel. Frobenius %.4f\n",
-      st.nees_mean, st.nees_bounds[0], st.nees_bounds[1], st.kl, st.kl_bound, st.relative_frobenius);
+      "[ measured ] exact Gaussian N = 2000: NEES %.3f [%.3f, %.3f], KL %.4f (bound %.4f), rel. "
+      "Frobenius %.4f\n",
+      st.nees_mean, st.nees_bounds[0], st.nees_bounds[1], st.kl, st.kl_bound,
+      st.relative_frobenius);
   EXPECT_GE(st.nees_mean, st.nees_bounds[0]);
   EXPECT_LE(st.nees_mean, st.nees_bounds[1]);
   EXPECT_LE(st.kl, st.kl_bound);
@@ -104,19 +111,23 @@ class MontecarloConsistent : public ::testing::TestWithParam<ConsistentCase> {};
 TEST_P(MontecarloConsistent, Consistent) {
   const auto& p = GetParam();
   TempDir tmp;
-  const CommandResult r = Montecarlo(
-      "--case " + CasePath(p.case_id) + " --method " + p.method + " --trials 300 --seed 20261125 --duration 5 --json",
-      tmp);
+  const CommandResult r = Montecarlo("--case " + CasePath(p.case_id) + " --method " + p.method +
+                                         " --trials 300 --seed 20261125 --duration 5 --json",
+                                     tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   EXPECT_EQ(r.err, "");  // no progress bar when stderr is a file (nor with --json)
   const json j = json::parse(r.out);
-  std::printf("[ measured ] %-12s %-8s %s: rel. Frobenius %.4f, NEES %.3f [%.3f, %.3f], KL %.4f (bound %.4f)\n",
-              p.case_id.c_str(), p.method.c_str(), j["convention"].get<std::string>().c_str(),
-              j["relative_frobenius"].get<double>(), j["nees_mean"].get<double>(), j["nees_bounds"][0].get<double>(),
-              j["nees_bounds"][1].get<double>(), j["kl"].get<double>(), j["kl_bound"].get<double>());
+  std::printf(
+      "[ measured ] %-12s %-8s %s: rel. Frobenius %.4f, NEES %.3f [%.3f, %.3f], KL %.4f (bound "
+      "%.4f)\n",
+      p.case_id.c_str(), p.method.c_str(), j["convention"].get<std::string>().c_str(),
+      j["relative_frobenius"].get<double>(), j["nees_mean"].get<double>(),
+      j["nees_bounds"][0].get<double>(), j["nees_bounds"][1].get<double>(), j["kl"].get<double>(),
+      j["kl_bound"].get<double>());
   EXPECT_EQ(j["verdict"], "consistent");
   EXPECT_EQ(j["trials"], 300);
-  // These five are kernels of the core: their trials integrate the mean only (docs/montecarlo.md, "Speed").
+  // These five are kernels of the core: their trials integrate the mean only (docs/montecarlo.md,
+  // "Speed").
   EXPECT_EQ(j["trial_path"], "mean_only");
   // The case's samples in its first 5 s (1001 at 200 Hz; fewer on the jittered times).
   const json c = ReadJson(DataPath("reference/cases/" + p.case_id + ".json"));
@@ -136,7 +147,8 @@ TEST_P(MontecarloConsistent, Consistent) {
   // Every block's variance within 4 of its standard deviations sqrt(2/(3N)) = 0.047 of 1 for a
   // block trace of three variances (fewer when correlated; 0.25 is loose, and catches a block
   // off by a factor).
-  for (const json& b : j["blocks"]) EXPECT_NEAR(b["variance_ratio"].get<double>(), 1.0, 0.25) << b.dump();
+  for (const json& b : j["blocks"])
+    EXPECT_NEAR(b["variance_ratio"].get<double>(), 1.0, 0.25) << b.dump();
 }
 
 std::vector<ConsistentCase> ConsistentCases() {
@@ -146,7 +158,8 @@ std::vector<ConsistentCase> ConsistentCases() {
   return v;
 }
 
-INSTANTIATE_TEST_SUITE_P(ReferenceCases, MontecarloConsistent, ::testing::ValuesIn(ConsistentCases()),
+INSTANTIATE_TEST_SUITE_P(ReferenceCases, MontecarloConsistent,
+                         ::testing::ValuesIn(ConsistentCases()),
                          [](const ::testing::TestParamInfo<ConsistentCase>& info) {
                            std::string s = info.param.case_id + "_" + info.param.method;
                            for (char& c : s)
@@ -158,10 +171,10 @@ INSTANTIATE_TEST_SUITE_P(ReferenceCases, MontecarloConsistent, ::testing::Values
 // and the covariance is brought there by the registry's conversion; the blocks follow its order.
 TEST(Montecarlo, ScoredInAnotherConvention) {
   TempDir tmp;
-  const CommandResult r =
-      Montecarlo("--case " + CasePath("aggressive-0") +
-                     " --method rk4 --convention vins_fusion --trials 300 --seed 3 --duration 5 --json",
-                 tmp);
+  const CommandResult r = Montecarlo(
+      "--case " + CasePath("aggressive-0") +
+          " --method rk4 --convention vins_fusion --trials 300 --seed 3 --duration 5 --json",
+      tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   const json j = json::parse(r.out);
   EXPECT_EQ(j["convention"], "vins_fusion");
@@ -174,16 +187,17 @@ TEST(Montecarlo, ScoredInAnotherConvention) {
 // unscaled prediction is inconsistent, and says which way; the scaling is declared.
 TEST(Montecarlo, ScaledNoiseIsInconsistent) {
   TempDir tmp;
-  for (const auto& [scale, direction] : {std::pair<std::string, std::string>{"2", "too small"}, {"0.8", "too large"}}) {
-    const CommandResult r =
-        Montecarlo("--case " + CasePath("smooth-0") +
-                       " --method rk4 --trials 300 --seed 4 --duration 5 --json --noise-scale " + scale,
-                   tmp);
+  for (const auto& [scale, direction] :
+       {std::pair<std::string, std::string>{"2", "too small"}, {"0.8", "too large"}}) {
+    const CommandResult r = Montecarlo(
+        "--case " + CasePath("smooth-0") +
+            " --method rk4 --trials 300 --seed 4 --duration 5 --json --noise-scale " + scale,
+        tmp);
     ASSERT_EQ(r.exit_code, 1) << scale << r.err << r.out;
     const json j = json::parse(r.out);
     std::printf("[ measured ] noise x%s: NEES %.3f [%.3f, %.3f], KL %.4f\n", scale.c_str(),
-                j["nees_mean"].get<double>(), j["nees_bounds"][0].get<double>(), j["nees_bounds"][1].get<double>(),
-                j["kl"].get<double>());
+                j["nees_mean"].get<double>(), j["nees_bounds"][0].get<double>(),
+                j["nees_bounds"][1].get<double>(), j["kl"].get<double>());
     EXPECT_EQ(j["verdict"], "inconsistent");
     EXPECT_FALSE(j["noise_model"]["matches_prediction"].get<bool>());
     EXPECT_TRUE(Has(j["reasons"].dump(), direction)) << j["reasons"].dump();
@@ -197,9 +211,10 @@ TEST(Montecarlo, ScaledNoiseIsInconsistent) {
 // declared in the output and in the reasons.
 TEST(Montecarlo, NoiseReadingMismatchIsDeclared) {
   TempDir tmp;
-  const CommandResult r = Montecarlo(
-      "--case " + CasePath("smooth-0") + " --method vins_fusion_as_configured --trials 64 --seed 1 --duration 2 --json",
-      tmp);
+  const CommandResult r =
+      Montecarlo("--case " + CasePath("smooth-0") +
+                     " --method vins_fusion_as_configured --trials 64 --seed 1 --duration 2 --json",
+                 tmp);
   ASSERT_EQ(r.exit_code, 1) << r.err << r.out;
   const json j = json::parse(r.out);
   EXPECT_FALSE(j["noise_model"]["matches_prediction"].get<bool>());
@@ -207,32 +222,37 @@ TEST(Montecarlo, NoiseReadingMismatchIsDeclared) {
   EXPECT_TRUE(Has(j["reasons"].dump(), "mismatch"));
   // Basalt's own model is simulated for Basalt (the walk outside the samples).
   const CommandResult b =
-      Montecarlo("--case " + CasePath("smooth-0") + " --method basalt --trials 64 --seed 1 --duration 2 --json", tmp);
+      Montecarlo("--case " + CasePath("smooth-0") +
+                     " --method basalt --trials 64 --seed 1 --duration 2 --json",
+                 tmp);
   ASSERT_NE(b.exit_code, 2) << b.err;
   EXPECT_EQ(json::parse(b.out)["noise_model"]["simulated"], "basalt");
   EXPECT_EQ(json::parse(b.out)["trial_path"], "full");  // no mean-only kernel: the plugin per trial
   // basalt_as_configured reads the white-noise numbers as per-sample standard deviations: that
   // model is simulated, and against it the method is consistent (its variances are 1/200 of the
   // continuous model's at 200 Hz, so the continuous simulation would be off by NEES ~ 9 * 200).
-  const CommandResult ac = Montecarlo(
-      "--case " + CasePath("jitter-0") + " --method basalt_as_configured --trials 300 --seed 2 --duration 5 --json",
-      tmp);
+  const CommandResult ac =
+      Montecarlo("--case " + CasePath("jitter-0") +
+                     " --method basalt_as_configured --trials 300 --seed 2 --duration 5 --json",
+                 tmp);
   ASSERT_EQ(ac.exit_code, 0) << ac.err << ac.out;
   const json jac = json::parse(ac.out);
   EXPECT_EQ(jac["noise_model"]["simulated"], "basalt_per_sample");
   EXPECT_TRUE(jac["noise_model"]["matches_prediction"].get<bool>());
-  std::printf("[ measured ] basalt_as_configured jitter-0: NEES %.3f, KL %.4f\n", jac["nees_mean"].get<double>(),
-              jac["kl"].get<double>());
+  std::printf("[ measured ] basalt_as_configured jitter-0: NEES %.3f, KL %.4f\n",
+              jac["nees_mean"].get<double>(), jac["kl"].get<double>());
 }
 
 TEST(Montecarlo, DeterministicForASeedAndAnyThreadCount) {
   TempDir tmp;
-  const std::string base = "--case " + CasePath("jitter-0") + " --method midpoint --trials 100 --duration 2 --json ";
+  const std::string base =
+      "--case " + CasePath("jitter-0") + " --method midpoint --trials 100 --duration 2 --json ";
   const CommandResult a = Montecarlo(base + "--seed 9 --threads 1", tmp);
   const CommandResult b = Montecarlo(base + "--seed 9 --threads 1", tmp);
   const CommandResult c = Montecarlo(base + "--seed 9 --threads 4", tmp);
   const CommandResult d = Montecarlo(base + "--seed 10 --threads 4", tmp);
-  const CommandResult many = Montecarlo(base + "--seed 9 --threads 100000", tmp);  // capped, same numbers
+  const CommandResult many =
+      Montecarlo(base + "--seed 9 --threads 100000", tmp);  // capped, same numbers
   EXPECT_EQ(a.out, many.out) << many.err;
   ASSERT_NE(a.exit_code, 2) << a.err;
   EXPECT_EQ(a.out, b.out);
@@ -245,7 +265,8 @@ TEST(Montecarlo, HostileInputExitsTwoWithAClearMessage) {
   TempDir tmp;
   const std::string ok_case = CasePath("smooth-0");
   const std::string tail = " --trials 32 --seed 1 --duration 1";
-  CommandResult r = Montecarlo("--case " + ShellQuote(tmp.file("missing.json")) + " --method rk4" + tail, tmp);
+  CommandResult r =
+      Montecarlo("--case " + ShellQuote(tmp.file("missing.json")) + " --method rk4" + tail, tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "missing.json")) << r.err;
 
@@ -255,7 +276,8 @@ TEST(Montecarlo, HostileInputExitsTwoWithAClearMessage) {
 
   r = Montecarlo("--case " + ok_case + " --method rk4 --convention gtsam_navstate" + tail, tmp);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "unknown increment convention") && Has(r.err, "is a state convention")) << r.err;
+  EXPECT_TRUE(Has(r.err, "unknown increment convention") && Has(r.err, "is a state convention"))
+      << r.err;
 
   for (const char* n : {"1", "15", "0", "-3", "20000000"}) {
     r = Montecarlo("--case " + ok_case + " --method rk4 --seed 1 --trials " + std::string(n), tmp);
@@ -276,17 +298,22 @@ TEST(Montecarlo, HostileInputExitsTwoWithAClearMessage) {
   json c = ReadJson(DataPath("reference/cases/smooth-0.json"));
   json no_imu = c;
   no_imu.erase("imu");
-  r = Montecarlo("--case " + ShellQuote(tmp.write("no_imu.json", no_imu.dump())) + " --method rk4" + tail, tmp);
+  r = Montecarlo(
+      "--case " + ShellQuote(tmp.write("no_imu.json", no_imu.dump())) + " --method rk4" + tail,
+      tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "no_imu.json") && Has(r.err, "imu")) << r.err;
 
   json quiet = c;
   for (auto& [k, v] : quiet["noise"].items()) v = 0.0;
-  r = Montecarlo("--case " + ShellQuote(tmp.write("quiet.json", quiet.dump())) + " --method rk4" + tail, tmp);
+  r = Montecarlo(
+      "--case " + ShellQuote(tmp.write("quiet.json", quiet.dump())) + " --method rk4" + tail, tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "not positive definite")) << r.err;
 
-  r = Montecarlo("--case " + ShellQuote(tmp.write("broken.json", "{\"imu\": [")) + " --method rk4" + tail, tmp);
+  r = Montecarlo(
+      "--case " + ShellQuote(tmp.write("broken.json", "{\"imu\": [")) + " --method rk4" + tail,
+      tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "broken.json")) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;

@@ -2,8 +2,8 @@
 // run, merged in any order, give what one unsharded run gives, byte for byte (its --json, its
 // text summary, its --report page, its exit code), for an even and an uneven split, one shard,
 // and more shards than trials (some empty); a hostile merge (a shard missing, given twice, of
-// another run or split or CPU kernel instance, truncated, corrupted, with bytes after its end, not a shard) exits 2
-// naming the file and prints nothing; misused options are refused before any work.
+// another run or split or CPU kernel instance, truncated, corrupted, with bytes after its end, not
+// a shard) exits 2 naming the file and prints nothing; misused options are refused before any work.
 //
 // The reference is always a whole run of the same command in the same test (another process,
 // another thread count), never text copied from our own output. The runs use the first 1 s of
@@ -25,16 +25,21 @@ struct McRun {
   TempDir tmp;
   std::string base;  ///< the options every process of the run shares
   explicit McRun(int trials, int seed = 7, const std::string& method = "rk4") {
-    base = "montecarlo --case " + ShellQuote(DataPath("reference/cases/smooth-0.json")) + " --method " + method +
-           " --trials " + std::to_string(trials) + " --seed " + std::to_string(seed) + " --duration 1";
+    base = "montecarlo --case " + ShellQuote(DataPath("reference/cases/smooth-0.json")) +
+           " --method " + method + " --trials " + std::to_string(trials) + " --seed " +
+           std::to_string(seed) + " --duration 1";
   }
-  CommandResult whole(const std::string& extra) { return RunImuconv(base + " --threads 2 " + extra, tmp); }
+  CommandResult whole(const std::string& extra) {
+    return RunImuconv(base + " --threads 2 " + extra, tmp);
+  }
   /// Shard k of n into <prefix><k>of<n>.mcs, on k + 1 threads (the thread count must not matter).
   std::string shard(int k, int n, const std::string& prefix = "S") {
-    const std::string out = tmp.file(prefix + std::to_string(k) + "of" + std::to_string(n) + ".mcs");
-    const CommandResult r = RunImuconv(base + " --threads " + std::to_string(k % 3 + 1) + " --shard " +
-                                           std::to_string(k) + "/" + std::to_string(n) + " -o " + ShellQuote(out),
-                                       tmp);
+    const std::string out =
+        tmp.file(prefix + std::to_string(k) + "of" + std::to_string(n) + ".mcs");
+    const CommandResult r =
+        RunImuconv(base + " --threads " + std::to_string(k % 3 + 1) + " --shard " +
+                       std::to_string(k) + "/" + std::to_string(n) + " -o " + ShellQuote(out),
+                   tmp);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return out;
   }
@@ -67,14 +72,16 @@ TEST(MontecarloShard, ShardsMergeToTheWholeRunsBytes) {
   // 41 trials: 3 shards hold [0, 13), [13, 27), [27, 41) (uneven); 1 shard holds them all.
   McRun run(41);
   std::vector<std::string> three = run.shards(3);
-  const CommandResult shown = RunImuconv(run.base + " --shard 1/3 -o " + ShellQuote(run.tmp.file("again.mcs")), run.tmp);
+  const CommandResult shown =
+      RunImuconv(run.base + " --shard 1/3 -o " + ShellQuote(run.tmp.file("again.mcs")), run.tmp);
   EXPECT_TRUE(Has(shown.out, "trials [13, 27) of 41")) << shown.out;
   // Any order on the command line.
   ExpectSameAsWhole(run, {three[2], three[0], three[1]});
   ExpectSameAsWhole(run, run.shards(1));
   // The HTML page too (it names the case by the path the shards recorded).
   const CommandResult whole = run.whole("--report " + ShellQuote(run.tmp.file("whole.html")));
-  const CommandResult merged = run.merge(three, "--report " + ShellQuote(run.tmp.file("merged.html")));
+  const CommandResult merged =
+      run.merge(three, "--report " + ShellQuote(run.tmp.file("merged.html")));
   EXPECT_TRUE(whole.exit_code == 0 || whole.exit_code == 1) << whole.err;
   EXPECT_EQ(merged.exit_code, whole.exit_code) << merged.err;
   EXPECT_EQ(ReadText(run.tmp.file("merged.html")), ReadText(run.tmp.file("whole.html")));
@@ -84,8 +91,9 @@ TEST(MontecarloShard, ShardsMergeToTheWholeRunsBytes) {
 TEST(MontecarloShard, FullAndMeanOnlyPathsMergeToo) {
   // basalt runs every trial through its plugin ("full"), manifold through the core's kernel
   // ("mean_only"); both are trial paths the shards must reproduce.
-  for (const auto& [method, path] : {std::pair<const char*, const char*>{"basalt", "\"trial_path\": \"full\""},
-                                     {"manifold", "\"trial_path\": \"mean_only\""}}) {
+  for (const auto& [method, path] :
+       {std::pair<const char*, const char*>{"basalt", "\"trial_path\": \"full\""},
+        {"manifold", "\"trial_path\": \"mean_only\""}}) {
     McRun run(20, 3, method);
     EXPECT_TRUE(Has(run.whole("--json").out, path)) << method;
     ExpectSameAsWhole(run, run.shards(4));
@@ -97,7 +105,8 @@ TEST(MontecarloShard, MoreShardsThanTrialsLeavesSomeEmpty) {
   // (shard 0 among them); each is still written, and still needed by the merge.
   McRun run(17);
   const std::vector<std::string> files = run.shards(20);
-  const CommandResult empty = RunImuconv(run.base + " --shard 0/20 -o " + ShellQuote(run.tmp.file("e.mcs")), run.tmp);
+  const CommandResult empty =
+      RunImuconv(run.base + " --shard 0/20 -o " + ShellQuote(run.tmp.file("e.mcs")), run.tmp);
   EXPECT_TRUE(Has(empty.out, "trials [0, 0) of 17")) << empty.out;
   ExpectSameAsWhole(run, files);
   // With this seed the 17-trial run is inconsistent (exit 1): the merge carries that verdict too.
@@ -122,7 +131,8 @@ TEST(MontecarloShard, HostileMergesAreRefused) {
   const std::vector<std::string> s = run.shards(3);
   const std::string text = ReadText(s[1]);
 
-  ExpectRefused(run, {s[0], s[2]}, "missing 1 of the 3 shards (index 1)", "every shard K/N of the run is needed");
+  ExpectRefused(run, {s[0], s[2]}, "missing 1 of the 3 shards (index 1)",
+                "every shard K/N of the run is needed");
   ExpectRefused(run, {s[0], s[1], s[1], s[2]}, "shard 1 of 3 is given twice", "S1of3.mcs");
   // Another copy of the same shard under another name is still a duplicate.
   const std::string copy = run.tmp.write("copy.mcs", text);
@@ -143,12 +153,14 @@ TEST(MontecarloShard, HostileMergesAreRefused) {
   // Truncated: inside the header, inside the errors, without its hash line.
   const std::size_t header_end = text.find('\n', text.find('\n') + 1);
   ASSERT_NE(header_end, std::string::npos);
-  ExpectRefused(run, {s[0], run.tmp.write("t1.mcs", text.substr(0, header_end / 2)), s[2]}, "t1.mcs",
-                "ends inside its header line");
-  ExpectRefused(run, {s[0], run.tmp.write("t2.mcs", text.substr(0, header_end + 1 + 500)), s[2]}, "t2.mcs",
-                "is truncated");
-  ExpectRefused(run, {s[0], run.tmp.write("t3.mcs", text.substr(0, text.size() - 1)), s[2]}, "t3.mcs", "is truncated");
-  ExpectRefused(run, {s[0], run.tmp.write("long.mcs", text + "x"), s[2]}, "long.mcs", "bytes after its end");
+  ExpectRefused(run, {s[0], run.tmp.write("t1.mcs", text.substr(0, header_end / 2)), s[2]},
+                "t1.mcs", "ends inside its header line");
+  ExpectRefused(run, {s[0], run.tmp.write("t2.mcs", text.substr(0, header_end + 1 + 500)), s[2]},
+                "t2.mcs", "is truncated");
+  ExpectRefused(run, {s[0], run.tmp.write("t3.mcs", text.substr(0, text.size() - 1)), s[2]},
+                "t3.mcs", "is truncated");
+  ExpectRefused(run, {s[0], run.tmp.write("long.mcs", text + "x"), s[2]}, "long.mcs",
+                "bytes after its end");
 
   // Corrupted: one bit of one end error; one digit of the predicted covariance in the header
   // (the JSON is still valid; the other shards disagree); the hash line.
@@ -213,14 +225,17 @@ TEST(MontecarloShard, OptionsAreChecked) {
       {run.base + " --shard 3/3 -o " + ShellQuote(out), "--shard: expected K/N with 0 <= K < N"},
       {run.base + " --shard 1/0 -o " + ShellQuote(out), "--shard: expected K/N"},
       {run.base + " --shard=-1/3 -o " + ShellQuote(out), "--shard: expected K/N"},
-      {run.base + " --shard 1/3 --json -o " + ShellQuote(out), "--json and --report go with --merge"},
+      {run.base + " --shard 1/3 --json -o " + ShellQuote(out),
+       "--json and --report go with --merge"},
       {run.base + " -o " + ShellQuote(out), "-o is the shard file of --shard K/N"},
       {run.base + " --shard 0/3 -o " + ShellQuote(run.tmp.path()), run.tmp.path()},
-      {run.base + " --shard 0/3 -o " + ShellQuote(DataPath("reference/cases/smooth-0.json")), "the case file"},
+      {run.base + " --shard 0/3 -o " + ShellQuote(DataPath("reference/cases/smooth-0.json")),
+       "the case file"},
       {"montecarlo --merge " + ShellQuote(out) + " --seed 3", "--seed is not used with it"},
       {"montecarlo --merge " + ShellQuote(out) + " --threads 2", "--threads is not used with it"},
       {"montecarlo --merge " + ShellQuote(out) + " --duration 2", "--duration is not used with it"},
-      {"montecarlo --method rk4 --trials 20 --seed 1", "--case (or --pipeline): required (or --merge SHARD...)"},
+      {"montecarlo --method rk4 --trials 20 --seed 1",
+       "--case (or --pipeline): required (or --merge SHARD...)"},
   };
   for (const Case& c : cases) {
     const CommandResult r = RunImuconv(c.args, run.tmp);
@@ -230,16 +245,17 @@ TEST(MontecarloShard, OptionsAreChecked) {
   }
   // A shard whose run fails (too few trials) writes nothing, and leaves no temporary.
   const std::size_t before = run.tmp.entries();
-  const CommandResult few = RunImuconv(
-      "montecarlo --case " + ShellQuote(DataPath("reference/cases/smooth-0.json")) +
-          " --method rk4 --trials 5 --seed 1 --shard 0/2 -o " + ShellQuote(out),
-      run.tmp);
+  const CommandResult few =
+      RunImuconv("montecarlo --case " + ShellQuote(DataPath("reference/cases/smooth-0.json")) +
+                     " --method rk4 --trials 5 --seed 1 --shard 0/2 -o " + ShellQuote(out),
+                 run.tmp);
   EXPECT_EQ(few.exit_code, 2);
   EXPECT_FALSE(fs::exists(out));
   EXPECT_EQ(run.tmp.entries(), before);
   // The pipeline merge points a montecarlo shard to its own merge.
   const std::string shard = run.shard(0, 1);
-  const CommandResult r = RunImuconv("merge -o " + ShellQuote(run.tmp.file("m.json")) + " " + ShellQuote(shard), run.tmp);
+  const CommandResult r = RunImuconv(
+      "merge -o " + ShellQuote(run.tmp.file("m.json")) + " " + ShellQuote(shard), run.tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "imuconv montecarlo --merge")) << r.err;
   EXPECT_FALSE(fs::exists(run.tmp.file("m.json")));

@@ -22,9 +22,10 @@ struct OneShard {
   std::string text;
   OneShard() {
     const std::string out = tmp.file("S.mcs");
-    const CommandResult r = RunImuconv("montecarlo --case " + ShellQuote(DataPath("reference/cases/smooth-0.json")) +
-                                           " --method rk4 --trials 16 --seed 3 --duration 0.2 --shard 0/1 -o " + ShellQuote(out),
-                                       tmp);
+    const CommandResult r = RunImuconv(
+        "montecarlo --case " + ShellQuote(DataPath("reference/cases/smooth-0.json")) +
+            " --method rk4 --trials 16 --seed 3 --duration 0.2 --shard 0/1 -o " + ShellQuote(out),
+        tmp);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     text = ReadText(out);
   }
@@ -94,7 +95,8 @@ TEST(MontecarloShardHostile, ANonFiniteStatisticIsAnErrorNotAVerdict) {
     unsigned char bytes[8];
     std::uint64_t u;
     std::memcpy(&u, &x, sizeof u);
-    for (int b = 0; b < 8; ++b) bytes[b] = static_cast<unsigned char>(u >> (8 * b));  // little-endian, as the format says
+    for (int b = 0; b < 8; ++b)
+      bytes[b] = static_cast<unsigned char>(u >> (8 * b));  // little-endian, as the format says
     forged.replace(begin + 8 * i, 8, reinterpret_cast<const char*>(bytes), 8);
   }
   s.refused(forged, "is not finite");

@@ -31,11 +31,13 @@ std::string NoiseJson(double k) {
       .dump();
 }
 
-CommandResult Nees(const std::string& args, const TempDir& tmp) { return RunImuconv("nees " + args, tmp); }
+CommandResult Nees(const std::string& args, const TempDir& tmp) {
+  return RunImuconv("nees " + args, tmp);
+}
 
 std::string DataArgs(const std::string& noise_path) {
-  return "--imu " + ShellQuote(kEurocSliceImu) + " --ground-truth " + ShellQuote(kEurocSliceGroundTruth) + " --noise " +
-         ShellQuote(noise_path);
+  return "--imu " + ShellQuote(kEurocSliceImu) + " --ground-truth " +
+         ShellQuote(kEurocSliceGroundTruth) + " --noise " + ShellQuote(noise_path);
 }
 
 json RunJson(const std::string& args, const TempDir& tmp) {
@@ -63,7 +65,9 @@ double QuantileOf(std::vector<double> v, double q) {
 // NIST/SEMATECH e-Handbook 1.3.6.7.4), which give 3 decimals for these quantiles and 4-5
 // significant digits for the median: the tolerances are half a unit of the last digit given ----
 TEST(NeesChiSquare, QuantilesMatchTables) {
-  const auto ChiSquareQuantile = [](double dof, double p) { return ChiSquareQuantileExact(dof, p); };
+  const auto ChiSquareQuantile = [](double dof, double p) {
+    return ChiSquareQuantileExact(dof, p);
+  };
   EXPECT_NEAR(ChiSquareQuantile(9, 0.025), 2.700, 5e-4);
   EXPECT_NEAR(ChiSquareQuantile(9, 0.975), 19.023, 5e-4);
   EXPECT_NEAR(ChiSquareQuantile(9, 0.5), 8.343, 5e-4);
@@ -73,7 +77,8 @@ TEST(NeesChiSquare, QuantilesMatchTables) {
   // Closed forms: dof 2 is the exponential, CDF 1 - exp(-x/2); the quantile is bisected to one
   // ulp, and the CDF's series sums to double precision, so a few ulps of 1e-15 relative.
   for (double p : {0.01, 0.3, 0.5, 0.9, 0.999})
-    EXPECT_NEAR(ChiSquareQuantile(2, p), -2 * std::log1p(-p), 1e-13 * (1 - 2 * std::log1p(-p))) << p;
+    EXPECT_NEAR(ChiSquareQuantile(2, p), -2 * std::log1p(-p), 1e-13 * (1 - 2 * std::log1p(-p)))
+        << p;
   // The continued-fraction branch (x > a + 1) against the same closed form.
   EXPECT_NEAR(ChiSquareCdf(2, 40.0), 1 - std::exp(-20.0), 1e-15);
 }
@@ -106,11 +111,13 @@ TEST_P(NeesSlice, StatisticsAndFactorFromTheValuesItPrints) {
     EXPECT_EQ(w["stride"].get<double>(), lengths[i]);  // default: non-overlapping
     const std::vector<double> nees = w["nees"], t_start = w["t_start"];
     // Every start t_begin + j L whose window ends inside the span (1 ns of slack for rounding).
-    const std::size_t expected_count = static_cast<std::size_t>(std::floor((t_end - t_begin + 1e-9) / lengths[i]));
+    const std::size_t expected_count =
+        static_cast<std::size_t>(std::floor((t_end - t_begin + 1e-9) / lengths[i]));
     EXPECT_EQ(w["count"].get<std::size_t>(), expected_count);
     ASSERT_EQ(nees.size(), expected_count);
     ASSERT_EQ(t_start.size(), expected_count);
-    for (std::size_t j = 0; j < t_start.size(); ++j) EXPECT_EQ(t_start[j], t_begin + j * lengths[i]);
+    for (std::size_t j = 0; j < t_start.size(); ++j)
+      EXPECT_EQ(t_start[j], t_begin + j * lengths[i]);
     // The statistics recomputed from the printed values (the JSON writer prints doubles to
     // round trip, so identical inputs; 1e-12 relative allows the summation order of the mean).
     const double median = MedianOf(nees);
@@ -120,14 +127,15 @@ TEST_P(NeesSlice, StatisticsAndFactorFromTheValuesItPrints) {
     EXPECT_NEAR(w["mean"].get<double>(), sum / nees.size(), 1e-12 * sum / nees.size());
     EXPECT_NEAR(w["p95"].get<double>(), QuantileOf(nees, 0.95), 1e-12 * QuantileOf(nees, 0.95));
     std::size_t inside = 0;
-    for (double v : nees) inside += v >= doc["chi2"]["lower"].get<double>() && v <= doc["chi2"]["upper"].get<double>();
+    for (double v : nees)
+      inside += v >= doc["chi2"]["lower"].get<double>() && v <= doc["chi2"]["upper"].get<double>();
     EXPECT_EQ(w["fraction_inside"].get<double>(), static_cast<double>(inside) / nees.size());
     // The factor's definition: k^2 = median NEES(1) / chi2_9 median (one division and one
     // square root apart: 1e-12 relative is a few hundred ulps).
     const double k = w["factor"];
     EXPECT_NEAR(k * k, median / chi2_median, 1e-12 * median / chi2_median);
-    std::printf("%s L = %.1f s: %zu windows, median NEES %.4g, factor %.4g\n", GetParam().c_str(), lengths[i],
-                nees.size(), median, k);
+    std::printf("%s L = %.1f s: %zu windows, median NEES %.4g, factor %.4g\n", GetParam().c_str(),
+                lengths[i], nees.size(), median, k);
   }
 }
 
@@ -146,7 +154,8 @@ TEST(NeesScaling, NeesScalesAsOneOverKSquared) {
   for (int i = 0; i < 3; ++i) {
     const std::vector<double> a = one["windows"][i]["nees"], b = two["windows"][i]["nees"];
     ASSERT_EQ(a.size(), b.size());
-    for (std::size_t j = 0; j < a.size(); ++j) EXPECT_NEAR(b[j], a[j] / 4, 1e-9 * a[j] / 4) << i << " " << j;
+    for (std::size_t j = 0; j < a.size(); ++j)
+      EXPECT_NEAR(b[j], a[j] / 4, 1e-9 * a[j] / 4) << i << " " << j;
     const double ka = one["windows"][i]["factor"], kb = two["windows"][i]["factor"];
     EXPECT_NEAR(kb, ka / 2, 1e-9 * ka / 2) << i;
   }
@@ -166,7 +175,8 @@ TEST(NeesNoiseInput, KalibrYamlJsonAndPipelineAgree) {
   const std::string args = " --windows 0.5 --method midpoint";
   const json from_json = RunJson(DataArgs(tmp.write("noise.json", NoiseJson(1.0))) + args, tmp);
   const json from_yaml = RunJson(DataArgs(yaml) + args, tmp);
-  const json from_pipeline = RunJson(DataArgs(SourcePath("examples/euroc_v1_01_keyframes.json")) + args, tmp);
+  const json from_pipeline =
+      RunJson(DataArgs(SourcePath("examples/euroc_v1_01_keyframes.json")) + args, tmp);
   EXPECT_EQ(from_json, from_yaml);
   EXPECT_EQ(from_json, from_pipeline);
 }
@@ -194,7 +204,8 @@ TEST(NeesConvention, ForsterChartGivesNearlyTheSameNees) {
   TempDir tmp;
   const std::string noise = tmp.write("noise.json", NoiseJson(1.0));
   const json left = RunJson(DataArgs(noise) + " --windows 1.0 --method rk4", tmp);
-  const json forster = RunJson(DataArgs(noise) + " --windows 1.0 --method rk4 --convention forster", tmp);
+  const json forster =
+      RunJson(DataArgs(noise) + " --windows 1.0 --method rk4 --convention forster", tmp);
   ASSERT_TRUE(left.is_object() && forster.is_object());
   const std::vector<double> a = left["windows"][0]["nees"], b = forster["windows"][0]["nees"];
   ASSERT_EQ(a.size(), b.size());
@@ -209,9 +220,10 @@ TEST(NeesHostile, UnusableInputIsRefusedByName) {
 
   // Missing IMU file.
   const std::string missing = tmp.file("no_such_imu.csv");
-  CommandResult r = Nees("--imu " + ShellQuote(missing) + " --ground-truth " + ShellQuote(kEurocSliceGroundTruth) + " --noise " +
-                             ShellQuote(noise) + rest,
-                         tmp);
+  CommandResult r =
+      Nees("--imu " + ShellQuote(missing) + " --ground-truth " +
+               ShellQuote(kEurocSliceGroundTruth) + " --noise " + ShellQuote(noise) + rest,
+           tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "no_such_imu.csv")) << r.err;
 
@@ -222,18 +234,19 @@ TEST(NeesHostile, UnusableInputIsRefusedByName) {
   for (int i = 0; std::getline(imu_in, line); ++i)
     imu_text += (i == 5 ? "1403715293287142912,0.1,0.2,abc,1,2,3" : line) + "\n";
   const std::string bad_imu = tmp.write("bad_imu.csv", imu_text);
-  r = Nees("--imu " + ShellQuote(bad_imu) + " --ground-truth " + ShellQuote(kEurocSliceGroundTruth) + " --noise " +
-               ShellQuote(noise) + rest,
+  r = Nees("--imu " + ShellQuote(bad_imu) + " --ground-truth " +
+               ShellQuote(kEurocSliceGroundTruth) + " --noise " + ShellQuote(noise) + rest,
            tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "bad_imu.csv:6")) << r.err;
   std::ifstream gt_in(kEurocSliceGroundTruth);
   std::string gt_text;
-  for (int i = 0; std::getline(gt_in, line); ++i) gt_text += (i == 2 ? line.substr(0, line.rfind(',')) : line) + "\n";
+  for (int i = 0; std::getline(gt_in, line); ++i)
+    gt_text += (i == 2 ? line.substr(0, line.rfind(',')) : line) + "\n";
   const std::string bad_gt = tmp.write("bad_gt.csv", gt_text);
-  r = Nees(
-      "--imu " + ShellQuote(kEurocSliceImu) + " --ground-truth " + ShellQuote(bad_gt) + " --noise " + ShellQuote(noise) + rest,
-      tmp);
+  r = Nees("--imu " + ShellQuote(kEurocSliceImu) + " --ground-truth " + ShellQuote(bad_gt) +
+               " --noise " + ShellQuote(noise) + rest,
+           tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "bad_gt.csv:3")) << r.err;
 

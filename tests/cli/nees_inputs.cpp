@@ -53,13 +53,19 @@ std::string GenericCsv() {
 }
 
 json GenericPipeline(const std::string& csv) {
-  return NeesPipeline(
-      {{"format", "csv"},
-       {"path", csv},
-       {"delimiter", ";"},
-       {"header_rows", 1},
-       {"time_unit", "us"},
-       {"columns", {{"t", "time_us"}, {"wx", 2}, {"wy", 1}, {"wz", 0}, {"ax", "ax"}, {"ay", "ay"}, {"az", 4}}}});
+  return NeesPipeline({{"format", "csv"},
+                       {"path", csv},
+                       {"delimiter", ";"},
+                       {"header_rows", 1},
+                       {"time_unit", "us"},
+                       {"columns",
+                        {{"t", "time_us"},
+                         {"wx", 2},
+                         {"wy", 1},
+                         {"wz", 0},
+                         {"ax", "ax"},
+                         {"ay", "ay"},
+                         {"az", 4}}}});
 }
 
 json RunJson(const std::string& args, const TempDir& tmp) {
@@ -79,7 +85,8 @@ void ExpectSameNees(const json& a, const json& b) {
       EXPECT_NEAR(u, v, 1e-9 * std::abs(u)) << "window length " << w << ", window " << i;
       EXPECT_NEAR(x["t_start"][i].get<double>(), y["t_start"][i].get<double>(), 1e-9);
     }
-    EXPECT_NEAR(x["factor"].get<double>(), y["factor"].get<double>(), 1e-9 * x["factor"].get<double>());
+    EXPECT_NEAR(x["factor"].get<double>(), y["factor"].get<double>(),
+                1e-9 * x["factor"].get<double>());
   }
 }
 
@@ -89,26 +96,30 @@ TEST(NeesPipelineInput, GenericCsvGivesTheNeesOfTheEurocFiles) {
   const std::string csv = tmp.write("imu_generic.csv", GenericCsv());
   const std::string pipeline = tmp.write("generic.json", GenericPipeline(csv).dump(1));
   const std::string common = " --windows 0.5,1.0 --method rk4";
-  const json euroc = RunJson("--imu " + ShellQuote(kEurocSliceImu) + " --ground-truth " + ShellQuote(kEurocSliceGroundTruth) + " --noise " +
-                                 ShellQuote(noise) + common,
-                             tmp);
+  const json euroc =
+      RunJson("--imu " + ShellQuote(kEurocSliceImu) + " --ground-truth " +
+                  ShellQuote(kEurocSliceGroundTruth) + " --noise " + ShellQuote(noise) + common,
+              tmp);
   const json generic = RunJson("--pipeline " + ShellQuote(pipeline) + common, tmp);
   ExpectSameNees(euroc, generic);
   std::printf("  %zu + %zu windows; factor at 0.5 s: EuRoC %.12g, generic CSV %.12g\n",
               euroc["windows"][0]["nees"].size(), euroc["windows"][1]["nees"].size(),
-              euroc["windows"][0]["factor"].get<double>(), generic["windows"][0]["factor"].get<double>());
+              euroc["windows"][0]["factor"].get<double>(),
+              generic["windows"][0]["factor"].get<double>());
   // --noise replaces the pipeline's: a Kalibr imu.yaml of the same densities, and a JSON noise
   // object of twice them (NEES / 4, the exact 1/k^2 scaling: 1e-12 relative, round-off).
-  ExpectSameNees(euroc,
-                 RunJson("--pipeline " + ShellQuote(pipeline) + " --noise " + ShellQuote(kKalibr) + common, tmp));
+  ExpectSameNees(euroc, RunJson("--pipeline " + ShellQuote(pipeline) + " --noise " +
+                                    ShellQuote(kKalibr) + common,
+                                tmp));
   json twice = kEurocNoise;
   for (auto& v : twice) v = 2.0 * v.get<double>();
-  const json doubled = RunJson(
-      "--pipeline " + ShellQuote(pipeline) + " --noise " + ShellQuote(tmp.write("twice.json", twice.dump())) + common,
-      tmp);
+  const json doubled = RunJson("--pipeline " + ShellQuote(pipeline) + " --noise " +
+                                   ShellQuote(tmp.write("twice.json", twice.dump())) + common,
+                               tmp);
   ASSERT_EQ(doubled["windows"][0]["nees"].size(), euroc["windows"][0]["nees"].size());
   for (std::size_t i = 0; i < doubled["windows"][0]["nees"].size(); ++i)
-    EXPECT_NEAR(doubled["windows"][0]["nees"][i].get<double>() * 4.0, euroc["windows"][0]["nees"][i].get<double>(),
+    EXPECT_NEAR(doubled["windows"][0]["nees"][i].get<double>() * 4.0,
+                euroc["windows"][0]["nees"][i].get<double>(),
                 1e-12 * euroc["windows"][0]["nees"][i].get<double>());
 }
 
@@ -119,8 +130,9 @@ TEST(NeesPipelineInput, HostilePipelinesAreRefusedByName) {
   json p = GenericPipeline(csv);
 
   // --pipeline with --imu: a usage error.
-  CommandResult r = RunImuconv(
-      "nees --pipeline " + ShellQuote(tmp.write("ok.json", p.dump())) + " --imu " + ShellQuote(kEurocSliceImu) + common, tmp);
+  CommandResult r = RunImuconv("nees --pipeline " + ShellQuote(tmp.write("ok.json", p.dump())) +
+                                   " --imu " + ShellQuote(kEurocSliceImu) + common,
+                               tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "--pipeline") && Has(r.err, "--imu")) << r.err;
   // Neither.
@@ -131,19 +143,25 @@ TEST(NeesPipelineInput, HostilePipelinesAreRefusedByName) {
   // No ground truth; pose-only ground truth; no noise and no --noise.
   json q = p;
   q.erase("ground_truth");
-  q["tasks"][0]["start"] = {{"state", {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {0, 0, 0}}}}};
+  q["tasks"][0]["start"] = {
+      {"state", {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {0, 0, 0}}}}};
   r = RunImuconv("nees --pipeline " + ShellQuote(tmp.write("no_gt.json", q.dump())) + common, tmp);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "no_gt.json") && Has(r.err, "/ground_truth") && Has(r.err, "required key is missing"))
+  EXPECT_TRUE(Has(r.err, "no_gt.json") && Has(r.err, "/ground_truth") &&
+              Has(r.err, "required key is missing"))
       << r.err;
   q = p;
-  q["ground_truth"] = {{"format", "euroc_pose"}, {"path", DataPath("pipeline_cases/files/vicon0.csv")}};
+  q["ground_truth"] = {{"format", "euroc_pose"},
+                       {"path", DataPath("pipeline_cases/files/vicon0.csv")}};
   r = RunImuconv("nees --pipeline " + ShellQuote(tmp.write("poses.json", q.dump())) + common, tmp);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "poses.json") && Has(r.err, "/ground_truth/format") && Has(r.err, "full state")) << r.err;
+  EXPECT_TRUE(Has(r.err, "poses.json") && Has(r.err, "/ground_truth/format") &&
+              Has(r.err, "full state"))
+      << r.err;
   q = p;
   q.erase("noise");
-  r = RunImuconv("nees --pipeline " + ShellQuote(tmp.write("no_noise.json", q.dump())) + common, tmp);
+  r = RunImuconv("nees --pipeline " + ShellQuote(tmp.write("no_noise.json", q.dump())) + common,
+                 tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "no_noise.json") && Has(r.err, "/noise")) << r.err;
 

@@ -16,28 +16,33 @@ namespace {
 using namespace imuconv::test;
 
 /// `args` with `flag value` appended must be refused: exit 2, the option and the rule named.
-void ExpectRefused(const std::string& args, const std::string& flag, const std::string& value, const TempDir& tmp) {
+void ExpectRefused(const std::string& args, const std::string& flag, const std::string& value,
+                   const TempDir& tmp) {
   SCOPED_TRACE(flag + " " + value);
   const CommandResult r = RunImuconv(args + " " + flag + " " + ShellQuote(value), tmp);
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_TRUE(Has(r.err, flag)) << r.err;
   // A list option is checked element by element: the message shows the element at fault.
-  const std::string element = value.substr(value.rfind(',') == std::string::npos ? 0 : value.rfind(',') + 1);
+  const std::string element =
+      value.substr(value.rfind(',') == std::string::npos ? 0 : value.rfind(',') + 1);
   EXPECT_TRUE(Has(r.err, "expected a finite number, found '" + element + "'")) << r.err;
   EXPECT_EQ(r.out, "");
 }
 
 TEST(NumericFlags, NonFiniteValuesAreRefusedInEveryCommand) {
   TempDir tmp;
-  const std::string montecarlo =
-      "montecarlo --case " + ShellQuote(DataPath("reference/cases/smooth-0.json")) + " --method rk4 --trials 16";
+  const std::string montecarlo = "montecarlo --case " +
+                                 ShellQuote(DataPath("reference/cases/smooth-0.json")) +
+                                 " --method rk4 --trials 16";
   ExpectRefused(montecarlo, "--duration", "nan", tmp);
   ExpectRefused(montecarlo, "--duration", "NaN", tmp);
   ExpectRefused(montecarlo, "--noise-scale", "1e999", tmp);  // beyond the largest double: inf
   ExpectRefused(montecarlo, "--duration", "0x1p99999", tmp);
-  const std::string nees = "nees --imu " + ShellQuote(SourcePath("examples/data/V1_01_easy_imu0_slice.csv")) +
-                           " --ground-truth " + ShellQuote(SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv")) +
-                           " --noise " + ShellQuote(DataPath("kalibr/euroc_imu.yaml")) + " --method rk4";
+  const std::string nees =
+      "nees --imu " + ShellQuote(SourcePath("examples/data/V1_01_easy_imu0_slice.csv")) +
+      " --ground-truth " +
+      ShellQuote(SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv")) +
+      " --noise " + ShellQuote(DataPath("kalibr/euroc_imu.yaml")) + " --method rk4";
   ExpectRefused(nees + " --windows 0.5", "--stride", "nan", tmp);
   ExpectRefused(nees, "--windows", "0.5,nan", tmp);
   ExpectRefused("plugins --check " + ShellQuote(tmp.path()), "--check-timeout", "nan", tmp);
@@ -50,8 +55,10 @@ TEST(NumericFlags, IntegerOptionsRefuseInfinityToo) {
   // An integer option never took "inf" (CLI11 cannot convert it); the message is still exit 2
   // naming the option.
   TempDir tmp;
-  const CommandResult r = RunImuconv(
-      "montecarlo --case " + ShellQuote(DataPath("reference/cases/smooth-0.json")) + " --method rk4 --trials inf", tmp);
+  const CommandResult r =
+      RunImuconv("montecarlo --case " + ShellQuote(DataPath("reference/cases/smooth-0.json")) +
+                     " --method rk4 --trials inf",
+                 tmp);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "--trials")) << r.err;
 }
@@ -60,7 +67,8 @@ TEST(NumericFlags, FiniteValuesAndNamesThatAreNotNumbersStillPass) {
   // The rule is about numbers only: a file named "nan" is still a file (given as ./nan), and a
   // finite value passes (the case is refused for another reason: it does not exist).
   TempDir tmp;
-  const CommandResult r = RunImuconv("montecarlo --case ./nan --method rk4 --trials 16 --seed 1 --duration 0.5", tmp);
+  const CommandResult r =
+      RunImuconv("montecarlo --case ./nan --method rk4 --trials 16 --seed 1 --duration 0.5", tmp);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_FALSE(Has(r.err, "finite")) << r.err;
   EXPECT_TRUE(Has(r.err, "nan")) << r.err;

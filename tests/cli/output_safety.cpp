@@ -32,7 +32,8 @@ mode_t Lmode(const std::string& p) {
 
 /// Copies examples/<name> and the data files it names into `tmp` (same layout), so that a
 /// test that fails to refuse destroys only copies. Returns the pipeline's path in tmp.
-std::string CopyExample(const TempDir& tmp, const std::string& name, const std::vector<std::string>& data) {
+std::string CopyExample(const TempDir& tmp, const std::string& name,
+                        const std::vector<std::string>& data) {
   fs::create_directories(tmp.file("data"));
   for (const auto& d : data) fs::copy_file(SourcePath("examples/data/" + d), tmp.file("data/" + d));
   fs::copy_file(SourcePath("examples/" + name), tmp.file(name));
@@ -40,7 +41,8 @@ std::string CopyExample(const TempDir& tmp, const std::string& name, const std::
 }
 
 std::string Generic(const TempDir& tmp) {
-  return CopyExample(tmp, "generic_csv.json", {"generic_imu_seconds.csv", "V1_01_easy_groundtruth_vicon2gt_slice.csv"});
+  return CopyExample(tmp, "generic_csv.json",
+                     {"generic_imu_seconds.csv", "V1_01_easy_groundtruth_vicon2gt_slice.csv"});
 }
 
 /// Every file of a directory with its bytes, to show that nothing in it changed.
@@ -68,7 +70,8 @@ TEST(OutputSafety, FifoIsWrittenThrough) {
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   std::string received;
   std::thread reader([&] { received = ReadText(fifo); });  // opens, blocking until imuconv does
-  const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(fifo) + " -q", tmp);
+  const CommandResult r =
+      RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(fifo) + " -q", tmp);
   // Whatever happened, let the reader finish (ENXIO when it already has).
   const int fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
   if (fd >= 0) ::close(fd);
@@ -87,9 +90,12 @@ TEST(OutputSafety, StdoutByNameGetsTheDocumentAndTheSummaryGoesToStderr) {
     const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + out, tmp);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     const json doc = json::parse(r.out, nullptr, false);
-    ASSERT_FALSE(doc.is_discarded()) << out << ": stdout is not one JSON document:\n" << r.out.substr(0, 300);
+    ASSERT_FALSE(doc.is_discarded()) << out << ": stdout is not one JSON document:\n"
+                                     << r.out.substr(0, 300);
     EXPECT_EQ(doc["tasks"].size(), 4u);
-    EXPECT_TRUE(Has(r.err, "residual 'residuals_vs_gt'")) << out << ": the summary belongs on stderr\n" << r.err;
+    EXPECT_TRUE(Has(r.err, "residual 'residuals_vs_gt'"))
+        << out << ": the summary belongs on stderr\n"
+        << r.err;
   }
   EXPECT_EQ(tmp.entries(), 2u);  // the pipeline and data/
 }
@@ -100,11 +106,13 @@ TEST(OutputSafety, SymbolicLinkIsFollowedAndStaysALink) {
   fs::create_directories(tmp.file("results"));
   const std::string target = tmp.write("results/run.json", "old\n");
   fs::create_symlink("results/run.json", tmp.file("latest.json"));
-  const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(tmp.file("latest.json")) + " -q", tmp);
+  const CommandResult r = RunImuconv(
+      "run " + ShellQuote(p) + " -o " + ShellQuote(tmp.file("latest.json")) + " -q", tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(S_ISLNK(Lmode(tmp.file("latest.json"))));
   EXPECT_EQ(json::parse(ReadText(target))["tasks"].size(), 4u);
-  EXPECT_EQ(std::distance(fs::directory_iterator(tmp.file("results")), fs::directory_iterator()), 1);
+  EXPECT_EQ(std::distance(fs::directory_iterator(tmp.file("results")), fs::directory_iterator()),
+            1);
 }
 
 TEST(OutputSafety, ModeIsKept) {
@@ -112,7 +120,8 @@ TEST(OutputSafety, ModeIsKept) {
   const std::string p = Generic(tmp);
   const std::string out = tmp.write("private.json", "old\n");
   ASSERT_EQ(::chmod(out.c_str(), 0600), 0);
-  const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(out) + " -q", tmp);
+  const CommandResult r =
+      RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(out) + " -q", tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(Lmode(out) & 07777, 0600u);
   EXPECT_EQ(json::parse(ReadText(out))["tasks"].size(), 4u);
@@ -123,9 +132,12 @@ TEST(OutputSafety, FileWithSeveralHardLinksIsRefused) {
   const std::string p = Generic(tmp);
   const std::string out = tmp.write("result.json", "shared\n");
   ASSERT_EQ(::link(out.c_str(), tmp.file("backup.json").c_str()), 0);
-  const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(out) + " -q", tmp);
+  const CommandResult r =
+      RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(out) + " -q", tmp);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "imuconv: error: " + out + ": has 2 hard links; replacing it would split them")) << r.err;
+  EXPECT_TRUE(
+      Has(r.err, "imuconv: error: " + out + ": has 2 hard links; replacing it would split them"))
+      << r.err;
   EXPECT_EQ(ReadText(out), "shared\n");
   EXPECT_EQ(ReadText(tmp.file("backup.json")), "shared\n");
 }
@@ -142,12 +154,14 @@ TEST(OutputSafety, AnInputIsNeverTheOutput) {
       {imu, "is the same file as the input file " + imu},
       {gt, "is the same file as the input file " + gt},
       {tmp.file("imu_link.json"), "is the same file as the input file " + imu},
-      {tmp.file("data/../data/generic_imu_seconds.csv"), "is the same file as the input file " + imu},
+      {tmp.file("data/../data/generic_imu_seconds.csv"),
+       "is the same file as the input file " + imu},
   };
   for (const auto& [out, says] : cases) {
     const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(out), tmp);
     EXPECT_EQ(r.exit_code, 2) << out;
-    EXPECT_TRUE(Has(r.err, "imuconv: error: " + out + ": " + says + ": refusing to overwrite it")) << r.err;
+    EXPECT_TRUE(Has(r.err, "imuconv: error: " + out + ": " + says + ": refusing to overwrite it"))
+        << r.err;
     EXPECT_EQ(r.out, "") << "refused before the run";
   }
   EXPECT_TRUE(Snapshot(tmp.path()) == before) << "an input changed";
@@ -157,12 +171,15 @@ TEST(OutputSafety, AnInputIsNeverTheOutput) {
 
 TEST(OutputSafety, AMeasurementsFileIsNeverTheOutput) {
   TempDir tmp;
-  const std::string p = CopyExample(tmp, "gtsam_import.json", {"gtsam_smooth0_manifold.measurements.json"});
+  const std::string p =
+      CopyExample(tmp, "gtsam_import.json", {"gtsam_smooth0_manifold.measurements.json"});
   const std::string meas = tmp.file("data/gtsam_smooth0_manifold.measurements.json");
   const auto before = Snapshot(tmp.path());
   CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(meas), tmp);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, meas + ": is the same file as the input file " + meas + ": refusing to overwrite it")) << r.err;
+  EXPECT_TRUE(Has(
+      r.err, meas + ": is the same file as the input file " + meas + ": refusing to overwrite it"))
+      << r.err;
   EXPECT_TRUE(Snapshot(tmp.path()) == before);
   // The same through the pipeline's own "output" key.
   json doc = json::parse(ReadText(p));
@@ -185,13 +202,15 @@ TEST(OutputSafety, PipelineOutputKeyStaysInsideItsDirectory) {
   json doc = json::parse(ReadText(p));
   doc["imu"]["path"] = "../data/generic_imu_seconds.csv";
   doc["ground_truth"]["path"] = "../data/V1_01_easy_groundtruth_vicon2gt_slice.csv";
-  for (const std::string& bad :
-       std::vector<std::string>{"../elsewhere.json", "sub/../../elsewhere.json", tmp.file("absolute.json"), ".."}) {
+  for (const std::string& bad : std::vector<std::string>{
+           "../elsewhere.json", "sub/../../elsewhere.json", tmp.file("absolute.json"), ".."}) {
     doc["output"] = bad;
     const std::string pipe = tmp.write("inner/escape.json", doc.dump());
     const CommandResult r = RunImuconv("run " + ShellQuote(pipe), tmp);
     EXPECT_EQ(r.exit_code, 2) << bad;
-    EXPECT_TRUE(Has(r.err, pipe + ": /output: expected a relative path inside the pipeline's directory")) << r.err;
+    EXPECT_TRUE(
+        Has(r.err, pipe + ": /output: expected a relative path inside the pipeline's directory"))
+        << r.err;
     EXPECT_TRUE(Has(r.err, "-o")) << r.err;
   }
   EXPECT_FALSE(fs::exists(tmp.file("elsewhere.json")));
@@ -203,7 +222,8 @@ TEST(OutputSafety, PipelineOutputKeyStaysInsideItsDirectory) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(json::parse(ReadText(tmp.file("inner/inside.json")))["tasks"].size(), 4u);
   fs::create_directories(tmp.file("a/b"));
-  r = RunImuconv("run " + ShellQuote(ok) + " -q -o " + ShellQuote(tmp.file("a/b/../outside_by_o.json")), tmp);
+  r = RunImuconv(
+      "run " + ShellQuote(ok) + " -q -o " + ShellQuote(tmp.file("a/b/../outside_by_o.json")), tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::exists(tmp.file("a/outside_by_o.json")));
 }
@@ -234,7 +254,8 @@ pid_t Spawn(const std::vector<std::string>& args) {
 std::vector<std::string> Temporaries(const std::string& dir) {
   std::vector<std::string> t;
   for (const auto& e : fs::directory_iterator(dir))
-    if (e.path().filename().string().find(".tmp.") != std::string::npos) t.push_back(e.path().string());
+    if (e.path().filename().string().find(".tmp.") != std::string::npos)
+      t.push_back(e.path().string());
   return t;
 }
 
@@ -287,10 +308,12 @@ TEST(OutputSafety, SigtermRemovesTheTemporaryAndKeepsTheOldOutput) {
     ::waitpid(pid, &status, 0);
     FAIL() << "no temporary appeared within 60 s";
   }
-  if (exited) GTEST_SKIP() << "the run finished (status " << status << ") before its temporary was seen";
+  if (exited)
+    GTEST_SKIP() << "the run finished (status " << status << ") before its temporary was seen";
   ASSERT_EQ(::kill(pid, SIGTERM), 0);
   ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-  if (WIFEXITED(status)) GTEST_SKIP() << "the run finished (exit " << WEXITSTATUS(status) << ") before SIGTERM arrived";
+  if (WIFEXITED(status))
+    GTEST_SKIP() << "the run finished (exit " << WEXITSTATUS(status) << ") before SIGTERM arrived";
   EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << "status " << status;
   EXPECT_TRUE(Temporaries(tmp.path()).empty()) << Temporaries(tmp.path()).front();
   EXPECT_EQ(ReadText(out), "previous result\n");

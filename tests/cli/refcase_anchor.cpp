@@ -37,18 +37,22 @@ bool Whitened(const std::string& field) {
 
 /// Compares the anchor's value `a` with the output's `o` at JSON pointer `ptr` (`field` the
 /// pointer without indices), recording numeric differences and failing on anything else.
-void Compare(const json& a, const json& o, const std::string& ptr, const std::string& field, const std::string& label,
-             FieldWorst& worst) {
+void Compare(const json& a, const json& o, const std::string& ptr, const std::string& field,
+             const std::string& label, FieldWorst& worst) {
   if (a.is_object()) {
     ASSERT_TRUE(o.is_object()) << label << ": " << ptr << " is not an object";
     for (auto it = a.begin(); it != a.end(); ++it) {
-      if (ptr.empty() && (it.key() == "inputs" || it.key() == "upstream" || it.key() == "build")) continue;
+      if (ptr.empty() && (it.key() == "inputs" || it.key() == "upstream" || it.key() == "build"))
+        continue;
       ASSERT_TRUE(o.contains(it.key())) << label << ": the output lacks " << ptr << "/" << it.key();
-      Compare(it.value(), o.at(it.key()), ptr + "/" + it.key(), field + "/" + it.key(), label, worst);
+      Compare(it.value(), o.at(it.key()), ptr + "/" + it.key(), field + "/" + it.key(), label,
+              worst);
     }
   } else if (a.is_array()) {
-    ASSERT_TRUE(o.is_array() && o.size() == a.size()) << label << ": " << ptr << " has another size";
-    for (std::size_t i = 0; i < a.size(); ++i) Compare(a[i], o[i], ptr + "/" + std::to_string(i), field, label, worst);
+    ASSERT_TRUE(o.is_array() && o.size() == a.size())
+        << label << ": " << ptr << " has another size";
+    for (std::size_t i = 0; i < a.size(); ++i)
+      Compare(a[i], o[i], ptr + "/" + std::to_string(i), field, label, worst);
   } else if (a.is_number_integer()) {
     EXPECT_EQ(a, o) << label << ": " << ptr;
   } else if (a.is_number()) {
@@ -68,17 +72,19 @@ void RunAnchor(const std::string& name) {
   for (const char* id : kReferenceCaseIds) {
     const std::string case_path = DataPath(std::string("reference/cases/") + id + ".json");
     const std::string out_path = tmp.file(name + "-" + id + ".json");
-    const CommandResult r =
-        RunImuconv("refcase " + ShellQuote(case_path) + " --anchor " + name + " -o " + ShellQuote(out_path), tmp);
+    const CommandResult r = RunImuconv(
+        "refcase " + ShellQuote(case_path) + " --anchor " + name + " -o " + ShellQuote(out_path),
+        tmp);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     json anchor = ReadJson(DataPath("reference/anchors/" + name + "/" + id + ".json"));
     const json out = ReadJson(out_path);
     EXPECT_EQ(out.at("anchor"), name);
     if (name == "openvins") {
       json expected = json::array();
-      for (const auto& [key, plugin] : {std::pair<const char*, const char*>{"discrete", "openvins_discrete"},
-                                        {"rk4", "openvins_rk4"},
-                                        {"analytical", "openvins_analytical"}}) {
+      for (const auto& [key, plugin] :
+           {std::pair<const char*, const char*>{"discrete", "openvins_discrete"},
+            {"rk4", "openvins_rk4"},
+            {"analytical", "openvins_analytical"}}) {
         if (Plugins().has(imuconv::PluginKind::Propagator, plugin))
           expected.push_back(plugin);
         else
@@ -99,9 +105,10 @@ TEST(RefcaseAnchor, OpenVinsFieldsAreOpenVinsOwn) { RunAnchor("openvins"); }
 
 TEST(RefcaseAnchor, UnknownNameIsRefusedAndNothingWritten) {
   TempDir tmp;
-  const CommandResult r = RunImuconv("refcase " + ShellQuote(DataPath("reference/cases/smooth-0.json")) +
-                                         " --anchor orbslam3 -o " + ShellQuote(tmp.file("out.json")),
-                                     tmp);
+  const CommandResult r =
+      RunImuconv("refcase " + ShellQuote(DataPath("reference/cases/smooth-0.json")) +
+                     " --anchor orbslam3 -o " + ShellQuote(tmp.file("out.json")),
+                 tmp);
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("orbslam3"), std::string::npos) << r.err;
   EXPECT_FALSE(std::ifstream(tmp.file("out.json")).good());

@@ -37,18 +37,22 @@ struct SmallBatch {
     pipeline = tmp.write("P.json", p.dump(2));
   }
   std::string run(const std::string& extra, const std::string& out) {
-    const CommandResult r = RunImuconv("-q run " + ShellQuote(pipeline) + " " + extra + " -o " + ShellQuote(tmp.file(out)), tmp);
+    const CommandResult r = RunImuconv(
+        "-q run " + ShellQuote(pipeline) + " " + extra + " -o " + ShellQuote(tmp.file(out)), tmp);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return tmp.file(out);
   }
-  std::string shard(unsigned k) { return run("--shard " + std::to_string(k) + "/3", "S" + std::to_string(k) + ".json"); }
+  std::string shard(unsigned k) {
+    return run("--shard " + std::to_string(k) + "/3", "S" + std::to_string(k) + ".json");
+  }
   CommandResult merge(const std::vector<std::string>& shards) {
     std::string args = "merge -o " + ShellQuote(tmp.file("out.json"));
     for (const auto& s : shards) args += " " + ShellQuote(s);
     return RunImuconv(args, tmp);
   }
   /// The merge must fail: exit 2, `file` and `why` in the message, no output, nothing new.
-  void refused(const std::vector<std::string>& shards, const std::string& file, const std::string& why) {
+  void refused(const std::vector<std::string>& shards, const std::string& file,
+               const std::string& why) {
     const std::size_t before = tmp.entries();
     const CommandResult r = merge(shards);
     EXPECT_EQ(r.exit_code, 2) << r.err;
@@ -86,7 +90,8 @@ TEST(ShardIntegrity, AShardWithOneByteRemovedIsRefused) {
   ASSERT_NE(digit, std::string::npos);
   text.erase(digit, 1);
   b.tmp.write("cut.json", text);
-  b.refused({s0, b.tmp.file("cut.json"), s2}, "cut.json", "does not match the FNV-1a 64 hash in /shard_fnv1a_64");
+  b.refused({s0, b.tmp.file("cut.json"), s2}, "cut.json",
+            "does not match the FNV-1a 64 hash in /shard_fnv1a_64");
 }
 
 TEST(ShardIntegrity, AShardWithOneNumberChangedIsRefused) {
@@ -105,7 +110,8 @@ TEST(ShardIntegrity, AShardWithOneNumberChangedIsRefused) {
   hash_edited[hex] = hash_edited[hex] == '0' ? '1' : '0';
   b.tmp.write("hash.json", hash_edited);
   b.refused({s0, b.tmp.file("hash.json"), s2}, "hash.json", "is corrupted or was edited");
-  // No hash member at all (a shard of an imuconv before this check): refused, saying what is missing.
+  // No hash member at all (a shard of an imuconv before this check): refused, saying what is
+  // missing.
   const std::string old = ReadText(s2);
   const std::size_t member = old.rfind(",\n  \"shard_fnv1a_64\"");
   b.tmp.write("old.json", old.substr(0, member) + "\n}\n");
@@ -137,7 +143,8 @@ TEST(ShardIntegrity, AShardMemberThatIsNotJsonIsNamedWithoutTheLibrarysWords) {
   ASSERT_NE(at, std::string::npos);
   text.replace(at, key.size(), "\"index\": 00");
   b.tmp.write("zero.json", ResealRunShard(text));
-  b.refused({b.tmp.file("zero.json")}, "zero.json", "its \"shard\" member is not JSON as imuconv writes it");
+  b.refused({b.tmp.file("zero.json")}, "zero.json",
+            "its \"shard\" member is not JSON as imuconv writes it");
 }
 
 TEST(ShardIntegrity, CountsAreCheckedAgainstTheFileBeforeAnythingIsAllocated) {
@@ -154,7 +161,8 @@ TEST(ShardIntegrity, CountsAreCheckedAgainstTheFileBeforeAnythingIsAllocated) {
     b.tmp.write("many.json", ResealRunShard(text));
     rusage before{};
     getrusage(RUSAGE_CHILDREN, &before);
-    b.refused({b.tmp.file("many.json")}, "many.json", "missing 299999999 of the 300000000 shards (index 1, 2,");
+    b.refused({b.tmp.file("many.json")}, "many.json",
+              "missing 299999999 of the 300000000 shards (index 1, 2,");
     rusage after{};
     getrusage(RUSAGE_CHILDREN, &after);
     // ru_maxrss (KiB) is the largest of every child so far; the runs before it (a shard of 1 s
@@ -165,14 +173,16 @@ TEST(ShardIntegrity, CountsAreCheckedAgainstTheFileBeforeAnythingIsAllocated) {
   {
     SCOPED_TRACE("more elements than bytes");
     std::string text = ReadText(s0);
-    for (const auto& [key, value] : {std::pair<std::string, std::string>{"\"end_task\": 1", "\"end_task\": 300000000"},
-                                     {"\"tasks\": 3", "\"tasks\": 300000000"}}) {
+    for (const auto& [key, value] :
+         {std::pair<std::string, std::string>{"\"end_task\": 1", "\"end_task\": 300000000"},
+          {"\"tasks\": 3", "\"tasks\": 300000000"}}) {
       const std::size_t at = text.find(key);
       ASSERT_NE(at, std::string::npos) << key;
       text.replace(at, key.size(), value);
     }
     b.tmp.write("long.json", ResealRunShard(text));
-    b.refused({b.tmp.file("long.json")}, "long.json", "says it holds 300000000 task elements, more than its");
+    b.refused({b.tmp.file("long.json")}, "long.json",
+              "says it holds 300000000 task elements, more than its");
   }
 }
 

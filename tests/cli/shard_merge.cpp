@@ -27,7 +27,8 @@ json BatchPipeline(double gravity_z = -9.81) {
                 {"method", method},       {"conventions", {"gtsam_manifold"}},
                 {"bias", "ground_truth"}, {"keyframes", {{"start", a}, {"end", b}, {"step", 0.1}}}};
   };
-  const auto predict = [](const std::string& name, const std::string& of, const std::string& chart) {
+  const auto predict = [](const std::string& name, const std::string& of,
+                          const std::string& chart) {
     return json{{"type", "propagate_by_preintegration"},
                 {"name", name},
                 {"measurements", of},
@@ -35,12 +36,13 @@ json BatchPipeline(double gravity_z = -9.81) {
                 {"start", {{"state", "ground_truth"}}}};
   };
   const json rk4 = {{"propagator", "rk4"}}, manifold = {{"preintegrator", "manifold"}};
-  return EurocSlicePipeline(json::array({preintegrate("kf_a", rk4, 0.0, 6.0), predict("pred_a", "kf_a", "left"),
-                                         preintegrate("kf_b", manifold, 6.0, 12.0),
-                                         predict("pred_b", "kf_b", "gtsam_navstate"),
-                                         preintegrate("kf_c", rk4, 12.0, 15.0), preintegrate("kf_d", manifold, 15.0, 20.0),
-                                         preintegrate("kf_e", rk4, 2.0, 4.0), predict("pred_d", "kf_d", "left")}),
-                            gravity_z);
+  return EurocSlicePipeline(
+      json::array(
+          {preintegrate("kf_a", rk4, 0.0, 6.0), predict("pred_a", "kf_a", "left"),
+           preintegrate("kf_b", manifold, 6.0, 12.0), predict("pred_b", "kf_b", "gtsam_navstate"),
+           preintegrate("kf_c", rk4, 12.0, 15.0), preintegrate("kf_d", manifold, 15.0, 20.0),
+           preintegrate("kf_e", rk4, 2.0, 4.0), predict("pred_d", "kf_d", "left")}),
+      gravity_z);
 }
 
 /// A temporary directory holding the slice data and the batch pipeline (P.json).
@@ -53,8 +55,10 @@ struct Batch {
   }
   /// Runs shard k of n into S<k>of<n>.json (or the whole run into whole.json) and returns the path.
   std::string run(const std::string& extra, const std::string& out, unsigned threads) {
-    const CommandResult r = RunImuconv(
-        "-q run " + ShellQuote(pipeline) + " " + extra + " -j " + std::to_string(threads) + " -o " + ShellQuote(tmp.file(out)), tmp);
+    const CommandResult r =
+        RunImuconv("-q run " + ShellQuote(pipeline) + " " + extra + " -j " +
+                       std::to_string(threads) + " -o " + ShellQuote(tmp.file(out)),
+                   tmp);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return tmp.file(out);
   }
@@ -94,7 +98,8 @@ TEST(ShardMerge, ShardsMergeToTheWholeRunsBytes) {
       EXPECT_EQ(s["shard"]["end_task"], end);
       ASSERT_EQ(s["tasks"].size(), static_cast<std::size_t>(end - first));
       // The shard's tasks are the whole run's, value for value.
-      for (int i = first; i < end; ++i) EXPECT_EQ(s["tasks"][i - first], doc["tasks"][i]) << "task " << i;
+      for (int i = first; i < end; ++i)
+        EXPECT_EQ(s["tasks"][i - first], doc["tasks"][i]) << "task " << i;
       // Its head is the whole run's.
       for (const auto& [key, value] : doc.items()) {
         if (key == "tasks") continue;
@@ -126,7 +131,8 @@ TEST(ShardMerge, MoreShardsThanUnitsLeavesSomeEmpty) {
 
 /// A merge that must fail: exit 2, the message names `file` and says `why`, and the directory
 /// holds no output and nothing new (no temporary).
-void ExpectRefused(Batch& b, const std::vector<std::string>& shards, const std::string& file, const std::string& why) {
+void ExpectRefused(Batch& b, const std::vector<std::string>& shards, const std::string& file,
+                   const std::string& why) {
   const std::size_t before = b.tmp.entries();
   const CommandResult r = b.merge("out.json", shards);
   EXPECT_EQ(r.exit_code, 2) << r.err;
@@ -159,7 +165,9 @@ TEST(ShardMerge, HostileMergesAreRefused) {
     SCOPED_TRACE("another pipeline");
     // Same tasks, same task count, another gravity: the heads differ.
     const std::string q = b.tmp.write("Q.json", BatchPipeline(-9.80665).dump(2));
-    const CommandResult r = RunImuconv("-q run " + ShellQuote(q) + " --shard 1/3 -o " + ShellQuote(b.tmp.file("Q1of3.json")), b.tmp);
+    const CommandResult r = RunImuconv(
+        "-q run " + ShellQuote(q) + " --shard 1/3 -o " + ShellQuote(b.tmp.file("Q1of3.json")),
+        b.tmp);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     ExpectRefused(b, {s0, b.tmp.file("Q1of3.json"), s2}, "Q1of3.json", "not shards of one run");
   }
@@ -188,7 +196,8 @@ TEST(ShardMerge, HostileMergesAreRefused) {
     text.replace(name, here.size(), here == "baseline" ? "avx2" : "baseline");
     // Resealed: such a shard's own hash is right (an edit that is not is shard_integrity.cpp's).
     const std::string edited = b.tmp.write("K1of3.json", ResealRunShard(text));
-    ExpectRefused(b, {s0, edited, s2}, "K1of3.json", "different SIMD instances of the kernels (/shard/kernel_instance");
+    ExpectRefused(b, {s0, edited, s2}, "K1of3.json",
+                  "different SIMD instances of the kernels (/shard/kernel_instance");
   }
   {
     SCOPED_TRACE("another imuconv version");
@@ -223,7 +232,9 @@ TEST(ShardMerge, HostileMergesAreRefused) {
   }
   // The output is never one of the shards: refused, the shard unchanged.
   const std::string before = ReadText(s0);
-  const CommandResult r = RunImuconv("merge -o " + ShellQuote(s0) + " " + ShellQuote(s0) + " " + ShellQuote(s1) + " " + ShellQuote(s2), b.tmp);
+  const CommandResult r = RunImuconv("merge -o " + ShellQuote(s0) + " " + ShellQuote(s0) + " " +
+                                         ShellQuote(s1) + " " + ShellQuote(s2),
+                                     b.tmp);
   EXPECT_NE(r.exit_code, 0);
   EXPECT_TRUE(Has(r.err, "S0of3.json")) << r.err;
   EXPECT_EQ(ReadText(s0), before);
@@ -232,13 +243,17 @@ TEST(ShardMerge, HostileMergesAreRefused) {
 TEST(ShardMerge, ShardOptionIsChecked) {
   Batch b;
   for (const char* bad : {"3/3", "1", "a/2", "0/0", "-1/2", "1/2x", "1/"}) {
-    const CommandResult r = RunImuconv(
-        "run " + ShellQuote(b.pipeline) + " " + ShellQuote(std::string("--shard=") + bad) + " -o " + ShellQuote(b.tmp.file("x.json")), b.tmp);
+    const CommandResult r = RunImuconv("run " + ShellQuote(b.pipeline) + " " +
+                                           ShellQuote(std::string("--shard=") + bad) + " -o " +
+                                           ShellQuote(b.tmp.file("x.json")),
+                                       b.tmp);
     EXPECT_EQ(r.exit_code, 2) << bad;
     EXPECT_TRUE(Has(r.err, "--shard: expected K/N")) << bad << ": " << r.err;
     EXPECT_FALSE(fs::exists(b.tmp.file("x.json")));
   }
-  const CommandResult npz = RunImuconv("run " + ShellQuote(b.pipeline) + " --shard 0/2 -o " + ShellQuote(b.tmp.file("x.npz")), b.tmp);
+  const CommandResult npz = RunImuconv(
+      "run " + ShellQuote(b.pipeline) + " --shard 0/2 -o " + ShellQuote(b.tmp.file("x.npz")),
+      b.tmp);
   EXPECT_EQ(npz.exit_code, 2);
   EXPECT_TRUE(Has(npz.err, "not --format npz")) << npz.err;
 }

@@ -32,12 +32,14 @@ TEST(TableColumns, NegativeNumbersOfEveryWidthStaySeparated) {
   // Negative values whose "%.4g" text has every width from 2 to 11 characters (the widest
   // "%.4g" prints: "-1.234e-100"), positive ones of the same widths, and zeros, spread so that
   // each row holds a mix and every value sits beside a negative of the largest widths.
-  const std::vector<double> values{-1,        -12,       -1.5,       -12.5,      -123.4,     -0.0125,  -0.01234,
-                                    -0.001234, -1.234e-05, -2.429e-16, -1.041e-16, -1.234e+05, -1.234e-100,
-                                    -9.876e+100, 1.234e-100, 2.429e-16, 7,          0.0,        123456789.0};
+  const std::vector<double> values{-1,         -12,        -1.5,        -12.5,       -123.4,
+                                   -0.0125,    -0.01234,   -0.001234,   -1.234e-05,  -2.429e-16,
+                                   -1.041e-16, -1.234e+05, -1.234e-100, -9.876e+100, 1.234e-100,
+                                   2.429e-16,  7,          0.0,         123456789.0};
   Mat15 Phi;
   for (int r = 0; r < 15; ++r)
-    for (int c = 0; c < 15; ++c) Phi(r, c) = values[static_cast<std::size_t>(r * 15 + c) % values.size()];
+    for (int c = 0; c < 15; ++c)
+      Phi(r, c) = values[static_cast<std::size_t>(r * 15 + c) % values.size()];
   const std::string state = SourcePath("examples/hover.state.json");
   json rows = json::array();
   for (int r = 0; r < 15; ++r) {
@@ -48,15 +50,17 @@ TEST(TableColumns, NegativeNumbersOfEveryWidthStaySeparated) {
   const std::string m = tmp.write("phi.json", rows.dump());
   // left to left at one state: the transition's conversion is the identity, so the table shows
   // the values above; the expected numbers are computed by the library all the same.
-  const CommandResult r = RunImuconv("convert --what transition --from left --to left --state " + ShellQuote(state) +
-                                         " --state-end " + ShellQuote(state) + " --matrix " + ShellQuote(m),
-                                     tmp);
+  const CommandResult r =
+      RunImuconv("convert --what transition --from left --to left --state " + ShellQuote(state) +
+                     " --state-end " + ShellQuote(state) + " --matrix " + ShellQuote(m),
+                 tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto x = imuconv::pipeline::ReadStateFile(state);
   const Mat15 expect = Plugins().convert_transition("left", "left", x, x, Phi);
 
-  const std::set<std::string> labels{"p.x",  "p.y",  "p.z",  "theta.x", "theta.y", "theta.z", "v.x", "v.y",
-                                     "v.z",  "bg.x", "bg.y", "bg.z",    "ba.x",    "ba.y",    "ba.z"};
+  const std::set<std::string> labels{"p.x",     "p.y",  "p.z",  "theta.x", "theta.y",
+                                     "theta.z", "v.x",  "v.y",  "v.z",     "bg.x",
+                                     "bg.y",    "bg.z", "ba.x", "ba.y",    "ba.z"};
   std::istringstream out(r.out);
   int row = 0;
   std::size_t width = 0;
@@ -90,7 +94,8 @@ TEST(TableColumns, NegativeNumbersOfEveryWidthStaySeparated) {
   }
   EXPECT_EQ(row, 15) << r.out;
   // The test did see the widths it is about: 2 ("-1") up to 11 ("-1.234e-100").
-  for (std::size_t w = 2; w <= 11; ++w) EXPECT_EQ(widths_seen.count(w), 1u) << "no number of width " << w;
+  for (std::size_t w = 2; w <= 11; ++w)
+    EXPECT_EQ(widths_seen.count(w), 1u) << "no number of width " << w;
   // And the header's labels are one token each, 15 of them after no row label.
   std::istringstream again(r.out);
   bool header_seen = false;

@@ -43,7 +43,14 @@ json CsvImu(const std::string& path, const std::string& unit) {
           {"path", path},
           {"header_rows", 1},
           {"time_unit", unit},
-          {"columns", {{"t", "t"}, {"wx", "wx"}, {"wy", "wy"}, {"wz", "wz"}, {"ax", "ax"}, {"ay", "ay"}, {"az", "az"}}}};
+          {"columns",
+           {{"t", "t"},
+            {"wx", "wx"},
+            {"wy", "wy"},
+            {"wz", "wz"},
+            {"ax", "ax"},
+            {"ay", "ay"},
+            {"az", "az"}}}};
 }
 
 json Preintegrate(const std::string& name, const json& keyframes) {
@@ -62,8 +69,9 @@ class Chain : public ::testing::Test {
     csv = tmp.write("imu.csv", ImuCsv(401, 1.0 / 200.0));  // 2 s
     const json p = {{"noise", kNoise},
                     {"imu", CsvImu(csv, "s")},
-                    {"tasks", {Preintegrate("a", json::array({0.0, 0.5, 1.0, 1.5})),
-                               Preintegrate("b", json::array({0.25, 0.75}))}}};
+                    {"tasks",
+                     {Preintegrate("a", json::array({0.0, 0.5, 1.0, 1.5})),
+                      Preintegrate("b", json::array({0.25, 0.75}))}}};
     const auto r = RunImuconv("run " + ShellQuote(tmp.write("make.json", p.dump())) + " -o " +
                                   ShellQuote(tmp.file("made.json")),
                               tmp);
@@ -79,7 +87,8 @@ class Chain : public ::testing::Test {
   /// "index", the position in the task's output, dropped: a file's order is its own).
   CommandResult RunChain(const std::string& tag, json measurements) {
     for (auto& m : measurements) m.erase("index");
-    const std::string meas = tmp.write(tag + ".meas.json", json{{"measurements", measurements}}.dump());
+    const std::string meas =
+        tmp.write(tag + ".meas.json", json{{"measurements", measurements}}.dump());
     const json p = {{"noise", kNoise},
                     {"imu", CsvImu(csv, "s")},
                     {"tasks",
@@ -88,7 +97,10 @@ class Chain : public ::testing::Test {
                        {"measurements", {{"file", meas}}},
                        {"start",
                         {{"state",
-                          {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {0, 0, 0}}, {"bg", {0, 0, 0}},
+                          {{"p", {0, 0, 0}},
+                           {"q_wxyz", {1, 0, 0, 0}},
+                           {"v", {0, 0, 0}},
+                           {"bg", {0, 0, 0}},
                            {"ba", {0, 0, 0}}}}}},
                        {"chain", true}}}}};
     return RunImuconv("run " + ShellQuote(tmp.write(tag + ".json", p.dump())) + " -o " +
@@ -111,7 +123,9 @@ TEST_F(Chain, AGapIsRefusedNamingBothIntervals) {
   const auto r = RunChain("gap", json::array({a[0], a[2]}));
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "/tasks/0/chain")) << r.err;
-  EXPECT_TRUE(Has(r.err, "measurement 1 (" + tmp.file("gap.meas.json") + ": /measurements/1, [1 s, 1.5 s])")) << r.err;
+  EXPECT_TRUE(Has(
+      r.err, "measurement 1 (" + tmp.file("gap.meas.json") + ": /measurements/1, [1 s, 1.5 s])"))
+      << r.err;
   EXPECT_TRUE(Has(r.err, "leaves a gap of 0.5 s after measurement 0 (")) << r.err;
   EXPECT_TRUE(Has(r.err, "/measurements/0, [0 s, 0.5 s])")) << r.err;
   EXPECT_FALSE(fs::exists(tmp.file("gap.out.json")));
@@ -163,7 +177,9 @@ TEST(TimeUnit, MillisecondsDeclaredAsSecondsAreRefusedAgainstTheGroundTruth) {
   const std::string path = tmp.write("ms.csv", csv);
   const auto r = RunWithGroundTruth(tmp, "ms", path, "s", json::array({0.0, 1.0}));
   EXPECT_EQ(r.exit_code, 2) << r.err;
-  EXPECT_TRUE(Has(r.err, "the IMU's median period is 1 s (1 Hz) but the ground truth's is 0.01 s (100 Hz)")) << r.err;
+  EXPECT_TRUE(
+      Has(r.err, "the IMU's median period is 1 s (1 Hz) but the ground truth's is 0.01 s (100 Hz)"))
+      << r.err;
   EXPECT_TRUE(Has(r.err, "look like ms, not s: set time_unit to \"ms\"")) << r.err;
   EXPECT_FALSE(fs::exists(tmp.file("ms.out.json")));
   // The same stamps declared as what they are run.
@@ -184,7 +200,8 @@ TEST(TimeUnit, HostileMicrosecondsDeclaredAsNanoseconds) {
 
 // ---- 4. intervals holding no sample ----
 
-CommandResult RunKeyframes(const TempDir& tmp, const std::string& tag, const json& keyframes, bool allow = false) {
+CommandResult RunKeyframes(const TempDir& tmp, const std::string& tag, const json& keyframes,
+                           bool allow = false) {
   json p = {{"noise", kNoise},
             {"imu", CsvImu(tmp.write("imu.csv", ImuCsv(381, 1.0 / 200.0)), "s")},  // 1.9 s
             {"tasks", {Preintegrate("kf", keyframes)}}};
@@ -201,7 +218,9 @@ TEST(EmptyIntervals, KeyframesFinerThanTheSamplesFailBeforeAnyWork) {
   const auto r = RunKeyframes(tmp, "fine", {{"start", 0.0}, {"end", 1.9}, {"step", 2.1e-7}});
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "/tasks/0/keyframes/step")) << r.err;
-  EXPECT_TRUE(Has(r.err, "holds no IMU sample: the keyframe step is 2.1e-07 s, the IMU period 0.005 s (median)"))
+  EXPECT_TRUE(
+      Has(r.err,
+          "holds no IMU sample: the keyframe step is 2.1e-07 s, the IMU period 0.005 s (median)"))
       << r.err;
   EXPECT_TRUE(Has(r.err, "\"allow_empty_intervals\": true")) << r.err;
   EXPECT_FALSE(fs::exists(tmp.file("fine.out.json")));
@@ -214,7 +233,8 @@ TEST(EmptyIntervals, HostileOneSubSampleIntervalAmongGoodOnes) {
   const auto r = RunKeyframes(tmp, "one", kf);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "/tasks/0/keyframes/2")) << r.err;
-  EXPECT_TRUE(Has(r.err, "interval 1 [0.6001, 0.6021] s holds no IMU sample: it is 0.002 s")) << r.err;
+  EXPECT_TRUE(Has(r.err, "interval 1 [0.6001, 0.6021] s holds no IMU sample: it is 0.002 s"))
+      << r.err;
   // Said to be meant, it runs: both intervals, the second by interpolation alone.
   const auto ok = RunKeyframes(tmp, "meant", kf, true);
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
@@ -238,13 +258,17 @@ TEST(CheckOwnMeasurements, TheShippedEurocExampleChecks) {
   // Basalt's reference refused the 4e-17 s step and the whole command failed (exit 2).
   TempDir tmp;
   const std::string pipeline = SourcePath("examples/euroc_v1_01_keyframes.json");
-  const auto run = RunImuconv("run " + ShellQuote(pipeline) + " -o " + ShellQuote(tmp.file("out.json")), tmp);
+  const auto run =
+      RunImuconv("run " + ShellQuote(pipeline) + " -o " + ShellQuote(tmp.file("out.json")), tmp);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   // The measurements file: the kf_rk4 task's measurements, on the run's time origin.
   const json out = ReadJson(tmp.file("out.json"));
-  const std::string meas = tmp.write(
-      "M.json", json{{"time_origin_ns", out["time_origin_ns"]}, {"measurements", out["tasks"][0]["measurements"]}}.dump());
-  const auto r = RunImuconv("check " + ShellQuote(meas) + " --pipeline " + ShellQuote(pipeline) + " --json", tmp);
+  const std::string meas =
+      tmp.write("M.json", json{{"time_origin_ns", out["time_origin_ns"]},
+                               {"measurements", out["tasks"][0]["measurements"]}}
+                              .dump());
+  const auto r = RunImuconv(
+      "check " + ShellQuote(meas) + " --pipeline " + ShellQuote(pipeline) + " --json", tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json report = json::parse(r.out);
   EXPECT_EQ(report["verdict"], "consistent");
@@ -265,13 +289,18 @@ TEST(CheckOwnMeasurements, HostileReferenceThatCannotRunIsNotApplicable) {
   pre["method"] = {{"propagator", "euler"}};
   const json p = {{"noise", kNoise}, {"imu", CsvImu(csv, "s")}, {"tasks", {pre}}};
   const std::string pipeline = tmp.write("p.json", p.dump());
-  ASSERT_EQ(RunImuconv("run " + ShellQuote(pipeline) + " -o " + ShellQuote(tmp.file("out.json")), tmp).exit_code, 0);
+  ASSERT_EQ(
+      RunImuconv("run " + ShellQuote(pipeline) + " -o " + ShellQuote(tmp.file("out.json")), tmp)
+          .exit_code,
+      0);
   const json out = ReadJson(tmp.file("out.json"));
-  tmp.write("M.json",
-            json{{"time_origin_ns", out["time_origin_ns"]}, {"measurements", out["tasks"][0]["measurements"]}}.dump());
+  tmp.write("M.json", json{{"time_origin_ns", out["time_origin_ns"]},
+                           {"measurements", out["tasks"][0]["measurements"]}}
+                          .dump());
   const std::string fixture = std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/override";
-  const auto r = RunImuconv("--plugin-dir " + ShellQuote(fixture) + " --allow-plugin-override check " +
-                                ShellQuote(tmp.file("M.json")) + " --pipeline " + ShellQuote(pipeline) + " --json",
+  const auto r = RunImuconv("--plugin-dir " + ShellQuote(fixture) +
+                                " --allow-plugin-override check " + ShellQuote(tmp.file("M.json")) +
+                                " --pipeline " + ShellQuote(pipeline) + " --json",
                             tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json report = json::parse(r.out);
@@ -281,7 +310,8 @@ TEST(CheckOwnMeasurements, HostileReferenceThatCannotRunIsNotApplicable) {
     ASSERT_TRUE(m.contains("not_applicable")) << m.dump();
     ASSERT_EQ(m["not_applicable"].size(), 1u);
     EXPECT_EQ(m["not_applicable"][0]["scheme"], "rk4");
-    EXPECT_TRUE(Has(m["not_applicable"][0]["reason"].get<std::string>(), "fixture claims_rk4: not an integrator"));
+    EXPECT_TRUE(Has(m["not_applicable"][0]["reason"].get<std::string>(),
+                    "fixture claims_rk4: not an integrator"));
     EXPECT_EQ(m["best"]["scheme"], "euler");
   }
 }

@@ -14,11 +14,13 @@ const std::string kExample = SourcePath("examples/inline_basics.json");
 TEST(Verbosity, QuietLeavesOnlyTheResult) {
   TempDir tmp;
   const std::string out = tmp.file("out.json");
-  const CommandResult normal = RunImuconv("run " + ShellQuote(kExample) + " -o " + ShellQuote(out), tmp);
+  const CommandResult normal =
+      RunImuconv("run " + ShellQuote(kExample) + " -o " + ShellQuote(out), tmp);
   ASSERT_EQ(normal.exit_code, 0) << normal.err;
   EXPECT_NE(normal.out.find("wrote"), std::string::npos);  // the summary and the "wrote" line
   const std::string first = ReadText(out);
-  const CommandResult quiet = RunImuconv("-q run " + ShellQuote(kExample) + " -o " + ShellQuote(out), tmp);
+  const CommandResult quiet =
+      RunImuconv("-q run " + ShellQuote(kExample) + " -o " + ShellQuote(out), tmp);
   ASSERT_EQ(quiet.exit_code, 0) << quiet.err;
   EXPECT_EQ(quiet.out, "");
   EXPECT_EQ(quiet.err, "");
@@ -36,10 +38,12 @@ TEST(Verbosity, VerboseAddsTheSearchPathPluginsAndTimeOnStderr) {
   ASSERT_EQ(verbose.exit_code, 0) << verbose.err;
   EXPECT_EQ(verbose.out, plain.out);  // the result is the same
   EXPECT_NE(verbose.err.find("imuconv: plugin search path: "), std::string::npos) << verbose.err;
-  EXPECT_NE(verbose.err.find("imuconv: loaded propagator euler 1.0.0 from "), std::string::npos) << verbose.err;
+  EXPECT_NE(verbose.err.find("imuconv: loaded propagator euler 1.0.0 from "), std::string::npos)
+      << verbose.err;
   EXPECT_NE(verbose.err.find("imuconv: plugins took "), std::string::npos) << verbose.err;
   const std::string out = tmp.file("out.json");
-  const CommandResult run = RunImuconv("-v run " + ShellQuote(kExample) + " -o " + ShellQuote(out), tmp);
+  const CommandResult run =
+      RunImuconv("-v run " + ShellQuote(kExample) + " -o " + ShellQuote(out), tmp);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.err.find("imuconv: plugin search path: "), std::string::npos) << run.err;
   EXPECT_NE(run.err.find("imuconv: run took "), std::string::npos) << run.err;

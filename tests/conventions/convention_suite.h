@@ -69,7 +69,8 @@ inline void Record(const std::string& check, double err) {
 class PrintWorstErrors : public ::testing::Environment {
  public:
   void TearDown() override {
-    for (const auto& [check, err] : Worst()) std::printf("[ worst    ] %-44s %.3e\n", check.c_str(), err);
+    for (const auto& [check, err] : Worst())
+      std::printf("[ worst    ] %-44s %.3e\n", check.c_str(), err);
   }
 };
 
@@ -144,7 +145,8 @@ inline const std::vector<Vec15>& Deltas() {
 
 /// f(d) = local_B(x, retract_A(x, d)), the map whose derivative at 0 every conversion is.
 template <typename K>
-Map15 ChartMap(const typename K::Convention& a, const typename K::Convention& b, const typename K::Value& x) {
+Map15 ChartMap(const typename K::Convention& a, const typename K::Convention& b,
+               const typename K::Value& x) {
   return [&a, &b, &x](const Vec15& d, Vec15& out) {
     typename K::Value y;
     a.retract(x, d, y);
@@ -183,7 +185,8 @@ void CheckRoundTrip(const std::string& id) {
       c->local(xs[k], y, back);
       const double err = (back - d).cwiseAbs().maxCoeff() / std::max(1.0, d.cwiseAbs().maxCoeff());
       Record("round trip local(x, retract(x, d)) - d", err);
-      EXPECT_LE(err, kRoundTripTol) << id << " at point " << k << ", |d| = " << d.cwiseAbs().maxCoeff();
+      EXPECT_LE(err, kRoundTripTol)
+          << id << " at point " << k << ", |d| = " << d.cwiseAbs().maxCoeff();
     }
 }
 
@@ -224,10 +227,14 @@ void CheckAnalyticJacobians(const std::string& id, bool ridders) {
     const std::string how = ridders ? "Ridders" : "central h=1e-6";
     const double eto = RelErr(Jto, Nto), efrom = RelErr(Jfrom, Nfrom);
     Record("analytic vs " + how, std::max(eto, efrom));
-    EXPECT_LE(eto, tol) << id << " J_ref_this at point " << k << "\nanalytic\n" << Jto << "\n" << how
-                        << "\n" << Nto;
-    EXPECT_LE(efrom, tol) << id << " J_this_ref at point " << k << "\nanalytic\n" << Jfrom << "\n"
-                          << how << "\n" << Nfrom;
+    EXPECT_LE(eto, tol) << id << " J_ref_this at point " << k << "\nanalytic\n"
+                        << Jto << "\n"
+                        << how << "\n"
+                        << Nto;
+    EXPECT_LE(efrom, tol) << id << " J_this_ref at point " << k << "\nanalytic\n"
+                          << Jfrom << "\n"
+                          << how << "\n"
+                          << Nfrom;
   }
 }
 
@@ -238,7 +245,8 @@ void CheckJacobiansInverse(const std::string& id) {
     Mat15 Jto, Jfrom;
     ASSERT_TRUE(c->J_ref_this(x, Jto));
     ASSERT_TRUE(c->J_this_ref(x, Jfrom));
-    const double e = std::max(RelErr(Jto * Jfrom, Mat15::Identity()), RelErr(Jfrom * Jto, Mat15::Identity()));
+    const double e =
+        std::max(RelErr(Jto * Jfrom, Mat15::Identity()), RelErr(Jfrom * Jto, Mat15::Identity()));
     Record("J_to_ref J_from_ref - I", e);
     EXPECT_LE(e, kInverseTol) << id;
   }
@@ -285,7 +293,8 @@ void CheckNumericalComposition() {
       for (std::size_t k = 0; k < xs.size(); ++k) {
         SCOPED_TRACE(a + " -> " + b + " at point " + std::to_string(k));
         const auto& x = xs[k];
-        const Mat15 numeric = RiddersJacobian(FromReferenceMap<K>(*cb, x)) * RiddersJacobian(ToReferenceMap<K>(*ca, x));
+        const Mat15 numeric = RiddersJacobian(FromReferenceMap<K>(*cb, x)) *
+                              RiddersJacobian(ToReferenceMap<K>(*ca, x));
         const double e = RelErr(numeric, K::Conversion(a, b, x));
         Record("Ridders-composed vs registry conversion", e);
         EXPECT_LE(e, kRiddersTol);
@@ -300,7 +309,8 @@ void CheckBuiltInBlockOrders(std::initializer_list<std::pair<const char*, const 
   for (const auto& [id, order] : expected) {
     ASSERT_TRUE(Plugins().has(K::kKind, id)) << id;
     std::string got;
-    for (const std::string& label : Plugins().info(K::kKind, id).blocks) got += (got.empty() ? "" : " ") + label;
+    for (const std::string& label : Plugins().info(K::kKind, id).blocks)
+      got += (got.empty() ? "" : " ") + label;
     EXPECT_EQ(got, order) << id;
   }
 }
@@ -311,17 +321,20 @@ template <typename K>
 void CheckEveryConventionHasSuite(const std::string& suite) {
   std::set<std::string> instantiated;
   const auto* ut = ::testing::UnitTest::GetInstance();
-  for (int i = 0; i < ut->total_test_suite_count(); ++i) instantiated.insert(ut->GetTestSuite(i)->name());
+  for (int i = 0; i < ut->total_test_suite_count(); ++i)
+    instantiated.insert(ut->GetTestSuite(i)->name());
   for (const auto& id : Plugins().ids(K::kKind))
-    EXPECT_TRUE(instantiated.count(id + "/" + suite)) << "convention '" << id << "' has no IMUCONV_CONVENTION_SUITE("
-                                                      << suite << ", " << id << ") line";
+    EXPECT_TRUE(instantiated.count(id + "/" + suite))
+        << "convention '" << id << "' has no IMUCONV_CONVENTION_SUITE(" << suite << ", " << id
+        << ") line";
 }
 
 /// One block of a conversion derived by hand: the 3x3 map from block `col` of the source
 /// chart to block `row` of the target chart; {label, M} names a diagonal block.
 struct BlockEntry {
   BlockEntry(const char* block, const Mat3& map) : row(block), col(block), M(map) {}
-  BlockEntry(const char* row_block, const char* col_block, const Mat3& map) : row(row_block), col(col_block), M(map) {}
+  BlockEntry(const char* row_block, const char* col_block, const Mat3& map)
+      : row(row_block), col(col_block), M(map) {}
   const char* row;
   const char* col;
   Mat3 M;
@@ -366,7 +379,8 @@ inline const Mat3 I3 = Mat3::Identity();
 /// whose value blocks(x) takes (identity on every block not named; ExpectConversionByBlocks).
 template <typename BlocksAt>
 void ExpectConversion(const char* from, const char* to, BlocksAt blocks) {
-  using Kind = std::conditional_t<std::is_invocable_v<BlocksAt, const ImuState&>, StateKind, IncrementKind>;
+  using Kind =
+      std::conditional_t<std::is_invocable_v<BlocksAt, const ImuState&>, StateKind, IncrementKind>;
   ExpectConversionByBlocks<Kind>(from, to, blocks);
 }
 }  // namespace imuconv::test::conventions
@@ -378,21 +392,33 @@ void ExpectConversion(const char* from, const char* to, BlocksAt blocks) {
 /// Defines the full per-convention suite SUITE for a kind (StateKind or IncrementKind), once per
 /// test executable, with the kind-wide checks: every loaded convention runs it, and every
 /// ordered pair converts through the registry as the two charts say.
-#define IMUCONV_DEFINE_CONVENTION_SUITE(SUITE, KIND)                                                                   \
-  TEST_P(SUITE, LabelsAndAnalyticJacobiansRegistered) { ::imuconv::test::CheckLabels<KIND>(GetParam()); }              \
-  TEST_P(SUITE, RetractOfZeroIsTheEstimate) { ::imuconv::test::CheckRetractZero<KIND>(GetParam()); }                   \
-  TEST_P(SUITE, LocalInvertsRetract) { ::imuconv::test::CheckRoundTrip<KIND>(GetParam()); }                            \
-  TEST_P(SUITE, AnalyticJacobiansMatchCentralDifferences) {                                                            \
-    ::imuconv::test::CheckAnalyticJacobians<KIND>(GetParam(), false);                                                  \
-  }                                                                                                                    \
-  TEST_P(SUITE, AnalyticJacobiansMatchRidders) { ::imuconv::test::CheckAnalyticJacobians<KIND>(GetParam(), true); }    \
-  TEST_P(SUITE, ToAndFromReferenceAreInverse) { ::imuconv::test::CheckJacobiansInverse<KIND>(GetParam()); }            \
-  TEST(SUITE##Kind, EveryLoadedConventionRunsTheSuite) {                                                               \
-    ::imuconv::test::CheckEveryConventionHasSuite<KIND>(#SUITE);                                                       \
-  }                                                                                                                    \
-  TEST(SUITE##Pairs, ConversionsInvertAndMatchTheChartsDirectly) { ::imuconv::test::CheckAllPairs<KIND>(); }           \
-  TEST(SUITE##Pairs, RiddersComposedConversionMatchesAnalytic) { ::imuconv::test::CheckNumericalComposition<KIND>(); } \
-  static const auto* const SUITE##PrintWorst =                                                                         \
+#define IMUCONV_DEFINE_CONVENTION_SUITE(SUITE, KIND)                                        \
+  TEST_P(SUITE, LabelsAndAnalyticJacobiansRegistered) {                                     \
+    ::imuconv::test::CheckLabels<KIND>(GetParam());                                         \
+  }                                                                                         \
+  TEST_P(SUITE, RetractOfZeroIsTheEstimate) {                                               \
+    ::imuconv::test::CheckRetractZero<KIND>(GetParam());                                    \
+  }                                                                                         \
+  TEST_P(SUITE, LocalInvertsRetract) { ::imuconv::test::CheckRoundTrip<KIND>(GetParam()); } \
+  TEST_P(SUITE, AnalyticJacobiansMatchCentralDifferences) {                                 \
+    ::imuconv::test::CheckAnalyticJacobians<KIND>(GetParam(), false);                       \
+  }                                                                                         \
+  TEST_P(SUITE, AnalyticJacobiansMatchRidders) {                                            \
+    ::imuconv::test::CheckAnalyticJacobians<KIND>(GetParam(), true);                        \
+  }                                                                                         \
+  TEST_P(SUITE, ToAndFromReferenceAreInverse) {                                             \
+    ::imuconv::test::CheckJacobiansInverse<KIND>(GetParam());                               \
+  }                                                                                         \
+  TEST(SUITE##Kind, EveryLoadedConventionRunsTheSuite) {                                    \
+    ::imuconv::test::CheckEveryConventionHasSuite<KIND>(#SUITE);                            \
+  }                                                                                         \
+  TEST(SUITE##Pairs, ConversionsInvertAndMatchTheChartsDirectly) {                          \
+    ::imuconv::test::CheckAllPairs<KIND>();                                                 \
+  }                                                                                         \
+  TEST(SUITE##Pairs, RiddersComposedConversionMatchesAnalytic) {                            \
+    ::imuconv::test::CheckNumericalComposition<KIND>();                                     \
+  }                                                                                         \
+  static const auto* const SUITE##PrintWorst =                                              \
       ::testing::AddGlobalTestEnvironment(new ::imuconv::test::PrintWorstErrors)
 
 /// Runs the suite SUITE for the convention with id ID (an identifier-like id).

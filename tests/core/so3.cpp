@@ -50,7 +50,8 @@ TEST(So3, LogInvertsExp) {
     const Vec3 phi = a * Axis();
     // Near pi the rotation matrix itself carries only ~1e-16 absolute information about the
     // angle; relative to |phi| the round trip is exact to a few ulps everywhere.
-    EXPECT_LT((so3::Log(so3::Exp(phi)) - phi).norm(), 4e-16 * std::max(1.0, a) + 1e-30) << "angle " << a;
+    EXPECT_LT((so3::Log(so3::Exp(phi)) - phi).norm(), 4e-16 * std::max(1.0, a) + 1e-30)
+        << "angle " << a;
   }
 }
 
@@ -64,7 +65,9 @@ TEST(So3, RightJacobianMatchesCentralDifferences) {
       Vec3 e = Vec3::Zero();
       e[i] = h;
       // Exp(phi + e) = Exp(phi) Exp(Jr e): the column is Log(R^T Exp(phi + e)) / e.
-      num.col(i) = (so3::Log(R.transpose() * so3::Exp(phi + e)) - so3::Log(R.transpose() * so3::Exp(phi - e))) / (2 * h);
+      num.col(i) = (so3::Log(R.transpose() * so3::Exp(phi + e)) -
+                    so3::Log(R.transpose() * so3::Exp(phi - e))) /
+                   (2 * h);
     }
     // Central differences with h = 1e-6: truncation O(h^2) ~ 1e-12, rounding ~1e-16/h = 1e-10.
     EXPECT_LT((so3::Jr(phi) - num).cwiseAbs().maxCoeff(), 1e-9) << "angle " << a;
@@ -78,8 +81,12 @@ TEST(So3, InverseJacobiansInvert) {
     // Jr^{-1} grows like pi/(pi - a) near pi (~3e6 at pi - 1e-6), so the product's error
     // scales with that condition number times machine epsilon.
     const double cond = (a > 3.0) ? 1.0 / (M_PI - a) : 1.0;
-    EXPECT_LT((so3::Jr(phi) * so3::JrInv(phi) - Mat3::Identity()).cwiseAbs().maxCoeff(), 1e-15 * cond * 10) << a;
-    EXPECT_LT((so3::Jl(phi) * so3::JlInv(phi) - Mat3::Identity()).cwiseAbs().maxCoeff(), 1e-15 * cond * 10) << a;
+    EXPECT_LT((so3::Jr(phi) * so3::JrInv(phi) - Mat3::Identity()).cwiseAbs().maxCoeff(),
+              1e-15 * cond * 10)
+        << a;
+    EXPECT_LT((so3::Jl(phi) * so3::JlInv(phi) - Mat3::Identity()).cwiseAbs().maxCoeff(),
+              1e-15 * cond * 10)
+        << a;
   }
 }
 

@@ -1,8 +1,8 @@
 // libFuzzer target: the state reader and the reference-case runner (the case format of
 // tests/data/reference/FORMAT.md). The first byte picks which.
 #include "fuzz_support.h"
-#include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/json_io.h"
+#include "imuconv/pipeline/json_parse.h"
 #include "refcase.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -13,7 +13,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   imuconv::fuzz::Expect(
       [&] {
         switch (mode % 4) {
-          case 0: ReadEurocImu(path); break;
+          case 0:
+            ReadEurocImu(path);
+            break;
           case 1: {
             TimeOrigin origin;
             origin.unit = TimeUnit::ns;
@@ -30,8 +32,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             if (mode & 128) {
               // By name when there is a header, else indices past any short row.
               if (f.header_rows > 0)
-                f.columns = {std::string("t"), std::string("wx"), std::string("wy"), std::string("wz"),
-                             std::string("ax"), std::string("ay"), std::string("az")};
+                f.columns = {std::string("t"),  std::string("wx"), std::string("wy"),
+                             std::string("wz"), std::string("ax"), std::string("ay"),
+                             std::string("az")};
               else
                 f.columns = {0, 2, 4, 6, 8, 10, 12};
             } else if (mode % 4 == 3) {

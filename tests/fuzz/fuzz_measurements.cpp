@@ -16,15 +16,29 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const json state = {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {0, 0, 0}}};
   const json doc = {
       {"noise",
-       {{"gyro_noise_density", 1e-4}, {"accel_noise_density", 1e-3}, {"gyro_random_walk", 1e-5}, {"accel_random_walk", 1e-4}}},
+       {{"gyro_noise_density", 1e-4},
+        {"accel_noise_density", 1e-3},
+        {"gyro_random_walk", 1e-5},
+        {"accel_random_walk", 1e-4}}},
       {"tasks",
-       {{{"type", "propagate_by_preintegration"}, {"name", "prop"}, {"measurements", {{"file", path}}},
+       {{{"type", "propagate_by_preintegration"},
+         {"name", "prop"},
+         {"measurements", {{"file", path}}},
          {"start", {{"state", state}, {"cov", {{"diagonal", std::vector<double>(15, 1e-4)}}}}}},
-        {{"type", "residual"}, {"name", "res"}, {"kind", "gtsam"}, {"measurements", {{"file", path}}},
-         {"index", 0}, {"start", state}, {"end", state}},
-        {{"type", "bias_update"}, {"name", "bias"}, {"measurements", {{"file", path}}}, {"reintegrate", false},
+        {{"type", "residual"},
+         {"name", "res"},
+         {"kind", "gtsam"},
+         {"measurements", {{"file", path}}},
+         {"index", 0},
+         {"start", state},
+         {"end", state}},
+        {{"type", "bias_update"},
+         {"name", "bias"},
+         {"measurements", {{"file", path}}},
+         {"reintegrate", false},
          {"bias", {{"delta_bg", {1e-3, 0, 0}}, {"delta_ba", {0, 1e-2, 0}}}},
-         {"first_order_charts", {"preint_reference", "gtsam_manifold", "gtsam_tangent", "forster"}}}}}};
+         {"first_order_charts",
+          {"preint_reference", "gtsam_manifold", "gtsam_tangent", "forster"}}}}}};
   fuzz::Expect(
       [&] {
         const pipeline::Pipeline p = pipeline::Pipeline::FromJson(doc, "(fuzz pipeline)", "/");

@@ -23,7 +23,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
           // dropped): more would be memory or time not bounded by the input.
           std::size_t joined = 0;
           pipeline::JoinRunShards(shards, [&](std::string_view s) { joined += s.size(); });
-          if (joined > size) fuzz::InputFile::Finding("the merge wrote more bytes than the shard holds");
+          if (joined > size)
+            fuzz::InputFile::Finding("the merge wrote more bytes than the shard holds");
         },
         path);
   } else {

@@ -26,7 +26,8 @@ class InputFile {
  public:
   explicit InputFile(const char* name) {
     const char* tmp = std::getenv("TMPDIR");
-    path_ = std::string(tmp && *tmp ? tmp : "/tmp") + "/imuconv_fuzz_" + name + "_" + std::to_string(::getpid());
+    path_ = std::string(tmp && *tmp ? tmp : "/tmp") + "/imuconv_fuzz_" + name + "_" +
+            std::to_string(::getpid());
   }
   ~InputFile() { std::remove(path_.c_str()); }
   const std::string& write(const std::uint8_t* data, std::size_t size) {
@@ -54,7 +55,8 @@ inline const Registry& LoadedRegistry() {
     auto* r = new Registry();
     // A plugin that fails to load would leave the fuzzer testing less than it says: stop.
     for (const LoadIssue& i : r->load_search_path()) {
-      std::fprintf(stderr, "fuzz: plugin failed to load: %s: %s\n", i.file.c_str(), i.message.c_str());
+      std::fprintf(stderr, "fuzz: plugin failed to load: %s: %s\n", i.file.c_str(),
+                   i.message.c_str());
       std::abort();
     }
     return r;

@@ -42,16 +42,21 @@ FastLio2Scan LoadScan(const std::string& id) {
   FastLio2Scan s;
   const double nominal_dt = 0.005;  // every reference case is sampled at 200 Hz
   const nlohmann::json& n = c.at("noise");
-  auto per_sample = [&](const char* density) { return std::pow(n.at(density).get<double>(), 2) / nominal_dt; };
+  auto per_sample = [&](const char* density) {
+    return std::pow(n.at(density).get<double>(), 2) / nominal_dt;
+  };
   s.params.gyr_cov = per_sample("gyro_noise_density");
   s.params.acc_cov = per_sample("accel_noise_density");
   s.params.b_gyr_cov = per_sample("gyro_random_walk");
   s.params.b_acc_cov = per_sample("accel_random_walk");
-  EXPECT_TRUE(FastLio2ScanPredicts(samples, s.params, samples.front().t, samples.back().t, s.predicts).ok());
+  EXPECT_TRUE(
+      FastLio2ScanPredicts(samples, s.params, samples.front().t, samples.back().t, s.predicts)
+          .ok());
   const nlohmann::json& st = c.at("state_s");
   const nlohmann::json& q = st.at("q_wxyz");
-  s.start.rot =
-      Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>()).normalized();
+  s.start.rot = Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
+                                   q[3].get<double>())
+                    .normalized();
   s.start.pos = JsonVec3(st.at("p"));
   s.start.vel = JsonVec3(st.at("v"));
   s.start.bg = JsonVec3(st.at("bg"));
@@ -69,8 +74,8 @@ FastLio2State PropagateState(const FastLio2Scan& s, FastLio2State x) {
 Mat23 NoiseCovariance(const FastLio2Scan& s, FastLio2Transition transition) {
   Mat23 Qd = Mat23::Zero();
   Eigen::Matrix<double, 12, 1> q;
-  q << Vec3::Constant(s.params.gyr_cov), Vec3::Constant(s.params.acc_cov), Vec3::Constant(s.params.b_gyr_cov),
-      Vec3::Constant(s.params.b_acc_cov);
+  q << Vec3::Constant(s.params.gyr_cov), Vec3::Constant(s.params.acc_cov),
+      Vec3::Constant(s.params.b_gyr_cov), Vec3::Constant(s.params.b_acc_cov);
   FastLio2State x = s.start;
   for (const FastLio2Predict& p : s.predicts) {
     Mat23 F;
@@ -102,8 +107,10 @@ Mat23 Transition(const FastLio2Scan& s, FastLio2Transition transition) {
 // sqrt(N) eps |x| (a random walk of N roundings), divided by 2h. Entries under 1e-4 of a
 // matrix's largest are judged relative to that floor (RelativeAboveFloorDiff), so the bound
 // on the relative difference is that rounding over the floor; at least 1e-7.
-double DifferenceBound(double h, std::size_t n_predict, double largest_value, double largest_entry) {
-  const double rounding = std::sqrt(double(n_predict)) * std::numeric_limits<double>::epsilon() * largest_value / h;
+double DifferenceBound(double h, std::size_t n_predict, double largest_value,
+                       double largest_entry) {
+  const double rounding =
+      std::sqrt(double(n_predict)) * std::numeric_limits<double>::epsilon() * largest_value / h;
   return std::max(1e-7, rounding / (1e-4 * largest_entry));
 }
 
@@ -122,15 +129,19 @@ TEST_P(FastLio2Derivatives, ExactTransitionIsTheScansDerivative) {
     const Vec23 d = kStep * Vec23::Unit(k);
     const FastLio2State plus = PropagateState(s, FastLio2Boxplus(s.start, d));
     const FastLio2State minus = PropagateState(s, FastLio2Boxplus(s.start, -d));
-    numeric.col(k) = (FastLio2Boxminus(plus, nominal) - FastLio2Boxminus(minus, nominal)) / (2 * kStep);
+    numeric.col(k) =
+        (FastLio2Boxminus(plus, nominal) - FastLio2Boxminus(minus, nominal)) / (2 * kStep);
   }
   const Mat23 exact = Transition(s, FastLio2Transition::kExactRotation);
   const Mat23 as_built = Transition(s, FastLio2Transition::kAsFastLio);
   const ScaledDiff e = RelativeAboveFloorDiff(numeric, exact);
   const ScaledDiff a = RelativeAboveFloorDiff(numeric, as_built);
-  const double bound = DifferenceBound(kStep, s.predicts.size(), LargestValue(nominal), exact.cwiseAbs().maxCoeff());
-  std::printf("  %-13s Phi_summed vs central differences: exact %.2g at (%d,%d) (bound %.2g), as built %.2g at (%d,%d)\n",
-              GetParam(), e.d, e.row, e.col, bound, a.d, a.row, a.col);
+  const double bound =
+      DifferenceBound(kStep, s.predicts.size(), LargestValue(nominal), exact.cwiseAbs().maxCoeff());
+  std::printf(
+      "  %-13s Phi_summed vs central differences: exact %.2g at (%d,%d) (bound %.2g), as built "
+      "%.2g at (%d,%d)\n",
+      GetParam(), e.d, e.row, e.col, bound, a.d, a.row, a.col);
   EXPECT_LE(e.d, bound) << "at (" << e.row << "," << e.col << ")";
   // The identity in place of Exp(-w dt) leaves the rotation block of the scan at I instead of
   // the product of the Exp(-w dt): O(1) apart wherever the body turns (static-0 turns least).
@@ -144,8 +155,8 @@ TEST_P(FastLio2Derivatives, QuirkIsWhatMovesTheNoiseCovariance) {
   // bg += nbg dt, ba += nba dt, the model's own definition).
   constexpr double kStep = 1e-5;
   Eigen::Matrix<double, 12, 1> q;
-  q << Vec3::Constant(s.params.gyr_cov), Vec3::Constant(s.params.acc_cov), Vec3::Constant(s.params.b_gyr_cov),
-      Vec3::Constant(s.params.b_acc_cov);
+  q << Vec3::Constant(s.params.gyr_cov), Vec3::Constant(s.params.acc_cov),
+      Vec3::Constant(s.params.b_gyr_cov), Vec3::Constant(s.params.b_acc_cov);
   Mat23 numeric = Mat23::Zero();
   FastLio2State x = s.start;
   double largest = LargestValue(x);
@@ -155,9 +166,10 @@ TEST_P(FastLio2Derivatives, QuirkIsWhatMovesTheNoiseCovariance) {
     Mat23 F;
     for (int k = 0; k < kFastLio2Dof; ++k) {
       const Vec23 d = kStep * Vec23::Unit(k);
-      F.col(k) = (FastLio2Boxminus(FastLio2PredictState(FastLio2Boxplus(x, d), p.in, p.dt), next) -
-                  FastLio2Boxminus(FastLio2PredictState(FastLio2Boxplus(x, -d), p.in, p.dt), next)) /
-                 (2 * kStep);
+      F.col(k) =
+          (FastLio2Boxminus(FastLio2PredictState(FastLio2Boxplus(x, d), p.in, p.dt), next) -
+           FastLio2Boxminus(FastLio2PredictState(FastLio2Boxplus(x, -d), p.in, p.dt), next)) /
+          (2 * kStep);
     }
     Eigen::Matrix<double, 23, 12> G = Eigen::Matrix<double, 23, 12>::Zero();
     for (int k = 0; k < 6; ++k) {
@@ -193,13 +205,16 @@ TEST_P(FastLio2Derivatives, QuirkIsWhatMovesTheNoiseCovariance) {
   // one step, is far below.
   const double bound = 3.0 * 2.0 * std::sqrt(double(s.predicts.size())) *
                        std::numeric_limits<double>::epsilon() * largest / kStep;
-  std::printf("  %-13s Qd vs per-step central differences: exact %.2g at (%d,%d) (bound %.2g), as built %.2g at"
-              " (%d,%d); as built / exact - 1 on the diagonal up to %.3g (index %d)\n",
-              GetParam(), e.d, e.row, e.col, bound, a.d, a.row, a.col, worst_diagonal, worst_index);
+  std::printf(
+      "  %-13s Qd vs per-step central differences: exact %.2g at (%d,%d) (bound %.2g), as built "
+      "%.2g at"
+      " (%d,%d); as built / exact - 1 on the diagonal up to %.3g (index %d)\n",
+      GetParam(), e.d, e.row, e.col, bound, a.d, a.row, a.col, worst_diagonal, worst_index);
   EXPECT_LE(e.d, bound) << "at (" << e.row << "," << e.col << ")";
   // The identity rotation blocks are the whole difference: the as-built Qd is far outside
   // the differences' rounding (measured 0.014 on static-0, up to 0.37 on aggressive-0).
-  EXPECT_GT(a.d, 100 * bound) << "the as-built covariance should differ from the step's linearization";
+  EXPECT_GT(a.d, 100 * bound)
+      << "the as-built covariance should differ from the step's linearization";
 }
 
 // Every input is hostile: each refusal names what is wrong, none propagates NaN or a
@@ -214,8 +229,8 @@ TEST(FastLio2Inputs, RefusesWhatItCannotPropagate) {
   FastLio2State start;
   const Mat23 P0 = Mat23::Identity();
   FastLio2Propagation out;
-  auto refusal = [&](const std::vector<ImuSample>& s, const FastLio2Parameters& p, double t0, double t1,
-                     const FastLio2State& x, const Mat23& P) {
+  auto refusal = [&](const std::vector<ImuSample>& s, const FastLio2Parameters& p, double t0,
+                     double t1, const FastLio2State& x, const Mat23& P) {
     const Status st = PropagateFastLio2Scan(s, p, t0, t1, x, P, out);
     EXPECT_FALSE(st.ok());
     return st.ok() ? std::string() : st.message();
@@ -223,15 +238,18 @@ TEST(FastLio2Inputs, RefusesWhatItCannotPropagate) {
   ASSERT_TRUE(PropagateFastLio2Scan(samples, params, 0.0, 0.01, start, P0, out).ok());
   EXPECT_EQ(out.n_predict, 3);  // two pairs and the frame-end no-op
 
-  EXPECT_NE(refusal({samples[0]}, params, 0.0, 0.01, start, P0).find("two IMU samples"), std::string::npos);
+  EXPECT_NE(refusal({samples[0]}, params, 0.0, 0.01, start, P0).find("two IMU samples"),
+            std::string::npos);
   std::vector<ImuSample> bad = samples;
   bad[1].gyro.y() = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_NE(refusal(bad, params, 0.0, 0.01, start, P0).find("sample 1 is not finite"), std::string::npos);
+  EXPECT_NE(refusal(bad, params, 0.0, 0.01, start, P0).find("sample 1 is not finite"),
+            std::string::npos);
   bad = samples;
   bad[2].t = 0.001;
   EXPECT_NE(refusal(bad, params, 0.0, 0.01, start, P0).find("sample 2's time"), std::string::npos);
   EXPECT_NE(refusal(samples, params, 0.01, 0.0, start, P0).find("reversed"), std::string::npos);
-  EXPECT_NE(refusal(samples, params, 0.02, 0.03, start, P0).find("no IMU sample"), std::string::npos);
+  EXPECT_NE(refusal(samples, params, 0.02, 0.03, start, P0).find("no IMU sample"),
+            std::string::npos);
   FastLio2Parameters p = params;
   p.mean_acc_norm = 0.0;
   EXPECT_NE(refusal(samples, p, 0.0, 0.01, start, P0).find("mean_acc"), std::string::npos);
@@ -249,6 +267,7 @@ TEST(FastLio2Inputs, RefusesWhatItCannotPropagate) {
   EXPECT_NE(refusal(samples, params, 0.0, 0.01, start, P).find("P0"), std::string::npos);
 }
 
-INSTANTIATE_TEST_SUITE_P(Reference, FastLio2Derivatives, ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
+INSTANTIATE_TEST_SUITE_P(Reference, FastLio2Derivatives, ::testing::ValuesIn(kReferenceCaseIds),
+                         CaseTestName);
 
 }  // namespace

@@ -22,14 +22,14 @@ struct ImuCase {
   Vec3 gravity = Vec3::Zero();
 };
 
-
 inline ImuCase LoadCase(const std::string& name) {
   const nlohmann::json j = ReadJson(DataPath("reference/cases/" + name + ".json"));
   ImuCase c;
   c.samples = CaseSamples(j);
   const auto& st = j.at("state_s");
   const auto& q = st.at("q_wxyz");
-  c.x_s.R = so3::FromQuaternionWxyz(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>());
+  c.x_s.R = so3::FromQuaternionWxyz(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
+                                    q[3].get<double>());
   c.x_s.p = JsonVec3(st.at("p"));
   c.x_s.v = JsonVec3(st.at("v"));
   c.x_s.bg = JsonVec3(st.at("bg"));
@@ -60,9 +60,12 @@ enum class Integrator { Euler, Midpoint, Rk4 };
 
 inline const char* Name(Integrator i) {
   switch (i) {
-    case Integrator::Euler: return "euler";
-    case Integrator::Midpoint: return "midpoint";
-    case Integrator::Rk4: return "rk4";
+    case Integrator::Euler:
+      return "euler";
+    case Integrator::Midpoint:
+      return "midpoint";
+    case Integrator::Rk4:
+      return "rk4";
   }
   return "?";
 }
@@ -71,20 +74,30 @@ const Integrator kIntegrators[] = {Integrator::Euler, Integrator::Midpoint, Inte
 
 /// The kernel of one integrator, unchecked (inputs of these tests are valid by construction).
 template <kernels::Outputs kOut = kernels::Outputs::All>
-void RunKernel(Integrator i, const PropagationInput& in, PropagationResult& out, int rk4_substeps = 1) {
+void RunKernel(Integrator i, const PropagationInput& in, PropagationResult& out,
+               int rk4_substeps = 1) {
   switch (i) {
-    case Integrator::Euler: kernels::IntegrateHeld<kernels::Hold::Euler, kOut>(in, out); break;
-    case Integrator::Midpoint: kernels::IntegrateHeld<kernels::Hold::Midpoint, kOut>(in, out); break;
-    case Integrator::Rk4: kernels::IntegrateRk4<kOut>(in, out, rk4_substeps); break;
+    case Integrator::Euler:
+      kernels::IntegrateHeld<kernels::Hold::Euler, kOut>(in, out);
+      break;
+    case Integrator::Midpoint:
+      kernels::IntegrateHeld<kernels::Hold::Midpoint, kOut>(in, out);
+      break;
+    case Integrator::Rk4:
+      kernels::IntegrateRk4<kOut>(in, out, rk4_substeps);
+      break;
   }
 }
 
 /// The same through the checked entry points the plugins call.
 inline Status PropagateKernel(Integrator i, const PropagationInput& in, PropagationResult& out) {
   switch (i) {
-    case Integrator::Euler: return kernels::PropagateHeld<kernels::Hold::Euler>(in, out);
-    case Integrator::Midpoint: return kernels::PropagateHeld<kernels::Hold::Midpoint>(in, out);
-    case Integrator::Rk4: return kernels::PropagateRk4(in, out);
+    case Integrator::Euler:
+      return kernels::PropagateHeld<kernels::Hold::Euler>(in, out);
+    case Integrator::Midpoint:
+      return kernels::PropagateHeld<kernels::Hold::Midpoint>(in, out);
+    case Integrator::Rk4:
+      return kernels::PropagateRk4(in, out);
   }
   return Status::Error("unknown integrator");
 }

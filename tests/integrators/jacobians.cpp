@@ -54,8 +54,8 @@ TEST_P(PhiVsFiniteDifferences, OneSecond) {
   const Mat15 numeric = NumericPhi(pc.integrator, in, r.x_e);
   const double rel = RelChange(r.Phi, numeric);
   std::cout << "[ measured ] " << Name(pc.integrator) << " on " << pc.data
-            << ": max|Phi - Phi_fd| / max|Phi_fd| = " << rel << " (max|Phi| = " << numeric.cwiseAbs().maxCoeff()
-            << ")\n";
+            << ": max|Phi - Phi_fd| / max|Phi_fd| = " << rel
+            << " (max|Phi| = " << numeric.cwiseAbs().maxCoeff() << ")\n";
   RecordProperty("phi_fd_rel_error", std::to_string(rel));
   EXPECT_LT(rel, pc.bound) << "bound stated in the instantiation";
 }
@@ -64,8 +64,8 @@ TEST_P(PhiVsFiniteDifferences, OneSecond) {
 // and aarch64 under qemu; the specification's 1e-6 let a wrong RK4 weight through).
 //  - euler and midpoint give the exact Jacobian of their discrete map, so only Ridders'
 //    extrapolation error remains: measured 5e-14 .. 1.7e-13 on the preintegration route,
-//    3.6e-13 .. 1.1e-12 on the per-sample route (x86-64 and aarch64): bound 1e-11. A dropped term of the
-//    step Jacobian is ~|w dt|^2 ~ 1e-3 relative.
+//    3.6e-13 .. 1.1e-12 on the per-sample route (x86-64 and aarch64): bound 1e-11. A dropped term
+//    of the step Jacobian is ~|w dt|^2 ~ 1e-3 relative.
 //  - rk4's Phi solves the variational equation to fourth order, which differs from the
 //    derivative of the discrete map by O(dt^4 |w|^4): smooth-0 2.7e-11, jitter-0 1.3e-10
 //    (steps up to 1.4x the nominal one), aggressive-0 1.4e-8 (up to 6 rad/s); bounds 2e-10,
@@ -86,7 +86,8 @@ INSTANTIATE_TEST_SUITE_P(Integrators, PhiVsFiniteDifferences,
                                            PhiCase{Integrator::Rk4, "aggressive-0", 3e-8},
                                            PhiCase{Integrator::Rk4, "jitter-0", 5e-10}),
                          [](const ::testing::TestParamInfo<PhiCase>& info) {
-                           std::string name = std::string(Name(info.param.integrator)) + "_" + info.param.data;
+                           std::string name =
+                               std::string(Name(info.param.integrator)) + "_" + info.param.data;
                            for (char& ch : name)
                              if (ch == '-') ch = '_';
                            return name;
@@ -123,11 +124,15 @@ TEST(EulerStep, JacobianIsExact) {
     // The noise enters as w = w_m - bg - n_g and a = a_m - ba - n_a: same columns as the biases.
     const Mat15 noise_numeric = RiddersJacobian([&](const Vec15& d, Vec15& out) {
       ImuState yp;
-      kernels::EulerStep<false>(x, gyro - d.segment<3>(li::bg), accel - d.segment<3>(li::ba), dt, g, yp, nullptr);
+      kernels::EulerStep<false>(x, gyro - d.segment<3>(li::bg), accel - d.segment<3>(li::ba), dt, g,
+                                yp, nullptr);
       LeftLocal(x1, yp, out);
     });
-    // (Rows p, theta, v: the noise does not enter the bias rows, which hold the identity for dbg, dba.)
-    EXPECT_LT(RelChange(J.ToTransition().ToMatrix().topRightCorner<9, 6>(), noise_numeric.topRightCorner<9, 6>()), 1e-10);
+    // (Rows p, theta, v: the noise does not enter the bias rows, which hold the identity for dbg,
+    // dba.)
+    EXPECT_LT(RelChange(J.ToTransition().ToMatrix().topRightCorner<9, 6>(),
+                        noise_numeric.topRightCorner<9, 6>()),
+              1e-10);
   }
 }
 
@@ -141,8 +146,12 @@ Mat15 DenseEulerCovariance(const kernels::EulerStepJacobian& J, const ImuNoise& 
   qd << Vec3::Constant(n.gyro_noise_density * n.gyro_noise_density / J.dt),
       Vec3::Constant(n.accel_noise_density * n.accel_noise_density / J.dt);
   Mat15 W = Mat15::Zero();
-  W.block<3, 3>(li::bg, li::bg).diagonal().setConstant(n.gyro_random_walk * n.gyro_random_walk * J.dt);
-  W.block<3, 3>(li::ba, li::ba).diagonal().setConstant(n.accel_random_walk * n.accel_random_walk * J.dt);
+  W.block<3, 3>(li::bg, li::bg)
+      .diagonal()
+      .setConstant(n.gyro_random_walk * n.gyro_random_walk * J.dt);
+  W.block<3, 3>(li::ba, li::ba)
+      .diagonal()
+      .setConstant(n.accel_random_walk * n.accel_random_walk * J.dt);
   return A * P * A.transpose() + B * qd.asDiagonal() * B.transpose() + W;
 }
 
@@ -181,7 +190,8 @@ TEST(BlockSparseAlgebra, EulerCovarianceStepMatchesDense) {
 TEST(BlockSparseAlgebra, TransitionCompositionMatchesDense) {
   auto random_transition = [] {
     kernels::LeftTransition T;
-    for (Mat3* m : {&T.th_bg, &T.v_th, &T.v_bg, &T.v_ba, &T.p_th, &T.p_bg, &T.p_ba}) *m = Mat3::Random();
+    for (Mat3* m : {&T.th_bg, &T.v_th, &T.v_bg, &T.v_ba, &T.p_th, &T.p_bg, &T.p_ba})
+      *m = Mat3::Random();
     T.p_v = 0.7;
     return T;
   };
@@ -214,8 +224,10 @@ TEST(BlockSparseAlgebra, Rk4ReferenceRatesMatchDense) {
     EXPECT_EQ(D(li::ba + i), 0.02 * 0.02);
   }
   const Mat15 dense = F * P + P * F.transpose() + Mat15(D.asDiagonal());
-  EXPECT_LT(RelChange(rk4_reference::rk4_detail::CovarianceRate(R, Ra, P, D), dense), 1e-14);  // rounding only
-  EXPECT_LT(RelChange(rk4_reference::rk4_detail::ErrorRateTimes(R, Ra, M), F * M), 1e-14);      // rounding only
+  EXPECT_LT(RelChange(rk4_reference::rk4_detail::CovarianceRate(R, Ra, P, D), dense),
+            1e-14);  // rounding only
+  EXPECT_LT(RelChange(rk4_reference::rk4_detail::ErrorRateTimes(R, Ra, M), F * M),
+            1e-14);  // rounding only
 }
 
 // The theta columns come from the state (ThetaColumnsFromState); accumulating them step by
@@ -229,8 +241,8 @@ TEST(BlockSparseAlgebra, ThetaColumnsFromStateMatchAccumulation) {
   ImuState x = in.x_s;
   for (std::size_t k = 0; k + 1 < in.window.size(); ++k) {
     kernels::EulerStepJacobian J;
-    kernels::EulerStep<true>(x, in.window[k].gyro, in.window[k].accel, in.window[k + 1].t - in.window[k].t,
-                             in.gravity, x, &J);
+    kernels::EulerStep<true>(x, in.window[k].gyro, in.window[k].accel,
+                             in.window[k + 1].t - in.window[k].t, in.gravity, x, &J);
     accumulated.PrependStep(J.ToTransition());
   }
   // 400 steps of O(1)..O(10) sums: rounding ~1e-13 relative.

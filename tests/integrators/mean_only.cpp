@@ -54,7 +54,8 @@ bool SameIncrement(const PreintIncrement& a, const PreintIncrement& b) {
 
 // Largest entry difference relative to the block's size (dR's entries are O(1)).
 double RelativeDifference(const PreintIncrement& a, const PreintIncrement& b) {
-  return std::max({(a.dR - b.dR).cwiseAbs().maxCoeff(), (a.dp - b.dp).norm() / std::max(a.dp.norm(), 1e-300),
+  return std::max({(a.dR - b.dR).cwiseAbs().maxCoeff(),
+                   (a.dp - b.dp).norm() / std::max(a.dp.norm(), 1e-300),
                    (a.dv - b.dv).norm() / std::max(a.dv.norm(), 1e-300)});
 }
 
@@ -85,9 +86,10 @@ TEST(MeanOnly, SameIncrementAsTheFullPathBitForBit) {
           ASSERT_TRUE(st.ok()) << st.message();
           const std::string what = std::string(m.id) + " on " + name;
           EXPECT_TRUE(SameIncrement(full.delta, mean))
-              << what << " (largest relative difference " << RelativeDifference(full.delta, mean) << ")\nfull dR\n"
-              << full.delta.dR << "\nmean dR\n" << mean.dR << "\ndp " << full.delta.dp.transpose() << " vs "
-              << mean.dp.transpose();
+              << what << " (largest relative difference " << RelativeDifference(full.delta, mean)
+              << ")\nfull dR\n"
+              << full.delta.dR << "\nmean dR\n"
+              << mean.dR << "\ndp " << full.delta.dp.transpose() << " vs " << mean.dp.transpose();
           EXPECT_EQ(mean.dbg, Vec3::Zero());
           EXPECT_EQ(mean.dba, Vec3::Zero());
           ++compared;
@@ -107,7 +109,8 @@ TEST(MeanOnly, RefusesWhatTheFullPathRefuses) {
   ASSERT_TRUE(MakeWindow(s.data(), s.size(), s.front().t, s.back().t, w).ok());
   for (const Served& m : kServed) {
     PreintIncrement mean;
-    const Status st = kernels::IncrementMean(m.kernel, w, Vec3::Zero(), Vec3::Zero(), c.noise, mean);
+    const Status st =
+        kernels::IncrementMean(m.kernel, w, Vec3::Zero(), Vec3::Zero(), c.noise, mean);
     EXPECT_FALSE(st.ok()) << m.id;
     EXPECT_NE(st.message().find("not finite"), std::string::npos) << m.id << ": " << st.message();
   }

@@ -110,21 +110,25 @@ TEST_P(IntegratorMonteCarlo, WhitenedCovarianceIsIdentity) {
   in.cov_s = mc.start_uncertainty ? StartCovariance() : Mat15::Zero();
   in.noise = McNoise(c.noise);
   in.gravity = c.gravity;
-  ASSERT_TRUE(MakeWindow(knots.data(), knots.size(), knots.front().t, knots.back().t, in.window).ok());
+  ASSERT_TRUE(
+      MakeWindow(knots.data(), knots.size(), knots.front().t, knots.back().t, in.window).ok());
   PropagationResult nominal;
   RunKernel(mc.integrator, in, nominal);
 
   const Mat15 L_s = mc.start_uncertainty ? Mat15(in.cov_s.llt().matrixL()) : Mat15::Zero();
   std::mt19937_64 rng(1000 + static_cast<int>(mc.integrator) * 10 + mc.start_uncertainty);
   std::normal_distribution<double> normal(0.0, 1.0);
-  auto normal3 = [&](double sd) { return Vec3(sd * normal(rng), sd * normal(rng), sd * normal(rng)); };
+  auto normal3 = [&](double sd) {
+    return Vec3(sd * normal(rng), sd * normal(rng), sd * normal(rng));
+  };
 
   std::vector<ImuSample> noisy(knots);
   std::vector<Vec15> errors;
   errors.reserve(kRuns);
   PropagationInput truth = in;
   truth.cov_s.setZero();
-  ASSERT_TRUE(MakeWindow(noisy.data(), noisy.size(), knots.front().t, knots.back().t, truth.window).ok());
+  ASSERT_TRUE(
+      MakeWindow(noisy.data(), noisy.size(), knots.front().t, knots.back().t, truth.window).ok());
   for (int run = 0; run < kRuns; ++run) {
     Vec15 z;
     for (int i = 0; i < 15; ++i) z[i] = normal(rng);
@@ -132,8 +136,10 @@ TEST_P(IntegratorMonteCarlo, WhitenedCovarianceIsIdentity) {
     Vec3 bg = truth.x_s.bg, ba = truth.x_s.ba;
     for (std::size_t k = 0; k <= K; ++k) {
       const double dt = knots[std::min(k + 1, K)].t - knots[std::min(k + 1, K) - 1].t;
-      noisy[k].gyro = knots[k].gyro - normal3(in.noise.gyro_noise_density / std::sqrt(dt)) - (bg - truth.x_s.bg);
-      noisy[k].accel = knots[k].accel - normal3(in.noise.accel_noise_density / std::sqrt(dt)) - (ba - truth.x_s.ba);
+      noisy[k].gyro = knots[k].gyro - normal3(in.noise.gyro_noise_density / std::sqrt(dt)) -
+                      (bg - truth.x_s.bg);
+      noisy[k].accel = knots[k].accel - normal3(in.noise.accel_noise_density / std::sqrt(dt)) -
+                       (ba - truth.x_s.ba);
       if (k < K) {
         bg += normal3(in.noise.gyro_random_walk * std::sqrt(dt));
         ba += normal3(in.noise.accel_random_walk * std::sqrt(dt));
@@ -153,9 +159,10 @@ TEST_P(IntegratorMonteCarlo, WhitenedCovarianceIsIdentity) {
 
   const McStatistics st = Whiten(errors, nominal.cov);
   const double n = kRuns;
-  std::cout << "[ measured ] " << Name(mc.integrator) << (mc.start_uncertainty ? " with" : " without")
-            << " start covariance, N = " << kRuns << ": worst whitened entry " << st.worst_sigmas
-            << " sd (limit 5), NEES " << st.nees << " (15 +- " << std::sqrt(30.0 / n) << ")\n";
+  std::cout << "[ measured ] " << Name(mc.integrator)
+            << (mc.start_uncertainty ? " with" : " without") << " start covariance, N = " << kRuns
+            << ": worst whitened entry " << st.worst_sigmas << " sd (limit 5), NEES " << st.nees
+            << " (15 +- " << std::sqrt(30.0 / n) << ")\n";
   RecordProperty("worst_sigmas", std::to_string(st.worst_sigmas));
   RecordProperty("nees", std::to_string(st.nees));
   EXPECT_LT(st.worst_sigmas, 5.0);
@@ -164,24 +171,25 @@ TEST_P(IntegratorMonteCarlo, WhitenedCovarianceIsIdentity) {
   // Power: the same samples against the covariance predicted with noise densities 0.8x too small
   // (variances 0.64x) must be rejected, or the test above could not see a wrong noise model.
   PropagationInput wrong = in;
-  for (double* d : {&wrong.noise.gyro_noise_density, &wrong.noise.accel_noise_density, &wrong.noise.gyro_random_walk,
-                    &wrong.noise.accel_random_walk})
+  for (double* d : {&wrong.noise.gyro_noise_density, &wrong.noise.accel_noise_density,
+                    &wrong.noise.gyro_random_walk, &wrong.noise.accel_random_walk})
     *d *= 0.8;
   PropagationResult wrong_result;
   RunKernel(mc.integrator, wrong, wrong_result);
   const McStatistics wrong_st = Whiten(errors, wrong_result.cov);
-  std::cout << "[ measured ]   against 0.8x noise densities: worst " << wrong_st.worst_sigmas << " sd, NEES "
-            << wrong_st.nees << "\n";
+  std::cout << "[ measured ]   against 0.8x noise densities: worst " << wrong_st.worst_sigmas
+            << " sd, NEES " << wrong_st.nees << "\n";
   EXPECT_GT(wrong_st.worst_sigmas, 5.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Integrators, IntegratorMonteCarlo,
-                         ::testing::Values(McCase{Integrator::Euler, true}, McCase{Integrator::Euler, false},
-                                           McCase{Integrator::Midpoint, true}, McCase{Integrator::Midpoint, false},
-                                           McCase{Integrator::Rk4, true}, McCase{Integrator::Rk4, false}),
-                         [](const ::testing::TestParamInfo<McCase>& info) {
-                           return std::string(Name(info.param.integrator)) +
-                                  (info.param.start_uncertainty ? "_with_start_covariance" : "_noise_only");
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Integrators, IntegratorMonteCarlo,
+    ::testing::Values(McCase{Integrator::Euler, true}, McCase{Integrator::Euler, false},
+                      McCase{Integrator::Midpoint, true}, McCase{Integrator::Midpoint, false},
+                      McCase{Integrator::Rk4, true}, McCase{Integrator::Rk4, false}),
+    [](const ::testing::TestParamInfo<McCase>& info) {
+      return std::string(Name(info.param.integrator)) +
+             (info.param.start_uncertainty ? "_with_start_covariance" : "_noise_only");
+    });
 
 }  // namespace

@@ -16,8 +16,9 @@ std::atomic<long> g_allocations{0};
 void* CountedAlloc(std::size_t n, std::size_t align) {
   ++g_allocations;
   if (n == 0) n = 1;
-  void* p = align > alignof(std::max_align_t) ? std::aligned_alloc(align, (n + align - 1) / align * align)
-                                               : std::malloc(n);
+  void* p = align > alignof(std::max_align_t)
+                ? std::aligned_alloc(align, (n + align - 1) / align * align)
+                : std::malloc(n);
   if (!p) throw std::bad_alloc();
   return p;
 }
@@ -25,8 +26,12 @@ void* CountedAlloc(std::size_t n, std::size_t align) {
 
 void* operator new(std::size_t n) { return CountedAlloc(n, 0); }
 void* operator new[](std::size_t n) { return CountedAlloc(n, 0); }
-void* operator new(std::size_t n, std::align_val_t a) { return CountedAlloc(n, static_cast<std::size_t>(a)); }
-void* operator new[](std::size_t n, std::align_val_t a) { return CountedAlloc(n, static_cast<std::size_t>(a)); }
+void* operator new(std::size_t n, std::align_val_t a) {
+  return CountedAlloc(n, static_cast<std::size_t>(a));
+}
+void* operator new[](std::size_t n, std::align_val_t a) {
+  return CountedAlloc(n, static_cast<std::size_t>(a));
+}
 void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
   try {
     return CountedAlloc(n, 0);
@@ -81,7 +86,8 @@ TEST(IntegratorNoAllocation, KernelsDoNotAllocatePerSample) {
   for (Integrator i : kIntegrators) {
     PropagationResult r;
     bool ok_short = false, ok_long = false;  // checked outside the counted calls
-    const long n_short = AllocationsDuring([&] { ok_short = PropagateKernel(i, short_in, r).ok(); });
+    const long n_short =
+        AllocationsDuring([&] { ok_short = PropagateKernel(i, short_in, r).ok(); });
     const long n_long = AllocationsDuring([&] { ok_long = PropagateKernel(i, long_in, r).ok(); });
     EXPECT_TRUE(ok_short && ok_long) << Name(i);
     EXPECT_EQ(n_short, n_long) << Name(i);
@@ -89,7 +95,8 @@ TEST(IntegratorNoAllocation, KernelsDoNotAllocatePerSample) {
   }
   PropagationResult r;
   bool ok = false;
-  EXPECT_EQ(AllocationsDuring([&] { ok = kernels::PropagateRk4(long_in, r, 3).ok(); }), 0);  // with substeps
+  EXPECT_EQ(AllocationsDuring([&] { ok = kernels::PropagateRk4(long_in, r, 3).ok(); }),
+            0);  // with substeps
   EXPECT_TRUE(ok);
 }
 

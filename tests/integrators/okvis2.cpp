@@ -52,7 +52,8 @@ Okvis2Case LoadOkvis2Case(const std::string& id) {
   }
   const nlohmann::json& st = c.json.at("state_s");
   const nlohmann::json& q = st.at("q_wxyz");
-  c.start.q = Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>());
+  c.start.q = Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
+                                 q[3].get<double>());
   c.start.r = JsonVec3(st.at("p"));
   c.start.v = JsonVec3(st.at("v"));
   c.start.bg = JsonVec3(st.at("bg"));
@@ -126,8 +127,8 @@ TEST_P(Okvis2Derivatives, ImuErrorJacobiansAreTheResidualsDerivatives) {
   const double largest = std::max({t.residual.cwiseAbs().maxCoeff(), pre.acc_doubleintegral.norm(),
                                    pre.acc_integral.norm(), 1.0});
   const double bound = DifferenceBound(largest, analytic.cwiseAbs().maxCoeff());
-  std::printf("  %-13s ImuError Jacobians vs central differences: %.2g at (%d,%d), bound %.2g\n", GetParam(), s.d,
-              s.row, s.col, bound);
+  std::printf("  %-13s ImuError Jacobians vs central differences: %.2g at (%d,%d), bound %.2g\n",
+              GetParam(), s.d, s.row, s.col, bound);
   EXPECT_LE(s.d, bound) << "at (" << s.row << "," << s.col << ")";
 }
 
@@ -149,12 +150,18 @@ TEST_P(Okvis2Derivatives, PropagationJacobianIsTheEndStatesDerivative) {
   // running sums, whose d alpha / d bg omits the right Jacobian of each step's rotation
   // (propagation sums dt C_k+1, not C_k+1 Jr dt), an O(|w| dt) relative approximation that
   // reaches the position and velocity through the other bias sums.
-  const ScaledDiff state = RelativeAboveFloorDiff(numeric.leftCols<9>(), nominal.jacobian.leftCols<9>());
-  const ScaledDiff bias = WorstBlockRelativeDiff(numeric.rightCols<6>(), nominal.jacobian.rightCols<6>());
-  const double largest = std::max({nominal.end.r.cwiseAbs().maxCoeff(), nominal.end.v.cwiseAbs().maxCoeff(), 1.0});
-  const double bound = DifferenceBound(largest, nominal.jacobian.leftCols<9>().cwiseAbs().maxCoeff());
-  std::printf("  %-13s propagation Jacobian vs central differences: state columns %.2g (bound %.2g), bias blocks %.2g\n",
-              GetParam(), state.d, bound, bias.d);
+  const ScaledDiff state =
+      RelativeAboveFloorDiff(numeric.leftCols<9>(), nominal.jacobian.leftCols<9>());
+  const ScaledDiff bias =
+      WorstBlockRelativeDiff(numeric.rightCols<6>(), nominal.jacobian.rightCols<6>());
+  const double largest =
+      std::max({nominal.end.r.cwiseAbs().maxCoeff(), nominal.end.v.cwiseAbs().maxCoeff(), 1.0});
+  const double bound =
+      DifferenceBound(largest, nominal.jacobian.leftCols<9>().cwiseAbs().maxCoeff());
+  std::printf(
+      "  %-13s propagation Jacobian vs central differences: state columns %.2g (bound %.2g), bias "
+      "blocks %.2g\n",
+      GetParam(), state.d, bound, bias.d);
   EXPECT_LE(state.d, bound) << "at (" << state.row << "," << state.col << ")";
   // Bound on the bias blocks: the omitted Jr is I - [w dt]x/2 + ..., |w| dt at most 0.024
   // on these cases (4.8 rad/s, 5 ms), so a block is off by about half that at most.
@@ -182,23 +189,27 @@ TEST_P(Okvis2Derivatives, StepLocalTransitionGivesOpenVinsDiscreteCovariance) {
   // diagonal over 40 cases with its own step-local version); as upstream builds them they
   // differ by a factor on the position variance (1.3 to 9.4).
   const Okvis2Case c = LoadOkvis2Case(GetParam());
-  const nlohmann::json ov = ReadJson(DataPath(std::string("reference/anchors/openvins/") + GetParam() + ".json"));
+  const nlohmann::json ov =
+      ReadJson(DataPath(std::string("reference/anchors/openvins/") + GetParam() + ".json"));
   const Mat15 qd = JsonMatrix(ov.at("discrete").at("Qd_summed"));
   const std::int64_t t0 = c.samples.front().t_ns, t1 = c.samples.back().t_ns;
   double worst[2] = {0.0, 0.0};
-  for (const Okvis2Transition tr : {Okvis2Transition::kAsOkvis, Okvis2Transition::kOkvisStepLocal}) {
+  for (const Okvis2Transition tr :
+       {Okvis2Transition::kAsOkvis, Okvis2Transition::kOkvisStepLocal}) {
     Okvis2Propagation out;
     ASSERT_TRUE(PropagateOkvis2(c.samples, c.params, c.start, t0, t1, out, tr).ok());
     const Mat15 mine = InOpenVinsErrorState(out.covariance, out.end.q.toRotationMatrix());
     double& w = worst[tr == Okvis2Transition::kAsOkvis ? 0 : 1];
     for (int i = 0; i < 15; ++i) w = std::max(w, std::abs(mine(i, i) / qd(i, i) - 1.0));
   }
-  std::printf("  %-13s diagonal against OpenVINS discrete: as OKVIS %.3g, step-local %.3g\n", GetParam(), worst[0],
-              worst[1]);
-  EXPECT_LE(worst[1], 2e-3);   // the position noise term's difference: 1.5e-3 at most here (static-0)
-  EXPECT_GE(worst[0], 0.25);   // upstream's blocks: position variance 1.3x or more
+  std::printf("  %-13s diagonal against OpenVINS discrete: as OKVIS %.3g, step-local %.3g\n",
+              GetParam(), worst[0], worst[1]);
+  EXPECT_LE(worst[1],
+            2e-3);  // the position noise term's difference: 1.5e-3 at most here (static-0)
+  EXPECT_GE(worst[0], 0.25);  // upstream's blocks: position variance 1.3x or more
 }
 
-INSTANTIATE_TEST_SUITE_P(Reference, Okvis2Derivatives, ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
+INSTANTIATE_TEST_SUITE_P(Reference, Okvis2Derivatives, ::testing::ValuesIn(kReferenceCaseIds),
+                         CaseTestName);
 
 }  // namespace

@@ -35,7 +35,8 @@ const Method kRk4{"openvins_rk4", OpenVinsMean::kRk4};
 const Method kAnalytical{"openvins_analytical", OpenVinsMean::kAnalytical};
 
 const StateConvention& Jpl() {
-  static const std::shared_ptr<const StateConvention> jpl = Plugins().state_convention("openvins_jpl");
+  static const std::shared_ptr<const StateConvention> jpl =
+      Plugins().state_convention("openvins_jpl");
   return *jpl;
 }
 
@@ -77,7 +78,9 @@ TEST_P(OpenVinsPlugin, RefusesBadInput) {
   std::vector<ImuSample> samples(c.samples.begin(), c.samples.begin() + 50);
   samples[20].gyro.y() = std::nan("");
   PropagationInput in = MakeInput(c, samples.front().t, samples.back().t);
-  ASSERT_TRUE(MakeWindow(samples.data(), samples.size(), samples.front().t, samples.back().t, in.window).ok());
+  ASSERT_TRUE(
+      MakeWindow(samples.data(), samples.size(), samples.front().t, samples.back().t, in.window)
+          .ok());
   PropagationResult out;
   Status st = Plugins().propagator(method.plugin)->propagate(in, out);
   EXPECT_FALSE(st.ok());
@@ -89,7 +92,9 @@ TEST_P(OpenVinsPlugin, RefusesBadInput) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, OpenVinsPlugin, ::testing::Values(kRk4, kAnalytical),
-                         [](const ::testing::TestParamInfo<Method>& info) { return std::string(info.param.plugin); });
+                         [](const ::testing::TestParamInfo<Method>& info) {
+                           return std::string(info.param.plugin);
+                         });
 
 // ---------------------------------------------------------------------------------------------
 // Phi = d local(x_e, propagate(retract(x_s, d))) / d d at d = 0 in openvins_jpl.
@@ -123,8 +128,8 @@ TEST_P(OpenVinsPhiVsFiniteDifferences, OneSecond) {
   const double rel_state = RelChange(r.Phi.leftCols<9>(), numeric.leftCols<9>());
   const double rel_bias = RelChange(r.Phi.rightCols<6>(), numeric.rightCols<6>());
   std::cout << "[ measured ] " << fc.method.plugin << " on " << fc.data
-            << ": max|Phi - Phi_fd| / max|Phi_fd|, state columns " << rel_state << ", bias columns " << rel_bias
-            << "\n";
+            << ": max|Phi - Phi_fd| / max|Phi_fd|, state columns " << rel_state << ", bias columns "
+            << rel_bias << "\n";
   // The state columns of either method are the exact derivative of its map: every step's
   // start rotation, position and velocity enter its end state as R_k f(inputs) plus v_k dt,
   // and F's theta, p, v columns are formed from that end state (kernels/openvins.h). Only the
@@ -149,18 +154,19 @@ TEST_P(OpenVinsPhiVsFiniteDifferences, OneSecond) {
 //    relative to the step's own. Measured 1.4e-6 (smooth-0), 2.3e-6 (jitter-0), 1.7e-5
 //    (aggressive-0): bound 1e-4; a wrong block (a sign, a dropped Xi_3) is O(1e-2) or more.
 //    That this is upstream's choice is shown by the anchor test.
-INSTANTIATE_TEST_SUITE_P(Methods, OpenVinsPhiVsFiniteDifferences,
-                         ::testing::Values(FdCase{kRk4, "smooth-0", 1e-4}, FdCase{kRk4, "aggressive-0", 1e-4},
-                                           FdCase{kRk4, "jitter-0", 1e-4}, FdCase{kAnalytical, "smooth-0", 5e-11},
-                                           FdCase{kAnalytical, "aggressive-0", 5e-11},
-                                           FdCase{kAnalytical, "jitter-0", 5e-11},
-                                           FdCase{kAnalytical, "static-0", 5e-9}),
-                         [](const ::testing::TestParamInfo<FdCase>& info) {
-                           std::string name = std::string(info.param.method.plugin) + "_" + info.param.data;
-                           for (char& ch : name)
-                             if (ch == '-') ch = '_';
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Methods, OpenVinsPhiVsFiniteDifferences,
+    ::testing::Values(FdCase{kRk4, "smooth-0", 1e-4}, FdCase{kRk4, "aggressive-0", 1e-4},
+                      FdCase{kRk4, "jitter-0", 1e-4}, FdCase{kAnalytical, "smooth-0", 5e-11},
+                      FdCase{kAnalytical, "aggressive-0", 5e-11},
+                      FdCase{kAnalytical, "jitter-0", 5e-11},
+                      FdCase{kAnalytical, "static-0", 5e-9}),
+    [](const ::testing::TestParamInfo<FdCase>& info) {
+      std::string name = std::string(info.param.method.plugin) + "_" + info.param.data;
+      for (char& ch : name)
+        if (ch == '-') ch = '_';
+      return name;
+    });
 
 // ---------------------------------------------------------------------------------------------
 // Qd against a Monte Carlo of the noise model OpenVINS's Qd = G Qc G^T assumes.
@@ -200,12 +206,15 @@ TEST_P(OpenVinsQdMonteCarlo, WhitenedNoiseCovarianceIsIdentity) {
   in.x_s = c.x_s;
   in.noise = McNoise(c.noise);
   in.gravity = c.gravity;
-  ASSERT_TRUE(MakeWindow(knots.data(), knots.size(), knots.front().t, knots.back().t, in.window).ok());
+  ASSERT_TRUE(
+      MakeWindow(knots.data(), knots.size(), knots.front().t, knots.back().t, in.window).ok());
   const PropagationResult nominal = Plugins().propagate(method.plugin, "openvins_jpl", in);
 
   std::mt19937_64 rng(2024 + static_cast<int>(method.mean));
   std::normal_distribution<double> normal(0.0, 1.0);
-  auto normal3 = [&](double sd) { return Vec3(sd * normal(rng), sd * normal(rng), sd * normal(rng)); };
+  auto normal3 = [&](double sd) {
+    return Vec3(sd * normal(rng), sd * normal(rng), sd * normal(rng));
+  };
   const ImuNoise& n = in.noise;
   std::vector<Vec15> errors;
   errors.reserve(kRuns);
@@ -237,9 +246,9 @@ TEST_P(OpenVinsQdMonteCarlo, WhitenedNoiseCovarianceIsIdentity) {
   }
 
   const Whitened w = WhitenedStats<15>(nominal.cov, errors);
-  std::cout << "[ measured ] " << method.plugin << " Qd, N = " << kRuns << ": max|W_ii - 1| " << w.diag << " (limit "
-            << kDiagTol << "), max|W_ij| " << w.off << " (limit " << kOffTol << "), NEES " << w.nees << " (15 +- "
-            << kNeesTol << ")\n";
+  std::cout << "[ measured ] " << method.plugin << " Qd, N = " << kRuns << ": max|W_ii - 1| "
+            << w.diag << " (limit " << kDiagTol << "), max|W_ij| " << w.off << " (limit " << kOffTol
+            << "), NEES " << w.nees << " (15 +- " << kNeesTol << ")\n";
   EXPECT_LT(w.diag, kDiagTol);
   EXPECT_LT(w.off, kOffTol);
   EXPECT_NEAR(w.nees, 15.0, kNeesTol);
@@ -247,16 +256,20 @@ TEST_P(OpenVinsQdMonteCarlo, WhitenedNoiseCovarianceIsIdentity) {
   // Power: the same runs against the Qd predicted with densities 0.8x too small (variances
   // 0.64x) must be rejected, or the test above could not see a wrong noise model.
   PropagationInput wrong = in;
-  for (double* d : {&wrong.noise.gyro_noise_density, &wrong.noise.accel_noise_density, &wrong.noise.gyro_random_walk,
-                    &wrong.noise.accel_random_walk})
+  for (double* d : {&wrong.noise.gyro_noise_density, &wrong.noise.accel_noise_density,
+                    &wrong.noise.gyro_random_walk, &wrong.noise.accel_random_walk})
     *d *= 0.8;
-  const Whitened ww = WhitenedStats<15>(Plugins().propagate(method.plugin, "openvins_jpl", wrong).cov, errors);
-  std::cout << "[ measured ]   against 0.8x densities: max|W_ii - 1| " << ww.diag << ", NEES " << ww.nees << "\n";
+  const Whitened ww =
+      WhitenedStats<15>(Plugins().propagate(method.plugin, "openvins_jpl", wrong).cov, errors);
+  std::cout << "[ measured ]   against 0.8x densities: max|W_ii - 1| " << ww.diag << ", NEES "
+            << ww.nees << "\n";
   EXPECT_GT(ww.diag, kDiagTol);
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, OpenVinsQdMonteCarlo, ::testing::Values(kRk4, kAnalytical),
-                         [](const ::testing::TestParamInfo<Method>& info) { return std::string(info.param.plugin); });
+                         [](const ::testing::TestParamInfo<Method>& info) {
+                           return std::string(info.param.plugin);
+                         });
 
 // ---------------------------------------------------------------------------------------------
 // The RK4 mean against a converged integration of the same input: imuconv's own fourth-order
@@ -266,10 +279,11 @@ INSTANTIATE_TEST_SUITE_P(Methods, OpenVinsQdMonteCarlo, ::testing::Values(kRk4, 
 // 1e-11 rad and 1e-9 m, so the comparison measures OpenVINS's RK4 alone. The anchors' README
 // records for OpenVINS's RK4 against "a 32-substep integration" <= 1.5e-6 rad and 2.8e-4 m
 // on the aggressive cases and <= 3e-6 m on the smooth ones: those are the bounds here (the
-// latter on every other case), an independent claim. Measured: at most 3.9e-8 rad and 1.3e-5 m (aggressive-1), 8.1e-7 m
-// (white-0), 2.2e-8 m (smooth), well inside them (the README's reference was evidently
-// coarser). The analytical method holds the mean of two samples and is far coarser (README:
-// up to 1.5e-3 rad and 0.3 m on the aggressive cases; measured 1.5e-3 rad, 0.30 m): reported.
+// latter on every other case), an independent claim. Measured: at most 3.9e-8 rad and 1.3e-5 m
+// (aggressive-1), 8.1e-7 m (white-0), 2.2e-8 m (smooth), well inside them (the README's reference
+// was evidently coarser). The analytical method holds the mean of two samples and is far coarser
+// (README: up to 1.5e-3 rad and 0.3 m on the aggressive cases; measured 1.5e-3 rad, 0.30 m):
+// reported.
 
 class OpenVinsRk4Convergence : public ::testing::TestWithParam<const char*> {};
 
@@ -282,21 +296,24 @@ TEST_P(OpenVinsRk4Convergence, AgreesWithASubsteppedIntegration) {
   kernels::IntegrateRk4<Outputs::State>(in, fine, 32);
   kernels::IntegrateRk4<Outputs::State>(in, half, 16);
   auto gap = [&](const ImuState& x) {
-    return Vec3(so3::Log(fine.x_e.R.transpose() * x.R).norm(), (x.p - fine.x_e.p).norm(), (x.v - fine.x_e.v).norm());
+    return Vec3(so3::Log(fine.x_e.R.transpose() * x.R).norm(), (x.p - fine.x_e.p).norm(),
+                (x.v - fine.x_e.v).norm());
   };
-  const Vec3 rk4 = gap(MeanOnly(OpenVinsMean::kRk4, in)), analytical = gap(MeanOnly(OpenVinsMean::kAnalytical, in));
+  const Vec3 rk4 = gap(MeanOnly(OpenVinsMean::kRk4, in)),
+             analytical = gap(MeanOnly(OpenVinsMean::kAnalytical, in));
   const Vec3 reference = gap(half.x_e);
-  std::cout << "[ measured ] " << id << " reference, 16 vs 32 substeps: " << reference[0] << " rad " << reference[1]
-            << " m " << reference[2] << " m/s\n";
-  std::cout << "[ measured ] " << id << " vs 32 substeps: openvins_rk4 " << rk4[0] << " rad " << rk4[1] << " m "
-            << rk4[2] << " m/s | openvins_analytical " << analytical[0] << " rad " << analytical[1] << " m "
-            << analytical[2] << " m/s\n";
+  std::cout << "[ measured ] " << id << " reference, 16 vs 32 substeps: " << reference[0] << " rad "
+            << reference[1] << " m " << reference[2] << " m/s\n";
+  std::cout << "[ measured ] " << id << " vs 32 substeps: openvins_rk4 " << rk4[0] << " rad "
+            << rk4[1] << " m " << rk4[2] << " m/s | openvins_analytical " << analytical[0]
+            << " rad " << analytical[1] << " m " << analytical[2] << " m/s\n";
   EXPECT_LE(reference[0], 1e-11);
   EXPECT_LE(reference[1], 1e-9);
   EXPECT_LE(rk4[0], 1.5e-6);
   EXPECT_LE(rk4[1], id.rfind("aggressive", 0) == 0 ? 2.8e-4 : 3e-6);
 }
 
-INSTANTIATE_TEST_SUITE_P(Reference, OpenVinsRk4Convergence, ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
+INSTANTIATE_TEST_SUITE_P(Reference, OpenVinsRk4Convergence, ::testing::ValuesIn(kReferenceCaseIds),
+                         CaseTestName);
 
 }  // namespace

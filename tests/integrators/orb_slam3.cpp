@@ -45,9 +45,11 @@ Edge MakeEdge(const std::string& id, bool new_bias) {
   const nlohmann::json& st = c.at("state_s");
   const Vec3 bg = JsonVec3(st.at("bg")), ba = JsonVec3(st.at("ba"));
   Edge e;
-  e.pre = PreintegrateOrbSlam3(steps, OrbSlam3CalibFromDensities(noise, 200.0), {bg.cast<float>(), ba.cast<float>()});
+  e.pre = PreintegrateOrbSlam3(steps, OrbSlam3CalibFromDensities(noise, 200.0),
+                               {bg.cast<float>(), ba.cast<float>()});
   const nlohmann::json& q = st.at("q_wxyz");
-  e.s1.R = Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>())
+  e.s1.R = Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
+                              q[3].get<double>())
                .toRotationMatrix();
   e.s1.p = JsonVec3(st.at("p"));
   e.s1.v = JsonVec3(st.at("v"));
@@ -74,14 +76,30 @@ TEST_P(OrbSlam3EdgeDerivatives, JacobiansAreTheResidualsDerivatives) {
     Vec3 d = Vec3::Zero();
     d(k % 3) = h;
     switch (k / 3) {
-      case 0: s1.R = s1.R * so3::Exp(d); break;
-      case 1: s1.p += s1.R * d; break;
-      case 2: s1.v += d; break;
-      case 3: bg += d; break;
-      case 4: ba += d; break;
-      case 5: s2.R = s2.R * so3::Exp(d); break;
-      case 6: s2.p += s2.R * d; break;
-      default: s2.v += d; break;
+      case 0:
+        s1.R = s1.R * so3::Exp(d);
+        break;
+      case 1:
+        s1.p += s1.R * d;
+        break;
+      case 2:
+        s1.v += d;
+        break;
+      case 3:
+        bg += d;
+        break;
+      case 4:
+        ba += d;
+        break;
+      case 5:
+        s2.R = s2.R * so3::Exp(d);
+        break;
+      case 6:
+        s2.p += s2.R * d;
+        break;
+      default:
+        s2.v += d;
+        break;
     }
     return EvaluateOrbSlam3EdgeInertial(e.pre, s1, bg, ba, s2).residual;
   };
@@ -96,14 +114,16 @@ TEST_P(OrbSlam3EdgeDerivatives, JacobiansAreTheResidualsDerivatives) {
   state_num << numeric.leftCols<9>(), numeric.rightCols<9>();
   state_ana << analytic.leftCols<9>(), analytic.rightCols<9>();
   const ScaledDiff states = RelativeAboveFloorDiff(state_num, state_ana);
-  const ScaledDiff biases = WorstBlockRelativeDiff(numeric.middleCols<6>(9), analytic.middleCols<6>(9));
+  const ScaledDiff biases =
+      WorstBlockRelativeDiff(numeric.middleCols<6>(9), analytic.middleCols<6>(9));
   const double largest = std::max({e.s2.p.cwiseAbs().maxCoeff(), e.s1.p.cwiseAbs().maxCoeff(),
                                    static_cast<double>(e.pre.dP.cwiseAbs().maxCoeff()), 1.0});
   const double rounding = std::numeric_limits<double>::epsilon() * largest / 1e-6;
-  const double state_bound = std::max(1e-6, 10.0 * rounding / (1e-4 * state_ana.cwiseAbs().maxCoeff()));
+  const double state_bound =
+      std::max(1e-6, 10.0 * rounding / (1e-4 * state_ana.cwiseAbs().maxCoeff()));
   std::printf("  %-13s %s: pose and velocity columns %.2g (bound %.2g), bias blocks %.2g\n",
-              std::get<0>(GetParam()), std::get<1>(GetParam()) ? "new bias" : "lin bias", states.d, state_bound,
-              biases.d);
+              std::get<0>(GetParam()), std::get<1>(GetParam()) ? "new bias" : "lin bias", states.d,
+              state_bound, biases.d);
   EXPECT_LE(states.d, state_bound) << "at (" << states.row << "," << states.col << ")";
   EXPECT_LE(biases.d, 2e-3) << "block (" << biases.row << "," << biases.col << ")";
 }
@@ -116,6 +136,8 @@ std::string EdgeName(const ::testing::TestParamInfo<std::tuple<const char*, bool
 }
 
 INSTANTIATE_TEST_SUITE_P(Reference, OrbSlam3EdgeDerivatives,
-                         ::testing::Combine(::testing::ValuesIn(kReferenceCaseIds), ::testing::Bool()), EdgeName);
+                         ::testing::Combine(::testing::ValuesIn(kReferenceCaseIds),
+                                            ::testing::Bool()),
+                         EdgeName);
 
 }  // namespace

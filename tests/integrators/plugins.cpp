@@ -31,7 +31,8 @@ TEST_P(IntegratorPlugin, LoadsWithLeftAsNativeConvention) {
   EXPECT_STREQ(prop->native_convention(), "left");
   const PluginInfo& info = Plugins().info(PluginKind::Propagator, id);
   EXPECT_EQ(info.native_convention, "left");
-  EXPECT_NE(info.file.find(std::string("imuconv_plugin_integrators_") + id), std::string::npos) << info.file;
+  EXPECT_NE(info.file.find(std::string("imuconv_plugin_integrators_") + id), std::string::npos)
+      << info.file;
 }
 
 TEST_P(IntegratorPlugin, GivesWhatItsKernelGives) {
@@ -64,7 +65,9 @@ TEST_P(IntegratorPlugin, RegistryPropagateInNativeConventionIsThePluginResult) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Integrators, IntegratorPlugin, ::testing::ValuesIn(kIntegrators),
-                         [](const ::testing::TestParamInfo<Integrator>& info) { return std::string(Name(info.param)); });
+                         [](const ::testing::TestParamInfo<Integrator>& info) {
+                           return std::string(Name(info.param));
+                         });
 
 // The three schemes differ only in discretisation. euler and midpoint both rotate the specific
 // force with the rotation at the start of the step, so both are first order: over 2 s at
@@ -87,8 +90,8 @@ TEST(IntegratorPlugins, SchemesAgreeToTheirOrder) {
   const auto at_200 = differences_to_rk4(c.samples), at_100 = differences_to_rk4(every_other);
   const char* what[] = {"euler Phi", "midpoint Phi", "euler cov", "midpoint cov"};
   for (int i = 0; i < 4; ++i) {
-    std::cout << "[ measured ] " << what[i] << " vs rk4 over 2 s: " << at_200[i] << " at 200 Hz, " << at_100[i]
-              << " at 100 Hz\n";
+    std::cout << "[ measured ] " << what[i] << " vs rk4 over 2 s: " << at_200[i] << " at 200 Hz, "
+              << at_100[i] << " at 100 Hz\n";
     EXPECT_LT(at_200[i], 1e-2) << what[i];
     // First order: halving the rate doubles the difference (the rk4 reference moves by O(dt^4)).
     EXPECT_GT(at_100[i] / at_200[i], 1.6) << what[i];

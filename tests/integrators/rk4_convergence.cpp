@@ -13,7 +13,6 @@ namespace {
 using namespace imuconv;
 using namespace imuconv::test;
 
-
 PropagationResult RunRk4(const PropagationInput& in, int substeps) {
   PropagationResult r;
   const Status st = kernels::PropagateRk4(in, r, substeps);
@@ -33,8 +32,8 @@ TEST(Rk4Convergence, HalvingTheStepOnSmooth0) {
   ASSERT_EQ(in.window.size(), 2001u);
   const PropagationResult one = RunRk4(in, 1), two = RunRk4(in, 2);
   const double phi_change = RelChange(one.Phi, two.Phi), cov_change = RelChange(one.cov, two.cov);
-  std::cout << "[ measured ] rk4 on smooth-0 (10 s), 1 -> 2 substeps: Phi " << phi_change << ", cov " << cov_change
-            << ", state (max |local|) " << StateChange(one, two) << "\n";
+  std::cout << "[ measured ] rk4 on smooth-0 (10 s), 1 -> 2 substeps: Phi " << phi_change
+            << ", cov " << cov_change << ", state (max |local|) " << StateChange(one, two) << "\n";
   RecordProperty("phi_halving_change", std::to_string(phi_change));
   RecordProperty("cov_halving_change", std::to_string(cov_change));
   // The specification: 1e-9 relative (max|A - B| / max|B|) for Phi and the covariance.
@@ -51,9 +50,10 @@ TEST(Rk4Convergence, FourthOrderOnAggressive0) {
   const double phi_ratio = RelChange(r1.Phi, r2.Phi) / RelChange(r2.Phi, r4.Phi);
   const double cov_ratio = RelChange(r1.cov, r2.cov) / RelChange(r2.cov, r4.cov);
   const double state_ratio = StateChange(r1, r2) / StateChange(r2, r4);
-  std::cout << "[ measured ] rk4 on aggressive-0 (2 s): change 1->2 / change 2->4 substeps: Phi " << phi_ratio
-            << " (" << RelChange(r1.Phi, r2.Phi) << "), cov " << cov_ratio << " (" << RelChange(r1.cov, r2.cov)
-            << "), state " << state_ratio << " (" << StateChange(r1, r2) << ")\n";
+  std::cout << "[ measured ] rk4 on aggressive-0 (2 s): change 1->2 / change 2->4 substeps: Phi "
+            << phi_ratio << " (" << RelChange(r1.Phi, r2.Phi) << "), cov " << cov_ratio << " ("
+            << RelChange(r1.cov, r2.cov) << "), state " << state_ratio << " ("
+            << StateChange(r1, r2) << ")\n";
   // 16 for fourth order, 8 for third: [12, 20] separates them with room for the next term.
   for (double ratio : {phi_ratio, cov_ratio, state_ratio}) {
     EXPECT_GT(ratio, 12.0);

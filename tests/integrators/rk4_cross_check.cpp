@@ -39,9 +39,10 @@ TEST_P(Rk4VsClassicalRk4, AgreeToFourthOrder) {
   const ImuCase c = LoadCase(GetParam());
   const PropagationInput in = MakeInput(c, c.samples.front().t, c.samples[400].t);
   const Difference one = KernelVsReference(in, 1), two = KernelVsReference(in, 2);
-  std::cout << "[ measured ] rk4 vs classical RK4 on " << GetParam() << " (2 s), 1 substep: state " << one.state
-            << ", Phi " << one.phi << ", cov " << one.cov << "; ratio to 2 substeps: " << one.state / two.state << ", "
-            << one.phi / two.phi << ", " << one.cov / two.cov << "\n";
+  std::cout << "[ measured ] rk4 vs classical RK4 on " << GetParam() << " (2 s), 1 substep: state "
+            << one.state << ", Phi " << one.phi << ", cov " << one.cov
+            << "; ratio to 2 substeps: " << one.state / two.state << ", " << one.phi / two.phi
+            << ", " << one.cov / two.cov << "\n";
   // Measured at 200 Hz: at most 3.0e-7 (state, aggressive-0 at up to 6 rad/s), 4.4e-8 (Phi),
   // 8.4e-9 (cov); the bounds leave ~3x room.
   EXPECT_LT(one.state, 1e-6);
@@ -55,7 +56,8 @@ TEST_P(Rk4VsClassicalRk4, AgreeToFourthOrder) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, Rk4VsClassicalRk4, ::testing::Values("smooth-0", "aggressive-0", "jitter-0"),
+INSTANTIATE_TEST_SUITE_P(Cases, Rk4VsClassicalRk4,
+                         ::testing::Values("smooth-0", "aggressive-0", "jitter-0"),
                          [](const ::testing::TestParamInfo<const char*>& info) {
                            std::string name = info.param;
                            for (char& ch : name)
@@ -67,7 +69,8 @@ INSTANTIATE_TEST_SUITE_P(Cases, Rk4VsClassicalRk4, ::testing::Values("smooth-0",
 // use it) against the dense 15x15 product.
 TEST(LeftTransitionAlgebra, CongruenceMatchesDense) {
   kernels::LeftTransition T;
-  for (Mat3* m : {&T.th_bg, &T.v_th, &T.v_bg, &T.v_ba, &T.p_th, &T.p_bg, &T.p_ba}) *m = Mat3::Random();
+  for (Mat3* m : {&T.th_bg, &T.v_th, &T.v_bg, &T.v_ba, &T.p_th, &T.p_bg, &T.p_ba})
+    *m = Mat3::Random();
   T.p_v = 0.7;
   const Mat15 L = Mat15::Random(), P = L * L.transpose();
   const Mat15 dense = T.ToMatrix() * P * T.ToMatrix().transpose();

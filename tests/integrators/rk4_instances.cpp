@@ -29,7 +29,8 @@ TEST_P(Rk4Instances, GiveTheDefaultTargetsOutputsBitwise) {
       PropagationResult ref, r;
       ASSERT_TRUE(kernels::PropagateRk4(in, ref, substeps, Isa::kPortable).ok());
       ASSERT_TRUE(kernels::PropagateRk4(in, r, substeps, isa).ok());
-      const std::string where = std::string("isa ") + kernels::IsaName(isa) + ", substeps " + std::to_string(substeps);
+      const std::string where =
+          std::string("isa ") + kernels::IsaName(isa) + ", substeps " + std::to_string(substeps);
       EXPECT_EQ(r.x_e.R, ref.x_e.R) << where;
       EXPECT_EQ(r.x_e.v, ref.x_e.v) << where;
       EXPECT_EQ(r.x_e.p, ref.x_e.p) << where;
@@ -49,7 +50,8 @@ TEST_P(Rk4Instances, GiveTheDefaultTargetsOutputsBitwise) {
   EXPECT_GE(compared, 2);  // kPortable and kBaseline run everywhere
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, Rk4Instances, ::testing::Values("smooth-0", "aggressive-0"), CaseTestName);
+INSTANTIATE_TEST_SUITE_P(Cases, Rk4Instances, ::testing::Values("smooth-0", "aggressive-0"),
+                         CaseTestName);
 
 // Asking for an instance the CPU cannot run is an error, not a crash (SIGILL).
 TEST(Rk4Instances, UnavailableInstanceIsAnError) {

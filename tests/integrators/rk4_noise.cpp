@@ -45,7 +45,8 @@ const NoiseTerm kTerms[] = {{"gyro_noise_density", &ImuNoise::gyro_noise_density
 ImuNoise Only(const ImuNoise& n, const NoiseTerm& term) {
   if (!term.density) return n;
   ImuNoise one;
-  one.gyro_noise_density = one.accel_noise_density = one.gyro_random_walk = one.accel_random_walk = 0.0;
+  one.gyro_noise_density = one.accel_noise_density = one.gyro_random_walk = one.accel_random_walk =
+      0.0;
   one.*term.density = n.*term.density;
   return one;
 }
@@ -79,14 +80,16 @@ TEST_P(Rk4Noise, EachTermMatchesAFineStepLyapunovSolution) {
     const double richardson = CorrelationScaleDiff(KernelCovariance(in, 2), kernel).d * 16.0 / 15.0;
     const double bound = 4.0 * richardson + 1e-12;
     const ScaledDiff d = CorrelationScaleDiff(reference, kernel);
-    std::printf("[ measured ] rk4 on %s (2 s), %s only: correlation-scale difference to the fine-step "
-                "reference %.3g at (%d,%d); Richardson estimate %.3g; bound %.3g\n",
-                GetParam(), term.name, d.d, d.row, d.col, richardson, bound);
-    EXPECT_LT(d.d, bound) << term.name << " at (" << d.row << "," << d.col << "): kernel " << kernel(d.row, d.col)
-                          << ", reference " << reference(d.row, d.col);
+    std::printf(
+        "[ measured ] rk4 on %s (2 s), %s only: correlation-scale difference to the fine-step "
+        "reference %.3g at (%d,%d); Richardson estimate %.3g; bound %.3g\n",
+        GetParam(), term.name, d.d, d.row, d.col, richardson, bound);
+    EXPECT_LT(d.d, bound) << term.name << " at (" << d.row << "," << d.col << "): kernel "
+                          << kernel(d.row, d.col) << ", reference " << reference(d.row, d.col);
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, Rk4Noise, ::testing::Values("smooth-0", "aggressive-0", "jitter-0"), CaseTestName);
+INSTANTIATE_TEST_SUITE_P(Cases, Rk4Noise, ::testing::Values("smooth-0", "aggressive-0", "jitter-0"),
+                         CaseTestName);
 
 }  // namespace

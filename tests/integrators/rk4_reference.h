@@ -56,7 +56,8 @@ inline Mat15 ErrorRateTimes(const Mat3& R, const Vec3& Ra, const Mat15& M) {
 }
 
 /// dP/dt = F P + P F^T + D for a symmetric P (P F^T = (F P)^T).
-inline Mat15 CovarianceRate(const Mat3& R, const Vec3& Ra, const Mat15& P, const Vec15& noise_diag) {
+inline Mat15 CovarianceRate(const Mat3& R, const Vec3& Ra, const Mat15& P,
+                            const Vec15& noise_diag) {
   const Mat15 FP = ErrorRateTimes(R, Ra, P);
   Mat15 rate = FP + FP.transpose();
   rate.diagonal() += noise_diag;
@@ -73,8 +74,8 @@ struct Rk4StepInput {
 
 /// One classical RK4 step of length h of the state, of Phi and of the covariance P (biases are
 /// constant along the nominal trajectory).
-inline void Rk4Step(ImuState& x, Mat15& Phi, Mat15& P, const Rk4StepInput& u, double h, const Vec3& gravity,
-                    const Vec15& noise_diag) {
+inline void Rk4Step(ImuState& x, Mat15& Phi, Mat15& P, const Rk4StepInput& u, double h,
+                    const Vec3& gravity, const Vec15& noise_diag) {
   using namespace rk4_detail;
   const double half_h = 0.5 * h;
 

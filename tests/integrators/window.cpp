@@ -29,7 +29,8 @@ ImuSample Lerp(const ImuSample& a, const ImuSample& b, double t) {
 TEST(IntegratorWindow, BetweenSamplesEqualsExplicitlyInterpolatedSamples) {
   const ImuCase c = LoadCase("jitter-0");  // non-uniform dt
   const auto& s = c.samples;
-  const double t_s = s[50].t + 0.3 * (s[51].t - s[50].t), t_e = s[250].t + 0.8 * (s[251].t - s[250].t);
+  const double t_s = s[50].t + 0.3 * (s[51].t - s[50].t),
+               t_e = s[250].t + 0.8 * (s[251].t - s[250].t);
   const PropagationInput from_samples = MakeInput(c, t_s, t_e);
   ASSERT_EQ(from_samples.window.size(), 202u);  // t_s, samples 51..250, t_e
 
@@ -37,7 +38,8 @@ TEST(IntegratorWindow, BetweenSamplesEqualsExplicitlyInterpolatedSamples) {
   explicit_knots.insert(explicit_knots.end(), s.begin() + 51, s.begin() + 251);
   explicit_knots.push_back(Lerp(s[250], s[251], t_e));
   PropagationInput from_knots = from_samples;
-  ASSERT_TRUE(MakeWindow(explicit_knots.data(), explicit_knots.size(), t_s, t_e, from_knots.window).ok());
+  ASSERT_TRUE(
+      MakeWindow(explicit_knots.data(), explicit_knots.size(), t_s, t_e, from_knots.window).ok());
   ASSERT_EQ(from_knots.window.size(), explicit_knots.size());
 
   for (Integrator i : kIntegrators) {
@@ -58,13 +60,15 @@ TEST(IntegratorWindow, BetweenSamplesEqualsExplicitlyInterpolatedSamples) {
 TEST(IntegratorWindow, TwoKnotWindowInsideOneSamplePeriod) {
   const ImuCase c = LoadCase("smooth-0");
   const auto& s = c.samples;
-  const double t_s = s[10].t + 0.25 * (s[11].t - s[10].t), t_e = s[10].t + 0.75 * (s[11].t - s[10].t);
+  const double t_s = s[10].t + 0.25 * (s[11].t - s[10].t),
+               t_e = s[10].t + 0.75 * (s[11].t - s[10].t);
   const PropagationInput in = MakeInput(c, t_s, t_e);
   ASSERT_EQ(in.window.size(), 2u);
   PropagationResult euler;
   ASSERT_TRUE(PropagateKernel(Integrator::Euler, in, euler).ok());
   ImuState expected;
-  kernels::EulerStep<false>(in.x_s, in.window[0].gyro, in.window[0].accel, t_e - t_s, in.gravity, expected, nullptr);
+  kernels::EulerStep<false>(in.x_s, in.window[0].gyro, in.window[0].accel, t_e - t_s, in.gravity,
+                            expected, nullptr);
   // One step by two code paths (the propagator's driver and EulerStep) that evaluate the same
   // formula but need not round alike: bit-for-bit agreement would be a coincidence (elsewhere
   // they differ by 1.1e-16). Each entry is a sum of a few rounded products, so they agree to
@@ -75,8 +79,10 @@ TEST(IntegratorWindow, TwoKnotWindowInsideOneSamplePeriod) {
   auto near = [&](const auto& a, const auto& b) {
     return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
   };
-  EXPECT_LE(near(euler.x_e.p, expected.p), kUlps) << euler.x_e.p.transpose() << " vs " << expected.p.transpose();
-  EXPECT_LE(near(euler.x_e.v, expected.v), kUlps) << euler.x_e.v.transpose() << " vs " << expected.v.transpose();
+  EXPECT_LE(near(euler.x_e.p, expected.p), kUlps)
+      << euler.x_e.p.transpose() << " vs " << expected.p.transpose();
+  EXPECT_LE(near(euler.x_e.v, expected.v), kUlps)
+      << euler.x_e.v.transpose() << " vs " << expected.v.transpose();
   EXPECT_LE(near(euler.x_e.R, expected.R), kUlps) << euler.x_e.R << "\nvs\n" << expected.R;
   for (Integrator i : kIntegrators) {
     PropagationResult r;
@@ -93,7 +99,8 @@ struct BadInput {
 };
 
 std::vector<BadInput> BadInputs(const ImuCase& c, std::vector<ImuSample>& storage) {
-  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN(),
+               inf = std::numeric_limits<double>::infinity();
   const PropagationInput good = MakeInput(c, c.samples[0].t, c.samples[20].t);
   std::vector<BadInput> bad;
   auto add = [&](std::string what, auto&& change) {
@@ -101,13 +108,17 @@ std::vector<BadInput> BadInputs(const ImuCase& c, std::vector<ImuSample>& storag
     change(b.in);
     bad.push_back(std::move(b));
   };
-  add("default window (both knots at t = 0)", [](PropagationInput& in) { in.window = SampleWindow(); });
-  add("malformed window (end before begin)", [](PropagationInput& in) { std::swap(in.window.begin, in.window.end); });
+  add("default window (both knots at t = 0)",
+      [](PropagationInput& in) { in.window = SampleWindow(); });
+  add("malformed window (end before begin)",
+      [](PropagationInput& in) { std::swap(in.window.begin, in.window.end); });
   add("interior knots without samples", [](PropagationInput& in) { in.window.samples = nullptr; });
-  add("last knot not after the first", [](PropagationInput& in) { in.window.last.t = in.window.first.t; });
+  add("last knot not after the first",
+      [](PropagationInput& in) { in.window.last.t = in.window.first.t; });
   add("NaN time", [&](PropagationInput& in) { in.window.first.t = nan; });
   add("NaN gyro in the first knot", [&](PropagationInput& in) { in.window.first.gyro.y() = nan; });
-  add("infinite accel in the last knot", [&](PropagationInput& in) { in.window.last.accel.z() = inf; });
+  add("infinite accel in the last knot",
+      [&](PropagationInput& in) { in.window.last.accel.z() = inf; });
   add("NaN rotation", [&](PropagationInput& in) { in.x_s.R(1, 2) = nan; });
   add("infinite velocity", [&](PropagationInput& in) { in.x_s.v.x() = -inf; });
   add("NaN bias", [&](PropagationInput& in) { in.x_s.ba.y() = nan; });
@@ -158,7 +169,8 @@ TEST(IntegratorWindow, BadInputGivesStatusErrorAndLeavesOutputAlone) {
   // The good input the bad ones derive from is accepted.
   for (Integrator i : kIntegrators) {
     PropagationResult out;
-    EXPECT_TRUE(PropagateKernel(i, MakeInput(c, c.samples[0].t, c.samples[20].t), out).ok()) << Name(i);
+    EXPECT_TRUE(PropagateKernel(i, MakeInput(c, c.samples[0].t, c.samples[20].t), out).ok())
+        << Name(i);
   }
 }
 

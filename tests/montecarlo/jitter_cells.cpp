@@ -30,7 +30,8 @@ double TrapezoidVarianceRatio(const std::vector<ImuSample>& s, bool centered_cel
   const std::size_t K = s.size() - 1;
   double sum = 0.0;
   for (std::size_t k = 0; k <= K; ++k) {
-    const double before = k == 0 ? 0.0 : s[k].t - s[k - 1].t, after = k == K ? 0.0 : s[k + 1].t - s[k].t;
+    const double before = k == 0 ? 0.0 : s[k].t - s[k - 1].t,
+                 after = k == K ? 0.0 : s[k + 1].t - s[k].t;
     const double w = 0.5 * (before + after);
     const double cell = centered_cells ? w : (k == K ? before : after);
     sum += w * w / cell;
@@ -44,13 +45,16 @@ TEST(MontecarloJitter, CenteredCellsMakeRk4AndMidpointConsistentOnUnequalSteps) 
   // (ratio 1 to rounding), forward ones give 2.8 % more.
   EXPECT_NEAR(TrapezoidVarianceRatio(in.samples, true), 1.0, 1e-12);
   const double forward = TrapezoidVarianceRatio(in.samples, false);
-  std::printf("[ measured ] jitter-0, first 0.5 s: forward cells would give theta variance x %.4f\n", forward);
+  std::printf(
+      "[ measured ] jitter-0, first 0.5 s: forward cells would give theta variance x %.4f\n",
+      forward);
   EXPECT_GT(forward, 1.02);
 
   constexpr int kTrials = 40000;
   const double sd = std::sqrt(2.0 / (3.0 * (kTrials - 1)));
   for (const char* id : {"rk4", "midpoint"}) {
-    const PreintegrationMethod method = ResolvePreintegrationMethod(test::Plugins(), PluginKind::Propagator, id);
+    const PreintegrationMethod method =
+        ResolvePreintegrationMethod(test::Plugins(), PluginKind::Propagator, id);
     Options o;
     o.trials = kTrials;
     o.seed = 1;
@@ -60,9 +64,11 @@ TEST(MontecarloJitter, CenteredCellsMakeRk4AndMidpointConsistentOnUnequalSteps) 
     double theta = 0.0;
     for (const BlockRatio& b : r.blocks)
       if (b.block == "theta") theta = b.variance_ratio;
-    std::printf("[ measured ] %s, jitter-0 0.5 s, N = %d: theta variance ratio %.4f (sd %.4f), NEES %.3f (p %.3g), "
-                "KL p %.3g\n",
-                id, kTrials, theta, sd, r.stats.nees_mean, r.stats.nees_p_value, r.stats.kl_p_value);
+    std::printf(
+        "[ measured ] %s, jitter-0 0.5 s, N = %d: theta variance ratio %.4f (sd %.4f), NEES %.3f "
+        "(p %.3g), "
+        "KL p %.3g\n",
+        id, kTrials, theta, sd, r.stats.nees_mean, r.stats.nees_p_value, r.stats.kl_p_value);
     EXPECT_NEAR(theta, 1.0, 3 * sd) << id;
     EXPECT_EQ(r.verdict, Verdict::consistent) << id;
   }

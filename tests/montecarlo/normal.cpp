@@ -29,8 +29,8 @@ TEST(MontecarloNormal, SplitMix64MatchesReferenceValues) {
   EXPECT_EQ(SplitMix64(2 * kGamma), 0x06c45d188009454fULL);
   EXPECT_EQ(SplitMix64(3 * kGamma), 0xf88bb8a8724c81ecULL);
   // Seeding takes exactly those four words as the state.
-  Xoshiro256pp seeded(0), given({0xe220a8397b1dcdafULL, 0x6e789e6aa1b965f4ULL, 0x06c45d188009454fULL,
-                                 0xf88bb8a8724c81ecULL});
+  Xoshiro256pp seeded(0), given({0xe220a8397b1dcdafULL, 0x6e789e6aa1b965f4ULL,
+                                 0x06c45d188009454fULL, 0xf88bb8a8724c81ecULL});
   for (int k = 0; k < 100; ++k) ASSERT_EQ(seeded(), given()) << k;
 }
 
@@ -39,10 +39,10 @@ TEST(MontecarloNormal, SplitMix64MatchesReferenceValues) {
 // hand.
 TEST(MontecarloNormal, Xoshiro256ppMatchesReferenceSequence) {
   Xoshiro256pp g(std::array<std::uint64_t, 4>{0, 0, 0, 1});
-  const std::uint64_t expected[10] = {0x0000000000800000ULL, 0x0000000000800011ULL, 0x0002200000800011ULL,
-                                      0x0002200044000020ULL, 0x00022000448008A1ULL, 0x01102100802208A0ULL,
-                                      0x0114002284200880ULL, 0x0402896644A64095ULL, 0x8A14A0A244ACC891ULL,
-                                      0x8C88BA4680B20495ULL};
+  const std::uint64_t expected[10] = {
+      0x0000000000800000ULL, 0x0000000000800011ULL, 0x0002200000800011ULL, 0x0002200044000020ULL,
+      0x00022000448008A1ULL, 0x01102100802208A0ULL, 0x0114002284200880ULL, 0x0402896644A64095ULL,
+      0x8A14A0A244ACC891ULL, 0x8C88BA4680B20495ULL};
   for (int k = 0; k < 10; ++k) EXPECT_EQ(g(), expected[k]) << k;
 }
 
@@ -52,7 +52,8 @@ TEST(MontecarloNormal, Xoshiro256ppMatchesReferenceSequence) {
 TEST(MontecarloNormal, ZigguratTablesSatisfyTheirEquations) {
   const ZigguratTables& z = ZigguratTables::Get();
   const double r = ZigguratTables::kR;
-  EXPECT_NEAR(z.v, r * std::exp(-0.5 * r * r) + std::sqrt(M_PI / 2) * std::erfc(r / std::sqrt(2.0)), 1e-18);
+  EXPECT_NEAR(z.v, r * std::exp(-0.5 * r * r) + std::sqrt(M_PI / 2) * std::erfc(r / std::sqrt(2.0)),
+              1e-18);
   EXPECT_NEAR(z.x[0] * z.f[0], z.v, 1e-18);  // the base's pseudo-rectangle
   for (int i = 1; i < ZigguratTables::kLayers; ++i) {
     EXPECT_NEAR(z.x[i] * (z.f[i + 1] - z.f[i]), z.v, 1e-11 * z.v) << "layer " << i;
@@ -91,7 +92,8 @@ TEST(MontecarloNormal, DistributionIsStandardNormal) {
     m4 += v2 * v2;
   }
   m1 /= kN, m2 /= kN, m3 /= kN, m4 /= kN;
-  std::printf("[ measured ] N = %d: mean %.2e, E x^2 %.5f, E x^3 %.2e, E x^4 %.4f\n", kN, m1, m2, m3, m4);
+  std::printf("[ measured ] N = %d: mean %.2e, E x^2 %.5f, E x^3 %.2e, E x^4 %.4f\n", kN, m1, m2,
+              m3, m4);
   EXPECT_NEAR(m1, 0.0, 5 / std::sqrt(kN));
   EXPECT_NEAR(m2, 1.0, 5 * std::sqrt(2.0 / kN));
   EXPECT_NEAR(m3, 0.0, 5 * std::sqrt(15.0 / kN));
@@ -121,7 +123,8 @@ TEST(MontecarloNormal, DistributionIsStandardNormal) {
     int beyond = 0, negative = 0;
     for (double v : x)
       if (std::abs(v) > t) ++beyond, negative += v < 0;
-    std::printf("[ measured ] |x| > %.3f: %d (expected %.1f), %d negative\n", t, beyond, kN * p, negative);
+    std::printf("[ measured ] |x| > %.3f: %d (expected %.1f), %d negative\n", t, beyond, kN * p,
+                negative);
     EXPECT_NEAR(beyond, kN * p, 5 * std::sqrt(kN * p) + 1) << t;
     EXPECT_NEAR(negative, 0.5 * beyond, 5 * std::sqrt(0.25 * beyond) + 1) << t;
   }

@@ -22,7 +22,8 @@ namespace {
 
 using test::Plugins;
 
-Result RunMethod(const std::string& method_id, PluginKind kind, const Input& in, bool allow_mean_only) {
+Result RunMethod(const std::string& method_id, PluginKind kind, const Input& in,
+                 bool allow_mean_only) {
   const PreintegrationMethod method = ResolvePreintegrationMethod(Plugins(), kind, method_id);
   Options o;
   o.trials = 40;
@@ -32,22 +33,26 @@ Result RunMethod(const std::string& method_id, PluginKind kind, const Input& in,
   return RunMonteCarlo(Plugins(), method, DefaultConvention(method), in, o);
 }
 
-bool SameBits(const Mat15& a, const Mat15& b) { return std::memcmp(a.data(), b.data(), sizeof(double) * 225) == 0; }
+bool SameBits(const Mat15& a, const Mat15& b) {
+  return std::memcmp(a.data(), b.data(), sizeof(double) * 225) == 0;
+}
 
 TEST(MontecarloPaths, MeanOnlyGivesTheFullPathsTrialsBitForBit) {
   for (const char* case_id : {"aggressive-0", "jitter-0"}) {
     const Input in = CaseInput(case_id, 2.0);
-    for (const auto& [id, kind] : {std::pair<const char*, PluginKind>{"euler", PluginKind::Propagator},
-                                   {"midpoint", PluginKind::Propagator},
-                                   {"rk4", PluginKind::Propagator},
-                                   {"manifold", PluginKind::Preintegrator},
-                                   {"tangent", PluginKind::Preintegrator}}) {
+    for (const auto& [id, kind] :
+         {std::pair<const char*, PluginKind>{"euler", PluginKind::Propagator},
+          {"midpoint", PluginKind::Propagator},
+          {"rk4", PluginKind::Propagator},
+          {"manifold", PluginKind::Preintegrator},
+          {"tangent", PluginKind::Preintegrator}}) {
       const Result mean = RunMethod(id, kind, in, true), full = RunMethod(id, kind, in, false);
       EXPECT_EQ(mean.trial_path, "mean_only") << id << " on " << case_id;
       EXPECT_EQ(full.trial_path, "full") << id;
       EXPECT_TRUE(SameBits(mean.predicted, full.predicted)) << id;
       EXPECT_EQ(mean.mean_only_offset, 0.0) << id << " on " << case_id;
-      EXPECT_TRUE(SameBits(mean.stats.sample_cov, full.stats.sample_cov)) << id << " on " << case_id;
+      EXPECT_TRUE(SameBits(mean.stats.sample_cov, full.stats.sample_cov))
+          << id << " on " << case_id;
       EXPECT_EQ(mean.stats.nees_mean, full.stats.nees_mean) << id;
       EXPECT_EQ(mean.stats.kl, full.stats.kl) << id;
     }
@@ -57,9 +62,10 @@ TEST(MontecarloPaths, MeanOnlyGivesTheFullPathsTrialsBitForBit) {
 // Methods that are not kernels of the core run their plugin per trial.
 TEST(MontecarloPaths, OtherMethodsRunTheFullPath) {
   const Input in = CaseInput("smooth-0", 1.0);
-  for (const auto& [id, kind] : {std::pair<const char*, PluginKind>{"openvins_rk4", PluginKind::Propagator},
-                                 {"vins_fusion", PluginKind::Preintegrator},
-                                 {"basalt", PluginKind::Preintegrator}})
+  for (const auto& [id, kind] :
+       {std::pair<const char*, PluginKind>{"openvins_rk4", PluginKind::Propagator},
+        {"vins_fusion", PluginKind::Preintegrator},
+        {"basalt", PluginKind::Preintegrator}})
     EXPECT_EQ(RunMethod(id, kind, in, true).trial_path, "full") << id;
 }
 

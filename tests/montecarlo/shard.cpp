@@ -78,7 +78,8 @@ TEST(MontecarloShardFile, RunIdentityRoundTripsBitForBit) {
   EXPECT_EQ(out.noise_model.note, in.noise_model.note);
   EXPECT_EQ(out.trial_path, in.trial_path);
   ASSERT_EQ(out.blocks.size(), in.blocks.size());
-  for (std::size_t b = 0; b < in.blocks.size(); ++b) EXPECT_EQ(out.blocks[b].block, in.blocks[b].block);
+  for (std::size_t b = 0; b < in.blocks.size(); ++b)
+    EXPECT_EQ(out.blocks[b].block, in.blocks[b].block);
   EXPECT_TRUE(SameBits(out.noise_scale, in.noise_scale));
   EXPECT_TRUE(SameBits(out.duration, in.duration));
   EXPECT_TRUE(SameBits(out.mean_only_offset, in.mean_only_offset));
@@ -130,7 +131,8 @@ TEST(MontecarloShardFile, ShardsTileTheTrials) {
         EXPECT_EQ(first, next) << trials << " " << k << "/" << count;
         const int size = end - first;
         // floor((k+1) T / N) - floor(k T / N) is floor(T / N) or one more.
-        EXPECT_TRUE(size == trials / count || size == trials / count + 1) << trials << " " << k << "/" << count;
+        EXPECT_TRUE(size == trials / count || size == trials / count + 1)
+            << trials << " " << k << "/" << count;
         next = end;
       }
       EXPECT_EQ(next, trials) << trials << " " << count;

@@ -29,7 +29,8 @@ namespace {
 struct Rejections {
   int nees = 0, kl = 0, verdict = 0;
 };
-Rejections Simulate(int trials, int replicas, double block_scale, double level, std::uint64_t seed) {
+Rejections Simulate(int trials, int replicas, double block_scale, double level,
+                    std::uint64_t seed) {
   Normal normal(SplitMix64(seed));
   const Mat15 I = Mat15::Identity();
   std::vector<Vec15> errors(static_cast<std::size_t>(trials));
@@ -80,16 +81,19 @@ TEST(MontecarloVerdict, ChiSquareMatchesTablesAndInvertsItself) {
 // 2000 replicas at N = 200 and 1000: under H0 each p-value is uniform, so the count below 5 %
 // is Binomial(2000, 0.05), mean 100, sd 9.7: [66, 134] is mean -+ 3.5 sd (tails 9e-5 and 4e-4).
 // The verdict's count is at most Binomial(2000, 0.01) (Bonferroni): mean 20, sd 4.45; 35 or
-// more has probability 1.4e-3 (the exact binomial tail), so the bound is 34. Bartlett's correction is
-// what makes the KL count right at N = 200: without it (rho = 1) the KL rate at 5 % is 7 %.
+// more has probability 1.4e-3 (the exact binomial tail), so the bound is 34. Bartlett's correction
+// is what makes the KL count right at N = 200: without it (rho = 1) the KL rate at 5 % is 7 %.
 TEST(MontecarloVerdict, PValuesAreUniformOnExactGaussianErrors) {
   for (int n : {200, 1000}) {
     const int replicas = n == 200 ? 2000 : 1000;
     const Rejections at5 = Simulate(n, replicas, 1.0, 0.05, 17 + n);
-    std::printf("[ measured ] N = %d, %d replicas: NEES p < 5%% %d, KL p < 5%% %d, verdict inconsistent %d\n", n,
-                replicas, at5.nees, at5.kl, at5.verdict);
+    std::printf(
+        "[ measured ] N = %d, %d replicas: NEES p < 5%% %d, KL p < 5%% %d, verdict inconsistent "
+        "%d\n",
+        n, replicas, at5.nees, at5.kl, at5.verdict);
     // At 1000 replicas: Binomial(1000, 0.05), mean 50, sd 6.9, [26, 74] (3.5 sd; tails 5e-5 and
-    // 4e-4); verdict at most Binomial(1000, 0.01): 21 or more has probability 1.5e-3, so at most 20.
+    // 4e-4); verdict at most Binomial(1000, 0.01): 21 or more has probability 1.5e-3, so at
+    // most 20.
     const int lo = n == 200 ? 66 : 26, hi = n == 200 ? 134 : 74, verdict_max = n == 200 ? 34 : 20;
     EXPECT_GE(at5.nees, lo) << n;
     EXPECT_LE(at5.nees, hi) << n;
@@ -108,8 +112,8 @@ constexpr int kPowerTrials = 5000;
 TEST(MontecarloVerdict, PowerForATenPercentErrorInOneBlock) {
   for (double block_scale : {1.1, 0.9}) {
     const Rejections r = Simulate(kPowerTrials, 200, block_scale, kTestLevel, 29);
-    std::printf("[ measured ] N = %d, block variance x %.1f: caught %d of 200 (NEES %d, KL %d)\n", kPowerTrials,
-                block_scale, r.verdict, r.nees, r.kl);
+    std::printf("[ measured ] N = %d, block variance x %.1f: caught %d of 200 (NEES %d, KL %d)\n",
+                kPowerTrials, block_scale, r.verdict, r.nees, r.kl);
     EXPECT_GE(r.verdict, 200 - 19) << block_scale;
   }
   // And at N = 1000 it is far from it (the docs say so; measured 16 % for x 1.1, 20 % for x 0.9).
@@ -126,9 +130,10 @@ TEST(MontecarloVerdict, PowerForATenPercentErrorInOneBlock) {
 // so at most 6 per method. The old design's levels give 13 to 16 (file comment).
 TEST(MontecarloVerdict, FalseAlarmRateOverSeeds) {
   const Input in = CaseInput("smooth-0", 0.1);
-  for (const auto& [id, kind] : {std::pair<const char*, PluginKind>{"euler", PluginKind::Propagator},
-                                 {"rk4", PluginKind::Propagator},
-                                 {"vins_fusion", PluginKind::Preintegrator}}) {
+  for (const auto& [id, kind] :
+       {std::pair<const char*, PluginKind>{"euler", PluginKind::Propagator},
+        {"rk4", PluginKind::Propagator},
+        {"vins_fusion", PluginKind::Preintegrator}}) {
     const PreintegrationMethod method = ResolvePreintegrationMethod(test::Plugins(), kind, id);
     int inconsistent = 0;
     double min_p = 1.0;
@@ -141,9 +146,11 @@ TEST(MontecarloVerdict, FalseAlarmRateOverSeeds) {
       ASSERT_TRUE(r.noise_model.matches) << id;
       inconsistent += r.verdict == Verdict::inconsistent;
       min_p = std::min(min_p, r.verdict_p_value);
-      EXPECT_EQ(r.verdict == Verdict::inconsistent, r.verdict_p_value < kFalseAlarmRate) << id << " seed " << seed;
+      EXPECT_EQ(r.verdict == Verdict::inconsistent, r.verdict_p_value < kFalseAlarmRate)
+          << id << " seed " << seed;
     }
-    std::printf("[ measured ] %s: %d of 200 seeds inconsistent (smallest verdict p %.3g)\n", id, inconsistent, min_p);
+    std::printf("[ measured ] %s: %d of 200 seeds inconsistent (smallest verdict p %.3g)\n", id,
+                inconsistent, min_p);
     EXPECT_LE(inconsistent, 6) << id;
   }
 }

@@ -126,7 +126,8 @@ TEST(AtomicWrite, FollowsSymbolicLinksAndKeepsThem) {
   // A loop is an error, not a hang.
   fs::create_symlink("loop_b", tmp.file("loop_a"));
   fs::create_symlink("loop_a", tmp.file("loop_b"));
-  EXPECT_TRUE(Has(MessageOf<imuconv::Error>([&] { OutputFile o(tmp.file("loop_a")); }), "symbolic links"));
+  EXPECT_TRUE(
+      Has(MessageOf<imuconv::Error>([&] { OutputFile o(tmp.file("loop_a")); }), "symbolic links"));
 }
 
 TEST(AtomicWrite, RefusesAFileWithSeveralHardLinks) {
@@ -149,7 +150,8 @@ TEST(AtomicWrite, WritesThroughCharacterDevices) {
   EXPECT_FALSE(out.is_stdout());
   // A full device: the error names it.
   if (::access("/dev/full", W_OK) == 0) {
-    const std::string msg = MessageOf<imuconv::Error>([&] { WriteFileAtomically("/dev/full", "x"); });
+    const std::string msg =
+        MessageOf<imuconv::Error>([&] { WriteFileAtomically("/dev/full", "x"); });
     EXPECT_TRUE(Has(msg, "/dev/full: cannot write to it: No space left on device")) << msg;
     EXPECT_TRUE(S_ISCHR(Lmode("/dev/full")));
   }
@@ -192,7 +194,8 @@ TEST(AtomicWrite, WritesThroughAFifoOnlyOnceComplete) {
     OutputFile out(fifo);
     out.write("half a document");
   }
-  for (int i = 0; i < 10000 && !done; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  for (int i = 0; i < 10000 && !done; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
   if (!done) {
     ADD_FAILURE() << "the reader was left waiting";
     ::close(::open(fifo.c_str(), O_WRONLY | O_NONBLOCK));
@@ -209,21 +212,24 @@ TEST(AtomicWrite, WritesThroughOurOwnDescriptors) {
   ASSERT_GE(fd, 0);
   // The descriptor is used as it is (here in append mode): the file is neither replaced nor
   // reopened at offset 0.
-  for (const std::string& path : {"/dev/fd/" + std::to_string(fd), "/proc/self/fd/" + std::to_string(fd)}) {
+  for (const std::string& path :
+       {"/dev/fd/" + std::to_string(fd), "/proc/self/fd/" + std::to_string(fd)}) {
     OutputFile out(path);
     EXPECT_EQ(out.mode(), OutputFile::Mode::WriteThrough) << path;
     out.write(path + "\n");
     out.commit();
   }
   ::close(fd);
-  EXPECT_EQ(ReadText(log), "first line\n/dev/fd/" + std::to_string(fd) + "\n/proc/self/fd/" + std::to_string(fd) + "\n");
+  EXPECT_EQ(ReadText(log), "first line\n/dev/fd/" + std::to_string(fd) + "\n/proc/self/fd/" +
+                               std::to_string(fd) + "\n");
   EXPECT_EQ(tmp.entries(), 1u);
   EXPECT_TRUE(OutputFile("-").is_stdout());
   EXPECT_TRUE(OutputFile("/dev/stdout").is_stdout());
   // A descriptor open only for reading is refused up front.
   const int ro = ::open(log.c_str(), O_RDONLY | O_CLOEXEC);
   ASSERT_GE(ro, 0);
-  const std::string msg = MessageOf<imuconv::Error>([&] { OutputFile o("/dev/fd/" + std::to_string(ro)); });
+  const std::string msg =
+      MessageOf<imuconv::Error>([&] { OutputFile o("/dev/fd/" + std::to_string(ro)); });
   ::close(ro);
   EXPECT_TRUE(Has(msg, "is not open for writing")) << msg;
 }
@@ -249,7 +255,9 @@ TEST(AtomicWrite, RefusesDirectoriesSocketsAndBlockDevices) {
   // Through a link the message names both.
   fs::create_symlink("dir", tmp.file("to_dir"));
   msg = MessageOf<imuconv::Error>([&] { WriteFileAtomically(tmp.file("to_dir"), "x"); });
-  EXPECT_TRUE(Has(msg, tmp.file("to_dir") + " (a symbolic link to " + tmp.file("dir") + "): is a directory")) << msg;
+  EXPECT_TRUE(Has(
+      msg, tmp.file("to_dir") + " (a symbolic link to " + tmp.file("dir") + "): is a directory"))
+      << msg;
 
   for (const char* dev : {"/dev/loop0", "/dev/sda", "/dev/vda", "/dev/nvme0n1"}) {
     struct stat st {};
@@ -259,7 +267,8 @@ TEST(AtomicWrite, RefusesDirectoriesSocketsAndBlockDevices) {
     EXPECT_TRUE(S_ISBLK(Lmode(dev)));
     break;
   }
-  EXPECT_TRUE(Has(MessageOf<imuconv::Error>([&] { OutputFile o(""); }), "the output path is empty"));
+  EXPECT_TRUE(
+      Has(MessageOf<imuconv::Error>([&] { OutputFile o(""); }), "the output path is empty"));
   EXPECT_EQ(tmp.entries(), 3u);  // dir, sock, to_dir: nothing else
 }
 
@@ -269,8 +278,10 @@ TEST(AtomicWrite, RefusesAnOutputThatIsAnInput) {
   fs::create_symlink("input.csv", tmp.file("alias.json"));
   for (const std::string& out : {input, tmp.file("alias.json")}) {
     OutputFile o(out);
-    const std::string msg = MessageOf<imuconv::Error>([&] { o.refuse_if_same(input, "the input file"); });
-    EXPECT_EQ(msg, out + ": is the same file as the input file " + input + ": refusing to overwrite it; write the output elsewhere");
+    const std::string msg =
+        MessageOf<imuconv::Error>([&] { o.refuse_if_same(input, "the input file"); });
+    EXPECT_EQ(msg, out + ": is the same file as the input file " + input +
+                       ": refusing to overwrite it; write the output elsewhere");
   }
   // A different file, and a missing one, are no conflict.
   OutputFile o(tmp.file("result.json"));
@@ -278,7 +289,8 @@ TEST(AtomicWrite, RefusesAnOutputThatIsAnInput) {
   o.refuse_if_same(tmp.file("missing.csv"), "the input file");
   // Another name of the same inode is refused (here already for its two hard links).
   ASSERT_EQ(::link(input.c_str(), tmp.file("other_name.csv").c_str()), 0);
-  EXPECT_TRUE(Has(MessageOf<imuconv::Error>([&] { OutputFile x(tmp.file("other_name.csv")); }), "hard links"));
+  EXPECT_TRUE(Has(MessageOf<imuconv::Error>([&] { OutputFile x(tmp.file("other_name.csv")); }),
+                  "hard links"));
   EXPECT_EQ(ReadText(input), "1,2,3\n");
 }
 
@@ -330,7 +342,9 @@ TEST(AtomicWrite, FailingRunsLeaveNoOutput) {
   const std::string out = tmp.file("result.json");
   CommandResult r = RunImuconv("run " + ShellQuote(late) + " -o " + ShellQuote(out), tmp);
   EXPECT_EQ(r.exit_code, 2) << r.err;
-  EXPECT_NE(r.err.find(late + ": /tasks/0/interval/t_end: t = 9 s is after the last IMU sample"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(late + ": /tasks/0/interval/t_end: t = 9 s is after the last IMU sample"),
+            std::string::npos)
+      << r.err;
   EXPECT_FALSE(fs::exists(out));
 
   // 2. An existing output file is left as it was.

@@ -27,7 +27,11 @@ const char* kFile = "mem/bounded.json";
 json Doc(const json& tasks) {
   json samples = json::array();
   for (int k = 0; k <= 100; ++k) samples.push_back({0.01 * k, 0.01, -0.02, 0.03, 0.1, 0.2, 9.8});
-  return {{"noise", {{"gyro_noise_density", 1e-4}, {"accel_noise_density", 1e-3}, {"gyro_random_walk", 1e-5}, {"accel_random_walk", 1e-4}}},
+  return {{"noise",
+           {{"gyro_noise_density", 1e-4},
+            {"accel_noise_density", 1e-3},
+            {"gyro_random_walk", 1e-5},
+            {"accel_random_walk", 1e-4}}},
           {"imu", {{"format", "inline"}, {"samples", samples}}},
           {"omit", {"Phi", "cov", "J_bias", "R", "reference"}},
           // Keyframes of 1 ms over 100 Hz samples are the point here (many cheap intervals).
@@ -39,12 +43,17 @@ json State() { return {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {1, 0, 
 
 /// 1000 keyframe intervals of 1 ms over the second of samples.
 json Keyframes() {
-  return {{"type", "preintegrate"}, {"name", "kf"}, {"method", {{"propagator", "euler"}}},
+  return {{"type", "preintegrate"},
+          {"name", "kf"},
+          {"method", {{"propagator", "euler"}}},
           {"keyframes", {{"start", 0.0}, {"end", 1.0}, {"step", 0.001}}}};
 }
 json Predict(bool chain) {
-  return {{"type", "propagate_by_preintegration"}, {"name", "pred"}, {"measurements", "kf"},
-          {"start", {{"state", State()}}}, {"chain", chain}};
+  return {{"type", "propagate_by_preintegration"},
+          {"name", "pred"},
+          {"measurements", "kf"},
+          {"start", {{"state", State()}}},
+          {"chain", chain}};
 }
 
 RunOptions::Stats RunStats(const json& doc, RunOptions ro = {}) {
@@ -66,7 +75,8 @@ TEST(Streaming, IntervalsNoLaterTaskNamesAreNotKept) {
   // nothing, are not; chained or not, in parallel or not.
   for (const bool chain : {true, false})
     for (const unsigned threads : {1u, 3u}) {
-      SCOPED_TRACE(std::string(chain ? "chained" : "independent") + ", threads " + std::to_string(threads));
+      SCOPED_TRACE(std::string(chain ? "chained" : "independent") + ", threads " +
+                   std::to_string(threads));
       RunOptions ro;
       ro.threads = threads;
       const RunOptions::Stats used = RunStats(Doc(json::array({Keyframes(), Predict(chain)})), ro);
@@ -92,7 +102,8 @@ TEST(Streaming, TheOutputIsTheSameWhetherResultsAreKeptOrNot) {
 TEST(Streaming, KeptResultsBeyondTheLimitAreRefusedBeforeAnyTaskRuns) {
   RunOptions ro;
   ro.max_kept_bytes = 100000;  // ~40 measurements
-  const Pipeline p = Pipeline::FromJson(Doc(json::array({Keyframes(), Predict(false)})), kFile, IMUCONV_SOURCE_DIR);
+  const Pipeline p = Pipeline::FromJson(Doc(json::array({Keyframes(), Predict(false)})), kFile,
+                                        IMUCONV_SOURCE_DIR);
   std::size_t bytes = 0;
   try {
     RunToText(p, imuconv::test::Plugins(), ro, [&](std::string_view s) { bytes += s.size(); });
@@ -101,9 +112,11 @@ TEST(Streaming, KeptResultsBeyondTheLimitAreRefusedBeforeAnyTaskRuns) {
     ASSERT_EQ(e.issues().size(), 1u);
     EXPECT_EQ(e.issues()[0].pointer, "/tasks/0");
     const std::string& m = e.issues()[0].message;
-    EXPECT_NE(m.find("task 'kf' has 1000 measurement(s), and a later task uses them (/tasks/1/measurements), so they are "
+    EXPECT_NE(m.find("task 'kf' has 1000 measurement(s), and a later task uses them "
+                     "(/tasks/1/measurements), so they are "
                      "kept in memory: 1000 x "),
-              std::string::npos) << m;
+              std::string::npos)
+        << m;
     EXPECT_NE(m.find("over the limit of 97.7 KiB"), std::string::npos) << m;
   }
   EXPECT_EQ(bytes, 0u);  // nothing was written
@@ -127,8 +140,9 @@ TEST(Keyframes, GeneratedKeyframesStoreNothingPerKeyframe) {
   EXPECT_EQ(iv.pointer_of(0), "/tasks/0/keyframes/start");
   EXPECT_EQ(iv.pointer_of(10000000), "/tasks/0/keyframes/end");
   doc["tasks"][0]["keyframes"]["step"] = 0.9e-7;
-  EXPECT_NE(imuconv::test::MessageOf<ConfigError>([&] { Pipeline::FromJson(doc, kFile, IMUCONV_SOURCE_DIR); })
-                .find("/tasks/0/keyframes/step: step gives more than 1e7 keyframes"),
+  EXPECT_NE(imuconv::test::MessageOf<ConfigError>([&] {
+              Pipeline::FromJson(doc, kFile, IMUCONV_SOURCE_DIR);
+            }).find("/tasks/0/keyframes/step: step gives more than 1e7 keyframes"),
             std::string::npos);
 }
 
@@ -137,20 +151,36 @@ TEST(Validation, OneHundredThousandTasksThatNameEarlierOnes) {
   // looked up by name once each. Not timed here (speed is not tested); the lookups are hash
   // maps, and the report gives the measured time.
   json tasks = json::array();
-  tasks.push_back({{"type", "preintegrate"}, {"name", "pre"}, {"method", {{"propagator", "euler"}}},
+  tasks.push_back({{"type", "preintegrate"},
+                   {"name", "pre"},
+                   {"method", {{"propagator", "euler"}}},
                    {"keyframes", {0.0, 0.5, 1.0}}});
-  tasks.push_back({{"type", "propagate"}, {"name", "prop"}, {"propagator", "euler"}, {"start", {{"state", State()}}},
+  tasks.push_back({{"type", "propagate"},
+                   {"name", "prop"},
+                   {"propagator", "euler"},
+                   {"start", {{"state", State()}}},
                    {"interval", {{"t_start", 0.0}, {"t_end", 1.0}}}});
   for (int i = 2; i < 100000; ++i) {
     const std::string name = "t" + std::to_string(i);
     if (i % 3 == 0)
-      tasks.push_back({{"type", "residual"}, {"name", name}, {"kind", "gtsam"}, {"measurements", "pre"}, {"index", 0},
-                       {"start", State()}, {"end", State()}});
+      tasks.push_back({{"type", "residual"},
+                       {"name", name},
+                       {"kind", "gtsam"},
+                       {"measurements", "pre"},
+                       {"index", 0},
+                       {"start", State()},
+                       {"end", State()}});
     else if (i % 3 == 1)
-      tasks.push_back({{"type", "convert"}, {"name", name}, {"what", "state_covariance"}, {"source", {{"task", "prop"}}},
+      tasks.push_back({{"type", "convert"},
+                       {"name", name},
+                       {"what", "state_covariance"},
+                       {"source", {{"task", "prop"}}},
                        {"to", "gtsam_navstate"}});
     else
-      tasks.push_back({{"type", "bias_update"}, {"name", name}, {"measurements", "pre"}, {"reintegrate", false},
+      tasks.push_back({{"type", "bias_update"},
+                       {"name", name},
+                       {"measurements", "pre"},
+                       {"reintegrate", false},
                        {"bias", {{"delta_bg", {0.001, 0, 0}}}}});
   }
   const Pipeline p = Pipeline::FromJson(Doc(tasks), kFile, IMUCONV_SOURCE_DIR);
@@ -164,9 +194,12 @@ TEST(Validation, OneHundredThousandTasksThatNameEarlierOnes) {
   // And one bad reference among them is still found, with its pointer.
   json bad = Doc(tasks);
   bad["tasks"][99999]["measurements"] = "nowhere";
-  const std::string m = imuconv::test::MessageOf<ConfigError>([&] { Pipeline::FromJson(bad, kFile, IMUCONV_SOURCE_DIR); });
-  EXPECT_NE(m.find("/tasks/99999/measurements: no earlier preintegrate task named 'nowhere' (earlier ones: 'pre')"),
-            std::string::npos) << m;
+  const std::string m = imuconv::test::MessageOf<ConfigError>(
+      [&] { Pipeline::FromJson(bad, kFile, IMUCONV_SOURCE_DIR); });
+  EXPECT_NE(m.find("/tasks/99999/measurements: no earlier preintegrate task named 'nowhere' "
+                   "(earlier ones: 'pre')"),
+            std::string::npos)
+      << m;
 }
 
 }  // namespace

@@ -15,7 +15,8 @@ namespace {
 using namespace imuconv;
 using namespace imuconv::pipeline;
 
-const std::string kCase = std::string(IMUCONV_TEST_DATA_DIR) + "/pipeline_cases/accept/check_task.json";
+const std::string kCase =
+    std::string(IMUCONV_TEST_DATA_DIR) + "/pipeline_cases/accept/check_task.json";
 
 TEST(CheckTaskWithoutEvaluator, IsCheckedAndThenFailsByName) {
   ASSERT_EQ(GetCheckEvaluator(), nullptr);  // nothing in this program registers one
@@ -39,7 +40,8 @@ TEST(CheckTaskWithoutEvaluator, IsCheckedAndThenFailsByName) {
 TEST(CheckTaskWithoutEvaluator, ItsMeasurementsFileIsAnInputOfTheRun) {
   const Pipeline p = Pipeline::Load(kCase);
   bool found = false;
-  for (const auto& f : p.input_files()) found |= f.find("check_measurements.json") != std::string::npos;
+  for (const auto& f : p.input_files())
+    found |= f.find("check_measurements.json") != std::string::npos;
   EXPECT_TRUE(found);
 }
 

@@ -11,8 +11,8 @@
 namespace {
 using namespace imuconv;
 using namespace imuconv::pipeline;
-using nlohmann::json;
 using imuconv::test::TempDir;
+using nlohmann::json;
 
 const char* kFile = "mem/pipeline.json";
 
@@ -21,18 +21,42 @@ json Base() {
   json samples = json::array();
   for (int k = 0; k <= 10; ++k) samples.push_back({0.01 * k, 0.1, -0.2, 0.3, 0.5, 0.1, 9.8});
   const json state = {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {1, 0, 0}}};
-  return {
-      {"noise", {{"gyro_noise_density", 1e-4}, {"accel_noise_density", 1e-3}, {"gyro_random_walk", 1e-5}, {"accel_random_walk", 1e-4}}},
-      {"imu", {{"format", "inline"}, {"samples", samples}}},
-      {"tasks",
-       {{{"type", "propagate"}, {"name", "prop"}, {"propagator", "rk4"}, {"start", {{"state", state}}},
-         {"interval", {{"t_start", 0.0}, {"t_end", 0.1}}}},
-        {{"type", "preintegrate"}, {"name", "pre"}, {"method", {{"propagator", "rk4"}}}, {"keyframes", {0.0, 0.05, 0.1}}},
-        {{"type", "propagate_by_preintegration"}, {"name", "pbp"}, {"measurements", "pre"}, {"start", {{"state", state}}}},
-        {{"type", "residual"}, {"name", "res"}, {"kind", "gtsam"}, {"measurements", "pre"}, {"index", 0},
-         {"start", state}, {"end", state}},
-        {{"type", "bias_update"}, {"name", "bu"}, {"measurements", "pre"}, {"bias", {{"delta_bg", {0.001, 0, 0}}}}},
-        {{"type", "convert"}, {"name", "cv"}, {"what", "state_covariance"}, {"source", {{"task", "prop"}}}, {"to", "gtsam_navstate"}}}}};
+  return {{"noise",
+           {{"gyro_noise_density", 1e-4},
+            {"accel_noise_density", 1e-3},
+            {"gyro_random_walk", 1e-5},
+            {"accel_random_walk", 1e-4}}},
+          {"imu", {{"format", "inline"}, {"samples", samples}}},
+          {"tasks",
+           {{{"type", "propagate"},
+             {"name", "prop"},
+             {"propagator", "rk4"},
+             {"start", {{"state", state}}},
+             {"interval", {{"t_start", 0.0}, {"t_end", 0.1}}}},
+            {{"type", "preintegrate"},
+             {"name", "pre"},
+             {"method", {{"propagator", "rk4"}}},
+             {"keyframes", {0.0, 0.05, 0.1}}},
+            {{"type", "propagate_by_preintegration"},
+             {"name", "pbp"},
+             {"measurements", "pre"},
+             {"start", {{"state", state}}}},
+            {{"type", "residual"},
+             {"name", "res"},
+             {"kind", "gtsam"},
+             {"measurements", "pre"},
+             {"index", 0},
+             {"start", state},
+             {"end", state}},
+            {{"type", "bias_update"},
+             {"name", "bu"},
+             {"measurements", "pre"},
+             {"bias", {{"delta_bg", {0.001, 0, 0}}}}},
+            {{"type", "convert"},
+             {"name", "cv"},
+             {"what", "state_covariance"},
+             {"source", {{"task", "prop"}}},
+             {"to", "gtsam_navstate"}}}}};
 }
 
 /// The issues of loading and running `doc` (empty if it runs).
@@ -61,7 +85,8 @@ TEST(PipelineConfig, UnknownKeys) {
   const auto is = Issues(d);
   EXPECT_ISSUE(is, "/colour", "unknown key 'colour'");
   EXPECT_ISSUE(is, "/tasks/0/propagatr", "unknown key 'propagatr' (allowed here: 'type', 'name'");
-  EXPECT_ISSUE(is, "/tasks/0/interval/t_mid", "unknown key 't_mid' (allowed here: 't_start', 't_end')");
+  EXPECT_ISSUE(is, "/tasks/0/interval/t_mid",
+               "unknown key 't_mid' (allowed here: 't_start', 't_end')");
   EXPECT_ISSUE(is, "/imu/sampels", "unknown key 'sampels'");
   EXPECT_EQ(is.size(), 4u);  // all reported at once
 }
@@ -88,11 +113,18 @@ TEST(PipelineConfig, WrongTypes) {
 TEST(PipelineConfig, NoiseIsRequiredOnlyByTasksThatIntegrateSamples) {
   json d = Base();
   d.erase("noise");
-  EXPECT_ISSUE(Issues(d), "/noise", "required key is missing: task 'prop' (/tasks/0, propagate) integrates IMU samples with it");
+  EXPECT_ISSUE(
+      Issues(d), "/noise",
+      "required key is missing: task 'prop' (/tasks/0, propagate) integrates IMU samples with it");
   // The same pipeline without its propagate and preintegrate tasks (and those that use their
   // results) has no use for the noise: it runs, and its output records none.
-  json conversions = {{"tasks", {{{"type", "convert"}, {"name", "cv"}, {"what", "state_jacobian"}, {"from", "left"},
-                                  {"to", "gtsam_navstate"}, {"state", Base()["tasks"][0]["start"]["state"]}}}}};
+  json conversions = {{"tasks",
+                       {{{"type", "convert"},
+                         {"name", "cv"},
+                         {"what", "state_jacobian"},
+                         {"from", "left"},
+                         {"to", "gtsam_navstate"},
+                         {"state", Base()["tasks"][0]["start"]["state"]}}}}};
   EXPECT_TRUE(Issues(conversions).empty());
   const Pipeline p = Pipeline::FromJson(conversions, kFile, IMUCONV_SOURCE_DIR);
   const json out = pipeline::Run(p, imuconv::test::Plugins(), RunOptions{});
@@ -110,7 +142,8 @@ TEST(PipelineConfig, MissingRequiredKeys) {
   const auto is = Issues(d);
   EXPECT_ISSUE(is, "/tasks/0/propagator", "required key is missing");
   EXPECT_ISSUE(is, "/noise/accel_random_walk", "required key is missing");
-  EXPECT_ISSUE(is, "/tasks/1/interval", "required key is missing (give \"interval\" or \"keyframes\")");
+  EXPECT_ISSUE(is, "/tasks/1/interval",
+               "required key is missing (give \"interval\" or \"keyframes\")");
   EXPECT_ISSUE(is, "/tasks/3/kind", "required key is missing");
   json e = Base();
   e.erase("tasks");
@@ -124,11 +157,13 @@ TEST(PipelineConfig, BadIdsAreCheckedAgainstTheRegistry) {
   d["tasks"][1]["conventions"] = {"gtsam_manifold", "gtsam_manfold"};
   d["tasks"][4]["first_order_charts"] = {"gtsam_navstate"};  // a state convention
   const auto is = Issues(d);
-  EXPECT_ISSUE(is, "/tasks/0/state_convention", "unknown state convention 'lefty' (did you mean 'left'?); known: ");
+  EXPECT_ISSUE(is, "/tasks/0/state_convention",
+               "unknown state convention 'lefty' (did you mean 'left'?); known: ");
   EXPECT_ISSUE(is, "/tasks/0/state_convention", "gtsam_navstate");
   EXPECT_ISSUE(is, "/tasks/0/propagator", "unknown propagator 'manifold'");
   EXPECT_ISSUE(is, "/tasks/0/propagator", "('manifold' is a preintegrator)");
-  EXPECT_ISSUE(is, "/tasks/1/conventions/1", "unknown increment (preintegration) convention 'gtsam_manfold'");
+  EXPECT_ISSUE(is, "/tasks/1/conventions/1",
+               "unknown increment (preintegration) convention 'gtsam_manfold'");
   EXPECT_ISSUE(is, "/tasks/4/first_order_charts/0", "('gtsam_navstate' is a state_convention)");
   EXPECT_EQ(is.size(), 4u);
 }
@@ -137,9 +172,12 @@ TEST(PipelineConfig, CovarianceChartMustMatchItsBlocks) {
   json d = Base();
   json diag = json::array();
   for (int i = 0; i < 15; ++i) diag.push_back(1e-4);
-  d["tasks"][0]["start"]["cov"] = {{"convention", "gtsam_navstate"}, {"blocks", {"p", "theta", "v", "bg", "ba"}}, {"diagonal", diag}};
+  d["tasks"][0]["start"]["cov"] = {{"convention", "gtsam_navstate"},
+                                   {"blocks", {"p", "theta", "v", "bg", "ba"}},
+                                   {"diagonal", diag}};
   EXPECT_ISSUE(Issues(d), "/tasks/0/start/cov/blocks",
-               "blocks [p, theta, v, bg, ba] do not match the block order of 'gtsam_navstate': [theta, p, v, ba, bg]");
+               "blocks [p, theta, v, bg, ba] do not match the block order of 'gtsam_navstate': "
+               "[theta, p, v, ba, bg]");
 }
 
 TEST(PipelineConfig, IntervalsOutsideTheData) {
@@ -161,12 +199,15 @@ TEST(PipelineConfig, ReferencesBetweenTasks) {
   d["tasks"][4]["name"] = "pre";
   d["tasks"][5]["source"]["task"] = "pre";  // a preintegrate task for a state conversion
   const auto is = Issues(d);
-  EXPECT_ISSUE(is, "/tasks/2/measurements", "no earlier preintegrate task named 'later' (earlier ones: 'pre')");
-  EXPECT_ISSUE(is, "/tasks/3/measurements", "task 'prop' is a propagate task; measurements come from a preintegrate task");
+  EXPECT_ISSUE(is, "/tasks/2/measurements",
+               "no earlier preintegrate task named 'later' (earlier ones: 'pre')");
+  EXPECT_ISSUE(is, "/tasks/3/measurements",
+               "task 'prop' is a propagate task; measurements come from a preintegrate task");
   EXPECT_ISSUE(is, "/tasks/4/name", "duplicate task name 'pre'");
   json e = Base();
   e["tasks"][5]["source"]["task"] = "pre";
-  EXPECT_ISSUE(Issues(e), "/tasks/5/source/task", "task 'pre' is a preintegrate task; a state_covariance conversion takes");
+  EXPECT_ISSUE(Issues(e), "/tasks/5/source/task",
+               "task 'pre' is a preintegrate task; a state_covariance conversion takes");
 }
 
 TEST(PipelineConfig, GroundTruthAndImuAreNeededWhereUsed) {
@@ -175,12 +216,14 @@ TEST(PipelineConfig, GroundTruthAndImuAreNeededWhereUsed) {
   d["tasks"][1]["bias"] = "ground_truth";
   d["tasks"][2]["start"]["state"] = "the truth";
   const auto is = Issues(d);
-  EXPECT_ISSUE(is, "/tasks/0/start/state", "\"ground_truth\" needs a top-level /ground_truth source");
+  EXPECT_ISSUE(is, "/tasks/0/start/state",
+               "\"ground_truth\" needs a top-level /ground_truth source");
   EXPECT_ISSUE(is, "/tasks/1/bias", "\"ground_truth\" needs a top-level /ground_truth source");
   EXPECT_ISSUE(is, "/tasks/2/start/state", "found the string 'the truth'");
   json e = Base();
   e.erase("imu");
-  EXPECT_ISSUE(Issues(e), "/tasks/0/type", "a propagate task needs IMU samples: add a top-level /imu source");
+  EXPECT_ISSUE(Issues(e), "/tasks/0/type",
+               "a propagate task needs IMU samples: add a top-level /imu source");
 }
 
 TEST(PipelineConfig, UnknownTaskTypeAndEnums) {
@@ -190,18 +233,21 @@ TEST(PipelineConfig, UnknownTaskTypeAndEnums) {
   d["imu"]["format"] = "inline";
   d["imu"]["time_unit"] = "h";
   const auto is = Issues(d);
-  EXPECT_ISSUE(is, "/tasks/0/type", "unknown value 'integrate'; expected one of the task types 'propagate'");
+  EXPECT_ISSUE(is, "/tasks/0/type",
+               "unknown value 'integrate'; expected one of the task types 'propagate'");
   EXPECT_ISSUE(is, "/tasks/3/kind", "unknown value 'ceres'; expected one of 'gtsam', 'forster'");
   EXPECT_ISSUE(is, "/imu/time_unit", "unknown value 'h'; expected one of 's', 'ms', 'us', 'ns'");
 }
 
 TEST(PipelineConfig, DataSourceErrorsNameTheirFiles) {
-  // The IMU file is missing: a ReadError naming the file (resolved against the pipeline's directory).
+  // The IMU file is missing: a ReadError naming the file (resolved against the pipeline's
+  // directory).
   TempDir tmp;
   json d = Base();
   d["imu"] = {{"format", "euroc"}, {"path", "nowhere/imu.csv"}};
   const Pipeline p = Pipeline::FromJson(d, kFile, tmp.path());
-  const std::string msg = imuconv::test::MessageOf<ReadError>([&] { pipeline::Run(p, imuconv::test::Plugins(), RunOptions{}); });
+  const std::string msg = imuconv::test::MessageOf<ReadError>(
+      [&] { pipeline::Run(p, imuconv::test::Plugins(), RunOptions{}); });
   EXPECT_EQ(msg, tmp.file("nowhere/imu.csv") + ": cannot open the file for reading");
 }
 
@@ -213,13 +259,15 @@ TEST(PipelineConfig, SyntaxErrorsNameFileLineAndColumn) {
     FAIL();
   } catch (const ConfigError& e) {
     const std::string w = e.what();
-    EXPECT_EQ(w.rfind(f + ": (document): not valid JSON: parse error at line 2, column 13", 0), 0u) << w;
+    EXPECT_EQ(w.rfind(f + ": (document): not valid JSON: parse error at line 2, column 13", 0), 0u)
+        << w;
   }
   EXPECT_EQ(imuconv::test::MessageOf<ReadError>([&] { Pipeline::Load(tmp.file("absent.json")); }),
             tmp.file("absent.json") + ": cannot open the file for reading");
   // Not an object at all.
   const std::string g = tmp.write("q.json", "[1, 2]");
-  EXPECT_EQ(imuconv::test::MessageOf<ConfigError>([&] { Pipeline::Load(g); }), g + ": (document): expected an object, found an array");
+  EXPECT_EQ(imuconv::test::MessageOf<ConfigError>([&] { Pipeline::Load(g); }),
+            g + ": (document): expected an object, found an array");
 }
 
 TEST(PipelineConfig, MeasurementFileErrorsPointIntoThatFile) {
@@ -240,7 +288,8 @@ TEST(PipelineConfig, MeasurementFileErrorsPointIntoThatFile) {
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.file(), f);
     EXPECT_ISSUE(e.issues(), "/measurements/0/delta/dv", "required key is missing");
-    EXPECT_ISSUE(e.issues(), "/measurements/0/cov/convention", "unknown increment (preintegration) convention 'gtsam_manifld'");
+    EXPECT_ISSUE(e.issues(), "/measurements/0/cov/convention",
+                 "unknown increment (preintegration) convention 'gtsam_manifld'");
     EXPECT_ISSUE(e.issues(), "/measurements/0/cov/matrix", "expected a 15x15 matrix");
     EXPECT_ISSUE(e.issues(), "/measurements/0/J_bias/matrix", "expected a 9x6 matrix");
   }
@@ -250,17 +299,25 @@ TEST(PipelineConfig, RuntimeFailuresNameTheTask) {
   json d = Base();
   d["tasks"][5]["source"]["index"] = 3;  // prop has one result
   const Pipeline p = Pipeline::FromJson(d, kFile, IMUCONV_SOURCE_DIR);
-  const std::string msg = imuconv::test::MessageOf<Error>([&] { pipeline::Run(p, imuconv::test::Plugins(), RunOptions{}); });
-  EXPECT_EQ(msg, std::string(kFile) + ": /tasks/5/source/index: task 'prop' has 1 result(s); index 3 is out of range");
+  const std::string msg = imuconv::test::MessageOf<Error>(
+      [&] { pipeline::Run(p, imuconv::test::Plugins(), RunOptions{}); });
+  EXPECT_EQ(msg,
+            std::string(kFile) +
+                ": /tasks/5/source/index: task 'prop' has 1 result(s); index 3 is out of range");
   // A start covariance of 1e308 overflows in propagation: the task fails instead of writing null.
   json big = Base();
   json sigma = json::array();
   for (int i = 0; i < 15; ++i) sigma.push_back(1e154);
   big["tasks"][0]["start"]["cov"] = {{"sigma", sigma}};
   const Pipeline q = Pipeline::FromJson(big, kFile, IMUCONV_SOURCE_DIR);
-  const std::string m2 = imuconv::test::MessageOf<Error>([&] { pipeline::Run(q, imuconv::test::Plugins(), RunOptions{}); });
-  EXPECT_NE(m2.find(std::string(kFile) + ": /tasks/0 (task 'prop'): produced a non-finite number (output /tasks/0/cov/matrix/"),
-            std::string::npos) << m2;
+  const std::string m2 = imuconv::test::MessageOf<Error>(
+      [&] { pipeline::Run(q, imuconv::test::Plugins(), RunOptions{}); });
+  EXPECT_NE(
+      m2.find(
+          std::string(kFile) +
+          ": /tasks/0 (task 'prop'): produced a non-finite number (output /tasks/0/cov/matrix/"),
+      std::string::npos)
+      << m2;
 }
 
 }  // namespace

@@ -41,7 +41,8 @@ void ExpectSameArrays(const ResultArrays& a, const ResultArrays& b, const std::s
     ASSERT_EQ(x.data.size(), y.data.size()) << what << ": " << name_a;
     ASSERT_EQ(x.integers.size(), y.integers.size()) << what << ": " << name_a;
     // The bits, so that -0.0 and 0.0 differ.
-    EXPECT_EQ(0, x.data.empty() ? 0 : std::memcmp(x.data.data(), y.data.data(), 8 * x.data.size())) << what << ": " << name_a;
+    EXPECT_EQ(0, x.data.empty() ? 0 : std::memcmp(x.data.data(), y.data.data(), 8 * x.data.size()))
+        << what << ": " << name_a;
     EXPECT_EQ(x.integers, y.integers) << what << ": " << name_a;
   }
   EXPECT_EQ(a.sidecar, b.sidecar) << what;
@@ -56,22 +57,26 @@ std::string Npz(const ResultArrays& r) {
 TEST(DirectArrays, EveryExampleGivesWhatItsTextGives) {
   std::size_t examples = 0;
   for (const auto& entry : std::filesystem::directory_iterator(SourcePath("examples"))) {
-    if (entry.path().extension() != ".json" || entry.path().filename().string().find(".state.") != std::string::npos)
+    if (entry.path().extension() != ".json" ||
+        entry.path().filename().string().find(".state.") != std::string::npos)
       continue;
     const pipeline::Pipeline p = pipeline::Pipeline::Load(entry.path().string());
     for (unsigned threads : {1u, 2u}) {
       pipeline::RunOptions o;
       o.threads = threads;
       std::string text;
-      pipeline::RunToText(p, Plugins(), o, [&](std::string_view s) { text.append(s.data(), s.size()); });
-      const ResultArrays from_text = pipeline::CollectResultArrays(text, "the output of " + Printable(p.file()));
+      pipeline::RunToText(p, Plugins(), o,
+                          [&](std::string_view s) { text.append(s.data(), s.size()); });
+      const ResultArrays from_text =
+          pipeline::CollectResultArrays(text, "the output of " + Printable(p.file()));
       bool started = false;
       const ResultArrays direct = pipeline::RunToArrays(p, Plugins(), o, [&] {
         EXPECT_FALSE(started) << "started is called once";
         started = true;
       });
       EXPECT_TRUE(started);
-      const std::string what = entry.path().filename().string() + " with " + std::to_string(threads) + " thread(s)";
+      const std::string what =
+          entry.path().filename().string() + " with " + std::to_string(threads) + " thread(s)";
       ExpectSameArrays(direct, from_text, what);
       EXPECT_EQ(Npz(direct), Npz(from_text)) << what;
     }
@@ -169,7 +174,8 @@ TEST(DirectArrays, NonFiniteFailsWithTheTextsMessage) {
     std::string messages[2];
     for (int form = 0; form < 2; ++form) {
       std::string out;
-      JsonWriter w(out, 0, {}, JsonWriter::NonFinite::Throw, form == 0 ? JsonWriter::Form::kText : JsonWriter::Form::kEvents);
+      JsonWriter w(out, 0, {}, JsonWriter::NonFinite::Throw,
+                   form == 0 ? JsonWriter::Form::kText : JsonWriter::Form::kEvents);
       w.begin_object();
       w.key("x");
       try {
@@ -219,8 +225,10 @@ TEST(DirectArrays, RepeatedNumbersAreWrittenAsTheFirstTime) {
   w.begin_line_array();
   for (int i = 0; i < 20000; ++i) {
     const double v = pool[rng() % pool.size()];
-    if (i % 3 == 0) w.number(v);
-    else w.numbers(&v, 1);  // the row path: "[v]"
+    if (i % 3 == 0)
+      w.number(v);
+    else
+      w.numbers(&v, 1);  // the row path: "[v]"
     char buf[pipeline::kMaxDoubleChars + 1];
     const std::string one(buf, pipeline::FormatShortest(buf, v));
     expected += (i ? ", " : "") + (i % 3 == 0 ? one : "[" + one + "]");

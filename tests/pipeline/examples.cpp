@@ -14,9 +14,9 @@
 namespace {
 using namespace imuconv;
 using namespace imuconv::pipeline;
-using nlohmann::json;
 using imuconv::test::JsonMatrix;
 using imuconv::test::SourcePath;
+using nlohmann::json;
 
 json RunExample(const std::string& name, std::string* summary = nullptr) {
   const Pipeline p = Pipeline::Load(SourcePath("examples/" + name));
@@ -43,7 +43,8 @@ Mat3 Rot(const json& state) {
 }
 
 TEST(Examples, EveryExampleRunsAndLabelsItsMatrices) {
-  for (const char* name : {"euroc_v1_01_keyframes.json", "inline_basics.json", "generic_csv.json", "gtsam_import.json"}) {
+  for (const char* name : {"euroc_v1_01_keyframes.json", "inline_basics.json", "generic_csv.json",
+                           "gtsam_import.json"}) {
     SCOPED_TRACE(name);
     const json out = RunExample(name);
     EXPECT_GT(imuconv::test::CheckMatricesLabelled(out), 0u);
@@ -60,7 +61,8 @@ TEST(Examples, EurocKeyframes) {
     ASSERT_EQ(ms.size(), 200u);
     for (std::size_t k = 0; k < ms.size(); ++k) {
       // 10 Hz keyframes on the absolute time axis, exact to the nanosecond.
-      ASSERT_EQ(ms[k]["t_start_abs_ns"].get<std::int64_t>(), 1403715293262142976LL + static_cast<std::int64_t>(k) * 100000000LL);
+      ASSERT_EQ(ms[k]["t_start_abs_ns"].get<std::int64_t>(),
+                1403715293262142976LL + static_cast<std::int64_t>(k) * 100000000LL);
       ASSERT_NEAR(ms[k]["dt"].get<double>(), 0.1, 1e-12);
       ASSERT_TRUE(ms[k]["expressed"].contains("gtsam_manifold"));
     }
@@ -77,7 +79,9 @@ TEST(Examples, EurocKeyframes) {
     EXPECT_LT(s["max_position_error_m"].get<double>(), 4e-3) << pred;
     EXPECT_LT(s["max_rotation_error_deg"].get<double>(), 0.3) << pred;
   }
-  EXPECT_NE(summary.find("     k   t_start[s]   dt[s]    |dp|[m]   angle[deg]   pos.err[m]   rot.err[deg]"), std::string::npos);
+  EXPECT_NE(summary.find(
+                "     k   t_start[s]   dt[s]    |dp|[m]   angle[deg]   pos.err[m]   rot.err[deg]"),
+            std::string::npos);
   EXPECT_NE(summary.find(" total (200)        20.0000"), std::string::npos) << summary;
   EXPECT_NE(summary.find("rms over 200 interval(s)"), std::string::npos) << summary;
 }
@@ -95,7 +99,9 @@ TEST(Examples, InlineBasicsPropagationByPreintegrationMatchesPropagation) {
   EXPECT_LT((V3(direct["x_e"]["v"]) - V3(last["x_e"]["v"])).norm(), 1e-12);
   EXPECT_LT(so3::Log(Rot(direct["x_e"]).transpose() * Rot(last["x_e"])).norm(), 1e-12);
   EXPECT_EQ(direct["cov"]["convention"], "left");
-  EXPECT_LT(imuconv::test::RelErr(JsonMatrix(last["cov"]["matrix"]), JsonMatrix(direct["cov"]["matrix"])), 1e-10);
+  EXPECT_LT(
+      imuconv::test::RelErr(JsonMatrix(last["cov"]["matrix"]), JsonMatrix(direct["cov"]["matrix"])),
+      1e-10);
   // The covariance conversion task equals the registry's own conversion (same code path: 1e-12).
   const json& cv = Task(out, "cov_navstate");
   ImuState xe;
@@ -104,7 +110,8 @@ TEST(Examples, InlineBasicsPropagationByPreintegrationMatchesPropagation) {
   xe.R = Rot(direct["x_e"]);
   xe.bg = V3(direct["x_e"]["bg"]);
   xe.ba = V3(direct["x_e"]["ba"]);
-  const Mat15 expect = imuconv::test::Plugins().convert_covariance("left", "gtsam_navstate", xe, JsonMatrix(direct["cov"]["matrix"]));
+  const Mat15 expect = imuconv::test::Plugins().convert_covariance(
+      "left", "gtsam_navstate", xe, JsonMatrix(direct["cov"]["matrix"]));
   EXPECT_LT(imuconv::test::RelErr(JsonMatrix(cv["result"]["matrix"]), expect), 1e-12);
   EXPECT_EQ(cv["result"]["blocks"], json({"theta", "p", "v", "ba", "bg"}));
   // First-order bias correction vs re-integration: a change of 2e-3 rad/s and 5e-2 m/s^2 over
@@ -121,7 +128,8 @@ TEST(Examples, GtsamImportReproducesGtsamsPrediction) {
   // The measurement file holds GTSAM's own ManifoldPreintegration numbers for reference case
   // smooth-0; predicting from the case's start state must give GTSAM's predict (R, p, v)
   // up to round-off of ~1e3 m positions (bound 1e-9 relative).
-  const json ref = imuconv::test::ReadJson(imuconv::test::DataPath("reference/gtsam/smooth-0.gtsam.json"));
+  const json ref =
+      imuconv::test::ReadJson(imuconv::test::DataPath("reference/gtsam/smooth-0.gtsam.json"));
   const json& g = ref["zoh"]["manifold"]["predict"];
   const json out = RunExample("gtsam_import.json");
   const json& x = Task(out, "predict")["steps"][0]["x_e"];
@@ -145,7 +153,9 @@ TEST(Examples, GenericCsvAgreesWithTheSameDataInEurocFormat) {
   json doc = imuconv::test::ReadJson(SourcePath("examples/generic_csv.json"));
   doc["imu"] = {{"format", "euroc"}, {"path", "data/V1_01_easy_imu0_slice.csv"}};
   doc["tasks"] = json::array({doc["tasks"][0]});
-  const json ref = pipeline::Run(Pipeline::FromJson(doc, "euroc-variant.json", SourcePath("examples")), imuconv::test::Plugins(), {});
+  const json ref =
+      pipeline::Run(Pipeline::FromJson(doc, "euroc-variant.json", SourcePath("examples")),
+                    imuconv::test::Plugins(), {});
   const json& a = Task(out, "kf_tangent")["measurements"];
   const json& b = Task(ref, "kf_tangent")["measurements"];
   ASSERT_EQ(a.size(), 4u);
@@ -155,7 +165,10 @@ TEST(Examples, GenericCsvAgreesWithTheSameDataInEurocFormat) {
     EXPECT_EQ(a[k]["t_start_abs_ns"], b[k]["t_start_abs_ns"]);
     EXPECT_LT((V3(a[k]["delta"]["dp"]) - V3(b[k]["delta"]["dp"])).norm(), 1e-12);
     EXPECT_LT((V3(a[k]["delta"]["dv"]) - V3(b[k]["delta"]["dv"])).norm(), 1e-12);
-    EXPECT_LT(so3::Log(Mat3(JsonMatrix(a[k]["delta"]["R"])).transpose() * Mat3(JsonMatrix(b[k]["delta"]["R"]))).norm(), 1e-12);
+    EXPECT_LT(so3::Log(Mat3(JsonMatrix(a[k]["delta"]["R"])).transpose() *
+                       Mat3(JsonMatrix(b[k]["delta"]["R"])))
+                  .norm(),
+              1e-12);
   }
 }
 
@@ -194,7 +207,8 @@ TEST(Examples, MeasurementsRoundTripThroughFiles) {
     tasks.push_back(t);
   }
   doc["tasks"] = tasks;
-  const json res = pipeline::Run(Pipeline::FromJson(doc, "roundtrip.json", tmp.path()), imuconv::test::Plugins(), {});
+  const json res = pipeline::Run(Pipeline::FromJson(doc, "roundtrip.json", tmp.path()),
+                                 imuconv::test::Plugins(), {});
   const json& ref = Task(res, "by_preint")["steps"];
   for (const char* name : {"from_as_is", "from_manifold"}) {
     SCOPED_TRACE(name);
@@ -205,8 +219,12 @@ TEST(Examples, MeasurementsRoundTripThroughFiles) {
       EXPECT_LT((V3(st[k]["x_e"]["p"]) - V3(ref[k]["x_e"]["p"])).norm(), 1e-12);
       EXPECT_LT((V3(st[k]["x_e"]["v"]) - V3(ref[k]["x_e"]["v"])).norm(), 1e-12);
       EXPECT_LT(so3::Log(Rot(st[k]["x_e"]).transpose() * Rot(ref[k]["x_e"])).norm(), 1e-12);
-      EXPECT_LT(imuconv::test::RelErr(JsonMatrix(st[k]["cov"]["matrix"]), JsonMatrix(ref[k]["cov"]["matrix"])), 1e-9);
-      EXPECT_LT(imuconv::test::RelErr(JsonMatrix(st[k]["Phi"]["matrix"]), JsonMatrix(ref[k]["Phi"]["matrix"])), 1e-9);
+      EXPECT_LT(imuconv::test::RelErr(JsonMatrix(st[k]["cov"]["matrix"]),
+                                      JsonMatrix(ref[k]["cov"]["matrix"])),
+                1e-9);
+      EXPECT_LT(imuconv::test::RelErr(JsonMatrix(st[k]["Phi"]["matrix"]),
+                                      JsonMatrix(ref[k]["Phi"]["matrix"])),
+                1e-9);
     }
   }
 }
@@ -218,11 +236,14 @@ namespace {
 TEST(Examples, OmitLeavesOutTheNamedMatrices) {
   // The whole-matrix outputs can be left out for small, fast outputs; everything else stays.
   json doc = imuconv::test::ReadJson(SourcePath("examples/euroc_v1_01_keyframes.json"));
-  const json full = pipeline::Run(Pipeline::FromJson(doc, "full.json", SourcePath("examples")), imuconv::test::Plugins(), {});
+  const json full = pipeline::Run(Pipeline::FromJson(doc, "full.json", SourcePath("examples")),
+                                  imuconv::test::Plugins(), {});
   doc["omit"] = {"reference", "Phi"};
-  const json light = pipeline::Run(Pipeline::FromJson(doc, "light.json", SourcePath("examples")), imuconv::test::Plugins(), {});
+  const json light = pipeline::Run(Pipeline::FromJson(doc, "light.json", SourcePath("examples")),
+                                   imuconv::test::Plugins(), {});
   doc["omit"] = {"Phi", "cov", "J_bias", "R"};
-  const json bare = pipeline::Run(Pipeline::FromJson(doc, "bare.json", SourcePath("examples")), imuconv::test::Plugins(), {});
+  const json bare = pipeline::Run(Pipeline::FromJson(doc, "bare.json", SourcePath("examples")),
+                                  imuconv::test::Plugins(), {});
   const json& fm = Task(full, "kf_rk4")["measurements"][7];
   const json& lm = Task(light, "kf_rk4")["measurements"][7];
   const json& bm = Task(bare, "kf_rk4")["measurements"][7];
@@ -232,7 +253,8 @@ TEST(Examples, OmitLeavesOutTheNamedMatrices) {
   EXPECT_EQ(lm["expressed"], fm["expressed"]);
   EXPECT_EQ(lm["delta"], fm["delta"]);
   // Phi, cov, J_bias, R: no matrices at all; states, increments and errors as before.
-  EXPECT_FALSE(bm.contains("J_bias") || bm.contains("cov") || bm.contains("expressed") || bm["delta"].contains("R"));
+  EXPECT_FALSE(bm.contains("J_bias") || bm.contains("cov") || bm.contains("expressed") ||
+               bm["delta"].contains("R"));
   EXPECT_EQ(bm["delta"]["q_wxyz"], fm["delta"]["q_wxyz"]);
   EXPECT_EQ(imuconv::test::CheckMatricesLabelled(bare), 0u);
   const json& fs = Task(full, "pred_rk4")["steps"][7];
@@ -243,7 +265,8 @@ TEST(Examples, OmitLeavesOutTheNamedMatrices) {
   EXPECT_FALSE(bs.contains("Phi") || bs.contains("cov"));
   EXPECT_EQ(bs["x_e"], fs["x_e"]);
   EXPECT_EQ(bs["ground_truth"], fs["ground_truth"]);
-  EXPECT_EQ(Task(bare, "pred_rk4")["ground_truth_summary"], Task(full, "pred_rk4")["ground_truth_summary"]);
+  EXPECT_EQ(Task(bare, "pred_rk4")["ground_truth_summary"],
+            Task(full, "pred_rk4")["ground_truth_summary"]);
   EXPECT_LT(bare.dump().size() * 5, full.dump().size());
   // Names are checked.
   doc["omit"] = {"Phi", "phi", "Phi"};

@@ -2,8 +2,8 @@
 // header, gaps and wrong time units, a FIFO or a device as an input, a kept time range,
 // duplicate JSON keys, thousands of problems in one document, and text that must be escaped.
 // Every case asserts the exact file:line or file: pointer of its message.
-#include <gtest/gtest.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -28,8 +28,8 @@ const std::string kEurocHeader = "#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z\n";
 
 // EuRoC rows from t0 (ns) every `period` ns; row i (0-based) is preceded by an extra `gap_ns`
 // when i == gap_at. The first data row is line 2 of the file.
-std::string EurocRows(std::size_t n, std::int64_t t0, std::int64_t period, std::size_t gap_at = SIZE_MAX,
-                      std::int64_t gap_ns = 0) {
+std::string EurocRows(std::size_t n, std::int64_t t0, std::int64_t period,
+                      std::size_t gap_at = SIZE_MAX, std::int64_t gap_ns = 0) {
   std::string s;
   std::int64_t t = t0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -41,8 +41,8 @@ std::string EurocRows(std::size_t n, std::int64_t t0, std::int64_t period, std::
 }
 
 // Ground-truth rows (identity attitude) every `period` ns, with a hole before row gap_at.
-std::string GtRows(std::size_t n, std::int64_t t0, std::int64_t period, std::size_t gap_at = SIZE_MAX,
-                   std::int64_t gap_ns = 0) {
+std::string GtRows(std::size_t n, std::int64_t t0, std::int64_t period,
+                   std::size_t gap_at = SIZE_MAX, std::int64_t gap_ns = 0) {
   std::string s = "#time(ns),px,py,pz,qw,qx,qy,qz,vx,vy,vz,bwx,bwy,bwz,bax,bay,baz\n";
   std::int64_t t = t0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -58,7 +58,8 @@ TEST(ColumnMap, IndexPastTheHeaderIsAnErrorNotAReadPastTheEnd) {
   // Before the fix the width check ran only when no header had fixed the field count, so
   // index 9 read fields[9] of a 7-field row (a heap read past the end).
   TempDir tmp;
-  const std::string f = tmp.write("imu.csv", "t,gx,gy,gz,ax,ay,az\n0,0,0,0,0,0,9.8\n0.005,0,0,0,0,0,9.8\n");
+  const std::string f =
+      tmp.write("imu.csv", "t,gx,gy,gz,ax,ay,az\n0,0,0,0,0,0,9.8\n0.005,0,0,0,0,0,9.8\n");
   CsvFormat fmt;
   fmt.header_rows = 1;
   fmt.columns = {0, 1, 2, 3, 4, 5, 9};
@@ -84,11 +85,13 @@ TEST(ColumnMap, IndexPastTheFirstRowWithoutHeader) {
   fmt.delimiter = ';';
   fmt.columns = {0, 1, 2, 3, 4, 5, 9};
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(f, fmt); }),
-            f + ":1: expected at least 10 fields separated by ';' (the column map uses index 9 for 'az'), found 7");
+            f + ":1: expected at least 10 fields separated by ';' (the column map uses index 9 for "
+                "'az'), found 7");
   // A later row narrower than the first: refused before any field of it is read.
   const std::string g = tmp.write("imu2.csv", "0 0 0 0 0 0 9.8 1 2 3\n0.005 0 0\n");
   fmt.whitespace_delimited = true;
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(g, fmt); }), g + ":2: expected 10 fields separated by whitespace, found 3");
+  EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(g, fmt); }),
+            g + ":2: expected 10 fields separated by whitespace, found 3");
 }
 
 TEST(ColumnMap, BlankHeaderWithNamedColumns) {
@@ -99,16 +102,19 @@ TEST(ColumnMap, BlankHeaderWithNamedColumns) {
   fmt.header_rows = 1;
   fmt.columns = {std::string("t"), 1, 2, 3, 4, 5, 6};
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(f, fmt); }),
-            f + ":1: no column named 't' (for 't') in the header; columns: none (the header row is blank)");
+            f + ":1: no column named 't' (for 't') in the header; columns: none (the header row is "
+                "blank)");
 }
 
 // ---- 2. IMU timing: gaps and rates ---------------------------------------------------------
 TEST(ImuTiming, GapIsAnErrorAtTheLineAfterIt) {
   TempDir tmp;
   // 200 Hz, and 0.5 s missing before row 100 (line 102).
-  const std::string f = tmp.write("imu.csv", kEurocHeader + EurocRows(300, 1000000000, 5000000, 100, 495000000));
+  const std::string f =
+      tmp.write("imu.csv", kEurocHeader + EurocRows(300, 1000000000, 5000000, 100, 495000000));
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(f); }),
-            f + ":102: gap of 0.5 s before this sample (the median period is 0.005 s; limit 10 x median = 0.05 s); "
+            f + ":102: gap of 0.5 s before this sample (the median period is 0.005 s; limit 10 x "
+                "median = 0.05 s); "
                 "set \"allow_gaps\": true in the IMU source to integrate across it");
   // Allowed, or under a larger factor (0.5 s = 100 x 0.005 s): read.
   ReadOptions allow;
@@ -118,7 +124,10 @@ TEST(ImuTiming, GapIsAnErrorAtTheLineAfterIt) {
   factor.timing.max_gap_factor = 101;
   EXPECT_EQ(ReadEurocImu(f, std::nullopt, factor).samples.size(), 300u);
   factor.timing.max_gap_factor = 99;
-  EXPECT_NE(MessageOf<ReadError>([&] { ReadEurocImu(f, std::nullopt, factor); }).find(f + ":102: gap of 0.5 s"), std::string::npos);
+  EXPECT_NE(MessageOf<ReadError>([&] {
+              ReadEurocImu(f, std::nullopt, factor);
+            }).find(f + ":102: gap of 0.5 s"),
+            std::string::npos);
 }
 
 TEST(ImuTiming, GapInGenericCsv) {
@@ -130,18 +139,21 @@ TEST(ImuTiming, GapInGenericCsv) {
   CsvFormat fmt;
   fmt.header_rows = 1;
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(f, fmt); }),
-            f + ":52: gap of 3600.01 s before this sample (the median period is 0.01 s; limit 10 x median = 0.1 s); "
+            f + ":52: gap of 3600.01 s before this sample (the median period is 0.01 s; limit 10 x "
+                "median = 0.1 s); "
                 "set \"allow_gaps\": true in the IMU source to integrate across it");
 }
 
 TEST(ImuTiming, NanosecondStampsDeclaredAsSecondsNameTheUnit) {
   TempDir tmp;
   std::string body;
-  for (int i = 0; i < 20; ++i) body += std::to_string(1403715273262142976LL + 5000000LL * i) + ",0,0,0,0,0,9.8\n";
+  for (int i = 0; i < 20; ++i)
+    body += std::to_string(1403715273262142976LL + 5000000LL * i) + ",0,0,0,0,0,9.8\n";
   const std::string f = tmp.write("imu.csv", body);
   CsvFormat fmt;  // time_unit s
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(f, fmt); }),
-            f + ": the median period is 5e+06 s (rate 2e-07 Hz); the timestamps look like nanoseconds: set time_unit to "
+            f + ": the median period is 5e+06 s (rate 2e-07 Hz); the timestamps look like "
+                "nanoseconds: set time_unit to "
                 "\"ns\" (an IMU rate is expected between 1 Hz and 100 kHz)");
   fmt.time_unit = TimeUnit::ns;
   EXPECT_EQ(ReadCsvImu(f, fmt).samples.size(), 20u);
@@ -151,12 +163,16 @@ TEST(ImuTiming, NanosecondStampsDeclaredAsSecondsNameTheUnit) {
   const std::string g = tmp.write("ms.csv", ms);
   fmt.time_unit = TimeUnit::s;
   EXPECT_NE(MessageOf<ReadError>([&] { ReadCsvImu(g, fmt); })
-                .find(g + ": the median period is 5 s (rate 0.2 Hz); the timestamps look like milliseconds: set time_unit to \"ms\""),
+                .find(g + ": the median period is 5 s (rate 0.2 Hz); the timestamps look like "
+                          "milliseconds: set time_unit to \"ms\""),
             std::string::npos);
   // Seconds declared as microseconds: 5e-9 s periods (200 MHz).
   fmt.time_unit = TimeUnit::us;
-  const std::string h = tmp.write("s.csv", "0.000,0,0,0,0,0,9.8\n0.005,0,0,0,0,0,9.8\n0.010,0,0,0,0,0,9.8\n");
-  EXPECT_NE(MessageOf<ReadError>([&] { ReadCsvImu(h, fmt); }).find("the timestamps look like seconds: set time_unit to \"s\""),
+  const std::string h =
+      tmp.write("s.csv", "0.000,0,0,0,0,0,9.8\n0.005,0,0,0,0,0,9.8\n0.010,0,0,0,0,0,9.8\n");
+  EXPECT_NE(MessageOf<ReadError>([&] {
+              ReadCsvImu(h, fmt);
+            }).find("the timestamps look like seconds: set time_unit to \"s\""),
             std::string::npos);
 }
 
@@ -164,8 +180,10 @@ TEST(ImuTiming, EurocFileInMicroseconds) {
   TempDir tmp;
   const std::string f = tmp.write("imu.csv", kEurocHeader + EurocRows(20, 1403715273262142, 5000));
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(f); }),
-            f + ": the median period is 5e-06 s (rate 200000 Hz); the timestamps look like microseconds, but the EuRoC "
-                "format reads nanoseconds: convert them, or read the file with \"format\": \"csv\" and \"time_unit\": \"us\" "
+            f + ": the median period is 5e-06 s (rate 200000 Hz); the timestamps look like "
+                "microseconds, but the EuRoC "
+                "format reads nanoseconds: convert them, or read the file with \"format\": \"csv\" "
+                "and \"time_unit\": \"us\" "
                 "(an IMU rate is expected between 1 Hz and 100 kHz)");
 }
 
@@ -178,8 +196,10 @@ TEST(ImuTiming, FindTimingIssueOnInlineTimes) {
   ASSERT_TRUE(issue);
   EXPECT_EQ(issue->kind, TimingIssue::Kind::gap);
   EXPECT_EQ(issue->index, 10u);
-  EXPECT_EQ(issue->message, "gap of 0.91 s before this sample (the median period is 0.01 s; limit 10 x median = 0.1 s); "
-                            "set \"allow_gaps\": true in the IMU source to integrate across it");
+  EXPECT_EQ(
+      issue->message,
+      "gap of 0.91 s before this sample (the median period is 0.01 s; limit 10 x median = 0.1 s); "
+      "set \"allow_gaps\": true in the IMU source to integrate across it");
   EXPECT_FALSE(FindTimingIssue(t, TimingPolicy{10, true}));
   // Two samples: nothing to compare a period with, only the rate is judged.
   EXPECT_FALSE(FindTimingIssue({0.0, 0.5}, TimingPolicy{}));
@@ -187,13 +207,16 @@ TEST(ImuTiming, FindTimingIssueOnInlineTimes) {
   ASSERT_TRUE(slow);
   EXPECT_EQ(slow->kind, TimingIssue::Kind::rate);
   // 2 s read as ms would be 500 Hz, as us 500 kHz (implausible): ms.
-  EXPECT_NE(slow->message.find("the timestamps look like milliseconds: set time_unit to \"ms\""), std::string::npos)
+  EXPECT_NE(slow->message.find("the timestamps look like milliseconds: set time_unit to \"ms\""),
+            std::string::npos)
       << slow->message;
   // No unit fits: stamps 1e10 apart give at most 0.1 Hz in any unit (the slowest reading is
   // in ns: 10 s).
   const auto none = FindTimingIssue({0.0, 1e10, 2e10}, TimingPolicy{}, TimeUnit::s);
   ASSERT_TRUE(none);
-  EXPECT_NE(none->message.find("no time unit (s, ms, us, ns) gives a plausible rate"), std::string::npos) << none->message;
+  EXPECT_NE(none->message.find("no time unit (s, ms, us, ns) gives a plausible rate"),
+            std::string::npos)
+      << none->message;
   // The lower median: with one gap among two periods the gap is judged by the short one.
   EXPECT_EQ(MedianPeriod({0.0, 0.01, 1.0}), 0.01);
 }
@@ -205,7 +228,8 @@ TEST(GroundTruthTiming, HoleIsAnError) {
   const std::string f = tmp.write("gt.csv", GtRows(60, 1000000000, 50000000, 30, 1950000000));
   const TimeOrigin o{TimeValue{0, 0.0}, TimeUnit::ns};
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocGroundTruth(f, o); }),
-            f + ":32: gap of 2 s before this row (the median period is 0.05 s; limit 10 x median = 0.5 s); set "
+            f + ":32: gap of 2 s before this row (the median period is 0.05 s; limit 10 x median = "
+                "0.5 s); set "
                 "\"allow_gaps\": true in the ground_truth object to interpolate across it");
   ReadOptions allow;
   allow.timing.allow_gaps = true;
@@ -214,8 +238,10 @@ TEST(GroundTruthTiming, HoleIsAnError) {
   // also plausible; milliseconds are nearer the usual rates.
   const std::string g = tmp.write("gt_ms.csv", GtRows(10, 1000000, 50));
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocGroundTruth(g, o); }),
-            g + ": the median period is 5e-08 s (rate 2e+07 Hz); the timestamps look like milliseconds, but ground-truth "
-                "files are read in nanoseconds: convert them (a ground-truth rate is expected between 1 Hz and 100 kHz)");
+            g + ": the median period is 5e-08 s (rate 2e+07 Hz); the timestamps look like "
+                "milliseconds, but ground-truth "
+                "files are read in nanoseconds: convert them (a ground-truth rate is expected "
+                "between 1 Hz and 100 kHz)");
 }
 
 // ---- 3. the kept range -----------------------------------------------------------------------
@@ -231,7 +257,8 @@ TEST(KeepRange, OnlyTheRangeAndOneSampleEachSideAreKept) {
   EXPECT_EQ(d.samples.front().t, 1.995);
   EXPECT_EQ(d.samples[1].t, 2.0);
   EXPECT_EQ(d.samples.back().t, 3.005);
-  EXPECT_EQ(d.origin->nanoseconds().value(), 1000000000);  // the file's first stamp, not the range's
+  EXPECT_EQ(d.origin->nanoseconds().value(),
+            1000000000);  // the file's first stamp, not the range's
   // Between two samples: just the two around it.
   o.keep = std::make_pair(2.0012, 2.0013);
   const ImuData two = ReadEurocImu(f, std::nullopt, o);
@@ -252,7 +279,8 @@ TEST(KeepRange, OnlyTheRangeAndOneSampleEachSideAreKept) {
   o.keep = std::make_pair(2.0, 3.0);
   EXPECT_EQ(ReadCsvImu(f, fmt, o).samples.size(), 203u);
   const std::string g = tmp.write("gt.csv", GtRows(200, 1000000000, 50000000));
-  const GroundTruth gt = ReadEurocGroundTruth(g, TimeOrigin{TimeValue{1000000000, 0.0}, TimeUnit::ns}, o);
+  const GroundTruth gt =
+      ReadEurocGroundTruth(g, TimeOrigin{TimeValue{1000000000, 0.0}, TimeUnit::ns}, o);
   ASSERT_EQ(gt.t.size(), 23u);  // 2.00 ... 3.00 every 0.05 s, plus 1.95 and 3.05
   EXPECT_EQ(gt.t.front(), 1.95);
   EXPECT_EQ(gt.t.back(), 3.05);
@@ -269,26 +297,33 @@ TEST(KeepRange, EveryLineIsStillValidated) {
   o.keep = std::make_pair(2.0, 3.0);
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(f, std::nullopt, o); }),
             f + ":2002: column 3 (w_z): expected a finite number, found 'nan'");
-  const std::string g = tmp.write("back.csv", kEurocHeader + EurocRows(2000, 1000000000, 5000000) + "1000000000,0,0,0,0,0,9.81\n");
-  EXPECT_NE(MessageOf<ReadError>([&] { ReadEurocImu(g, std::nullopt, o); }).find(g + ":2002: timestamp 1000000000 is not after"),
+  const std::string g = tmp.write("back.csv", kEurocHeader + EurocRows(2000, 1000000000, 5000000) +
+                                                  "1000000000,0,0,0,0,0,9.81\n");
+  EXPECT_NE(MessageOf<ReadError>([&] {
+              ReadEurocImu(g, std::nullopt, o);
+            }).find(g + ":2002: timestamp 1000000000 is not after"),
             std::string::npos);
 }
 
 TEST(KeepRange, TimingIsJudgedOnTheKeptRange) {
   TempDir tmp;
   // A 1 s gap before row 1000 (t = 4.995 + 1 s): outside [1, 2] it does not matter.
-  const std::string f = tmp.write("imu.csv", kEurocHeader + EurocRows(2000, 1000000000, 5000000, 1000, 1000000000));
+  const std::string f =
+      tmp.write("imu.csv", kEurocHeader + EurocRows(2000, 1000000000, 5000000, 1000, 1000000000));
   ReadOptions o;
   o.keep = std::make_pair(1.0, 2.0);
   EXPECT_EQ(ReadEurocImu(f, std::nullopt, o).samples.size(), 203u);
   o.keep = std::make_pair(5.5, 6.5);
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(f, std::nullopt, o); }),
-            f + ":1002: gap of 1.005 s before this sample (the median period is 0.005 s; limit 10 x median = 0.05 s); "
+            f + ":1002: gap of 1.005 s before this sample (the median period is 0.005 s; limit 10 "
+                "x median = 0.05 s); "
                 "set \"allow_gaps\": true in the IMU source to integrate across it");
   // A range inside the gap keeps the two samples around it; the median comes from the
   // neighbouring samples, so the gap is still seen.
   o.keep = std::make_pair(5.2, 5.3);
-  EXPECT_NE(MessageOf<ReadError>([&] { ReadEurocImu(f, std::nullopt, o); }).find(f + ":1002: gap of 1.005 s"),
+  EXPECT_NE(MessageOf<ReadError>([&] {
+              ReadEurocImu(f, std::nullopt, o);
+            }).find(f + ":1002: gap of 1.005 s"),
             std::string::npos);
 }
 
@@ -331,32 +366,42 @@ TEST(RegularFilesOnly, FifoIsRefusedWithoutBlocking) {
   const std::string fifo = tmp.file("input.fifo");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   const std::string expect = fifo + ": is a FIFO, not a regular file";
-  EXPECT_EQ(MessageInChild([&] { return MessageOf<ReadError>([&] { ReadEurocImu(fifo); }); }), expect);
-  EXPECT_EQ(MessageInChild([&] { return MessageOf<ReadError>([&] { ReadCsvImu(fifo, CsvFormat{}); }); }), expect);
+  EXPECT_EQ(MessageInChild([&] { return MessageOf<ReadError>([&] { ReadEurocImu(fifo); }); }),
+            expect);
+  EXPECT_EQ(
+      MessageInChild([&] { return MessageOf<ReadError>([&] { ReadCsvImu(fifo, CsvFormat{}); }); }),
+      expect);
   EXPECT_EQ(MessageInChild([&] {
               return MessageOf<ReadError>([&] { ReadEurocGroundTruth(fifo, TimeOrigin{}); });
             }),
             expect);
-  EXPECT_EQ(MessageInChild([&] { return MessageOf<ReadError>([&] { (void)ParseJsonFile(fifo); }); }), expect);
+  EXPECT_EQ(
+      MessageInChild([&] { return MessageOf<ReadError>([&] { (void)ParseJsonFile(fifo); }); }),
+      expect);
   // A symlink to the FIFO is the FIFO.
   const std::string link = tmp.file("link.json");
   ASSERT_EQ(::symlink(fifo.c_str(), link.c_str()), 0);
-  EXPECT_EQ(MessageInChild([&] { return MessageOf<ReadError>([&] { (void)ParseJsonFile(link); }); }),
-            link + ": is a FIFO, not a regular file");
+  EXPECT_EQ(
+      MessageInChild([&] { return MessageOf<ReadError>([&] { (void)ParseJsonFile(link); }); }),
+      link + ": is a FIFO, not a regular file");
 }
 
 TEST(RegularFilesOnly, DevicesAndDirectories) {
-  EXPECT_EQ(MessageOf<ReadError>([] { ReadEurocImu("/dev/null"); }), "/dev/null: is a character device, not a regular file");
-  EXPECT_EQ(MessageOf<ReadError>([] { (void)ParseJsonFile("/dev/zero"); }), "/dev/zero: is a character device, not a regular file");
+  EXPECT_EQ(MessageOf<ReadError>([] { ReadEurocImu("/dev/null"); }),
+            "/dev/null: is a character device, not a regular file");
+  EXPECT_EQ(MessageOf<ReadError>([] { (void)ParseJsonFile("/dev/zero"); }),
+            "/dev/zero: is a character device, not a regular file");
   TempDir tmp;
-  EXPECT_EQ(MessageOf<ReadError>([&] { (void)ParseJsonFile(tmp.path()); }), tmp.path() + ": is a directory, not a file");
+  EXPECT_EQ(MessageOf<ReadError>([&] { (void)ParseJsonFile(tmp.path()); }),
+            tmp.path() + ": is a directory, not a file");
 }
 
 // ---- 4. JSON documents -----------------------------------------------------------------------
 TEST(JsonDocument, DuplicateKeysAtTheirPointer) {
   TempDir tmp;
-  const std::string f =
-      tmp.write("p.json", "{\"a\": {\"b\": [1, {\"x\": 1, \"y\": [], \"x\": 2}], \"c/~d\": 0, \"c/~d\": 1}, \"a2\": 0}");
+  const std::string f = tmp.write("p.json",
+                                  "{\"a\": {\"b\": [1, {\"x\": 1, \"y\": [], \"x\": 2}], \"c/~d\": "
+                                  "0, \"c/~d\": 1}, \"a2\": 0}");
   try {
     (void)ParseJsonFile(f);  // expected to throw
     FAIL() << "duplicate keys accepted";
@@ -364,25 +409,30 @@ TEST(JsonDocument, DuplicateKeysAtTheirPointer) {
     ASSERT_EQ(e.issues().size(), 2u) << e.what();
     EXPECT_EQ(e.issues()[0].pointer, "/a/b/1/x");
     EXPECT_EQ(e.issues()[1].pointer, "/a/c~1~0d");
-    EXPECT_EQ(std::string(e.what()), f + ": /a/b/1/x: duplicate key 'x' (the last one would silently win)\n" + f +
-                                         ": /a/c~1~0d: duplicate key 'c/~d' (the last one would silently win)");
+    EXPECT_EQ(std::string(e.what()),
+              f + ": /a/b/1/x: duplicate key 'x' (the last one would silently win)\n" + f +
+                  ": /a/c~1~0d: duplicate key 'c/~d' (the last one would silently win)");
   }
   // The top level too.
   const std::string g = tmp.write("q.json", "{\"imu\": 1,\n \"imu\": 2}");
-  EXPECT_EQ(MessageOf<ConfigError>([&] { (void)ParseJsonFile(g); }), g + ": /imu: duplicate key 'imu' (the last one would silently win)");
+  EXPECT_EQ(MessageOf<ConfigError>([&] { (void)ParseJsonFile(g); }),
+            g + ": /imu: duplicate key 'imu' (the last one would silently win)");
 }
 
 TEST(JsonDocument, BuildsTheSameDocumentAsNlohmann) {
   // The SAX builder must produce what json::parse does, for every example pipeline and a
   // measurement file.
-  for (const char* rel : {"examples/euroc_v1_01_keyframes.json", "examples/generic_csv.json", "examples/gtsam_import.json",
-                          "examples/hover.state.json", "examples/inline_basics.json",
-                          "examples/data/gtsam_smooth0_manifold.measurements.json"}) {
+  for (const char* rel :
+       {"examples/euroc_v1_01_keyframes.json", "examples/generic_csv.json",
+        "examples/gtsam_import.json", "examples/hover.state.json", "examples/inline_basics.json",
+        "examples/data/gtsam_smooth0_manifold.measurements.json"}) {
     const std::string path = SourcePath(rel);
     EXPECT_EQ(ParseJsonFile(path), json::parse(imuconv::test::ReadText(path))) << rel;
   }
   TempDir tmp;
-  const std::string f = tmp.write("v.json", "[null, true, -3, 18446744073709551615, 1.5e-300, \"\\u00e9\", {}, [[]], {\"\": {\"\": 0}}]");
+  const std::string f = tmp.write(
+      "v.json",
+      "[null, true, -3, 18446744073709551615, 1.5e-300, \"\\u00e9\", {}, [[]], {\"\": {\"\": 0}}]");
   EXPECT_EQ(ParseJsonFile(f), json::parse(imuconv::test::ReadText(f)));
 }
 
@@ -390,31 +440,38 @@ TEST(JsonDocument, SyntaxErrorsSayLineAndColumnWithoutLibraryInternals) {
   TempDir tmp;
   const std::string f = tmp.write("a.json", "{\n  \"a\": tru }");
   std::string msg = MessageOf<ConfigError>([&] { (void)ParseJsonFile(f); });
-  EXPECT_EQ(msg.rfind(f + ": (document): not valid JSON: parse error at line 2, column 11: syntax error while parsing value", 0), 0u)
+  EXPECT_EQ(msg.rfind(f + ": (document): not valid JSON: parse error at line 2, column 11: syntax "
+                          "error while parsing value",
+                      0),
+            0u)
       << msg;
   EXPECT_EQ(msg.find("json.exception"), std::string::npos) << msg;
   // Number overflow is an out_of_range (406) inside nlohmann: same form, no id.
   const std::string g = tmp.write("b.json", "{\"a\": [1,\n 1e400]}");
   msg = MessageOf<ConfigError>([&] { (void)ParseJsonFile(g); });
-  EXPECT_EQ(msg, g + ": (document): not valid JSON: parse error at line 2, column 6: number overflow parsing '1e400'") << msg;
+  EXPECT_EQ(msg, g + ": (document): not valid JSON: parse error at line 2, column 6: number "
+                     "overflow parsing '1e400'")
+      << msg;
   // Raw control bytes never reach the message.
   const std::string h = tmp.write("c.json", std::string("{\"a\": \"x\x1b[31m\n\"}"));
   msg = MessageOf<ConfigError>([&] { (void)ParseJsonFile(h); });
   EXPECT_EQ(msg.find('\x1b'), std::string::npos) << msg;
   EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
-  EXPECT_EQ(msg.rfind(h + ": (document): not valid JSON: parse error at line 1, column 9: ", 0), 0u) << msg;
+  EXPECT_EQ(msg.rfind(h + ": (document): not valid JSON: parse error at line 1, column 9: ", 0), 0u)
+      << msg;
   // An empty file.
   const std::string e = tmp.write("e.json", "");
   msg = MessageOf<ConfigError>([&] { (void)ParseJsonFile(e); });
-  EXPECT_EQ(msg.rfind(e + ": (document): not valid JSON: parse error at line 1, column 1: ", 0), 0u) << msg;
+  EXPECT_EQ(msg.rfind(e + ": (document): not valid JSON: parse error at line 1, column 1: ", 0), 0u)
+      << msg;
 }
 
 TEST(JsonDocument, LineAndColumnAreCountedAsNlohmannCountsThem) {
   // Our count comes from the byte offset; it must agree with the library's own.
   TempDir tmp;
-  for (const std::string text : {"{\"a\": x}", "{\n\n  \"a\": [1, 2,, 3]}", "[1,\r\n2\r\n", "{\"a\": \"\n\"}", "\n\n\n",
-                                 "[\"\xff\"]", "{\"a\" 1}", "[1] [2]", "", "[1,\n", "\xef\xbb\xbf{\"a\": x}",
-                                 "\xef\xbb\xbf\n[,]"}) {
+  for (const std::string text : {"{\"a\": x}", "{\n\n  \"a\": [1, 2,, 3]}", "[1,\r\n2\r\n",
+                                 "{\"a\": \"\n\"}", "\n\n\n", "[\"\xff\"]", "{\"a\" 1}", "[1] [2]",
+                                 "", "[1,\n", "\xef\xbb\xbf{\"a\": x}", "\xef\xbb\xbf\n[,]"}) {
     const std::string f = tmp.write("x.json", text);
     std::string theirs;
     try {
@@ -426,7 +483,8 @@ TEST(JsonDocument, LineAndColumnAreCountedAsNlohmannCountsThem) {
     ASSERT_NE(at, std::string::npos) << theirs;
     const std::string where = theirs.substr(at, theirs.find(':', at) - at);  // "line L, column C"
     const std::string ours = MessageOf<ConfigError>([&] { (void)ParseJsonFile(f); });
-    EXPECT_NE(ours.find("parse error at " + where + ": "), std::string::npos) << ours << "\nvs " << theirs;
+    EXPECT_NE(ours.find("parse error at " + where + ": "), std::string::npos)
+        << ours << "\nvs " << theirs;
   }
 }
 
@@ -437,7 +495,8 @@ TEST(JsonDocument, DeepNestingIsRefused) {
   std::string ptr;
   for (std::size_t i = 0; i < kMaxJsonDepth; ++i) ptr += "/0";
   // The pointer is 512 bytes: shown up to 200.
-  EXPECT_EQ(msg, f + ": " + ptr.substr(0, 200) + "...: arrays and objects are nested deeper than 256 levels");
+  EXPECT_EQ(msg, f + ": " + ptr.substr(0, 200) +
+                     "...: arrays and objects are nested deeper than 256 levels");
   // 256 levels are fine.
   const std::string g = tmp.write("ok.json", std::string(256, '[') + std::string(256, ']'));
   EXPECT_NO_THROW((void)ParseJsonFile(g));
@@ -451,7 +510,8 @@ TEST(JsonDocument, SizeLimit) {
   ASSERT_GE(fd, 0);
   ASSERT_EQ(::ftruncate(fd, static_cast<off_t>(kMaxJsonBytes + 1)), 0);
   ::close(fd);
-  EXPECT_EQ(MessageOf<ReadError>([&] { (void)ParseJsonFile(f); }), f + ": is larger than 256 MiB, the largest JSON document imuconv reads");
+  EXPECT_EQ(MessageOf<ReadError>([&] { (void)ParseJsonFile(f); }),
+            f + ": is larger than 256 MiB, the largest JSON document imuconv reads");
 }
 
 TEST(JsonDocument, MemoryEstimateStopsManyTinyValues) {
@@ -463,7 +523,8 @@ TEST(JsonDocument, MemoryEstimateStopsManyTinyValues) {
   JsonLimits limits;
   limits.max_memory = std::size_t{1} << 20;
   EXPECT_EQ(MessageOf<ReadError>([&] { (void)ParseJsonFile(f, limits); }),
-            f + ": would take more than 1 MiB of memory once parsed: it holds too many small values (imuconv's own "
+            f + ": would take more than 1 MiB of memory once parsed: it holds too many small "
+                "values (imuconv's own "
                 "documents take about twice their size)");
   limits.max_memory = std::size_t{4} << 20;
   EXPECT_EQ(ParseJsonFile(f, limits).size(), 20000u);
@@ -493,30 +554,38 @@ TEST(ErrorCap, TwoHundredThousandUnknownKeysGiveAShortMessage) {
     EXPECT_EQ(e.issues().size(), Checker::kMaxStored);
     EXPECT_EQ(e.total(), 200000u);
     // Keys sort as strings: k0, k1, k10, k100, ...
-    EXPECT_EQ(msg.rfind(f + ": /k0: unknown key 'k0' (allowed here: 'a')\n", 0), 0u) << msg.substr(0, 200);
+    EXPECT_EQ(msg.rfind(f + ": /k0: unknown key 'k0' (allowed here: 'a')\n", 0), 0u)
+        << msg.substr(0, 200);
     const std::string tail = "\n... and 199980 more problems in " + f;
     EXPECT_EQ(msg.substr(msg.size() - tail.size()), tail);
   }
   // 20 problems exactly: no tail line.
   Checker few(f);
   for (int i = 0; i < 20; ++i) few.error("/x", "bad");
-  EXPECT_EQ(MessageOf<ConfigError>([&] { few.throw_if_errors(); }).find("more problems"), std::string::npos);
+  EXPECT_EQ(MessageOf<ConfigError>([&] { few.throw_if_errors(); }).find("more problems"),
+            std::string::npos);
 }
 
-// ---- 7. untrusted text is escaped ----------------------------------------------------------------
+// ---- 7. untrusted text is escaped
+// ----------------------------------------------------------------
 TEST(Escaping, FileNamesKeysAndFieldsInMessages) {
   TempDir tmp;
   const std::string f = tmp.file("a\nok b.csv");
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(f); }), tmp.path() + "/a\\nok b.csv: cannot open the file for reading");
+  EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(f); }),
+            tmp.path() + "/a\\nok b.csv: cannot open the file for reading");
   // A header name with an escape sequence, and a field with a control byte.
   const std::string g = tmp.write("h.csv", "t,g\x1b[2Jx,gy,gz,ax,ay,az\n0,0,0,0,0,0,9.8\n");
   CsvFormat fmt;
   fmt.header_rows = 1;
   fmt.columns = {std::string("t"), std::string("gx"), 2, 3, 4, 5, 6};
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(g, fmt); }),
-            g + ":1: no column named 'gx' (for 'wx') in the header; columns: 't', 'g\\x1b[2Jx', 'gy', 'gz', 'ax', 'ay', 'az'");
-  const std::string h = tmp.write("f.csv", kEurocHeader + "1000,0,0,\x07" "1,0,0,9.81\n");
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(h); }), h + ":2: column 3 (w_z): expected a finite number, found '\\x071'");
+            g + ":1: no column named 'gx' (for 'wx') in the header; columns: 't', 'g\\x1b[2Jx', "
+                "'gy', 'gz', 'ax', 'ay', 'az'");
+  const std::string h = tmp.write("f.csv", kEurocHeader +
+                                               "1000,0,0,\x07"
+                                               "1,0,0,9.81\n");
+  EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(h); }),
+            h + ":2: column 3 (w_z): expected a finite number, found '\\x071'");
   // A JSON key with a newline, in the pointer and in the message.
   const std::string j = tmp.write("k.json", "{\"a\\nb\": 1, \"a\\nb\": 2}");
   EXPECT_EQ(MessageOf<ConfigError>([&] { (void)ParseJsonFile(j); }),
@@ -525,7 +594,8 @@ TEST(Escaping, FileNamesKeysAndFieldsInMessages) {
   const std::string big(1 << 20, 'k');
   const std::string k = tmp.write("big.json", "{\"" + big + "\": 1, \"" + big + "\": 2}");
   EXPECT_EQ(MessageOf<ConfigError>([&] { (void)ParseJsonFile(k); }),
-            k + ": /" + big.substr(0, 199) + "...: duplicate key '" + big.substr(0, 80) + "...' (the last one would silently win)");
+            k + ": /" + big.substr(0, 199) + "...: duplicate key '" + big.substr(0, 80) +
+                "...' (the last one would silently win)");
 }
 
 }  // namespace

@@ -26,7 +26,8 @@ const char* kFile = "increment_reader_test.json";
 
 json Zeros(int rows, int cols) {
   json m = json::array();
-  for (int i = 0; i < rows; ++i) m.push_back(std::vector<double>(static_cast<std::size_t>(cols), 0.0));
+  for (int i = 0; i < rows; ++i)
+    m.push_back(std::vector<double>(static_cast<std::size_t>(cols), 0.0));
   return m;
 }
 
@@ -38,9 +39,11 @@ json Identity15(double s) {
 
 /// A rotation of 0.3 rad about (1, 2, 2)/3, as a quaternion and as a matrix (both to 17
 /// digits, so they agree far inside the 1e-6 deg rule).
-const json kQ = {std::cos(0.15), std::sin(0.15) / 3, 2 * std::sin(0.15) / 3, 2 * std::sin(0.15) / 3};
+const json kQ = {std::cos(0.15), std::sin(0.15) / 3, 2 * std::sin(0.15) / 3,
+                 2 * std::sin(0.15) / 3};
 json MatrixOfQ() {
-  const Mat3 R = Eigen::Quaterniond(kQ[0].get<double>(), kQ[1].get<double>(), kQ[2].get<double>(), kQ[3].get<double>())
+  const Mat3 R = Eigen::Quaterniond(kQ[0].get<double>(), kQ[1].get<double>(), kQ[2].get<double>(),
+                                    kQ[3].get<double>())
                      .toRotationMatrix();
   json m = json::array();
   for (int i = 0; i < 3; ++i) m.push_back({R(i, 0), R(i, 1), R(i, 2)});
@@ -50,7 +53,9 @@ json MatrixOfQ() {
 /// Path 1: a convert task's "increment", as the task writes it back.
 json ViaConvertTask(const json& increment) {
   const json doc = {{"noise",
-                     {{"gyro_noise_density", 1e-3}, {"accel_noise_density", 1e-2}, {"gyro_random_walk", 1e-5},
+                     {{"gyro_noise_density", 1e-3},
+                      {"accel_noise_density", 1e-2},
+                      {"gyro_random_walk", 1e-5},
                       {"accel_random_walk", 1e-4}}},
                     {"tasks",
                      {{{"type", "convert"},
@@ -65,12 +70,13 @@ json ViaConvertTask(const json& increment) {
 
 /// Path 2: a measurements file's "delta", read, then written with the same writer.
 json ViaMeasurementFile(const json& delta) {
-  const json doc = {{"measurements",
-                     {{{"dt", 0.1},
-                       {"bias_estimate", {{"bg", {0, 0, 0}}, {"ba", {0, 0, 0}}}},
-                       {"delta", delta},
-                       {"J_bias", {{"convention", "preint_reference"}, {"matrix", Zeros(9, 6)}}},
-                       {"cov", {{"convention", "preint_reference"}, {"matrix", Identity15(1e-6)}}}}}}};
+  const json doc = {
+      {"measurements",
+       {{{"dt", 0.1},
+         {"bias_estimate", {{"bg", {0, 0, 0}}, {"ba", {0, 0, 0}}}},
+         {"delta", delta},
+         {"J_bias", {{"convention", "preint_reference"}, {"matrix", Zeros(9, 6)}}},
+         {"cov", {{"convention", "preint_reference"}, {"matrix", Identity15(1e-6)}}}}}}};
   const auto records = ReadMeasurementDocument(doc, kFile, imuconv::test::Plugins(), std::nullopt);
   EXPECT_EQ(records.size(), 1u);
   std::string text;
@@ -87,7 +93,8 @@ std::string Refusal(const std::function<void()>& f, const std::string& prefix) {
   } catch (const ConfigError& e) {
     if (e.issues().empty()) return "no issue";
     const Issue& i = e.issues().front();
-    if (i.pointer.compare(0, prefix.size(), prefix) != 0) return "at " + i.pointer + ": " + i.message;
+    if (i.pointer.compare(0, prefix.size(), prefix) != 0)
+      return "at " + i.pointer + ": " + i.message;
     return i.pointer.substr(prefix.size()) + ": " + i.message;
   }
   return "accepted";
@@ -114,8 +121,8 @@ TEST(IncrementReader, WhatEitherOldPathAcceptedBothReadAlike) {
     EXPECT_EQ(a["dv"], d["dv"]);
     EXPECT_EQ(a["dbg"], d.value("dbg", json{0.0, 0.0, 0.0}));
     for (int k = 0; k < 4; ++k)
-      EXPECT_NEAR(a["q_wxyz"][k].get<double>(), d.contains("q_wxyz") ? d["q_wxyz"][k].get<double>() : kQ[k].get<double>(),
-                  1e-12);
+      EXPECT_NEAR(a["q_wxyz"][k].get<double>(),
+                  d.contains("q_wxyz") ? d["q_wxyz"][k].get<double>() : kQ[k].get<double>(), 1e-12);
   }
 }
 
@@ -128,7 +135,8 @@ TEST(IncrementReader, WhatEitherOldPathRefusedBothRefuseAlike) {
       {{{"dp", dp}, {"dv", dv}}, "/q_wxyz: required key is missing (give q_wxyz or R)"},
       {{{"q_wxyz", {1, 0, 0, 0.1}}, {"dp", dp}, {"dv", dv}}, "/q_wxyz: expected a unit quaternion"},
       {{{"R", bad_R}, {"dp", dp}, {"dv", dv}}, "/R: expected a rotation matrix"},
-      {{{"q_wxyz", kQ}, {"R", other_R}, {"dp", dp}, {"dv", dv}}, "/R: R and q_wxyz disagree by 17.18"},
+      {{{"q_wxyz", kQ}, {"R", other_R}, {"dp", dp}, {"dv", dv}},
+       "/R: R and q_wxyz disagree by 17.18"},
       {{{"q_wxyz", kQ}, {"dp", dp}, {"dv", dv}, {"rotation_angle_deg", 17.0}},
        "/rotation_angle_deg: rotation_angle_deg = 17 does not match the rotation's angle"},
       {{{"q_wxyz", kQ}, {"dp", dp}}, "/dv: required key is missing"},

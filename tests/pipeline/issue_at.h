@@ -24,6 +24,6 @@ inline std::string IssueAt(const std::vector<pipeline::Issue>& issues, const std
 
 }  // namespace imuconv::test
 
-#define EXPECT_ISSUE(issues, pointer, text)                                            \
+#define EXPECT_ISSUE(issues, pointer, text)                                          \
   EXPECT_NE(::imuconv::test::IssueAt(issues, pointer).find(text), std::string::npos) \
       << ::imuconv::test::IssueAt(issues, pointer)

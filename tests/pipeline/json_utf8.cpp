@@ -44,14 +44,17 @@ TEST(JsonUtf8, TheWriterRefusesBytesThatAreNotUtf8AtTheirPointer) {
   for (const auto form : {JsonWriter::Form::kText, JsonWriter::Form::kEvents}) {
     SCOPED_TRACE(form == JsonWriter::Form::kText ? "text" : "events");
     // Well-formed: ASCII, 2-, 3- and 4-byte sequences, the largest code point.
-    for (const char* ok : {"rk4", "caf\xc3\xa9", "\xe2\x82\xac", "\xf0\x9f\x98\x80", "\xf4\x8f\xbf\xbf"})
+    for (const char* ok :
+         {"rk4", "caf\xc3\xa9", "\xe2\x82\xac", "\xf0\x9f\x98\x80", "\xf4\x8f\xbf\xbf"})
       EXPECT_EQ(WriteError("name", ok, form), "") << ok;
     // Latin-1 "é": the example of the issue.
     std::string e = WriteError("name", "caf\xe9", form);
-    EXPECT_NE(e.find("not UTF-8 (output /tasks/0/name, byte 3 of 'caf\\xe9')"), std::string::npos) << e;
+    EXPECT_NE(e.find("not UTF-8 (output /tasks/0/name, byte 3 of 'caf\\xe9')"), std::string::npos)
+        << e;
     // Overlong "/" (C0 AF), overlong 3-byte NUL (E0 80 80), a surrogate (ED A0 80), above
     // U+10FFFF (F4 90 80 80), a stray continuation byte, a truncated sequence.
-    for (const char* bad : {"a\xc0\xaf", "a\xe0\x80\x80", "a\xed\xa0\x80", "a\xf4\x90\x80\x80", "a\x80", "a\xe2\x82"}) {
+    for (const char* bad : {"a\xc0\xaf", "a\xe0\x80\x80", "a\xed\xa0\x80", "a\xf4\x90\x80\x80",
+                            "a\x80", "a\xe2\x82"}) {
       e = WriteError("name", bad, form);
       EXPECT_NE(e.find("not UTF-8 (output /tasks/0/name, byte 1 of"), std::string::npos) << e;
     }
@@ -64,8 +67,8 @@ TEST(JsonUtf8, TheWriterRefusesBytesThatAreNotUtf8AtTheirPointer) {
 TEST(JsonUtf8, FirstInvalidUtf8FindsTheFirstBadByte) {
   EXPECT_EQ(FirstInvalidUtf8(""), std::string_view::npos);
   EXPECT_EQ(FirstInvalidUtf8("ascii \x7f"), std::string_view::npos);
-  EXPECT_EQ(FirstInvalidUtf8("\xc3\xa9\xc3"), 2u);  // a 2-byte sequence cut at the end
-  EXPECT_EQ(FirstInvalidUtf8("\xc1\xbf"), 0u);      // overlong 2-byte form of U+007F
+  EXPECT_EQ(FirstInvalidUtf8("\xc3\xa9\xc3"), 2u);      // a 2-byte sequence cut at the end
+  EXPECT_EQ(FirstInvalidUtf8("\xc1\xbf"), 0u);          // overlong 2-byte form of U+007F
   EXPECT_EQ(FirstInvalidUtf8("\xf0\x8f\xbf\xbf"), 0u);  // overlong 4-byte form of U+FFFF
   EXPECT_EQ(FirstInvalidUtf8("\xf5\x80\x80\x80"), 0u);  // a lead byte no code point has
 }
@@ -77,7 +80,8 @@ TEST(JsonUtf8, APipelineWhosePathIsNotUtf8WritesNoDocument) {
   const std::string p = dir + "/P.json";
   fs::copy_file(imuconv::test::SourcePath("examples/inline_basics.json"), p);
   const std::string out = tmp.file("out.json");
-  const test::CommandResult r = test::RunImuconv("-q run " + test::ShellQuote(p) + " -o " + test::ShellQuote(out), tmp);
+  const test::CommandResult r =
+      test::RunImuconv("-q run " + test::ShellQuote(p) + " -o " + test::ShellQuote(out), tmp);
   EXPECT_NE(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("not UTF-8 (output /pipeline, byte"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));  // before: written, and not JSON

@@ -19,7 +19,10 @@ json WithKalibr(const std::string& file) {
   return {{"noise", {{"kalibr", file}}},
           {"imu", {{"format", "inline"}, {"samples", samples}}},
           {"tasks",
-           {{{"type", "preintegrate"}, {"name", "pre"}, {"method", {{"preintegrator", "manifold"}}}, {"keyframes", {0.0, 0.1}}}}}};
+           {{{"type", "preintegrate"},
+             {"name", "pre"},
+             {"method", {{"preintegrator", "manifold"}}},
+             {"keyframes", {0.0, 0.1}}}}}};
 }
 
 /// The issues' text of loading a pipeline whose noise is `yaml` ("" if it loads).
@@ -34,7 +37,8 @@ std::string ErrorOf(const TempDir& tmp, const std::string& yaml) {
 }
 
 const std::string kFour =
-    "gyroscope_noise_density: 1e-4\ngyroscope_random_walk: 1e-5\naccelerometer_noise_density: 1e-3\n"
+    "gyroscope_noise_density: 1e-4\ngyroscope_random_walk: 1e-5\naccelerometer_noise_density: "
+    "1e-3\n"
     "accelerometer_random_walk: 1e-4\n";
 
 TEST(KalibrDuplicateKeys, ASecondValueOfAKeyIsRefusedNamingTheLineAndTheKey) {
@@ -76,10 +80,12 @@ TEST(KalibrDuplicateKeys, AliasesThatExpandBeyondAnyImuFileAreRefused) {
   TempDir tmp;
   std::string yaml = kFour + "a0: &a0 [x, x]\n";
   for (int k = 1; k <= 20; ++k)
-    yaml += "a" + std::to_string(k) + ": &a" + std::to_string(k) + " [*a" + std::to_string(k - 1) + ", *a" +
-            std::to_string(k - 1) + "]\n";
+    yaml += "a" + std::to_string(k) + ": &a" + std::to_string(k) + " [*a" + std::to_string(k - 1) +
+            ", *a" + std::to_string(k - 1) + "]\n";
   const std::string e = ErrorOf(tmp, yaml);
-  EXPECT_NE(e.find("values (YAML aliases?), more than any Kalibr IMU file holds"), std::string::npos) << e;
+  EXPECT_NE(e.find("values (YAML aliases?), more than any Kalibr IMU file holds"),
+            std::string::npos)
+      << e;
 }
 
 }  // namespace

@@ -22,7 +22,11 @@ json WithNoise(const json& noise) {
   for (int k = 0; k <= 20; ++k) samples.push_back({0.005 * k, 0.1, -0.2, 0.3, 0.5, 0.1, 9.8});
   return {{"noise", noise},
           {"imu", {{"format", "inline"}, {"samples", samples}}},
-          {"tasks", {{{"type", "preintegrate"}, {"name", "pre"}, {"method", {{"preintegrator", "manifold"}}}, {"keyframes", {0.0, 0.1}}}}}};
+          {"tasks",
+           {{{"type", "preintegrate"},
+             {"name", "pre"},
+             {"method", {{"preintegrator", "manifold"}}},
+             {"keyframes", {0.0, 0.1}}}}}};
 }
 
 json RunIn(const std::string& dir, const json& doc) {
@@ -48,7 +52,8 @@ const json kEurocNumbers = {{"gyro_noise_density", 1.6968e-04},
 TEST(KalibrNoise, TheFileGivesTheSameRunAsItsNumbers) {
   const std::string dir = imuconv::test::DataPath("kalibr");
   const json by_numbers = RunIn(dir, WithNoise(kEurocNumbers));
-  for (const char* file : {"euroc_imu.yaml", "euroc_imu_result.yaml", "euroc_imu_opencv_header.yaml"}) {
+  for (const char* file :
+       {"euroc_imu.yaml", "euroc_imu_result.yaml", "euroc_imu_opencv_header.yaml"}) {
     SCOPED_TRACE(file);
     const json by_file = RunIn(dir, WithNoise({{"kalibr", file}}));
     // The same densities, parsed from the same decimal text: the run is the same to the bit.
@@ -65,7 +70,8 @@ TEST(KalibrNoise, TheFileGivesTheSameRunAsItsNumbers) {
 
 TEST(KalibrNoise, TheFileIsAnInputAnOutputMayNotReplace) {
   const std::string dir = imuconv::test::DataPath("kalibr");
-  const Pipeline p = Pipeline::FromJson(WithNoise({{"kalibr", "euroc_imu.yaml"}}), dir + "/pipeline.json", dir);
+  const Pipeline p =
+      Pipeline::FromJson(WithNoise({{"kalibr", "euroc_imu.yaml"}}), dir + "/pipeline.json", dir);
   const auto files = p.input_files();
   EXPECT_NE(std::find(files.begin(), files.end(), dir + "/euroc_imu.yaml"), files.end());
 }
@@ -81,27 +87,42 @@ TEST(KalibrNoise, ProblemsNameThePointerTheFileAndTheLine) {
   const std::string at = d + "/pipeline.json: /noise/kalibr: " + d + "/imu.yaml:";
   const std::string whole = d + "/pipeline.json: /noise/kalibr: " + d + "/imu.yaml: ";
   const std::string complete =
-      "gyroscope_noise_density: 1e-4\ngyroscope_random_walk: 1e-5\naccelerometer_noise_density: 1e-3\n"
+      "gyroscope_noise_density: 1e-4\ngyroscope_random_walk: 1e-5\naccelerometer_noise_density: "
+      "1e-3\n"
       "accelerometer_random_walk: 1e-4\n";
   EXPECT_EQ(error_of(complete), "");
 
-  std::string e = error_of("gyroscope_noise_density: 1e-4\ngyroscope_random_walk: 1e-5\naccelerometer_noise_density: 1e-3\n");
-  EXPECT_NE(e.find(at + "1: accelerometer_random_walk: required key is missing"), std::string::npos) << e;
+  std::string e = error_of(
+      "gyroscope_noise_density: 1e-4\ngyroscope_random_walk: 1e-5\naccelerometer_noise_density: "
+      "1e-3\n");
+  EXPECT_NE(e.find(at + "1: accelerometer_random_walk: required key is missing"), std::string::npos)
+      << e;
   e = error_of(complete + "update_rate: fast\n");
   EXPECT_NE(e.find(at + "5: update_rate: expected a number"), std::string::npos) << e;
-  e = error_of("gyroscope_noise_density: 1e-4\ngyroscope_random_walk: -1e-5\naccelerometer_noise_density: 1e-3\n"
-               "accelerometer_random_walk: 1e-4\n");
-  EXPECT_NE(e.find(at + "2: gyroscope_random_walk: expected a finite non-negative number, found '-1e-5'"), std::string::npos) << e;
-  e = error_of("gyroscope_noise_density: .nan\ngyroscope_random_walk: 1e-5\naccelerometer_noise_density: 1e-3\n"
-               "accelerometer_random_walk: 1e-4\n");
-  EXPECT_NE(e.find(at + "1: gyroscope_noise_density: expected a finite non-negative number"), std::string::npos) << e;
+  e = error_of(
+      "gyroscope_noise_density: 1e-4\ngyroscope_random_walk: -1e-5\naccelerometer_noise_density: "
+      "1e-3\n"
+      "accelerometer_random_walk: 1e-4\n");
+  EXPECT_NE(
+      e.find(at + "2: gyroscope_random_walk: expected a finite non-negative number, found '-1e-5'"),
+      std::string::npos)
+      << e;
+  e = error_of(
+      "gyroscope_noise_density: .nan\ngyroscope_random_walk: 1e-5\naccelerometer_noise_density: "
+      "1e-3\n"
+      "accelerometer_random_walk: 1e-4\n");
+  EXPECT_NE(e.find(at + "1: gyroscope_noise_density: expected a finite non-negative number"),
+            std::string::npos)
+      << e;
   e = error_of(complete + "update_rate: 0\n");
   EXPECT_NE(e.find(at + "5: update_rate: expected a rate > 0 Hz"), std::string::npos) << e;
   e = error_of("gyroscope_noise_density: [1e-4\n");
   EXPECT_NE(e.find(at), std::string::npos) << e;
   EXPECT_NE(e.find("not valid YAML"), std::string::npos) << e;
   e = error_of("imu0:\n  gyroscope_noise_density: 1\nimu1:\n  gyroscope_noise_density: 2\n");
-  EXPECT_NE(e.find(whole + "several IMUs (imu0, imu1): give a file with one IMU's noise"), std::string::npos) << e;
+  EXPECT_NE(e.find(whole + "several IMUs (imu0, imu1): give a file with one IMU's noise"),
+            std::string::npos)
+      << e;
   e = error_of("- 1\n- 2\n");
   EXPECT_NE(e.find(at + "1: expected a YAML mapping of Kalibr IMU keys"), std::string::npos) << e;
   e = error_of("rostopic: /imu0\n");
@@ -115,11 +136,15 @@ TEST(KalibrNoise, HostileFilesAreRefusedWithoutHangOrCrash) {
   const std::string d = tmp.path();
   // Missing.
   std::string e = LoadError(d, WithNoise({{"kalibr", "absent.yaml"}}));
-  EXPECT_NE(e.find("/noise/kalibr: " + d + "/absent.yaml: cannot open the file for reading"), std::string::npos) << e;
+  EXPECT_NE(e.find("/noise/kalibr: " + d + "/absent.yaml: cannot open the file for reading"),
+            std::string::npos)
+      << e;
   // A FIFO with no writer: refused, not waited on.
   ASSERT_EQ(mkfifo(tmp.file("fifo.yaml").c_str(), 0600), 0);
   e = LoadError(d, WithNoise({{"kalibr", "fifo.yaml"}}));
-  EXPECT_NE(e.find("/noise/kalibr: " + d + "/fifo.yaml: is a FIFO, not a regular file"), std::string::npos) << e;
+  EXPECT_NE(e.find("/noise/kalibr: " + d + "/fifo.yaml: is a FIFO, not a regular file"),
+            std::string::npos)
+      << e;
   // Larger than 64 KiB: refused before it is parsed.
   tmp.write("big.yaml", "# " + std::string(70000, 'x') + "\n");
   e = LoadError(d, WithNoise({{"kalibr", "big.yaml"}}));

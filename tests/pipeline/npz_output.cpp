@@ -30,9 +30,11 @@ using pipeline::ResultArrays;
 // ---- an independent reader: ZIP (APPNOTE 6.3) and .npy 1.0 ----
 
 std::uint64_t Le(const std::string& s, std::size_t at, int bytes) {
-  if (at + static_cast<std::size_t>(bytes) > s.size()) throw std::runtime_error("read past the end of the archive");
+  if (at + static_cast<std::size_t>(bytes) > s.size())
+    throw std::runtime_error("read past the end of the archive");
   std::uint64_t v = 0;
-  for (int i = bytes - 1; i >= 0; --i) v = (v << 8) | static_cast<unsigned char>(s[at + static_cast<std::size_t>(i)]);
+  for (int i = bytes - 1; i >= 0; --i)
+    v = (v << 8) | static_cast<unsigned char>(s[at + static_cast<std::size_t>(i)]);
   return v;
 }
 
@@ -61,11 +63,14 @@ struct Archive {
 
 NpyArray ParseNpy(const std::string& bytes, const std::string& name) {
   NpyArray a;
-  if (bytes.compare(0, 8, std::string("\x93NUMPY\x01\x00", 8)) != 0) throw std::runtime_error(name + ": not .npy 1.0");
+  if (bytes.compare(0, 8, std::string("\x93NUMPY\x01\x00", 8)) != 0)
+    throw std::runtime_error(name + ": not .npy 1.0");
   const std::size_t header_len = Le(bytes, 8, 2);
-  if ((10 + header_len) % 64 != 0) throw std::runtime_error(name + ": header not padded to 64 bytes");
+  if ((10 + header_len) % 64 != 0)
+    throw std::runtime_error(name + ": header not padded to 64 bytes");
   const std::string header = bytes.substr(10, header_len);
-  if (header.back() != '\n') throw std::runtime_error(name + ": header does not end with a newline");
+  if (header.back() != '\n')
+    throw std::runtime_error(name + ": header does not end with a newline");
   const auto field = [&](const std::string& key) {
     const std::size_t at = header.find("'" + key + "': ");
     if (at == std::string::npos) throw std::runtime_error(name + ": no " + key);
@@ -73,12 +78,14 @@ NpyArray ParseNpy(const std::string& bytes, const std::string& name) {
   };
   const std::size_t d = field("descr") + 1;
   a.descr = header.substr(d, header.find('\'', d) - d);
-  if (header.compare(field("fortran_order"), 5, "False") != 0) throw std::runtime_error(name + ": Fortran order");
+  if (header.compare(field("fortran_order"), 5, "False") != 0)
+    throw std::runtime_error(name + ": Fortran order");
   const std::size_t s = field("shape");
   const std::string tuple = header.substr(s + 1, header.find(')', s) - s - 1);
   for (std::size_t i = 0; i < tuple.size();) {
     const std::size_t comma = tuple.find(',', i);
-    const std::string n = tuple.substr(i, comma == std::string::npos ? std::string::npos : comma - i);
+    const std::string n =
+        tuple.substr(i, comma == std::string::npos ? std::string::npos : comma - i);
     if (n.find_first_not_of(' ') != std::string::npos) a.shape.push_back(std::stoull(n));
     if (comma == std::string::npos) break;
     i = comma + 1;
@@ -90,13 +97,16 @@ NpyArray ParseNpy(const std::string& bytes, const std::string& name) {
 Archive ReadArchive(const std::string& z) {
   Archive ar;
   // The writer adds no archive comment: the end record is the last 22 bytes.
-  if (z.size() < 22 || Le(z, z.size() - 22, 4) != 0x06054b50u) throw std::runtime_error("no end of central directory");
+  if (z.size() < 22 || Le(z, z.size() - 22, 4) != 0x06054b50u)
+    throw std::runtime_error("no end of central directory");
   const std::size_t eocd = z.size() - 22;
-  std::uint64_t count = Le(z, eocd + 10, 2), cd_size = Le(z, eocd + 12, 4), cd_offset = Le(z, eocd + 16, 4);
+  std::uint64_t count = Le(z, eocd + 10, 2), cd_size = Le(z, eocd + 12, 4),
+                cd_offset = Le(z, eocd + 16, 4);
   if (eocd >= 20 && Le(z, eocd - 20, 4) == 0x07064b50u) {  // the ZIP64 locator, then its record
     ar.zip64_end = true;
     const std::size_t rec = Le(z, eocd - 20 + 8, 8);
-    if (Le(z, rec, 4) != 0x06064b50u || rec + 56 != eocd - 20) throw std::runtime_error("bad ZIP64 end record");
+    if (Le(z, rec, 4) != 0x06064b50u || rec + 56 != eocd - 20)
+      throw std::runtime_error("bad ZIP64 end record");
     count = Le(z, rec + 32, 8);
     cd_size = Le(z, rec + 40, 8);
     cd_offset = Le(z, rec + 48, 8);
@@ -107,7 +117,8 @@ Archive ReadArchive(const std::string& z) {
     if (Le(z, at, 4) != 0x02014b50u) throw std::runtime_error("bad central directory entry");
     const std::uint64_t method = Le(z, at + 10, 2), crc = Le(z, at + 16, 4);
     std::uint64_t csize = Le(z, at + 20, 4), usize = Le(z, at + 24, 4), offset = Le(z, at + 42, 4);
-    const std::size_t name_len = Le(z, at + 28, 2), extra_len = Le(z, at + 30, 2), comment_len = Le(z, at + 32, 2);
+    const std::size_t name_len = Le(z, at + 28, 2), extra_len = Le(z, at + 30, 2),
+                      comment_len = Le(z, at + 32, 2);
     const std::string name = z.substr(at + 46, name_len);
     bool zip64 = false;
     for (std::size_t e = at + 46 + name_len; e + 4 <= at + 46 + name_len + extra_len;) {
@@ -128,7 +139,8 @@ Archive ReadArchive(const std::string& z) {
     if (data_at + usize > z.size()) throw std::runtime_error(name + ": data past the end");
     const std::string bytes = z.substr(data_at, usize);
     if (BitwiseCrc32(bytes) != crc) throw std::runtime_error(name + ": CRC-32 mismatch");
-    if (name.size() < 4 || name.compare(name.size() - 4, 4, ".npy") != 0) throw std::runtime_error(name + ": not .npy");
+    if (name.size() < 4 || name.compare(name.size() - 4, 4, ".npy") != 0)
+      throw std::runtime_error(name + ": not .npy");
     const std::string key = name.substr(0, name.size() - 4);
     NpyArray a = ParseNpy(bytes, name);
     a.zip64 = zip64;
@@ -160,7 +172,8 @@ std::uint64_t Bits(double v) {
 
 std::string Escape(const std::string& s) {
   std::string e;
-  for (char c : s) e += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
+  for (char c : s)
+    e += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
   return e;
 }
 
@@ -194,20 +207,22 @@ class Matcher {
  public:
   Matcher(const Archive& ar, const json& sidecar) : ar_(ar), values_(sidecar.at("values")) {}
 
-  void Walk(const json& v, const std::string& key, const std::string& pointer, std::vector<std::size_t> index,
-            std::vector<std::size_t> dims, bool top = false) {
+  void Walk(const json& v, const std::string& key, const std::string& pointer,
+            std::vector<std::size_t> index, std::vector<std::size_t> dims, bool top = false) {
     if (v.is_object()) {
       if (v.empty() && !top) return Value(v, key, pointer, index);
       for (auto it = v.begin(); it != v.end(); ++it) {
         const std::string m = Escape(it.key());
-        if (top && it.key() == "tasks" && it->is_array() && !it->empty() && it->front().is_object()) {
+        if (top && it.key() == "tasks" && it->is_array() && !it->empty() &&
+            it->front().is_object()) {
           for (const auto& task : *it) {
             const std::string name = "tasks/" + Escape(task.at("name").get<std::string>());
             Walk(task, name, name, index, dims);
           }
           continue;
         }
-        Walk(*it, key.empty() ? m : key + "/" + m, pointer.empty() ? m : pointer + "/" + m, index, dims);
+        Walk(*it, key.empty() ? m : key + "/" + m, pointer.empty() ? m : pointer + "/" + m, index,
+             dims);
       }
       return;
     }
@@ -221,7 +236,8 @@ class Matcher {
       return;
     }
     std::vector<std::size_t> shape;
-    if (!Rectangular(v, shape) || (shape.empty() && index.empty())) return Value(v, key, pointer, index);
+    if (!Rectangular(v, shape) || (shape.empty() && index.empty()))
+      return Value(v, key, pointer, index);
     Numbers(v, key, pointer, index, dims, shape);
   }
 
@@ -229,7 +245,8 @@ class Matcher {
   std::set<std::string> arrays_met, values_met;
 
  private:
-  void Value(const json& v, const std::string& key, const std::string& pointer, const std::vector<std::size_t>&) {
+  void Value(const json& v, const std::string& key, const std::string& pointer,
+             const std::vector<std::size_t>&) {
     const bool by_key = values_.contains(key), by_pointer = values_.contains(pointer);
     ASSERT_TRUE(by_key != by_pointer || key == pointer) << "sidecar value of /" << pointer;
     const json& got = values_.at(by_key ? key : pointer);
@@ -250,8 +267,9 @@ class Matcher {
     return a == b;
   }
 
-  void Numbers(const json& v, const std::string& key, const std::string& pointer, const std::vector<std::size_t>& index,
-               const std::vector<std::size_t>& dims, const std::vector<std::size_t>& shape) {
+  void Numbers(const json& v, const std::string& key, const std::string& pointer,
+               const std::vector<std::size_t>& index, const std::vector<std::size_t>& dims,
+               const std::vector<std::size_t>& shape) {
     const bool stacked = ar_.arrays.count(key) > 0, alone = ar_.arrays.count(pointer) > 0;
     ASSERT_TRUE(stacked != alone || key == pointer) << "no single array for /" << pointer;
     const NpyArray& a = ar_.arrays.at(stacked ? key : pointer);
@@ -270,7 +288,8 @@ class Matcher {
       const std::uint64_t bits = Le(a.data, 8 * (first + i), 8);
       if (a.descr == "<i8") {
         ASSERT_FALSE(any_real) << "/" << pointer << " holds reals but is int64";
-        EXPECT_EQ(static_cast<std::int64_t>(bits), flat[i]->get<std::int64_t>()) << "/" << pointer << " #" << i;
+        EXPECT_EQ(static_cast<std::int64_t>(bits), flat[i]->get<std::int64_t>())
+            << "/" << pointer << " #" << i;
       } else {
         ASSERT_EQ(a.descr, "<f8") << "/" << pointer;
         EXPECT_EQ(bits, Bits(flat[i]->get<double>())) << "/" << pointer << " #" << i;
@@ -285,7 +304,8 @@ class Matcher {
 };
 
 /// Runs `pipeline` to JSON and to NPZ; checks the NPZ against the JSON; returns the archive.
-Archive CheckPipeline(const std::string& pipeline, const TempDir& tmp, std::size_t* numbers = nullptr) {
+Archive CheckPipeline(const std::string& pipeline, const TempDir& tmp,
+                      std::size_t* numbers = nullptr) {
   const std::string out_json = tmp.file("out.json"), out_npz = tmp.file("out.npz");
   auto r = RunImuconv("run " + ShellQuote(pipeline) + " -q -o " + ShellQuote(out_json), tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -331,7 +351,8 @@ TEST(NpzOutput, KeyframesStackOverTheIntervals) {
   // Absolute nanoseconds (beyond 2^53) stay integers.
   EXPECT_EQ(ar.arrays.at("tasks/kf_rk4/measurements/t_start_abs_ns").descr, "<i8");
   const json side = Sidecar(ar);
-  EXPECT_EQ(side["values"]["tasks/kf_rk4/measurements/J_bias/rows/blocks"], json::parse(R"(["theta", "p", "v"])"));
+  EXPECT_EQ(side["values"]["tasks/kf_rk4/measurements/J_bias/rows/blocks"],
+            json::parse(R"(["theta", "p", "v"])"));
   EXPECT_EQ(side["values"]["tasks/kf_rk4/type"], "preintegrate");
   EXPECT_EQ(side["stacked_over"]["tasks/kf_rk4/measurements/J_bias/matrix"],
             json::parse(R"(["tasks/kf_rk4/measurements"])"));
@@ -346,10 +367,15 @@ TEST(NpzOutput, FormatFlagWritesTheSameArchiveAsTheExtension) {
   TempDir tmp;
   const std::string p = ShellQuote(SourcePath("examples/inline_basics.json"));
   ASSERT_EQ(RunImuconv("run " + p + " -q -o " + ShellQuote(tmp.file("a.npz")), tmp).exit_code, 0);
-  ASSERT_EQ(RunImuconv("run " + p + " -q --format npz -o " + ShellQuote(tmp.file("b.data")), tmp).exit_code, 0);
-  EXPECT_EQ(ReadText(tmp.file("a.npz")), ReadText(tmp.file("b.data")));  // and the same twice: no time stamps
+  ASSERT_EQ(RunImuconv("run " + p + " -q --format npz -o " + ShellQuote(tmp.file("b.data")), tmp)
+                .exit_code,
+            0);
+  EXPECT_EQ(ReadText(tmp.file("a.npz")),
+            ReadText(tmp.file("b.data")));  // and the same twice: no time stamps
   // --format json wins over the extension.
-  ASSERT_EQ(RunImuconv("run " + p + " -q --format json -o " + ShellQuote(tmp.file("c.npz")), tmp).exit_code, 0);
+  ASSERT_EQ(RunImuconv("run " + p + " -q --format json -o " + ShellQuote(tmp.file("c.npz")), tmp)
+                .exit_code,
+            0);
   EXPECT_TRUE(json::accept(ReadText(tmp.file("c.npz"))));
   // To stdout when it is not a terminal (here a file), with -o -.
   const auto r = RunImuconv("run " + p + " -q --format npz -o -", tmp);
@@ -393,20 +419,24 @@ TEST(ResultArrays, StacksOverNestedArraysOfObjects) {
   EXPECT_EQ(Bits(y.data[3]), 1u);  // the smallest subnormal
   const json side = json::parse(r.sidecar);
   EXPECT_EQ(side["values"], json::parse(R"({"top": 7, "labels": ["p", "q"], "a/s": "u"})"));
-  EXPECT_EQ(side["stacked_over"], json::parse(R"({"a/x": ["a"], "a/n": ["a"], "a/in/y": ["a", "a/in"]})"));
+  EXPECT_EQ(side["stacked_over"],
+            json::parse(R"({"a/x": ["a"], "a/n": ["a"], "a/in/y": ["a", "a/in"]})"));
 }
 
 TEST(ResultArrays, IrregularKeysArePerElementNeverPadded) {
-  const ResultArrays r = Collect(R"({"a": [{"t": 1.0, "m": [[1, 2]], "s": "x"}, {"m": [[1, 2], [3, 4]], "s": "y"}],
+  const ResultArrays r =
+      Collect(R"({"a": [{"t": 1.0, "m": [[1, 2]], "s": "x"}, {"m": [[1, 2], [3, 4]], "s": "y"}],
       "b": [{"in": [{"y": 1.0}]}, {"in": [{"y": 2.0}, {"y": 3.0}]}], "c": [[1.0], [2.0, 3.0]]})");
-  EXPECT_EQ(Keys(r), (std::vector<std::string>{"a/0/t", "a/0/m", "a/1/m", "b/0/in/0/y", "b/1/in/0/y", "b/1/in/1/y"}));
+  EXPECT_EQ(Keys(r), (std::vector<std::string>{"a/0/t", "a/0/m", "a/1/m", "b/0/in/0/y",
+                                               "b/1/in/0/y", "b/1/in/1/y"}));
   EXPECT_TRUE(Find(r, "a/0/t").shape.empty());
   EXPECT_EQ(Find(r, "a/0/m").shape, (std::vector<std::size_t>{1, 2}));
   EXPECT_EQ(Find(r, "a/1/m").integers, (std::vector<std::int64_t>{1, 2, 3, 4}));
   EXPECT_EQ(Find(r, "b/1/in/1/y").data, std::vector<double>{3.0});
   const json side = json::parse(r.sidecar);
   // Strings that differ per element, and a ragged array of numbers, go to the sidecar as they are.
-  EXPECT_EQ(side["values"], json::parse(R"({"a/0/s": "x", "a/1/s": "y", "c": [[1.0], [2.0, 3.0]]})"));
+  EXPECT_EQ(side["values"],
+            json::parse(R"({"a/0/s": "x", "a/1/s": "y", "c": [[1.0], [2.0, 3.0]]})"));
   EXPECT_EQ(side["stacked_over"], json::object());
 }
 
@@ -416,26 +446,31 @@ TEST(ResultArrays, TasksAreNamedAndMembersEscaped) {
   EXPECT_EQ(Keys(r), (std::vector<std::string>{"tasks/t1/v", "tasks/t.2/v", "a~1b/c~0d"}));
   EXPECT_EQ(Find(r, "tasks/t.2/v").shape, (std::vector<std::size_t>{2}));
   const json side = json::parse(r.sidecar);
-  EXPECT_EQ(side["values"], json::parse(R"({"tasks/t1/name": "t1", "tasks/t.2/name": "t.2", "a~1b/e": {}})"));
+  EXPECT_EQ(side["values"],
+            json::parse(R"({"tasks/t1/name": "t1", "tasks/t.2/name": "t.2", "a~1b/e": {}})"));
 }
 
 TEST(ResultArrays, RefusesWhatItCannotMapWithThePointer) {
   const auto error = [](const std::string& text) {
     return MessageOf<imuconv::Error>([&] { (void)Collect(text); });
   };
-  EXPECT_NE(error(R"({"tasks": [{"type": "x", "name": "t"}]})").find("doc: /tasks/0: expected the task's \"name\""),
+  EXPECT_NE(error(R"({"tasks": [{"type": "x", "name": "t"}]})")
+                .find("doc: /tasks/0: expected the task's \"name\""),
             std::string::npos);
-  EXPECT_NE(error(R"({"tasks": [{"name": "t"}, {"name": "t"}]})").find("a second task named 't'"), std::string::npos);
+  EXPECT_NE(error(R"({"tasks": [{"name": "t"}, {"name": "t"}]})").find("a second task named 't'"),
+            std::string::npos);
   EXPECT_NE(error(R"({"a": [{"x": 1}, 2]})").find("/a/1: expected an object"), std::string::npos);
   EXPECT_NE(error(R"({"a": [1.0], "a": [2.0]})").find("/a: a duplicate key"), std::string::npos);
-  EXPECT_NE(error(R"({"a": [{"x": [9007199254740993, 0.5]}]})").find("not exact as a double"), std::string::npos);
+  EXPECT_NE(error(R"({"a": [{"x": [9007199254740993, 0.5]}]})").find("not exact as a double"),
+            std::string::npos);
   EXPECT_NE(error(R"({"a": [1.0)").find("doc: /: not a JSON document"), std::string::npos);
   EXPECT_NE(error(R"([1.0])").find("expected an object at the top"), std::string::npos);
   EXPECT_NE(error(R"({"meta": [1.0]})").find("the sidecar's name"), std::string::npos);
   const std::string deep = "{\"a\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
   EXPECT_NE(error(deep).find("doc: /: nested deeper than 256 levels"), std::string::npos);
   const std::string deep_objects = "{\"tasks\": [{\"name\": \"t\", \"a\": [" +
-                                   std::string(300, '[') + "{\"b\": 1}" + std::string(300, ']') + "]}]}";
+                                   std::string(300, '[') + "{\"b\": 1}" + std::string(300, ']') +
+                                   "]}]}";
   EXPECT_NE(error(deep_objects).find("nested deeper than 256 levels"), std::string::npos);
 }
 
@@ -445,7 +480,8 @@ TEST(NpzWriter, Zip64RecordsReadBack) {
   ResultArrays r = Collect(R"({"a": [{"x": [1.0, -2.5]}, {"x": [3.0, 4.0]}], "n": [1, 2, 3]})");
   std::string classic, zip64;
   pipeline::WriteResultNpz(r, [&](std::string_view s) { classic += s; });
-  pipeline::WriteResultNpz(r, [&](std::string_view s) { zip64 += s; }, true);
+  pipeline::WriteResultNpz(
+      r, [&](std::string_view s) { zip64 += s; }, true);
   for (const std::string* z : {&classic, &zip64}) {
     const Archive ar = ReadArchive(*z);
     EXPECT_EQ(ar.zip64_end, z == &zip64);
@@ -468,7 +504,8 @@ TEST(NpzWriter, Zip64RecordsReadBack) {
       "assert z['n'].tolist() == [1, 2, 3] and z['n'].dtype.str == '<i8'\n"
       "assert json.loads(str(z['meta']))['stacked_over'] == {'a/x': ['a']}\n";
   const std::string py = tmp.write("check.py", script);
-  EXPECT_EQ(std::system(("/usr/bin/python3 " + ShellQuote(py) + " " + ShellQuote(path)).c_str()), 0);
+  EXPECT_EQ(std::system(("/usr/bin/python3 " + ShellQuote(py) + " " + ShellQuote(path)).c_str()),
+            0);
 }
 
 TEST(NpzWriter, NpyHeaderIsAlignedAndCrcIsZips) {
@@ -478,7 +515,8 @@ TEST(NpzWriter, NpyHeaderIsAlignedAndCrcIsZips) {
   // The check value of CRC-32/ISO-HDLC (the catalogue's "123456789" test vector).
   EXPECT_EQ(pipeline::Crc32(0, "123456789", 9), 0xCBF43926u);
   const std::string s = "a longer text, split in two";
-  EXPECT_EQ(pipeline::Crc32(pipeline::Crc32(0, s.data(), 10), s.data() + 10, s.size() - 10), BitwiseCrc32(s));
+  EXPECT_EQ(pipeline::Crc32(pipeline::Crc32(0, s.data(), 10), s.data() + 10, s.size() - 10),
+            BitwiseCrc32(s));
 }
 
 /// The writer's CRC-32 before it read eight bytes at a time: one lookup in a 256-entry table per
@@ -523,9 +561,11 @@ TEST(NpzWriter, Crc32MatchesZlibAndTheByteWiseCrc) {
       const std::string s = buffer.substr(shift, n);
       const std::uint32_t expected = BitwiseCrc32(s);
       ASSERT_EQ(ByteTableCrc32(reinterpret_cast<const unsigned char*>(s.data()), n), expected) << n;
-      EXPECT_EQ(pipeline::Crc32(0, buffer.data() + shift, n), expected) << "length " << n << ", shift " << shift;
+      EXPECT_EQ(pipeline::Crc32(0, buffer.data() + shift, n), expected)
+          << "length " << n << ", shift " << shift;
       const std::size_t cut = n == 0 ? 0 : static_cast<std::size_t>(rng() % (n + 1));
-      EXPECT_EQ(pipeline::Crc32(pipeline::Crc32(0, s.data(), cut), s.data() + cut, n - cut), expected)
+      EXPECT_EQ(pipeline::Crc32(pipeline::Crc32(0, s.data(), cut), s.data() + cut, n - cut),
+                expected)
           << "length " << n << ", cut at " << cut;
     }
   }
@@ -551,13 +591,14 @@ TEST(NpzOutput, HostileDestinationsAndOptions) {
   EXPECT_NE(r.err.find("dir.npz"), std::string::npos) << r.err;
   EXPECT_TRUE(fs::is_empty(tmp.file("dir.npz")));
   // The pipeline itself as the output: refused, the pipeline untouched.
-  const std::string copy = tmp.write("pipe.json", ReadText(SourcePath("examples/inline_basics.json")));
+  const std::string copy =
+      tmp.write("pipe.json", ReadText(SourcePath("examples/inline_basics.json")));
   r = RunImuconv("run " + ShellQuote(copy) + " -q --format npz -o " + ShellQuote(copy), tmp);
   EXPECT_NE(r.exit_code, 0);
   EXPECT_EQ(ReadText(copy), ReadText(SourcePath("examples/inline_basics.json")));
   // A failing run leaves an existing archive as it was, and no temporary beside it.
-  const std::string bad =
-      tmp.write("bad.json", R"({"gravity": [0, 0, -9.81], "tasks": [{"type": "nope", "name": "x"}]})");
+  const std::string bad = tmp.write(
+      "bad.json", R"({"gravity": [0, 0, -9.81], "tasks": [{"type": "nope", "name": "x"}]})");
   const std::string old = tmp.write("old.npz", "the old content");
   const std::size_t entries = tmp.entries();
   r = RunImuconv("run " + ShellQuote(bad) + " -q -o " + ShellQuote(old), tmp);
@@ -582,8 +623,8 @@ TEST(NpzOutput, NeverToATerminal) {
   const std::string cmd = "env -u IMUCONV_PLUGIN_PATH " + Binary() + " run " +
                           SourcePath("examples/inline_basics.json") + " -q --format npz -o -";
   const std::string log = tmp.file("log");
-  const int status =
-      std::system(("script -qec " + ShellQuote(cmd) + " /dev/null > " + ShellQuote(log) + " 2>&1").c_str());
+  const int status = std::system(
+      ("script -qec " + ShellQuote(cmd) + " /dev/null > " + ShellQuote(log) + " 2>&1").c_str());
   EXPECT_NE(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 0);
   const std::string text = ReadText(log);
   EXPECT_NE(text.find("NPZ is binary: not written to a terminal"), std::string::npos) << text;

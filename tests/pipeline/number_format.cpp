@@ -66,7 +66,8 @@ Digits Parse(const std::string& s) {
 bool ReadsBackTo(const std::string& s, double v) {
   double back = 0;
   const auto r = std::from_chars(s.data(), s.data() + s.size(), back);
-  return r.ec == std::errc() && r.ptr == s.data() + s.size() && std::memcmp(&back, &v, sizeof v) == 0;
+  return r.ec == std::errc() && r.ptr == s.data() + s.size() &&
+         std::memcmp(&back, &v, sizeof v) == 0;
 }
 
 // |v| correctly rounded to `digits` significant digits, "d.ddde+X" (glibc's printf is exact).
@@ -93,30 +94,41 @@ std::string Neighbour(const std::string& rounded, int step) {
   const std::string body = s[0] == '-' ? s.substr(1) : s;
   const int k = static_cast<int>(d.d.size()), n = d.exp10;
   const bool exp_form = body.find('e') != std::string::npos;
-  if (exp_form != !(-4 < n && n <= 15)) return ::testing::AssertionFailure() << s << ": wrong notation for 0.d 10^" << n;
+  if (exp_form != !(-4 < n && n <= 15))
+    return ::testing::AssertionFailure() << s << ": wrong notation for 0.d 10^" << n;
   if (exp_form) {
     const std::size_t e = body.find('e');
     const std::string mant = body.substr(0, e), ex = body.substr(e + 1);
-    const bool mant_ok = k == 1 ? mant.size() == 1 : (mant.size() == static_cast<std::size_t>(k + 1) && mant[1] == '.');
-    const bool ex_ok = ex.size() >= 3 && (ex[0] == '+' || ex[0] == '-') && (ex.size() == 3 || ex[1] != '0');
+    const bool mant_ok = k == 1
+                             ? mant.size() == 1
+                             : (mant.size() == static_cast<std::size_t>(k + 1) && mant[1] == '.');
+    const bool ex_ok =
+        ex.size() >= 3 && (ex[0] == '+' || ex[0] == '-') && (ex.size() == 3 || ex[1] != '0');
     if (!mant_ok || !ex_ok) return ::testing::AssertionFailure() << s << ": not d[.ddd]e(+|-)XX";
     return ::testing::AssertionSuccess();
   }
   const std::size_t dot = body.find('.');
-  if (dot == std::string::npos || dot + 1 == body.size()) return ::testing::AssertionFailure() << s << ": no digit after the point";
-  if (k <= n && body.substr(dot) != ".0") return ::testing::AssertionFailure() << s << ": an integral value must end in .0";
+  if (dot == std::string::npos || dot + 1 == body.size())
+    return ::testing::AssertionFailure() << s << ": no digit after the point";
+  if (k <= n && body.substr(dot) != ".0")
+    return ::testing::AssertionFailure() << s << ": an integral value must end in .0";
   if (k > n && body.back() == '0') return ::testing::AssertionFailure() << s << ": trailing zero";
-  if (n <= 0 && body.substr(0, 2) != "0.") return ::testing::AssertionFailure() << s << ": expected 0.[000]digits";
+  if (n <= 0 && body.substr(0, 2) != "0.")
+    return ::testing::AssertionFailure() << s << ": expected 0.[000]digits";
   return ::testing::AssertionSuccess();
 }
 
 // Every property; the failure message names v.
 ::testing::AssertionResult Check(double v) {
   const std::string s = Format(v);
-  if (s.size() > static_cast<std::size_t>(kMaxDoubleChars)) return ::testing::AssertionFailure() << s << " is too long";
-  if (!ReadsBackTo(s, v)) return ::testing::AssertionFailure() << s << " does not read back to " << std::hexfloat << v;
+  if (s.size() > static_cast<std::size_t>(kMaxDoubleChars))
+    return ::testing::AssertionFailure() << s << " is too long";
+  if (!ReadsBackTo(s, v))
+    return ::testing::AssertionFailure() << s << " does not read back to " << std::hexfloat << v;
   if (std::signbit(v) != (s[0] == '-')) return ::testing::AssertionFailure() << s << ": wrong sign";
-  if (v == 0.0) return s == (std::signbit(v) ? "-0.0" : "0.0") ? ::testing::AssertionSuccess() : ::testing::AssertionFailure() << s;
+  if (v == 0.0)
+    return s == (std::signbit(v) ? "-0.0" : "0.0") ? ::testing::AssertionSuccess()
+                                                   : ::testing::AssertionFailure() << s;
   const Digits d = Parse(s);
   const int k = static_cast<int>(d.d.size());
   const std::string sign = v < 0 ? "-" : "";
@@ -124,14 +136,17 @@ std::string Neighbour(const std::string& rounded, int step) {
   // rounding interval is narrower below v, and the nearest decimal can fall outside it; then
   // the nearest one on the other side of v, a neighbour of the rounded one.
   const std::string rk = Rounded(v, k);
-  if (ReadsBackTo(sign + rk, v) ? !(Parse(rk) == d) : !(Parse(Neighbour(rk, -1)) == d || Parse(Neighbour(rk, +1)) == d))
-    return ::testing::AssertionFailure() << s << " is not the closest k-digit decimal that reads back (" << rk << ")";
+  if (ReadsBackTo(sign + rk, v) ? !(Parse(rk) == d)
+                                : !(Parse(Neighbour(rk, -1)) == d || Parse(Neighbour(rk, +1)) == d))
+    return ::testing::AssertionFailure()
+           << s << " is not the closest k-digit decimal that reads back (" << rk << ")";
   // Shortest: none of the (k-1)-digit decimals around v reads back (shorter ones are among
   // them, with trailing zeros).
   if (k > 1) {
     const std::string r = Rounded(v, k - 1);
     for (const std::string& c : {r, Neighbour(r, -1), Neighbour(r, +1)})
-      if (ReadsBackTo(sign + c, v)) return ::testing::AssertionFailure() << s << " is not the shortest: " << c << " reads back";
+      if (ReadsBackTo(sign + c, v))
+        return ::testing::AssertionFailure() << s << " is not the shortest: " << c << " reads back";
   }
   return LaidOut(s, d);
 }
@@ -185,12 +200,34 @@ TEST(NumberFormat, TheChecksCanFail) {
 }
 
 TEST(NumberFormat, EdgeCases) {
-  const double lim_max = std::numeric_limits<double>::max(), lim_min = std::numeric_limits<double>::min(),
+  const double lim_max = std::numeric_limits<double>::max(),
+               lim_min = std::numeric_limits<double>::min(),
                denorm = std::numeric_limits<double>::denorm_min();
-  for (double v : {0.0, lim_max, lim_min, denorm, 2 * denorm, 3 * denorm, 16 * denorm, std::nextafter(lim_min, 0.0),
-                   9007199254740991.0, 9007199254740992.0, 9007199254740993.0, 1e22, 1e23, 5e-324, 0.3,
-                   2.2250738585072009e-308, std::nextafter(1.0, 2.0), std::nextafter(1.0, 0.0), 1403715273262142976.0,
-                   1e-5, std::nextafter(1e-5, 0.0), 1e15, std::nextafter(1e15, 0.0), 1e-4, std::nextafter(1e-4, 0.0)})
+  for (double v : {0.0,
+                   lim_max,
+                   lim_min,
+                   denorm,
+                   2 * denorm,
+                   3 * denorm,
+                   16 * denorm,
+                   std::nextafter(lim_min, 0.0),
+                   9007199254740991.0,
+                   9007199254740992.0,
+                   9007199254740993.0,
+                   1e22,
+                   1e23,
+                   5e-324,
+                   0.3,
+                   2.2250738585072009e-308,
+                   std::nextafter(1.0, 2.0),
+                   std::nextafter(1.0, 0.0),
+                   1403715273262142976.0,
+                   1e-5,
+                   std::nextafter(1e-5, 0.0),
+                   1e15,
+                   std::nextafter(1e15, 0.0),
+                   1e-4,
+                   std::nextafter(1e-4, 0.0)})
     for (double s : {1.0, -1.0}) EXPECT_TRUE(Check(s * v));
   for (int e = -1074; e <= 1023; ++e) {  // powers of two and their neighbours
     const double v = std::ldexp(1.0, e);
@@ -209,7 +246,8 @@ TEST(NumberFormat, EdgeCases) {
     std::from_chars(t.data(), t.data() + t.size(), v);
     ASSERT_TRUE(Check(v)) << t;
   }
-  for (std::int64_t d = -20000; d <= 20000; ++d) ASSERT_TRUE(Check(static_cast<double>((std::int64_t{1} << 53) + d))) << d;
+  for (std::int64_t d = -20000; d <= 20000; ++d)
+    ASSERT_TRUE(Check(static_cast<double>((std::int64_t{1} << 53) + d))) << d;
 }
 
 TEST(NumberFormat, RandomDoublesOverTheWholeRange) {
@@ -222,8 +260,10 @@ TEST(NumberFormat, RandomDoublesOverTheWholeRange) {
     if (!std::isfinite(v)) continue;
     ASSERT_TRUE(Check(v));
   }
-  for (int i = 0; i < 1000000; ++i) ASSERT_TRUE(Check(n(rng) * std::pow(10.0, static_cast<int>(n(rng) * 6))));
-  for (int i = 0; i < 200000; ++i) ASSERT_TRUE(Check(static_cast<double>(rng() % 10000000) / 1000.0));
+  for (int i = 0; i < 1000000; ++i)
+    ASSERT_TRUE(Check(n(rng) * std::pow(10.0, static_cast<int>(n(rng) * 6))));
+  for (int i = 0; i < 200000; ++i)
+    ASSERT_TRUE(Check(static_cast<double>(rng() % 10000000) / 1000.0));
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // OutputFile against the inputs of the process and the memory of the work asked
-// (docs/outputs.md), through the library (the command-line side: tests/cli/inputs_never_written.cpp):
+// (docs/outputs.md), through the library (the command-line side:
+// tests/cli/inputs_never_written.cpp):
 //   - a file read through the one input opener (data::InputFile, so ParseJsonFile and every
 //     pipeline reader) is never replaced by an output, by any name, also when it is read
 //     after the output was opened; the refusal names it and leaves no temporary;
@@ -34,11 +35,12 @@ int InChild(F body) {
   if (pid == 0) ::_exit(body());
   int status = 0;
   ::waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 100 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status)
+                           : 100 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
 long PeakResidentKiB() {
-  rusage u {};
+  rusage u{};
   ::getrusage(RUSAGE_SELF, &u);
   return u.ru_maxrss;  // KiB on Linux
 }
@@ -53,9 +55,12 @@ TEST(OutputsAndInputs, AFileReadIsNeverReplacedByAnyName) {
   early.write("overwritten\n");
   EXPECT_EQ(imuconv::pipeline::ParseJsonFile(input)["a"], 1);
   const std::string late = MessageOf([&] { early.commit(); });
-  EXPECT_TRUE(Has(late, "is the same file as the input file " + input + ": refusing to overwrite it")) << late;
+  EXPECT_TRUE(
+      Has(late, "is the same file as the input file " + input + ": refusing to overwrite it"))
+      << late;
   // Opened after it was read: refused at once, by its own name and through the link.
-  for (const std::string& name : {input, tmp.file("other/alias.json"), tmp.file("other/../input.json")}) {
+  for (const std::string& name :
+       {input, tmp.file("other/alias.json"), tmp.file("other/../input.json")}) {
     const std::string m = MessageOf([&] { OutputFile f(name); });
     EXPECT_TRUE(Has(m, "is the same file as the input file " + input)) << name << ": " << m;
   }
@@ -85,7 +90,8 @@ TEST(OutputsAndInputs, WrittenThroughOutputKeepsMemoryFlat) {
       return 3;
     }
     const long grew = PeakResidentKiB() - before;
-    std::fprintf(stderr, "  peak resident size grew by %ld KiB for 128 MiB written through\n", grew);
+    std::fprintf(stderr, "  peak resident size grew by %ld KiB for 128 MiB written through\n",
+                 grew);
     return grew < 32 * 1024 ? 0 : 1;
   });
   EXPECT_EQ(status, 0) << "1: memory grew with the document; else a failure (see stderr)";
@@ -98,7 +104,8 @@ TEST(OutputsAndInputs, SpooledBytesArriveWholeAndOnlyOnCommit) {
   std::thread reader([&] {
     char buf[1 << 16];
     ssize_t n;
-    while ((n = ::read(p[0], buf, sizeof buf)) > 0) received.append(buf, static_cast<std::size_t>(n));
+    while ((n = ::read(p[0], buf, sizeof buf)) > 0)
+      received.append(buf, static_cast<std::size_t>(n));
   });
   std::string sent;
   {
@@ -109,7 +116,8 @@ TEST(OutputsAndInputs, SpooledBytesArriveWholeAndOnlyOnCommit) {
   {
     OutputFile f("/dev/fd/" + std::to_string(p[1]));
     for (int i = 0; i < 3000; ++i) {
-      const std::string line = "line " + std::to_string(i) + " " + std::string(static_cast<std::size_t>(i % 97), 'y') + "\n";
+      const std::string line = "line " + std::to_string(i) + " " +
+                               std::string(static_cast<std::size_t>(i % 97), 'y') + "\n";
       sent += line;
       f.write(line);
     }
@@ -131,8 +139,8 @@ TEST(OutputsAndInputs, SpoolThatCannotBeMadeIsAClearErrorAndNothingIsSent) {
     } catch (const std::exception& e) {
       const std::string m = e.what();
       std::fprintf(stderr, "  %s\n", e.what());
-      return Has(m, "/dev/null: cannot create the spool file") && Has(m, "/nonexistent/imuconv-spool-dir") &&
-                     Has(m, "TMPDIR")
+      return Has(m, "/dev/null: cannot create the spool file") &&
+                     Has(m, "/nonexistent/imuconv-spool-dir") && Has(m, "TMPDIR")
                  ? 0
                  : 1;
     }
@@ -166,7 +174,9 @@ TEST(OutputsAndInputs, NoFileOfOursTakesAStandardDescriptor) {
     // At start-up the tool opens /dev/null onto them instead (main, the Python module).
     imuconv::pipeline::OpenClosedStandardDescriptors();
     if (::fcntl(0, F_GETFD) == -1 || ::fcntl(1, F_GETFD) == -1) return 6;
-    if (!imuconv::pipeline::StandardDescriptorWasClosed(1) || imuconv::pipeline::StandardDescriptorWasClosed(2)) return 7;
+    if (!imuconv::pipeline::StandardDescriptorWasClosed(1) ||
+        imuconv::pipeline::StandardDescriptorWasClosed(2))
+      return 7;
     return 0;
   });
   EXPECT_EQ(status, 0);

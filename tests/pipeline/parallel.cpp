@@ -17,8 +17,8 @@
 namespace {
 using namespace imuconv;
 using namespace imuconv::pipeline;
-using nlohmann::json;
 using imuconv::test::SourcePath;
+using nlohmann::json;
 
 std::string RunText(const Pipeline& p, unsigned threads, std::string* summary = nullptr) {
   std::string text;
@@ -26,7 +26,8 @@ std::string RunText(const Pipeline& p, unsigned threads, std::string* summary = 
   RunOptions o;
   o.threads = threads;
   o.summary = &s;
-  RunToText(p, imuconv::test::Plugins(), o, [&](std::string_view piece) { text.append(piece.data(), piece.size()); });
+  RunToText(p, imuconv::test::Plugins(), o,
+            [&](std::string_view piece) { text.append(piece.data(), piece.size()); });
   if (summary) *summary = s.str();
   return text;
 }
@@ -44,20 +45,26 @@ TEST(ThreadPool, EveryItemOnceAndTheLowestFailureWins) {
     EXPECT_EQ(pool.size(), threads);
     // A window as large as n: items are produced as freely as the pool allows.
     std::vector<std::atomic<int>> hits(1000);
-    pool.ordered_for(hits.size(), hits.size(), [&](std::size_t i) { hits[i]++; }, [](std::size_t) {});
+    pool.ordered_for(
+        hits.size(), hits.size(), [&](std::size_t i) { hits[i]++; }, [](std::size_t) {});
     for (const auto& h : hits) ASSERT_EQ(h.load(), 1);
     // Items 700, 300 and 301 throw: the error of 300 is reported (as a serial loop would).
     try {
-      pool.ordered_for(1000, 1000, [&](std::size_t i) {
-        if (i == 700 || i == 300 || i == 301) throw std::runtime_error("item " + std::to_string(i));
-      }, [](std::size_t) {});
+      pool.ordered_for(
+          1000, 1000,
+          [&](std::size_t i) {
+            if (i == 700 || i == 300 || i == 301)
+              throw std::runtime_error("item " + std::to_string(i));
+          },
+          [](std::size_t) {});
       FAIL() << "no exception";
     } catch (const std::runtime_error& e) {
       EXPECT_STREQ(e.what(), "item 300");
     }
     // The pool is usable after a failure.
     std::atomic<std::size_t> sum{0};
-    pool.ordered_for(100, 100, [&](std::size_t i) { sum += i; }, [](std::size_t) {});
+    pool.ordered_for(
+        100, 100, [&](std::size_t i) { sum += i; }, [](std::size_t) {});
     EXPECT_EQ(sum.load(), 4950u);
   }
   ThreadPool every_core(0);
@@ -76,7 +83,8 @@ TEST(ThreadPool, OrderedForConsumesInOrderWithinTheWindow) {
     pool.ordered_for(
         n, window,
         [&](std::size_t i) {
-          if (i >= consumed.load() + window) ahead = true;  // started before i - window was consumed
+          if (i >= consumed.load() + window)
+            ahead = true;  // started before i - window was consumed
           produced[i]++;
         },
         [&](std::size_t i) {
@@ -94,7 +102,8 @@ TEST(ThreadPool, OrderedForConsumesInOrderWithinTheWindow) {
       pool.ordered_for(
           n, window,
           [&](std::size_t i) {
-            if (i == 1500 || i == 900 || i == 901) throw std::runtime_error("item " + std::to_string(i));
+            if (i == 1500 || i == 900 || i == 901)
+              throw std::runtime_error("item " + std::to_string(i));
           },
           [&](std::size_t i) { last = i; });
     });
@@ -102,16 +111,19 @@ TEST(ThreadPool, OrderedForConsumesInOrderWithinTheWindow) {
     EXPECT_EQ(last, 899u);
     // A failing consumer stops the loop at once.
     const std::string m2 = imuconv::test::MessageOf<std::runtime_error>([&] {
-      pool.ordered_for(n, window, [](std::size_t) {}, [](std::size_t i) {
-        if (i == 10) throw std::runtime_error("sink");
-      });
+      pool.ordered_for(
+          n, window, [](std::size_t) {},
+          [](std::size_t i) {
+            if (i == 10) throw std::runtime_error("sink");
+          });
     });
     EXPECT_EQ(m2, "sink");
   }
 }
 
 TEST(Parallel, EveryExampleIsByteIdenticalToASerialRun) {
-  for (const char* name : {"euroc_v1_01_keyframes.json", "inline_basics.json", "generic_csv.json", "gtsam_import.json"}) {
+  for (const char* name : {"euroc_v1_01_keyframes.json", "inline_basics.json", "generic_csv.json",
+                           "gtsam_import.json"}) {
     SCOPED_TRACE(name);
     const Pipeline p = Pipeline::Load(SourcePath(std::string("examples/") + name));
     std::string serial_summary, parallel_summary;
@@ -120,7 +132,8 @@ TEST(Parallel, EveryExampleIsByteIdenticalToASerialRun) {
     for (unsigned threads : {2u, 3u, 8u}) {
       // Compared as strings so that a failure does not print megabytes.
       const std::string parallel = RunText(p, threads, &parallel_summary);
-      EXPECT_TRUE(parallel == serial) << threads << " threads: " << parallel.size() << " bytes vs " << serial.size();
+      EXPECT_TRUE(parallel == serial)
+          << threads << " threads: " << parallel.size() << " bytes vs " << serial.size();
       EXPECT_EQ(parallel_summary, serial_summary);
     }
     // Run() is the same document, parsed.
@@ -146,7 +159,8 @@ TEST(Parallel, FailuresAreTheSameForAnyThreadCount) {
     messages.insert(imuconv::test::MessageOf<Error>([&] { RunText(p, threads); }));
   }
   ASSERT_EQ(messages.size(), 1u);
-  EXPECT_NE(messages.begin()->find("overflow.json: /tasks/3 (task 'by_preint'): produced a non-finite number (output /tasks/3/steps/0/cov/matrix/"),
+  EXPECT_NE(messages.begin()->find("overflow.json: /tasks/3 (task 'by_preint'): produced a "
+                                   "non-finite number (output /tasks/3/steps/0/cov/matrix/"),
             std::string::npos)
       << *messages.begin();
 }
@@ -161,7 +175,8 @@ TEST(Parallel, AFailingSinkIsReportedAsItself) {
     o.threads = threads;
     const std::string msg = imuconv::test::MessageOf<Error>([&] {
       RunToText(p, imuconv::test::Plugins(), o, [&](std::string_view) {
-        if (++calls == 2) throw Error("out.json: cannot write the temporary file: No space left on device");
+        if (++calls == 2)
+          throw Error("out.json: cannot write the temporary file: No space left on device");
       });
     });
     EXPECT_EQ(msg, "out.json: cannot write the temporary file: No space left on device");
@@ -171,11 +186,15 @@ TEST(Parallel, AFailingSinkIsReportedAsItself) {
 
 TEST(Parallel, CommandLineThreadsGiveTheSameFile) {
   imuconv::test::TempDir tmp;
-  const std::string pipeline = imuconv::test::ShellQuote(SourcePath("examples/euroc_v1_01_keyframes.json"));
+  const std::string pipeline =
+      imuconv::test::ShellQuote(SourcePath("examples/euroc_v1_01_keyframes.json"));
   std::vector<std::string> texts;
   for (const char* threads : {"1", "2", "4"}) {
     const std::string out = tmp.file(std::string("out") + threads + ".json");
-    const auto r = imuconv::test::RunImuconv("run " + pipeline + " -o " + imuconv::test::ShellQuote(out) + " --quiet --threads " + threads, tmp);
+    const auto r =
+        imuconv::test::RunImuconv("run " + pipeline + " -o " + imuconv::test::ShellQuote(out) +
+                                      " --quiet --threads " + threads,
+                                  tmp);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     texts.push_back(imuconv::test::ReadText(out));
   }
@@ -205,7 +224,8 @@ TEST(Parallel, WholeEurocFile) {
   const json& ms = Task(out, "kf_rk4")["measurements"];
   ASSERT_EQ(ms.size(), 1447u);
   for (std::size_t k = 0; k < ms.size(); ++k) {
-    ASSERT_EQ(ms[k]["t_start_abs_ns"].get<std::int64_t>(), 1403715273262142976LL + static_cast<std::int64_t>(k) * 100000000LL);
+    ASSERT_EQ(ms[k]["t_start_abs_ns"].get<std::int64_t>(),
+              1403715273262142976LL + static_cast<std::int64_t>(k) * 100000000LL);
     ASSERT_NEAR(ms[k]["dt"].get<double>(), 0.1, 1e-12);
     ASSERT_EQ(ms[k]["n_knots"], 21);  // 200 Hz samples on the keyframes: 20 steps
     ASSERT_TRUE(ms[k]["expressed"].contains("gtsam_manifold"));
@@ -221,7 +241,8 @@ TEST(Parallel, WholeEurocFile) {
   EXPECT_LT(s["rms_rotation_error_deg"].get<double>(), 0.08);
   EXPECT_LT(s["max_position_error_m"].get<double>(), 4e-3);
   EXPECT_LT(s["max_rotation_error_deg"].get<double>(), 0.3);
-  EXPECT_NE(summary.find(" total (1447)       144.7000"), std::string::npos) << summary.substr(summary.size() - 600);
+  EXPECT_NE(summary.find(" total (1447)       144.7000"), std::string::npos)
+      << summary.substr(summary.size() - 600);
 }
 
 }  // namespace

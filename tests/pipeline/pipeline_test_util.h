@@ -22,7 +22,9 @@ namespace imuconv::test {
 
 namespace fs = std::filesystem;
 
-inline std::string SourcePath(const std::string& rel) { return std::string(IMUCONV_SOURCE_DIR) + "/" + rel; }
+inline std::string SourcePath(const std::string& rel) {
+  return std::string(IMUCONV_SOURCE_DIR) + "/" + rel;
+}
 inline std::string Binary() { return std::string(IMUCONV_BINARY_DIR) + "/bin/imuconv"; }
 
 /// A fresh directory under the system temp dir, removed with its contents at scope exit.
@@ -31,7 +33,8 @@ class TempDir {
   TempDir() {
     std::random_device rd;
     const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
-    path_ = fs::temp_directory_path() / ("imuconv_test_" + std::to_string(stamp) + "_" + std::to_string(rd()));
+    path_ = fs::temp_directory_path() /
+            ("imuconv_test_" + std::to_string(stamp) + "_" + std::to_string(rd()));
     fs::create_directories(path_);
   }
   ~TempDir() {
@@ -80,8 +83,8 @@ struct CommandResult {
 /// cannot change the results.
 inline CommandResult RunImuconv(const std::string& args, const TempDir& tmp) {
   const std::string out = tmp.file(".stdout"), err = tmp.file(".stderr");
-  const std::string cmd = "env -u IMUCONV_PLUGIN_PATH " + ShellQuote(Binary()) + " " + args + " > " + ShellQuote(out) +
-                          " 2> " + ShellQuote(err);
+  const std::string cmd = "env -u IMUCONV_PLUGIN_PATH " + ShellQuote(Binary()) + " " + args +
+                          " > " + ShellQuote(out) + " 2> " + ShellQuote(err);
   const int status = std::system(cmd.c_str());
   CommandResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -109,8 +112,10 @@ inline std::size_t CheckMatricesLabelled(const nlohmann::json& j, const std::str
         rows = 3 * j["rows"]["blocks"].size();
         cols = 3 * j["cols"]["blocks"].size();
       } else {
-        EXPECT_TRUE(j.contains("convention") && j["convention"].is_string()) << ptr << " has no convention";
-        EXPECT_TRUE(j.contains("blocks") && j["blocks"].size() == 5) << ptr << " has no block order";
+        EXPECT_TRUE(j.contains("convention") && j["convention"].is_string())
+            << ptr << " has no convention";
+        EXPECT_TRUE(j.contains("blocks") && j["blocks"].size() == 5)
+            << ptr << " has no block order";
         rows = cols = 15;
       }
       EXPECT_EQ(m.size(), rows) << ptr;
@@ -119,7 +124,8 @@ inline std::size_t CheckMatricesLabelled(const nlohmann::json& j, const std::str
     for (auto it = j.begin(); it != j.end(); ++it)
       if (it.key() != "matrix") n += CheckMatricesLabelled(it.value(), ptr + "/" + it.key());
   } else if (j.is_array()) {
-    for (std::size_t i = 0; i < j.size(); ++i) n += CheckMatricesLabelled(j[i], ptr + "/" + std::to_string(i));
+    for (std::size_t i = 0; i < j.size(); ++i)
+      n += CheckMatricesLabelled(j[i], ptr + "/" + std::to_string(i));
   }
   return n;
 }

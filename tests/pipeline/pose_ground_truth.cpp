@@ -50,21 +50,23 @@ std::vector<GtRow> ReadFullGroundTruth() {
   return rows;
 }
 
-
 /// TUM text of the rows' poses: "sec.nanosec x y z qx qy qz qw" (the stamps exactly).
 std::string Tum(const std::vector<GtRow>& rows) {
   std::string s = "# timestamp tx ty tz qx qy qz qw\n";
   for (const auto& r : rows) {
-    const std::string sec = r.t_ns.substr(0, r.t_ns.size() - 9), frac = r.t_ns.substr(r.t_ns.size() - 9);
-    s += sec + "." + frac + " " + Num17(r.v[0]) + " " + Num17(r.v[1]) + " " + Num17(r.v[2]) + " " + Num17(r.v[4]) + " " +
-         Num17(r.v[5]) + " " + Num17(r.v[6]) + " " + Num17(r.v[3]) + "\n";
+    const std::string sec = r.t_ns.substr(0, r.t_ns.size() - 9),
+                      frac = r.t_ns.substr(r.t_ns.size() - 9);
+    s += sec + "." + frac + " " + Num17(r.v[0]) + " " + Num17(r.v[1]) + " " + Num17(r.v[2]) + " " +
+         Num17(r.v[4]) + " " + Num17(r.v[5]) + " " + Num17(r.v[6]) + " " + Num17(r.v[3]) + "\n";
   }
   return s;
 }
 
 /// EuRoC vicon0 text of the rows' own poses (the same numbers, 17 digits).
 std::string Vicon0Copy(const std::vector<GtRow>& rows) {
-  std::string s = "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n";
+  std::string s =
+      "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z "
+      "[]\n";
   for (const auto& r : rows) {
     s += r.t_ns;
     for (int i = 0; i < 7; ++i) s += "," + Num17(r.v[i]);
@@ -76,13 +78,15 @@ std::string Vicon0Copy(const std::vector<GtRow>& rows) {
 /// EuRoC vicon0 text of the poses of a sensor S at T_BS = (R_BS, p_BS) on the body:
 /// T_RS = T_RB T_BS.
 std::string Vicon0(const std::vector<GtRow>& rows, const Mat3& R_BS, const Vec3& p_BS) {
-  std::string s = "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n";
+  std::string s =
+      "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z "
+      "[]\n";
   for (const auto& r : rows) {
     const Mat3 R_RB = so3::FromQuaternionWxyz(r.v[3], r.v[4], r.v[5], r.v[6]);
     const Vec3 p_RS = Vec3(r.v[0], r.v[1], r.v[2]) + R_RB * p_BS;
     const Eigen::Vector4d q = so3::ToQuaternionWxyz(R_RB * R_BS);
-    s += r.t_ns + "," + Num17(p_RS.x()) + "," + Num17(p_RS.y()) + "," + Num17(p_RS.z()) + "," + Num17(q[0]) + "," + Num17(q[1]) +
-         "," + Num17(q[2]) + "," + Num17(q[3]) + "\n";
+    s += r.t_ns + "," + Num17(p_RS.x()) + "," + Num17(p_RS.y()) + "," + Num17(p_RS.z()) + "," +
+         Num17(q[0]) + "," + Num17(q[1]) + "," + Num17(q[2]) + "," + Num17(q[3]) + "\n";
   }
   return s;
 }
@@ -115,8 +119,8 @@ json Pipeline(const std::vector<GtRow>& rows, const json& ground_truth) {
 /// Every step's ground-truth comparison of the pipeline's output.
 std::vector<json> Comparisons(const TempDir& tmp, const json& pipeline, const std::string& name) {
   const std::string path = tmp.write(name + ".json", pipeline.dump());
-  const CommandResult r =
-      RunImuconv("run " + ShellQuote(path) + " -o " + ShellQuote(tmp.file(name + ".out.json")), tmp);
+  const CommandResult r = RunImuconv(
+      "run " + ShellQuote(path) + " -o " + ShellQuote(tmp.file(name + ".out.json")), tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   std::vector<json> out;
   if (r.exit_code != 0) return out;
@@ -134,12 +138,16 @@ TEST(PoseGroundTruth, TumAndVicon0GiveTheFullStateErrorsExactly) {
   const auto full = Comparisons(
       tmp,
       Pipeline(rows,
-               {{"format", "euroc"}, {"path", SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv")}}),
+               {{"format", "euroc"},
+                {"path", SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv")}}),
       "full");
-  const auto tum =
-      Comparisons(tmp, Pipeline(rows, {{"format", "tum"}, {"path", tmp.write("gt.tum", Tum(rows))}}), "tum");
+  const auto tum = Comparisons(
+      tmp, Pipeline(rows, {{"format", "tum"}, {"path", tmp.write("gt.tum", Tum(rows))}}), "tum");
   const auto vicon = Comparisons(
-      tmp, Pipeline(rows, {{"format", "euroc_pose"}, {"path", tmp.write("vicon0.csv", Vicon0Copy(rows))}}), "vicon");
+      tmp,
+      Pipeline(rows,
+               {{"format", "euroc_pose"}, {"path", tmp.write("vicon0.csv", Vicon0Copy(rows))}}),
+      "vicon");
   ASSERT_EQ(full.size(), 40u);  // two tasks of 20 steps
   for (const auto* poses : {&tum, &vicon}) {
     ASSERT_EQ(poses->size(), full.size());
@@ -147,11 +155,15 @@ TEST(PoseGroundTruth, TumAndVicon0GiveTheFullStateErrorsExactly) {
       const json& f = full[k];
       const json& g = (*poses)[k];
       // The TUM file holds the 17-digit numbers of the full file's 6-digit ones, the same doubles.
-      EXPECT_EQ(g.at("position_error_m").get<double>(), f.at("position_error_m").get<double>()) << k;
-      EXPECT_EQ(g.at("rotation_error_deg").get<double>(), f.at("rotation_error_deg").get<double>()) << k;
+      EXPECT_EQ(g.at("position_error_m").get<double>(), f.at("position_error_m").get<double>())
+          << k;
+      EXPECT_EQ(g.at("rotation_error_deg").get<double>(), f.at("rotation_error_deg").get<double>())
+          << k;
       EXPECT_EQ(g.at("pose").at("p"), f.at("state").at("p")) << k;
       // Nothing a pose cannot tell.
-      EXPECT_FALSE(g.contains("velocity_error_mps") || g.contains("error_left") || g.contains("state")) << g.dump();
+      EXPECT_FALSE(g.contains("velocity_error_mps") || g.contains("error_left") ||
+                   g.contains("state"))
+          << g.dump();
     }
   }
 }
@@ -168,11 +180,13 @@ TEST(PoseGroundTruth, SensorPosesAreMappedToTheBodyByT_BS) {
   const auto full = Comparisons(
       tmp,
       Pipeline(rows,
-               {{"format", "euroc"}, {"path", SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv")}}),
+               {{"format", "euroc"},
+                {"path", SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv")}}),
       "full");
-  const auto mapped =
-      Comparisons(tmp, Pipeline(rows, {{"format", "euroc_pose"}, {"path", file}, {"T_BS", T}}), "mapped");
-  const auto unmapped = Comparisons(tmp, Pipeline(rows, {{"format", "euroc_pose"}, {"path", file}}), "unmapped");
+  const auto mapped = Comparisons(
+      tmp, Pipeline(rows, {{"format", "euroc_pose"}, {"path", file}, {"T_BS", T}}), "mapped");
+  const auto unmapped =
+      Comparisons(tmp, Pipeline(rows, {{"format", "euroc_pose"}, {"path", file}}), "unmapped");
   ASSERT_EQ(mapped.size(), full.size());
   ASSERT_EQ(unmapped.size(), full.size());
   double worst = 0.0, unmapped_least = INFINITY;
@@ -197,7 +211,8 @@ TEST(PoseGroundTruth, WhatAPoseCannotGiveIsRefusedAtItsPointer) {
   p["tasks"][0]["bias"] = "ground_truth";
   p["tasks"][3]["start"] = {{"state", "ground_truth"}};
   const std::string path = tmp.write("p.json", p.dump());
-  const CommandResult r = RunImuconv("run " + ShellQuote(path) + " -o " + ShellQuote(tmp.file("out.json")), tmp);
+  const CommandResult r =
+      RunImuconv("run " + ShellQuote(path) + " -o " + ShellQuote(tmp.file("out.json")), tmp);
   EXPECT_EQ(r.exit_code, 2);  // a pipeline the data cannot serve; nothing written
   EXPECT_NE(r.err.find("/tasks/0/bias: the ground truth"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("format \"tum\") has poses only"), std::string::npos) << r.err;
@@ -206,7 +221,8 @@ TEST(PoseGroundTruth, WhatAPoseCannotGiveIsRefusedAtItsPointer) {
   p["tasks"][0].erase("bias");
   p["tasks"][0]["bias"] = Pipeline(rows, {{"format", "tum"}, {"path", tum}})["tasks"][0]["bias"];
   tmp.write("p.json", p.dump());
-  const CommandResult r2 = RunImuconv("run " + ShellQuote(path) + " -o " + ShellQuote(tmp.file("out.json")), tmp);
+  const CommandResult r2 =
+      RunImuconv("run " + ShellQuote(path) + " -o " + ShellQuote(tmp.file("out.json")), tmp);
   EXPECT_NE(r2.exit_code, 0);
   EXPECT_NE(r2.err.find("/tasks/3/start/state: the ground truth"), std::string::npos) << r2.err;
   EXPECT_FALSE(fs::exists(tmp.file("out.json")));
@@ -239,7 +255,8 @@ TEST(PoseGroundTruth, MalformedPoseFilesNameTheLine) {
   for (const auto& c : cases) {
     const json p = Pipeline(rows, {{"format", "tum"}, {"path", tmp.write(c.name, c.text)}});
     const std::string path = tmp.write("p.json", p.dump());
-    const CommandResult r = RunImuconv("run " + ShellQuote(path) + " -o " + ShellQuote(tmp.file("out.json")), tmp);
+    const CommandResult r =
+        RunImuconv("run " + ShellQuote(path) + " -o " + ShellQuote(tmp.file("out.json")), tmp);
     EXPECT_NE(r.exit_code, 0) << c.name;
     EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.name << ": " << r.err;
     EXPECT_FALSE(fs::exists(tmp.file("out.json")));
@@ -252,9 +269,10 @@ TEST(PoseGroundTruth, ErrorsCsvLeavesTheVelocityColumnEmpty) {
   json p = Pipeline(rows, {{"format", "tum"}, {"path", tmp.write("gt.tum", Tum(rows))}});
   p["tasks"].erase(3);  // one propagate_by_preintegration task
   const std::string path = tmp.write("p.json", p.dump());
-  const CommandResult r = RunImuconv("run " + ShellQuote(path) + " -o " + ShellQuote(tmp.file("out.json")) +
-                                         " --errors " + ShellQuote(tmp.file("errors.csv")),
-                                     tmp);
+  const CommandResult r =
+      RunImuconv("run " + ShellQuote(path) + " -o " + ShellQuote(tmp.file("out.json")) +
+                     " --errors " + ShellQuote(tmp.file("errors.csv")),
+                 tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::stringstream csv(ReadText(tmp.file("errors.csv")));
   std::string line;

@@ -19,19 +19,31 @@ json Doc() {
   json samples = json::array();
   for (int k = 0; k <= 10; ++k) samples.push_back({0.01 * k, 0.1, -0.2, 0.3, 0.5, 0.1, 9.8});
   const json state = {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {1, 0, 0}}};
-  return {{"noise", {{"gyro_noise_density", 1e-4}, {"accel_noise_density", 1e-3}, {"gyro_random_walk", 1e-5}, {"accel_random_walk", 1e-4}}},
+  return {{"noise",
+           {{"gyro_noise_density", 1e-4},
+            {"accel_noise_density", 1e-3},
+            {"gyro_random_walk", 1e-5},
+            {"accel_random_walk", 1e-4}}},
           {"imu", {{"format", "inline"}, {"samples", samples}}},
           {"tasks",
-           {{{"type", "propagate"}, {"name", "prop"}, {"propagator", "rk4"}, {"state_convention", "gtsam_navstate"},
-             {"start", {{"state", state}}}, {"interval", {{"t_start", 0.0}, {"t_end", 0.1}}}},
-            {{"type", "preintegrate"}, {"name", "pre"}, {"method", {{"preintegrator", "tangent"}}},
-             {"conventions", {"gtsam_manifold"}}, {"keyframes", {0.0, 0.1}}}}}};
+           {{{"type", "propagate"},
+             {"name", "prop"},
+             {"propagator", "rk4"},
+             {"state_convention", "gtsam_navstate"},
+             {"start", {{"state", state}}},
+             {"interval", {{"t_start", 0.0}, {"t_end", 0.1}}}},
+            {{"type", "preintegrate"},
+             {"name", "pre"},
+             {"method", {{"preintegrator", "tangent"}}},
+             {"conventions", {"gtsam_manifold"}},
+             {"keyframes", {0.0, 0.1}}}}}};
 }
 
 /// "kind/id" -> the entry of the output's "plugins".
 std::map<std::string, json> ByKey(const json& plugins) {
   std::map<std::string, json> m;
-  for (const auto& p : plugins) m[p["kind"].get<std::string>() + "/" + p["id"].get<std::string>()] = p;
+  for (const auto& p : plugins)
+    m[p["kind"].get<std::string>() + "/" + p["id"].get<std::string>()] = p;
   return m;
 }
 
@@ -41,23 +53,27 @@ TEST(Provenance, EveryPluginUsedIsListedWithItsFileAndVersion) {
   const auto used = ByKey(out["plugins"]);
   // Named by the tasks, implied by them (rk4's native chart, tangent's covariance and
   // bias-Jacobian charts, gtsam_manifold's bias-Jacobian chart) and the reference charts.
-  for (const char* key : {"propagator/rk4", "preintegrator/tangent", "state_convention/gtsam_navstate",
-                          "state_convention/left", "preint_convention/gtsam_manifold",
-                          "preint_convention/gtsam_manifold_jacobian", "preint_convention/gtsam_tangent",
-                          "preint_convention/preint_reference"}) {
+  for (const char* key :
+       {"propagator/rk4", "preintegrator/tangent", "state_convention/gtsam_navstate",
+        "state_convention/left", "preint_convention/gtsam_manifold",
+        "preint_convention/gtsam_manifold_jacobian", "preint_convention/gtsam_tangent",
+        "preint_convention/preint_reference"}) {
     SCOPED_TRACE(key);
     ASSERT_EQ(used.count(key), 1u) << out["plugins"].dump(1);
     const json& e = used.at(key);
     const PluginInfo& info = imuconv::test::Plugins().info(
-        e["kind"] == "propagator" ? PluginKind::Propagator
-        : e["kind"] == "preintegrator" ? PluginKind::Preintegrator
-        : e["kind"] == "state_convention" ? PluginKind::StateConvention : PluginKind::IncrementConvention,
+        e["kind"] == "propagator"         ? PluginKind::Propagator
+        : e["kind"] == "preintegrator"    ? PluginKind::Preintegrator
+        : e["kind"] == "state_convention" ? PluginKind::StateConvention
+                                          : PluginKind::IncrementConvention,
         e["id"].get<std::string>());
     EXPECT_EQ(e["file"], info.file);
     EXPECT_EQ(e["version"], info.version);
     EXPECT_FALSE(e["version"].get<std::string>().empty());
   }
-  EXPECT_NE(used.at("propagator/rk4")["file"].get<std::string>().find("imuconv_plugin_integrators_rk4.so"), std::string::npos);
+  EXPECT_NE(used.at("propagator/rk4")["file"].get<std::string>().find(
+                "imuconv_plugin_integrators_rk4.so"),
+            std::string::npos);
   EXPECT_EQ(used.at("preint_convention/preint_reference")["file"], "built-in");
   // Plugins no task uses are not listed.
   EXPECT_EQ(used.count("propagator/euler"), 0u);
@@ -91,9 +107,11 @@ TEST(Provenance, AnOverridingPluginIsRefusedUnlessAllowedAndThenVisible) {
     LoadOptions lo;
     lo.allow_override = true;
     // The fixture's rk4 overrides the built-in one (said in one issue); nothing else may fail.
-    for (const LoadIssue& i : reg.load_search_path({dir}, lo)) EXPECT_TRUE(i.overridden) << i.file << ": " << i.message;
+    for (const LoadIssue& i : reg.load_search_path({dir}, lo))
+      EXPECT_TRUE(i.overridden) << i.file << ": " << i.message;
     const auto used = PluginsUsed(p.spec(), reg, {});
-    const auto it = std::find_if(used.begin(), used.end(), [](const PluginInfo* i) { return i->id == "rk4"; });
+    const auto it =
+        std::find_if(used.begin(), used.end(), [](const PluginInfo* i) { return i->id == "rk4"; });
     ASSERT_NE(it, used.end());
     EXPECT_EQ((*it)->file, dir + "/imuconv_plugin_claims_rk4.so");
     EXPECT_EQ((*it)->version, "0.0.1-fixture");

@@ -11,11 +11,14 @@ using namespace imuconv;
 using namespace imuconv::pipeline;
 using namespace imuconv::test;
 
-const std::string kEurocHeader = "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
-                                 "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n";
+const std::string kEurocHeader =
+    "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
+    "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n";
 
 std::string EurocSlice() { return SourcePath("examples/data/V1_01_easy_imu0_slice.csv"); }
-std::string GtSlice() { return SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv"); }
+std::string GtSlice() {
+  return SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv");
+}
 
 // ---- EuRoC, good files ----------------------------------------------------------------
 TEST(EurocReader, RealSlice) {
@@ -50,10 +53,11 @@ TEST(EurocReader, NanosecondStepsSurviveLargeStamps) {
 
 TEST(EurocReader, GivenOriginAndCrlf) {
   TempDir tmp;
-  const std::string f = tmp.write("imu.csv", "#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z\r\n"
-                                             "2000000000, 0.1,0.2,0.3 ,1,2,3\r\n"
-                                             "\r\n"
-                                             "2005000000,0.1,0.2,0.3,1,2,3\r\n");
+  const std::string f = tmp.write("imu.csv",
+                                  "#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z\r\n"
+                                  "2000000000, 0.1,0.2,0.3 ,1,2,3\r\n"
+                                  "\r\n"
+                                  "2005000000,0.1,0.2,0.3,1,2,3\r\n");
   const ImuData d = ReadEurocImu(f, 1000000000LL);
   ASSERT_EQ(d.samples.size(), 2u);
   EXPECT_EQ(d.samples[0].t, 1.0);
@@ -64,7 +68,7 @@ TEST(EurocReader, GivenOriginAndCrlf) {
 // ---- EuRoC, malformed files: each gets its own message with file and line ------------
 struct Malformed {
   const char* name;
-  std::string body;   // after the header line
+  std::string body;    // after the header line
   std::string expect;  // substring of the message after "FILE:LINE: "
   std::size_t line;
 };
@@ -91,20 +95,31 @@ TEST_P(EurocMalformed, SpecificError) {
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, EurocMalformed,
-    ::testing::Values(
-        Malformed{"too_few_columns", "1000,0,0,0,0,0,9.81\n2000,0,0,0,0,9.81\n", "expected 7 fields separated by ',', found 6", 3},
-        Malformed{"too_many_columns", "1000,0,0,0,0,0,9.81,7\n", "expected 7 fields separated by ',', found 8", 2},
-        Malformed{"non_numeric", "1000,0,abc,0,0,0,9.81\n", "column 2 (w_y): expected a finite number, found 'abc'", 2},
-        Malformed{"nan", "1000,0,0,0,0,0,9.81\n2000,0,0,0,nan,0,9.81\n", "column 4 (a_x): expected a finite number, found 'nan'", 3},
-        Malformed{"inf", "1000,0,0,inf,0,0,9.81\n", "column 3 (w_z): expected a finite number, found 'inf'", 2},
-        Malformed{"empty_field", "1000,0,0,0,,0,9.81\n", "column 4 (a_x): expected a finite number, found ''", 2},
-        Malformed{"repeated_stamp", "1000,0,0,0,0,0,9.81\n2000,0,0,0,0,0,9.81\n2000,0,0,0,0,0,9.81\n",
-                  "timestamp 2000 is not after the previous sample's (line 3)", 4},
-        Malformed{"decreasing_stamp", "1000,0,0,0,0,0,9.81\n999,0,0,0,0,0,9.81\n",
-                  "timestamp 999 is not after the previous sample's (line 2)", 3},
-        Malformed{"fractional_stamp", "1000.5,0,0,0,0,0,9.81\n", "column 0 (timestamp [ns]): expected an integer timestamp in nanoseconds, found '1000.5'", 2},
-        Malformed{"stamp_overflow", "99999999999999999999,0,0,0,0,0,9.81\n", "expected an integer timestamp in nanoseconds", 2},
-        Malformed{"trailing_garbage", "1000,0,0,0,0,0,9.81x\n", "column 6 (a_z): expected a finite number, found '9.81x'", 2}),
+    ::testing::Values(Malformed{"too_few_columns", "1000,0,0,0,0,0,9.81\n2000,0,0,0,0,9.81\n",
+                                "expected 7 fields separated by ',', found 6", 3},
+                      Malformed{"too_many_columns", "1000,0,0,0,0,0,9.81,7\n",
+                                "expected 7 fields separated by ',', found 8", 2},
+                      Malformed{"non_numeric", "1000,0,abc,0,0,0,9.81\n",
+                                "column 2 (w_y): expected a finite number, found 'abc'", 2},
+                      Malformed{"nan", "1000,0,0,0,0,0,9.81\n2000,0,0,0,nan,0,9.81\n",
+                                "column 4 (a_x): expected a finite number, found 'nan'", 3},
+                      Malformed{"inf", "1000,0,0,inf,0,0,9.81\n",
+                                "column 3 (w_z): expected a finite number, found 'inf'", 2},
+                      Malformed{"empty_field", "1000,0,0,0,,0,9.81\n",
+                                "column 4 (a_x): expected a finite number, found ''", 2},
+                      Malformed{"repeated_stamp",
+                                "1000,0,0,0,0,0,9.81\n2000,0,0,0,0,0,9.81\n2000,0,0,0,0,0,9.81\n",
+                                "timestamp 2000 is not after the previous sample's (line 3)", 4},
+                      Malformed{"decreasing_stamp", "1000,0,0,0,0,0,9.81\n999,0,0,0,0,0,9.81\n",
+                                "timestamp 999 is not after the previous sample's (line 2)", 3},
+                      Malformed{"fractional_stamp", "1000.5,0,0,0,0,0,9.81\n",
+                                "column 0 (timestamp [ns]): expected an integer timestamp in "
+                                "nanoseconds, found '1000.5'",
+                                2},
+                      Malformed{"stamp_overflow", "99999999999999999999,0,0,0,0,0,9.81\n",
+                                "expected an integer timestamp in nanoseconds", 2},
+                      Malformed{"trailing_garbage", "1000,0,0,0,0,0,9.81x\n",
+                                "column 6 (a_z): expected a finite number, found '9.81x'", 2}),
     [](const auto& info) { return std::string(info.param.name); });
 
 TEST(EurocReader, MissingAndEmptyFiles) {
@@ -118,7 +133,8 @@ TEST(EurocReader, MissingAndEmptyFiles) {
   // A directory, and a binary file: refused rather than read without end.
   msg = MessageOf<ReadError>([&] { ReadEurocImu(tmp.path()); });
   EXPECT_EQ(msg, tmp.path() + ": is a directory, not a file");
-  const std::string bin = tmp.write("bin.csv", kEurocHeader + std::string("1000,0,0,\0,0,0,9.81\n", 21));
+  const std::string bin =
+      tmp.write("bin.csv", kEurocHeader + std::string("1000,0,0,\0,0,0,9.81\n", 21));
   msg = MessageOf<ReadError>([&] { ReadEurocImu(bin); });
   EXPECT_EQ(msg, bin + ":2: contains a NUL byte; expected a text (CSV) file");
   const std::string longline = tmp.write("long.csv", kEurocHeader + std::string(2u << 20, '1'));
@@ -135,7 +151,8 @@ TEST(CsvReader, SecondsCsvMatchesTheEurocFile) {
   f.delimiter = ';';
   f.header_rows = 1;
   f.time_unit = TimeUnit::s;
-  f.columns = {std::string("time"), 4, 5, 6, std::string("ax"), std::string("ay"), std::string("az")};
+  f.columns = {std::string("time"), 4, 5, 6, std::string("ax"), std::string("ay"),
+               std::string("az")};
   const ImuData c = ReadCsvImu(SourcePath("examples/data/generic_imu_seconds.csv"), f);
   const ImuData e = ReadEurocImu(EurocSlice());
   ASSERT_EQ(c.samples.size(), 401u);
@@ -175,41 +192,54 @@ TEST(CsvReader, SpecificErrors) {
   TempDir tmp;
   CsvFormat named;
   named.header_rows = 1;
-  named.columns = {std::string("t"), std::string("gx"), std::string("gy"), std::string("gz"), std::string("ax"),
-                   std::string("ay"), std::string("az")};
+  named.columns = {std::string("t"),  std::string("gx"), std::string("gy"), std::string("gz"),
+                   std::string("ax"), std::string("ay"), std::string("az")};
   const std::string hdr = "t,gx,gy,gz,ax,ay,az\n";
 
   std::string f = tmp.write("a.csv", "t,gyro_x,gy,gz,ax,ay,az\n0,0,0,0,0,0,0\n");
   std::string msg = MessageOf<ReadError>([&] { ReadCsvImu(f, named); });
-  EXPECT_NE(msg.find(f + ":1: no column named 'gx' (for 'wx') in the header; columns: 't', 'gyro_x'"), std::string::npos) << msg;
+  EXPECT_NE(
+      msg.find(f + ":1: no column named 'gx' (for 'wx') in the header; columns: 't', 'gyro_x'"),
+      std::string::npos)
+      << msg;
 
   CsvFormat no_header = named;
   no_header.header_rows = 0;
   f = tmp.write("b.csv", "0,0,0,0,0,0,0\n");
   msg = MessageOf<ReadError>([&] { ReadCsvImu(f, no_header); });
-  EXPECT_NE(msg.find("column 't' is given by the name 't' but the format has no header row"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("column 't' is given by the name 't' but the format has no header row"),
+            std::string::npos)
+      << msg;
 
   CsvFormat wide;
   wide.columns = {0, 1, 2, 3, 4, 5, 9};
   f = tmp.write("c.csv", "0,0,0,0,0,0,0\n");
   msg = MessageOf<ReadError>([&] { ReadCsvImu(f, wide); });
-  EXPECT_NE(msg.find(f + ":1: expected at least 10 fields separated by ','"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(f + ":1: expected at least 10 fields separated by ','"), std::string::npos)
+      << msg;
 
   f = tmp.write("d.csv", hdr + "0,0,0,0,0,0,0\n0.1,0,0,0,0,0\n");
   msg = MessageOf<ReadError>([&] { ReadCsvImu(f, named); });
-  EXPECT_NE(msg.find(f + ":3: expected 7 fields separated by ',', found 6"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(f + ":3: expected 7 fields separated by ',', found 6"), std::string::npos)
+      << msg;
 
   f = tmp.write("e.csv", hdr + "0,0,0,0,0,0,0\n0.1,0,0,0,0,0,0\n0.1,0,0,0,0,0,0\n");
   msg = MessageOf<ReadError>([&] { ReadCsvImu(f, named); });
-  EXPECT_NE(msg.find(f + ":4: timestamp 0.1 is not after the previous sample's (line 3)"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(f + ":4: timestamp 0.1 is not after the previous sample's (line 3)"),
+            std::string::npos)
+      << msg;
 
   f = tmp.write("f.csv", hdr + "0,0,0,0,0,0,0\n0.1x,0,0,0,0,0,0\n");
   msg = MessageOf<ReadError>([&] { ReadCsvImu(f, named); });
-  EXPECT_NE(msg.find(f + ":3: column 0 (t, 't'): expected a timestamp in s, found '0.1x'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(f + ":3: column 0 (t, 't'): expected a timestamp in s, found '0.1x'"),
+            std::string::npos)
+      << msg;
 
   f = tmp.write("g.csv", hdr + "0,0,0,0,0,NaN,0\n");
   msg = MessageOf<ReadError>([&] { ReadCsvImu(f, named); });
-  EXPECT_NE(msg.find(f + ":2: column 5 (ay, 'ay'): expected a finite number, found 'NaN'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(f + ":2: column 5 (ay, 'ay'): expected a finite number, found 'NaN'"),
+            std::string::npos)
+      << msg;
 
   f = tmp.write("h.csv", "");
   CsvFormat two_headers = named;
@@ -257,7 +287,8 @@ TEST(GroundTruthReader, RealSliceAndInterpolation) {
   EXPECT_EQ(gt.x[0].v, Vec3(-0.136055, -0.389991, 0.323311));
   EXPECT_EQ(gt.x[0].bg, Vec3(-0.00191464, 0.0212065, 0.0763849));
   EXPECT_EQ(gt.x[0].ba, Vec3(-0.0175313, 0.16211, 0.0891823));
-  EXPECT_LT((gt.x[0].R - so3::FromQuaternionWxyz(0.429511, 0.534653, -0.615223, 0.388801)).norm(), 1e-15);
+  EXPECT_LT((gt.x[0].R - so3::FromQuaternionWxyz(0.429511, 0.534653, -0.615223, 0.388801)).norm(),
+            1e-15);
   // Midway between two rows: p, v, b linear; R on the geodesic, half the relative angle.
   const double tm = 0.5 * (gt.t[10] + gt.t[11]);
   const auto xm = gt.at(tm);
@@ -280,18 +311,27 @@ TEST(GroundTruthReader, SpecificErrors) {
   EXPECT_NE(msg.find(f + ":2: expected 17 fields"), std::string::npos) << msg;
   f = tmp.write("b.csv", hdr + "1000,0,0,0,0.9,0,0,0,0,0,0,0,0,0,0,0,0\n");
   msg = MessageOf<ReadError>([&] { ReadEurocGroundTruth(f, o); });
-  EXPECT_NE(msg.find(f + ":2: quaternion (q_w, q_x, q_y, q_z) has norm 0.9"), std::string::npos) << msg;
-  f = tmp.write("c.csv", hdr + "1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n");
+  EXPECT_NE(msg.find(f + ":2: quaternion (q_w, q_x, q_y, q_z) has norm 0.9"), std::string::npos)
+      << msg;
+  f = tmp.write(
+      "c.csv",
+      hdr + "1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n");
   msg = MessageOf<ReadError>([&] { ReadEurocGroundTruth(f, o); });
-  EXPECT_NE(msg.find(f + ":3: timestamp 1000 is not after the previous sample's (line 2)"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(f + ":3: timestamp 1000 is not after the previous sample's (line 2)"),
+            std::string::npos)
+      << msg;
   f = tmp.write("d.csv", hdr + "1000,0,0,0,1,0,0,0,0,0,x,0,0,0,0,0,0\n");
   msg = MessageOf<ReadError>([&] { ReadEurocGroundTruth(f, o); });
-  EXPECT_NE(msg.find(f + ":2: column 10 (v_z): expected a finite number, found 'x'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(f + ":2: column 10 (v_z): expected a finite number, found 'x'"),
+            std::string::npos)
+      << msg;
   f = tmp.write("e.csv", hdr + "1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n");
-  const TimeOrigin late{TimeValue{5000, 0.0}, TimeUnit::ns};  // rows before the origin are fine: t < 0
+  const TimeOrigin late{TimeValue{5000, 0.0},
+                        TimeUnit::ns};  // rows before the origin are fine: t < 0
   EXPECT_EQ(ReadEurocGroundTruth(f, late).t.at(0), -4e-6);
   f = tmp.write("f.csv", hdr + "# only comments and blank lines\n\n");
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocGroundTruth(f, o); }), f + ": contains no ground-truth rows");
+  EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocGroundTruth(f, o); }),
+            f + ": contains no ground-truth rows");
 }
 
 // Both readers go through one row loop: stamps that differ in the file but not once made
@@ -301,20 +341,27 @@ TEST(RowLoop, StampsThatCollapseInDoubleSecondsAreRefusedAtTheirLine) {
   // 1e9 s after the origin, double seconds are 1.2e-7 s apart: 1 ns steps collapse.
   const std::string hdr = "#time(ns),px,py,pz,qw,qx,qy,qz,vx,vy,vz,bwx,bwy,bwz,bax,bay,baz\n";
   const std::string row = ",0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n";
-  const std::string g = tmp.write("gt.csv", hdr + "1000000000000000000" + row + "1000000000000000001" + row);
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocGroundTruth(g, TimeOrigin{TimeValue{0, 0.0}, TimeUnit::s}); }),
-            g + ":3: timestamp is too close to the previous row's to be told apart in double seconds");
+  const std::string g =
+      tmp.write("gt.csv", hdr + "1000000000000000000" + row + "1000000000000000001" + row);
+  EXPECT_EQ(
+      MessageOf<ReadError>([&] {
+        ReadEurocGroundTruth(g, TimeOrigin{TimeValue{0, 0.0}, TimeUnit::s});
+      }),
+      g + ":3: timestamp is too close to the previous row's to be told apart in double seconds");
   // Ground truth in ns on an axis in seconds: the stamp is split into whole seconds and the
   // remainder before the difference, so the nanosecond survives (as a double, 1e18 ns + 5 ms
   // + 1 ns would round to a multiple of 128 ns).
-  const std::string n = tmp.write("gt_ns.csv", hdr + "1000000000000000000" + row + "1000000000005000001" + row);
+  const std::string n =
+      tmp.write("gt_ns.csv", hdr + "1000000000000000000" + row + "1000000000005000001" + row);
   const TimeOrigin near{TimeValue{1000000000, 0.0}, TimeUnit::s};
   EXPECT_EQ(ReadEurocGroundTruth(n, near).t.at(1), 5000001 / 1e9);
   CsvFormat csv;
   csv.time_origin = TimeValue{0, 0.0};
-  const std::string i = tmp.write("imu.csv", "1000000000.0000000001,0,0,0,0,0,9.81\n1000000000.0000000002,0,0,0,0,0,9.81\n");
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(i, csv); }),
-            i + ":2: timestamp is too close to the previous sample's to be told apart in double seconds");
+  const std::string i = tmp.write(
+      "imu.csv", "1000000000.0000000001,0,0,0,0,0,9.81\n1000000000.0000000002,0,0,0,0,0,9.81\n");
+  EXPECT_EQ(
+      MessageOf<ReadError>([&] { ReadCsvImu(i, csv); }),
+      i + ":2: timestamp is too close to the previous sample's to be told apart in double seconds");
 }
 
 }  // namespace

@@ -34,7 +34,8 @@ using nlohmann::json;
 
 constexpr double kWhitenedTol = 1e-5;
 
-json StateJson(const Vec3& p, const Eigen::Vector4d& q_wxyz, const Vec3& v, const Vec3& bg, const Vec3& ba) {
+json StateJson(const Vec3& p, const Eigen::Vector4d& q_wxyz, const Vec3& v, const Vec3& bg,
+               const Vec3& ba) {
   return {{"p", {p.x(), p.y(), p.z()}},
           {"q_wxyz", {q_wxyz[0], q_wxyz[1], q_wxyz[2], q_wxyz[3]}},
           {"v", {v.x(), v.y(), v.z()}},
@@ -48,14 +49,16 @@ Eigen::Vector4d Wxyz(const json& q) { return Eigen::Vector4d(q[0], q[1], q[2], q
 /// state_j, `basalt_task` with the Basalt anchor's forward_zoh state0 and state1.
 json RunCase(const std::string& id) {
   const json c = ReadJson(DataPath("reference/cases/" + id + ".json"));
-  const json vins = ReadJson(DataPath("reference/anchors/vins-fusion/" + id + ".json")).at("factor");
-  const json basalt = ReadJson(DataPath("reference/anchors/basalt/" + id + ".json")).at("forward_zoh").at("factor");
+  const json vins =
+      ReadJson(DataPath("reference/anchors/vins-fusion/" + id + ".json")).at("factor");
+  const json basalt =
+      ReadJson(DataPath("reference/anchors/basalt/" + id + ".json")).at("forward_zoh").at("factor");
   const json& s = c.at("state_s");
   const Vec3 bg = JsonVec3(s.at("bg")), ba = JsonVec3(s.at("ba"));
   const double t0 = c.at("imu").front().at(0), t1 = c.at("imu").back().at(0);
   auto vins_state = [&](const json& x) {
-    return StateJson(JsonVec3(x.at("P")), Wxyz(x.at("Q_wxyz")), JsonVec3(x.at("V")), JsonVec3(x.at("Bg")),
-                     JsonVec3(x.at("Ba")));
+    return StateJson(JsonVec3(x.at("P")), Wxyz(x.at("Q_wxyz")), JsonVec3(x.at("V")),
+                     JsonVec3(x.at("Bg")), JsonVec3(x.at("Ba")));
   };
   auto basalt_state = [&](const json& x) {
     return StateJson(JsonVec3(x.at("p")), Wxyz(x.at("q_wxyz")), JsonVec3(x.at("v")), bg, ba);
@@ -100,7 +103,8 @@ const json& Task(const json& out, const std::string& name) {
 
 double Worst(const json& ref, const json& est, const std::initializer_list<const char*> keys) {
   double d = 0.0;
-  for (const char* k : keys) d = std::max(d, MaxEntryDiff(JsonMatrix(ref.at(k)), JsonMatrix(est.at(k))));
+  for (const char* k : keys)
+    d = std::max(d, MaxEntryDiff(JsonMatrix(ref.at(k)), JsonMatrix(est.at(k))));
   return d;
 }
 
@@ -109,9 +113,12 @@ class ResidualNative : public ::testing::TestWithParam<const char*> {};
 TEST_P(ResidualNative, VinsFusionAndBasaltKindsWriteTheSystemsOwnFactor) {
   const std::string id = GetParam();
   const json out = RunCase(id);
-  const json vins = ReadJson(DataPath("reference/anchors/vins-fusion/" + id + ".json")).at("factor");
-  const json basalt =
-      ReadJson(DataPath("reference/anchors/basalt/" + id + ".json")).at("forward_zoh").at("factor").at("at_lin_bias");
+  const json vins =
+      ReadJson(DataPath("reference/anchors/vins-fusion/" + id + ".json")).at("factor");
+  const json basalt = ReadJson(DataPath("reference/anchors/basalt/" + id + ".json"))
+                          .at("forward_zoh")
+                          .at("factor")
+                          .at("at_lin_bias");
   const json& v = Task(out, "vins_task").at("residuals").at(0).at("vins_fusion");
   const json& b = Task(out, "basalt_task").at("residuals").at(0).at("basalt");
   const auto fields = {"residual", "jacobian_pose_i", "jacobian_speedbias_i", "jacobian_pose_j",
@@ -132,15 +139,21 @@ TEST_P(ResidualNative, VinsFusionAndBasaltKindsWriteTheSystemsOwnFactor) {
     return ok;
   };
   double scaled = 0.0;
-  EXPECT_TRUE(residual_ok(vins.at("raw").at("residual"), v.at("raw").at("residual"), vins_meas, scaled));
+  EXPECT_TRUE(
+      residual_ok(vins.at("raw").at("residual"), v.at("raw").at("residual"), vins_meas, scaled));
   EXPECT_TRUE(residual_ok(basalt.at("residual"), b.at("residual"), basalt_meas, scaled));
-  const double d_raw = Worst(vins.at("raw"), v.at("raw"),
-                             {"jacobian_pose_i", "jacobian_speedbias_i", "jacobian_pose_j", "jacobian_speedbias_j"});
-  const double d_white = std::max(Worst(vins, v, {"sqrt_info"}), Worst(vins.at("whitened"), v.at("whitened"), fields));
-  const double d_basalt = Worst(basalt, b, {"d_res_d_state0", "d_res_d_state1", "d_res_d_bg", "d_res_d_ba"});
-  const double r_vins = Worst(vins.at("raw"), v.at("raw"), {"residual"}), r_basalt = Worst(basalt, b, {"residual"});
+  const double d_raw =
+      Worst(vins.at("raw"), v.at("raw"),
+            {"jacobian_pose_i", "jacobian_speedbias_i", "jacobian_pose_j", "jacobian_speedbias_j"});
+  const double d_white =
+      std::max(Worst(vins, v, {"sqrt_info"}), Worst(vins.at("whitened"), v.at("whitened"), fields));
+  const double d_basalt =
+      Worst(basalt, b, {"d_res_d_state0", "d_res_d_state1", "d_res_d_bg", "d_res_d_ba"});
+  const double r_vins = Worst(vins.at("raw"), v.at("raw"), {"residual"}),
+               r_basalt = Worst(basalt, b, {"residual"});
   std::printf(
-      "  %-13s vins_fusion raw Jacobians %.2g whitened %.2g | basalt Jacobians %.2g | residuals %.2g, %.2g by the "
+      "  %-13s vins_fusion raw Jacobians %.2g whitened %.2g | basalt Jacobians %.2g | residuals "
+      "%.2g, %.2g by the "
       "metric (beyond it: %.2g of the increment)\n",
       id.c_str(), d_raw, d_white, d_basalt, r_vins, r_basalt, scaled);
   EXPECT_LE(d_raw, kAnchorMetricTol);
@@ -152,6 +165,7 @@ TEST_P(ResidualNative, VinsFusionAndBasaltKindsWriteTheSystemsOwnFactor) {
               white.squaredNorm(), 1e-9 * white.squaredNorm());
 }
 
-INSTANTIATE_TEST_SUITE_P(Reference, ResidualNative, ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
+INSTANTIATE_TEST_SUITE_P(Reference, ResidualNative, ::testing::ValuesIn(kReferenceCaseIds),
+                         CaseTestName);
 
 }  // namespace

@@ -53,12 +53,14 @@ json Manifest() {
 TEST(SchemaCases, TheManifestListsEveryCaseFileOnce) {
   const json m = Manifest();
   std::set<std::string> listed;
-  for (const auto& c : m.at("cases")) EXPECT_TRUE(listed.insert(c.at("file").get<std::string>()).second) << c;
+  for (const auto& c : m.at("cases"))
+    EXPECT_TRUE(listed.insert(c.at("file").get<std::string>()).second) << c;
   std::size_t files = 0;
   for (const char* group : {"accept", "reject", "semantic"})
     for (const auto& e : std::filesystem::directory_iterator(kCases + "/" + group)) {
       ++files;
-      EXPECT_TRUE(listed.count(std::string(group) + "/" + e.path().filename().string())) << e.path() << " is not in cases.json";
+      EXPECT_TRUE(listed.count(std::string(group) + "/" + e.path().filename().string()))
+          << e.path() << " is not in cases.json";
     }
   EXPECT_EQ(files, listed.size());
   EXPECT_GE(listed.size(), 50u);
@@ -85,20 +87,23 @@ TEST(SchemaCases, TheCheckerJudgesEachCaseAsListed) {
     const std::string want = c.value("pointer", "") + ": ";
     const std::string message = c.value("message", "");
     bool found = false;
-    for (std::size_t at = verdict.find(want); at != std::string::npos && !found; at = verdict.find(want, at + 1)) {
+    for (std::size_t at = verdict.find(want); at != std::string::npos && !found;
+         at = verdict.find(want, at + 1)) {
       if (at != 0 && verdict[at - 1] != '\n') continue;
       const std::string line = verdict.substr(at, verdict.find('\n', at) - at);
       found = line.find(message) != std::string::npos;
     }
-    EXPECT_TRUE(found) << file << ": expected an issue at '" << c.value("pointer", "") << "' with '" << message
-                       << "'; the checker said:\n" << verdict;
+    EXPECT_TRUE(found) << file << ": expected an issue at '" << c.value("pointer", "") << "' with '"
+                       << message << "'; the checker said:\n"
+                       << verdict;
   }
   EXPECT_GE(judged, 50u);
 }
 
 TEST(SchemaCases, TheCheckerAcceptsEveryExample) {
   std::size_t n = 0;
-  for (const auto& e : std::filesystem::directory_iterator(std::string(IMUCONV_SOURCE_DIR) + "/examples")) {
+  for (const auto& e :
+       std::filesystem::directory_iterator(std::string(IMUCONV_SOURCE_DIR) + "/examples")) {
     const std::string name = e.path().filename().string();
     if (e.path().extension() != ".json" || name.find(".state.") != std::string::npos ||
         name.find(".measurements.") != std::string::npos)

@@ -48,7 +48,8 @@ TEST(StateForm, OpenVinsJplQuaternionGivesTheBodyToWorldRotation) {
     q[1] = (C(2, 0) - C(0, 2)) / (4 * q[3]);
     q[2] = (C(0, 1) - C(1, 0)) / (4 * q[3]);
     ASSERT_LT((JplGtoI(q) - C).cwiseAbs().maxCoeff(), 1e-14);  // the solver is right
-    const auto [error, x] = Read({{"p", {1, 2, 3}}, {"q_GtoI_xyzw", {q[0], q[1], q[2], q[3]}}, {"v", {0, 0, 0}}});
+    const auto [error, x] =
+        Read({{"p", {1, 2, 3}}, {"q_GtoI_xyzw", {q[0], q[1], q[2], q[3]}}, {"v", {0, 0, 0}}});
     ASSERT_EQ(error, "");
     // Both are a few products of the same numbers: a few ulps of 1.
     EXPECT_LT((x.R - R).cwiseAbs().maxCoeff(), 1e-14);
@@ -57,13 +58,18 @@ TEST(StateForm, OpenVinsJplQuaternionGivesTheBodyToWorldRotation) {
 
 TEST(StateForm, OneRotationExactlyAndAUnitOne) {
   const json p = {1, 2, 3}, v = {0, 0, 0};
-  auto [error, x] = Read({{"p", p}, {"q_wxyz", {1, 0, 0, 0}}, {"q_GtoI_xyzw", {0, 0, 0, 1}}, {"v", v}});
+  auto [error, x] =
+      Read({{"p", p}, {"q_wxyz", {1, 0, 0, 0}}, {"q_GtoI_xyzw", {0, 0, 0, 1}}, {"v", v}});
   EXPECT_EQ(error, "state.json: /q_GtoI_xyzw: give either q_wxyz or q_GtoI_xyzw, not both");
   std::tie(error, x) = Read({{"p", p}, {"v", v}});
   EXPECT_EQ(error,
-            "state.json: /q_wxyz: required key is missing (the body-to-world Hamilton q_wxyz, or OpenVINS's JPL q_GtoI_xyzw)");
+            "state.json: /q_wxyz: required key is missing (the body-to-world Hamilton q_wxyz, or "
+            "OpenVINS's JPL q_GtoI_xyzw)");
   std::tie(error, x) = Read({{"p", p}, {"q_GtoI_xyzw", {0, 0, 0, 2}}, {"v", v}});
-  EXPECT_EQ(error.rfind("state.json: /q_GtoI_xyzw: expected a unit quaternion [x, y, z, w] (norm within 1e-6 of 1)", 0), 0u)
+  EXPECT_EQ(error.rfind("state.json: /q_GtoI_xyzw: expected a unit quaternion [x, y, z, w] (norm "
+                        "within 1e-6 of 1)",
+                        0),
+            0u)
       << error;
 }
 

@@ -17,13 +17,16 @@
 namespace {
 using namespace imuconv;
 using namespace imuconv::pipeline;
-using nlohmann::json;
 using imuconv::test::TempDir;
+using nlohmann::json;
 
 const char* kFile = "mem/validation.json";
 
 json Noise() {
-  return {{"gyro_noise_density", 1e-4}, {"accel_noise_density", 1e-3}, {"gyro_random_walk", 1e-5}, {"accel_random_walk", 1e-4}};
+  return {{"gyro_noise_density", 1e-4},
+          {"accel_noise_density", 1e-3},
+          {"gyro_random_walk", 1e-5},
+          {"accel_random_walk", 1e-4}};
 }
 json State() { return {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {0, 0, 0}}}; }
 
@@ -39,7 +42,9 @@ json Samples(double seconds) {
 json Pipeline1(const json& tasks, double seconds = 1.0) {
   // {task} in braces is the task itself to nlohmann::json, not an array of one: wrap it.
   const json list = tasks.is_array() ? tasks : json::array({tasks});
-  return {{"noise", Noise()}, {"imu", {{"format", "inline"}, {"samples", Samples(seconds)}}}, {"tasks", list}};
+  return {{"noise", Noise()},
+          {"imu", {{"format", "inline"}, {"samples", Samples(seconds)}}},
+          {"tasks", list}};
 }
 
 /// 15x15 with `var` on the diagonal.
@@ -65,7 +70,10 @@ json PxVxCov(double c) {
 }
 
 json Propagate(const json& cov) {
-  return {{"type", "propagate"}, {"name", "prop"}, {"propagator", "rk4"}, {"start", {{"state", State()}, {"cov", cov}}},
+  return {{"type", "propagate"},
+          {"name", "prop"},
+          {"propagator", "rk4"},
+          {"start", {{"state", State()}, {"cov", cov}}},
           {"interval", {{"t_start", 0.0}, {"t_end", 1.0}}}};
 }
 
@@ -101,7 +109,10 @@ TEST(Covariances, TheIndefiniteStartCovarianceOfTheReportIsRefused) {
   ASSERT_FALSE(bad.issues.empty()) << bad.out.dump().substr(0, 300);
   EXPECT_EQ(bad.file, kFile);
   const std::string m = test::IssueAt(bad.issues, "/tasks/0/start/cov");
-  EXPECT_NE(m.find("not a valid covariance: not positive semi-definite: smallest eigenvalue -0.499"), std::string::npos) << m;
+  EXPECT_NE(
+      m.find("not a valid covariance: not positive semi-definite: smallest eigenvalue -0.499"),
+      std::string::npos)
+      << m;
   EXPECT_NE(m.find("nothing is repaired"), std::string::npos) << m;
   // A correlation of -0.999 is a covariance: it runs, and every variance written is >= 0.
   const Outcome ok = RunDoc(Pipeline1({Propagate(PxVxCov(-0.999))}));
@@ -117,22 +128,45 @@ TEST(Covariances, EveryFormAndEveryPlaceIsChecked) {
   for (int i = 0; i < 15; ++i) neg.push_back(i == 6 ? -1.0 : 1e-4);
   json asym = Diagonal(1.0);
   asym[0][1] = 0.5;  // (1, 0) stays 0
-  json tasks = {Propagate({{"diagonal", neg}}),
-                {{"type", "preintegrate"}, {"name", "pre"}, {"method", {{"propagator", "rk4"}}}, {"keyframes", {0.0, 0.5, 1.0}}},
-                {{"type", "propagate_by_preintegration"}, {"name", "pbp"}, {"measurements", "pre"},
-                 {"start", {{"state", State()}, {"cov", {{"convention", "gtsam_navstate"}, {"matrix", asym}}}}}},
-                {{"type", "convert"}, {"name", "cv"}, {"what", "state_covariance"}, {"from", "left"}, {"to", "gtsam_navstate"},
-                 {"state", State()}, {"matrix", PxVxCov(2.0)}},
-                // A transition matrix is not a covariance: not symmetric, and accepted.
-                {{"type", "convert"}, {"name", "tr"}, {"what", "state_transition"}, {"from", "left"}, {"to", "gtsam_navstate"},
-                 {"state", State()}, {"state_end", State()}, {"matrix", asym}},
-                {{"type", "convert"}, {"name", "ic"}, {"what", "increment_covariance"}, {"from", "preint_reference"},
-                 {"to", "gtsam_manifold"}, {"increment", {{"q_wxyz", {1, 0, 0, 0}}, {"dp", {0, 0, 0}}, {"dv", {0, 0, 0}}}},
-                 {"matrix", {{"diagonal", neg}}}}};
+  json tasks = {
+      Propagate({{"diagonal", neg}}),
+      {{"type", "preintegrate"},
+       {"name", "pre"},
+       {"method", {{"propagator", "rk4"}}},
+       {"keyframes", {0.0, 0.5, 1.0}}},
+      {{"type", "propagate_by_preintegration"},
+       {"name", "pbp"},
+       {"measurements", "pre"},
+       {"start",
+        {{"state", State()}, {"cov", {{"convention", "gtsam_navstate"}, {"matrix", asym}}}}}},
+      {{"type", "convert"},
+       {"name", "cv"},
+       {"what", "state_covariance"},
+       {"from", "left"},
+       {"to", "gtsam_navstate"},
+       {"state", State()},
+       {"matrix", PxVxCov(2.0)}},
+      // A transition matrix is not a covariance: not symmetric, and accepted.
+      {{"type", "convert"},
+       {"name", "tr"},
+       {"what", "state_transition"},
+       {"from", "left"},
+       {"to", "gtsam_navstate"},
+       {"state", State()},
+       {"state_end", State()},
+       {"matrix", asym}},
+      {{"type", "convert"},
+       {"name", "ic"},
+       {"what", "increment_covariance"},
+       {"from", "preint_reference"},
+       {"to", "gtsam_manifold"},
+       {"increment", {{"q_wxyz", {1, 0, 0, 0}}, {"dp", {0, 0, 0}}, {"dv", {0, 0, 0}}}},
+       {"matrix", {{"diagonal", neg}}}}};
   const Outcome o = RunDoc(Pipeline1(tasks));
   EXPECT_ISSUE(o.issues, "/tasks/0/start/cov", "diagonal entry (6, 6) = -1 is negative");
   EXPECT_ISSUE(o.issues, "/tasks/0/start/cov", "smallest eigenvalue of (C + C^T)/2: -1");
-  EXPECT_ISSUE(o.issues, "/tasks/2/start/cov", "not symmetric: entries (0, 1) = 0.5 and (1, 0) = 0");
+  EXPECT_ISSUE(o.issues, "/tasks/2/start/cov",
+               "not symmetric: entries (0, 1) = 0.5 and (1, 0) = 0");
   EXPECT_ISSUE(o.issues, "/tasks/3/matrix", "not positive semi-definite: smallest eigenvalue -1");
   EXPECT_ISSUE(o.issues, "/tasks/5/matrix", "diagonal entry (6, 6) = -1 is negative");
   EXPECT_EQ(o.issues.size(), 4u);  // not /tasks/4/matrix
@@ -156,7 +190,9 @@ Outcome RunFile(const json& ms, const TempDir& tmp) {
   tmp.write("m.json", json({{"measurements", ms.is_array() ? ms : json::array({ms})}}).dump());
   const json doc = {{"noise", Noise()},
                     {"tasks",
-                     {{{"type", "propagate_by_preintegration"}, {"name", "pbp"}, {"measurements", {{"file", "m.json"}}},
+                     {{{"type", "propagate_by_preintegration"},
+                       {"name", "pbp"},
+                       {"measurements", {{"file", "m.json"}}},
                        {"start", {{"state", State()}}}}}}};
   return RunDoc(doc, tmp.path());
 }
@@ -167,7 +203,8 @@ TEST(Covariances, MeasurementFilesAreCheckedWhereTheyAre) {
   m["cov"]["matrix"] = PxVxCov(-3.0);
   const Outcome o = RunFile({Measurement(), m}, tmp);
   EXPECT_EQ(o.file, tmp.file("m.json"));
-  EXPECT_ISSUE(o.issues, "/measurements/1/cov/matrix", "not positive semi-definite: smallest eigenvalue -2");
+  EXPECT_ISSUE(o.issues, "/measurements/1/cov/matrix",
+               "not positive semi-definite: smallest eigenvalue -2");
   EXPECT_EQ(o.issues.size(), 1u);
   EXPECT_TRUE(RunFile({Measurement()}, tmp).issues.empty());
 }
@@ -177,8 +214,11 @@ TEST(Covariances, ComputedOutputsWithANegativeVarianceAreNotWritten) {
   // naming the output pointer. Round-off below 1e-9 of the largest variance is not.
   Mat15 C = Mat15::Identity();
   C(4, 4) = -1e-3;
-  const std::string m = imuconv::test::MessageOf([&] { CheckOutputCovariance(C, "/tasks/2/steps/7/cov/matrix"); });
-  EXPECT_NE(m.find("negative variance, entry (4, 4) = -0.001 (output /tasks/2/steps/7/cov/matrix"), std::string::npos) << m;
+  const std::string m =
+      imuconv::test::MessageOf([&] { CheckOutputCovariance(C, "/tasks/2/steps/7/cov/matrix"); });
+  EXPECT_NE(m.find("negative variance, entry (4, 4) = -0.001 (output /tasks/2/steps/7/cov/matrix"),
+            std::string::npos)
+      << m;
   EXPECT_NE(m.find("please report it"), std::string::npos) << m;
   C(4, 4) = -1e-12;
   EXPECT_EQ(imuconv::test::MessageOf([&] { CheckOutputCovariance(C, "/x"); }), "");
@@ -187,20 +227,36 @@ TEST(Covariances, ComputedOutputsWithANegativeVarianceAreNotWritten) {
 // ---- quaternions and rotations ----------------------------------------------------------
 
 TEST(Quaternions, RunsRuleHoldsForStatesIncrementsAndFiles) {
-  json tasks = {{{"type", "propagate"}, {"name", "zero"}, {"propagator", "rk4"},
-                 {"start", {{"state", {{"p", {0, 0, 0}}, {"q_wxyz", {0, 0, 0, 0}}, {"v", {0, 0, 0}}}}}},
-                 {"interval", {{"t_start", 0.0}, {"t_end", 1.0}}}},
-                {{"type", "propagate"}, {"name", "two"}, {"propagator", "rk4"},
-                 {"start", {{"state", {{"p", {0, 0, 0}}, {"q_wxyz", {2, 0, 0, 0}}, {"v", {0, 0, 0}}}}}},
-                 {"interval", {{"t_start", 0.0}, {"t_end", 1.0}}}},
-                // Within 1e-6 of unit norm: accepted (and normalised).
-                {{"type", "propagate"}, {"name", "near"}, {"propagator", "rk4"},
-                 {"start", {{"state", {{"p", {0, 0, 0}}, {"q_wxyz", {1.0000005, 0, 0, 0}}, {"v", {0, 0, 0}}}}}},
-                 {"interval", {{"t_start", 0.0}, {"t_end", 1.0}}}},
-                {{"type", "convert"}, {"name", "inc"}, {"what", "increment_jacobian"}, {"from", "preint_reference"},
-                 {"to", "gtsam_manifold"}, {"increment", {{"q_wxyz", {0.7, 0.7, 0, 0}}, {"dp", {0, 0, 0}}, {"dv", {0, 0, 0}}}}},
-                {{"type", "residual"}, {"name", "res"}, {"kind", "gtsam"}, {"measurements", {{"file", "m.json"}}},
-                 {"start", State()}, {"end", {{"p", {0, 0, 0}}, {"q_wxyz", {1, 1, 0, 0}}, {"v", {0, 0, 0}}}}}};
+  json tasks = {
+      {{"type", "propagate"},
+       {"name", "zero"},
+       {"propagator", "rk4"},
+       {"start", {{"state", {{"p", {0, 0, 0}}, {"q_wxyz", {0, 0, 0, 0}}, {"v", {0, 0, 0}}}}}},
+       {"interval", {{"t_start", 0.0}, {"t_end", 1.0}}}},
+      {{"type", "propagate"},
+       {"name", "two"},
+       {"propagator", "rk4"},
+       {"start", {{"state", {{"p", {0, 0, 0}}, {"q_wxyz", {2, 0, 0, 0}}, {"v", {0, 0, 0}}}}}},
+       {"interval", {{"t_start", 0.0}, {"t_end", 1.0}}}},
+      // Within 1e-6 of unit norm: accepted (and normalised).
+      {{"type", "propagate"},
+       {"name", "near"},
+       {"propagator", "rk4"},
+       {"start",
+        {{"state", {{"p", {0, 0, 0}}, {"q_wxyz", {1.0000005, 0, 0, 0}}, {"v", {0, 0, 0}}}}}},
+       {"interval", {{"t_start", 0.0}, {"t_end", 1.0}}}},
+      {{"type", "convert"},
+       {"name", "inc"},
+       {"what", "increment_jacobian"},
+       {"from", "preint_reference"},
+       {"to", "gtsam_manifold"},
+       {"increment", {{"q_wxyz", {0.7, 0.7, 0, 0}}, {"dp", {0, 0, 0}}, {"dv", {0, 0, 0}}}}},
+      {{"type", "residual"},
+       {"name", "res"},
+       {"kind", "gtsam"},
+       {"measurements", {{"file", "m.json"}}},
+       {"start", State()},
+       {"end", {{"p", {0, 0, 0}}, {"q_wxyz", {1, 1, 0, 0}}, {"v", {0, 0, 0}}}}}};
   TempDir tmp;
   json m = Measurement();
   m["delta"]["q_wxyz"] = {0.5, 0, 0, 0};
@@ -209,7 +265,9 @@ TEST(Quaternions, RunsRuleHoldsForStatesIncrementsAndFiles) {
     Pipeline::FromJson(Pipeline1(tasks), kFile, tmp.path());
     FAIL();
   } catch (const ConfigError& e) {
-    EXPECT_ISSUE(e.issues(), "/tasks/0/start/state/q_wxyz", "expected a unit quaternion [w, x, y, z] (norm within 1e-6 of 1), found one of norm 0");
+    EXPECT_ISSUE(
+        e.issues(), "/tasks/0/start/state/q_wxyz",
+        "expected a unit quaternion [w, x, y, z] (norm within 1e-6 of 1), found one of norm 0");
     EXPECT_ISSUE(e.issues(), "/tasks/1/start/state/q_wxyz", "found one of norm 2");
     EXPECT_ISSUE(e.issues(), "/tasks/3/increment/q_wxyz", "found one of norm 0.9899494937");
     EXPECT_ISSUE(e.issues(), "/tasks/4/end/q_wxyz", "found one of norm 1.414213562");
@@ -224,11 +282,12 @@ TEST(Quaternions, SeveralStatementsOfARotationMustAgree) {
   TempDir tmp;
   const double c = std::cos(0.05), s = std::sin(0.05);  // 0.1 rad about z
   json agree = Measurement();
-  agree["delta"] = {{"q_wxyz", {c, 0, 0, s}},
-                    {"R", {{std::cos(0.1), -std::sin(0.1), 0}, {std::sin(0.1), std::cos(0.1), 0}, {0, 0, 1}}},
-                    {"rotation_angle_deg", 0.1 * 180 / 3.14159265358979323846},
-                    {"dp", {0, 0, 0}},
-                    {"dv", {0, 0, 0}}};
+  agree["delta"] = {
+      {"q_wxyz", {c, 0, 0, s}},
+      {"R", {{std::cos(0.1), -std::sin(0.1), 0}, {std::sin(0.1), std::cos(0.1), 0}, {0, 0, 1}}},
+      {"rotation_angle_deg", 0.1 * 180 / 3.14159265358979323846},
+      {"dp", {0, 0, 0}},
+      {"dv", {0, 0, 0}}};
   json r_differs = agree;
   r_differs["delta"]["R"] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   json angle_differs = agree;
@@ -238,13 +297,16 @@ TEST(Quaternions, SeveralStatementsOfARotationMustAgree) {
   json index_differs = Measurement();
   index_differs["index"] = 7;
   const Outcome o = RunFile({agree, r_differs, angle_differs, times_differ, index_differs}, tmp);
-  EXPECT_ISSUE(o.issues, "/measurements/1/delta/R", "R and q_wxyz disagree by 5.72958 deg (tolerance 1e-6 deg)");
-  EXPECT_ISSUE(o.issues, "/measurements/2/delta/rotation_angle_deg", "does not match the rotation's angle 5.72957795");
+  EXPECT_ISSUE(o.issues, "/measurements/1/delta/R",
+               "R and q_wxyz disagree by 5.72958 deg (tolerance 1e-6 deg)");
+  EXPECT_ISSUE(o.issues, "/measurements/2/delta/rotation_angle_deg",
+               "does not match the rotation's angle 5.72957795");
   EXPECT_ISSUE(o.issues, "/measurements/4/index", "index 7 is not the measurement's position 4");
   EXPECT_EQ(o.issues.size(), 3u);
   // The same increment form in a convert task: both given and agreeing is accepted.
-  const json cv = {{"type", "convert"}, {"name", "cv"}, {"what", "increment_jacobian"}, {"from", "preint_reference"},
-                   {"to", "gtsam_manifold"}, {"increment", agree["delta"]}};
+  const json cv = {
+      {"type", "convert"},          {"name", "cv"},           {"what", "increment_jacobian"},
+      {"from", "preint_reference"}, {"to", "gtsam_manifold"}, {"increment", agree["delta"]}};
   const Outcome ok = RunDoc(Pipeline1({cv}));
   EXPECT_TRUE(ok.issues.empty()) << test::IssueAt(ok.issues, "");
   json bad = cv;
@@ -267,24 +329,30 @@ TEST(Measurements, RelativeAndAbsoluteTimesMustAgree) {
   }
   ms[1]["t_end"] = 1.6;  // t_end_abs_ns (and dt) say 1.0 s
   tmp.write("m.json", json({{"time_origin_ns", 1000000000LL}, {"measurements", ms}}).dump());
-  json doc = Pipeline1({{{"type", "propagate_by_preintegration"}, {"name", "pbp"}, {"measurements", {{"file", "m.json"}}},
+  json doc = Pipeline1({{{"type", "propagate_by_preintegration"},
+                         {"name", "pbp"},
+                         {"measurements", {{"file", "m.json"}}},
                          {"start", {{"state", State()}}}}});
   doc["imu"]["time_origin"] = "1";  // seconds: the same origin as the file's, 1e9 ns
   const Outcome o = RunDoc(doc, tmp.path());
-  EXPECT_ISSUE(o.issues, "/measurements/1/t_end", "t_end places the measurement at 1.6 s but t_end_abs_ns at 1 s");
+  EXPECT_ISSUE(o.issues, "/measurements/1/t_end",
+               "t_end places the measurement at 1.6 s but t_end_abs_ns at 1 s");
   EXPECT_EQ(o.issues.size(), 1u);
 }
 
 // ---- keyframes {start, end, step} -----------------------------------------------------------
 
 json Keyframes(double start, double end, double step) {
-  return {{"type", "preintegrate"}, {"name", "kf"}, {"method", {{"propagator", "rk4"}}},
+  return {{"type", "preintegrate"},
+          {"name", "kf"},
+          {"method", {{"propagator", "rk4"}}},
           {"keyframes", {{"start", start}, {"end", end}, {"step", step}}}};
 }
 
 std::vector<std::pair<double, double>> Spans(const json& out) {
   std::vector<std::pair<double, double>> v;
-  for (const auto& m : out["tasks"][0]["measurements"]) v.emplace_back(m["t_start"].get<double>(), m["t_end"].get<double>());
+  for (const auto& m : out["tasks"][0]["measurements"])
+    v.emplace_back(m["t_start"].get<double>(), m["t_end"].get<double>());
   return v;
 }
 
@@ -292,16 +360,20 @@ TEST(Keyframes, TheRemainderIsALastShorterIntervalEndingAtEnd) {
   // 1 / 0.3: three whole steps and 0.1 s left over. It used to be dropped in silence.
   const Outcome o = RunDoc(Pipeline1({Keyframes(0.0, 1.0, 0.3)}));
   ASSERT_TRUE(o.issues.empty()) << test::IssueAt(o.issues, "");
-  const std::vector<std::pair<double, double>> want = {{0.0, 0.3}, {0.3, 0.6}, {0.6, 0.9}, {0.9, 1.0}};
+  const std::vector<std::pair<double, double>> want = {
+      {0.0, 0.3}, {0.3, 0.6}, {0.6, 0.9}, {0.9, 1.0}};
   EXPECT_EQ(Spans(o.out), want);  // exact: keyframes snap to the nanosecond within round-off
-  EXPECT_NE(o.summary.find("the last interval, [0.9, 1] s, is the 0.1 s left after 3 whole step(s) of 0.3 s"),
-            std::string::npos) << o.summary;
+  EXPECT_NE(o.summary.find(
+                "the last interval, [0.9, 1] s, is the 0.1 s left after 3 whole step(s) of 0.3 s"),
+            std::string::npos)
+      << o.summary;
 }
 
 TEST(Keyframes, RoundOffIsNotARemainder) {
   // 0.3 / 0.1 = 2.9999999999999996 and 1 / 0.1 = 10 in double: whole steps, `end` is the
   // last keyframe, no sliver of an interval and nothing in the summary.
-  for (const auto& [end, step, n] : {std::tuple<double, double, std::size_t>{0.3, 0.1, 3}, {1.0, 0.1, 10}, {0.7, 0.07, 10}}) {
+  for (const auto& [end, step, n] :
+       {std::tuple<double, double, std::size_t>{0.3, 0.1, 3}, {1.0, 0.1, 10}, {0.7, 0.07, 10}}) {
     SCOPED_TRACE(std::to_string(end) + " / " + std::to_string(step));
     const Outcome o = RunDoc(Pipeline1({Keyframes(0.0, end, step)}));
     ASSERT_TRUE(o.issues.empty()) << test::IssueAt(o.issues, "");
@@ -325,7 +397,9 @@ TEST(InlineSamples, GapsAreErrorsAtTheSampleUnlessAllowed) {
   json& s = doc["imu"]["samples"];
   s.erase(s.begin() + 31, s.begin() + 81);  // 0.31 .. 0.80 s missing: a 0.51 s gap before sample 31
   const Outcome o = RunDoc(doc);
-  EXPECT_ISSUE(o.issues, "/imu/samples/31/0", "gap of 0.51 s before this sample (the median period is 0.01 s; limit 10 x median = 0.1 s)");
+  EXPECT_ISSUE(
+      o.issues, "/imu/samples/31/0",
+      "gap of 0.51 s before this sample (the median period is 0.01 s; limit 10 x median = 0.1 s)");
   EXPECT_ISSUE(o.issues, "/imu/samples/31/0", "\"allow_gaps\": true");
   json allowed = doc;
   allowed["imu"]["allow_gaps"] = true;
@@ -343,14 +417,17 @@ TEST(InlineSamples, GapsAreErrorsAtTheSampleUnlessAllowed) {
 
 TEST(InlineSamples, NanosecondsDeclaredAsSecondsNameTheUnit) {
   json doc = Pipeline1({Keyframes(0.0, 1.0, 0.5)});
-  for (auto& row : doc["imu"]["samples"]) row[0] = static_cast<std::int64_t>(std::llround(row[0].get<double>() * 1e9));
+  for (auto& row : doc["imu"]["samples"])
+    row[0] = static_cast<std::int64_t>(std::llround(row[0].get<double>() * 1e9));
   const Outcome o = RunDoc(doc);
-  EXPECT_ISSUE(o.issues, "/imu/samples", "the timestamps look like nanoseconds: set time_unit to \"ns\"");
+  EXPECT_ISSUE(o.issues, "/imu/samples",
+               "the timestamps look like nanoseconds: set time_unit to \"ns\"");
 }
 
 TEST(GroundTruth, TimingKeysAreValidated) {
   json doc = Pipeline1({Keyframes(0.0, 1.0, 0.5)});
-  doc["ground_truth"] = {{"format", "euroc"}, {"path", "gt.csv"}, {"max_gap_factor", 0.5}, {"allow_gaps", 1}};
+  doc["ground_truth"] = {
+      {"format", "euroc"}, {"path", "gt.csv"}, {"max_gap_factor", 0.5}, {"allow_gaps", 1}};
   const Outcome o = RunDoc(doc);
   EXPECT_ISSUE(o.issues, "/ground_truth/max_gap_factor", "expected a number > 1");
   EXPECT_ISSUE(o.issues, "/ground_truth/allow_gaps", "expected true or false");

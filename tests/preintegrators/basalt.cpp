@@ -30,7 +30,9 @@ namespace k = imuconv::kernels;
 
 const double kNees9Tol = 5.0 * std::sqrt(18.0 / kRuns);  // 0.335
 
-const char* Name(k::BasaltFeeding f) { return f == k::BasaltFeeding::kNative ? "native" : "forward_zoh"; }
+const char* Name(k::BasaltFeeding f) {
+  return f == k::BasaltFeeding::kNative ? "native" : "forward_zoh";
+}
 
 /// The delta state's error in the `basalt` chart against a nominal one.
 Vec9 ChartError(const k::BasaltPreintegration& nominal, const k::BasaltPreintegration& x) {
@@ -58,8 +60,10 @@ void CheckMonteCarlo(const std::string& id, k::BasaltFeeding feeding) {
     for (std::size_t j = 0; j + 1 < rc.samples.size(); ++j) {
       const double dt = rc.samples[j + 1].t - rc.samples[j].t;
       const std::size_t held = feeding == k::BasaltFeeding::kNative ? j + 1 : j;
-      noisy[held].gyro = rc.samples[held].gyro - (rc.noise.gyro_noise_density / std::sqrt(dt)) * randn3();
-      noisy[held].accel = rc.samples[held].accel - (rc.noise.accel_noise_density / std::sqrt(dt)) * randn3();
+      noisy[held].gyro =
+          rc.samples[held].gyro - (rc.noise.gyro_noise_density / std::sqrt(dt)) * randn3();
+      noisy[held].accel =
+          rc.samples[held].accel - (rc.noise.accel_noise_density / std::sqrt(dt)) * randn3();
     }
     PreintegrationInput noisy_in = in;
     noisy_in.window = WindowOver(noisy);
@@ -69,7 +73,8 @@ void CheckMonteCarlo(const std::string& id, k::BasaltFeeding feeding) {
   }
   const Whitened w = WhitenedStats<9>(nominal.cov, errors);
   std::printf(
-      "[ MC      ] basalt %-11s %-12s N=%d: max|W_ii-1| %.3f (tol %.3f), max|W_ij| %.3f (tol %.3f), NEES %.3f "
+      "[ MC      ] basalt %-11s %-12s N=%d: max|W_ii-1| %.3f (tol %.3f), max|W_ij| %.3f (tol "
+      "%.3f), NEES %.3f "
       "(9 +- %.3f)\n",
       Name(feeding), id.c_str(), kRuns, w.diag, kDiagTol, w.off, kOffTol, w.nees, kNees9Tol);
   EXPECT_LT(w.diag, kDiagTol);
@@ -80,9 +85,11 @@ void CheckMonteCarlo(const std::string& id, k::BasaltFeeding feeding) {
   // (R = Exp(-dtheta) R^, a JPL-style sign): the rotation-translation blocks change sign.
   Eigen::Matrix<double, 9, 9> T = Eigen::Matrix<double, 9, 9>::Identity();
   T.block<3, 3>(3, 3) = -Mat3::Identity();
-  const Whitened wr = WhitenedStats<9>(Eigen::Matrix<double, 9, 9>(T * nominal.cov * T.transpose()), errors);
-  std::printf("[ MC      ]   with the rotation error's sign flipped: max|W_ii-1| %.3f, max|W_ij| %.3f\n", wr.diag,
-              wr.off);
+  const Whitened wr =
+      WhitenedStats<9>(Eigen::Matrix<double, 9, 9>(T * nominal.cov * T.transpose()), errors);
+  std::printf(
+      "[ MC      ]   with the rotation error's sign flipped: max|W_ii-1| %.3f, max|W_ij| %.3f\n",
+      wr.diag, wr.off);
   EXPECT_GT(std::max(wr.diag, wr.off), kOffTol);
 }
 
@@ -98,20 +105,29 @@ void CheckBiasJacobians(const std::string& id, k::BasaltFeeding feeding) {
   const PreintegrationInput in = rc.Input();
   k::BasaltPreintegration x0;
   ASSERT_TRUE(k::IntegrateBasalt(in, feeding, std::nullopt, x0).ok());
-  const Mat96 numeric = BiasCentralDifferences(in, /*accel_first=*/false, 1e-6, [&](const PreintegrationInput& moved) {
-    k::BasaltPreintegration x;
-    EXPECT_TRUE(k::IntegrateBasalt(moved, feeding, std::nullopt, x, /*jacobians=*/false).ok());
-    return ChartError(x0, x);
-  });
+  const Mat96 numeric = BiasCentralDifferences(
+      in, /*accel_first=*/false, 1e-6, [&](const PreintegrationInput& moved) {
+        k::BasaltPreintegration x;
+        EXPECT_TRUE(k::IntegrateBasalt(moved, feeding, std::nullopt, x, /*jacobians=*/false).ok());
+        return ChartError(x0, x);
+      });
   Mat96 analytic;
   analytic << x0.d_state_d_bg, x0.d_state_d_ba;
-  ExpectBiasBlocks(std::string("basalt ") + Name(feeding) + " " + id, analytic, numeric, {"p", "theta", "v"},
-                   {"bg", "ba"}, [](int) { return 1e-6; });
+  ExpectBiasBlocks(std::string("basalt ") + Name(feeding) + " " + id, analytic, numeric,
+                   {"p", "theta", "v"}, {"bg", "ba"}, [](int) { return 1e-6; });
 }
 
-TEST(BasaltMonteCarlo, NativeAggressive) { CheckMonteCarlo("aggressive-0", k::BasaltFeeding::kNative); }
-TEST(BasaltMonteCarlo, ForwardZohJitter) { CheckMonteCarlo("jitter-0", k::BasaltFeeding::kForwardZoh); }
-TEST(BasaltBiasJacobians, NativeAggressive) { CheckBiasJacobians("aggressive-0", k::BasaltFeeding::kNative); }
-TEST(BasaltBiasJacobians, ForwardZohSmooth) { CheckBiasJacobians("smooth-0", k::BasaltFeeding::kForwardZoh); }
+TEST(BasaltMonteCarlo, NativeAggressive) {
+  CheckMonteCarlo("aggressive-0", k::BasaltFeeding::kNative);
+}
+TEST(BasaltMonteCarlo, ForwardZohJitter) {
+  CheckMonteCarlo("jitter-0", k::BasaltFeeding::kForwardZoh);
+}
+TEST(BasaltBiasJacobians, NativeAggressive) {
+  CheckBiasJacobians("aggressive-0", k::BasaltFeeding::kNative);
+}
+TEST(BasaltBiasJacobians, ForwardZohSmooth) {
+  CheckBiasJacobians("smooth-0", k::BasaltFeeding::kForwardZoh);
+}
 
 }  // namespace

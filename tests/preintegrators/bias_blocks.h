@@ -18,7 +18,8 @@ using Mat96 = Eigen::Matrix<double, 9, 6>;
 /// scheme's chart against its nominal, with respect to the six bias components, columns in
 /// the order [bg, ba] or, with `accel_first`, [ba, bg].
 template <class ErrorAt>
-Mat96 BiasCentralDifferences(const PreintegrationInput& in, bool accel_first, double h, ErrorAt error_at) {
+Mat96 BiasCentralDifferences(const PreintegrationInput& in, bool accel_first, double h,
+                             ErrorAt error_at) {
   Mat96 numeric;
   for (int c = 0; c < 6; ++c) {
     Vec9 side[2];
@@ -43,7 +44,8 @@ void ExpectBiasBlocks(const std::string& label, const Mat96& analytic, const Mat
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 2; ++j) {
       if (numeric.block<3, 3>(3 * i, 3 * j).norm() == 0.0) {
-        EXPECT_EQ((analytic.block<3, 3>(3 * i, 3 * j).norm()), 0.0) << label << " d" << rows[i] << "/d" << cols[j];
+        EXPECT_EQ((analytic.block<3, 3>(3 * i, 3 * j).norm()), 0.0)
+            << label << " d" << rows[i] << "/d" << cols[j];
         continue;
       }
       const double d = BlockRelativeDiff(numeric, analytic, i, j);

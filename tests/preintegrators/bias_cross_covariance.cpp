@@ -79,11 +79,13 @@ TEST_P(BiasCrossCovariance, MotionBiasBlocksAreMinusSigmaSquaredTimesDriftRespon
     ASSERT_TRUE(pre->integrate(rc.Input(), nominal).ok());
     const Mat15 J = Plugins().conversion(pre->cov_convention(), kChart, nominal.delta);
     const Mat15 cov = J * nominal.cov * J.transpose();
-    const std::vector<std::string>& blocks = Plugins().info(PluginKind::IncrementConvention, kChart).blocks;
+    const std::vector<std::string>& blocks =
+        Plugins().info(PluginKind::IncrementConvention, kChart).blocks;
     auto offset = [&](const char* label) {
       return 3 * static_cast<int>(std::find(blocks.begin(), blocks.end(), label) - blocks.begin());
     };
-    const int theta = offset("theta"), p = offset("p"), v = offset("v"), ba = offset("ba"), bg = offset("bg");
+    const int theta = offset("theta"), p = offset("p"), v = offset("v"), ba = offset("ba"),
+              bg = offset("bg");
     ASSERT_TRUE(ba < 15 && bg < 15);
     // The motion rows [theta, p, v] first, as MotionError writes them.
     ASSERT_TRUE(theta == 0 && p == 3 && v == 6);
@@ -121,8 +123,8 @@ TEST_P(BiasCrossCovariance, MotionBiasBlocksAreMinusSigmaSquaredTimesDriftRespon
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 2; ++j) {
         const double d = BlockRelativeDiff(expected, actual, i, j);
-        std::printf("[ measured ] %s on %s: cov(%s, %s) in %s against -sigma^2 K: %.3g\n", scheme, case_id, rows[i],
-                    cols[j], kChart, d);
+        std::printf("[ measured ] %s on %s: cov(%s, %s) in %s against -sigma^2 K: %.3g\n", scheme,
+                    case_id, rows[i], cols[j], kChart, d);
         EXPECT_LE(d, 1e-6) << rows[i] << "-" << cols[j] << " block\nexpected\n"
                            << expected.block<3, 3>(3 * i, 3 * j) << "\nactual\n"
                            << actual.block<3, 3>(3 * i, 3 * j);

@@ -86,12 +86,15 @@ void CheckAgainstReintegration(const std::string& scheme) {
     double e = 0.0;
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 2; ++c)
-        e = std::max(e, RelErr(out.J_bias.block<3, 3>(3 * r, 3 * c), num.block<3, 3>(3 * r, 3 * c)));
+        e = std::max(e,
+                     RelErr(out.J_bias.block<3, 3>(3 * r, 3 * c), num.block<3, 3>(3 * r, 3 * c)));
     if (e > worst) worst = e, worst_case = id;
     EXPECT_LT(e, kTol) << "analytic\n" << out.J_bias << "\nnumeric\n" << num;
   }
-  std::printf("[ worst   ] %s J_bias vs Ridders re-integration: %.2e (per 3x3 block: max|diff| / max(1, max|block|)) at %s\n",
-              scheme.c_str(), worst, worst_case.c_str());
+  std::printf(
+      "[ worst   ] %s J_bias vs Ridders re-integration: %.2e (per 3x3 block: max|diff| / max(1, "
+      "max|block|)) at %s\n",
+      scheme.c_str(), worst, worst_case.c_str());
 }
 
 TEST(BiasJacobian, ManifoldMatchesReintegration) { CheckAgainstReintegration("manifold"); }

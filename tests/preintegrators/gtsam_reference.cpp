@@ -42,7 +42,8 @@ constexpr double kMaxD = 1e-8;
 // variance 1.5x too large, both passed by d at 1e-8).
 constexpr double kMaxScaled = 1e-9;
 
-const char* const kFields[] = {"deltaT", "deltaR", "deltaP", "deltaV", "J_bias", "cov15", "cov9", "xi"};
+const char* const kFields[] = {"deltaT", "deltaR", "deltaP", "deltaV",
+                               "J_bias", "cov15",  "cov9",   "xi"};
 
 struct SchemeReport {
   std::map<std::string, WorstDiff> worst;         // field -> worst d over cases
@@ -52,14 +53,16 @@ struct SchemeReport {
 bool IsCovariance(int field) { return std::string(kFields[field]).rfind("cov", 0) == 0; }
 
 /// Asserts the scale-aware difference of one field and records it.
-void ExpectScaled(const Eigen::MatrixXd& r, const Eigen::MatrixXd& e, bool covariance, const std::string& case_id,
-                  const char* field, SchemeReport& report) {
+void ExpectScaled(const Eigen::MatrixXd& r, const Eigen::MatrixXd& e, bool covariance,
+                  const std::string& case_id, const char* field, SchemeReport& report) {
   const ScaledDiff s = covariance ? CorrelationScaleDiff(r, e) : RelativeAboveFloorDiff(r, e);
   char where[200];
-  std::snprintf(where, sizeof where, "%s (%d,%d) ref %.17g est %.17g", case_id.c_str(), s.row, s.col,
-                r(s.row, s.col), e(s.row, s.col));
+  std::snprintf(where, sizeof where, "%s (%d,%d) ref %.17g est %.17g", case_id.c_str(), s.row,
+                s.col, r(s.row, s.col), e(s.row, s.col));
   report.worst_scaled[field].Update(s.d, where);
-  EXPECT_LE(s.d, kMaxScaled) << field << (covariance ? " on the correlation scale" : " relative above 1e-4 of max")
+  EXPECT_LE(s.d, kMaxScaled) << field
+                             << (covariance ? " on the correlation scale"
+                                            : " relative above 1e-4 of max")
                              << " at " << where;
 }
 
@@ -98,7 +101,8 @@ void CompareCase(const Preintegrator& pre, const ReferenceCase& rc, const nlohma
     int i = 0, k = 0;
     const double d = MaxEntryDiffAt(r, e, i, k);
     char where[160];
-    std::snprintf(where, sizeof where, "%s (%d,%d) ref %.17g est %.17g", rc.id.c_str(), i, k, r(i, k), e(i, k));
+    std::snprintf(where, sizeof where, "%s (%d,%d) ref %.17g est %.17g", rc.id.c_str(), i, k,
+                  r(i, k), e(i, k));
     report.worst[kFields[f]].Update(d, where);
     EXPECT_LE(d, kMaxD) << kFields[f] << " at " << where;
     if (d > case_worst) case_worst = d, case_field = kFields[f];
@@ -117,7 +121,8 @@ void CompareCase(const Preintegrator& pre, const ReferenceCase& rc, const nlohma
     int i = 0, k = 0;
     const double d = MaxEntryDiffAt(r, Eigen::MatrixXd(inc.xi), i, k);
     char where[160];
-    std::snprintf(where, sizeof where, "%s (%d) ref %.17g est %.17g", rc.id.c_str(), i, r(i, k), inc.xi(i));
+    std::snprintf(where, sizeof where, "%s (%d) ref %.17g est %.17g", rc.id.c_str(), i, r(i, k),
+                  inc.xi(i));
     report.worst["xi"].Update(d, where);
     EXPECT_LE(d, kMaxD) << "preintegrated_tangent at " << where;
     ExpectScaled(r, Eigen::MatrixXd(inc.xi), false, rc.id, "xi", report);
@@ -141,7 +146,8 @@ class KernelInstance final : public Preintegrator {
   kernels::Isa isa_;
 };
 
-void RunScheme(const std::string& scheme, const std::string& slot, kernels::Isa isa = kernels::Isa::kAuto) {
+void RunScheme(const std::string& scheme, const std::string& slot,
+               kernels::Isa isa = kernels::Isa::kAuto) {
   const char* isa_name = isa == kernels::Isa::kBaseline ? " (baseline instance)"
                          : isa == kernels::Isa::kAvx2   ? " (AVX2 instance)"
                          : isa == kernels::Isa::kAvx512 ? " (AVX-512 instance)"
@@ -150,7 +156,8 @@ void RunScheme(const std::string& scheme, const std::string& slot, kernels::Isa 
   const auto plugin = isa == kernels::Isa::kAuto ? Plugins().preintegrator(scheme) : nullptr;
   const Preintegrator& pre = plugin ? *plugin : instance;
   SchemeReport report;
-  std::printf("[ per case ] %s %s%s, worst d over all fields:\n", scheme.c_str(), slot.c_str(), isa_name);
+  std::printf("[ per case ] %s %s%s, worst d over all fields:\n", scheme.c_str(), slot.c_str(),
+              isa_name);
   for (const std::string& id : ReferenceCaseIds()) {
     const ReferenceCase zoh = LoadReferenceCase(id);
     const ReferenceCase rc = slot == "mid" ? zoh.Averaged() : zoh;
@@ -164,8 +171,10 @@ void RunScheme(const std::string& scheme, const std::string& slot, kernels::Isa 
     const WorstDiff& w = report.worst[f];
     std::printf("    %-7s %.3e  at %s\n", f, w.d, w.where.c_str());
   }
-  std::printf("[ worst scaled ] %s %s%s (covariances on the correlation scale, others relative above 1e-4 of max):\n",
-              scheme.c_str(), slot.c_str(), isa_name);
+  std::printf(
+      "[ worst scaled ] %s %s%s (covariances on the correlation scale, others relative above 1e-4 "
+      "of max):\n",
+      scheme.c_str(), slot.c_str(), isa_name);
   for (const char* f : kFields) {
     if (!report.worst_scaled.count(f)) continue;
     const WorstDiff& w = report.worst_scaled[f];
@@ -187,7 +196,8 @@ TEST_P(KernelInstances, ZeroOrderHoldBothSchemes) {
 }
 
 INSTANTIATE_TEST_SUITE_P(GtsamReference, KernelInstances,
-                         ::testing::Values(kernels::Isa::kBaseline, kernels::Isa::kAvx2, kernels::Isa::kAvx512),
+                         ::testing::Values(kernels::Isa::kBaseline, kernels::Isa::kAvx2,
+                                           kernels::Isa::kAvx512),
                          [](const ::testing::TestParamInfo<kernels::Isa>& info) {
                            return info.param == kernels::Isa::kBaseline ? std::string("Baseline")
                                   : info.param == kernels::Isa::kAvx2   ? std::string("Avx2")
@@ -199,20 +209,24 @@ INSTANTIATE_TEST_SUITE_P(GtsamReference, KernelInstances,
 // below 1e-4 are judged by absolute error); the correlation scale does not (a flipped
 // correlation rho moves by 2|rho|).
 TEST(ScaleAwareCheck, CatchesAFlippedBiasBlockThatTheEntrywiseMetricPasses) {
-  const Eigen::MatrixXd ref = JsonMatrix(LoadGtsamReference("smooth-0").at("zoh").at("manifold").at("cov15"));
+  const Eigen::MatrixXd ref =
+      JsonMatrix(LoadGtsamReference("smooth-0").at("zoh").at("manifold").at("cov15"));
   ASSERT_EQ(ref.rows(), 15);
   Eigen::MatrixXd flipped = ref;
-  flipped.block<3, 3>(0, 12) *= -1.0;  // [theta, p, v, ba, bg]: the theta-bg block and its transpose
+  flipped.block<3, 3>(0, 12) *=
+      -1.0;  // [theta, p, v, ba, bg]: the theta-bg block and its transpose
   flipped.block<3, 3>(12, 0) *= -1.0;
   // Also the variance of bg scaled by 1.5: a wrong random-walk density.
   Eigen::MatrixXd scaled = ref;
   scaled.block<3, 3>(12, 12) *= 1.5;
   const double max_bias_entry = ref.bottomRightCorner<6, 6>().cwiseAbs().maxCoeff();
-  std::printf("[ measured ] smooth-0 zoh.manifold cov15: largest bias-block entry %.3g; flipped: d %.3g, "
-              "correlation scale %.3g; bg variance x1.5: d %.3g, correlation scale %.3g\n",
-              max_bias_entry, MaxEntryDiff(ref, flipped), CorrelationScaleDiff(ref, flipped).d,
-              MaxEntryDiff(ref, scaled), CorrelationScaleDiff(ref, scaled).d);
-  ASSERT_GT((ref.block<3, 3>(0, 12).cwiseAbs().maxCoeff()), 0.0) << "the case must have a theta-bg correlation";
+  std::printf(
+      "[ measured ] smooth-0 zoh.manifold cov15: largest bias-block entry %.3g; flipped: d %.3g, "
+      "correlation scale %.3g; bg variance x1.5: d %.3g, correlation scale %.3g\n",
+      max_bias_entry, MaxEntryDiff(ref, flipped), CorrelationScaleDiff(ref, flipped).d,
+      MaxEntryDiff(ref, scaled), CorrelationScaleDiff(ref, scaled).d);
+  ASSERT_GT((ref.block<3, 3>(0, 12).cwiseAbs().maxCoeff()), 0.0)
+      << "the case must have a theta-bg correlation";
   EXPECT_LE(MaxEntryDiff(ref, flipped), kMaxD) << "the entrywise metric was expected to miss this";
   EXPECT_GT(CorrelationScaleDiff(ref, flipped).d, 1e3 * kMaxScaled);
   EXPECT_LE(MaxEntryDiff(ref, scaled), kMaxD) << "the entrywise metric was expected to miss this";

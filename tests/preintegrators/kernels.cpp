@@ -80,8 +80,9 @@ TEST(Kernels, JrInvTimesVecDerivativeMatchesRidders) {
           0.01);
       const Mat3 D = k::JrInvTimesVecDerivative(theta, omega);
       worst = std::max(worst, RelErr(D, J.topLeftCorner<3, 3>()));
-      EXPECT_LT(RelErr(D, J.topLeftCorner<3, 3>()), kRiddersTol) << "|theta| = " << a << "\n" << D << "\n"
-                                                                   << J.topLeftCorner<3, 3>();
+      EXPECT_LT(RelErr(D, J.topLeftCorner<3, 3>()), kRiddersTol) << "|theta| = " << a << "\n"
+                                                                 << D << "\n"
+                                                                 << J.topLeftCorner<3, 3>();
     }
   }
   std::printf("[ worst   ] d(Jr^-1 w)/dtheta vs Ridders: %.2e\n", worst);
@@ -95,9 +96,10 @@ TEST(Kernels, TangentSeriesMeetTheClosedFormsAtTheSwitch) {
   const auto series = k::detail::ComputeTangentCoefs(below, below * below);
   const auto closed = k::detail::ComputeTangentCoefs(t, t * t);
   const auto closed_below = k::detail::TangentClosed(below, below * below);
-  for (const auto& [name, s, c] : {std::tuple{"a", series.a, closed.a}, std::tuple{"b", series.b, closed.b},
-                                   std::tuple{"c", series.c, closed.c}, std::tuple{"d", series.d, closed.d},
-                                   std::tuple{"e", series.e, closed.e}})
+  for (const auto& [name, s, c] :
+       {std::tuple{"a", series.a, closed.a}, std::tuple{"b", series.b, closed.b},
+        std::tuple{"c", series.c, closed.c}, std::tuple{"d", series.d, closed.d},
+        std::tuple{"e", series.e, closed.e}})
     EXPECT_LT(std::abs(s - c) / std::abs(c), 1e-12) << name << ": " << s << " vs " << c;
   EXPECT_LT(std::abs(series.e - closed_below.e) / closed_below.e, 1e-12);
 }
@@ -149,9 +151,10 @@ void ExpectStepJacobians(const k::StepJacobians& J, const Mat15& num, const std:
   g_worst_step = std::max({g_worst_step, RelErr(J.A(), Mat9(num.topLeftCorner<9, 9>())),
                            RelErr(J.B(), k::Mat93(num.block<9, 3>(0, 9))),
                            RelErr(J.C(), k::Mat93(num.block<9, 3>(0, 12)))});
-  EXPECT_LT(RelErr(J.A(), Mat9(num.topLeftCorner<9, 9>())), kRiddersTol) << what << " A\n"
-                                                                          << J.A() << "\n"
-                                                                          << num.topLeftCorner<9, 9>();
+  EXPECT_LT(RelErr(J.A(), Mat9(num.topLeftCorner<9, 9>())), kRiddersTol)
+      << what << " A\n"
+      << J.A() << "\n"
+      << num.topLeftCorner<9, 9>();
   EXPECT_LT(RelErr(J.B(), k::Mat93(num.block<9, 3>(0, 9))), kRiddersTol) << what << " B";
   EXPECT_LT(RelErr(J.C(), k::Mat93(num.block<9, 3>(0, 12))), kRiddersTol) << what << " C";
 }
@@ -180,7 +183,8 @@ TEST(Kernels, ManifoldStepJacobiansMatchRidders) {
     // dv + ddv.
     const Mat15 num = RiddersJacobian(
         [&](const Vec15& d, Vec15& out) {
-          const k::ManifoldIncrement y = step(so3::Exp(d.segment<3>(0)) * x.dR, d, d.segment<3>(3), d.segment<3>(6));
+          const k::ManifoldIncrement y =
+              step(so3::Exp(d.segment<3>(0)) * x.dR, d, d.segment<3>(3), d.segment<3>(6));
           out.setZero();
           out.segment<3>(0) = so3::Log(y.dR * x1.dR.transpose());
           out.segment<3>(3) = y.dp - x1.dp;
@@ -193,8 +197,8 @@ TEST(Kernels, ManifoldStepJacobiansMatchRidders) {
     // after the chart change blockdiag(dR^T, dR^T, dR^T) on both sides.
     const Mat15 num_nav = RiddersJacobian(
         [&](const Vec15& d, Vec15& out) {
-          const k::ManifoldIncrement y =
-              step(x.dR * so3::Exp(d.segment<3>(0)), d, x.dR * d.segment<3>(3), x.dR * d.segment<3>(6));
+          const k::ManifoldIncrement y = step(x.dR * so3::Exp(d.segment<3>(0)), d,
+                                              x.dR * d.segment<3>(3), x.dR * d.segment<3>(6));
           out.setZero();
           out.segment<3>(0) = so3::Log(x1.dR.transpose() * y.dR);
           out.segment<3>(3) = x1.dR.transpose() * (y.dp - x1.dp);
@@ -209,8 +213,10 @@ TEST(Kernels, ManifoldStepJacobiansMatchRidders) {
     const Mat9 A_nav = T1 * J.A() * T0.inverse();
     g_worst_step = std::max(g_worst_step, RelErr(A_nav, Mat9(num_nav.topLeftCorner<9, 9>())));
     EXPECT_LT(RelErr(A_nav, Mat9(num_nav.topLeftCorner<9, 9>())), kRiddersTol) << "NavState A";
-    EXPECT_LT(RelErr(k::Mat93(T1 * J.B()), k::Mat93(num_nav.block<9, 3>(0, 9))), kRiddersTol) << "NavState B";
-    EXPECT_LT(RelErr(k::Mat93(T1 * J.C()), k::Mat93(num_nav.block<9, 3>(0, 12))), kRiddersTol) << "NavState C";
+    EXPECT_LT(RelErr(k::Mat93(T1 * J.B()), k::Mat93(num_nav.block<9, 3>(0, 9))), kRiddersTol)
+        << "NavState B";
+    EXPECT_LT(RelErr(k::Mat93(T1 * J.C()), k::Mat93(num_nav.block<9, 3>(0, 12))), kRiddersTol)
+        << "NavState C";
   }
   std::printf("[ worst   ] manifold step A,B,C vs Ridders (so far): %.2e\n", g_worst_step);
 }
@@ -236,7 +242,8 @@ TEST(Kernels, TangentStepJacobiansMatchRidders) {
             out.head<9>() = y.xi - x1.xi;
           },
           0.01);
-      ExpectStepJacobians(J, num, "tangent dt=" + std::to_string(sc.dt) + " |theta|=" + std::to_string(angle));
+      ExpectStepJacobians(
+          J, num, "tangent dt=" + std::to_string(sc.dt) + " |theta|=" + std::to_string(angle));
     }
   }
   std::printf("[ worst   ] step A,B,C vs Ridders (both schemes): %.2e\n", g_worst_step);
@@ -289,7 +296,8 @@ std::vector<ImuSample> SpinningSamples() {
   for (int kk = 0; kk <= 800; ++kk) {
     ImuSample s;
     s.t = t;
-    s.gyro = Vec3(0.9, -0.6, 0.5) + 0.05 * Vec3(std::sin(1.1 * t), std::cos(0.7 * t), std::sin(2.3 * t));
+    s.gyro =
+        Vec3(0.9, -0.6, 0.5) + 0.05 * Vec3(std::sin(1.1 * t), std::cos(0.7 * t), std::sin(2.3 * t));
     s.accel = Vec3(0.4 * std::cos(t), 9.81 + 0.3 * std::sin(1.7 * t), -0.8 * std::sin(0.4 * t));
     v.push_back(s);
     t += 0.005 * (1.0 + 0.1 * std::sin(17.0 * kk));
@@ -315,12 +323,16 @@ constexpr double kDenseTol = 1e-11;
 class KernelInstance : public ::testing::TestWithParam<k::Isa> {
  protected:
   void SetUp() override {
-    if (!k::IsaAvailable(GetParam())) GTEST_SKIP() << IsaName(GetParam()) << " instance: not supported by this CPU";
+    if (!k::IsaAvailable(GetParam()))
+      GTEST_SKIP() << IsaName(GetParam()) << " instance: not supported by this CPU";
   }
 };
 
-INSTANTIATE_TEST_SUITE_P(Instances, KernelInstance, ::testing::Values(k::Isa::kBaseline, k::Isa::kAvx2, k::Isa::kAvx512),
-                         [](const ::testing::TestParamInfo<k::Isa>& i) { return std::string(IsaName(i.param)); });
+INSTANTIATE_TEST_SUITE_P(Instances, KernelInstance,
+                         ::testing::Values(k::Isa::kBaseline, k::Isa::kAvx2, k::Isa::kAvx512),
+                         [](const ::testing::TestParamInfo<k::Isa>& i) {
+                           return std::string(IsaName(i.param));
+                         });
 
 TEST_P(KernelInstance, MatchesTheDenseRecursion) {
   const k::Isa isa = GetParam();
@@ -341,9 +353,10 @@ TEST_P(KernelInstance, MatchesTheDenseRecursion) {
     const PreintegrationInput& in = c.input;
     // Manifold: the dense recursion in the kernel's start-frame chart, then to NavState.
     k::ManifoldIncrement mx;
-    const DenseResult md = DenseRecursion(in, [&](const Vec3& a, const Vec3& w, double dt, k::StepJacobians& J) {
-      k::ManifoldStep(a, w, dt, mx, J);
-    });
+    const DenseResult md =
+        DenseRecursion(in, [&](const Vec3& a, const Vec3& w, double dt, k::StepJacobians& J) {
+          k::ManifoldStep(a, w, dt, mx, J);
+        });
     Mat15 T = Mat15::Identity();
     for (int b = 0; b <= 6; b += 3) T.block<3, 3>(b, b) = mx.dR.transpose();
     const Mat15 m_cov = T * md.cov * T.transpose();
@@ -351,9 +364,10 @@ TEST_P(KernelInstance, MatchesTheDenseRecursion) {
     m_H.topRows<3>() = mx.dR.transpose() * m_H.topRows<3>();
     // Tangent: its own chart.
     k::TangentIncrement tx;
-    const DenseResult td = DenseRecursion(in, [&](const Vec3& a, const Vec3& w, double dt, k::StepJacobians& J) {
-      k::TangentStep(a, w, dt, tx, J);
-    });
+    const DenseResult td =
+        DenseRecursion(in, [&](const Vec3& a, const Vec3& w, double dt, k::StepJacobians& J) {
+          k::TangentStep(a, w, dt, tx, J);
+        });
     if (c.name == "spinning") {
       EXPECT_GT(tx.xi.head<3>().norm(), M_PI) << "the case must pass pi";
     }
@@ -364,17 +378,19 @@ TEST_P(KernelInstance, MatchesTheDenseRecursion) {
       k::TangentIncrement ti;
       ASSERT_TRUE(k::IntegrateManifold(in, mo, &mi, isa).ok());
       ASSERT_TRUE(k::IntegrateTangent(in, to, &ti, isa).ok());
-      const double e[] = {ScaledErr(mo.cov, m_cov), RelErr(mo.J_bias, m_H), ScaledErr(to.cov, td.cov),
-                          RelErr(to.J_bias, td.H),  RelErr(mi.dR, mx.dR),   RelErr(ti.xi, tx.xi)};
-      const char* what[] = {"manifold cov", "manifold J_bias", "tangent cov", "tangent J_bias", "manifold dR",
-                            "tangent xi"};
+      const double e[] = {ScaledErr(mo.cov, m_cov),  RelErr(mo.J_bias, m_H),
+                          ScaledErr(to.cov, td.cov), RelErr(to.J_bias, td.H),
+                          RelErr(mi.dR, mx.dR),      RelErr(ti.xi, tx.xi)};
+      const char* what[] = {"manifold cov",   "manifold J_bias", "tangent cov",
+                            "tangent J_bias", "manifold dR",     "tangent xi"};
       for (int i = 0; i < 6; ++i) {
         EXPECT_LT(e[i], kDenseTol) << what[i];
         worst = std::max(worst, e[i]);
       }
     }
   }
-  std::printf("[ worst   ] block recursion vs dense 15x15, %s instance: %.2e\n", IsaName(isa), worst);
+  std::printf("[ worst   ] block recursion vs dense 15x15, %s instance: %.2e\n", IsaName(isa),
+              worst);
 }
 
 TEST_P(KernelInstance, IntervalIntegrationDoesNotTouchTheHeap) {
@@ -396,7 +412,10 @@ TEST_P(KernelInstance, IntervalIntegrationDoesNotTouchTheHeap) {
   EXPECT_EQ(new1 - new0, 0) << "operator new calls";
   // The detector itself works: a dynamic-size Eigen object is caught.
   Eigen::internal::set_is_malloc_allowed(false);
-  { Eigen::MatrixXd m(3, 3); m.setZero(); }
+  {
+    Eigen::MatrixXd m(3, 3);
+    m.setZero();
+  }
   Eigen::internal::set_is_malloc_allowed(true);
   EXPECT_GT(g_eigen_heap_violations.load(), eigen1);
 }
@@ -411,7 +430,8 @@ TEST(Kernels, AnInstanceTheCpuLacksIsRefusedNotRun) {
   const ReferenceCase rc = LoadReferenceCase("white-0");
   const PreintegrationInput in = rc.Input();
   Preintegrated out;
-  const Status m = k::IntegrateManifold(in, out, nullptr, missing), t = k::IntegrateTangent(in, out, nullptr, missing);
+  const Status m = k::IntegrateManifold(in, out, nullptr, missing),
+               t = k::IntegrateTangent(in, out, nullptr, missing);
   ASSERT_FALSE(m.ok());
   ASSERT_FALSE(t.ok());
   EXPECT_NE(m.message().find("does not run on this CPU"), std::string::npos) << m.message();

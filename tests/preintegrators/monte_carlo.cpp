@@ -95,8 +95,10 @@ void CheckMonteCarlo(const std::string& scheme, const std::string& id) {
     Vec3 beta_g = Vec3::Zero(), beta_a = Vec3::Zero();
     for (std::size_t j = 0; j + 1 < s.samples.size(); ++j) {
       const double dt = s.samples[j + 1].t - s.samples[j].t;
-      noisy[j].gyro = s.samples[j].gyro - beta_g - (q.gyro_noise_density / std::sqrt(dt)) * randn3();
-      noisy[j].accel = s.samples[j].accel - beta_a - (q.accel_noise_density / std::sqrt(dt)) * randn3();
+      noisy[j].gyro =
+          s.samples[j].gyro - beta_g - (q.gyro_noise_density / std::sqrt(dt)) * randn3();
+      noisy[j].accel =
+          s.samples[j].accel - beta_a - (q.accel_noise_density / std::sqrt(dt)) * randn3();
       beta_g += (q.gyro_random_walk * std::sqrt(dt)) * randn3();
       beta_a += (q.accel_random_walk * std::sqrt(dt)) * randn3();
     }
@@ -108,8 +110,10 @@ void CheckMonteCarlo(const std::string& scheme, const std::string& id) {
   }
 
   const Whitened w = WhitenedStats(Sigma, errors);
-  std::printf("[ MC      ] %-8s %-12s N=%d: max|W_ii-1| %.3f (tol %.3f), max|W_ij| %.3f (tol %.3f), NEES %.3f (15 +- %.3f)\n",
-              scheme.c_str(), id.c_str(), kRuns, w.diag, kDiagTol, w.off, kOffTol, w.nees, kNeesTol);
+  std::printf(
+      "[ MC      ] %-8s %-12s N=%d: max|W_ii-1| %.3f (tol %.3f), max|W_ij| %.3f (tol %.3f), NEES "
+      "%.3f (15 +- %.3f)\n",
+      scheme.c_str(), id.c_str(), kRuns, w.diag, kDiagTol, w.off, kOffTol, w.nees, kNeesTol);
   EXPECT_LT(w.diag, kDiagTol);
   EXPECT_LT(w.off, kOffTol);
   EXPECT_LT(std::abs(w.nees - 15.0), kNeesTol);

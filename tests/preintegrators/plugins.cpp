@@ -34,7 +34,8 @@ TEST(PreintegratorPlugins, LoadThroughTheRegistry) {
     const PluginInfo& info = Plugins().info(PluginKind::Preintegrator, e.id);
     EXPECT_EQ(info.native_convention, e.cov);
     EXPECT_EQ(info.jacobian_convention, e.jac);
-    EXPECT_NE(info.file.find("imuconv_plugin_preintegrators_" + std::string(e.id) + ".so"), std::string::npos);
+    EXPECT_NE(info.file.find("imuconv_plugin_preintegrators_" + std::string(e.id) + ".so"),
+              std::string::npos);
   }
 }
 
@@ -74,7 +75,8 @@ TEST(PreintegratorPlugins, OutputFixedParts) {
     EXPECT_TRUE((out.J_bias.block<3, 3>(0, 0).array() == 0.0).all());
     // Orthonormal rotation: 2000 products of rotations drift by ~sqrt(2000) ulps (manifold),
     // one Exp is exact to a few ulps (tangent); 1e-13 is ~500 ulps.
-    EXPECT_LT((out.delta.dR.transpose() * out.delta.dR - Mat3::Identity()).cwiseAbs().maxCoeff(), 1e-13);
+    EXPECT_LT((out.delta.dR.transpose() * out.delta.dR - Mat3::Identity()).cwiseAbs().maxCoeff(),
+              1e-13);
   }
 }
 
@@ -84,7 +86,8 @@ TEST(PreintegratorPlugins, ReintegrationWithANewBiasIsJustAnotherCall) {
   // the bias change is halved (a consistency check of J_bias's chart and column order).
   const ReferenceCase rc = LoadReferenceCase("smooth-0");
   const nlohmann::json c = ReadJson(DataPath("reference/cases/smooth-0.json"));
-  const Vec3 dbg = JsonVec3(c.at("bias_delta").at("bg")), dba = JsonVec3(c.at("bias_delta").at("ba"));
+  const Vec3 dbg = JsonVec3(c.at("bias_delta").at("bg")),
+             dba = JsonVec3(c.at("bias_delta").at("ba"));
   const PreintegrationInput in = rc.Input();
   const auto pre = Plugins().preintegrator("manifold");
   Preintegrated out0;
@@ -106,8 +109,8 @@ TEST(PreintegratorPlugins, ReintegrationWithANewBiasIsJustAnotherCall) {
         out1.delta.dv - out0.delta.dv;
     gap[half] = (actual - predicted).norm();
   }
-  std::printf("[ bias    ] |re-integration - first order|: %.3e (db), %.3e (db/2), ratio %.3f\n", gap[0], gap[1],
-              gap[0] / gap[1]);
+  std::printf("[ bias    ] |re-integration - first order|: %.3e (db), %.3e (db/2), ratio %.3f\n",
+              gap[0], gap[1], gap[0] / gap[1]);
   EXPECT_GT(gap[0], 0.0);
   // The gap is O(db^2): ratio 4, moved only by third-order terms (relative size ~|db||J|,
   // a few percent at most here); a wrong chart or column order would leave an O(db) gap.

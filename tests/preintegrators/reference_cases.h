@@ -14,7 +14,8 @@
 namespace imuconv::test {
 
 inline const std::vector<std::string>& ReferenceCaseIds() {
-  static const std::vector<std::string> ids(std::begin(kReferenceCaseIds), std::end(kReferenceCaseIds));
+  static const std::vector<std::string> ids(std::begin(kReferenceCaseIds),
+                                            std::end(kReferenceCaseIds));
   return ids;
 }
 
@@ -62,7 +63,6 @@ struct ReferenceCase {
   }
 };
 
-
 inline ReferenceCase LoadReferenceCase(const std::string& id) {
   const nlohmann::json j = ReadJson(DataPath("reference/cases/" + id + ".json"));
   ReferenceCase c;
@@ -96,7 +96,8 @@ struct WorstDiff {
 
 /// Max entrywise difference and the (row, col) of its entry.
 template <typename A, typename B>
-double MaxEntryDiffAt(const Eigen::MatrixBase<A>& ref, const Eigen::MatrixBase<B>& est, int& row, int& col) {
+double MaxEntryDiffAt(const Eigen::MatrixBase<A>& ref, const Eigen::MatrixBase<B>& est, int& row,
+                      int& col) {
   double m = -1.0;
   for (Eigen::Index i = 0; i < ref.rows(); ++i)
     for (Eigen::Index k = 0; k < ref.cols(); ++k) {

@@ -60,16 +60,20 @@ void CheckMonteCarlo(const std::string& id) {
   for (int run = 0; run < kRuns; ++run) {
     Vec3 beta_g = Vec3::Zero(), beta_a = Vec3::Zero();
     for (std::size_t j = 0; j < samples.size(); ++j) {
-      const double dt = j + 1 < samples.size() ? samples[j + 1].t - samples[j].t : samples[j].t - samples[j - 1].t;
+      const double dt = j + 1 < samples.size() ? samples[j + 1].t - samples[j].t
+                                               : samples[j].t - samples[j - 1].t;
       noisy[j].gyro = samples[j].gyro - beta_g - (q.gyro_noise_density / std::sqrt(dt)) * randn3();
-      noisy[j].accel = samples[j].accel - beta_a - (q.accel_noise_density / std::sqrt(dt)) * randn3();
+      noisy[j].accel =
+          samples[j].accel - beta_a - (q.accel_noise_density / std::sqrt(dt)) * randn3();
       beta_g += (q.gyro_random_walk * std::sqrt(dt)) * randn3();
       beta_a += (q.accel_random_walk * std::sqrt(dt)) * randn3();
     }
     PreintegrationInput noisy_in = in;
     noisy_in.window = WindowOver(noisy);
     k::VinsFusionPreintegration x;
-    ASSERT_TRUE(k::IntegrateVinsFusion(noisy_in, k::VinsNoiseMapping::kFromDensities, x, /*jacobians=*/false).ok());
+    ASSERT_TRUE(k::IntegrateVinsFusion(noisy_in, k::VinsNoiseMapping::kFromDensities, x,
+                                       /*jacobians=*/false)
+                    .ok());
     Vec15 e;
     e << ChartError(nominal, x), beta_a, beta_g;
     errors.push_back(e);
@@ -77,7 +81,8 @@ void CheckMonteCarlo(const std::string& id) {
 
   const Whitened w = WhitenedStats(nominal.covariance, errors);
   std::printf(
-      "[ MC      ] vins_fusion %-12s N=%d: max|W_ii-1| %.3f (tol %.3f), max|W_ij| %.3f (tol %.3f), NEES %.3f "
+      "[ MC      ] vins_fusion %-12s N=%d: max|W_ii-1| %.3f (tol %.3f), max|W_ij| %.3f (tol %.3f), "
+      "NEES %.3f "
       "(15 +- %.3f)\n",
       id.c_str(), kRuns, w.diag, kDiagTol, w.off, kOffTol, w.nees, kNeesTol);
   EXPECT_LT(w.diag, kDiagTol);
@@ -110,13 +115,16 @@ void CheckBiasJacobian(const std::string& id, double gyro_bound) {
   const PreintegrationInput in = rc.Input();
   k::VinsFusionPreintegration x0;
   ASSERT_TRUE(k::IntegrateVinsFusion(in, k::VinsNoiseMapping::kFromDensities, x0).ok());
-  const Mat96 numeric = BiasCentralDifferences(in, /*accel_first=*/true, 1e-6, [&](const PreintegrationInput& moved) {
-    k::VinsFusionPreintegration x;
-    EXPECT_TRUE(k::IntegrateVinsFusion(moved, k::VinsNoiseMapping::kFromDensities, x, /*jacobians=*/false).ok());
-    return ChartError(x0, x);
-  });
-  ExpectBiasBlocks("vins_fusion " + id, x0.jacobian.block<9, 6>(0, 9), numeric, {"p", "theta", "v"}, {"ba", "bg"},
-                   [&](int col) { return col == 0 ? 1e-6 : gyro_bound; });
+  const Mat96 numeric =
+      BiasCentralDifferences(in, /*accel_first=*/true, 1e-6, [&](const PreintegrationInput& moved) {
+        k::VinsFusionPreintegration x;
+        EXPECT_TRUE(k::IntegrateVinsFusion(moved, k::VinsNoiseMapping::kFromDensities, x,
+                                           /*jacobians=*/false)
+                        .ok());
+        return ChartError(x0, x);
+      });
+  ExpectBiasBlocks("vins_fusion " + id, x0.jacobian.block<9, 6>(0, 9), numeric, {"p", "theta", "v"},
+                   {"ba", "bg"}, [&](int col) { return col == 0 ? 1e-6 : gyro_bound; });
 }
 
 TEST(VinsFusionBiasJacobian, Smooth) { CheckBiasJacobian("smooth-0", 2e-3); }

@@ -61,12 +61,14 @@ class AnchorFieldDiffs {
     Scaled(field, CorrelationScaleDiff(ref, est));
   }
   void Print() const {
-    std::printf("  %-36s metric %.2g (%s) scaled %.2g\n", label_.c_str(), metric_, worst_field_.c_str(), scaled_);
+    std::printf("  %-36s metric %.2g (%s) scaled %.2g\n", label_.c_str(), metric_,
+                worst_field_.c_str(), scaled_);
   }
 
  private:
   void Scaled(const char* field, const ScaledDiff& s) {
-    EXPECT_LE(s.d, kAnchorScaledTol) << label_ << ": " << field << " at (" << s.row << "," << s.col << ")";
+    EXPECT_LE(s.d, kAnchorScaledTol)
+        << label_ << ": " << field << " at (" << s.row << "," << s.col << ")";
     scaled_ = std::max(scaled_, s.d);
   }
   std::string label_;

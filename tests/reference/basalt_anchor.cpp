@@ -37,7 +37,8 @@ const Feeding kFeedings[] = {{"native", BasaltFeeding::kNative, "basalt"},
 
 /// Worst differences of one delta state (`state`: R, p, v) and, when given, its covariance
 /// and bias Jacobians against the anchor, printed under `label` and checked.
-void ExpectDeltaState(const nlohmann::json& state, const BasaltPreintegration& r, const std::string& label) {
+void ExpectDeltaState(const nlohmann::json& state, const BasaltPreintegration& r,
+                      const std::string& label) {
   const double d_R = MaxEntryDiff(JsonMatrix(state.at("R")), r.R);
   const double d_p = MaxEntryDiff(JsonMatrix(state.at("p")), r.p);
   const double d_v = MaxEntryDiff(JsonMatrix(state.at("v")), r.v);
@@ -45,20 +46,26 @@ void ExpectDeltaState(const nlohmann::json& state, const BasaltPreintegration& r
   for (const double d : {d_R, d_p, d_v}) EXPECT_LE(d, kAnchorMetricTol) << label;
   EXPECT_EQ(state.at("t_ns").get<long long>(), r.dt_ns) << label;
 }
-void ExpectCovarianceAndJacobians(const nlohmann::json& f, const BasaltPreintegration& r, const std::string& label) {
+void ExpectCovarianceAndJacobians(const nlohmann::json& f, const BasaltPreintegration& r,
+                                  const std::string& label) {
   const Mat9 cov = JsonMatrix(f.at("cov"));
   const Mat93 J_ba = JsonMatrix(f.at("d_state_d_ba")), J_bg = JsonMatrix(f.at("d_state_d_bg"));
   const double d_cov = MaxEntryDiff(cov, r.cov);
-  const double d_J = std::max(MaxEntryDiff(J_ba, r.d_state_d_ba), MaxEntryDiff(J_bg, r.d_state_d_bg));
+  const double d_J =
+      std::max(MaxEntryDiff(J_ba, r.d_state_d_ba), MaxEntryDiff(J_bg, r.d_state_d_bg));
   const auto s_cov = CorrelationScaleDiff(cov, r.cov);
   const auto s_ba = RelativeAboveFloorDiff(J_ba, r.d_state_d_ba);
   const auto s_bg = RelativeAboveFloorDiff(J_bg, r.d_state_d_bg);
-  std::printf(" | cov %.2g J %.2g | scaled cov %.2g J_ba %.2g J_bg %.2g", d_cov, d_J, s_cov.d, s_ba.d, s_bg.d);
+  std::printf(" | cov %.2g J %.2g | scaled cov %.2g J_ba %.2g J_bg %.2g", d_cov, d_J, s_cov.d,
+              s_ba.d, s_bg.d);
   EXPECT_LE(d_cov, kAnchorMetricTol) << label;
   EXPECT_LE(d_J, kAnchorMetricTol) << label;
-  EXPECT_LE(s_cov.d, kAnchorScaledTol) << label << ": cov at (" << s_cov.row << "," << s_cov.col << ")";
-  EXPECT_LE(s_ba.d, kAnchorScaledTol) << label << ": d_state_d_ba at (" << s_ba.row << "," << s_ba.col << ")";
-  EXPECT_LE(s_bg.d, kAnchorScaledTol) << label << ": d_state_d_bg at (" << s_bg.row << "," << s_bg.col << ")";
+  EXPECT_LE(s_cov.d, kAnchorScaledTol)
+      << label << ": cov at (" << s_cov.row << "," << s_cov.col << ")";
+  EXPECT_LE(s_ba.d, kAnchorScaledTol)
+      << label << ": d_state_d_ba at (" << s_ba.row << "," << s_ba.col << ")";
+  EXPECT_LE(s_bg.d, kAnchorScaledTol)
+      << label << ": d_state_d_bg at (" << s_bg.row << "," << s_bg.col << ")";
 }
 
 class BasaltAnchor : public ::testing::TestWithParam<const char*> {
@@ -74,7 +81,8 @@ class BasaltAnchor : public ::testing::TestWithParam<const char*> {
     variances_.accel = JsonVec3(in.at("accel_cov"));
     variances_.gyro = JsonVec3(in.at("gyro_cov"));
     const double rate = in.at("imu_update_rate").get<double>();
-    EXPECT_NEAR(variances_.accel.x(), case_.noise.accel_noise_density * case_.noise.accel_noise_density * rate,
+    EXPECT_NEAR(variances_.accel.x(),
+                case_.noise.accel_noise_density * case_.noise.accel_noise_density * rate,
                 1e-15 * variances_.accel.x());
   }
   nlohmann::json anchor_;
@@ -86,9 +94,9 @@ TEST_P(BasaltAnchor, IntegratedImuMeasurementIsBasaltOwn) {
   for (const Feeding& feed : kFeedings) {
     const nlohmann::json& f = anchor_.at(feed.key);
     BasaltPreintegration r;
-    ASSERT_TRUE(
-        imuconv::kernels::IntegrateBasalt(AnchorInput(case_, case_.x_s.bg, case_.x_s.ba), feed.feeding, variances_, r)
-            .ok());
+    ASSERT_TRUE(imuconv::kernels::IntegrateBasalt(AnchorInput(case_, case_.x_s.bg, case_.x_s.ba),
+                                                  feed.feeding, variances_, r)
+                    .ok());
     const std::string label = std::string(GetParam()) + " " + feed.key;
     ExpectDeltaState(f.at("delta_state"), r, label);
     ExpectCovarianceAndJacobians(f, r, label);
@@ -102,11 +110,12 @@ TEST_P(BasaltAnchor, ReintegrationAtTheNewBias) {
   for (const Feeding& feed : kFeedings) {
     const nlohmann::json& bc = anchor_.at(feed.key).at("bias_correction");
     BasaltPreintegration r;
-    ASSERT_TRUE(
-        imuconv::kernels::IntegrateBasalt(AnchorInput(case_, JsonVec3(bc.at("bg_new")), JsonVec3(bc.at("ba_new"))),
-                                          feed.feeding, variances_, r)
-            .ok());
-    ExpectDeltaState(bc.at("reintegrated"), r, std::string(GetParam()) + " " + feed.key + " reintegrated");
+    ASSERT_TRUE(imuconv::kernels::IntegrateBasalt(
+                    AnchorInput(case_, JsonVec3(bc.at("bg_new")), JsonVec3(bc.at("ba_new"))),
+                    feed.feeding, variances_, r)
+                    .ok());
+    ExpectDeltaState(bc.at("reintegrated"), r,
+                     std::string(GetParam()) + " " + feed.key + " reintegrated");
     std::printf("\n");
   }
 }
@@ -128,7 +137,8 @@ TEST_P(BasaltAnchor, PluginsThroughTheRegistryAreBasaltOwn) {
     ASSERT_EQ(b.jacobian_convention, "basalt");
     const Mat9 cov = JsonMatrix(f.at("cov"));
     Eigen::Matrix<double, 9, 6> J;
-    J << JsonMatrix(f.at("d_state_d_bg")), JsonMatrix(f.at("d_state_d_ba"));  // basalt's bias order [bg, ba]
+    J << JsonMatrix(f.at("d_state_d_bg")),
+        JsonMatrix(f.at("d_state_d_ba"));  // basalt's bias order [bg, ba]
     const nlohmann::json& ds = f.at("delta_state");
     SCOPED_TRACE(feed.plugin);
     EXPECT_LE(MaxEntryDiff(JsonMatrix(ds.at("R")), b.delta.dR), kAnchorMetricTol);
@@ -141,8 +151,10 @@ TEST_P(BasaltAnchor, PluginsThroughTheRegistryAreBasaltOwn) {
       EXPECT_LE(MaxEntryDiff(cov, b.cov.topLeftCorner<9, 9>()), kAnchorMetricTol);
       EXPECT_LE(s_cov, kAnchorScaledTol);
     } else {
-      std::printf("  %-13s %-18s covariance, each step's dt against Basalt's nominal rate: %.2g (correlation scale)\n",
-                  GetParam(), feed.plugin, s_cov);
+      std::printf(
+          "  %-13s %-18s covariance, each step's dt against Basalt's nominal rate: %.2g "
+          "(correlation scale)\n",
+          GetParam(), feed.plugin, s_cov);
     }
     EXPECT_EQ(f.at("dt_ns").get<long long>() * 1e-9, b.dt);
   }
@@ -155,17 +167,19 @@ TEST_P(BasaltAnchor, PluginsThroughTheRegistryAreBasaltOwn) {
 // cases, above). The delta state and bias Jacobians are the `basalt` plugin's, noise-free.
 TEST_P(BasaltAnchor, AsConfiguredNoiseIsBasaltOwnOnEveryCase) {
   PreintegrationInput in = AnchorInput(case_, case_.x_s.bg, case_.x_s.ba);
-  ASSERT_EQ(variances_.gyro.x(), variances_.gyro.z());  // one number per sensor, as the plugin takes
+  ASSERT_EQ(variances_.gyro.x(),
+            variances_.gyro.z());  // one number per sensor, as the plugin takes
   in.noise.gyro_noise_density = std::sqrt(variances_.gyro.x());
   in.noise.accel_noise_density = std::sqrt(variances_.accel.x());
   const nlohmann::json& f = anchor_.at("native");
-  const imuconv::Preintegrated m =
-      imuconv::PreintegrateNative(Plugins(), "basalt_as_configured", in.window, in.bg, in.ba, in.noise);
+  const imuconv::Preintegrated m = imuconv::PreintegrateNative(Plugins(), "basalt_as_configured",
+                                                               in.window, in.bg, in.ba, in.noise);
   const imuconv::Preintegrated b = imuconv::Express(Plugins(), m, "basalt");
   const Mat9 cov = JsonMatrix(f.at("cov"));
   const double d = MaxEntryDiff(cov, b.cov.topLeftCorner<9, 9>());
   const auto s = CorrelationScaleDiff(cov, b.cov.topLeftCorner<9, 9>());
-  std::printf("  %-13s basalt_as_configured covariance: %.2g, %.2g (correlation scale)\n", GetParam(), d, s.d);
+  std::printf("  %-13s basalt_as_configured covariance: %.2g, %.2g (correlation scale)\n",
+              GetParam(), d, s.d);
   EXPECT_LE(d, kAnchorMetricTol);
   EXPECT_LE(s.d, kAnchorScaledTol);
   EXPECT_LE(MaxEntryDiff(JsonMatrix(f.at("delta_state").at("p")), b.delta.dp), kAnchorMetricTol);
@@ -181,18 +195,22 @@ TEST_P(BasaltAnchor, AsConfiguredNoiseIsBasaltOwnOnEveryCase) {
 // conversion is that.
 TEST_P(BasaltAnchor, BasaltInGtsamConvention) {
   const nlohmann::json g =
-      ReadJson(DataPath(std::string("reference/gtsam/") + GetParam() + ".gtsam.json")).at("zoh").at("manifold");
+      ReadJson(DataPath(std::string("reference/gtsam/") + GetParam() + ".gtsam.json"))
+          .at("zoh")
+          .at("manifold");
   const PreintegrationInput in = AnchorInput(case_, case_.x_s.bg, case_.x_s.ba);
-  const imuconv::Preintegrated m =
-      imuconv::PreintegrateNative(Plugins(), "basalt_forward_zoh", in.window, in.bg, in.ba, in.noise);
+  const imuconv::Preintegrated m = imuconv::PreintegrateNative(Plugins(), "basalt_forward_zoh",
+                                                               in.window, in.bg, in.ba, in.noise);
   const imuconv::Preintegrated b = imuconv::Express(Plugins(), m, "gtsam_manifold");
   const imuconv::Mat3 dR = JsonMatrix(g.at("deltaR"));
   const Vec3 dp = JsonMatrix(g.at("deltaP")), dv = JsonMatrix(g.at("deltaV"));
   const imuconv::Mat96 J = JsonMatrix(g.at("J_bias"));
   const imuconv::Mat15 cov = JsonMatrix(g.at("cov15"));
-  const Mat9 cov9 = JsonMatrix(g.at("cov9"));  // PreintegratedImuMeasurements: no bias walk, as Basalt
+  const Mat9 cov9 =
+      JsonMatrix(g.at("cov9"));  // PreintegratedImuMeasurements: no bias walk, as Basalt
   const double rot = imuconv::so3::Log(dR.transpose() * b.delta.dR).norm();
-  const double rel_pv = std::max((b.delta.dp - dp).norm() / dp.norm(), (b.delta.dv - dv).norm() / dv.norm());
+  const double rel_pv =
+      std::max((b.delta.dp - dp).norm() / dp.norm(), (b.delta.dv - dv).norm() / dv.norm());
   const double J_block = WorstBlockRelativeDiff(J, b.J_bias).d;  // worst 3x3 block, relative
   const auto d_cov9 = CorrelationScaleDiff(cov9, b.cov.topLeftCorner<9, 9>());
   const auto cov15 = CorrelationScaleDiff(cov, b.cov);
@@ -210,6 +228,7 @@ TEST_P(BasaltAnchor, BasaltInGtsamConvention) {
   EXPECT_LE(d_cov9.d, 3e-3);
 }
 
-INSTANTIATE_TEST_SUITE_P(Reference, BasaltAnchor, ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
+INSTANTIATE_TEST_SUITE_P(Reference, BasaltAnchor, ::testing::ValuesIn(kReferenceCaseIds),
+                         CaseTestName);
 
 }  // namespace

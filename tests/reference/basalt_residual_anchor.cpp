@@ -28,7 +28,8 @@ struct Feeding {
   const char* key;
   BasaltFeeding feeding;
 };
-const Feeding kFeedings[] = {{"native", BasaltFeeding::kNative}, {"forward_zoh", BasaltFeeding::kForwardZoh}};
+const Feeding kFeedings[] = {{"native", BasaltFeeding::kNative},
+                             {"forward_zoh", BasaltFeeding::kForwardZoh}};
 
 BasaltPoseVelState PoseVel(const nlohmann::json& s) {
   BasaltPoseVelState x;
@@ -54,7 +55,9 @@ class BasaltResidualAnchor : public ::testing::TestWithParam<const char*> {
     BasaltMeasurement m;
     m.bias_gyro_lin = case_.x_s.bg;
     m.bias_accel_lin = case_.x_s.ba;
-    EXPECT_TRUE(IntegrateBasalt(AnchorInput(case_, case_.x_s.bg, case_.x_s.ba), feeding, variances_, m.pre).ok());
+    EXPECT_TRUE(
+        IntegrateBasalt(AnchorInput(case_, case_.x_s.bg, case_.x_s.ba), feeding, variances_, m.pre)
+            .ok());
     return m;
   }
   nlohmann::json anchor_;
@@ -80,8 +83,8 @@ TEST_P(BasaltResidualAnchor, ResidualAndJacobiansAreBasaltOwn) {
       const double d_bg = MaxEntryDiff(JsonMatrix(a.at("d_res_d_bg")), r.d_res_d_bg);
       const double d_ba = MaxEntryDiff(JsonMatrix(a.at("d_res_d_ba")), r.d_res_d_ba);
       const std::string label = std::string(GetParam()) + " " + feed.key + " " + at;
-      std::printf("  %-36s residual %.2g d_state0 %.2g d_state1 %.2g d_bg %.2g d_ba %.2g\n", label.c_str(), d_r, d_0,
-                  d_1, d_bg, d_ba);
+      std::printf("  %-36s residual %.2g d_state0 %.2g d_state1 %.2g d_bg %.2g d_ba %.2g\n",
+                  label.c_str(), d_r, d_0, d_1, d_bg, d_ba);
       for (const double d : {d_r, d_0, d_1, d_bg, d_ba}) EXPECT_LE(d, kAnchorMetricTol) << label;
     }
   }
@@ -91,13 +94,14 @@ TEST_P(BasaltResidualAnchor, FirstOrderBiasCorrectionIsBasaltOwn) {
   for (const Feeding& feed : kFeedings) {
     const nlohmann::json& bc = anchor_.at(feed.key).at("bias_correction");
     const BasaltMeasurement m = Measure(feed.feeding);
-    const BasaltPoseVelState c = BasaltCorrectedDelta(m, JsonVec3(bc.at("bg_new")), JsonVec3(bc.at("ba_new")));
+    const BasaltPoseVelState c =
+        BasaltCorrectedDelta(m, JsonVec3(bc.at("bg_new")), JsonVec3(bc.at("ba_new")));
     const nlohmann::json& fo = bc.at("first_order");
     const double d_R = MaxEntryDiff(JsonMatrix(fo.at("R")), c.R);
     const double d_p = MaxEntryDiff(JsonMatrix(fo.at("p")), c.p);
     const double d_v = MaxEntryDiff(JsonMatrix(fo.at("v")), c.v);
-    std::printf("  %-26s first_order R %.2g p %.2g v %.2g\n", (std::string(GetParam()) + " " + feed.key).c_str(), d_R,
-                d_p, d_v);
+    std::printf("  %-26s first_order R %.2g p %.2g v %.2g\n",
+                (std::string(GetParam()) + " " + feed.key).c_str(), d_R, d_p, d_v);
     for (const double d : {d_R, d_p, d_v}) EXPECT_LE(d, kAnchorMetricTol);
   }
 }
@@ -161,12 +165,15 @@ TEST_P(BasaltResidualAnchor, JacobiansAreCentralDifferencesThroughApplyInc) {
       const Vec3 phi = m.pre.d_state_d_bg.middleRows<3>(3) * (bg - m.bias_gyro_lin);
       const Vec3 r_theta = r.residual.segment<3>(3);
       const double upstream_bg = (n.d_bg - d_bg).cwiseAbs().maxCoeff();
-      d_bg.middleRows<3>(3) = so3::JlInv(r_theta) * so3::Jl(phi) * m.pre.d_state_d_bg.middleRows<3>(3);
-      const double worst = std::max(
-          {(n.d_state0 - r.d_res_d_state0).cwiseAbs().maxCoeff(), (n.d_state1 - r.d_res_d_state1).cwiseAbs().maxCoeff(),
-           (n.d_ba - r.d_res_d_ba).cwiseAbs().maxCoeff(), (n.d_bg - d_bg).cwiseAbs().maxCoeff()});
+      d_bg.middleRows<3>(3) =
+          so3::JlInv(r_theta) * so3::Jl(phi) * m.pre.d_state_d_bg.middleRows<3>(3);
+      const double worst = std::max({(n.d_state0 - r.d_res_d_state0).cwiseAbs().maxCoeff(),
+                                     (n.d_state1 - r.d_res_d_state1).cwiseAbs().maxCoeff(),
+                                     (n.d_ba - r.d_res_d_ba).cwiseAbs().maxCoeff(),
+                                     (n.d_bg - d_bg).cwiseAbs().maxCoeff()});
       std::printf(
-          "  %-13s %-11s %s: FD %.2g abs | upstream's d_res_d_bg %.2g abs (|phi| = %.2g, max |d_res_d_bg| %.2g)\n",
+          "  %-13s %-11s %s: FD %.2g abs | upstream's d_res_d_bg %.2g abs (|phi| = %.2g, max "
+          "|d_res_d_bg| %.2g)\n",
           GetParam(), feed.key, lin ? "lin bias" : "new bias", worst, upstream_bg, phi.norm(),
           r.d_res_d_bg.cwiseAbs().maxCoeff());
       EXPECT_LE(worst, kFdTol);
@@ -177,6 +184,7 @@ TEST_P(BasaltResidualAnchor, JacobiansAreCentralDifferencesThroughApplyInc) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Reference, BasaltResidualAnchor, ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
+INSTANTIATE_TEST_SUITE_P(Reference, BasaltResidualAnchor, ::testing::ValuesIn(kReferenceCaseIds),
+                         CaseTestName);
 
 }  // namespace

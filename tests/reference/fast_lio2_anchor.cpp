@@ -33,16 +33,17 @@ using namespace imuconv::kernels;
 using namespace imuconv::test;  // DataPath, JsonMatrix, MaxEntryDiff, the anchors' bounds
 
 Eigen::Quaterniond JsonQuaternionWxyz(const nlohmann::json& q) {
-  return Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>());
+  return Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
+                            q[3].get<double>());
 }
 
 Eigen::Vector4d Wxyz(const Eigen::Quaterniond& q) { return {q.w(), q.x(), q.y(), q.z()}; }
 
-
 class FastLio2Anchor : public ::testing::TestWithParam<const char*> {
  protected:
   void SetUp() override {
-    anchor_ = ReadJson(DataPath(std::string("reference/anchors/fast-lio2/") + GetParam() + ".json"));
+    anchor_ =
+        ReadJson(DataPath(std::string("reference/anchors/fast-lio2/") + GetParam() + ".json"));
     case_ = ReadJson(DataPath(std::string("reference/cases/") + GetParam() + ".json"));
     const nlohmann::json& in = anchor_.at("inputs");
     samples_ = CaseSamples(case_);
@@ -117,7 +118,8 @@ class FastLio2Anchor : public ::testing::TestWithParam<const char*> {
     FastLio2State start = start_;
     start.grav = grav;
     FastLio2Propagation out;
-    ASSERT_TRUE(PropagateFastLio2Scan(samples_, params_, last_scan_end_, scan_end_, start, P0_, out).ok());
+    ASSERT_TRUE(
+        PropagateFastLio2Scan(samples_, params_, last_scan_end_, scan_end_, start, P0_, out).ok());
     EXPECT_EQ(out.n_predict, j.at("n_predict").get<int>());
     // 2000 additions of dt near 5e-3 in another order: within 2000 eps of 10 s.
     EXPECT_NEAR(out.sum_dt, j.at("sum_dt").get<double>(), 1e-11);
@@ -149,10 +151,11 @@ class FastLio2Anchor : public ::testing::TestWithParam<const char*> {
     // (the half-angle meant) is off its Qd_summed by far more than rounding (correlation 1e-2
     // on static-0, which turns least; 0.1 to 0.4 elsewhere).
     FastLio2Propagation exact;
-    ASSERT_TRUE(PropagateFastLio2Scan(samples_, params_, last_scan_end_, scan_end_, start, P0_, exact,
-                                      FastLio2Transition::kExactRotation)
+    ASSERT_TRUE(PropagateFastLio2Scan(samples_, params_, last_scan_end_, scan_end_, start, P0_,
+                                      exact, FastLio2Transition::kExactRotation)
                     .ok());
-    const ScaledDiff quirk = CorrelationScaleDiff(JsonMatrix(j.at("Qd_summed").at("matrix")), exact.Qd_summed);
+    const ScaledDiff quirk =
+        CorrelationScaleDiff(JsonMatrix(j.at("Qd_summed").at("matrix")), exact.Qd_summed);
     std::printf("  %-34s exact variant's Qd_summed off the file's by %.2g\n", "", quirk.d);
     EXPECT_GT(quirk.d, 1e-3) << "the exact variant should not reproduce FAST-LIO's numbers";
     EXPECT_EQ(exact.end.rot.coeffs(), out.end.rot.coeffs());  // the quirk is in the covariance only
@@ -172,8 +175,11 @@ TEST_P(FastLio2Anchor, AsFastLioIsFastLioOwn) {
   ExpectRun("as_fastlio", FastLio2GravityAsBuilt(gravity_));
 }
 
-TEST_P(FastLio2Anchor, CaseGravityIsFastLioOwn) { ExpectRun("case_gravity", FastLio2GravityExact(gravity_)); }
+TEST_P(FastLio2Anchor, CaseGravityIsFastLioOwn) {
+  ExpectRun("case_gravity", FastLio2GravityExact(gravity_));
+}
 
-INSTANTIATE_TEST_SUITE_P(Reference, FastLio2Anchor, ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
+INSTANTIATE_TEST_SUITE_P(Reference, FastLio2Anchor, ::testing::ValuesIn(kReferenceCaseIds),
+                         CaseTestName);
 
 }  // namespace

@@ -21,11 +21,11 @@
 
 namespace {
 
-using nlohmann::json;
 using imuconv::test::DataPath;
 using imuconv::test::EntryDiff;
 using imuconv::test::Plugins;
 using imuconv::test::ReadJson;
+using nlohmann::json;
 
 struct Stat {
   double max = 0.0, sum = 0.0;
@@ -34,8 +34,8 @@ struct Stat {
 };
 
 // Walks the reference value and compares every number with the estimate at the same path.
-void Compare(const json& ref, const json& est, const std::string& path, std::map<std::string, Stat>& out,
-             const std::string& field) {
+void Compare(const json& ref, const json& est, const std::string& path,
+             std::map<std::string, Stat>& out, const std::string& field) {
   if (ref.is_number()) {
     ASSERT_TRUE(est.is_number()) << path << " missing in imuconv's output";
     const double d = EntryDiff(ref.get<double>(), est.get<double>());
@@ -45,12 +45,15 @@ void Compare(const json& ref, const json& est, const std::string& path, std::map
     ++s.n;
   } else if (ref.is_array()) {
     ASSERT_TRUE(est.is_array() && est.size() == ref.size()) << path << ": shape differs";
-    for (std::size_t i = 0; i < ref.size(); ++i) Compare(ref[i], est[i], path + "/" + std::to_string(i), out, field);
+    for (std::size_t i = 0; i < ref.size(); ++i)
+      Compare(ref[i], est[i], path + "/" + std::to_string(i), out, field);
   } else if (ref.is_object()) {
     for (auto it = ref.begin(); it != ref.end(); ++it) {
       if (it.key() == "variant" || it.key() == "selfcheck_cov15_maxabs") continue;
-      ASSERT_TRUE(est.contains(it.key())) << path << "/" << it.key() << " missing in imuconv's output";
-      Compare(it.value(), est[it.key()], path + "/" + it.key(), out, field.empty() ? it.key() : field);
+      ASSERT_TRUE(est.contains(it.key()))
+          << path << "/" << it.key() << " missing in imuconv's output";
+      Compare(it.value(), est[it.key()], path + "/" + it.key(), out,
+              field.empty() ? it.key() : field);
     }
   }
 }
@@ -61,16 +64,21 @@ class GtsamCase : public ::testing::TestWithParam<const char*> {
     static std::map<std::string, json> cache;
     auto it = cache.find(id);
     if (it == cache.end())
-      it = cache.emplace(id, imuconv::refcase::Run(Plugins(), ReadJson(DataPath("reference/cases/" + id + ".json"))))
+      it = cache
+               .emplace(id, imuconv::refcase::Run(
+                                Plugins(), ReadJson(DataPath("reference/cases/" + id + ".json"))))
                .first;
     return it->second;
   }
-  static json Reference(const std::string& id) { return ReadJson(DataPath("reference/gtsam/" + id + ".gtsam.json")); }
+  static json Reference(const std::string& id) {
+    return ReadJson(DataPath("reference/gtsam/" + id + ".gtsam.json"));
+  }
 };
 
 void ExpectMaxBelow(const std::map<std::string, Stat>& stats, double tol, const std::string& what) {
   for (const auto& [field, s] : stats) {
-    std::printf("  %-28s %-18s max d %.3g  mean d %.3g\n", what.c_str(), field.c_str(), s.max, s.mean());
+    std::printf("  %-28s %-18s max d %.3g  mean d %.3g\n", what.c_str(), field.c_str(), s.max,
+                s.mean());
     EXPECT_LE(s.max, tol) << what << " " << field;
   }
 }
@@ -81,11 +89,13 @@ void ExpectMaxBelow(const std::map<std::string, Stat>& stats, double tol, const 
 // mid_exact.manifold on aggressive-0), see the [ scaled ] lines.
 void ExpectScaledBelow(const json& ref, const json& est, const std::string& what) {
   for (const char* f : {"deltaR", "J_bias", "cov15", "cov9"}) {
-    const Eigen::MatrixXd r = imuconv::test::JsonMatrix(ref.at(f)), e = imuconv::test::JsonMatrix(est.at(f));
-    ASSERT_TRUE(r.rows() == e.rows() && r.cols() == e.cols()) << what << " " << f << ": shape differs";
+    const Eigen::MatrixXd r = imuconv::test::JsonMatrix(ref.at(f)),
+                          e = imuconv::test::JsonMatrix(est.at(f));
+    ASSERT_TRUE(r.rows() == e.rows() && r.cols() == e.cols())
+        << what << " " << f << ": shape differs";
     const bool cov = std::string(f).rfind("cov", 0) == 0;
-    const imuconv::test::ScaledDiff d =
-        cov ? imuconv::test::CorrelationScaleDiff(r, e) : imuconv::test::RelativeAboveFloorDiff(r, e);
+    const imuconv::test::ScaledDiff d = cov ? imuconv::test::CorrelationScaleDiff(r, e)
+                                            : imuconv::test::RelativeAboveFloorDiff(r, e);
     std::printf("  %-28s %-18s [ scaled ] %.3g at (%d,%d)\n", what.c_str(), f, d.d, d.row, d.col);
     EXPECT_LE(d.d, 1e-9) << what << " " << f << " at (" << d.row << "," << d.col << ")";
   }
@@ -107,7 +117,8 @@ TEST_P(GtsamCase, SameSchemesOnAveragedInputMatchGtsamMid) {
   const json ref = Reference(id), est = Output(id);
   for (const char* variant : {"manifold", "tangent"}) {
     std::map<std::string, Stat> stats;
-    Compare(ref["mid"][variant], est["mid_exact"][variant], std::string("/mid_exact/") + variant, stats, "");
+    Compare(ref["mid"][variant], est["mid_exact"][variant], std::string("/mid_exact/") + variant,
+            stats, "");
     ExpectMaxBelow(stats, 1e-8, id + " mid_exact." + variant);
     ExpectScaledBelow(ref["mid"][variant], est["mid_exact"][variant], id + " mid_exact." + variant);
   }
@@ -159,7 +170,8 @@ struct FirstOrder {
 void CompareFirstOrder(const json& r, const json& e, const json& s, const json& f, const json& q,
                        const std::string& path, FirstOrder& out) {
   if (r.is_number()) {
-    ASSERT_TRUE(e.is_number() && s.is_number() && f.is_number() && q.is_number()) << path << " missing";
+    ASSERT_TRUE(e.is_number() && s.is_number() && f.is_number() && q.is_number())
+        << path << " missing";
     const double rv = r.get<double>(), ev = e.get<double>();
     const double s1 = s.get<double>(), s2 = f.get<double>(), s4 = q.get<double>();
     const double a1 = 2.0 * s2 - s1, a2 = 2.0 * s4 - s2;
@@ -174,8 +186,10 @@ void CompareFirstOrder(const json& r, const json& e, const json& s, const json& 
   } else if (r.is_object()) {
     for (auto it = r.begin(); it != r.end(); ++it) {
       if (it.key() == "variant") continue;
-      ASSERT_TRUE(e.contains(it.key())) << path << "/" << it.key() << " missing in imuconv's output";
-      CompareFirstOrder(it.value(), e[it.key()], s[it.key()], f[it.key()], q[it.key()], path + "/" + it.key(), out);
+      ASSERT_TRUE(e.contains(it.key()))
+          << path << "/" << it.key() << " missing in imuconv's output";
+      CompareFirstOrder(it.value(), e[it.key()], s[it.key()], f[it.key()], q[it.key()],
+                        path + "/" + it.key(), out);
     }
   }
 }
@@ -196,10 +210,13 @@ TEST_P(GtsamCase, Rk4AgreesWithGtsamMidToDiscretisation) {
                         fine["mid_exact"][variant][field], finer["mid_exact"][variant][field],
                         "/mid/" + std::string(variant) + "/" + field, fo);
       const double bound = 0.01 * fo.D + 1e-9 * fo.scale;
-      std::printf("  %-28s %-22s rk4 - gtsam %.3g, rk4 - extrapolated %.3g (%.3g of it), bound %.3g\n",
-                  (id + " mid." + variant).c_str(), field.c_str(), fo.D, fo.R, fo.D > 0 ? fo.R / fo.D : 0.0, bound);
-      EXPECT_LE(fo.R, bound) << id << " mid." << variant << " " << field
-                             << ": rk4 differs from GTSAM's mid by more than the mid scheme's step error";
+      std::printf(
+          "  %-28s %-22s rk4 - gtsam %.3g, rk4 - extrapolated %.3g (%.3g of it), bound %.3g\n",
+          (id + " mid." + variant).c_str(), field.c_str(), fo.D, fo.R, fo.D > 0 ? fo.R / fo.D : 0.0,
+          bound);
+      EXPECT_LE(fo.R, bound)
+          << id << " mid." << variant << " " << field
+          << ": rk4 differs from GTSAM's mid by more than the mid scheme's step error";
     }
   }
 }
@@ -209,12 +226,14 @@ TEST(GtsamMid, Rk4BiasJacobianAndCovarianceWithinPaperFigure1OnSmoothCases) {
     std::map<std::string, Stat> stats;
     for (const char* id : {"smooth-0", "smooth-1", "smooth-2", "smooth-3"}) {
       const json ref = ReadJson(DataPath(std::string("reference/gtsam/") + id + ".gtsam.json"));
-      const json est = imuconv::refcase::Run(Plugins(), ReadJson(DataPath(std::string("reference/cases/") + id + ".json")));
+      const json est = imuconv::refcase::Run(
+          Plugins(), ReadJson(DataPath(std::string("reference/cases/") + id + ".json")));
       for (const char* f : {"J_bias", "cov15", "cov9"})
         Compare(ref["mid"][variant][f], est["mid"][variant][f], f, stats, f);
     }
     for (const auto& [field, s] : stats) {
-      std::printf("  smooth mid.%-9s %-8s mean d %.3g  max d %.3g\n", variant, field.c_str(), s.mean(), s.max);
+      std::printf("  smooth mid.%-9s %-8s mean d %.3g  max d %.3g\n", variant, field.c_str(),
+                  s.mean(), s.max);
       EXPECT_LE(s.mean(), 1e-3) << variant << " " << field;
     }
   }
@@ -235,7 +254,8 @@ TEST_P(GtsamCase, EulerPropagationEqualsPropagationByItsPreintegration) {
   ExpectMaxBelow(stats, 1e-8, id + " euler vs by-preint");
 }
 
-INSTANTIATE_TEST_SUITE_P(Reference, GtsamCase, ::testing::ValuesIn(imuconv::test::kReferenceCaseIds),
+INSTANTIATE_TEST_SUITE_P(Reference, GtsamCase,
+                         ::testing::ValuesIn(imuconv::test::kReferenceCaseIds),
                          [](const auto& info) {
                            std::string s = info.param;
                            for (char& c : s)

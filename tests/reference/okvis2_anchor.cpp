@@ -54,12 +54,12 @@ std::int64_t JsonOkvisTime(const nlohmann::json& t) {
   return t.at("sec").get<std::int64_t>() * 1000000000 + t.at("nsec").get<std::int64_t>();
 }
 
-
 class Okvis2Anchor : public ::testing::TestWithParam<const char*> {
  protected:
   void SetUp() override {
     anchor_ = ReadJson(DataPath(std::string("reference/anchors/okvis2/") + GetParam() + ".json"));
-    const nlohmann::json case_json = ReadJson(DataPath(std::string("reference/cases/") + GetParam() + ".json"));
+    const nlohmann::json case_json =
+        ReadJson(DataPath(std::string("reference/cases/") + GetParam() + ".json"));
     const nlohmann::json& in = anchor_.at("inputs");
     // The anchor ran with the case's densities as OKVIS's sigma_*_c.
     const nlohmann::json& noise = case_json.at("noise");
@@ -98,7 +98,8 @@ class Okvis2Anchor : public ::testing::TestWithParam<const char*> {
   }
 
   /// The preintegrated quantities of one redoPreintegration against the file's.
-  void ExpectPreintegration(const nlohmann::json& j, const Okvis2Preintegration& p, const std::string& label) {
+  void ExpectPreintegration(const nlohmann::json& j, const Okvis2Preintegration& p,
+                            const std::string& label) {
     AnchorFieldDiffs w(label);
     EXPECT_EQ(j.at("redoCounter").get<int>(), 1) << label;
     w.Metric("Delta_q_wxyz", JsonMatrix(j.at("Delta_q_wxyz")), Wxyz(p.Delta_q));
@@ -113,7 +114,9 @@ class Okvis2Anchor : public ::testing::TestWithParam<const char*> {
     Vec9 ref_point;
     ref_point << Vec3::Zero(), p.bg_ref, p.ba_ref;
     // speedAndBiases_ref also holds the speed it was called with; only the biases are used.
-    EXPECT_EQ(Eigen::VectorXd(JsonMatrix(j.at("speedAndBiases_ref"))).tail<6>(), ref_point.tail<6>()) << label;
+    EXPECT_EQ(Eigen::VectorXd(JsonMatrix(j.at("speedAndBiases_ref"))).tail<6>(),
+              ref_point.tail<6>())
+        << label;
     w.Covariance("P_delta", JsonMatrix(j.at("P_delta").at("matrix")), p.P_delta);
     // The information is P_delta's inverse by an eigen-decomposition (upstream's
     // PseudoInverse::symmSqrtU; here Eigen's same solver). P_delta agrees to about 4e-14, but
@@ -130,8 +133,10 @@ class Okvis2Anchor : public ::testing::TestWithParam<const char*> {
     const ScaledDiff info = CorrelationScaleDiff(information, p.information);
     const Eigen::SelfAdjointEigenSolver<Mat15> eig(p.P_delta);
     const double condition = eig.eigenvalues().maxCoeff() / eig.eigenvalues().minCoeff();
-    const double info_tol = std::max(kAnchorScaledTol, std::numeric_limits<double>::epsilon() * condition);
-    EXPECT_LE(info.d, info_tol) << label << ": information at (" << info.row << "," << info.col << ")";
+    const double info_tol =
+        std::max(kAnchorScaledTol, std::numeric_limits<double>::epsilon() * condition);
+    EXPECT_LE(info.d, info_tol) << label << ": information at (" << info.row << "," << info.col
+                                << ")";
     w.Print();
     std::printf("  %-34s information %.2g (bound %.2g; by the metric %.2g)\n", "", info.d, info_tol,
                 MaxEntryDiff(information, p.information));
@@ -139,17 +144,21 @@ class Okvis2Anchor : public ::testing::TestWithParam<const char*> {
 
   /// One EvaluateWithMinimalJacobians: the raw residual and Jacobians against the file's, and
   /// the whitened residual's norm against raw^T information raw.
-  void ExpectEvaluation(const nlohmann::json& j, const Okvis2ImuErrorTerms& t, const Mat15& information,
-                        const std::string& label) {
+  void ExpectEvaluation(const nlohmann::json& j, const Okvis2ImuErrorTerms& t,
+                        const Mat15& information, const std::string& label) {
     AnchorFieldDiffs w(label);
     const nlohmann::json& raw = j.at("raw");
     w.Metric("residual", JsonMatrix(raw.at("residual")), t.residual);
     w.Jacobian("jacobian_pose_0", JsonMatrix(raw.at("jacobian_pose_0")), t.jacobian_pose_0);
     w.Jacobian("jacobian_pose_1", JsonMatrix(raw.at("jacobian_pose_1")), t.jacobian_pose_1);
-    w.Jacobian("jacobian_speedbias_0", JsonMatrix(raw.at("jacobian_speedbias_0")), t.jacobian_speedbias_0);
-    w.Jacobian("jacobian_speedbias_1", JsonMatrix(raw.at("jacobian_speedbias_1")), t.jacobian_speedbias_1);
-    w.Jacobian("jacobian_pose_0_minimal", JsonMatrix(raw.at("jacobian_pose_0_minimal")), t.jacobian_pose_0_minimal);
-    w.Jacobian("jacobian_pose_1_minimal", JsonMatrix(raw.at("jacobian_pose_1_minimal")), t.jacobian_pose_1_minimal);
+    w.Jacobian("jacobian_speedbias_0", JsonMatrix(raw.at("jacobian_speedbias_0")),
+               t.jacobian_speedbias_0);
+    w.Jacobian("jacobian_speedbias_1", JsonMatrix(raw.at("jacobian_speedbias_1")),
+               t.jacobian_speedbias_1);
+    w.Jacobian("jacobian_pose_0_minimal", JsonMatrix(raw.at("jacobian_pose_0_minimal")),
+               t.jacobian_pose_0_minimal);
+    w.Jacobian("jacobian_pose_1_minimal", JsonMatrix(raw.at("jacobian_pose_1_minimal")),
+               t.jacobian_pose_1_minimal);
     const Eigen::VectorXd whitened = JsonMatrix(j.at("whitened").at("residual"));
     const double chi2_file = whitened.squaredNorm();
     const double chi2 = t.residual.dot(information * t.residual);
@@ -169,7 +178,8 @@ TEST_P(Okvis2Anchor, PropagationIsOkvisOwn) {
   ASSERT_TRUE(PropagateOkvis2(samples_, params_, start_, t0_, t1_, out).ok());
   const nlohmann::json& j = anchor_.at("propagation");
   EXPECT_EQ(out.steps, j.at("n_steps").get<int>());
-  EXPECT_NEAR(out.Delta_t, anchor_.at("inputs").at("Delta_t").get<double>(), 1e-12);  // 2000 sums of dt
+  EXPECT_NEAR(out.Delta_t, anchor_.at("inputs").at("Delta_t").get<double>(),
+              1e-12);  // 2000 sums of dt
   AnchorFieldDiffs w(std::string(GetParam()) + " propagation");
   const nlohmann::json& e = j.at("state_end");
   w.Metric("r", JsonMatrix(e.at("r")), out.end.r);
@@ -191,8 +201,10 @@ TEST_P(Okvis2Anchor, ImuErrorIsOkvisOwn) {
   Okvis2Preintegration at_lin;
   EXPECT_TRUE(Okvis2RedoesPreintegration(at_lin, state_0.bg, samples_.size()));
   ASSERT_TRUE(PreintegrateOkvis2(samples_, params_, state_0.bg, state_0.ba, t0_, t1_, at_lin).ok());
-  ExpectPreintegration(ie.at("preintegration"), at_lin, std::string(GetParam()) + " preintegration");
-  ExpectEvaluation(ie.at("at_lin_bias"), EvaluateOkvis2ImuError(at_lin, params_, Delta_t, state_0, state_1),
+  ExpectPreintegration(ie.at("preintegration"), at_lin,
+                       std::string(GetParam()) + " preintegration");
+  ExpectEvaluation(ie.at("at_lin_bias"),
+                   EvaluateOkvis2ImuError(at_lin, params_, Delta_t, state_0, state_1),
                    at_lin.information, std::string(GetParam()) + " at the linearization bias");
 
   // At a new bias upstream keeps the integration (2001 samples, not fewer than 50) and
@@ -200,18 +212,22 @@ TEST_P(Okvis2Anchor, ImuErrorIsOkvisOwn) {
   const Okvis2State state_0_new = JsonState(ie.at("state_0_new_bias"));
   EXPECT_FALSE(Okvis2RedoesPreintegration(at_lin, state_0_new.bg, samples_.size()));
   EXPECT_EQ(ie.at("redoCounter_after_new_bias").get<int>(), 1);
-  ExpectEvaluation(ie.at("at_new_bias"), EvaluateOkvis2ImuError(at_lin, params_, Delta_t, state_0_new, state_1),
+  ExpectEvaluation(ie.at("at_new_bias"),
+                   EvaluateOkvis2ImuError(at_lin, params_, Delta_t, state_0_new, state_1),
                    at_lin.information, std::string(GetParam()) + " at the new bias");
 
   // A fresh ImuError evaluated first at the new bias integrates there.
   const nlohmann::json& re = ie.at("repropagated");
   Okvis2Preintegration at_new;
-  ASSERT_TRUE(PreintegrateOkvis2(samples_, params_, state_0_new.bg, state_0_new.ba, t0_, t1_, at_new).ok());
+  ASSERT_TRUE(
+      PreintegrateOkvis2(samples_, params_, state_0_new.bg, state_0_new.ba, t0_, t1_, at_new).ok());
   ExpectPreintegration(re.at("preintegration"), at_new, std::string(GetParam()) + " repropagated");
-  ExpectEvaluation(re.at("at_new_bias"), EvaluateOkvis2ImuError(at_new, params_, Delta_t, state_0_new, state_1),
+  ExpectEvaluation(re.at("at_new_bias"),
+                   EvaluateOkvis2ImuError(at_new, params_, Delta_t, state_0_new, state_1),
                    at_new.information, std::string(GetParam()) + " repropagated at the new bias");
 }
 
-INSTANTIATE_TEST_SUITE_P(Reference, Okvis2Anchor, ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
+INSTANTIATE_TEST_SUITE_P(Reference, Okvis2Anchor, ::testing::ValuesIn(kReferenceCaseIds),
+                         CaseTestName);
 
 }  // namespace

@@ -47,7 +47,9 @@ struct Method {
   const char* plugin;  // imuconv's propagator id
   const char* key;     // the anchor files' method key
 };
-const Method kMethods[] = {{"openvins_discrete", "discrete"}, {"openvins_rk4", "rk4"}, {"openvins_analytical", "analytical"}};
+const Method kMethods[] = {{"openvins_discrete", "discrete"},
+                           {"openvins_rk4", "rk4"},
+                           {"openvins_analytical", "analytical"}};
 
 class OpenVinsMethodAnchor : public ::testing::TestWithParam<std::tuple<Method, const char*>> {};
 
@@ -67,7 +69,8 @@ TEST_P(OpenVinsMethodAnchor, PropagationIsOpenVinsOwn) {
   ASSERT_EQ(in_json.at("sigma_wb").get<double>(), c.noise.gyro_random_walk);
   ASSERT_EQ(in_json.at("sigma_ab").get<double>(), c.noise.accel_random_walk);
   ASSERT_EQ(-in_json.at("gravity_mag").get<double>(), c.gravity.z());
-  PropagationInput in = MakeInput(c, in_json.at("t_start").get<double>(), in_json.at("t_end").get<double>());
+  PropagationInput in =
+      MakeInput(c, in_json.at("t_start").get<double>(), in_json.at("t_end").get<double>());
   in.cov_s = JsonMatrix(in_json.at("P0"));
   const PropagationResult r = Plugins().propagate(method.plugin, "openvins_jpl", in);
   // Qd_summed is the noise alone: the same propagation from a zero covariance.
@@ -78,16 +81,19 @@ TEST_P(OpenVinsMethodAnchor, PropagationIsOpenVinsOwn) {
   const double d_p = MaxEntryDiff(JsonMatrix(end.at("p_IinG")), r.x_e.p);
   const double d_v = MaxEntryDiff(JsonMatrix(end.at("v_IinG")), r.x_e.v);
   const double d_R = MaxEntryDiff(JsonMatrix(end.at("R_GtoI")), r.x_e.R.transpose());
-  const double d_b =
-      std::max(MaxEntryDiff(JsonMatrix(end.at("bg")), r.x_e.bg), MaxEntryDiff(JsonMatrix(end.at("ba")), r.x_e.ba));
+  const double d_b = std::max(MaxEntryDiff(JsonMatrix(end.at("bg")), r.x_e.bg),
+                              MaxEntryDiff(JsonMatrix(end.at("ba")), r.x_e.ba));
   const Mat15 cov = JsonMatrix(ov.at("covariance")), Phi = JsonMatrix(ov.at("Phi_summed")),
               Qd = JsonMatrix(ov.at("Qd_summed"));
-  const double d_cov = MaxEntryDiff(cov, r.cov), d_Phi = MaxEntryDiff(Phi, r.Phi), d_Qd = MaxEntryDiff(Qd, q.cov);
+  const double d_cov = MaxEntryDiff(cov, r.cov), d_Phi = MaxEntryDiff(Phi, r.Phi),
+               d_Qd = MaxEntryDiff(Qd, q.cov);
   const auto s_cov = CorrelationScaleDiff(cov, r.cov), s_Qd = CorrelationScaleDiff(Qd, q.cov);
   const auto s_Phi = RelativeAboveFloorDiff(Phi, r.Phi);
-  std::printf("  %-10s %-13s p %.2g v %.2g R %.2g b %.2g | cov %.2g Phi %.2g Qd %.2g | scaled cov %.2g Phi %.2g "
-              "Qd %.2g\n",
-              method.key, id.c_str(), d_p, d_v, d_R, d_b, d_cov, d_Phi, d_Qd, s_cov.d, s_Phi.d, s_Qd.d);
+  std::printf(
+      "  %-10s %-13s p %.2g v %.2g R %.2g b %.2g | cov %.2g Phi %.2g Qd %.2g | scaled cov %.2g Phi "
+      "%.2g "
+      "Qd %.2g\n",
+      method.key, id.c_str(), d_p, d_v, d_R, d_b, d_cov, d_Phi, d_Qd, s_cov.d, s_Phi.d, s_Qd.d);
   for (const double d : {d_p, d_v, d_R, d_b, d_cov, d_Phi, d_Qd}) EXPECT_LE(d, kAnchorMetricTol);
   EXPECT_LE(s_cov.d, kAnchorScaledTol) << "covariance at (" << s_cov.row << "," << s_cov.col << ")";
   EXPECT_LE(s_Qd.d, kAnchorScaledTol) << "Qd at (" << s_Qd.row << "," << s_Qd.col << ")";
@@ -96,14 +102,15 @@ TEST_P(OpenVinsMethodAnchor, PropagationIsOpenVinsOwn) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Reference, OpenVinsMethodAnchor,
-                         ::testing::Combine(::testing::ValuesIn(kMethods), ::testing::ValuesIn(kReferenceCaseIds)),
+                         ::testing::Combine(::testing::ValuesIn(kMethods),
+                                            ::testing::ValuesIn(kReferenceCaseIds)),
                          [](const ::testing::TestParamInfo<OpenVinsMethodAnchor::ParamType>& info) {
-                           std::string name = std::string(std::get<0>(info.param).key) + "_" + std::get<1>(info.param);
+                           std::string name = std::string(std::get<0>(info.param).key) + "_" +
+                                              std::get<1>(info.param);
                            for (char& ch : name)
                              if (ch == '-') ch = '_';
                            return name;
                          });
-
 
 class OpenVinsAnchor : public ::testing::TestWithParam<const char*> {};
 
@@ -114,13 +121,15 @@ class OpenVinsAnchor : public ::testing::TestWithParam<const char*> {};
 // (J_bias on smooth-3), 9.8e-13 scaled.
 TEST_P(OpenVinsAnchor, PreintegrationByItsPropagationIsGtsamManifoldOnMidInput) {
   const std::string id = GetParam();
-  const nlohmann::json g = ReadJson(DataPath("reference/gtsam/" + id + ".gtsam.json")).at("mid").at("manifold");
+  const nlohmann::json g =
+      ReadJson(DataPath("reference/gtsam/" + id + ".gtsam.json")).at("mid").at("manifold");
   const ImuCase c = LoadCase(id);
   const PropagationInput in = MakeInput(c, c.samples.front().t, c.samples.back().t);
-  const imuconv::Preintegrated m =
-      imuconv::PreintegrateByPropagation(Plugins(), "openvins_discrete", in.window, c.x_s.bg, c.x_s.ba, c.noise);
+  const imuconv::Preintegrated m = imuconv::PreintegrateByPropagation(
+      Plugins(), "openvins_discrete", in.window, c.x_s.bg, c.x_s.ba, c.noise);
   const imuconv::Preintegrated gtsam = imuconv::Express(Plugins(), m, "gtsam_manifold");
-  ASSERT_EQ(gtsam.jacobian_convention, "gtsam_manifold_jacobian");  // GTSAM's J_bias chart, columns [ba, bg]
+  ASSERT_EQ(gtsam.jacobian_convention,
+            "gtsam_manifold_jacobian");  // GTSAM's J_bias chart, columns [ba, bg]
   const Mat15 cov15 = JsonMatrix(g.at("cov15"));
   const Eigen::MatrixXd J_bias = JsonMatrix(g.at("J_bias"));
   const double d_R = MaxEntryDiff(JsonMatrix(g.at("deltaR")), gtsam.delta.dR);
@@ -129,8 +138,9 @@ TEST_P(OpenVinsAnchor, PreintegrationByItsPropagationIsGtsamManifoldOnMidInput) 
   const double d_J = MaxEntryDiff(J_bias, gtsam.J_bias), d_cov = MaxEntryDiff(cov15, gtsam.cov);
   const auto s_J = RelativeAboveFloorDiff(J_bias, gtsam.J_bias);
   const auto s_cov = CorrelationScaleDiff(cov15, gtsam.cov);
-  std::printf("  %-13s dR %.2g dp %.2g dv %.2g J_bias %.2g cov15 %.2g | scaled J_bias %.2g cov15 %.2g\n", id.c_str(),
-              d_R, d_p, d_v, d_J, d_cov, s_J.d, s_cov.d);
+  std::printf(
+      "  %-13s dR %.2g dp %.2g dv %.2g J_bias %.2g cov15 %.2g | scaled J_bias %.2g cov15 %.2g\n",
+      id.c_str(), d_R, d_p, d_v, d_J, d_cov, s_J.d, s_cov.d);
   for (const double d : {d_R, d_p, d_v, d_J, d_cov}) EXPECT_LE(d, kAnchorMetricTol);
   EXPECT_LE(s_J.d, kAnchorScaledTol) << "J_bias at (" << s_J.row << "," << s_J.col << ")";
   EXPECT_LE(s_cov.d, kAnchorScaledTol) << "cov15 at (" << s_cov.row << "," << s_cov.col << ")";
@@ -149,8 +159,10 @@ TEST_P(OpenVinsAnchor, OpenVinsCovarianceInGtsamNavState) {
   const nlohmann::json& in_json = anchor.at("inputs");
   const nlohmann::json& ov = anchor.at("discrete");
   const ImuCase c = LoadCase(id);
-  PropagationInput in = MakeInput(c, in_json.at("t_start").get<double>(), in_json.at("t_end").get<double>());
-  in.cov_s = Plugins().convert_covariance("openvins_jpl", "gtsam_navstate", c.x_s, JsonMatrix(in_json.at("P0")));
+  PropagationInput in =
+      MakeInput(c, in_json.at("t_start").get<double>(), in_json.at("t_end").get<double>());
+  in.cov_s = Plugins().convert_covariance("openvins_jpl", "gtsam_navstate", c.x_s,
+                                          JsonMatrix(in_json.at("P0")));
   const PropagationResult r = Plugins().propagate("openvins_discrete", "gtsam_navstate", in);
 
   const nlohmann::json& end = ov.at("state_end");
@@ -160,21 +172,22 @@ TEST_P(OpenVinsAnchor, OpenVinsCovarianceInGtsamNavState) {
   x_e.v = JsonMatrix(end.at("v_IinG"));
   x_e.bg = JsonMatrix(end.at("bg"));
   x_e.ba = JsonMatrix(end.at("ba"));
-  const Mat15 cov =
-      Plugins().convert_covariance("openvins_jpl", "gtsam_navstate", x_e, JsonMatrix(ov.at("covariance")));
-  const Mat15 Phi =
-      Plugins().convert_transition("openvins_jpl", "gtsam_navstate", c.x_s, x_e, JsonMatrix(ov.at("Phi_summed")));
+  const Mat15 cov = Plugins().convert_covariance("openvins_jpl", "gtsam_navstate", x_e,
+                                                 JsonMatrix(ov.at("covariance")));
+  const Mat15 Phi = Plugins().convert_transition("openvins_jpl", "gtsam_navstate", c.x_s, x_e,
+                                                 JsonMatrix(ov.at("Phi_summed")));
   const double d_cov = MaxEntryDiff(cov, r.cov), d_Phi = MaxEntryDiff(Phi, r.Phi);
   const auto s_cov = CorrelationScaleDiff(cov, r.cov);
   const auto s_Phi = RelativeAboveFloorDiff(Phi, r.Phi);
-  std::printf("  %-13s in gtsam_navstate: cov %.2g Phi %.2g | scaled cov %.2g Phi %.2g\n", id.c_str(), d_cov, d_Phi,
-              s_cov.d, s_Phi.d);
+  std::printf("  %-13s in gtsam_navstate: cov %.2g Phi %.2g | scaled cov %.2g Phi %.2g\n",
+              id.c_str(), d_cov, d_Phi, s_cov.d, s_Phi.d);
   EXPECT_LE(d_cov, kAnchorMetricTol);
   EXPECT_LE(d_Phi, kAnchorMetricTol);
   EXPECT_LE(s_cov.d, kAnchorScaledTol) << "covariance at (" << s_cov.row << "," << s_cov.col << ")";
   EXPECT_LE(s_Phi.d, kAnchorScaledTol) << "Phi at (" << s_Phi.row << "," << s_Phi.col << ")";
 }
 
-INSTANTIATE_TEST_SUITE_P(Reference, OpenVinsAnchor, ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
+INSTANTIATE_TEST_SUITE_P(Reference, OpenVinsAnchor, ::testing::ValuesIn(kReferenceCaseIds),
+                         CaseTestName);
 
 }  // namespace

@@ -26,8 +26,8 @@
 
 #include "anchor_field_diffs.h"
 #include "imuconv/kernels/orb_slam3.h"
-#include "reference_case.h"
 #include "imuconv_test.h"
+#include "reference_case.h"
 #include "scale_aware.h"
 
 namespace {
@@ -51,7 +51,6 @@ constexpr bool kSameFloatArithmetic = true;
 constexpr bool kSameFloatArithmetic = false;
 #endif
 
-
 OrbSlam3Pose<double> JsonPose(const nlohmann::json& s) {
   OrbSlam3Pose<double> x;
   x.R = JsonMatrix(s.at("R"));
@@ -64,7 +63,8 @@ OrbSlam3Bias JsonFloatBias(const nlohmann::json& b) {
   return {JsonVec3(b.at("bg")).cast<float>(), JsonVec3(b.at("ba")).cast<float>()};
 }
 
-void ExpectPreintegrated(const nlohmann::json& j, const OrbSlam3Preintegrated& p, AnchorFieldDiffs& w) {
+void ExpectPreintegrated(const nlohmann::json& j, const OrbSlam3Preintegrated& p,
+                         AnchorFieldDiffs& w) {
   EXPECT_EQ(static_cast<float>(j.at("dT").get<double>()), p.dT);  // the same float additions
   EXPECT_NEAR(j.at("dT").get<double>(), p.dT, 1e-6);
   w.Float("dR", JsonMatrix(j.at("dR")), p.dR.cast<double>(), kSameFloatArithmetic);
@@ -83,7 +83,8 @@ void ExpectPreintegrated(const nlohmann::json& j, const OrbSlam3Preintegrated& p
 class OrbSlam3Anchor : public ::testing::TestWithParam<const char*> {
  protected:
   void SetUp() override {
-    anchor_ = ReadJson(DataPath(std::string("reference/anchors/orb-slam3/") + GetParam() + ".json"));
+    anchor_ =
+        ReadJson(DataPath(std::string("reference/anchors/orb-slam3/") + GetParam() + ".json"));
     case_ = ReadJson(DataPath(std::string("reference/cases/") + GetParam() + ".json"));
     const nlohmann::json& in = anchor_.at("inputs");
     const ImuNoise noise = CaseNoise(case_);
@@ -93,7 +94,8 @@ class OrbSlam3Anchor : public ::testing::TestWithParam<const char*> {
     ASSERT_EQ(in.at("IMU.AccWalk").get<double>(), noise.accel_random_walk);
     calib_ = OrbSlam3CalibFromDensities(noise, in.at("IMU.Frequency").get<double>());
     // The Calib ORB-SLAM3 made, bit for bit (the noise interpretation of the header).
-    const Eigen::VectorXd cov = JsonMatrix(in.at("calib_Cov_diag")), walk = JsonMatrix(in.at("calib_CovWalk_diag"));
+    const Eigen::VectorXd cov = JsonMatrix(in.at("calib_Cov_diag")),
+                          walk = JsonMatrix(in.at("calib_CovWalk_diag"));
     for (int i = 0; i < 6; ++i) {
       ASSERT_EQ(static_cast<float>(cov(i)), calib_.cov(i)) << i;
       ASSERT_EQ(static_cast<float>(walk(i)), calib_.cov_walk(i)) << i;
@@ -124,7 +126,8 @@ TEST_P(OrbSlam3Anchor, PreintegrationAndPredictionAreOrbSlam3Own) {
   const nlohmann::json& st = case_.at("state_s");
   const nlohmann::json& q = st.at("q_wxyz");
   OrbSlam3Pose<double> start;
-  start.R = Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>())
+  start.R = Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
+                               q[3].get<double>())
                 .toRotationMatrix();
   start.p = JsonVec3(st.at("p"));
   start.v = JsonVec3(st.at("v"));
@@ -156,9 +159,12 @@ TEST_P(OrbSlam3Anchor, BiasUpdateAndReintegrationAreOrbSlam3Own) {
   Eigen::Matrix<float, 6, 1> db;
   db << b_new.bg - pre.b.bg, b_new.ba - pre.b.ba;
   w.Float("db", JsonMatrix(fo.at("db")), db.cast<double>(), kSameFloatArithmetic);
-  w.Float("first-order dR", JsonMatrix(fo.at("dR")), OrbSlam3DeltaRotation(pre, b_new).cast<double>(), kSameFloatArithmetic);
-  w.Float("first-order dV", JsonMatrix(fo.at("dV")), OrbSlam3DeltaVelocity(pre, b_new).cast<double>(), kSameFloatArithmetic);
-  w.Float("first-order dP", JsonMatrix(fo.at("dP")), OrbSlam3DeltaPosition(pre, b_new).cast<double>(), kSameFloatArithmetic);
+  w.Float("first-order dR", JsonMatrix(fo.at("dR")),
+          OrbSlam3DeltaRotation(pre, b_new).cast<double>(), kSameFloatArithmetic);
+  w.Float("first-order dV", JsonMatrix(fo.at("dV")),
+          OrbSlam3DeltaVelocity(pre, b_new).cast<double>(), kSameFloatArithmetic);
+  w.Float("first-order dP", JsonMatrix(fo.at("dP")),
+          OrbSlam3DeltaPosition(pre, b_new).cast<double>(), kSameFloatArithmetic);
   ExpectPreintegrated(bc.at("reintegrated"), PreintegrateOrbSlam3(pre.steps, calib_, b_new), w);
   w.Print();
 }
@@ -170,7 +176,8 @@ TEST_P(OrbSlam3Anchor, EdgeInertialIsOrbSlam3Own) {
     // check that), and the residual, a difference of terms as large as the deltas (|dP| up to
     // 450 m), moves by up to 2.4e-3 of them (measured under qemu on aarch64): there is no
     // original's number to compare it with on this target.
-    GTEST_SKIP() << "EdgeInertial is compared where the original's float arithmetic is reproduced (x86-64)";
+    GTEST_SKIP()
+        << "EdgeInertial is compared where the original's float arithmetic is reproduced (x86-64)";
   }
   const OrbSlam3Preintegrated pre = PreintegrateOrbSlam3(steps_, calib_, bias_);
   const nlohmann::json& ej = anchor_.at("edge_inertial");
@@ -189,7 +196,8 @@ TEST_P(OrbSlam3Anchor, EdgeInertialIsOrbSlam3Own) {
         EvaluateOrbSlam3EdgeInertial(pre, s1, JsonVec3(sj.at("bg")), JsonVec3(sj.at("ba")), s2);
     const nlohmann::json& r = ej.at(at.key);
     w.Metric("residual", JsonMatrix(r.at("residual")), e.residual);
-    w.Metric("chi2", Eigen::Matrix<double, 1, 1>(r.at("chi2").get<double>()), Eigen::Matrix<double, 1, 1>(e.chi2));
+    w.Metric("chi2", Eigen::Matrix<double, 1, 1>(r.at("chi2").get<double>()),
+             Eigen::Matrix<double, 1, 1>(e.chi2));
     w.Metric("J_pose1", JsonMatrix(r.at("J_pose1")), e.J_pose1);
     w.Metric("J_vel1", JsonMatrix(r.at("J_vel1")), e.J_vel1);
     w.Metric("J_gyro_bias1", JsonMatrix(r.at("J_gyro_bias1")), e.J_gyro_bias1);
@@ -200,6 +208,7 @@ TEST_P(OrbSlam3Anchor, EdgeInertialIsOrbSlam3Own) {
   w.Print();
 }
 
-INSTANTIATE_TEST_SUITE_P(Reference, OrbSlam3Anchor, ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
+INSTANTIATE_TEST_SUITE_P(Reference, OrbSlam3Anchor, ::testing::ValuesIn(kReferenceCaseIds),
+                         CaseTestName);
 
 }  // namespace

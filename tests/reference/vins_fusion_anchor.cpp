@@ -24,7 +24,8 @@ using namespace imuconv::test;  // DataPath, JsonMatrix, MaxEntryDiff, Plugins, 
 
 /// Worst differences of one IntegrationBase state against the anchor's fields `j`, printed
 /// under `label`, and checked against the bounds above.
-void ExpectIntegrationBase(const nlohmann::json& j, const VinsFusionPreintegration& r, const std::string& label) {
+void ExpectIntegrationBase(const nlohmann::json& j, const VinsFusionPreintegration& r,
+                           const std::string& label) {
   const Eigen::Vector4d q(r.delta_q.w(), r.delta_q.x(), r.delta_q.y(), r.delta_q.z());
   const double d_q = MaxEntryDiff(JsonMatrix(j.at("delta_q_wxyz")), q);
   const double d_p = MaxEntryDiff(JsonMatrix(j.at("delta_p")), r.delta_p);
@@ -33,11 +34,13 @@ void ExpectIntegrationBase(const nlohmann::json& j, const VinsFusionPreintegrati
   const double d_jac = MaxEntryDiff(jac, r.jacobian), d_cov = MaxEntryDiff(cov, r.covariance);
   const auto s_jac = RelativeAboveFloorDiff(jac, r.jacobian);
   const auto s_cov = CorrelationScaleDiff(cov, r.covariance);
-  std::printf("  %-26s q %.2g p %.2g v %.2g | jacobian %.2g covariance %.2g | scaled %.2g %.2g\n", label.c_str(), d_q,
-              d_p, d_v, d_jac, d_cov, s_jac.d, s_cov.d);
+  std::printf("  %-26s q %.2g p %.2g v %.2g | jacobian %.2g covariance %.2g | scaled %.2g %.2g\n",
+              label.c_str(), d_q, d_p, d_v, d_jac, d_cov, s_jac.d, s_cov.d);
   for (const double d : {d_q, d_p, d_v, d_jac, d_cov}) EXPECT_LE(d, kAnchorMetricTol) << label;
-  EXPECT_LE(s_jac.d, kAnchorScaledTol) << label << ": jacobian at (" << s_jac.row << "," << s_jac.col << ")";
-  EXPECT_LE(s_cov.d, kAnchorScaledTol) << label << ": covariance at (" << s_cov.row << "," << s_cov.col << ")";
+  EXPECT_LE(s_jac.d, kAnchorScaledTol)
+      << label << ": jacobian at (" << s_jac.row << "," << s_jac.col << ")";
+  EXPECT_LE(s_cov.d, kAnchorScaledTol)
+      << label << ": covariance at (" << s_cov.row << "," << s_cov.col << ")";
   EXPECT_NEAR(j.at("sum_dt").get<double>(), r.sum_dt, 1e-12) << label;  // 2000 additions of dt
 }
 
@@ -47,7 +50,8 @@ struct BlockDiff {
   double d = 0.0;
   std::string where;
 };
-BlockDiff WorstBlock(const Mat96& ref, const Mat96& est, const char* const (&rows)[3], const char* const (&cols)[2]) {
+BlockDiff WorstBlock(const Mat96& ref, const Mat96& est, const char* const (&rows)[3],
+                     const char* const (&cols)[2]) {
   const ScaledDiff w = WorstBlockRelativeDiff(ref, est);
   return {w.d, std::string("d") + rows[w.row] + "/d" + cols[w.col]};
 }
@@ -65,7 +69,8 @@ double CrossBlockDiff(const Mat15& ref, const Mat15& est) {
 class VinsFusionAnchor : public ::testing::TestWithParam<const char*> {
  protected:
   void SetUp() override {
-    anchor_ = ReadJson(DataPath(std::string("reference/anchors/vins-fusion/") + GetParam() + ".json"));
+    anchor_ =
+        ReadJson(DataPath(std::string("reference/anchors/vins-fusion/") + GetParam() + ".json"));
     case_ = LoadCase(GetParam());
     // The anchor ran with the case's densities as ACC_N, GYR_N, ACC_W, GYR_W and its start
     // biases as the linearization point: what kAsConfigured reads from ImuNoise.
@@ -88,17 +93,18 @@ TEST_P(VinsFusionAnchor, IntegrationBaseIsVinsFusionOwn) {
                                                     VinsNoiseMapping::kAsConfigured, r)
                   .ok());
   ExpectIntegrationBase(anchor_, r, std::string(GetParam()));
-  EXPECT_LE(MaxEntryDiff(JsonMatrix(anchor_.at("delta_R")), r.delta_q.toRotationMatrix()), kAnchorMetricTol);
+  EXPECT_LE(MaxEntryDiff(JsonMatrix(anchor_.at("delta_R")), r.delta_q.toRotationMatrix()),
+            kAnchorMetricTol);
 }
 
 // repropagate(ba_new, bg_new): the full re-integration at another linearization point.
 TEST_P(VinsFusionAnchor, RepropagationAtTheNewBias) {
   const nlohmann::json& bc = anchor_.at("bias_correction");
   VinsFusionPreintegration r;
-  ASSERT_TRUE(
-      imuconv::kernels::IntegrateVinsFusion(AnchorInput(case_, JsonVec3(bc.at("Bg_new")), JsonVec3(bc.at("Ba_new"))),
-                                            VinsNoiseMapping::kAsConfigured, r)
-          .ok());
+  ASSERT_TRUE(imuconv::kernels::IntegrateVinsFusion(
+                  AnchorInput(case_, JsonVec3(bc.at("Bg_new")), JsonVec3(bc.at("Ba_new"))),
+                  VinsNoiseMapping::kAsConfigured, r)
+                  .ok());
   ExpectIntegrationBase(bc.at("repropagated"), r, std::string(GetParam()) + " repropagated");
 }
 
@@ -106,8 +112,8 @@ TEST_P(VinsFusionAnchor, RepropagationAtTheNewBias) {
 // into the reference charts and expressed again in `vins_fusion` (two permutations).
 TEST_P(VinsFusionAnchor, PluginThroughTheRegistryIsVinsFusionOwn) {
   const PreintegrationInput in = AnchorInput(case_, case_.x_s.bg, case_.x_s.ba);
-  const imuconv::Preintegrated m =
-      imuconv::PreintegrateNative(Plugins(), "vins_fusion_as_configured", in.window, in.bg, in.ba, in.noise);
+  const imuconv::Preintegrated m = imuconv::PreintegrateNative(
+      Plugins(), "vins_fusion_as_configured", in.window, in.bg, in.ba, in.noise);
   const imuconv::Preintegrated vins = imuconv::Express(Plugins(), m, "vins_fusion");
   ASSERT_EQ(vins.jacobian_convention, "vins_fusion");
   const Mat15 jac = JsonMatrix(anchor_.at("jacobian")), cov = JsonMatrix(anchor_.at("covariance"));
@@ -130,7 +136,9 @@ TEST_P(VinsFusionAnchor, PluginThroughTheRegistryIsVinsFusionOwn) {
 // is left after the conversion is that difference.
 TEST_P(VinsFusionAnchor, VinsFusionAndGtsamInEachOthersConvention) {
   const nlohmann::json g =
-      ReadJson(DataPath(std::string("reference/gtsam/") + GetParam() + ".gtsam.json")).at("mid").at("manifold");
+      ReadJson(DataPath(std::string("reference/gtsam/") + GetParam() + ".gtsam.json"))
+          .at("mid")
+          .at("manifold");
   const PreintegrationInput in = AnchorInput(case_, case_.x_s.bg, case_.x_s.ba);
   const imuconv::Preintegrated m =
       imuconv::PreintegrateNative(Plugins(), "vins_fusion", in.window, in.bg, in.ba, in.noise);
@@ -153,21 +161,26 @@ TEST_P(VinsFusionAnchor, VinsFusionAndGtsamInEachOthersConvention) {
   const double rot = imuconv::so3::Log(gtsam.delta.dR.transpose() * as_gtsam.delta.dR).norm();
   const double rel_p = (as_gtsam.delta.dp - gtsam.delta.dp).norm() / gtsam.delta.dp.norm();
   const double rel_v = (as_gtsam.delta.dv - gtsam.delta.dv).norm() / gtsam.delta.dv.norm();
-  const BlockDiff J_in_gtsam = WorstBlock(gtsam.J_bias, as_gtsam.J_bias, {"theta", "p", "v"}, {"ba", "bg"});
-  const BlockDiff J_in_vins = WorstBlock(vins.J_bias, as_vins.J_bias, {"p", "theta", "v"}, {"ba", "bg"});
+  const BlockDiff J_in_gtsam =
+      WorstBlock(gtsam.J_bias, as_gtsam.J_bias, {"theta", "p", "v"}, {"ba", "bg"});
+  const BlockDiff J_in_vins =
+      WorstBlock(vins.J_bias, as_vins.J_bias, {"p", "theta", "v"}, {"ba", "bg"});
   const auto cov_in_gtsam = CorrelationScaleDiff(gtsam.cov, as_gtsam.cov);
   const auto cov_in_vins = CorrelationScaleDiff(vins.cov, as_vins.cov);
   // The commonest mistake: taking VINS's bias entry with GTSAM's sign (state-bias blocks flipped).
   Eigen::Matrix<double, 15, 1> s = Eigen::Matrix<double, 15, 1>::Ones();
   s.tail<6>().setConstant(-1.0);
-  const auto cov_wrong_sign = CorrelationScaleDiff(gtsam.cov, s.asDiagonal() * as_gtsam.cov * s.asDiagonal());
+  const auto cov_wrong_sign =
+      CorrelationScaleDiff(gtsam.cov, s.asDiagonal() * as_gtsam.cov * s.asDiagonal());
   const double cross = CrossBlockDiff(gtsam.cov, as_gtsam.cov),
-               cross_wrong_sign = CrossBlockDiff(gtsam.cov, s.asDiagonal() * as_gtsam.cov * s.asDiagonal());
+               cross_wrong_sign =
+                   CrossBlockDiff(gtsam.cov, s.asDiagonal() * as_gtsam.cov * s.asDiagonal());
   std::printf(
       "  %-13s rot %.2g rad, p %.2g, v %.2g rel | in gtsam_manifold: J_bias %.2g (%s) cov15 %.2g, "
-      "state-bias %.2g (bias sign taken as GTSAM's: %.2g, %.2g) | in vins_fusion: J_bias %.2g (%s) cov %.2g\n",
-      GetParam(), rot, rel_p, rel_v, J_in_gtsam.d, J_in_gtsam.where.c_str(), cov_in_gtsam.d, cross, cov_wrong_sign.d,
-      cross_wrong_sign, J_in_vins.d, J_in_vins.where.c_str(), cov_in_vins.d);
+      "state-bias %.2g (bias sign taken as GTSAM's: %.2g, %.2g) | in vins_fusion: J_bias %.2g (%s) "
+      "cov %.2g\n",
+      GetParam(), rot, rel_p, rel_v, J_in_gtsam.d, J_in_gtsam.where.c_str(), cov_in_gtsam.d, cross,
+      cov_wrong_sign.d, cross_wrong_sign, J_in_vins.d, J_in_vins.where.c_str(), cov_in_vins.d);
   // What the conversion is answerable for: the state-bias blocks, where a wrong bias sign
   // shows, agree to 2.0e-3 (aggressive-0) and the wrong sign is 35 to 3000 times further
   // off (0.026 to 0.46). The rest is the two schemes' difference, bounded near its measured
@@ -183,6 +196,7 @@ TEST_P(VinsFusionAnchor, VinsFusionAndGtsamInEachOthersConvention) {
   EXPECT_LE(std::max(rel_p, rel_v), 1e-3);
 }
 
-INSTANTIATE_TEST_SUITE_P(Reference, VinsFusionAnchor, ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
+INSTANTIATE_TEST_SUITE_P(Reference, VinsFusionAnchor, ::testing::ValuesIn(kReferenceCaseIds),
+                         CaseTestName);
 
 }  // namespace

@@ -50,11 +50,13 @@ void ExpectFactorOutput(const nlohmann::json& j, const VinsFusionFactorOutput& o
                         const std::string& label) {
   const double d_r = MaxEntryDiff(JsonMatrix(j.at("residual")), o.residual);
   const double d_pi = MaxEntryDiff(JsonMatrix(j.at("jacobian_pose_i")), o.jacobian_pose_i);
-  const double d_sbi = MaxEntryDiff(JsonMatrix(j.at("jacobian_speedbias_i")), o.jacobian_speedbias_i);
+  const double d_sbi =
+      MaxEntryDiff(JsonMatrix(j.at("jacobian_speedbias_i")), o.jacobian_speedbias_i);
   const double d_pj = MaxEntryDiff(JsonMatrix(j.at("jacobian_pose_j")), o.jacobian_pose_j);
-  const double d_sbj = MaxEntryDiff(JsonMatrix(j.at("jacobian_speedbias_j")), o.jacobian_speedbias_j);
-  std::printf("  %-34s residual %.2g pose_i %.2g speedbias_i %.2g pose_j %.2g speedbias_j %.2g\n", label.c_str(), d_r,
-              d_pi, d_sbi, d_pj, d_sbj);
+  const double d_sbj =
+      MaxEntryDiff(JsonMatrix(j.at("jacobian_speedbias_j")), o.jacobian_speedbias_j);
+  std::printf("  %-34s residual %.2g pose_i %.2g speedbias_i %.2g pose_j %.2g speedbias_j %.2g\n",
+              label.c_str(), d_r, d_pi, d_sbi, d_pj, d_sbj);
   EXPECT_LE(d_r, tol) << label << " residual";
   EXPECT_LE(d_pi, tol) << label << " jacobian_pose_i";
   EXPECT_LE(d_sbi, tol) << label << " jacobian_speedbias_i";
@@ -65,7 +67,8 @@ void ExpectFactorOutput(const nlohmann::json& j, const VinsFusionFactorOutput& o
 class VinsFusionResidualAnchor : public ::testing::TestWithParam<const char*> {
  protected:
   void SetUp() override {
-    anchor_ = ReadJson(DataPath(std::string("reference/anchors/vins-fusion/") + GetParam() + ".json"));
+    anchor_ =
+        ReadJson(DataPath(std::string("reference/anchors/vins-fusion/") + GetParam() + ".json"));
     case_ = LoadCase(GetParam());
     // As in vins_fusion_anchor.cpp: the case's densities as ACC_N..GYR_W, its start biases
     // as the linearization point, G = -gravity.
@@ -73,8 +76,8 @@ class VinsFusionResidualAnchor : public ::testing::TestWithParam<const char*> {
     m_.linearized_bg = case_.x_s.bg;
     m_.G = JsonVec3(anchor_.at("inputs").at("G"));
     ASSERT_EQ(m_.G, Vec3(-case_.gravity));
-    ASSERT_TRUE(IntegrateVinsFusion(AnchorInput(case_, case_.x_s.bg, case_.x_s.ba), VinsNoiseMapping::kAsConfigured,
-                                    m_.pre)
+    ASSERT_TRUE(IntegrateVinsFusion(AnchorInput(case_, case_.x_s.bg, case_.x_s.ba),
+                                    VinsNoiseMapping::kAsConfigured, m_.pre)
                     .ok());
   }
   nlohmann::json anchor_;
@@ -86,7 +89,8 @@ TEST_P(VinsFusionResidualAnchor, FactorAtTheLinearizationBiasIsVinsFusionOwn) {
   const nlohmann::json& f = anchor_.at("factor");
   const VinsFusionFactorState i = FactorState(f.at("state_i")), j = FactorState(f.at("state_j"));
   const std::string id = GetParam();
-  const double d_eval = MaxEntryDiff(JsonMatrix(f.at("evaluate_residual")), VinsFusionEvaluate(m_, i, j));
+  const double d_eval =
+      MaxEntryDiff(JsonMatrix(f.at("evaluate_residual")), VinsFusionEvaluate(m_, i, j));
   std::printf("  %-34s evaluate_residual %.2g\n", id.c_str(), d_eval);
   EXPECT_LE(d_eval, kAnchorMetricTol);
   const VinsFusionFactorOutput raw = VinsFusionRawFactor(m_, i, j);
@@ -97,7 +101,8 @@ TEST_P(VinsFusionResidualAnchor, FactorAtTheLinearizationBiasIsVinsFusionOwn) {
   const double d_info = MaxEntryDiff(JsonMatrix(f.at("sqrt_info")), sqrt_info);
   std::printf("  %-34s sqrt_info %.2g\n", id.c_str(), d_info);
   EXPECT_LE(d_info, kWhitenedTol);
-  ExpectFactorOutput(f.at("whitened"), VinsFusionWhiten(raw, sqrt_info), kWhitenedTol, id + " whitened");
+  ExpectFactorOutput(f.at("whitened"), VinsFusionWhiten(raw, sqrt_info), kWhitenedTol,
+                     id + " whitened");
   // The whitening of the anchor's own raw outputs with the anchor's own sqrt_info is its
   // whitened output to round-off: what is left above is sqrt_info's conditioning alone.
   VinsFusionFactorOutput anchor_raw;
@@ -106,8 +111,8 @@ TEST_P(VinsFusionResidualAnchor, FactorAtTheLinearizationBiasIsVinsFusionOwn) {
   anchor_raw.jacobian_pose_j = JsonMatrix(f.at("raw").at("jacobian_pose_j"));
   anchor_raw.jacobian_speedbias_i = JsonMatrix(f.at("raw").at("jacobian_speedbias_i"));
   anchor_raw.jacobian_speedbias_j = JsonMatrix(f.at("raw").at("jacobian_speedbias_j"));
-  ExpectFactorOutput(f.at("whitened"), VinsFusionWhiten(anchor_raw, JsonMatrix(f.at("sqrt_info"))), kAnchorMetricTol,
-                     id + " whitened (anchor's sqrt_info)");
+  ExpectFactorOutput(f.at("whitened"), VinsFusionWhiten(anchor_raw, JsonMatrix(f.at("sqrt_info"))),
+                     kAnchorMetricTol, id + " whitened (anchor's sqrt_info)");
 }
 
 TEST_P(VinsFusionResidualAnchor, FactorAtANewBiasIsVinsFusionOwn) {
@@ -123,16 +128,20 @@ TEST_P(VinsFusionResidualAnchor, FactorAtANewBiasIsVinsFusionOwn) {
   const std::string id = GetParam();
   const double d_p = MaxEntryDiff(JsonMatrix(fo.at("corrected_delta_p")), c.delta_p);
   const double d_v = MaxEntryDiff(JsonMatrix(fo.at("corrected_delta_v")), c.delta_v);
-  const double d_q = MaxEntryDiff(JsonMatrix(fo.at("corrected_delta_q_wxyz_unnormalized")),
-                                  Eigen::Vector4d(c.delta_q.w(), c.delta_q.x(), c.delta_q.y(), c.delta_q.z()));
-  const VinsFusionFactorState i = FactorState(bc.at("state_i")), j = FactorState(anchor_.at("factor").at("state_j"));
+  const double d_q =
+      MaxEntryDiff(JsonMatrix(fo.at("corrected_delta_q_wxyz_unnormalized")),
+                   Eigen::Vector4d(c.delta_q.w(), c.delta_q.x(), c.delta_q.y(), c.delta_q.z()));
+  const VinsFusionFactorState i = FactorState(bc.at("state_i")),
+                              j = FactorState(anchor_.at("factor").at("state_j"));
   ASSERT_EQ(i.Ba, ba_new);
   ASSERT_EQ(i.Bg, bg_new);
-  const double d_eval = MaxEntryDiff(JsonMatrix(bc.at("evaluate_residual")), VinsFusionEvaluate(m_, i, j));
-  std::printf("  %-34s first_order p %.2g q %.2g v %.2g | evaluate_residual %.2g\n", id.c_str(), d_p, d_q, d_v,
-              d_eval);
+  const double d_eval =
+      MaxEntryDiff(JsonMatrix(bc.at("evaluate_residual")), VinsFusionEvaluate(m_, i, j));
+  std::printf("  %-34s first_order p %.2g q %.2g v %.2g | evaluate_residual %.2g\n", id.c_str(),
+              d_p, d_q, d_v, d_eval);
   for (const double d : {d_p, d_q, d_v, d_eval}) EXPECT_LE(d, kAnchorMetricTol);
-  ExpectFactorOutput(bc.at("raw"), VinsFusionRawFactor(m_, i, j), kAnchorMetricTol, id + " new bias raw");
+  ExpectFactorOutput(bc.at("raw"), VinsFusionRawFactor(m_, i, j), kAnchorMetricTol,
+                     id + " new bias raw");
 }
 
 // The raw Jacobians against central differences of evaluate() through the increments Ceres
@@ -179,10 +188,14 @@ Eigen::MatrixXd NumericJacobian(const VinsFusionMeasurement& m, const VinsFusion
 
 Eigen::MatrixXd Analytic(const VinsFusionFactorOutput& o, Block block) {
   switch (block) {
-    case Block::kPoseI: return o.jacobian_pose_i.leftCols<6>();
-    case Block::kSpeedBiasI: return o.jacobian_speedbias_i;
-    case Block::kPoseJ: return o.jacobian_pose_j.leftCols<6>();
-    case Block::kSpeedBiasJ: return o.jacobian_speedbias_j;
+    case Block::kPoseI:
+      return o.jacobian_pose_i.leftCols<6>();
+    case Block::kSpeedBiasI:
+      return o.jacobian_speedbias_i;
+    case Block::kPoseJ:
+      return o.jacobian_pose_j.leftCols<6>();
+    case Block::kSpeedBiasJ:
+      return o.jacobian_speedbias_j;
   }
   return {};
 }
@@ -193,7 +206,8 @@ TEST_P(VinsFusionResidualAnchor, RawJacobiansAreCentralDifferencesAtTheLineariza
   const VinsFusionFactorOutput raw = VinsFusionRawFactor(m_, i, j);
   double worst = 0.0;
   for (const Block b : {Block::kPoseI, Block::kSpeedBiasI, Block::kPoseJ, Block::kSpeedBiasJ})
-    worst = std::max(worst, (NumericJacobian(m_, i, j, b) - Analytic(raw, b)).cwiseAbs().maxCoeff());
+    worst =
+        std::max(worst, (NumericJacobian(m_, i, j, b) - Analytic(raw, b)).cwiseAbs().maxCoeff());
   std::printf("  %-13s FD at the linearization bias: %.2g abs\n", GetParam(), worst);
   EXPECT_LE(worst, kFdTol);
   // Column 6 of the pose blocks (q.w) is zero, as upstream fills it.
@@ -213,7 +227,8 @@ TEST_P(VinsFusionResidualAnchor, RawJacobiansAreCentralDifferencesAtTheLineariza
 // Everything else is an exact derivative and held to the FD bound.
 TEST_P(VinsFusionResidualAnchor, RawJacobiansAtANewBiasExactBlocksAndUpstreamApproximations) {
   const nlohmann::json& bc = anchor_.at("bias_correction");
-  const VinsFusionFactorState i = FactorState(bc.at("state_i")), j = FactorState(anchor_.at("factor").at("state_j"));
+  const VinsFusionFactorState i = FactorState(bc.at("state_i")),
+                              j = FactorState(anchor_.at("factor").at("state_j"));
   const VinsFusionFactorOutput raw = VinsFusionRawFactor(m_, i, j);
   const Eigen::Quaterniond c_q = VinsFusionCorrect(m_, i.Ba, i.Bg).delta_q;
   const Mat3 J_tbg = m_.pre.jacobian.block<3, 3>(3, 12);
@@ -230,15 +245,18 @@ TEST_P(VinsFusionResidualAnchor, RawJacobiansAtANewBiasExactBlocksAndUpstreamApp
     }
     exact = std::max(exact, (fd - an).cwiseAbs().maxCoeff());
   }
-  const double bound = 1.5 * phi * J_tbg.cwiseAbs().maxCoeff() + phi * phi * J_tbg.cwiseAbs().maxCoeff() + kFdTol;
+  const double bound =
+      1.5 * phi * J_tbg.cwiseAbs().maxCoeff() + phi * phi * J_tbg.cwiseAbs().maxCoeff() + kFdTol;
   std::printf(
-      "  %-13s FD at the new bias: exact blocks %.2g abs | upstream's d r_theta/d bg %.2g abs (|phi| = %.2g, "
+      "  %-13s FD at the new bias: exact blocks %.2g abs | upstream's d r_theta/d bg %.2g abs "
+      "(|phi| = %.2g, "
       "bound %.2g), |c_q|^2 - 1 = %.2g\n",
       GetParam(), exact, approx_bg, phi, bound, c_q.squaredNorm() - 1.0);
   EXPECT_LE(exact, kFdTol);
   EXPECT_LE(approx_bg, bound);
 }
 
-INSTANTIATE_TEST_SUITE_P(Reference, VinsFusionResidualAnchor, ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
+INSTANTIATE_TEST_SUITE_P(Reference, VinsFusionResidualAnchor,
+                         ::testing::ValuesIn(kReferenceCaseIds), CaseTestName);
 
 }  // namespace

@@ -42,9 +42,9 @@ TEST(CompiledIn, TheProgramsPluginsAreAdoptedWithTheirChecks) {
   EXPECT_EQ(imuconv::detail::CompiledInPlugins().size(), 3u);
   Registry reg;
   reg.load_compiled_in();
-  for (const auto& [kind, id] :
-       {std::pair{PluginKind::StateConvention, "left"}, std::pair{PluginKind::StateConvention, "gtsam_navstate"},
-        std::pair{PluginKind::Propagator, "euler"}}) {
+  for (const auto& [kind, id] : {std::pair{PluginKind::StateConvention, "left"},
+                                 std::pair{PluginKind::StateConvention, "gtsam_navstate"},
+                                 std::pair{PluginKind::Propagator, "euler"}}) {
     ASSERT_TRUE(reg.has(kind, id)) << id;
     EXPECT_EQ(reg.info(kind, id).file, Registry::kCompiledIn);
   }
@@ -71,10 +71,12 @@ TEST(CompiledIn, TheyTakeTheBuiltInDirectorysPlaceAndComputeTheSame) {
                         "imuconv_plugin_integrators_euler.so"})
     files.load_file(Registry::default_plugin_dir() + "/" + f);
   const imuconv::ImuState x = SomeState();
-  EXPECT_EQ(compiled.conversion("left", "gtsam_navstate", x), files.conversion("left", "gtsam_navstate", x));
+  EXPECT_EQ(compiled.conversion("left", "gtsam_navstate", x),
+            files.conversion("left", "gtsam_navstate", x));
 
   const imuconv::test::ImuCase c = imuconv::test::LoadCase("smooth-1");
-  const imuconv::PropagationInput in = imuconv::test::MakeInput(c, c.samples.front().t, c.samples.back().t);
+  const imuconv::PropagationInput in =
+      imuconv::test::MakeInput(c, c.samples.front().t, c.samples.back().t);
   const imuconv::PropagationResult a = compiled.propagate("euler", "gtsam_navstate", in);
   const imuconv::PropagationResult b = files.propagate("euler", "gtsam_navstate", in);
   EXPECT_EQ(a.x_e.p, b.x_e.p);
@@ -90,13 +92,16 @@ TEST(CompiledIn, SharedObjectPluginsStillLoadBesideThem) {
   EXPECT_TRUE(reg.has(PluginKind::StateConvention, "openvins_jpl"));
   const imuconv::Mat15 J = reg.conversion("openvins_jpl", "left", SomeState());
   const imuconv::Mat15 back = reg.conversion("left", "openvins_jpl", SomeState());
-  EXPECT_LE((J * back - imuconv::Mat15::Identity()).cwiseAbs().maxCoeff(), 1e-12);  // a round trip, to rounding
+  EXPECT_LE((J * back - imuconv::Mat15::Identity()).cwiseAbs().maxCoeff(),
+            1e-12);  // a round trip, to rounding
   // A file that declares an id already compiled in is a duplicate, named as such.
   try {
     reg.load_file(Registry::default_plugin_dir() + "/imuconv_plugin_state_left.so");
     FAIL() << "a second 'left' was accepted";
   } catch (const imuconv::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("duplicate state_convention plugin id 'left'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("duplicate state_convention plugin id 'left'"),
+              std::string::npos)
+        << e.what();
     EXPECT_NE(std::string(e.what()).find("compiled-in"), std::string::npos) << e.what();
   }
 }

@@ -36,10 +36,14 @@ using imuconv::test::ProcessesMentioning;
 using imuconv::test::ShellQuote;
 using imuconv::test::TempDir;
 
-std::string Fixture(const std::string& rel) { return std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/" + rel; }
+std::string Fixture(const std::string& rel) {
+  return std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/" + rel;
+}
 std::string BuiltIn(const std::string& name) { return imuconv::test::BuiltInPlugin(name); }
 
-std::string ErrorOf(Registry& r, const std::string& path) { return imuconv::test::LoadErrorOf(r, path); }
+std::string ErrorOf(Registry& r, const std::string& path) {
+  return imuconv::test::LoadErrorOf(r, path);
+}
 
 // A control byte in a message means a name or id was echoed raw.
 bool HasControlByte(const std::string& s) {
@@ -48,7 +52,9 @@ bool HasControlByte(const std::string& s) {
   return false;
 }
 
-void Copy(const std::string& from, const std::string& to) { fs::copy_file(from, to, fs::copy_options::overwrite_existing); }
+void Copy(const std::string& from, const std::string& to) {
+  fs::copy_file(from, to, fs::copy_options::overwrite_existing);
+}
 
 std::vector<std::string> Lines(const std::string& text) {
   std::vector<std::string> out;
@@ -75,16 +81,19 @@ std::string LineWith(const std::string& text, const std::string& key) {
 CommandResult RunCli(const std::string& args, const TempDir& tmp, double* seconds = nullptr) {
   auto with = [](const char* var, const char* extra) {
     const char* old = std::getenv(var);
-    return std::string(var) + "=" + ShellQuote(std::string(old ? old : "") + (old && *old ? ":" : "") + extra);
+    return std::string(var) + "=" +
+           ShellQuote(std::string(old ? old : "") + (old && *old ? ":" : "") + extra);
   };
   const std::string env = with("ASAN_OPTIONS", "handle_segv=0:handle_sigbus=0") + " " +
                           with("UBSAN_OPTIONS", "handle_segv=0:handle_sigbus=0");
   const std::string out = tmp.file(".stdout"), err = tmp.file(".stderr");
-  const std::string cmd = "env -u IMUCONV_PLUGIN_PATH " + env + " " + ShellQuote(imuconv::test::Binary()) + " " +
-                          args + " > " + ShellQuote(out) + " 2> " + ShellQuote(err);
+  const std::string cmd = "env -u IMUCONV_PLUGIN_PATH " + env + " " +
+                          ShellQuote(imuconv::test::Binary()) + " " + args + " > " +
+                          ShellQuote(out) + " 2> " + ShellQuote(err);
   const auto t0 = std::chrono::steady_clock::now();
   const int status = std::system(cmd.c_str());
-  if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (seconds)
+    *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   CommandResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.out = imuconv::test::ReadText(out);
@@ -101,7 +110,9 @@ TEST(HostilePlugins, CreateThatThrowsIsALoadErrorNamingTheFile) {
   const std::string f = Fixture("hostile/imuconv_plugin_create_throws.so");
   const std::string msg = ErrorOf(r, f);
   EXPECT_TRUE(Has(msg, "'" + f + "'")) << msg;
-  EXPECT_TRUE(Has(msg, "imuconv_plugin_create() threw an exception: 'fixture: create() refuses to build its object'"))
+  EXPECT_TRUE(Has(msg,
+                  "imuconv_plugin_create() threw an exception: 'fixture: create() refuses to build "
+                  "its object'"))
       << msg;
   EXPECT_FALSE(r.has(PluginKind::StateConvention, "create_throws"));
   r.load_file(BuiltIn("imuconv_plugin_state_left.so"));  // still usable
@@ -123,7 +134,8 @@ TEST(HostilePlugins, NullVersionOrSummaryIsRefusedNamingTheFile) {
 TEST(HostilePlugins, IdsWithControlBytesAreRefusedAndShownEscaped) {
   Registry r;
   const std::string nl = ErrorOf(r, Fixture("hostile/imuconv_plugin_id_newline.so"));
-  EXPECT_TRUE(Has(nl, "its descriptor's id 'fake\\n  left 1.0.0 ok' has a character other than")) << nl;
+  EXPECT_TRUE(Has(nl, "its descriptor's id 'fake\\n  left 1.0.0 ok' has a character other than"))
+      << nl;
   const std::string esc = ErrorOf(r, Fixture("hostile/imuconv_plugin_id_escape.so"));
   EXPECT_TRUE(Has(esc, "'esc\\x1b[2Jape'")) << esc;
   const std::string nul = ErrorOf(r, Fixture("hostile/imuconv_plugin_id_nul.so"));
@@ -140,7 +152,8 @@ TEST(HostilePlugins, EveryHostileFileIsAnIssueAndTheRestOfTheSearchPathLoads) {
   std::vector<LoadIssue> issues;
   ASSERT_NO_THROW(issues = r.load_search_path({Fixture("hostile")}));
   std::size_t hostile_files = 0;
-  for (const auto& e : fs::directory_iterator(Fixture("hostile"))) hostile_files += e.path().extension() == ".so";
+  for (const auto& e : fs::directory_iterator(Fixture("hostile")))
+    hostile_files += e.path().extension() == ".so";
   EXPECT_EQ(hostile_files, 6u);
   EXPECT_EQ(issues.size(), hostile_files);
   for (const auto& i : issues) {
@@ -160,10 +173,12 @@ TEST(HostilePlugins, FilesThatAreNotSharedObjectsAreNamedForWhatTheyAre) {
   const std::string text = tmp.write("imuconv_plugin_text.so", "this is text, not ELF\n");
   // A 64-byte ELF header of a relocatable object (e_type 1): ELF, but no shared object.
   std::string rel(64, '\0');
-  rel[0] = 0x7f, rel[1] = 'E', rel[2] = 'L', rel[3] = 'F', rel[4] = 2, rel[5] = 1, rel[6] = 1, rel[16] = 1;
+  rel[0] = 0x7f, rel[1] = 'E', rel[2] = 'L', rel[3] = 'F', rel[4] = 2, rel[5] = 1, rel[6] = 1,
+  rel[16] = 1;
   const std::string object = tmp.write("imuconv_plugin_object.so", rel);
   fs::create_directory(tmp.file("imuconv_plugin_dir.so"));
-  ASSERT_EQ(::mkfifo(tmp.file("imuconv_plugin_fifo.so").c_str(), 0600), 0);  // opening it would block
+  ASSERT_EQ(::mkfifo(tmp.file("imuconv_plugin_fifo.so").c_str(), 0600),
+            0);  // opening it would block
 
   Registry r;
   const auto issues = r.load_directory(tmp.path());
@@ -174,13 +189,18 @@ TEST(HostilePlugins, FilesThatAreNotSharedObjectsAreNamedForWhatTheyAre) {
     return std::string("(no issue for " + name + ")");
   };
   EXPECT_EQ(message("imuconv_plugin_empty.so"),
-            "cannot load '" + empty + "': it is empty (expected an ELF shared object built with imuconv_add_plugin)");
-  EXPECT_TRUE(Has(message("imuconv_plugin_text.so"), "cannot load '" + text + "': it is not an ELF shared object"))
+            "cannot load '" + empty +
+                "': it is empty (expected an ELF shared object built with imuconv_add_plugin)");
+  EXPECT_TRUE(Has(message("imuconv_plugin_text.so"),
+                  "cannot load '" + text + "': it is not an ELF shared object"))
       << message("imuconv_plugin_text.so");
-  EXPECT_TRUE(Has(message("imuconv_plugin_object.so"), "'" + object + "': it is an ELF file but not a shared object (ELF type 1)"))
+  EXPECT_TRUE(Has(message("imuconv_plugin_object.so"),
+                  "'" + object + "': it is an ELF file but not a shared object (ELF type 1)"))
       << message("imuconv_plugin_object.so");
-  EXPECT_TRUE(Has(message("imuconv_plugin_dir.so"), "it is a directory")) << message("imuconv_plugin_dir.so");
-  EXPECT_TRUE(Has(message("imuconv_plugin_fifo.so"), "it is not a regular file")) << message("imuconv_plugin_fifo.so");
+  EXPECT_TRUE(Has(message("imuconv_plugin_dir.so"), "it is a directory"))
+      << message("imuconv_plugin_dir.so");
+  EXPECT_TRUE(Has(message("imuconv_plugin_fifo.so"), "it is not a regular file"))
+      << message("imuconv_plugin_fifo.so");
   for (const auto& i : issues) EXPECT_FALSE(Has(i.message, "Bad file descriptor")) << i.message;
 }
 
@@ -198,7 +218,8 @@ TEST(HostilePlugins, SharedObjectsForAnotherMachineOrClassAreNamedForWhatTheyAre
   const std::string foreign_name = "x86-64", host_name = "aarch64";
 #endif
   std::string header(64, '\0');
-  header[0] = 0x7f, header[1] = 'E', header[2] = 'L', header[3] = 'F', header[4] = 2, header[5] = 1, header[6] = 1;
+  header[0] = 0x7f, header[1] = 'E', header[2] = 'L', header[3] = 'F', header[4] = 2, header[5] = 1,
+  header[6] = 1;
   header[16] = 3;
   header[18] = static_cast<char>(foreign_machine);
   const std::string foreign = tmp.write("imuconv_plugin_foreign.so", header);
@@ -211,12 +232,14 @@ TEST(HostilePlugins, SharedObjectsForAnotherMachineOrClassAreNamedForWhatTheyAre
   ASSERT_EQ(issues.size(), 2u);
   for (const auto& i : issues) {
     if (i.file == foreign) {
-      EXPECT_TRUE(Has(i.message, "'" + foreign + "': it is an ELF shared object for " + foreign_name +
-                                     "; this program runs on " + host_name + " (rebuild the plugin for this machine)"))
+      EXPECT_TRUE(Has(i.message, "'" + foreign + "': it is an ELF shared object for " +
+                                     foreign_name + "; this program runs on " + host_name +
+                                     " (rebuild the plugin for this machine)"))
           << i.message;
     } else {
       EXPECT_EQ(i.file, bits32);
-      EXPECT_TRUE(Has(i.message, "'" + bits32 + "': it is a 32-bit ELF shared object; this program is 64-bit"))
+      EXPECT_TRUE(Has(i.message,
+                      "'" + bits32 + "': it is a 32-bit ELF shared object; this program is 64-bit"))
           << i.message;
     }
   }
@@ -243,14 +266,16 @@ TEST(HostilePlugins, UnreadableOrMissingDirectoryIsAnIssue) {
   // process that has given up root first (uid/gid 65534, "nobody").
   const std::string locked = tmp.file("locked");
   fs::create_directory(locked);
-  fs::permissions(tmp.path(), fs::perms::owner_all | fs::perms::group_exec | fs::perms::others_exec);  // reachable for nobody
+  fs::permissions(tmp.path(), fs::perms::owner_all | fs::perms::group_exec |
+                                  fs::perms::others_exec);  // reachable for nobody
   fs::permissions(locked, fs::perms::none);
   auto check = [&]() -> std::string {
     Registry reg;
     const auto got = reg.load_directory(locked);
     if (got.size() != 1) return "expected one issue, got " + std::to_string(got.size());
     if (got[0].file != locked) return "issue names " + got[0].file;
-    if (got[0].message != "cannot list plugin directory: Permission denied") return "message: " + got[0].message;
+    if (got[0].message != "cannot list plugin directory: Permission denied")
+      return "message: " + got[0].message;
     return "";
   };
   if (::geteuid() != 0) {
@@ -263,14 +288,16 @@ TEST(HostilePlugins, UnreadableOrMissingDirectoryIsAnIssue) {
   ASSERT_GE(pid, 0);
   if (pid == 0) {
     ::close(pipefd[0]);
-    std::string result = ::setgid(65534) == 0 && ::setuid(65534) == 0 ? check() : "cannot drop root";
+    std::string result =
+        ::setgid(65534) == 0 && ::setuid(65534) == 0 ? check() : "cannot drop root";
     if (::write(pipefd[1], result.data(), result.size()) < 0) ::_exit(3);
     ::_exit(0);
   }
   ::close(pipefd[1]);
   std::string result;
   char buf[512];
-  for (ssize_t n; (n = ::read(pipefd[0], buf, sizeof buf)) > 0;) result.append(buf, static_cast<std::size_t>(n));
+  for (ssize_t n; (n = ::read(pipefd[0], buf, sizeof buf)) > 0;)
+    result.append(buf, static_cast<std::size_t>(n));
   ::close(pipefd[0]);
   int status = 0;
   ASSERT_EQ(::waitpid(pid, &status, 0), pid);
@@ -286,8 +313,10 @@ TEST(HostilePlugins, DuplicateIdOnTheSearchPathIsAnErrorNamingBothFiles) {
     FAIL() << "a second rk4 was accepted";
   } catch (const Error& e) {
     const std::string msg = e.what();
-    EXPECT_TRUE(Has(msg, "duplicate propagator plugin id 'rk4': '" + Fixture("override/imuconv_plugin_claims_rk4.so") +
-                             "' (found first) and '" + BuiltIn("imuconv_plugin_integrators_rk4.so") + "'"))
+    EXPECT_TRUE(Has(msg, "duplicate propagator plugin id 'rk4': '" +
+                             Fixture("override/imuconv_plugin_claims_rk4.so") +
+                             "' (found first) and '" +
+                             BuiltIn("imuconv_plugin_integrators_rk4.so") + "'"))
         << msg;
     EXPECT_TRUE(Has(msg, "--allow-plugin-override")) << msg;
   }
@@ -318,7 +347,8 @@ TEST(HostilePlugins, OverrideLetsTheEarlierOneWinWithAWarningNamingBoth) {
   ASSERT_EQ(issues.size(), 1u);
   EXPECT_TRUE(issues[0].overridden);
   EXPECT_EQ(issues[0].file, builtin);
-  EXPECT_TRUE(Has(issues[0].message, "'" + builtin + "' is ignored and '" + fixture + "', earlier on the search path, is used"))
+  EXPECT_TRUE(Has(issues[0].message, "'" + builtin + "' is ignored and '" + fixture +
+                                         "', earlier on the search path, is used"))
       << issues[0].message;
   // The winner is the one that runs: the fixture refuses to integrate.
   imuconv::PropagationInput in;
@@ -327,12 +357,14 @@ TEST(HostilePlugins, OverrideLetsTheEarlierOneWinWithAWarningNamingBoth) {
 
 TEST(HostilePlugins, TheSameFileUnderTwoNamesIsNoDuplicate) {
   TempDir tmp;
-  fs::create_symlink(BuiltIn("imuconv_plugin_integrators_rk4.so"), tmp.file("imuconv_plugin_link.so"));
+  fs::create_symlink(BuiltIn("imuconv_plugin_integrators_rk4.so"),
+                     tmp.file("imuconv_plugin_link.so"));
   Registry r;
   std::vector<LoadIssue> issues;
   ASSERT_NO_THROW(issues = r.load_search_path({tmp.path()}));
   ASSERT_EQ(issues.size(), 1u);
-  EXPECT_TRUE(Has(issues[0].message, "is already loaded (as '" + tmp.file("imuconv_plugin_link.so") + "')"))
+  EXPECT_TRUE(
+      Has(issues[0].message, "is already loaded (as '" + tmp.file("imuconv_plugin_link.so") + "')"))
       << issues[0].message;
   EXPECT_TRUE(r.has(PluginKind::Propagator, "rk4"));
 }
@@ -341,8 +373,10 @@ TEST(HostilePlugins, UnknownIdMessagesShowNulAndControlBytes) {
   Registry r;
   r.load_file(BuiltIn("imuconv_plugin_state_left.so"));
   const std::string id("rk4\0tail\n", 9);
-  for (auto call : {+[](Registry& reg, const std::string& i) { (void)reg.propagator(i); },
-                    +[](Registry& reg, const std::string& i) { (void)reg.info(PluginKind::StateConvention, i); }}) {
+  for (auto call : {+[](Registry&reg, const std::string&i) { (void)reg.propagator(i); },
+                    +[](Registry&reg, const std::string&i) {
+                      (void)reg.info(PluginKind::StateConvention, i);
+                    }}) {
     try {
       call(r, id);
       FAIL();
@@ -367,13 +401,15 @@ TEST(HostilePluginsCli, ListingSurvivesBadPluginsAndEscapesTheirNames) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(Has(r.out, "rk4 ")) << r.out;
   EXPECT_TRUE(Has(r.out, "load errors:\n")) << r.out;
-  EXPECT_TRUE(Has(r.out, "  " + dir + "/imuconv_plugin_a.so: ok\\nimuconv_plugin_b.so: plugin '")) << r.out;
+  EXPECT_TRUE(Has(r.out, "  " + dir + "/imuconv_plugin_a.so: ok\\nimuconv_plugin_b.so: plugin '"))
+      << r.out;
   EXPECT_TRUE(Has(r.out, "imuconv_plugin_create() threw")) << r.out;
   EXPECT_TRUE(Has(r.out, "'esc\\x1b[2Jape'")) << r.out;
   EXPECT_TRUE(Has(r.out, "imuconv_plugin_empty.so': it is empty")) << r.out;
   for (const auto& line : Lines(r.out)) {
     EXPECT_FALSE(HasControlByte(line)) << line;
-    EXPECT_NE(line.rfind("imuconv_plugin_b.so", 0), 0u) << "a file name made its own line:\n" << r.out;
+    EXPECT_NE(line.rfind("imuconv_plugin_b.so", 0), 0u) << "a file name made its own line:\n"
+                                                        << r.out;
   }
   const CommandResult j = RunCli("plugins --json --plugin-dir " + ShellQuote(dir), tmp);
   ASSERT_EQ(j.exit_code, 0) << j.err;
@@ -393,7 +429,8 @@ TEST(HostilePluginsCli, DuplicateRk4FailsTheCommandUnlessOverridden) {
       << r.err;
   r = RunCli("plugins --allow-plugin-override --plugin-dir " + ShellQuote(dir), tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_TRUE(Has(r.out, "\noverridden (--allow-plugin-override):\n  " + BuiltIn("imuconv_plugin_integrators_rk4.so")))
+  EXPECT_TRUE(Has(r.out, "\noverridden (--allow-plugin-override):\n  " +
+                             BuiltIn("imuconv_plugin_integrators_rk4.so")))
       << r.out;
   EXPECT_TRUE(Has(LineWith(r.out, "  rk4 "), dir + "/imuconv_plugin_claims_rk4.so")) << r.out;
 }
@@ -405,7 +442,8 @@ TEST(HostilePluginsCli, RunFailsOnADuplicateRk4InThePipelinesPluginDirs) {
   pipeline.erase("output");
   pipeline["plugin_dirs"] = {Fixture("override")};
   const std::string path = tmp.write("pipeline.json", pipeline.dump(2));
-  const CommandResult r = RunCli("run " + ShellQuote(path) + " -q -o " + ShellQuote(tmp.file("out.json")), tmp);
+  const CommandResult r =
+      RunCli("run " + ShellQuote(path) + " -q -o " + ShellQuote(tmp.file("out.json")), tmp);
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_TRUE(Has(r.err, "duplicate propagator plugin id 'rk4'")) << r.err;
   EXPECT_TRUE(Has(r.err, Fixture("override/imuconv_plugin_claims_rk4.so"))) << r.err;
@@ -417,8 +455,9 @@ TEST(HostilePluginsCli, CheckNamesCrashesHangsAndErrorsInChildProcesses) {
   TempDir tmp;
   const std::string dir = tmp.file("check");
   fs::create_directory(dir);
-  for (const char* f : {"crash/imuconv_plugin_labels_segv.so", "crash/imuconv_plugin_labels_throws.so",
-                        "hang/imuconv_plugin_labels_hang.so", "hostile/imuconv_plugin_create_throws.so"})
+  for (const char* f :
+       {"crash/imuconv_plugin_labels_segv.so", "crash/imuconv_plugin_labels_throws.so",
+        "hang/imuconv_plugin_labels_hang.so", "hostile/imuconv_plugin_create_throws.so"})
     Copy(Fixture(f), dir + "/" + fs::path(f).filename().string());
   Copy(BuiltIn("imuconv_plugin_integrators_rk4.so"), dir + "/imuconv_plugin_rk4.so");
   // A crashing plugin whose name tries to print a fake "ok" line of its own.
@@ -426,18 +465,27 @@ TEST(HostilePluginsCli, CheckNamesCrashesHangsAndErrorsInChildProcesses) {
   Copy(Fixture("crash/imuconv_plugin_labels_segv.so"), dir + "/" + fake);
 
   double seconds = 0.0;
-  const CommandResult r = RunCli("plugins --check " + ShellQuote(dir) + " --check-timeout 2", tmp, &seconds);
+  const CommandResult r =
+      RunCli("plugins --check " + ShellQuote(dir) + " --check-timeout 2", tmp, &seconds);
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
   EXPECT_TRUE(Has(r.out, "checking 6 plugin file(s) in '" + dir + "'")) << r.out;
-  EXPECT_TRUE(Has(LineWith(r.out, "imuconv_plugin_labels_segv.so"), ": crashed with signal SIGSEGV")) << r.out;
-  EXPECT_TRUE(Has(LineWith(r.out, "imuconv_plugin_labels_throws.so"), ": crashed with signal SIGABRT")) << r.out;
-  EXPECT_TRUE(Has(LineWith(r.out, "imuconv_plugin_labels_hang.so"), ": did not finish within 2 s (killed)")) << r.out;
-  EXPECT_TRUE(Has(LineWith(r.out, "imuconv_plugin_create_throws.so"), "imuconv_plugin_create() threw an exception"))
+  EXPECT_TRUE(
+      Has(LineWith(r.out, "imuconv_plugin_labels_segv.so"), ": crashed with signal SIGSEGV"))
+      << r.out;
+  EXPECT_TRUE(
+      Has(LineWith(r.out, "imuconv_plugin_labels_throws.so"), ": crashed with signal SIGABRT"))
+      << r.out;
+  EXPECT_TRUE(
+      Has(LineWith(r.out, "imuconv_plugin_labels_hang.so"), ": did not finish within 2 s (killed)"))
+      << r.out;
+  EXPECT_TRUE(Has(LineWith(r.out, "imuconv_plugin_create_throws.so"),
+                  "imuconv_plugin_create() threw an exception"))
       << r.out;
   EXPECT_TRUE(Has(LineWith(r.out, "/imuconv_plugin_rk4.so"),
                   ": ok (propagator 'rk4' 1.1.0; propagate() ran on a 10 ms test window)"))
       << r.out;
-  EXPECT_TRUE(Has(LineWith(r.out, "imuconv_plugin_z.so"), "1)\\n  imuconv_plugin_zz.so: crashed with signal SIGSEGV"))
+  EXPECT_TRUE(Has(LineWith(r.out, "imuconv_plugin_z.so"),
+                  "1)\\n  imuconv_plugin_zz.so: crashed with signal SIGSEGV"))
       << r.out;
   // One report line per file: the name with a newline did not add one.
   std::size_t report_lines = 0;
@@ -450,17 +498,20 @@ TEST(HostilePluginsCli, CheckNamesCrashesHangsAndErrorsInChildProcesses) {
   // 2 s for the hang, well under a second for the rest; 20 s (the default timeout) would mean
   // --check-timeout was ignored. Generous for sanitized builds on a loaded machine.
   EXPECT_LT(seconds, 20.0);
-  EXPECT_EQ(ProcessesMentioning(tmp.path()), std::vector<std::string>{}) << "a checked child outlived the command";
+  EXPECT_EQ(ProcessesMentioning(tmp.path()), std::vector<std::string>{})
+      << "a checked child outlived the command";
 }
 
 TEST(HostilePluginsCli, CheckOfTheBuiltInPluginsPasses) {
   TempDir tmp;
-  const CommandResult r = RunCli("plugins --json --check " + ShellQuote(Registry::default_plugin_dir()), tmp);
+  const CommandResult r =
+      RunCli("plugins --json --check " + ShellQuote(Registry::default_plugin_dir()), tmp);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["ok"], true);
   std::size_t files = 0;
-  for (const auto& e : fs::directory_iterator(Registry::default_plugin_dir())) files += e.path().extension() == ".so";
+  for (const auto& e : fs::directory_iterator(Registry::default_plugin_dir()))
+    files += e.path().extension() == ".so";
   ASSERT_EQ(j["checked"].size(), files);
   for (const auto& c : j["checked"]) EXPECT_EQ(c["result"], "ok") << c.dump();
 }

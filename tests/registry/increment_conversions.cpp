@@ -13,9 +13,9 @@ namespace {
 using namespace imuconv;
 using imuconv::test::Plugins;
 
-const char* const kIncrementCharts[] = {"preint_reference", "gtsam_manifold", "gtsam_manifold_jacobian",
-                                        "gtsam_tangent",    "vins_fusion",    "basalt",
-                                        "forster"};
+const char* const kIncrementCharts[] = {
+    "preint_reference", "gtsam_manifold", "gtsam_manifold_jacobian", "gtsam_tangent", "vins_fusion",
+    "basalt",           "forster"};
 
 PreintIncrement SomeIncrement(double scale) {
   PreintIncrement d;
@@ -59,7 +59,8 @@ TEST(IncrementConversions, CovarianceIsTheSandwichTheCommandsComputed) {
       const Mat15 got = Plugins().convert_covariance(a, b, d, S);
       EXPECT_EQ((got - by_hand).cwiseAbs().maxCoeff(), 0.0);
       // And back: the covariance it came from.
-      EXPECT_LE(test::CorrelationScaleDiff(S, Plugins().convert_covariance(b, a, d, got)).d, kRoundTrip);
+      EXPECT_LE(test::CorrelationScaleDiff(S, Plugins().convert_covariance(b, a, d, got)).d,
+                kRoundTrip);
     }
 }
 
@@ -70,7 +71,8 @@ TEST(IncrementConversions, TransitionRoundTripsAndKeepsTheIdentity) {
   const PreintIncrement d_s = SomeIncrement(0.5), d_e = SomeIncrement(1.0);
   Mat15 Phi;
   for (int i = 0; i < 15; ++i)
-    for (int j = 0; j < 15; ++j) Phi(i, j) = (i == j ? 1.0 : 0.0) + 0.1 * std::cos(0.3 * i - 0.8 * j);
+    for (int j = 0; j < 15; ++j)
+      Phi(i, j) = (i == j ? 1.0 : 0.0) + 0.1 * std::cos(0.3 * i - 0.8 * j);
   for (const char* a : kIncrementCharts)
     for (const char* b : kIncrementCharts) {
       SCOPED_TRACE(std::string(a) + " -> " + b);
@@ -96,7 +98,8 @@ TEST(IncrementConversions, ReferenceFactorsComposeToTheConversion) {
 // the message lists the increment conventions), not a state chart applied to an increment.
 TEST(IncrementConversions, AnIdOfTheOtherKindIsRefused) {
   try {
-    (void)Plugins().convert_covariance("gtsam_navstate", "forster", SomeIncrement(1.0), SomeCovariance());
+    (void)Plugins().convert_covariance("gtsam_navstate", "forster", SomeIncrement(1.0),
+                                       SomeCovariance());
     ADD_FAILURE() << "a state convention was taken at an increment";
   } catch (const Error& e) {
     const std::string m = e.what();

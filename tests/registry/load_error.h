@@ -17,6 +17,8 @@ inline std::string LoadErrorOf(Registry& r, const std::string& path) {
 }
 
 /// A file in the built-in plugin directory.
-inline std::string BuiltInPlugin(const std::string& name) { return Registry::default_plugin_dir() + "/" + name; }
+inline std::string BuiltInPlugin(const std::string& name) {
+  return Registry::default_plugin_dir() + "/" + name;
+}
 
 }  // namespace imuconv::test

@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "load_error.h"
 #include "../pipeline/pipeline_test_util.h"
 #include "imuconv_test.h"
+#include "load_error.h"
 
 namespace {
 namespace fs = std::filesystem;
@@ -17,7 +17,9 @@ using imuconv::Registry;
 
 std::string PluginFile(const std::string& name) { return imuconv::test::BuiltInPlugin(name); }
 
-std::string ErrorOf(Registry& r, const std::string& path) { return imuconv::test::LoadErrorOf(r, path); }
+std::string ErrorOf(Registry& r, const std::string& path) {
+  return imuconv::test::LoadErrorOf(r, path);
+}
 
 TEST(Loading, BuiltPluginsLoad) {
   Registry r;
@@ -41,7 +43,8 @@ TEST(Loading, FileThatIsNotASharedLibrary) {
   const std::string p = tmp.write("imuconv_plugin_not_a_library.so", "this is text, not ELF\n");
   Registry r;
   const std::string msg = ErrorOf(r, p);
-  EXPECT_NE(msg.find("cannot load '" + p + "': it is not an ELF shared object"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("cannot load '" + p + "': it is not an ELF shared object"), std::string::npos)
+      << msg;
 }
 
 TEST(Loading, SharedLibraryThatIsNotAPlugin) {
@@ -54,14 +57,16 @@ TEST(Loading, SharedLibraryThatIsNotAPlugin) {
 
 TEST(Loading, WrongAbiVersion) {
   Registry r;
-  const std::string msg = ErrorOf(r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_wrong_abi.so");
+  const std::string msg =
+      ErrorOf(r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_wrong_abi.so");
   EXPECT_NE(msg.find("ABI version 999"), std::string::npos) << msg;
 }
 
 TEST(Loading, DuplicateIdNamesBothFiles) {
   Registry r;
   r.load_file(PluginFile("imuconv_plugin_state_left.so"));
-  const std::string dup = std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_duplicate_left.so";
+  const std::string dup =
+      std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_duplicate_left.so";
   const std::string msg = ErrorOf(r, dup);
   EXPECT_NE(msg.find("duplicate"), std::string::npos) << msg;
   EXPECT_NE(msg.find("imuconv_plugin_state_left.so"), std::string::npos) << msg;
@@ -70,16 +75,20 @@ TEST(Loading, DuplicateIdNamesBothFiles) {
 
 TEST(Loading, WrongAnalyticJacobianIsRefused) {
   Registry r;
-  const std::string msg = ErrorOf(r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_bad_jacobian.so");
+  const std::string msg = ErrorOf(
+      r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_bad_jacobian.so");
   EXPECT_NE(msg.find("analytic J_ref_this differs"), std::string::npos) << msg;
 }
 
 TEST(Loading, BlockOrderThatIsNoPermutationIsRefused) {
   Registry r;
-  const std::string msg = ErrorOf(r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_bad_order.so");
+  const std::string msg =
+      ErrorOf(r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_bad_order.so");
   EXPECT_NE(msg.find("state convention 'bad_order'"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("block order must be a permutation of p, theta, v, bg, ba (got theta, theta, v, bg, ba)"),
-            std::string::npos)
+  EXPECT_NE(
+      msg.find(
+          "block order must be a permutation of p, theta, v, bg, ba (got theta, theta, v, bg, ba)"),
+      std::string::npos)
       << msg;
 }
 

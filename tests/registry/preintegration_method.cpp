@@ -46,7 +46,8 @@ void ExpectSame(const Preintegrated& a, const Preintegrated& b) {
 
 TEST(PreintegrationMethod, PropagatorResolvedWithItsNativeConvention) {
   for (const char* id : {"euler", "midpoint", "rk4"}) {
-    const PreintegrationMethod m = ResolvePreintegrationMethod(Plugins(), PluginKind::Propagator, id);
+    const PreintegrationMethod m =
+        ResolvePreintegrationMethod(Plugins(), PluginKind::Propagator, id);
     ASSERT_TRUE(m.propagator && !m.preintegrator) << id;
     EXPECT_STREQ(m.native_state->id(), m.propagator->native_convention()) << id;
     EXPECT_STREQ(m.reference_state->id(), "left") << id;
@@ -68,7 +69,8 @@ TEST(PreintegrationMethod, PropagatorResolvedWithItsNativeConvention) {
 
 TEST(PreintegrationMethod, PreintegratorMatchesFromConvention) {
   for (const char* id : {"tangent", "manifold"}) {
-    const PreintegrationMethod m = ResolvePreintegrationMethod(Plugins(), PluginKind::Preintegrator, id);
+    const PreintegrationMethod m =
+        ResolvePreintegrationMethod(Plugins(), PluginKind::Preintegrator, id);
     ASSERT_TRUE(m.preintegrator && !m.propagator) << id;
     EXPECT_STREQ(m.cov_convention->id(), m.preintegrator->cov_convention()) << id;
     EXPECT_STREQ(m.jacobian_convention->id(), m.preintegrator->jacobian_convention()) << id;
@@ -83,7 +85,8 @@ TEST(PreintegrationMethod, PreintegratorMatchesFromConvention) {
     ASSERT_TRUE(m.preintegrator->integrate(in, native).ok());
     native.convention = m.preintegrator->cov_convention();
     native.jacobian_convention = m.preintegrator->jacobian_convention();
-    ExpectSame(Preintegrate(Plugins(), m, w, kBg, kBa, test::TestNoise()), FromConvention(Plugins(), native));
+    ExpectSame(Preintegrate(Plugins(), m, w, kBg, kBa, test::TestNoise()),
+               FromConvention(Plugins(), native));
   }
 }
 

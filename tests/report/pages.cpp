@@ -6,14 +6,14 @@
 
 #include <string>
 
+#include "../../apps/report/pages/pages.h"
+#include "../pipeline/pipeline_test_util.h"
 #include "imuconv/check/case_input.h"
 #include "imuconv/check/check.h"
 #include "imuconv/pipeline/measurement.h"
-#include "../pipeline/pipeline_test_util.h"
 #include "imuconv_test.h"
 #include "montecarlo.h"
 #include "nees.h"
-#include "../../apps/report/pages/pages.h"
 
 namespace {
 using namespace imuconv;
@@ -26,11 +26,13 @@ std::size_t Count(const std::string& s, const std::string& sub) {
 }
 
 const std::string kCase = "reference/cases/smooth-0.json";
-const std::string kMeasurements = SourcePath("examples/data/gtsam_smooth0_manifold.measurements.json");
+const std::string kMeasurements =
+    SourcePath("examples/data/gtsam_smooth0_manifold.measurements.json");
 
 check::CheckResult Check(const std::string& meas_path) {
   const check::CaseInput input = check::ReadCaseFile(DataPath(kCase));
-  return check::RunCheck(Plugins(), input, pipeline::ReadDeclaredMeasurementFile(meas_path, Plugins()), meas_path);
+  return check::RunCheck(Plugins(), input,
+                         pipeline::ReadDeclaredMeasurementFile(meas_path, Plugins()), meas_path);
 }
 
 TEST(CheckPage, EntrywiseMatricesAreTheDifferencesTheSummaryReports) {
@@ -56,7 +58,8 @@ TEST(CheckPage, EntrywiseMatricesAreTheDifferencesTheSummaryReports) {
   EXPECT_EQ(Count(html, "class=\"cell\""), 54u + 225u);
   // Both maps on check's fixed range, each with its tolerance (verdict.cpp: 1e-2 for both), and
   // the verdict badge at the top.
-  EXPECT_EQ(Count(html, "data-scale-min=\"1e-16\" data-scale-max=\"100\" data-tolerance=\"0.01\""), 2u);
+  EXPECT_EQ(Count(html, "data-scale-min=\"1e-16\" data-scale-max=\"100\" data-tolerance=\"0.01\""),
+            2u);
   EXPECT_EQ(Count(html, "data-verdict=\""), 1u);
   EXPECT_LT(html.find("data-verdict=\""), html.find("<h2>"));
 }
@@ -83,7 +86,8 @@ TEST(MontecarloPage, HeatmapsOfTheSampleCovarianceAgainstThePrediction) {
   r.trials = 100;
   r.predicted = Mat15::Identity();
   r.stats.sample_cov = 1.1 * Mat15::Identity();
-  for (const char* b : {"theta", "p", "v", "bg", "ba"}) r.blocks.push_back({b, 1.1, {1.1, 1.1, 1.1}});
+  for (const char* b : {"theta", "p", "v", "bg", "ba"})
+    r.blocks.push_back({b, 1.1, {1.1, 1.1, 1.1}});
   r.verdict = montecarlo::Verdict::inconsistent;
   r.reasons = {"NEES mean 16.5 outside its 95% chi-square bounds"};
   const std::string html = report::MontecarloPage(r, {{"case", "c.json"}}).Render();
@@ -93,7 +97,9 @@ TEST(MontecarloPage, HeatmapsOfTheSampleCovarianceAgainstThePrediction) {
   // Standardized, by hand: (1.1 - 1) / sqrt((1 + 1) / 99) = 0.70356 on the diagonal; off it
   // (0 - 0) / sqrt(1 / 99) = 0, in the calm middle.
   EXPECT_EQ(Count(html, "theta.x, theta.x: z = 0.704 (within the tolerance 3)<"), 1u);
-  EXPECT_EQ(Count(html, "data-scale-kind=\"signed\" data-scale-min=\"-5\" data-scale-max=\"5\" data-tolerance=\"3\""),
+  EXPECT_EQ(Count(html,
+                  "data-scale-kind=\"signed\" data-scale-min=\"-5\" data-scale-max=\"5\" "
+                  "data-tolerance=\"3\""),
             1u);
   // Correlation scale: |1.1 - 1| / 1 = 0.1 on the diagonal, within 3 sqrt(2/99) = 0.426; the 210
   // exact zeros off it drawn as agreement (a dot each), not as blank cells.
@@ -139,7 +145,8 @@ TEST(NeesPage, NeesAgainstChiSquareAndEachErrorWithItsBand) {
   EXPECT_EQ(Count(html, "class=\"band\""), 18u);
   // Errors of -0.01, 0, 0.01 against 3 sigma = 0.012: none outside.
   EXPECT_EQ(Count(html, ": 0 of 20 windows outside"), 18u);
-  EXPECT_EQ(Count(html, "not judged (a sensor"), 2u + 2u);  // summary rows and sections: no components given
+  EXPECT_EQ(Count(html, "not judged (a sensor"),
+            2u + 2u);  // summary rows and sections: no components given
   const std::string without = report::NeesPage(NeesResult(false), {}).Render();
   EXPECT_EQ(Count(without, "class=\"chart\""), 4u);
   EXPECT_EQ(Count(without, "The errors were not kept"), 2u);
@@ -161,9 +168,11 @@ TEST(NeesPage, FactorsAndOffsetFlagsBesideTheirPlots) {
   }
   const std::string html = report::NeesPage(r, {}).Render();
   EXPECT_EQ(Count(html, "<td>7</td><td>10.5</td><td>v.x (mean 1.9)</td>"), 2u);
-  EXPECT_EQ(Count(html, "Factors: k (all) 8, k_gyro 7, k_accel 10.5. Offsets: v.x (mean 1.9)."), 2u);
+  EXPECT_EQ(Count(html, "Factors: k (all) 8, k_gyro 7, k_accel 10.5. Offsets: v.x (mean 1.9)."),
+            2u);
   // The flag on the v.x figure itself and in its caption, on no other.
-  EXPECT_EQ(Count(html, "\u2014 OFFSET (mean 1.9 sigma)"), 2u * 2u);  // the chart's title text and aria-label
+  EXPECT_EQ(Count(html, "\u2014 OFFSET (mean 1.9 sigma)"),
+            2u * 2u);  // the chart's title text and aria-label
   EXPECT_EQ(Count(html, "OFFSET: the mean dominates the spread."), 2u);
 }
 

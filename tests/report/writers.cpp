@@ -1,6 +1,7 @@
 // The report library's writers (apps/report/): text escaping, the log colour scale, the anchored
-// colour scale, the heatmap and chart SVG, the HTML document and its verdict badge. The documents' well-formedness as XML and their rendering in
-// a browser are checked on the commands' real reports by tests/report/report_documents.py.
+// colour scale, the heatmap and chart SVG, the HTML document and its verdict badge. The documents'
+// well-formedness as XML and their rendering in a browser are checked on the commands' real reports
+// by tests/report/report_documents.py.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -28,7 +29,9 @@ std::size_t Count(const std::string& s, const std::string& sub) {
   return n;
 }
 
-int Channel(const std::string& hex, int k) { return std::stoi(hex.substr(1 + 2 * k, 2), nullptr, 16); }
+int Channel(const std::string& hex, int k) {
+  return std::stoi(hex.substr(1 + 2 * k, 2), nullptr, 16);
+}
 
 // ---- markup ----
 
@@ -39,8 +42,9 @@ TEST(Markup, EscapesTheFiveMarkupCharacters) {
 }
 
 TEST(Markup, KeepsValidUtf8AndReplacesWhatXmlCannotHold) {
-  EXPECT_EQ(EscapeText("\xce\xb8 \xc2\xb1 \xe2\x89\xa4"), "\xce\xb8 \xc2\xb1 \xe2\x89\xa4");  // θ ± ≤
-  const std::string r = "\xEF\xBF\xBD";                                                     // U+FFFD
+  EXPECT_EQ(EscapeText("\xce\xb8 \xc2\xb1 \xe2\x89\xa4"),
+            "\xce\xb8 \xc2\xb1 \xe2\x89\xa4");  // θ ± ≤
+  const std::string r = "\xEF\xBF\xBD";         // U+FFFD
   EXPECT_EQ(EscapeText(std::string("a\x01z", 3)), "a" + r + "z");
   EXPECT_EQ(EscapeText(std::string("a\0z", 3)), "a" + r + "z");
   EXPECT_EQ(EscapeText("tab\tand\nnewline"), "tab\tand\nnewline");
@@ -82,7 +86,7 @@ TEST(ColorScale, DecadesMapLinearlyAndClampAtTheEnds) {
   const LogColorScale s(-12, 0);
   EXPECT_DOUBLE_EQ(s.Position(1e-12), 0.0);
   EXPECT_DOUBLE_EQ(s.Position(1.0), 1.0);
-  EXPECT_NEAR(s.Position(1e-6), 0.5, 1e-15);   // log10 of a power of ten: exact to round-off
+  EXPECT_NEAR(s.Position(1e-6), 0.5, 1e-15);  // log10 of a power of ten: exact to round-off
   EXPECT_NEAR(s.Position(1e-3), 0.75, 1e-15);
   EXPECT_EQ(s.Color(1e-6), Viridis(0.5));
   EXPECT_EQ(s.Color(1e-20), Viridis(0.0));
@@ -102,8 +106,10 @@ TEST(ColorScale, SpecialEntriesHaveColoursNoValueHas) {
   EXPECT_EQ(s.Color(kInf), SpecialColor(EntryKind::infinite));
   EXPECT_EQ(s.Color(-kInf), SpecialColor(EntryKind::infinite));
   EXPECT_EQ(s.Color(-1e-3), SpecialColor(EntryKind::negative));
-  for (EntryKind k : {EntryKind::zero, EntryKind::not_a_number, EntryKind::infinite, EntryKind::negative})
-    for (int i = 0; i <= 1024; ++i) EXPECT_FALSE(Viridis(i / 1024.0) == SpecialColor(k)) << KindName(k) << " " << i;
+  for (EntryKind k :
+       {EntryKind::zero, EntryKind::not_a_number, EntryKind::infinite, EntryKind::negative})
+    for (int i = 0; i <= 1024; ++i)
+      EXPECT_FALSE(Viridis(i / 1024.0) == SpecialColor(k)) << KindName(k) << " " << i;
 }
 
 TEST(ColorScale, FitSpansTheValuesDecades) {
@@ -116,7 +122,8 @@ TEST(ColorScale, FitSpansTheValuesDecades) {
   const LogColorScale none = LogColorScale::Fit({0.0, kNaN});
   EXPECT_EQ(none.lo_decade(), -1);
   EXPECT_EQ(none.hi_decade(), 0);
-  const LogColorScale wide = LogColorScale::Fit({1e-30, 0.5}, 16);  // the large ones keep their colours
+  const LogColorScale wide =
+      LogColorScale::Fit({1e-30, 0.5}, 16);  // the large ones keep their colours
   EXPECT_EQ(wide.lo_decade(), -16);
   EXPECT_EQ(wide.hi_decade(), 0);
 }
@@ -145,7 +152,8 @@ TEST(Heatmap, OneCellPerEntryAndTheBlockLabelsOnBothAxes) {
   EXPECT_TRUE(Has(svg, ">theta</text>") && Has(svg, ">ba</text>"));
   // The colours: 1e-6 is the scale's middle, 1e-12 its bottom; the hover titles name the entry.
   EXPECT_EQ(Count(svg, "fill=\"" + Viridis(0.5).Hex() + "\" class=\"cell\""), 224u);
-  EXPECT_TRUE(Has(svg, "fill=\"#440154\" class=\"cell\"><title>theta.x, theta.x: d = 1e-12</title>"));
+  EXPECT_TRUE(
+      Has(svg, "fill=\"#440154\" class=\"cell\"><title>theta.x, theta.x: d = 1e-12</title>"));
   // Legend: 12 decades, a label every second one (at most nine), both ends labelled.
   EXPECT_EQ(Count(svg, "class=\"legend-tick\""), 7u);
   EXPECT_TRUE(Has(svg, ">1e-12</text>") && Has(svg, ">1e-6</text>") && Has(svg, ">1e0</text>"));
@@ -163,11 +171,12 @@ TEST(Heatmap, ZeroNanInfinityAndNegativeAreDrawnAndCounted) {
   const std::string svg = HeatmapSvg(h);
   EXPECT_EQ(Count(svg, "class=\"legend-special\""), 4u);
   // Each special value's legend entry with its count, and its cell's own colour and title.
-  for (const std::string piece : {">0 \u00d72</text>", ">NaN \u00d71</text>", ">inf \u00d71</text>",
-                                  ">negative \u00d71</text>", ">\u22641e-12</text>",
-                                  "fill=\"#ff00ff\" class=\"cell\"><title>theta.y, theta.z: d = NaN</title>",
-                                  "fill=\"#d62728\" class=\"cell\"><title>p.x, p.y: d = inf</title>",
-                                  "fill=\"#ffffff\" class=\"cell\"><title>theta.x, theta.y: d = 0</title>"})
+  for (const std::string piece :
+       {">0 \u00d72</text>", ">NaN \u00d71</text>", ">inf \u00d71</text>",
+        ">negative \u00d71</text>", ">\u22641e-12</text>",
+        "fill=\"#ff00ff\" class=\"cell\"><title>theta.y, theta.z: d = NaN</title>",
+        "fill=\"#d62728\" class=\"cell\"><title>p.x, p.y: d = inf</title>",
+        "fill=\"#ffffff\" class=\"cell\"><title>theta.x, theta.y: d = 0</title>"})
     EXPECT_TRUE(Has(svg, piece)) << piece;
 }
 
@@ -198,7 +207,8 @@ TEST(Heatmap, LabelsAreEscapedAndSizesChecked) {
 TEST(Chart, LeavesOutWhatALogAxisCannotShowAndSaysSo) {
   ChartSpec c;
   c.y.log = true;
-  c.series.push_back({"nees", {0, 1, 2, 3, 4}, {1.0, 10.0, kNaN, -2.0, 100.0}, "#1f77b4", false, 2.0});
+  c.series.push_back(
+      {"nees", {0, 1, 2, 3, 4}, {1.0, 10.0, kNaN, -2.0, 100.0}, "#1f77b4", false, 2.0});
   c.lines.push_back({"upper <bound>", 19.0, false, "#d62728"});
   c.lines.push_back({"", 2.7, false, "#d62728"});
   const std::string out = ChartSvg(c);
@@ -255,11 +265,13 @@ TEST(HtmlDocument, EscapesEveryTextAndLoadsNothing) {
   const std::string html = doc.Render();
   // Every text escaped where it stands (the table's header padded to the widest row), and a
   // policy that loads nothing.
-  for (const std::string piece : {"&lt;script&gt;alert(1)&lt;/script&gt;", "<title>report &lt;for&gt; &quot;x&quot;</title>",
-                                  "<th>a&lt;b</th><th></th>", "<td>c&amp;d</td>", "caption &lt;i&gt;",
-                                  "content=\"default-src 'none'; style-src 'unsafe-inline'\""})
+  for (const std::string piece :
+       {"&lt;script&gt;alert(1)&lt;/script&gt;", "<title>report &lt;for&gt; &quot;x&quot;</title>",
+        "<th>a&lt;b</th><th></th>", "<td>c&amp;d</td>", "caption &lt;i&gt;",
+        "content=\"default-src 'none'; style-src 'unsafe-inline'\""})
     EXPECT_TRUE(Has(html, piece)) << piece;
-  for (const std::string piece : {"<script", "src=\"", "href=", "url("}) EXPECT_FALSE(Has(html, piece)) << piece;
+  for (const std::string piece : {"<script", "src=\"", "href=", "url("})
+    EXPECT_FALSE(Has(html, piece)) << piece;
   EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
 }
 
@@ -300,8 +312,10 @@ TEST(AnchoredScale, SignedIsCalmAroundZeroAndDarkBeyondEitherTolerance) {
   const Rgb under = s.Color(-3.5);  // beyond -tolerance: violet, blue above green
   EXPECT_TRUE(under.b > under.g + 40);
   // The calm part is light (every channel above 160), the failure part is not.
-  for (double v : {-3.0, -1.0, 0.5, 3.0}) EXPECT_GT(std::min({s.Color(v).r, s.Color(v).g, s.Color(v).b}), 160) << v;
-  for (double v : {-4.5, 4.5}) EXPECT_LT(std::min({s.Color(v).r, s.Color(v).g, s.Color(v).b}), 100) << v;
+  for (double v : {-3.0, -1.0, 0.5, 3.0})
+    EXPECT_GT(std::min({s.Color(v).r, s.Color(v).g, s.Color(v).b}), 160) << v;
+  for (double v : {-4.5, 4.5})
+    EXPECT_LT(std::min({s.Color(v).r, s.Color(v).g, s.Color(v).b}), 100) << v;
   EXPECT_THROW(AnchoredScale::Signed(3.0, 3.0), std::invalid_argument);
 }
 
@@ -320,8 +334,9 @@ TEST(AnchoredHeatmap, AttributesToleranceMarkAndCounts) {
   h.values(3, 3) = 0.0;
   h.anchored = AnchoredScale::Magnitude(1e-16, 1e2, 1e-2);
   const std::string svg = HeatmapSvg(h);
-  EXPECT_TRUE(Has(svg, "data-scale-kind=\"magnitude\" data-scale-min=\"1e-16\" data-scale-max=\"100\" "
-                       "data-tolerance=\"0.01\" data-beyond-tolerance=\"2\""));
+  EXPECT_TRUE(Has(svg,
+                  "data-scale-kind=\"magnitude\" data-scale-min=\"1e-16\" data-scale-max=\"100\" "
+                  "data-tolerance=\"0.01\" data-beyond-tolerance=\"2\""));
   EXPECT_EQ(Count(svg, "class=\"legend-tolerance\""), 1u);
   EXPECT_TRUE(Has(svg, ">2 beyond tol 0.01</text>"));
   // Zeros: the calm end's colour with a dot each, listed as exact agreement; no white cell.
@@ -334,7 +349,8 @@ TEST(AnchoredHeatmap, AttributesToleranceMarkAndCounts) {
   HeatmapSpec other = Spec6(1e-3);
   other.values(0, 0) = 2.0;
   other.anchored = h.anchored;
-  const std::string needle = "fill=\"" + h.anchored->Color(2.0).Hex() + "\" class=\"cell\"><title>theta.x, theta.x";
+  const std::string needle =
+      "fill=\"" + h.anchored->Color(2.0).Hex() + "\" class=\"cell\"><title>theta.x, theta.x";
   EXPECT_TRUE(Has(HeatmapSvg(other), needle));
 }
 
@@ -344,7 +360,9 @@ TEST(AnchoredHeatmap, SignedMarksBothTolerances) {
   h.values(1, 1) = 9.0;  // beyond the range: the top colour, the top label says so
   h.anchored = AnchoredScale::Signed(5.0, 3.0);
   const std::string svg = HeatmapSvg(h);
-  EXPECT_TRUE(Has(svg, "data-scale-kind=\"signed\" data-scale-min=\"-5\" data-scale-max=\"5\" data-tolerance=\"3\""));
+  EXPECT_TRUE(Has(svg,
+                  "data-scale-kind=\"signed\" data-scale-min=\"-5\" data-scale-max=\"5\" "
+                  "data-tolerance=\"3\""));
   EXPECT_EQ(Count(svg, "class=\"legend-tolerance\""), 2u);
   EXPECT_TRUE(Has(svg, ">2 beyond tol \u00b13</text>"));
   EXPECT_TRUE(Has(svg, ">\u22655</text>"));
@@ -355,8 +373,11 @@ TEST(HtmlDocument, VerdictBadge) {
   HtmlDocument doc("t");
   doc.AddVerdict(false, "NEES mean <16.2> outside");
   const std::string html = doc.Render();
-  EXPECT_TRUE(Has(html, "<div class=\"verdict\" data-verdict=\"inconsistent\"><span class=\"verdict-word\">"
-                        "inconsistent</span><span class=\"verdict-reason\">NEES mean &lt;16.2&gt; outside</span></div>"));
+  EXPECT_TRUE(
+      Has(html,
+          "<div class=\"verdict\" data-verdict=\"inconsistent\"><span class=\"verdict-word\">"
+          "inconsistent</span><span class=\"verdict-reason\">NEES mean &lt;16.2&gt; "
+          "outside</span></div>"));
   HtmlDocument ok("t");
   ok.AddVerdict(true, "fine");
   EXPECT_TRUE(Has(ok.Render(), "data-verdict=\"consistent\""));

@@ -22,14 +22,16 @@ inline nlohmann::json GtsamMeasurement(const std::string& id, Eigen::MatrixXd* J
   const nlohmann::json& s = g["zoh"]["manifold"];
   if (J) *J = JsonMatrix(s["J_bias"]);
   if (cov) *cov = JsonMatrix(s["cov15"]);
-  return {
-      {"t_start", c["imu"].front()[0]},
-      {"t_end", c["imu"].back()[0]},
-      {"dt", s["deltaT"]},
-      {"bias_estimate", {{"bg", c["state_s"]["bg"]}, {"ba", c["state_s"]["ba"]}}},
-      {"delta", {{"R", s["deltaR"]}, {"dp", s["deltaP"]}, {"dv", s["deltaV"]}}},
-      {"J_bias", {{"matrix", s["J_bias"]}}},
-      {"cov", {{"convention", "gtsam_manifold"}, {"blocks", {"theta", "p", "v", "ba", "bg"}}, {"matrix", s["cov15"]}}}};
+  return {{"t_start", c["imu"].front()[0]},
+          {"t_end", c["imu"].back()[0]},
+          {"dt", s["deltaT"]},
+          {"bias_estimate", {{"bg", c["state_s"]["bg"]}, {"ba", c["state_s"]["ba"]}}},
+          {"delta", {{"R", s["deltaR"]}, {"dp", s["deltaP"]}, {"dv", s["deltaV"]}}},
+          {"J_bias", {{"matrix", s["J_bias"]}}},
+          {"cov",
+           {{"convention", "gtsam_manifold"},
+            {"blocks", {"theta", "p", "v", "ba", "bg"}},
+            {"matrix", s["cov15"]}}}};
 }
 
 }  // namespace imuconv::test

@@ -4,11 +4,11 @@
 
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <nlohmann/json.hpp>
 #include <Eigen/Cholesky>
 #include <cstdio>
+#include <fstream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 #include <vector>
@@ -24,7 +24,8 @@ inline Registry& Plugins() {
   static Registry* reg = [] {
     auto* r = new Registry();
     const auto issues = r->load_directory(Registry::default_plugin_dir());
-    for (const auto& i : issues) ADD_FAILURE() << "plugin failed to load: " << i.file << ": " << i.message;
+    for (const auto& i : issues)
+      ADD_FAILURE() << "plugin failed to load: " << i.file << ": " << i.message;
     return r;
   }();
   return *reg;
@@ -113,15 +114,21 @@ inline Eigen::MatrixXd JsonMatrix(const nlohmann::json& j) {
   return m;
 }
 
-inline std::string DataPath(const std::string& rel) { return std::string(IMUCONV_TEST_DATA_DIR) + "/" + rel; }
+inline std::string DataPath(const std::string& rel) {
+  return std::string(IMUCONV_TEST_DATA_DIR) + "/" + rel;
+}
 
 /// The ten reference cases of tests/data/reference/cases (and of every folder of outputs on them).
-inline constexpr const char* kReferenceCaseIds[] = {"aggressive-0", "aggressive-1", "jitter-0", "jitter-1", "smooth-0",
-                                                    "smooth-1",     "smooth-2",     "smooth-3", "static-0", "white-0"};
+inline constexpr const char* kReferenceCaseIds[] = {
+    "aggressive-0", "aggressive-1", "jitter-0", "jitter-1", "smooth-0",
+    "smooth-1",     "smooth-2",     "smooth-3", "static-0", "white-0"};
 
-inline Vec3 JsonVec3(const nlohmann::json& j) { return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>()); }
+inline Vec3 JsonVec3(const nlohmann::json& j) {
+  return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+}
 
-/// The "imu" rows [t, wx, wy, wz, ax, ay, az] of a reference case file (tests/data/reference/cases).
+/// The "imu" rows [t, wx, wy, wz, ax, ay, az] of a reference case file
+/// (tests/data/reference/cases).
 inline std::vector<ImuSample> CaseSamples(const nlohmann::json& c) {
   std::vector<ImuSample> samples;
   for (const auto& row : c.at("imu")) {
@@ -145,7 +152,8 @@ namespace imuconv::test {
 /// entries the chance that a correct P fails is below 1e-4, while a wrong block, sign or
 /// factor of 2 moves the affected entries by O(1). NEES, the mean of e^T P^{-1} e, must be
 /// 15 +- 5 sqrt(30/N). Nonlinearity adds bias of order sigma^2 relative, negligible here.
-inline void ExpectCovarianceMatchesSamples(const Mat15& P, const Eigen::Matrix<double, 15, Eigen::Dynamic>& E) {
+inline void ExpectCovarianceMatchesSamples(const Mat15& P,
+                                           const Eigen::Matrix<double, 15, Eigen::Dynamic>& E) {
   const double N = static_cast<double>(E.cols());
   const Eigen::LLT<Mat15> llt(P);
   ASSERT_EQ(llt.info(), Eigen::Success) << "predicted covariance is not positive definite";
@@ -157,17 +165,22 @@ inline void ExpectCovarianceMatchesSamples(const Mat15& P, const Eigen::Matrix<d
   double worst_diag = 0.0, worst_off = 0.0;
   for (int i = 0; i < 15; ++i)
     for (int j = 0; j < 15; ++j) {
-      if (i == j) worst_diag = std::max(worst_diag, std::abs(W(i, i) - 1.0));
-      else worst_off = std::max(worst_off, std::abs(W(i, j)));
+      if (i == j)
+        worst_diag = std::max(worst_diag, std::abs(W(i, i) - 1.0));
+      else
+        worst_off = std::max(worst_off, std::abs(W(i, j)));
     }
   const double nees = Z.colwise().squaredNorm().mean();
-  std::printf("  Monte Carlo N=%d: worst |W_ii - 1| = %.3f (tol %.3f), worst |W_ij| = %.3f (tol %.3f), NEES = %.2f\n",
-              static_cast<int>(N), worst_diag, diag_tol, worst_off, off_tol, nees);
+  std::printf(
+      "  Monte Carlo N=%d: worst |W_ii - 1| = %.3f (tol %.3f), worst |W_ij| = %.3f (tol %.3f), "
+      "NEES = %.2f\n",
+      static_cast<int>(N), worst_diag, diag_tol, worst_off, off_tol, nees);
   EXPECT_LT(worst_diag, diag_tol) << "whitened sample covariance:\n" << W;
   EXPECT_LT(worst_off, off_tol) << "whitened sample covariance:\n" << W;
   EXPECT_NEAR(nees, 15.0, 5.0 * std::sqrt(30.0 / N));
   // The mean of the whitened errors is ~N(0, 1/N) per entry.
-  EXPECT_LT(mean.cwiseAbs().maxCoeff(), 5.0 / std::sqrt(N)) << "mean whitened error " << mean.transpose();
+  EXPECT_LT(mean.cwiseAbs().maxCoeff(), 5.0 / std::sqrt(N))
+      << "mean whitened error " << mean.transpose();
 }
 
 }  // namespace imuconv::test

@@ -10,7 +10,9 @@
 
 namespace imuconv::test {
 
-inline nlohmann::json CaseJson(const std::string& id) { return ReadJson(DataPath("reference/cases/" + id + ".json")); }
+inline nlohmann::json CaseJson(const std::string& id) {
+  return ReadJson(DataPath("reference/cases/" + id + ".json"));
+}
 
 /// The case's "noise": the continuous densities and random walks its samples were drawn with.
 inline ImuNoise CaseNoise(const nlohmann::json& c) {

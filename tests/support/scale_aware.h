@@ -47,7 +47,8 @@ ScaledDiff CorrelationScaleDiff(const Eigen::MatrixBase<A>& ref, const Eigen::Ma
       double scale = std::sqrt(std::abs(ref(i, i) * ref(j, j)));
       if (!(scale > 0.0)) scale = largest;
       const double e = est(i, j);
-      const double d = std::isfinite(e) ? std::abs(ref(i, j) - e) / scale : std::numeric_limits<double>::infinity();
+      const double d = std::isfinite(e) ? std::abs(ref(i, j) - e) / scale
+                                        : std::numeric_limits<double>::infinity();
       scale_aware_detail::Keep(worst, d, i, j);
     }
   return worst;
@@ -63,10 +64,10 @@ ScaledDiff RelativeAboveFloorDiff(const Eigen::MatrixBase<A>& ref, const Eigen::
     for (Eigen::Index j = 0; j < ref.cols(); ++j) {
       const double e = est(i, j);
       const double scale = std::max(std::abs(ref(i, j)), small);
-      const double d = !std::isfinite(e)  ? std::numeric_limits<double>::infinity()
-                       : scale > 0.0      ? std::abs(ref(i, j) - e) / scale
-                       : ref(i, j) == e   ? 0.0
-                                          : std::numeric_limits<double>::infinity();
+      const double d = !std::isfinite(e) ? std::numeric_limits<double>::infinity()
+                       : scale > 0.0     ? std::abs(ref(i, j) - e) / scale
+                       : ref(i, j) == e  ? 0.0
+                                         : std::numeric_limits<double>::infinity();
       scale_aware_detail::Keep(worst, d, i, j);
     }
   return worst;
@@ -76,8 +77,10 @@ ScaledDiff RelativeAboveFloorDiff(const Eigen::MatrixBase<A>& ref, const Eigen::
 /// block of the reference (d theta / d ba, say) has no scale: 0 if the estimate's is zero too,
 /// infinity if not.
 template <typename A, typename B>
-double BlockRelativeDiff(const Eigen::MatrixBase<A>& ref, const Eigen::MatrixBase<B>& est, int i, int j) {
-  const double diff = (ref.template block<3, 3>(3 * i, 3 * j) - est.template block<3, 3>(3 * i, 3 * j)).norm();
+double BlockRelativeDiff(const Eigen::MatrixBase<A>& ref, const Eigen::MatrixBase<B>& est, int i,
+                         int j) {
+  const double diff =
+      (ref.template block<3, 3>(3 * i, 3 * j) - est.template block<3, 3>(3 * i, 3 * j)).norm();
   const double scale = ref.template block<3, 3>(3 * i, 3 * j).norm();
   if (scale > 0.0) return diff / scale;
   return diff == 0.0 ? 0.0 : std::numeric_limits<double>::infinity();
@@ -85,11 +88,13 @@ double BlockRelativeDiff(const Eigen::MatrixBase<A>& ref, const Eigen::MatrixBas
 
 /// The worst 3x3 block by BlockRelativeDiff; row and col are block indices.
 template <typename A, typename B>
-ScaledDiff WorstBlockRelativeDiff(const Eigen::MatrixBase<A>& ref, const Eigen::MatrixBase<B>& est) {
+ScaledDiff WorstBlockRelativeDiff(const Eigen::MatrixBase<A>& ref,
+                                  const Eigen::MatrixBase<B>& est) {
   ScaledDiff worst;
   for (Eigen::Index i = 0; i < ref.rows() / 3; ++i)
     for (Eigen::Index j = 0; j < ref.cols() / 3; ++j)
-      scale_aware_detail::Keep(worst, BlockRelativeDiff(ref, est, static_cast<int>(i), static_cast<int>(j)), i, j);
+      scale_aware_detail::Keep(
+          worst, BlockRelativeDiff(ref, est, static_cast<int>(i), static_cast<int>(j)), i, j);
   return worst;
 }
 

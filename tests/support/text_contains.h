@@ -6,6 +6,8 @@
 
 namespace imuconv::test {
 
-inline bool Has(const std::string& text, const std::string& piece) { return text.find(piece) != std::string::npos; }
+inline bool Has(const std::string& text, const std::string& piece) {
+  return text.find(piece) != std::string::npos;
+}
 
 }  // namespace imuconv::test

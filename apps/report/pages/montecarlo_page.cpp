@@ -32,7 +32,10 @@ Eigen::MatrixXd Standardized(const Mat15& sigma, const Mat15& s, int trials) {
     for (int j = 0; j < 15; ++j) {
       const double sd = std::sqrt((sigma(i, j) * sigma(i, j) + sigma(i, i) * sigma(j, j)) / dof);
       const double diff = s(i, j) - sigma(i, j);
-      z(i, j) = sd > 0.0 ? diff / sd : (diff == 0.0 ? 0.0 : std::copysign(std::numeric_limits<double>::infinity(), diff));
+      z(i, j) =
+          sd > 0.0
+              ? diff / sd
+              : (diff == 0.0 ? 0.0 : std::copysign(std::numeric_limits<double>::infinity(), diff));
     }
   return z;
 }
@@ -54,12 +57,16 @@ std::string TrialNeesHistogram(const std::vector<double>& nees) {
   Bars bars{"trials", {}, std::vector<double>(kBins, 0.0), "#9ecae1"};
   for (int k = 0; k <= kBins; ++k) bars.edges.push_back(hi * k / kBins);
   for (double v : nees)
-    if (std::isfinite(v)) bars.heights[static_cast<std::size_t>(std::clamp(static_cast<int>(v / hi * kBins), 0, kBins - 1))] += 1.0;
+    if (std::isfinite(v))
+      bars.heights[static_cast<std::size_t>(
+          std::clamp(static_cast<int>(v / hi * kBins), 0, kBins - 1))] += 1.0;
   PointSeries expected{"expected under chi2(15)", {}, {}, "#d62728", true, 2.0};
   for (int k = 0; k < kBins; ++k) {
-    const double a = bars.edges[static_cast<std::size_t>(k)], b = bars.edges[static_cast<std::size_t>(k) + 1];
+    const double a = bars.edges[static_cast<std::size_t>(k)],
+                 b = bars.edges[static_cast<std::size_t>(k) + 1];
     expected.x.push_back(0.5 * (a + b));
-    expected.y.push_back(static_cast<double>(finite) * (ChiSquareCdf(kDof, b) - ChiSquareCdf(kDof, a)));
+    expected.y.push_back(static_cast<double>(finite) *
+                         (ChiSquareCdf(kDof, b) - ChiSquareCdf(kDof, a)));
   }
   ChartSpec c;
   c.title = "Per-trial NEES against chi-square(15)";
@@ -83,27 +90,30 @@ HtmlDocument MontecarloPage(const montecarlo::Result& r, const Inputs& inputs) {
   for (const auto& x : r.reasons) reason += (reason.empty() ? "" : "; ") + x;
   doc.AddVerdict(r.verdict == montecarlo::Verdict::consistent, reason);
   doc.AddParagraph(std::string("Verdict: ") +
-                   (r.verdict == montecarlo::Verdict::consistent ? "consistent" : "inconsistent") + ".");
+                   (r.verdict == montecarlo::Verdict::consistent ? "consistent" : "inconsistent") +
+                   ".");
   doc.AddList(r.reasons);
   std::vector<std::vector<std::string>> input_rows;
   for (const auto& [role, path] : inputs) input_rows.push_back({role, path});
   doc.AddTable({"input", "file"}, input_rows);
 
   doc.AddHeading(2, "Summary");
-  doc.AddTable({"quantity", "value"},
-               {{"method", r.method + " (" + r.method_kind + ")"},
-                {"scored in", r.convention},
-                {"trials, seed", std::to_string(r.trials) + ", " + std::to_string(r.seed)},
-                {"samples, duration [s]", std::to_string(r.samples) + ", " + Readable(r.duration, 6)},
-                {"noise model", r.noise_model.simulated + (r.noise_model.matches ? "" : " (NOT the prediction's)") +
-                                    ": " + r.noise_model.note},
-                {"relative Frobenius error |S - Sigma|_F / |Sigma|_F", Readable(st.relative_frobenius, 4)},
-                {"NEES mean (expected 15)", Readable(st.nees_mean, 4) + ", " +
-                                                Readable(100 * montecarlo::kNeesConfidence, 3) + " % bounds [" +
-                                                Readable(st.nees_bounds[0], 4) + ", " +
-                                                Readable(st.nees_bounds[1], 4) + "]"},
-                {"KL divergence", Readable(st.kl, 4) + ", " + Readable(100 * montecarlo::kKlLevel, 3) +
-                                      " % bound " + Readable(st.kl_bound, 4)}});
+  doc.AddTable(
+      {"quantity", "value"},
+      {{"method", r.method + " (" + r.method_kind + ")"},
+       {"scored in", r.convention},
+       {"trials, seed", std::to_string(r.trials) + ", " + std::to_string(r.seed)},
+       {"samples, duration [s]", std::to_string(r.samples) + ", " + Readable(r.duration, 6)},
+       {"noise model", r.noise_model.simulated +
+                           (r.noise_model.matches ? "" : " (NOT the prediction's)") + ": " +
+                           r.noise_model.note},
+       {"relative Frobenius error |S - Sigma|_F / |Sigma|_F", Readable(st.relative_frobenius, 4)},
+       {"NEES mean (expected 15)", Readable(st.nees_mean, 4) + ", " +
+                                       Readable(100 * montecarlo::kNeesConfidence, 3) +
+                                       " % bounds [" + Readable(st.nees_bounds[0], 4) + ", " +
+                                       Readable(st.nees_bounds[1], 4) + "]"},
+       {"KL divergence", Readable(st.kl, 4) + ", " + Readable(100 * montecarlo::kKlLevel, 3) +
+                             " % bound " + Readable(st.kl_bound, 4)}});
   // Each axis's ratio S_ii / Sigma_ii has the sampling standard deviation sqrt(2 / (N - 1))
   // (the Wishart variance above with i = j); the band is 1 +- 2 of them.
   const double band = 2.0 * std::sqrt(2.0 / static_cast<double>(std::max(r.trials - 1, 1)));
@@ -126,7 +136,8 @@ HtmlDocument MontecarloPage(const montecarlo::Result& r, const Inputs& inputs) {
                block_rows);
   doc.AddParagraph("The band is 1 \u00b1 2 sqrt(2 / (N - 1)) = [" + Readable(1.0 - band, 4) + ", " +
                    Readable(1.0 + band, 4) + "] for N = " + std::to_string(r.trials) +
-                   ": each axis's ratio S_ii / Sigma_ii has the sampling standard deviation sqrt(2 / (N - 1)), so a "
+                   ": each axis's ratio S_ii / Sigma_ii has the sampling standard deviation sqrt(2 "
+                   "/ (N - 1)), so a "
                    "consistent method leaves about 1 axis in 20 outside it by chance.");
 
   doc.AddHeading(2, "Sample covariance against the predicted one");
@@ -147,19 +158,25 @@ HtmlDocument MontecarloPage(const montecarlo::Result& r, const Inputs& inputs) {
     corr.title = "Correlation scale: |S - Sigma| / sqrt(Sigma_ii Sigma_jj)";
     // From 1e-6 (far below any sampling error of a run that fits in memory) to 10 (an order of
     // magnitude off), the tolerance 3 sqrt(2) / sqrt(N - 1).
-    corr.anchored = AnchoredScale::Magnitude(1e-6, 1e1, std::min(3.0 * std::sqrt(2.0) * sampling, 5.0));
+    corr.anchored =
+        AnchoredScale::Magnitude(1e-6, 1e1, std::min(3.0 * std::sqrt(2.0) * sampling, 5.0));
     doc.AddFigures(
-        {{HeatmapSvg(z), "z_ij = (S_ij - Sigma_ij) / sqrt((Sigma_ij^2 + Sigma_ii Sigma_jj) / (N - 1)), S the sample "
-                         "covariance of the " + std::to_string(r.trials) +
-                             " end errors, Sigma the predicted one, in " + r.convention +
-                             "'s block order: the Wishart sampling standard deviation of each entry. Red: S larger "
-                             "than Sigma predicts, violet: smaller; beyond \u00b13 (0.27 % per entry by chance) "
-                             "the colours turn dark. An entry with no variance under Sigma is 0 where S agrees "
-                             "exactly."},
-         {HeatmapSvg(corr), "The same differences on the correlation scale. Sampling alone gives about " +
-                                Readable(sampling, 2) + " to " + Readable(std::sqrt(2.0) * sampling, 2) +
-                                " (1 to sqrt(2) times 1/sqrt(N - 1)); the tolerance is 3 times the larger. A dot: "
-                                "exactly 0 (S and Sigma agree, e.g. both zero)."}});
+        {{HeatmapSvg(z),
+          "z_ij = (S_ij - Sigma_ij) / sqrt((Sigma_ij^2 + Sigma_ii Sigma_jj) / (N - 1)), S the "
+          "sample "
+          "covariance of the " +
+              std::to_string(r.trials) + " end errors, Sigma the predicted one, in " +
+              r.convention +
+              "'s block order: the Wishart sampling standard deviation of each entry. Red: S "
+              "larger "
+              "than Sigma predicts, violet: smaller; beyond \u00b13 (0.27 % per entry by chance) "
+              "the colours turn dark. An entry with no variance under Sigma is 0 where S agrees "
+              "exactly."},
+         {HeatmapSvg(corr),
+          "The same differences on the correlation scale. Sampling alone gives about " +
+              Readable(sampling, 2) + " to " + Readable(std::sqrt(2.0) * sampling, 2) +
+              " (1 to sqrt(2) times 1/sqrt(N - 1)); the tolerance is 3 times the larger. A dot: "
+              "exactly 0 (S and Sigma agree, e.g. both zero)."}});
   } else {
     doc.AddParagraph("No block labels in the result: the heatmaps are left out.");
   }
@@ -167,9 +184,12 @@ HtmlDocument MontecarloPage(const montecarlo::Result& r, const Inputs& inputs) {
     doc.AddHeading(2, "Per-trial NEES");
     doc.AddFigures({{TrialNeesHistogram(r.trial_nees),
                      "Each trial's NEES e^T Sigma^-1 e (" + std::to_string(r.trial_nees.size()) +
-                         " trials) in 30 bins against the counts chi-square(15) predicts: a consistent method's "
-                         "histogram follows the curve. Too far right: Sigma too small; too far left: too large. "
-                         "The verdict tests their mean (" + Readable(st.nees_mean, 4) + ")."}});
+                         " trials) in 30 bins against the counts chi-square(15) predicts: a "
+                         "consistent method's "
+                         "histogram follows the curve. Too far right: Sigma too small; too far "
+                         "left: too large. "
+                         "The verdict tests their mean (" +
+                         Readable(st.nees_mean, 4) + ")."}});
   }
   return doc;
 }

@@ -44,7 +44,8 @@ AnchoredScale AnchoredScale::Signed(double max, double tolerance) {
 double AnchoredScale::Position(double v) const {
   if (kind_ == Kind::signed_linear) return std::clamp((v - min_) / (max_ - min_), 0.0, 1.0);
   if (!(v > 0.0)) return 0.0;
-  return std::clamp((std::log10(v) - std::log10(min_)) / (std::log10(max_) - std::log10(min_)), 0.0, 1.0);
+  return std::clamp((std::log10(v) - std::log10(min_)) / (std::log10(max_) - std::log10(min_)), 0.0,
+                    1.0);
 }
 
 bool AnchoredScale::Clamped(double v) const {
@@ -60,12 +61,15 @@ Rgb AnchoredScale::ColorAt(double t) const {
   t = std::clamp(t, 0.0, 1.0);
   if (kind_ == Kind::magnitude) {
     const double tt = Position(tolerance_);
-    return t <= tt ? Lerp(kCalmLow, kCalmHigh, t / tt) : Lerp(kFailLow, kFailHigh, (t - tt) / (1.0 - tt));
+    return t <= tt ? Lerp(kCalmLow, kCalmHigh, t / tt)
+                   : Lerp(kFailLow, kFailHigh, (t - tt) / (1.0 - tt));
   }
   const double v = min_ + t * (max_ - min_);
   if (v > tolerance_) return Lerp(kFailLow, kFailHigh, (v - tolerance_) / (max_ - tolerance_));
-  if (v < -tolerance_) return Lerp(kFailNegLow, kFailNegHigh, (-v - tolerance_) / (max_ - tolerance_));
-  return v >= 0.0 ? Lerp(kCalmMid, kCalmPos, v / tolerance_) : Lerp(kCalmMid, kCalmNeg, -v / tolerance_);
+  if (v < -tolerance_)
+    return Lerp(kFailNegLow, kFailNegHigh, (-v - tolerance_) / (max_ - tolerance_));
+  return v >= 0.0 ? Lerp(kCalmMid, kCalmPos, v / tolerance_)
+                  : Lerp(kCalmMid, kCalmNeg, -v / tolerance_);
 }
 
 Rgb AnchoredScale::Color(double v) const {
@@ -81,12 +85,15 @@ Rgb AnchoredScale::Color(double v) const {
 std::vector<std::pair<double, std::string>> AnchoredScale::Ticks() const {
   std::vector<std::pair<double, std::string>> ticks;
   if (kind_ == Kind::magnitude) {
-    const int lo = static_cast<int>(std::lround(std::log10(min_))), hi = static_cast<int>(std::lround(std::log10(max_)));
+    const int lo = static_cast<int>(std::lround(std::log10(min_))),
+              hi = static_cast<int>(std::lround(std::log10(max_)));
     const int step = std::max(1, (hi - lo + 7) / 8);  // at most about nine labels
-    for (int k = lo; k <= hi; k += step) ticks.push_back({Position(std::pow(10.0, k)), "1e" + std::to_string(k)});
+    for (int k = lo; k <= hi; k += step)
+      ticks.push_back({Position(std::pow(10.0, k)), "1e" + std::to_string(k)});
     return ticks;
   }
-  for (double v : {min_, min_ / 2.0, 0.0, max_ / 2.0, max_}) ticks.push_back({Position(v), Readable(v, 3)});
+  for (double v : {min_, min_ / 2.0, 0.0, max_ / 2.0, max_})
+    ticks.push_back({Position(v), Readable(v, 3)});
   return ticks;
 }
 

@@ -15,7 +15,8 @@ constexpr double kCharWidth = 6.5;  // of an 11 px sans-serif character, for the
 constexpr double kLeft = 64.0, kRight = 24.0, kBottom = 38.0, kPad = 6.0;
 
 struct Range {
-  double lo = std::numeric_limits<double>::infinity(), hi = -std::numeric_limits<double>::infinity();
+  double lo = std::numeric_limits<double>::infinity(),
+         hi = -std::numeric_limits<double>::infinity();
   void add(double v) {
     lo = std::min(lo, v);
     hi = std::max(hi, v);
@@ -71,7 +72,8 @@ void LogTicks(Range r, const ChartAxis& a, Scale& s) {
   s.lo = a.min && *a.min > 0 ? std::log10(*a.min) : std::floor(std::log10(r.lo));
   s.hi = a.max && *a.max > 0 ? std::log10(*a.max) : std::ceil(std::log10(r.hi));
   if (!(s.hi > s.lo)) s.hi = s.lo + 1.0;
-  const int first = static_cast<int>(std::ceil(s.lo - 1e-9)), last = static_cast<int>(std::floor(s.hi + 1e-9));
+  const int first = static_cast<int>(std::ceil(s.lo - 1e-9)),
+            last = static_cast<int>(std::floor(s.hi + 1e-9));
   const int step = std::max(1, (last - first + 7) / 8);
   for (int k = first; k <= last; k += step) s.ticks.push_back(std::pow(10.0, k));
 }
@@ -100,11 +102,12 @@ std::vector<std::size_t> Thin(std::size_t n, std::size_t max_points, Low low, Hi
   return keep;
 }
 
-std::string LegendName(const std::string& name, std::size_t skipped, std::size_t total, std::size_t shown,
-                       bool thinned) {
+std::string LegendName(const std::string& name, std::size_t skipped, std::size_t total,
+                       std::size_t shown, bool thinned) {
   std::string s = name;
   if (skipped) s += " (" + std::to_string(skipped) + " not drawable, left out)";
-  if (thinned) s += " (" + std::to_string(shown) + " of " + std::to_string(total) + " shown, extremes kept)";
+  if (thinned)
+    s += " (" + std::to_string(shown) + " of " + std::to_string(total) + " shown, extremes kept)";
   return s;
 }
 
@@ -133,7 +136,9 @@ std::string ChartSvg(const ChartSpec& spec) {
   std::vector<std::vector<std::size_t>> series_keep, band_keep;
   for (const auto& b : spec.bars) {
     for (std::size_t i = 0; i < b.heights.size(); ++i) {
-      if (!Drawable(b.edges[i], xlog) || !Drawable(b.edges[i + 1], xlog) || !Drawable(b.heights[i], ylog)) continue;
+      if (!Drawable(b.edges[i], xlog) || !Drawable(b.edges[i + 1], xlog) ||
+          !Drawable(b.heights[i], ylog))
+        continue;
       rx.add(b.edges[i]);
       rx.add(b.edges[i + 1]);
       ry.add(b.heights[i]);
@@ -144,7 +149,8 @@ std::string ChartSvg(const ChartSpec& spec) {
   for (const auto& b : spec.bands) {
     std::vector<std::size_t> ok;
     for (std::size_t i = 0; i < b.x.size(); ++i)
-      if (Drawable(b.x[i], xlog) && Drawable(b.lo[i], ylog) && Drawable(b.hi[i], ylog)) ok.push_back(i);
+      if (Drawable(b.x[i], xlog) && Drawable(b.lo[i], ylog) && Drawable(b.hi[i], ylog))
+        ok.push_back(i);
     std::vector<std::size_t> keep;
     for (std::size_t k : Thin(
              ok.size(), spec.max_points, [&](std::size_t i) { return b.lo[ok[i]]; },
@@ -155,7 +161,8 @@ std::string ChartSvg(const ChartSpec& spec) {
       ry.add(b.lo[i]);
       ry.add(b.hi[i]);
     }
-    legend.push_back({LegendName(b.name, b.x.size() - ok.size(), ok.size(), keep.size(), keep.size() < ok.size()),
+    legend.push_back({LegendName(b.name, b.x.size() - ok.size(), ok.size(), keep.size(),
+                                 keep.size() < ok.size()),
                       b.color, LegendItem::fill});
     band_keep.push_back(std::move(keep));
   }
@@ -170,7 +177,8 @@ std::string ChartSvg(const ChartSpec& spec) {
       rx.add(s.x[i]);
       ry.add(s.y[i]);
     }
-    legend.push_back({LegendName(s.name, s.x.size() - ok.size(), ok.size(), keep.size(), keep.size() < ok.size()),
+    legend.push_back({LegendName(s.name, s.x.size() - ok.size(), ok.size(), keep.size(),
+                                 keep.size() < ok.size()),
                       s.color, s.line ? LegendItem::line : LegendItem::dot});
     series_keep.push_back(std::move(keep));
   }
@@ -200,13 +208,15 @@ std::string ChartSvg(const ChartSpec& spec) {
   (xlog ? LogTicks : LinearTicks)(rx, spec.x, sx);
   (ylog ? LogTicks : LinearTicks)(ry, spec.y, sy);
   const double pw = spec.width - kLeft - kRight, ph = spec.height - top - kBottom;
-  if (!(pw > 20.0 && ph > 20.0)) throw std::invalid_argument("chart: too small for its legend and axes");
+  if (!(pw > 20.0 && ph > 20.0))
+    throw std::invalid_argument("chart: too small for its legend and axes");
   sx.px0 = 0.0;
   sx.px1 = pw;
   sy.px0 = ph;
   sy.px1 = 0.0;
 
-  std::string out = svg::Open(spec.width, spec.height, "chart", spec.title.empty() ? "chart" : spec.title);
+  std::string out =
+      svg::Open(spec.width, spec.height, "chart", spec.title.empty() ? "chart" : spec.title);
   if (!spec.title.empty())
     out += svg::Text(kLeft, kPad + 12.0, spec.title, "start", "title", "font-size=\"13\"") + "\n";
   out += "<g class=\"legend\">";
@@ -215,8 +225,8 @@ std::string ChartSvg(const ChartSpec& spec) {
       const double y = kPad + title_h + 15.0 * r + 8.0;
       switch (item->kind) {
         case LegendItem::dot:
-          out += "<circle cx=\"" + Coordinate(x + 8.0) + "\" cy=\"" + Coordinate(y) + "\" r=\"3\" fill=\"" +
-                 EscapeText(item->color) + "\"/>";
+          out += "<circle cx=\"" + Coordinate(x + 8.0) + "\" cy=\"" + Coordinate(y) +
+                 "\" r=\"3\" fill=\"" + EscapeText(item->color) + "\"/>";
           break;
         case LegendItem::fill:
           out += svg::Rect(x, y - 5.0, 16.0, 10.0, EscapeText(item->color), "fill-opacity=\"0.6\"");
@@ -232,7 +242,8 @@ std::string ChartSvg(const ChartSpec& spec) {
   // Axes: grid and tick labels in the outer coordinates, the data in a nested <svg> that clips
   // to the plot area (a nested svg clips by default: no clipPath, so no ids to collide when
   // several charts share a page).
-  out += "<g class=\"axes\" transform=\"translate(" + Coordinate(kLeft) + "," + Coordinate(top) + ")\">\n";
+  out += "<g class=\"axes\" transform=\"translate(" + Coordinate(kLeft) + "," + Coordinate(top) +
+         ")\">\n";
   for (double t : sx.ticks) {
     const double px = sx(t);
     out += svg::Line(px, 0.0, px, ph, "#e6e6e6", 1.0) +
@@ -246,19 +257,23 @@ std::string ChartSvg(const ChartSpec& spec) {
   out += svg::Rect(0.0, 0.0, pw, ph, "none", "stroke=\"#333333\" stroke-width=\"1\"") + "\n";
   out += svg::Text(pw / 2.0, ph + 30.0, spec.x.label, "middle", "x-label") + "\n";
   out += svg::Text(0.0, 0.0, spec.y.label, "middle", "y-label",
-                   "transform=\"translate(" + Coordinate(-kLeft + 14.0) + "," + Coordinate(ph / 2.0) +
-                       ") rotate(-90)\"") +
+                   "transform=\"translate(" + Coordinate(-kLeft + 14.0) + "," +
+                       Coordinate(ph / 2.0) + ") rotate(-90)\"") +
          "\n";
 
-  out += "<svg class=\"plot\" x=\"0\" y=\"0\" width=\"" + Coordinate(pw) + "\" height=\"" + Coordinate(ph) +
-         "\" overflow=\"hidden\">\n";
+  out += "<svg class=\"plot\" x=\"0\" y=\"0\" width=\"" + Coordinate(pw) + "\" height=\"" +
+         Coordinate(ph) + "\" overflow=\"hidden\">\n";
   for (const auto& b : spec.bars) {
-    out += "<g class=\"bars\" fill=\"" + EscapeText(b.color) + "\" stroke=\"#ffffff\" stroke-width=\"0.5\">";
+    out += "<g class=\"bars\" fill=\"" + EscapeText(b.color) +
+           "\" stroke=\"#ffffff\" stroke-width=\"0.5\">";
     const double base = ylog ? ph : sy(0.0);
     for (std::size_t i = 0; i < b.heights.size(); ++i) {
-      if (!Drawable(b.edges[i], xlog) || !Drawable(b.edges[i + 1], xlog) || !Drawable(b.heights[i], ylog)) continue;
+      if (!Drawable(b.edges[i], xlog) || !Drawable(b.edges[i + 1], xlog) ||
+          !Drawable(b.heights[i], ylog))
+        continue;
       const double x0 = sx(b.edges[i]), x1 = sx(b.edges[i + 1]), y = sy(b.heights[i]);
-      out += svg::Rect(std::min(x0, x1), std::min(y, base), std::abs(x1 - x0), std::abs(base - y), "inherit");
+      out += svg::Rect(std::min(x0, x1), std::min(y, base), std::abs(x1 - x0), std::abs(base - y),
+                       "inherit");
     }
     out += "</g>\n";
   }
@@ -266,32 +281,35 @@ std::string ChartSvg(const ChartSpec& spec) {
     const Band& b = spec.bands[k];
     if (band_keep[k].empty()) continue;
     std::string pts;
-    for (std::size_t i : band_keep[k]) pts += Coordinate(sx(b.x[i])) + "," + Coordinate(sy(b.hi[i])) + " ";
+    for (std::size_t i : band_keep[k])
+      pts += Coordinate(sx(b.x[i])) + "," + Coordinate(sy(b.hi[i])) + " ";
     for (auto it = band_keep[k].rbegin(); it != band_keep[k].rend(); ++it)
       pts += Coordinate(sx(b.x[*it])) + "," + Coordinate(sy(b.lo[*it])) + " ";
     pts.pop_back();
-    out += "<polygon class=\"band\" points=\"" + pts + "\" fill=\"" + EscapeText(b.color) + "\" fill-opacity=\"" +
-           Coordinate(b.opacity) + "\" stroke=\"none\"/>\n";
+    out += "<polygon class=\"band\" points=\"" + pts + "\" fill=\"" + EscapeText(b.color) +
+           "\" fill-opacity=\"" + Coordinate(b.opacity) + "\" stroke=\"none\"/>\n";
   }
   for (std::size_t k = 0; k < spec.series.size(); ++k) {
     const PointSeries& s = spec.series[k];
     if (s.line) {
       std::string pts;
-      for (std::size_t i : series_keep[k]) pts += Coordinate(sx(s.x[i])) + "," + Coordinate(sy(s.y[i])) + " ";
+      for (std::size_t i : series_keep[k])
+        pts += Coordinate(sx(s.x[i])) + "," + Coordinate(sy(s.y[i])) + " ";
       if (!pts.empty()) pts.pop_back();
-      out += "<polyline class=\"series\" points=\"" + pts + "\" fill=\"none\" stroke=\"" + EscapeText(s.color) +
-             "\" stroke-width=\"1.2\"/>\n";
+      out += "<polyline class=\"series\" points=\"" + pts + "\" fill=\"none\" stroke=\"" +
+             EscapeText(s.color) + "\" stroke-width=\"1.2\"/>\n";
     } else {
       out += "<g class=\"series\" fill=\"" + EscapeText(s.color) + "\">";
       for (std::size_t i : series_keep[k])
-        out += "<circle cx=\"" + Coordinate(sx(s.x[i])) + "\" cy=\"" + Coordinate(sy(s.y[i])) + "\" r=\"" +
-               Coordinate(s.radius) + "\"/>";
+        out += "<circle cx=\"" + Coordinate(sx(s.x[i])) + "\" cy=\"" + Coordinate(sy(s.y[i])) +
+               "\" r=\"" + Coordinate(s.radius) + "\"/>";
       out += "</g>\n";
     }
   }
   for (const auto& l : spec.lines) {
     if (!Drawable(l.at, l.vertical ? xlog : ylog)) continue;
-    const std::string dash = l.dashed ? "class=\"reference\" stroke-dasharray=\"5,3\"" : "class=\"reference\"";
+    const std::string dash =
+        l.dashed ? "class=\"reference\" stroke-dasharray=\"5,3\"" : "class=\"reference\"";
     out += l.vertical ? svg::Line(sx(l.at), 0.0, sx(l.at), ph, EscapeText(l.color), 1.5, dash)
                       : svg::Line(0.0, sy(l.at), pw, sy(l.at), EscapeText(l.color), 1.5, dash);
     out += "\n";

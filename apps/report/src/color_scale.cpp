@@ -55,22 +55,32 @@ EntryKind Classify(double v) {
 
 Rgb SpecialColor(EntryKind kind) {
   switch (kind) {
-    case EntryKind::zero: return {0xff, 0xff, 0xff};
-    case EntryKind::not_a_number: return {0xff, 0x00, 0xff};
-    case EntryKind::infinite: return {0xd6, 0x27, 0x28};
-    case EntryKind::negative: return {0x80, 0x80, 0x80};
-    case EntryKind::value: break;
+    case EntryKind::zero:
+      return {0xff, 0xff, 0xff};
+    case EntryKind::not_a_number:
+      return {0xff, 0x00, 0xff};
+    case EntryKind::infinite:
+      return {0xd6, 0x27, 0x28};
+    case EntryKind::negative:
+      return {0x80, 0x80, 0x80};
+    case EntryKind::value:
+      break;
   }
   return {0, 0, 0};
 }
 
 const char* KindName(EntryKind kind) {
   switch (kind) {
-    case EntryKind::zero: return "0";
-    case EntryKind::not_a_number: return "NaN";
-    case EntryKind::infinite: return "inf";
-    case EntryKind::negative: return "negative";
-    case EntryKind::value: return "value";
+    case EntryKind::zero:
+      return "0";
+    case EntryKind::not_a_number:
+      return "NaN";
+    case EntryKind::infinite:
+      return "inf";
+    case EntryKind::negative:
+      return "negative";
+    case EntryKind::value:
+      return "value";
   }
   return "";
 }

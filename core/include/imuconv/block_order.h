@@ -20,11 +20,16 @@ constexpr int kBlockCount = 5;
 /// "p", "theta", "v", "bg", "ba"; nullptr for a value outside the enum (a hostile plugin).
 constexpr const char* BlockName(Block b) noexcept {
   switch (b) {
-    case Block::p: return "p";
-    case Block::theta: return "theta";
-    case Block::v: return "v";
-    case Block::bg: return "bg";
-    case Block::ba: return "ba";
+    case Block::p:
+      return "p";
+    case Block::theta:
+      return "theta";
+    case Block::v:
+      return "v";
+    case Block::bg:
+      return "bg";
+    case Block::ba:
+      return "ba";
   }
   return nullptr;
 }
@@ -37,7 +42,8 @@ using BlockLabels = std::array<const char*, kBlockCount>;
 struct BlockOrder {
   std::array<Block, kBlockCount> blocks;
 
-  constexpr BlockOrder(Block b0, Block b1, Block b2, Block b3, Block b4) noexcept : blocks{b0, b1, b2, b3, b4} {}
+  constexpr BlockOrder(Block b0, Block b1, Block b2, Block b3, Block b4) noexcept
+      : blocks{b0, b1, b2, b3, b4} {}
 
   /// Offset of block b in a 15-vector of this order (0, 3, ..., 12); -1 if b is absent.
   constexpr int offset(Block b) const noexcept {
@@ -76,7 +82,8 @@ constexpr bool BlockFromName(std::string_view label, Block& out) noexcept {
 /// translation unit, so that a chart template instantiated on it in a header is one type.)
 inline constexpr BlockOrder kLeftOrder{Block::p, Block::theta, Block::v, Block::bg, Block::ba};
 /// The increment reference chart `preint_reference`: [theta, p, v, bg, ba].
-inline constexpr BlockOrder kPreintReferenceOrder{Block::theta, Block::p, Block::v, Block::bg, Block::ba};
+inline constexpr BlockOrder kPreintReferenceOrder{Block::theta, Block::p, Block::v, Block::bg,
+                                                  Block::ba};
 
 static_assert(kLeftOrder.is_permutation() && kPreintReferenceOrder.is_permutation());
 static_assert(kLeftOrder.offset(Block::bg) == 9 && kPreintReferenceOrder.offset(Block::theta) == 0);

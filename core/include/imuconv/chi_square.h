@@ -56,7 +56,9 @@ inline GammaTails RegularizedGamma(double a, double x) {
 }
 
 /// Pr(X <= x) and Pr(X > x) for X chi-square with `dof` degrees of freedom.
-inline GammaTails ChiSquareTails(double dof, double x) { return RegularizedGamma(dof / 2.0, x / 2.0); }
+inline GammaTails ChiSquareTails(double dof, double x) {
+  return RegularizedGamma(dof / 2.0, x / 2.0);
+}
 
 /// The chi-square CDF Pr(X <= x).
 inline double ChiSquareCdf(double dof, double x) { return ChiSquareTails(dof, x).lower; }

@@ -35,27 +35,26 @@ using PluginObjectT = std::conditional_t<std::is_final_v<Impl>, Impl, PluginObje
 }  // namespace imuconv::detail
 
 // The entry points of one plugin (internal to IMUCONV_PLUGIN).
-#define IMUCONV_PLUGIN_ENTRY_POINTS_(KIND, IMPL, ID, VERSION, SUMMARY)                       \
-  namespace imuconv_plugin_entry {                                                            \
-  using Base = ::imuconv::PluginBase<::imuconv::PluginKind::KIND>::type;                      \
-  constexpr char kId[] = ID;                                                                  \
-  using Object = ::imuconv::detail::PluginObjectT<IMPL, kId>;                                 \
-  int abi() noexcept { return ::imuconv::kPluginAbiVersion; }                                 \
-  const ::imuconv::PluginDescriptor* describe() noexcept {                                    \
-    static const ::imuconv::PluginDescriptor d{::imuconv::AbiFingerprint{},                   \
-                                               ::imuconv::PluginKind::KIND, kId, VERSION,     \
-                                               SUMMARY};                                      \
-    return &d;                                                                                \
-  }                                                                                           \
-  void* create() noexcept {                                                                   \
-    try {                                                                                     \
-      Base* b = new Object();                                                                 \
-      return static_cast<void*>(b);                                                           \
-    } catch (...) {                                                                           \
-      return nullptr;                                                                         \
-    }                                                                                         \
-  }                                                                                           \
-  void destroy(void* p) noexcept { delete static_cast<Base*>(p); }                            \
+#define IMUCONV_PLUGIN_ENTRY_POINTS_(KIND, IMPL, ID, VERSION, SUMMARY)                    \
+  namespace imuconv_plugin_entry {                                                        \
+  using Base = ::imuconv::PluginBase<::imuconv::PluginKind::KIND>::type;                  \
+  constexpr char kId[] = ID;                                                              \
+  using Object = ::imuconv::detail::PluginObjectT<IMPL, kId>;                             \
+  int abi() noexcept { return ::imuconv::kPluginAbiVersion; }                             \
+  const ::imuconv::PluginDescriptor* describe() noexcept {                                \
+    static const ::imuconv::PluginDescriptor d{                                           \
+        ::imuconv::AbiFingerprint{}, ::imuconv::PluginKind::KIND, kId, VERSION, SUMMARY}; \
+    return &d;                                                                            \
+  }                                                                                       \
+  void* create() noexcept {                                                               \
+    try {                                                                                 \
+      Base* b = new Object();                                                             \
+      return static_cast<void*>(b);                                                       \
+    } catch (...) {                                                                       \
+      return nullptr;                                                                     \
+    }                                                                                     \
+  }                                                                                       \
+  void destroy(void* p) noexcept { delete static_cast<Base*>(p); }                        \
   }
 
 /// Defines and exports one plugin. Use once per plugin source file, at global scope:
@@ -66,18 +65,18 @@ using PluginObjectT = std::conditional_t<std::is_final_v<Impl>, Impl, PluginObje
 /// plugins into the registry library that way); the entry points are then internal, so many
 /// plugins link into one library.
 #if defined(IMUCONV_PLUGIN_STATIC)
-#define IMUCONV_PLUGIN(KIND, IMPL, ID, VERSION, SUMMARY)                                      \
-  namespace {                                                                                 \
-  IMUCONV_PLUGIN_ENTRY_POINTS_(KIND, IMPL, ID, VERSION, SUMMARY)                              \
-  [[maybe_unused]] const bool imuconv_plugin_added = ::imuconv::detail::AddCompiledInPlugin(   \
+#define IMUCONV_PLUGIN(KIND, IMPL, ID, VERSION, SUMMARY)                                           \
+  namespace {                                                                                      \
+  IMUCONV_PLUGIN_ENTRY_POINTS_(KIND, IMPL, ID, VERSION, SUMMARY)                                   \
+  [[maybe_unused]] const bool imuconv_plugin_added = ::imuconv::detail::AddCompiledInPlugin(       \
       {&imuconv_plugin_entry::abi, &imuconv_plugin_entry::describe, &imuconv_plugin_entry::create, \
-       &imuconv_plugin_entry::destroy});                                                      \
+       &imuconv_plugin_entry::destroy});                                                           \
   }
 #else
-#define IMUCONV_PLUGIN(KIND, IMPL, ID, VERSION, SUMMARY)                                      \
-  IMUCONV_PLUGIN_ENTRY_POINTS_(KIND, IMPL, ID, VERSION, SUMMARY)                              \
-  BOOST_DLL_ALIAS(imuconv_plugin_entry::abi, imuconv_plugin_abi)                              \
-  BOOST_DLL_ALIAS(imuconv_plugin_entry::describe, imuconv_plugin_describe)                    \
-  BOOST_DLL_ALIAS(imuconv_plugin_entry::create, imuconv_plugin_create)                        \
+#define IMUCONV_PLUGIN(KIND, IMPL, ID, VERSION, SUMMARY)                   \
+  IMUCONV_PLUGIN_ENTRY_POINTS_(KIND, IMPL, ID, VERSION, SUMMARY)           \
+  BOOST_DLL_ALIAS(imuconv_plugin_entry::abi, imuconv_plugin_abi)           \
+  BOOST_DLL_ALIAS(imuconv_plugin_entry::describe, imuconv_plugin_describe) \
+  BOOST_DLL_ALIAS(imuconv_plugin_entry::create, imuconv_plugin_create)     \
   BOOST_DLL_ALIAS(imuconv_plugin_entry::destroy, imuconv_plugin_destroy)
 #endif

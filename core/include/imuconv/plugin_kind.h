@@ -31,10 +31,14 @@ enum class PluginKind : int {
 /// there: the name is part of the output format (plugins_used, `imuconv plugins`).
 inline const char* KindName(PluginKind k) noexcept {
   switch (k) {
-    case PluginKind::StateConvention: return "state_convention";
-    case PluginKind::IncrementConvention: return "preint_convention";
-    case PluginKind::Propagator: return "propagator";
-    case PluginKind::Preintegrator: return "preintegrator";
+    case PluginKind::StateConvention:
+      return "state_convention";
+    case PluginKind::IncrementConvention:
+      return "preint_convention";
+    case PluginKind::Propagator:
+      return "propagator";
+    case PluginKind::Preintegrator:
+      return "preintegrator";
   }
   return "unknown";
 }
@@ -58,11 +62,24 @@ struct PluginDescriptor {
 };
 
 /// The base class a plugin of kind K derives from.
-template <PluginKind K> struct PluginBase;
-template <> struct PluginBase<PluginKind::StateConvention> { using type = StateConvention; };
-template <> struct PluginBase<PluginKind::IncrementConvention> { using type = IncrementConvention; };
-template <> struct PluginBase<PluginKind::Propagator> { using type = Propagator; };
-template <> struct PluginBase<PluginKind::Preintegrator> { using type = Preintegrator; };
+template <PluginKind K>
+struct PluginBase;
+template <>
+struct PluginBase<PluginKind::StateConvention> {
+  using type = StateConvention;
+};
+template <>
+struct PluginBase<PluginKind::IncrementConvention> {
+  using type = IncrementConvention;
+};
+template <>
+struct PluginBase<PluginKind::Propagator> {
+  using type = Propagator;
+};
+template <>
+struct PluginBase<PluginKind::Preintegrator> {
+  using type = Preintegrator;
+};
 
 namespace detail {
 

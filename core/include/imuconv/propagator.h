@@ -21,8 +21,8 @@ struct PropagationInput {
 /// The start of preintegration by propagation (the note, section 3.1): the identity with the
 /// bias estimate, zero covariance and zero gravity, so that the end state is the increment
 /// itself (eq. prop-by-int-rot..b with R_s = I, p_s = v_s = 0, g = 0).
-inline PropagationInput PreintegrationByPropagationStart(const SampleWindow& window, const Vec3& bg, const Vec3& ba,
-                                                         const ImuNoise& noise) {
+inline PropagationInput PreintegrationByPropagationStart(const SampleWindow& window, const Vec3& bg,
+                                                         const Vec3& ba, const ImuNoise& noise) {
   PropagationInput in;
   in.x_s.bg = bg;
   in.x_s.ba = ba;

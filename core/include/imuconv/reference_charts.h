@@ -17,12 +17,15 @@ namespace imuconv {
 /// Block offsets of the state reference chart (derived from kLeftOrder).
 namespace left_idx {
 constexpr int p = kLeftOrder.offset(Block::p), theta = kLeftOrder.offset(Block::theta),
-              v = kLeftOrder.offset(Block::v), bg = kLeftOrder.offset(Block::bg), ba = kLeftOrder.offset(Block::ba);
+              v = kLeftOrder.offset(Block::v), bg = kLeftOrder.offset(Block::bg),
+              ba = kLeftOrder.offset(Block::ba);
 }
 /// Block offsets of the increment reference chart (derived from kPreintReferenceOrder).
 namespace pref_idx {
-constexpr int theta = kPreintReferenceOrder.offset(Block::theta), p = kPreintReferenceOrder.offset(Block::p),
-              v = kPreintReferenceOrder.offset(Block::v), bg = kPreintReferenceOrder.offset(Block::bg),
+constexpr int theta = kPreintReferenceOrder.offset(Block::theta),
+              p = kPreintReferenceOrder.offset(Block::p),
+              v = kPreintReferenceOrder.offset(Block::v),
+              bg = kPreintReferenceOrder.offset(Block::bg),
               ba = kPreintReferenceOrder.offset(Block::ba);
 }
 
@@ -77,7 +80,9 @@ struct ReferenceChart<PreintIncrement> {
   static void retract(const PreintIncrement& x, const Vec15& d, PreintIncrement& y) {
     PreintReferenceRetract(x, d, y);
   }
-  static void local(const PreintIncrement& x, const PreintIncrement& y, Vec15& d) { PreintReferenceLocal(x, y, d); }
+  static void local(const PreintIncrement& x, const PreintIncrement& y, Vec15& d) {
+    PreintReferenceLocal(x, y, d);
+  }
 };
 
 }  // namespace imuconv

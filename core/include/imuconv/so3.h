@@ -27,12 +27,14 @@ constexpr double kSeriesBelow = 0.1;  // |phi| below which Taylor series are use
 
 // a = sin(t)/t
 inline double coefA(double t, double t2) {
-  if (t < kSeriesBelow) return 1.0 - t2 / 6.0 * (1.0 - t2 / 20.0 * (1.0 - t2 / 42.0 * (1.0 - t2 / 72.0)));
+  if (t < kSeriesBelow)
+    return 1.0 - t2 / 6.0 * (1.0 - t2 / 20.0 * (1.0 - t2 / 42.0 * (1.0 - t2 / 72.0)));
   return std::sin(t) / t;
 }
 // b = (1 - cos t)/t^2 = 2 sin^2(t/2)/t^2
 inline double coefB(double t, double t2) {
-  if (t < kSeriesBelow) return 0.5 * (1.0 - t2 / 12.0 * (1.0 - t2 / 30.0 * (1.0 - t2 / 56.0 * (1.0 - t2 / 90.0))));
+  if (t < kSeriesBelow)
+    return 0.5 * (1.0 - t2 / 12.0 * (1.0 - t2 / 30.0 * (1.0 - t2 / 56.0 * (1.0 - t2 / 90.0))));
   const double s = std::sin(0.5 * t);
   return 2.0 * s * s / t2;
 }

@@ -52,6 +52,7 @@ inline constexpr double kSameInstant = 1e-9;
 /// Builds the window of [t_s, t_e] over samples sorted by strictly increasing time.
 /// Fails if the interval is empty or not covered by the samples. t_s and t_e are first
 /// moved onto a sample within kSameInstant of them.
-IMUCONV_API Status MakeWindow(const ImuSample* samples, std::size_t n, double t_s, double t_e, SampleWindow& out);
+IMUCONV_API Status MakeWindow(const ImuSample* samples, std::size_t n, double t_s, double t_e,
+                              SampleWindow& out);
 
 }  // namespace imuconv

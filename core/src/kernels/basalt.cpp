@@ -17,9 +17,10 @@ constexpr int kP = 0, kTheta = 3, kV = 6;
 
 /// out = F M for F = [I F_pt I dt; 0 I 0; 0 F_vt I] and any M with 9 rows.
 template <int Cols>
-void ApplyStep(const Mat3& F_pt, const Mat3& F_vt, double dt, const Eigen::Matrix<double, 9, Cols>& M,
-               Eigen::Matrix<double, 9, Cols>& out) {
-  const auto p = M.template middleRows<3>(kP), t = M.template middleRows<3>(kTheta), v = M.template middleRows<3>(kV);
+void ApplyStep(const Mat3& F_pt, const Mat3& F_vt, double dt,
+               const Eigen::Matrix<double, 9, Cols>& M, Eigen::Matrix<double, 9, Cols>& out) {
+  const auto p = M.template middleRows<3>(kP), t = M.template middleRows<3>(kTheta),
+             v = M.template middleRows<3>(kV);
   out.template middleRows<3>(kP) = p + F_pt * t + dt * v;
   out.template middleRows<3>(kTheta) = t;
   out.template middleRows<3>(kV) = F_vt * t + v;
@@ -31,8 +32,8 @@ long long Nanoseconds(double t) { return std::llround(t * 1e9); }
 }  // namespace
 
 Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding,
-                       const std::optional<BasaltSampleVariances>& variances, BasaltPreintegration& out,
-                       bool jacobians) {
+                       const std::optional<BasaltSampleVariances>& variances,
+                       BasaltPreintegration& out, bool jacobians) {
   if (Status s = CheckPreintegrationInput(in); !s.ok()) return s;
   const SampleWindow& w = in.window;
   out = BasaltPreintegration{};
@@ -64,14 +65,16 @@ Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding,
       G.middleRows<3>(kP) = (0.5 * dt) * G.middleRows<3>(kV);
 
       const Vec3 accel_var =
-          variances ? variances->accel : Vec3::Constant(n.accel_noise_density * n.accel_noise_density / dt);
-      const Vec3 gyro_var =
-          variances ? variances->gyro : Vec3::Constant(n.gyro_noise_density * n.gyro_noise_density / dt);
+          variances ? variances->accel
+                    : Vec3::Constant(n.accel_noise_density * n.accel_noise_density / dt);
+      const Vec3 gyro_var = variances
+                                ? variances->gyro
+                                : Vec3::Constant(n.gyro_noise_density * n.gyro_noise_density / dt);
       // cov' = F cov F^T = (F (F cov)^T)^T, cov symmetric.
       ApplyStep<9>(F_pt, F_vt, dt, out.cov, FM);
       ApplyStep<9>(F_pt, F_vt, dt, FM.transpose(), FMt);
-      out.cov =
-          FMt.transpose() + A * accel_var.asDiagonal() * A.transpose() + G * gyro_var.asDiagonal() * G.transpose();
+      out.cov = FMt.transpose() + A * accel_var.asDiagonal() * A.transpose() +
+                G * gyro_var.asDiagonal() * G.transpose();
       ApplyStep<3>(F_pt, F_vt, dt, out.d_state_d_ba, FJ);
       out.d_state_d_ba = FJ - A;
       ApplyStep<3>(F_pt, F_vt, dt, out.d_state_d_bg, FJ);
@@ -107,8 +110,10 @@ Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding, Pre
   out.cov.setZero();
   out.cov.topLeftCorner<9, 9>() = r.cov;
   const ImuNoise& n = in.noise;
-  out.cov.block<3, 3>(9, 9).diagonal().setConstant(n.gyro_random_walk * n.gyro_random_walk * out.dt);
-  out.cov.block<3, 3>(12, 12).diagonal().setConstant(n.accel_random_walk * n.accel_random_walk * out.dt);
+  out.cov.block<3, 3>(9, 9).diagonal().setConstant(n.gyro_random_walk * n.gyro_random_walk *
+                                                   out.dt);
+  out.cov.block<3, 3>(12, 12).diagonal().setConstant(n.accel_random_walk * n.accel_random_walk *
+                                                     out.dt);
   out.J_bias << r.d_state_d_bg, r.d_state_d_ba;
   return Status::Ok();
 }

@@ -11,7 +11,8 @@ namespace {
 constexpr int kP = 0, kTheta = 3, kV = 6;
 }  // namespace
 
-BasaltPoseVelState BasaltCorrectedDelta(const BasaltMeasurement& m, const Vec3& bg, const Vec3& ba) {
+BasaltPoseVelState BasaltCorrectedDelta(const BasaltMeasurement& m, const Vec3& bg,
+                                        const Vec3& ba) {
   const Vec9 bg_diff = m.pre.d_state_d_bg * (bg - m.bias_gyro_lin);
   const Vec9 ba_diff = m.pre.d_state_d_ba * (ba - m.bias_accel_lin);
   BasaltPoseVelState c;
@@ -21,8 +22,9 @@ BasaltPoseVelState BasaltCorrectedDelta(const BasaltMeasurement& m, const Vec3& 
   return c;
 }
 
-BasaltResidual BasaltResidualOf(const BasaltMeasurement& m, const BasaltPoseVelState& state0, const Vec3& g,
-                                const BasaltPoseVelState& state1, const Vec3& curr_bg, const Vec3& curr_ba) {
+BasaltResidual BasaltResidualOf(const BasaltMeasurement& m, const BasaltPoseVelState& state0,
+                                const Vec3& g, const BasaltPoseVelState& state1,
+                                const Vec3& curr_bg, const Vec3& curr_ba) {
   const double T = static_cast<double>(m.pre.dt_ns) * 1e-9;
   const BasaltPoseVelState c = BasaltCorrectedDelta(m, curr_bg, curr_ba);
   const Mat3 R0_T = state0.R.transpose();
@@ -51,7 +53,8 @@ BasaltResidual BasaltResidualOf(const BasaltMeasurement& m, const BasaltPoseVelS
   out.d_res_d_ba = -m.pre.d_state_d_ba;
   out.d_res_d_bg = -m.pre.d_state_d_bg;
   // Upstream's theta rows: Jl^-1(r_theta) J_bg,theta (without Jl of the correction, header).
-  out.d_res_d_bg.middleRows<3>(kTheta) = so3::JlInv(r_theta) * m.pre.d_state_d_bg.middleRows<3>(kTheta);
+  out.d_res_d_bg.middleRows<3>(kTheta) =
+      so3::JlInv(r_theta) * m.pre.d_state_d_bg.middleRows<3>(kTheta);
   return out;
 }
 

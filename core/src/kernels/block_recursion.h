@@ -52,10 +52,10 @@
 
 #include <cmath>
 
-#include "simd_pair.h"
-#include "so3_fast.h"
 #include "imuconv/kernels/common.h"
 #include "imuconv/kernels/preintegration.h"
+#include "simd_pair.h"
+#include "so3_fast.h"
 
 IMUCONV_KERNEL_BEGIN
 
@@ -94,8 +94,9 @@ template <class W>
 IMUCONV_KERNEL_INLINE Blocks ToBlocks(const State<W>& s) {
   using simd::Hi;
   using simd::Lo;
-  return {s.Ptt,     Lo(s.Ppvt), Hi(s.Ppvt), s.Ppp,     s.Pvp,     s.Pvv,     Lo(s.pa), Lo(s.va), Lo(s.tg),
-          Lo(s.pg),  Lo(s.vg),   Hi(s.pa),   Hi(s.va),  Hi(s.tg),  Hi(s.pg),  Hi(s.vg), s.s_ba,   s.s_bg};
+  return {s.Ptt,    Lo(s.Ppvt), Hi(s.Ppvt), s.Ppp,    s.Pvp,    s.Pvv,
+          Lo(s.pa), Lo(s.va),   Lo(s.tg),   Lo(s.pg), Lo(s.vg), Hi(s.pa),
+          Hi(s.va), Hi(s.tg),   Hi(s.pg),   Hi(s.vg), s.s_ba,   s.s_bg};
 }
 
 template <class W>
@@ -114,17 +115,17 @@ struct StepConsts {
   BB<W> dN, dC;
   d4 cc_u, b;
   double dt, hd, h, hd2, dt2, neg_dt, neg_h, one, neg_one;
-  double s_bg, hs_ba, dts_ba;                   // random-walk variances scaled
-  double gg_outer, gg_diag;                     // cov(g, g) = gg_diag I + gg_outer u u^T
-  double h2kw, dthkw, dt2kw;                    // cov(w, w) entering p'p', v'p', v'v'
+  double s_bg, hs_ba, dts_ba;  // random-walk variances scaled
+  double gg_outer, gg_diag;    // cov(g, g) = gg_diag I + gg_outer u u^T
+  double h2kw, dthkw, dt2kw;   // cov(w, w) entering p'p', v'p', v'v'
   double s_ba_next, s_bg_next;
 };
 
 /// Fills the scalars (the maps N, C, cc_g, cc_u must be set), then pins everything in
 /// memory and forms the pairs from there.
 template <bool kCovariance, class W>
-IMUCONV_KERNEL_INLINE void FinishStepConsts(StepConsts<W>& m, double dt, double cc_g, const NoiseVariances& q,
-                                            double s_ba, double s_bg) {
+IMUCONV_KERNEL_INLINE void FinishStepConsts(StepConsts<W>& m, double dt, double cc_g,
+                                            const NoiseVariances& q, double s_ba, double s_bg) {
   m.dt = dt;
   m.hd = 0.5 * dt;
   m.h = 0.5 * dt * dt;
@@ -163,10 +164,10 @@ IMUCONV_KERNEL_INLINE void FinishStepConsts(StepConsts<W>& m, double dt, double 
 template <class W>
 struct StartFrameTransition {
   static constexpr bool kGeneral = false;
-  d4 b, b1;           // b and its lanes rotated (cross products)
-  d4 b0s, b1s, b2s;   // b's entries broadcast
-  W w0, w1, w2;       // ... over both halves
-  W wb, wb1;          // [b | b], rotated
+  d4 b, b1;          // b and its lanes rotated (cross products)
+  d4 b0s, b1s, b2s;  // b's entries broadcast
+  W w0, w1, w2;      // ... over both halves
+  W wb, wb1;         // [b | b], rotated
   explicit StartFrameTransition(const d4& mb) {
     using O = simd::PairOps<W>;
     b = mb;
@@ -255,7 +256,8 @@ struct GeneralTransition {
 /// PreintegratedImuMeasurements' 9x9 covariance is P of this recursion run with zero
 /// random walk (X and the bias block then stay zero).
 template <bool kCovariance, class W, class Transition>
-IMUCONV_KERNEL_INLINE void PropagateBlocks(const Transition& tr, const StepConsts<W>& m, const State<W>& __restrict in,
+IMUCONV_KERNEL_INLINE void PropagateBlocks(const Transition& tr, const StepConsts<W>& m,
+                                           const State<W>& __restrict in,
                                            State<W>& __restrict out) {
   using namespace simd;
   using O = PairOps<W>;
@@ -264,9 +266,10 @@ IMUCONV_KERNEL_INLINE void PropagateBlocks(const Transition& tr, const StepConst
   // and of p' and v' before the inputs enter.
   BB<W> a_tg, k_tg;
   tr.LeftBias(in.tg, a_tg, k_tg);
-  const BB<W> qa = AddScaled(in.pa, O::Splat(m.dt), in.va);                                  // [X | H]_qa
-  const BB<W> gp = AddScaled(AddScaled(in.pg, O::Splat(m.dt), in.vg), O::Splat(m.hd), k_tg);  // q + dt/2 u vs bg
-  const BB<W> gv = in.vg + k_tg;                                                               // v + u vs bg
+  const BB<W> qa = AddScaled(in.pa, O::Splat(m.dt), in.va);  // [X | H]_qa
+  const BB<W> gp =
+      AddScaled(AddScaled(in.pg, O::Splat(m.dt), in.vg), O::Splat(m.hd), k_tg);  // q + dt/2 u vs bg
+  const BB<W> gv = in.vg + k_tg;                                                 // v + u vs bg
   out.tg = AddScaled(a_tg, O::Cat(Splat(m.s_bg), Splat(m.neg_one)), m.dC);
   out.pg = gp;
   out.vg = gv;
@@ -296,7 +299,8 @@ IMUCONV_KERNEL_INLINE void PropagateBlocks(const Transition& tr, const StepConst
   {
     const B Gt = MulT(Lo(a_tg), m.C);
     const d4 gu = Splat(m.gg_outer) * m.cc_u;
-    const B GG{{gu * Splat(m.cc_u[0]) + Splat(m.gg_diag) * kE0, gu * Splat(m.cc_u[1]) + Splat(m.gg_diag) * kE1,
+    const B GG{{gu * Splat(m.cc_u[0]) + Splat(m.gg_diag) * kE0,
+                gu * Splat(m.cc_u[1]) + Splat(m.gg_diag) * kE1,
                 gu * Splat(m.cc_u[2]) + Splat(m.gg_diag) * kE2}};
     out.Ptt = Tt + Gt + Transpose(Gt) + GG;
   }
@@ -307,12 +311,16 @@ IMUCONV_KERNEL_INLINE void PropagateBlocks(const Transition& tr, const StepConst
   }
   // [Rq | Sv] = [cov(q, u + dt w) | cov(v, u + dt w)] with cov(., w) = X_.a N^T; the
   // symmetric diagonal blocks are each a block plus its transpose.
-  const BB<W> qva{{O::Los(qa.c[0], in.va.c[0]), O::Los(qa.c[1], in.va.c[1]), O::Los(qa.c[2], in.va.c[2])}};
+  const BB<W> qva{
+      {O::Los(qa.c[0], in.va.c[0]), O::Los(qa.c[1], in.va.c[1]), O::Los(qa.c[2], in.va.c[2])}};
   const BB<W> RS = MulTAdd(Zqv, qva, m.dtN);
   const B Rq = Lo(RS), Sv = Hi(RS);
   const B Spp = AddScaled(m.hd * Rq, m.dt, in.Pvp);
-  out.Ppp = AddDiagonal(AddScaled(AddScaled(in.Ppp, m.dt2, in.Pvv), m.hd2, Uu) + Spp + Transpose(Spp), m.h2kw);
-  out.Pvp = AddDiagonal(AddScaled(AddScaled(AddScaled(in.Pvp, m.dt, in.Pvv), m.hd, Sv), m.hd, Uu) + Transpose(Rq), m.dthkw);
+  out.Ppp = AddDiagonal(
+      AddScaled(AddScaled(in.Ppp, m.dt2, in.Pvv), m.hd2, Uu) + Spp + Transpose(Spp), m.h2kw);
+  out.Pvp = AddDiagonal(
+      AddScaled(AddScaled(AddScaled(in.Pvp, m.dt, in.Pvv), m.hd, Sv), m.hd, Uu) + Transpose(Rq),
+      m.dthkw);
   out.Pvv = AddDiagonal(in.Pvv + Uu + Sv + Transpose(Sv), m.dt2kw);
 }
 
@@ -322,7 +330,9 @@ IMUCONV_KERNEL_INLINE void PropagateBlocks(const Transition& tr, const StepConst
 /// The 15x15 covariance [P X; X^T S] in the kernel's chart, exactly symmetric.
 inline Mat15 AssembleCovariance(const Blocks& c) {
   Mat15 S = Mat15::Zero();
-  const auto put = [&S](int i, int j, const B& m) { simd::ToEigen(m, S.block<3, 3>(3 * i, 3 * j)); };
+  const auto put = [&S](int i, int j, const B& m) {
+    simd::ToEigen(m, S.block<3, 3>(3 * i, 3 * j));
+  };
   put(0, 0, c.Ptt);
   put(1, 0, c.Ppt);
   put(2, 0, c.Pvt);

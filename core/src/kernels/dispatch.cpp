@@ -11,16 +11,19 @@ bool IsaAvailable(Isa isa) {
   switch (isa) {
     case Isa::kAuto:
     case Isa::kBaseline:
-    case Isa::kPortable: return true;
+    case Isa::kPortable:
+      return true;
 #if defined(IMUCONV_KERNELS_X86)
-    case Isa::kAvx2: return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    case Isa::kAvx2:
+      return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
     case Isa::kAvx512:
-      return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("avx512f") &&
-             __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq") &&
-             __builtin_cpu_supports("avx512bw");
+      return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
+             __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+             __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw");
 #else
     case Isa::kAvx2:
-    case Isa::kAvx512: return false;
+    case Isa::kAvx512:
+      return false;
 #endif
   }
   return false;
@@ -40,13 +43,17 @@ Isa ResolveIsa(Isa isa) { return isa == Isa::kAuto ? BestIsa() : isa; }
 const Instance* SimdInstance(Isa isa) {
   switch (isa) {
 #if defined(IMUCONV_KERNELS_X86)
-    case Isa::kAvx512: return &kAvx512Instance;
-    case Isa::kAvx2: return &kAvx2Instance;
+    case Isa::kAvx512:
+      return &kAvx512Instance;
+    case Isa::kAvx2:
+      return &kAvx2Instance;
 #endif
 #if defined(IMUCONV_KERNELS_SIMD)
-    case Isa::kBaseline: return &kBaselineInstance;
+    case Isa::kBaseline:
+      return &kBaselineInstance;
 #endif
-    default: return nullptr;
+    default:
+      return nullptr;
   }
 }
 

@@ -23,7 +23,8 @@ Eigen::Quaterniond RotationQuaternion(const Vec3& w, double dt) {
   const double half_angle = 0.5 * std::abs(dt) * w.norm();
   // sin(x)/x by its series for x^2 < 1e-8, where the next term (x^6/5040) is below eps
   const double x2 = half_angle * half_angle;
-  const double sinc = x2 < 1e-8 ? 1.0 - x2 / 6.0 + x2 * x2 / 120.0 : std::sin(half_angle) / half_angle;
+  const double sinc =
+      x2 < 1e-8 ? 1.0 - x2 / 6.0 + x2 * x2 / 120.0 : std::sin(half_angle) / half_angle;
   const Vec3 xyz = sinc * (0.5 * dt) * w;
   return Eigen::Quaterniond(std::cos(half_angle), xyz.x(), xyz.y(), xyz.z());
 }
@@ -43,7 +44,8 @@ Mat3 AMatrix(const Vec3& v) {
   const double angle = std::sqrt(angle2);
   if (angle < kMtkTolerance) return Mat3::Identity();
   const Mat3 v_x = so3::skew(v);
-  return Mat3::Identity() + (1.0 - std::cos(angle)) / angle2 * v_x + (1.0 - std::sin(angle) / angle) / angle2 * v_x * v_x;
+  return Mat3::Identity() + (1.0 - std::cos(angle)) / angle2 * v_x +
+         (1.0 - std::sin(angle) / angle) / angle2 * v_x * v_x;
 }
 
 /// d grav / d delta of the S2 boxplus at delta = 0 (MTK's S2_Mx with a zero delta).
@@ -58,23 +60,27 @@ bool Finite(const Vec3& v) { return v.allFinite(); }
 
 constexpr const char* kWhat = "FAST-LIO2 scan propagation";
 
-Status CheckFeeding(const std::vector<ImuSample>& samples, const FastLio2Parameters& params, double last_scan_end,
-                    double scan_end) {
-  if (samples.size() < 2) return Status::Error(std::string(kWhat) + ": needs at least two IMU samples");
+Status CheckFeeding(const std::vector<ImuSample>& samples, const FastLio2Parameters& params,
+                    double last_scan_end, double scan_end) {
+  if (samples.size() < 2)
+    return Status::Error(std::string(kWhat) + ": needs at least two IMU samples");
   for (std::size_t k = 0; k < samples.size(); ++k) {
     const ImuSample& s = samples[k];
     if (!std::isfinite(s.t) || !Finite(s.gyro) || !Finite(s.accel))
       return Status::Error(std::string(kWhat) + ": sample " + std::to_string(k) + " is not finite");
     if (k > 0 && !(s.t >= samples[k - 1].t))
-      return Status::Error(std::string(kWhat) + ": sample " + std::to_string(k) + "'s time " + std::to_string(s.t) +
-                           " is before the previous sample's");
+      return Status::Error(std::string(kWhat) + ": sample " + std::to_string(k) + "'s time " +
+                           std::to_string(s.t) + " is before the previous sample's");
   }
   if (!std::isfinite(last_scan_end) || !std::isfinite(scan_end) || !(scan_end >= last_scan_end))
     return Status::Error(std::string(kWhat) + ": the scan's end times are not finite or reversed");
   if (!(samples.back().t >= last_scan_end))
-    return Status::Error(std::string(kWhat) + ": no IMU sample at or after the previous scan's end");
-  if (!std::isfinite(params.G_m_s2) || !(params.mean_acc_norm > 0.0) || !std::isfinite(params.mean_acc_norm))
-    return Status::Error(std::string(kWhat) + ": G_m_s2 must be finite and |mean_acc| positive and finite");
+    return Status::Error(std::string(kWhat) +
+                         ": no IMU sample at or after the previous scan's end");
+  if (!std::isfinite(params.G_m_s2) || !(params.mean_acc_norm > 0.0) ||
+      !std::isfinite(params.mean_acc_norm))
+    return Status::Error(std::string(kWhat) +
+                         ": G_m_s2 must be finite and |mean_acc| positive and finite");
   return Status::Ok();
 }
 
@@ -83,22 +89,25 @@ Status CheckStart(const FastLio2Parameters& params, const FastLio2State& start, 
     if (!std::isfinite(c) || c < 0.0)
       return Status::Error(std::string(kWhat) + ": a noise covariance is negative or not finite");
   if (!(start.grav.length > 0.0) || !std::isfinite(start.grav.length) || !Finite(start.grav.vec))
-    return Status::Error(std::string(kWhat) + ": the gravity's S2 length must be positive and finite");
+    return Status::Error(std::string(kWhat) +
+                         ": the gravity's S2 length must be positive and finite");
   if (!Finite(start.pos) || !Finite(start.vel) || !Finite(start.bg) || !Finite(start.ba) ||
-      !Finite(start.offset_T_L_I) || !start.rot.coeffs().allFinite() || !start.offset_R_L_I.coeffs().allFinite())
+      !Finite(start.offset_T_L_I) || !start.rot.coeffs().allFinite() ||
+      !start.offset_R_L_I.coeffs().allFinite())
     return Status::Error(std::string(kWhat) + ": the start state is not finite");
   if (!P0.allFinite()) return Status::Error(std::string(kWhat) + ": P0 is not finite");
   return Status::Ok();
 }
 
 /// One predict of the covariances and the transition product (F computed once for all).
-void PredictCovariances(const FastLio2State& x, const FastLio2Input& in, double dt, double q_diag[4],
-                        FastLio2Transition transition, FastLio2Propagation& out) {
+void PredictCovariances(const FastLio2State& x, const FastLio2Input& in, double dt,
+                        double q_diag[4], FastLio2Transition transition, FastLio2Propagation& out) {
   Mat23 F;
   Mat23x12 dt_G;
   FastLio2StepJacobians(x, in, dt, transition, F, dt_G);
   Eigen::Matrix<double, 12, 1> q;
-  q << Vec3::Constant(q_diag[0]), Vec3::Constant(q_diag[1]), Vec3::Constant(q_diag[2]), Vec3::Constant(q_diag[3]);
+  q << Vec3::Constant(q_diag[0]), Vec3::Constant(q_diag[1]), Vec3::Constant(q_diag[2]),
+      Vec3::Constant(q_diag[3]);
   const Mat23 noise = dt_G * q.asDiagonal() * dt_G.transpose();
   out.covariance = F * out.covariance * F.transpose() + noise;
   out.Qd_summed = F * out.Qd_summed * F.transpose() + noise;
@@ -129,7 +138,7 @@ Eigen::Matrix<double, 3, 2> FastLio2S2Basis(const FastLio2Gravity& g) {
   Mat32 B;
   if (v.x() + L > kMtkTolerance) {
     const double c = 1.0 / (L + v.x());
-    B << -v.y(), -v.z(),                         //
+    B << -v.y(), -v.z(),                            //
         L - v.y() * v.y() * c, -v.z() * v.y() * c,  //
         -v.z() * v.y() * c, L - v.z() * v.z() * c;
     B /= L;
@@ -165,7 +174,8 @@ Vec23 FastLio2Boxminus(const FastLio2State& y, const FastLio2State& x) {
   // The rotation vector taking x's gravity to y's, about their common normal, in x's basis.
   const Vec3 normal = x.grav.vec.cross(y.grav.vec);
   const double sine = normal.norm(), cosine = x.grav.vec.dot(y.grav.vec);
-  const Vec3 axis_angle = sine < kMtkTolerance ? Vec3::Zero() : Vec3(std::atan2(sine, cosine) / sine * normal);
+  const Vec3 axis_angle =
+      sine < kMtkTolerance ? Vec3::Zero() : Vec3(std::atan2(sine, cosine) / sine * normal);
   d.segment<2>(kFastLio2Grav) = FastLio2S2Basis(x.grav).transpose() * axis_angle;
   return d;
 }
@@ -182,7 +192,8 @@ FastLio2State FastLio2PredictState(const FastLio2State& x, const FastLio2Input& 
 }
 
 void FastLio2StepJacobians(const FastLio2State& x, const FastLio2Input& in, double dt,
-                           FastLio2Transition transition, Mat23& F, Eigen::Matrix<double, 23, 12>& dt_G) {
+                           FastLio2Transition transition, Mat23& F,
+                           Eigen::Matrix<double, 23, 12>& dt_G) {
   const Vec3 omega = in.gyro - x.bg;
   const Vec3 acc = in.acc - x.ba;
   const Mat3 R = x.rot.toRotationMatrix();
@@ -204,7 +215,8 @@ void FastLio2StepJacobians(const FastLio2State& x, const FastLio2Input& in, doub
     F.block<3, 3>(kFastLio2Rot, kFastLio2Rot) = RotationQuaternion(-omega, dt).toRotationMatrix();
   }
   // Gravity does not move: its block is the chart's own N(g) M(g) (the identity to rounding).
-  F.block<2, 2>(kFastLio2Grav, kFastLio2Grav) = S2BoxminusJacobian(x.grav) * S2BoxplusJacobian(x.grav);
+  F.block<2, 2>(kFastLio2Grav, kFastLio2Grav) =
+      S2BoxminusJacobian(x.grav) * S2BoxplusJacobian(x.grav);
   F += f_x * dt;
 
   // Noise [ng, na, nbg, nba]: w = gyro - bg - ng, a = acc - ba - na, bias rates nbg, nba.
@@ -216,7 +228,8 @@ void FastLio2StepJacobians(const FastLio2State& x, const FastLio2Input& in, doub
 }
 
 Status FastLio2ScanPredicts(const std::vector<ImuSample>& samples, const FastLio2Parameters& params,
-                            double last_scan_end, double scan_end, std::vector<FastLio2Predict>& predicts) {
+                            double last_scan_end, double scan_end,
+                            std::vector<FastLio2Predict>& predicts) {
   predicts.clear();
   const Status valid = CheckFeeding(samples, params, last_scan_end, scan_end);
   if (!valid.ok()) return valid;
@@ -242,8 +255,9 @@ Status FastLio2ScanPredicts(const std::vector<ImuSample>& samples, const FastLio
   return Status::Ok();
 }
 
-Status PropagateFastLio2Scan(const std::vector<ImuSample>& samples, const FastLio2Parameters& params,
-                             double last_scan_end, double scan_end, const FastLio2State& start, const Mat23& P0,
+Status PropagateFastLio2Scan(const std::vector<ImuSample>& samples,
+                             const FastLio2Parameters& params, double last_scan_end,
+                             double scan_end, const FastLio2State& start, const Mat23& P0,
                              FastLio2Propagation& out, FastLio2Transition transition) {
   const Status valid = CheckStart(params, start, P0);
   if (!valid.ok()) return valid;

@@ -18,11 +18,13 @@
 
 namespace imuconv::kernels::detail {
 
-extern const Instance kAvx2Instance = {&RunManifoldInstance<simd::d4x2>, &RunTangentInstance<simd::d4x2>,
+extern const Instance kAvx2Instance = {&RunManifoldInstance<simd::d4x2>,
+                                       &RunTangentInstance<simd::d4x2>,
 #if IMUCONV_RK4_PER_INSTANCE
                                        &Rk4Window};
 #else
-                                       &Rk4DefaultTarget};  // kernel_config.h: Clang compiles rk4 once
+                                       &Rk4DefaultTarget};  // kernel_config.h: Clang compiles rk4
+                                                            // once
 #endif
 
 }  // namespace imuconv::kernels::detail

@@ -18,11 +18,13 @@
 
 namespace imuconv::kernels::detail {
 
-extern const Instance kAvx512Instance = {&RunManifoldInstance<simd::d8>, &RunTangentInstance<simd::d8>,
+extern const Instance kAvx512Instance = {&RunManifoldInstance<simd::d8>,
+                                         &RunTangentInstance<simd::d8>,
 #if IMUCONV_RK4_PER_INSTANCE
                                          &Rk4Window};
 #else
-                                         &Rk4DefaultTarget};  // kernel_config.h: Clang compiles rk4 once
+                                         &Rk4DefaultTarget};  // kernel_config.h: Clang compiles rk4
+                                                              // once
 #endif
 
 }  // namespace imuconv::kernels::detail

@@ -17,7 +17,7 @@ namespace imuconv::kernels::detail {
 
 // rk4 at the baseline target is the default-target compilation (rk4.cpp explains why it is
 // not compiled a second time here).
-extern const Instance kBaselineInstance = {&RunManifoldInstance<simd::d3x2>, &RunTangentInstance<simd::d3x2>,
-                                           &Rk4DefaultTarget};
+extern const Instance kBaselineInstance = {&RunManifoldInstance<simd::d3x2>,
+                                           &RunTangentInstance<simd::d3x2>, &Rk4DefaultTarget};
 
 }  // namespace imuconv::kernels::detail

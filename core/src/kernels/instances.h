@@ -16,8 +16,10 @@ namespace imuconv::kernels::detail {
 /// chart: start-frame (Exp(phi) dR, dp + e_p, dv + e_v) for manifold, additive xi for
 /// tangent.
 struct Instance {
-  void (*manifold)(const PreintegrationInput& in, Hold hold, ManifoldIncrement& inc, Mat96& J_inc_bias, Mat15* cov);
-  void (*tangent)(const PreintegrationInput& in, TangentIncrement& inc, Mat96& J_inc_bias, Mat15* cov);
+  void (*manifold)(const PreintegrationInput& in, Hold hold, ManifoldIncrement& inc,
+                   Mat96& J_inc_bias, Mat15* cov);
+  void (*tangent)(const PreintegrationInput& in, TangentIncrement& inc, Mat96& J_inc_bias,
+                  Mat15* cov);
   /// rk4 over the window of `in` with `substeps` steps per knot interval, the outputs asked
   /// (IntegrateRk4Window, kernels/rk4.h), without checking the input.
   void (*rk4)(const PropagationInput& in, Outputs outputs, int substeps, PropagationResult& out);
@@ -30,7 +32,8 @@ extern const Instance kAvx512Instance;    ///< AVX-512 F, VL, DQ, BW
 
 /// rk4 compiled for the default target (rk4.cpp): the portable path's rk4, and the baseline
 /// instance's (and, with Clang, every instance's; kernel_config.h).
-void Rk4DefaultTarget(const PropagationInput& in, Outputs outputs, int substeps, PropagationResult& out);
+void Rk4DefaultTarget(const PropagationInput& in, Outputs outputs, int substeps,
+                      PropagationResult& out);
 
 /// The SIMD instance for a resolved `isa`, or null where the portable path is to run
 /// (Isa::kPortable, and every isa on a build without SIMD instances, i.e. a compiler without

@@ -21,8 +21,12 @@ struct HeldKnots {
   const SampleWindow& w;
   d4 ba, bg;
   std::size_t steps() const { return w.size() - 1; }
-  IMUCONV_KERNEL_INLINE const ImuSample& knot(std::size_t j) const { return j == 0 ? w.first : w.samples[w.begin + j - 1]; }
-  IMUCONV_KERNEL_INLINE double t_next(std::size_t j) const { return j + 2 == w.size() ? w.last.t : w.samples[w.begin + j].t; }
+  IMUCONV_KERNEL_INLINE const ImuSample& knot(std::size_t j) const {
+    return j == 0 ? w.first : w.samples[w.begin + j - 1];
+  }
+  IMUCONV_KERNEL_INLINE double t_next(std::size_t j) const {
+    return j + 2 == w.size() ? w.last.t : w.samples[w.begin + j].t;
+  }
   IMUCONV_KERNEL_INLINE const ImuSample& next_knot(std::size_t j) const {
     return j + 2 == w.size() ? w.last : w.samples[w.begin + j];
   }
@@ -48,8 +52,8 @@ struct HeldKnots {
 /// Runs step(knot, dt_j, in, out) over the window, alternating the two state buffers;
 /// returns the buffer holding the result.
 template <class W, bool kMidpoint = false, typename StepFn>
-IMUCONV_KERNEL_INLINE const State<W>& RunHeldKnots(const PreintegrationInput& in, State<W>& b0, State<W>& b1,
-                                                   StepFn& step) {
+IMUCONV_KERNEL_INLINE const State<W>& RunHeldKnots(const PreintegrationInput& in, State<W>& b0,
+                                                   State<W>& b1, StepFn& step) {
   const HeldKnots knots{in.window, simd::FromEigen(in.ba), simd::FromEigen(in.bg)};
   const std::size_t steps = knots.steps();
   ImuSample tmp;
@@ -98,10 +102,18 @@ struct Inputs {
     ba_v = simd::FromEigen(in.ba);
     bg_v = simd::FromEigen(in.bg);
   }
-  IMUCONV_KERNEL_INLINE d4 acc(const ImuSample& s) const { return simd::Load3(s.accel.data()) - ba_v; }
-  IMUCONV_KERNEL_INLINE d4 omega(const ImuSample& s) const { return simd::Load3(s.gyro.data()) - bg_v; }
-  IMUCONV_KERNEL_INLINE d4 acc(const ImuSample& s, int k) const { return simd::Splat(s.accel.data()[k]) - ba[k]; }
-  IMUCONV_KERNEL_INLINE d4 omega(const ImuSample& s, int k) const { return simd::Splat(s.gyro.data()[k]) - bg[k]; }
+  IMUCONV_KERNEL_INLINE d4 acc(const ImuSample& s) const {
+    return simd::Load3(s.accel.data()) - ba_v;
+  }
+  IMUCONV_KERNEL_INLINE d4 omega(const ImuSample& s) const {
+    return simd::Load3(s.gyro.data()) - bg_v;
+  }
+  IMUCONV_KERNEL_INLINE d4 acc(const ImuSample& s, int k) const {
+    return simd::Splat(s.accel.data()[k]) - ba[k];
+  }
+  IMUCONV_KERNEL_INLINE d4 omega(const ImuSample& s, int k) const {
+    return simd::Splat(s.gyro.data()[k]) - bg[k];
+  }
 };
 
 /// One manifold step (start-frame chart) as a functor over the state buffers.
@@ -113,8 +125,8 @@ struct ManifoldStepper {
   d4 dp, dv;
   double dt_total;
 
-  IMUCONV_KERNEL_INLINE void operator()(const ImuSample& s, double dt, const State<W>& __restrict in,
-                                        State<W>& __restrict out) {
+  IMUCONV_KERNEL_INLINE void operator()(const ImuSample& s, double dt,
+                                        const State<W>& __restrict in, State<W>& __restrict out) {
     using namespace simd;
     const d4 vdt = Splat(dt);
     const d4 phi = vdt * u.omega(s);
@@ -137,7 +149,7 @@ struct ManifoldStepper {
     StepConsts<W> m;
     m.N = dR;
     m.C = AddScaled(AddScaled(dt * dR, dt * k.b, T1), dt * k.c, T2);  // dt dR Jl(phi)
-    m.cc_u = dR.c[0] * p0 + dR.c[1] * p1 + dR.c[2] * p2;              // dR Jl Jl^T dR^T = I + g [dR phi]x^2
+    m.cc_u = dR.c[0] * p0 + dR.c[1] * p1 + dR.c[2] * p2;  // dR Jl Jl^T dR^T = I + g [dR phi]x^2
     m.b = vdt * a_start;
     FinishStepConsts<kCovariance>(m, dt, SymmetricSquareCoef(k.b, k.c, t2), q, in.s_ba, in.s_bg);
     PropagateBlocks<kCovariance>(StartFrameTransition<W>(m.b), m, in, out);
@@ -152,12 +164,13 @@ struct ManifoldStepper {
 /// Manifold scheme over the window, start-frame chart; kMidpoint holds the mean of
 /// adjacent knots instead of knot j (see HeldKnots::held).
 template <bool kCovariance, class W, bool kMidpoint = false>
-IMUCONV_KERNEL_INLINE void ManifoldInterval(const PreintegrationInput& in, ManifoldIncrement& inc, Blocks& result) {
+IMUCONV_KERNEL_INLINE void ManifoldInterval(const PreintegrationInput& in, ManifoldIncrement& inc,
+                                            Blocks& result) {
   using namespace simd;
   State<W> b0, b1;
   ZeroState(b0);
-  ManifoldStepper<kCovariance, W> step{NoiseVariances(in.noise), Inputs(in), Identity(), Splat(0.0),
-                                       Splat(0.0), 0.0};
+  ManifoldStepper<kCovariance, W> step{
+      NoiseVariances(in.noise), Inputs(in), Identity(), Splat(0.0), Splat(0.0), 0.0};
   result = ToBlocks(RunHeldKnots<W, kMidpoint>(in, b0, b1, step));
   inc.dt = step.dt_total;
   ToEigen(step.dR, inc.dR);
@@ -178,8 +191,8 @@ struct TangentStepper {
   d4 theta, p, v;
   double dt_total;
 
-  IMUCONV_KERNEL_INLINE void operator()(const ImuSample& s, double dt, const State<W>& __restrict in,
-                                        State<W>& __restrict out) {
+  IMUCONV_KERNEL_INLINE void operator()(const ImuSample& s, double dt,
+                                        const State<W>& __restrict in, State<W>& __restrict out) {
     using namespace simd;
     const d4 vdt = Splat(dt);
     const d4 omega = u.omega(s), acc = u.acc(s);
@@ -203,17 +216,19 @@ struct TangentStepper {
     theta = th + vdt * (omega + Splat(0.5) * Cross(th, omega) + Splat(c.d) * txtxw);
 
     // R acc = acc + a theta x acc + b theta x (theta x acc).
-    const d4 a_start = Splat(1.0 - c.b * t2) * acc + Splat(c.a) * Cross(th, acc) + Splat(c.b * Dot(th, acc)) * th;
+    const d4 a_start =
+        Splat(1.0 - c.b * t2) * acc + Splat(c.a) * Cross(th, acc) + Splat(c.b * Dot(th, acc)) * th;
 
     TangentVectors tv{th, Splat(dt * c.d) * omega, {}};
     tv.ev = Splat(dt * c.e) * txtxw - Splat(2.0) * tv.dw;
     InMemory(tv);
     // theta's [.]x and theta theta^T, by columns (entries broadcast from memory).
-    const So3Basis basis{Skew(th), {{th * Splat(tv.theta[0]), th * Splat(tv.theta[1]), th * Splat(tv.theta[2])}}};
+    const So3Basis basis{
+        Skew(th), {{th * Splat(tv.theta[0]), th * Splat(tv.theta[1]), th * Splat(tv.theta[2])}}};
     StepConsts<W> m;
     m.N = Poly(basis, 1.0 - c.b * t2, c.a, c.b);                   // R
     m.C = Poly(basis, dt * (1.0 - c.d * t2), 0.5 * dt, dt * c.d);  // dt Jr^{-1}
-    m.cc_u = th;                                                    // Jr^{-1} Jr^{-T} = I + g [theta]x^2
+    m.cc_u = th;  // Jr^{-1} Jr^{-T} = I + g [theta]x^2
     FinishStepConsts<kCovariance>(m, dt, SymmetricSquareCoef(0.5, c.d, t2), q, in.s_ba, in.s_bg);
     GeneralTransition<W> tr;  // kept in memory: its entries are broadcast
     // K = -dt [R acc]x Jl(theta): the columns of Jl crossed with dt R acc.
@@ -246,12 +261,13 @@ struct TangentStepper {
 
 /// Tangent scheme over the window, additive chart of xi.
 template <bool kCovariance, class W>
-IMUCONV_KERNEL_INLINE void TangentInterval(const PreintegrationInput& in, TangentIncrement& inc, Blocks& result) {
+IMUCONV_KERNEL_INLINE void TangentInterval(const PreintegrationInput& in, TangentIncrement& inc,
+                                           Blocks& result) {
   using namespace simd;
   State<W> b0, b1;
   ZeroState(b0);
-  TangentStepper<kCovariance, W> step{NoiseVariances(in.noise), Inputs(in), Splat(0.0), Splat(0.0),
-                                      Splat(0.0), 0.0};
+  TangentStepper<kCovariance, W> step{
+      NoiseVariances(in.noise), Inputs(in), Splat(0.0), Splat(0.0), Splat(0.0), 0.0};
   result = ToBlocks(RunHeldKnots(in, b0, b1, step));
   inc.dt = step.dt_total;
   for (int k = 0; k < 3; ++k) {
@@ -270,33 +286,38 @@ IMUCONV_KERNEL_INLINE void TangentInterval(const PreintegrationInput& in, Tangen
 // target attribute on these few functions rather than a flag for the whole file.
 
 template <bool kCovariance, class W, bool kMidpoint>
-IMUCONV_KERNEL_TARGET __attribute__((noinline)) void ManifoldIntervalOf(const PreintegrationInput& in, ManifoldIncrement& inc,
-                                                  Blocks& result) {
+IMUCONV_KERNEL_TARGET __attribute__((noinline)) void ManifoldIntervalOf(
+    const PreintegrationInput& in, ManifoldIncrement& inc, Blocks& result) {
   ManifoldInterval<kCovariance, W, kMidpoint>(in, inc, result);
 }
 template <bool kCovariance, class W>
-IMUCONV_KERNEL_TARGET __attribute__((noinline)) void TangentIntervalOf(const PreintegrationInput& in, TangentIncrement& inc,
-                                                 Blocks& result) {
+IMUCONV_KERNEL_TARGET __attribute__((noinline)) void TangentIntervalOf(
+    const PreintegrationInput& in, TangentIncrement& inc, Blocks& result) {
   TangentInterval<kCovariance, W>(in, inc, result);
 }
 
 template <class W>
-void RunManifoldInstance(const PreintegrationInput& in, Hold hold, ManifoldIncrement& inc, Mat96& J_inc_bias,
-                         Mat15* cov) {
+void RunManifoldInstance(const PreintegrationInput& in, Hold hold, ManifoldIncrement& inc,
+                         Mat96& J_inc_bias, Mat15* cov) {
   Blocks r;
   if (cov) {
-    if (hold == Hold::Midpoint) ManifoldIntervalOf<true, W, true>(in, inc, r);
-    else ManifoldIntervalOf<true, W, false>(in, inc, r);
+    if (hold == Hold::Midpoint)
+      ManifoldIntervalOf<true, W, true>(in, inc, r);
+    else
+      ManifoldIntervalOf<true, W, false>(in, inc, r);
     *cov = AssembleCovariance(r);
   } else {
-    if (hold == Hold::Midpoint) ManifoldIntervalOf<false, W, true>(in, inc, r);
-    else ManifoldIntervalOf<false, W, false>(in, inc, r);
+    if (hold == Hold::Midpoint)
+      ManifoldIntervalOf<false, W, true>(in, inc, r);
+    else
+      ManifoldIntervalOf<false, W, false>(in, inc, r);
   }
   J_inc_bias = AssembleBiasJacobian(r);
 }
 
 template <class W>
-void RunTangentInstance(const PreintegrationInput& in, TangentIncrement& inc, Mat96& J_inc_bias, Mat15* cov) {
+void RunTangentInstance(const PreintegrationInput& in, TangentIncrement& inc, Mat96& J_inc_bias,
+                        Mat15* cov) {
   Blocks r;
   if (cov) {
     TangentIntervalOf<true, W>(in, inc, r);

@@ -71,8 +71,7 @@ Mat4 RightProductMatrix(const Eigen::Quaterniond& b) {
 Eigen::Matrix<double, 6, 7> PoseLift(const Eigen::Quaterniond& q) {
   Eigen::Matrix<double, 6, 7> lift = Eigen::Matrix<double, 6, 7>::Zero();
   lift.topLeftCorner<3, 3>().setIdentity();
-  lift.bottomRightCorner<3, 4>() =
-      2.0 * RightProductMatrix(q.conjugate()).topRows<3>();
+  lift.bottomRightCorner<3, 4>() = 2.0 * RightProductMatrix(q.conjugate()).topRows<3>();
   return lift;
 }
 
@@ -250,7 +249,8 @@ double Okvis2Seconds(std::int64_t duration_ns) {
 Status PropagateOkvis2(const std::vector<Okvis2Sample>& samples, const Okvis2ImuParameters& params,
                        const Okvis2State& start, std::int64_t t_start_ns, std::int64_t t_end_ns,
                        Okvis2Propagation& out, Okvis2Transition transition) {
-  if (Status st = CheckSpan(samples, t_start_ns, t_end_ns, "OKVIS2 propagation"); !st.ok()) return st;
+  if (Status st = CheckSpan(samples, t_start_ns, t_end_ns, "OKVIS2 propagation"); !st.ok())
+    return st;
   RunningSums s;
   Integrate(samples, params, start.bg, start.ba, t_start_ns, t_end_ns, Pass::kPropagation,
             transition, s);
@@ -281,9 +281,10 @@ Status PropagateOkvis2(const std::vector<Okvis2Sample>& samples, const Okvis2Imu
   return Status::Ok();
 }
 
-Status PreintegrateOkvis2(const std::vector<Okvis2Sample>& samples, const Okvis2ImuParameters& params,
-                          const Vec3& bg, const Vec3& ba, std::int64_t t0_ns, std::int64_t t1_ns,
-                          Okvis2Preintegration& out, Okvis2Transition transition) {
+Status PreintegrateOkvis2(const std::vector<Okvis2Sample>& samples,
+                          const Okvis2ImuParameters& params, const Vec3& bg, const Vec3& ba,
+                          std::int64_t t0_ns, std::int64_t t1_ns, Okvis2Preintegration& out,
+                          Okvis2Transition transition) {
   if (Status st = CheckSpan(samples, t0_ns, t1_ns, "OKVIS2 preintegration"); !st.ok()) return st;
   RunningSums s;
   Integrate(samples, params, bg, ba, t0_ns, t1_ns, Pass::kPreintegration, transition, s);
@@ -318,7 +319,8 @@ Okvis2ImuErrorTerms EvaluateOkvis2ImuError(const Okvis2Preintegration& pre,
   Eigen::Matrix<double, 6, 1> Delta_b;
   Delta_b << state_0.bg - pre.bg_ref, state_0.ba - pre.ba_ref;
 
-  const Vec3 delta_p_W = state_0.r - state_1.r + state_0.v * Delta_t - 0.5 * g_W * Delta_t * Delta_t;
+  const Vec3 delta_p_W =
+      state_0.r - state_1.r + state_0.v * Delta_t - 0.5 * g_W * Delta_t * Delta_t;
   const Vec3 delta_v_W = state_0.v - state_1.v - g_W * Delta_t;
   const Eigen::Quaterniond Dq = DeltaQ(-pre.dalpha_db_g * Delta_b.head<3>()) * pre.Delta_q;
 
@@ -331,9 +333,9 @@ Okvis2ImuErrorTerms EvaluateOkvis2ImuError(const Okvis2Preintegration& pre,
   F0.block<3, 3>(0, 12) = -pre.C_doubleintegral;
   F0.block<3, 3>(3, 3) =
       (LeftProductMatrix(Dq * q_1.inverse()) * RightProductMatrix(q_0)).topLeftCorner<3, 3>();
-  F0.block<3, 3>(3, 9) = (RightProductMatrix(q_1.inverse() * q_0) * RightProductMatrix(Dq))
-                             .topLeftCorner<3, 3>() *
-                         (-pre.dalpha_db_g);
+  F0.block<3, 3>(3, 9) =
+      (RightProductMatrix(q_1.inverse() * q_0) * RightProductMatrix(Dq)).topLeftCorner<3, 3>() *
+      (-pre.dalpha_db_g);
   F0.block<3, 3>(6, 3) = C_S0_W * so3::skew(delta_v_W);
   F0.block<3, 3>(6, 6) = C_S0_W;
   F0.block<3, 3>(6, 9) = pre.dv_db_g;
@@ -341,9 +343,9 @@ Okvis2ImuErrorTerms EvaluateOkvis2ImuError(const Okvis2Preintegration& pre,
 
   Mat15 F1 = -Mat15::Identity();
   F1.block<3, 3>(0, 0) = -C_S0_W;
-  F1.block<3, 3>(3, 3) = -(LeftProductMatrix(Dq) * RightProductMatrix(q_0) *
-                           LeftProductMatrix(q_1.inverse()))
-                              .topLeftCorner<3, 3>();
+  F1.block<3, 3>(3, 3) =
+      -(LeftProductMatrix(Dq) * RightProductMatrix(q_0) * LeftProductMatrix(q_1.inverse()))
+           .topLeftCorner<3, 3>();
   F1.block<3, 3>(6, 6) = -C_S0_W;
 
   Okvis2ImuErrorTerms t;

@@ -26,7 +26,8 @@ constexpr double kJlIdentityBelow = 1e-6;
 // part's cross product entering with a minus sign, and C(q) = R_GtoI.
 using JplQuat = Eigen::Vector4d;
 
-// Omega(w) q: [-w x q_v + q_4 w; -w . q_v], the rate of q_GtoI for the body rate w is Omega(w) q / 2.
+// Omega(w) q: [-w x q_v + q_4 w; -w . q_v], the rate of q_GtoI for the body rate w is Omega(w) q
+// / 2.
 JplQuat OmegaTimes(const Vec3& w, const JplQuat& q) {
   JplQuat r;
   r.head<3>() = q[3] * w - w.cross(q.head<3>());
@@ -63,7 +64,8 @@ struct Knot {
 
 // predict_mean_rk4: RK4 on (dq, p, v) from the interval's start with w, a linear in time.
 // R, p, v are the state at t_k and are replaced by the state at t_k+1.
-void Rk4Mean(const Knot& k1, const Knot& k2, double dt, const Vec3& gravity, Mat3& R, Vec3& p, Vec3& v) {
+void Rk4Mean(const Knot& k1, const Knot& k2, double dt, const Vec3& gravity, Mat3& R, Vec3& p,
+             Vec3& v) {
   const Vec3 w_rate = (k2.w - k1.w) / dt, a_rate = (k2.a - k1.a) / dt;
   const JplQuat dq0(0.0, 0.0, 0.0, 1.0);
   // The world acceleration at a stage: R_GtoI of the stage is C(dq) C(q_k), so its transpose
@@ -106,7 +108,8 @@ void Rk4Mean(const Knot& k1, const Knot& k2, double dt, const Vec3& gravity, Mat
 // products written as axpys of whole columns (common.h), which Eigen's generic small-product
 // path neither inlines nor vectorises; half the time of a step went there.
 void CongruenceStep(const LeftTransition& T, Mat15& P) {
-  constexpr int kP = left_idx::p, kTh = left_idx::theta, kV = left_idx::v, kBg = left_idx::bg, kBa = left_idx::ba;
+  constexpr int kP = left_idx::p, kTh = left_idx::theta, kV = left_idx::v, kBg = left_idx::bg,
+                kBa = left_idx::ba;
   // C = P E^T, non-zero in the p, theta and v columns only (E = T - I).
   Eigen::Matrix<double, 15, 9> C;
   AssignTimes3x3(P.middleCols<3>(kTh), T.p_th.transpose(), C.middleCols<3>(kP));
@@ -135,7 +138,8 @@ void CongruenceStep(const LeftTransition& T, Mat15& P) {
 
 }  // namespace
 
-void OpenVinsIntegralsOf(double dt, const Vec3& w, const Vec3& a, bool derivatives, OpenVinsIntegrals& xi) {
+void OpenVinsIntegralsOf(double dt, const Vec3& w, const Vec3& a, bool derivatives,
+                         OpenVinsIntegrals& xi) {
   const double rate = w.norm(), th = rate * dt;
   const Vec3 axis = rate > kNoAxis ? Vec3(w / rate) : Vec3::Zero();
   const Mat3 I = Mat3::Identity(), K = so3::skew(axis), K2 = K * K, A = so3::skew(a);
@@ -148,7 +152,8 @@ void OpenVinsIntegralsOf(double dt, const Vec3& w, const Vec3& a, bool derivativ
     if (derivatives) {
       const Mat3 AK = A * K, KA = K * A, AK2 = A * K2, K2A_plus = K2 * A + ka * K;
       xi.Xi3 = (0.5 * dt2) * A + ((s - th) / rate2) * AK + ((s - th * c) / rate2) * KA +
-               (0.5 * dt2 - (1.0 - c) / rate2) * AK2 + (0.5 * dt2 + (1.0 - c - th * s) / rate2) * K2A_plus -
+               (0.5 * dt2 - (1.0 - c) / rate2) * AK2 +
+               (0.5 * dt2 + (1.0 - c - th * s) / rate2) * K2A_plus -
                ((3.0 * s - 2.0 * th - th * c) / rate2 * ka) * K2;
       xi.Xi4 = (dt3 / 6.0) * A + ((2.0 * (1.0 - c) - th2) / (2.0 * rate3)) * AK +
                ((2.0 * (1.0 - c) - th * s) / rate3) * KA + ((s - th) / rate3 + dt3 / 6.0) * AK2 +
@@ -160,14 +165,16 @@ void OpenVinsIntegralsOf(double dt, const Vec3& w, const Vec3& a, bool derivativ
     xi.Xi1 = dt * (I + s * K + (1.0 - c) * K2);
     xi.Xi2 = (0.5 * dt) * xi.Xi1;
     if (derivatives) {
-      xi.Xi3 = (0.5 * dt2) * (A + s * (K * A - A * K + ka * K2) + (1.0 - c) * (A * K2 + K2 * A + ka * K));
+      xi.Xi3 = (0.5 * dt2) *
+               (A + s * (K * A - A * K + ka * K2) + (1.0 - c) * (A * K2 + K2 * A + ka * K));
       xi.Xi4 = (dt / 3.0) * xi.Xi3;
     }
   }
   if (derivatives) xi.Jl = OpenVinsJl(w * dt);
 }
 
-Status PropagateOpenVins(const PropagationInput& in, OpenVinsMean mean, PropagationResult& out, Outputs outputs) {
+Status PropagateOpenVins(const PropagationInput& in, OpenVinsMean mean, PropagationResult& out,
+                         Outputs outputs) {
   if (Status st = CheckPropagationInput(in); !st.ok()) return st;
   const bool want_phi = WantsTransition(outputs), want_cov = WantsCovariance(outputs);
   const bool derivatives = want_phi || want_cov;
@@ -188,7 +195,8 @@ Status PropagateOpenVins(const PropagationInput& in, OpenVinsMean mean, Propagat
     const double dt = s2.t - win[j].t;
     const Vec3 w_mean = 0.5 * (k1.w + k2.w), a_mean = 0.5 * (k1.a + k2.a);
     // RK4's mean does not use the integrals; the analytical one needs Xi1 and Xi2.
-    if (derivatives || mean == OpenVinsMean::kAnalytical) OpenVinsIntegralsOf(dt, w_mean, a_mean, derivatives, xi);
+    if (derivatives || mean == OpenVinsMean::kAnalytical)
+      OpenVinsIntegralsOf(dt, w_mean, a_mean, derivatives, xi);
 
     const Mat3 R_k = R;
     const Vec3 p_k = p, v_k = v;

@@ -22,7 +22,8 @@ Eigen::Matrix<Scalar, 3, 3> Hat(const Eigen::Matrix<Scalar, 3, 1>& v) {
 /// The nearest rotation by SVD, U V^T (IMU::NormalizeRotation).
 template <typename Scalar>
 Eigen::Matrix<Scalar, 3, 3> NormalizeRotation(const Eigen::Matrix<Scalar, 3, 3>& R) {
-  const Eigen::JacobiSVD<Eigen::Matrix<Scalar, 3, 3>> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::JacobiSVD<Eigen::Matrix<Scalar, 3, 3>> svd(
+      R, Eigen::ComputeFullU | Eigen::ComputeFullV);
   return svd.matrixU() * svd.matrixV().transpose();
 }
 
@@ -87,7 +88,8 @@ Mat3 InverseRightJacobianDouble(const Vec3& v) {
   const double d = std::sqrt(d2);
   if (d < 1e-5) return Mat3::Identity();
   const Mat3 W = Hat(v);
-  return Mat3::Identity() + W / 2 + W * W * (1.0 / d2 - (1.0 + std::cos(d)) / (2.0 * d * std::sin(d)));
+  return Mat3::Identity() + W / 2 +
+         W * W * (1.0 / d2 - (1.0 + std::cos(d)) / (2.0 * d * std::sin(d)));
 }
 Mat3 RightJacobianDouble(const Vec3& v) {
   const double d2 = v.squaredNorm();
@@ -114,7 +116,8 @@ OrbSlam3Calib OrbSlam3CalibFromDensities(const ImuNoise& densities, double frequ
 }
 
 Status OrbSlam3Steps(const std::vector<ImuSample>& samples, std::vector<OrbSlam3Step>& steps) {
-  if (samples.size() < 2) return Status::Error("ORB-SLAM3 preintegration: needs at least two samples");
+  if (samples.size() < 2)
+    return Status::Error("ORB-SLAM3 preintegration: needs at least two samples");
   steps.clear();
   steps.reserve(samples.size() - 1);
   for (std::size_t k = 0; k + 1 < samples.size(); ++k) {
@@ -129,14 +132,15 @@ Status OrbSlam3Steps(const std::vector<ImuSample>& samples, std::vector<OrbSlam3
     s.gyro = (w0 + w1) * 0.5f;
     s.dt = static_cast<float>(samples[k + 1].t - samples[k].t);
     if (!s.accel.allFinite() || !s.gyro.allFinite())
-      return Status::Error("ORB-SLAM3 preintegration: sample " + std::to_string(k) + " is not finite in float");
+      return Status::Error("ORB-SLAM3 preintegration: sample " + std::to_string(k) +
+                           " is not finite in float");
     steps.push_back(s);
   }
   return Status::Ok();
 }
 
-OrbSlam3Preintegrated PreintegrateOrbSlam3(const std::vector<OrbSlam3Step>& steps, const OrbSlam3Calib& calib,
-                                           const OrbSlam3Bias& b) {
+OrbSlam3Preintegrated PreintegrateOrbSlam3(const std::vector<OrbSlam3Step>& steps,
+                                           const OrbSlam3Calib& calib, const OrbSlam3Bias& b) {
   OrbSlam3Preintegrated p;
   p.b = b;
   p.steps = steps;
@@ -190,17 +194,20 @@ Vec3f OrbSlam3DeltaPosition(const OrbSlam3Preintegrated& pre, const OrbSlam3Bias
   return pre.dP + pre.JPg * (b.bg - pre.b.bg) + pre.JPa * (b.ba - pre.b.ba);
 }
 
-OrbSlam3Pose<float> PredictOrbSlam3Tracking(const OrbSlam3Preintegrated& pre, const OrbSlam3Pose<float>& start) {
+OrbSlam3Pose<float> PredictOrbSlam3Tracking(const OrbSlam3Preintegrated& pre,
+                                            const OrbSlam3Pose<float>& start) {
   const Vec3f g(0.0f, 0.0f, -kGravity);
   const float t12 = pre.dT;
   OrbSlam3Pose<float> end;
   end.R = NormalizeRotation<float>(start.R * OrbSlam3DeltaRotation(pre, pre.b));
-  end.p = start.p + start.v * t12 + 0.5f * t12 * t12 * g + start.R * OrbSlam3DeltaPosition(pre, pre.b);
+  end.p =
+      start.p + start.v * t12 + 0.5f * t12 * t12 * g + start.R * OrbSlam3DeltaPosition(pre, pre.b);
   end.v = start.v + t12 * g + start.R * OrbSlam3DeltaVelocity(pre, pre.b);
   return end;
 }
 
-OrbSlam3Pose<double> PredictOrbSlam3(const OrbSlam3Preintegrated& pre, const OrbSlam3Pose<double>& start) {
+OrbSlam3Pose<double> PredictOrbSlam3(const OrbSlam3Preintegrated& pre,
+                                     const OrbSlam3Pose<double>& start) {
   const Vec3 g(0.0, 0.0, -static_cast<double>(kGravity));
   const double dT = pre.dT;
   OrbSlam3Pose<double> end;
@@ -220,9 +227,9 @@ Mat9 OrbSlam3EdgeInformation(const OrbSlam3Preintegrated& pre) {
   return es.eigenvectors() * eigs.asDiagonal() * es.eigenvectors().transpose();
 }
 
-OrbSlam3EdgeInertial EvaluateOrbSlam3EdgeInertial(const OrbSlam3Preintegrated& pre, const OrbSlam3Pose<double>& s1,
-                                                  const Vec3& bg1, const Vec3& ba1,
-                                                  const OrbSlam3Pose<double>& s2) {
+OrbSlam3EdgeInertial EvaluateOrbSlam3EdgeInertial(const OrbSlam3Preintegrated& pre,
+                                                  const OrbSlam3Pose<double>& s1, const Vec3& bg1,
+                                                  const Vec3& ba1, const OrbSlam3Pose<double>& s2) {
   const OrbSlam3Bias b1{bg1.cast<float>(), ba1.cast<float>()};
   const Vec3 g(0.0, 0.0, -static_cast<double>(kGravity));
   const double dt = pre.dT;

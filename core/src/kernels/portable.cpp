@@ -8,9 +8,9 @@
 
 #include "portable.h"
 
-#include "so3_fast.h"
 #include "imuconv/kernels/common.h"
 #include "imuconv/window.h"
+#include "so3_fast.h"
 
 namespace imuconv::kernels::detail {
 namespace {
@@ -62,7 +62,6 @@ void PropagateBiasJacobians(const StepJacobians& J, BiasJacobians& H) {
   H.H_bg.block<3, 3>(0, 0) -= J.C_t;
 }
 
-
 /// Sigma = [P X; X^T S] with P = cov(delta x9), X = cov(delta x9, delta b) (columns
 /// [ba, bg]) and S = diag(s_ba I3, s_bg I3): with isotropic random walks and zero initial
 /// bias uncertainty the bias block is exactly the accumulated random walk, and the
@@ -106,14 +105,15 @@ void PropagateCombined(const StepJacobians& J, const NoiseVariances& q, Combined
   const Mat3 Ptt = blk(c.P, 0, 0), Ptp = blk(c.P, 0, 1), Ptv = blk(c.P, 0, 2);
   const Mat3 Ppp = blk(c.P, 1, 1), Ppv = blk(c.P, 1, 2), Pvv = blk(c.P, 2, 2);
   const Mat3 Xp_a = c.X.block<3, 3>(3, 0), Xv_a = c.X.block<3, 3>(6, 0);
-  const Mat3 Xt_g = c.X.block<3, 3>(0, 3), Xp_g = c.X.block<3, 3>(3, 3), Xv_g = c.X.block<3, 3>(6, 3);
+  const Mat3 Xt_g = c.X.block<3, 3>(0, 3), Xp_g = c.X.block<3, 3>(3, 3),
+             Xv_g = c.X.block<3, 3>(6, 3);
   const Mat3 Ptq = Ptp + dt * Ptv;     // cov(theta, q)
   const Mat3 Xq_a = Xp_a + dt * Xv_a;  // cov(q, db_a)
   const Mat3 Xq_g = Xp_g + dt * Xv_g;  // cov(q, db_g)
 
   // theta~ and u against theta, q, v.
   const Mat3 AP = J.A_tt * Ptt, KP = J.K * Ptt;
-  Mat3 TT = AP * J.A_tt.transpose();  // cov(theta~, theta~)
+  Mat3 TT = AP * J.A_tt.transpose();     // cov(theta~, theta~)
   const Mat3 TU = AP * J.K.transpose();  // cov(theta~, u)
   Mat3 UU = KP * J.K.transpose();        // cov(u, u)
   const Mat3 Tq = J.A_tt * Ptq, Tv = J.A_tt * Ptv;
@@ -172,12 +172,10 @@ void PropagateCombined(const StepJacobians& J, const NoiseVariances& q, Combined
   c.s_bg += dt * q.gyro_walk;
 }
 
-
-
 /// One manifold step with its Jacobians in the chart (dR Exp(dtheta), dp + ddp, dv + ddv):
 ///   A_tt = E^T,  K = -dR [acc]x dt,  N = dR,  C_t = Jr(omega dt) dt.
 void ManifoldStepRightChart(const Vec3& acc, const Vec3& omega, double dt, ManifoldIncrement& s,
-                                   StepJacobians& J) {
+                            StepJacobians& J) {
   const double h = 0.5 * dt * dt;
   const Vec3 phi = omega * dt;
   const double t2 = phi.squaredNorm(), t = std::sqrt(t2);
@@ -209,7 +207,6 @@ Mat15 ManifoldCovarianceInNavStateChart(const Mat3& dR, const CombinedCovariance
   return 0.5 * (S + S.transpose());  // rows and columns were rotated in separate roundings
 }
 
-
 /// Runs `step` over the window's held values (see Hold) and the recursion from its
 /// Jacobians.
 template <bool kCovariance, Hold kHold, typename StepFn>
@@ -223,7 +220,8 @@ void Run(const PreintegrationInput& in, StepFn step, BiasJacobians& H, CombinedC
       step(Vec3(s.accel - in.ba), Vec3(s.gyro - in.bg), w[j + 1].t - s.t, J);
     } else {
       const ImuSample& n = w[j + 1];
-      step(Vec3(0.5 * (s.accel + n.accel) - in.ba), Vec3(0.5 * (s.gyro + n.gyro) - in.bg), n.t - s.t, J);
+      step(Vec3(0.5 * (s.accel + n.accel) - in.ba), Vec3(0.5 * (s.gyro + n.gyro) - in.bg),
+           n.t - s.t, J);
     }
     PropagateBiasJacobians(J, H);
     if constexpr (kCovariance) PropagateCombined(J, q, cov);
@@ -231,7 +229,8 @@ void Run(const PreintegrationInput& in, StepFn step, BiasJacobians& H, CombinedC
 }
 
 template <bool kCovariance, Hold kHold = Hold::Euler, typename StepFn>
-void RunAndAssemble(const PreintegrationInput& in, StepFn step, Mat96& J_inc_bias, CombinedCovariance& cov) {
+void RunAndAssemble(const PreintegrationInput& in, StepFn step, Mat96& J_inc_bias,
+                    CombinedCovariance& cov) {
   BiasJacobians H;
   Run<kCovariance, kHold>(in, step, H, cov);
   J_inc_bias = H.Assemble();
@@ -239,8 +238,8 @@ void RunAndAssemble(const PreintegrationInput& in, StepFn step, Mat96& J_inc_bia
 
 }  // namespace
 
-void ManifoldPortable(const PreintegrationInput& in, bool covariance, ManifoldIncrement& inc, Mat96& J_inc_bias,
-                      Mat15& cov) {
+void ManifoldPortable(const PreintegrationInput& in, bool covariance, ManifoldIncrement& inc,
+                      Mat96& J_inc_bias, Mat15& cov) {
   const auto step = [&inc](const Vec3& a, const Vec3& w, double dt, StepJacobians& J) {
     ManifoldStepRightChart(a, w, dt, inc, J);
   };
@@ -250,25 +249,34 @@ void ManifoldPortable(const PreintegrationInput& in, bool covariance, ManifoldIn
   cov = ManifoldCovarianceInNavStateChart(inc.dR, c);
 }
 
-void TangentPortable(const PreintegrationInput& in, bool covariance, TangentIncrement& inc, Mat96& J_inc_bias,
-                     Mat15& cov) {
-  const auto step = [&inc](const Vec3& a, const Vec3& w, double dt, StepJacobians& J) { TangentStep(a, w, dt, inc, J); };
+void TangentPortable(const PreintegrationInput& in, bool covariance, TangentIncrement& inc,
+                     Mat96& J_inc_bias, Mat15& cov) {
+  const auto step = [&inc](const Vec3& a, const Vec3& w, double dt, StepJacobians& J) {
+    TangentStep(a, w, dt, inc, J);
+  };
   CombinedCovariance c;
   if (!covariance) return RunAndAssemble<false>(in, step, J_inc_bias, c);
   RunAndAssemble<true>(in, step, J_inc_bias, c);
   cov = c.Assemble();
 }
 
-void ManifoldStartFramePortable(const PreintegrationInput& in, Hold hold, bool covariance, StartFrameManifold& out) {
+void ManifoldStartFramePortable(const PreintegrationInput& in, Hold hold, bool covariance,
+                                StartFrameManifold& out) {
   ManifoldIncrement& inc = out.increment;
-  const auto step = [&inc](const Vec3& a, const Vec3& w, double dt, StepJacobians& J) { ManifoldStep(a, w, dt, inc, J); };
+  const auto step = [&inc](const Vec3& a, const Vec3& w, double dt, StepJacobians& J) {
+    ManifoldStep(a, w, dt, inc, J);
+  };
   CombinedCovariance c;
   if (hold == Hold::Euler) {
-    if (covariance) RunAndAssemble<true, Hold::Euler>(in, step, out.J_inc_bias, c);
-    else RunAndAssemble<false, Hold::Euler>(in, step, out.J_inc_bias, c);
+    if (covariance)
+      RunAndAssemble<true, Hold::Euler>(in, step, out.J_inc_bias, c);
+    else
+      RunAndAssemble<false, Hold::Euler>(in, step, out.J_inc_bias, c);
   } else {
-    if (covariance) RunAndAssemble<true, Hold::Midpoint>(in, step, out.J_inc_bias, c);
-    else RunAndAssemble<false, Hold::Midpoint>(in, step, out.J_inc_bias, c);
+    if (covariance)
+      RunAndAssemble<true, Hold::Midpoint>(in, step, out.J_inc_bias, c);
+    else
+      RunAndAssemble<false, Hold::Midpoint>(in, step, out.J_inc_bias, c);
   }
   if (covariance) out.cov = c.Assemble();
 }

@@ -5,18 +5,18 @@
 #include <cmath>
 #include <string>
 
-#include "instances.h"
-#include "portable.h"
 #include "imuconv/so3.h"
 #include "imuconv/window.h"
+#include "instances.h"
+#include "portable.h"
 
 namespace imuconv::kernels {
 namespace {
 
 /// 0 for finite data; NaN if any entry is NaN or infinite (0 * inf = NaN).
 double NonFiniteProbe(const ImuSample& s) {
-  return 0.0 * s.t + 0.0 * s.gyro.x() + 0.0 * s.gyro.y() + 0.0 * s.gyro.z() + 0.0 * s.accel.x() + 0.0 * s.accel.y() +
-         0.0 * s.accel.z();
+  return 0.0 * s.t + 0.0 * s.gyro.x() + 0.0 * s.gyro.y() + 0.0 * s.gyro.z() + 0.0 * s.accel.x() +
+         0.0 * s.accel.y() + 0.0 * s.accel.z();
 }
 
 void FillCommon(const PreintegrationInput& in, double dt, Preintegrated& out) {
@@ -28,8 +28,9 @@ void FillCommon(const PreintegrationInput& in, double dt, Preintegrated& out) {
 }
 
 Status UnavailableIsa(Isa isa) {
-  return Status::Error(std::string("the ") + (isa == Isa::kAvx512 ? "AVX-512" : "AVX2") +
-                       " instance of the preintegration kernel is not in this build or does not run on this CPU");
+  return Status::Error(
+      std::string("the ") + (isa == Isa::kAvx512 ? "AVX-512" : "AVX2") +
+      " instance of the preintegration kernel is not in this build or does not run on this CPU");
 }
 
 }  // namespace
@@ -37,11 +38,14 @@ Status UnavailableIsa(Isa isa) {
 Status CheckPreintegrationInput(const PreintegrationInput& in) {
   const SampleWindow& w = in.window;
   if (w.end < w.begin || w.size() < 2) return Status::Error("window has fewer than 2 knots");
-  if (w.end > w.begin && w.samples == nullptr) return Status::Error("window has interior knots but no samples");
+  if (w.end > w.begin && w.samples == nullptr)
+    return Status::Error("window has interior knots but no samples");
   if (!in.bg.allFinite() || !in.ba.allFinite()) return Status::Error("bias estimate is not finite");
   const ImuNoise& n = in.noise;
-  for (double q : {n.gyro_noise_density, n.accel_noise_density, n.gyro_random_walk, n.accel_random_walk})
-    if (!(std::isfinite(q) && q >= 0.0)) return Status::Error("noise densities must be finite and non-negative");
+  for (double q :
+       {n.gyro_noise_density, n.accel_noise_density, n.gyro_random_walk, n.accel_random_walk})
+    if (!(std::isfinite(q) && q >= 0.0))
+      return Status::Error("noise densities must be finite and non-negative");
   // One pass without branches over the knots; the error, if any, is located afterwards.
   double probe = NonFiniteProbe(w.first) + NonFiniteProbe(w.last);
   bool increasing = true;
@@ -75,8 +79,8 @@ Status Admit(const PreintegrationInput& in, Isa isa, const detail::Instance*& si
 }
 }  // namespace
 
-Status IntegrateManifold(const PreintegrationInput& in, Preintegrated& out, ManifoldIncrement* increment,
-                         Isa isa, bool covariance) {
+Status IntegrateManifold(const PreintegrationInput& in, Preintegrated& out,
+                         ManifoldIncrement* increment, Isa isa, bool covariance) {
   const detail::Instance* simd = nullptr;
   if (Status st = Admit(in, isa, simd); !st.ok()) return st;
   ManifoldIncrement inc;
@@ -106,13 +110,15 @@ Status IntegrateManifold(const PreintegrationInput& in, Preintegrated& out, Mani
   return Status::Ok();
 }
 
-Status IntegrateTangent(const PreintegrationInput& in, Preintegrated& out, TangentIncrement* increment,
-                        Isa isa, bool covariance) {
+Status IntegrateTangent(const PreintegrationInput& in, Preintegrated& out,
+                        TangentIncrement* increment, Isa isa, bool covariance) {
   const detail::Instance* simd = nullptr;
   if (Status st = Admit(in, isa, simd); !st.ok()) return st;
   TangentIncrement inc;
-  if (!simd) detail::TangentPortable(in, covariance, inc, out.J_bias, out.cov);
-  else simd->tangent(in, inc, out.J_bias, covariance ? &out.cov : nullptr);
+  if (!simd)
+    detail::TangentPortable(in, covariance, inc, out.J_bias, out.cov);
+  else
+    simd->tangent(in, inc, out.J_bias, covariance ? &out.cov : nullptr);
   if (!covariance) out.cov.setZero();
   FillCommon(in, inc.dt, out);
   out.delta.dR = so3::Exp(inc.xi.segment<3>(0));
@@ -122,13 +128,15 @@ Status IntegrateTangent(const PreintegrationInput& in, Preintegrated& out, Tange
   return Status::Ok();
 }
 
-Status IntegrateManifoldStartFrame(const PreintegrationInput& in, Hold hold, bool covariance, Isa isa,
-                                   StartFrameManifold& out) {
+Status IntegrateManifoldStartFrame(const PreintegrationInput& in, Hold hold, bool covariance,
+                                   Isa isa, StartFrameManifold& out) {
   if (!IsaAvailable(isa)) return UnavailableIsa(isa);
   out.increment = ManifoldIncrement();
   const detail::Instance* simd = detail::SimdInstance(detail::ResolveIsa(isa));
-  if (simd) simd->manifold(in, hold, out.increment, out.J_inc_bias, covariance ? &out.cov : nullptr);
-  else detail::ManifoldStartFramePortable(in, hold, covariance, out);
+  if (simd)
+    simd->manifold(in, hold, out.increment, out.J_inc_bias, covariance ? &out.cov : nullptr);
+  else
+    detail::ManifoldStartFramePortable(in, hold, covariance, out);
   return Status::Ok();
 }
 

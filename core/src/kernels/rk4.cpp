@@ -13,21 +13,26 @@ namespace imuconv::kernels {
 
 namespace detail {
 
-void Rk4DefaultTarget(const PropagationInput& in, Outputs outputs, int substeps, PropagationResult& out) {
+void Rk4DefaultTarget(const PropagationInput& in, Outputs outputs, int substeps,
+                      PropagationResult& out) {
   Rk4Window(in, outputs, substeps, out);
 }
 
 }  // namespace detail
 
-void IntegrateRk4Window(const PropagationInput& in, PropagationResult& out, Outputs outputs, int substeps, Isa isa) {
+void IntegrateRk4Window(const PropagationInput& in, PropagationResult& out, Outputs outputs,
+                        int substeps, Isa isa) {
   const detail::Instance* simd = detail::SimdInstance(detail::ResolveIsa(isa));
-  if (simd) simd->rk4(in, outputs, substeps, out);
-  else detail::Rk4DefaultTarget(in, outputs, substeps, out);
+  if (simd)
+    simd->rk4(in, outputs, substeps, out);
+  else
+    detail::Rk4DefaultTarget(in, outputs, substeps, out);
 }
 
 Status PropagateRk4(const PropagationInput& in, PropagationResult& out, int substeps, Isa isa) {
   if (substeps < 1) return Status::Error("rk4: substeps must be at least 1");
-  if (!IsaAvailable(isa)) return Status::Error("rk4: the requested instruction set is not available on this CPU");
+  if (!IsaAvailable(isa))
+    return Status::Error("rk4: the requested instruction set is not available on this CPU");
   Status st = CheckPropagationInput(in);
   if (st.ok()) IntegrateRk4Window(in, out, Outputs::All, substeps, isa);
   return st;

@@ -1,12 +1,12 @@
 // The covariance's accumulators of the rk4 kernel (rk4_window.h, part 3 of its derivation):
 // M = int Psi D Psi^T over the window, summed per step into NoiseSums and assembled once per
-// window (AssembleM); the congruence P_e = Phi_e (P_s + M) Phi_e^T is rk4_window.h's. Psi's free bias
-// columns are kept stacked as Y = [Pg; Vg; Pa; Tg] (their layout is declared here, once).
+// window (AssembleM); the congruence P_e = Phi_e (P_s + M) Phi_e^T is rk4_window.h's. Psi's free
+// bias columns are kept stacked as Y = [Pg; Vg; Pa; Tg] (their layout is declared here, once).
 #pragma once
 
-#include "kernel_config.h"
 #include "imuconv/kernels/common.h"
 #include "imuconv/kernels/left_transition.h"
+#include "kernel_config.h"
 
 IMUCONV_KERNEL_BEGIN
 namespace rk4_detail {
@@ -27,7 +27,8 @@ constexpr int Pg = 0, Vg = 3, Pa = 6, Tg = 9;
 struct NoiseSums {
   // q_g-type terms: sums of weighted outer products of (alpha, U), the weights including the
   // noise densities (see Rk4Step).
-  Mat3 aa = Mat3::Zero(), Ua = Mat3::Zero(), UU = Mat3::Zero();  ///< alpha alpha^T, U alpha^T, U U^T
+  Mat3 aa = Mat3::Zero(), Ua = Mat3::Zero(),
+       UU = Mat3::Zero();  ///< alpha alpha^T, U alpha^T, U U^T
   Vec3 a = Vec3::Zero(), U = Vec3::Zero();
   // Walk corrections of the c_v-type (closed-form) terms: sum h^3/12 {1, s_m, s_m^2}.
   double h3 = 0.0, h3_s = 0.0, h3_ss = 0.0;
@@ -53,13 +54,16 @@ struct NoiseSums {
       for (int i = 0; i < kYRows; ++i) yt[i] += hy[i] * t0 + hy[c1 + i] * t1 + hy[c2 + i] * t2;
       const double g0 = y[Pg + j], g1 = y[c1 + Pg + j], g2 = y[c2 + Pg + j];
       double* yp = YPg.data() + 6 * j;
-      for (int i = 0; i < 6; ++i) yp[i] += hy[Pg + i] * g0 + hy[c1 + Pg + i] * g1 + hy[c2 + Pg + i] * g2;
+      for (int i = 0; i < 6; ++i)
+        yp[i] += hy[Pg + i] * g0 + hy[c1 + Pg + i] * g1 + hy[c2 + Pg + i] * g2;
       const double v0 = y[Vg + j], v1 = y[c1 + Vg + j], v2 = y[c2 + Vg + j];
       double* vv = VgVg.data() + 3 * j;
-      for (int i = 0; i < 3; ++i) vv[i] += hy[Vg + i] * v0 + hy[c1 + Vg + i] * v1 + hy[c2 + Vg + i] * v2;
+      for (int i = 0; i < 3; ++i)
+        vv[i] += hy[Vg + i] * v0 + hy[c1 + Vg + i] * v1 + hy[c2 + Vg + i] * v2;
       const double a0 = y[Pa + j], a1 = y[c1 + Pa + j], a2 = y[c2 + Pa + j];
       double* aa_ = PaPa.data() + 3 * j;
-      for (int i = 0; i < 3; ++i) aa_[i] += hy[Pa + i] * a0 + hy[c1 + Pa + i] * a1 + hy[c2 + Pa + i] * a2;
+      for (int i = 0; i < 3; ++i)
+        aa_[i] += hy[Pa + i] * a0 + hy[c1 + Pa + i] * a1 + hy[c2 + Pa + i] * a2;
     }
     double* iy = iY.data();
     for (int k = 0; k < 3; ++k)
@@ -82,7 +86,8 @@ inline Mat15 AssembleM(const NoiseSums& n, const NoiseVariances& q, double T) {
   const double css = q.accel * (T * T * T / 3.0) + q.accel_walk * n.h3_ss;
   const double c_theta = q.gyro * T + q.gyro_walk * n.h3;  // the sum of the q_g-type weights
   Mat15 M = Mat15::Zero();
-  M.block<3, 3>(p, p) = (n.aa.trace() + css) * I - n.aa + q.gyro_walk * PgPg + q.accel_walk * n.PaPa;
+  M.block<3, 3>(p, p) =
+      (n.aa.trace() + css) * I - n.aa + q.gyro_walk * PgPg + q.accel_walk * n.PaPa;
   M.block<3, 3>(p, theta) = so3::skew(n.a) + q.gyro_walk * PgTg;
   M.block<3, 3>(p, v) = (n.Ua.trace() - cs) * I - n.Ua + q.gyro_walk * PgVg + q.accel_walk * PaTg;
   M.block<3, 3>(p, bg) = q.gyro_walk * n.iY.middleRows<3>(y::Pg);

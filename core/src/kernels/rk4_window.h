@@ -20,7 +20,8 @@
 //    start, so each step evaluates two new nodes), with the rules that are exact for a
 //    quadratic integrand f:
 //      int_0^h f = h/6 (f0 + 4 fm + f1)              int_0^{h/2} f = h/24 (5 f0 + 8 fm - f1)
-//      int_0^h (h - t) f = h^2/6 (f0 + 2 fm)         int_0^{h/2} (h/2 - t) f = h^2/96 (7 f0 + 6 fm - f1)
+//      int_0^h (h - t) f = h^2/6 (f0 + 2 fm)         int_0^{h/2} (h/2 - t) f = h^2/96 (7 f0 + 6 fm
+//      - f1)
 //    The full-step rules have local error O(h^5) (fourth order over the window); the
 //    half-step ones O(h^4), which is enough: middle values only enter full-step rules, times h.
 //    Velocity and position are kept as U = v - v_s - g s and W = p - p_s - v_s s - g s^2/2
@@ -66,10 +67,10 @@
 // rk4_cross_check.cpp the agreement with the classical RK4 to O(h^4)). Nothing allocates.
 #pragma once
 
-#include "kernel_config.h"
-#include "rk4_noise_sums.h"  // M = int Psi D Psi^T: its per-step sums and assembly (part 3)
 #include "imuconv/kernels/common.h"
 #include "imuconv/kernels/left_transition.h"
+#include "kernel_config.h"
+#include "rk4_noise_sums.h"  // M = int Psi D Psi^T: its per-step sums and assembly (part 3)
 
 IMUCONV_KERNEL_BEGIN
 namespace rk4_detail {
@@ -90,9 +91,11 @@ inline Mat3 ExpOfStep(double x, double y, double z) {
   double a, b;
   constexpr double kSeries2 = so3::detail::kSeriesBelow * so3::detail::kSeriesBelow;
   if (t2 < kSeries2) {
-    a = 1.0 - t2 * (1.0 / 6.0) * (1.0 - t2 * (1.0 / 20.0) * (1.0 - t2 * (1.0 / 42.0) * (1.0 - t2 * (1.0 / 72.0))));
-    b = 0.5 *
-        (1.0 - t2 * (1.0 / 12.0) * (1.0 - t2 * (1.0 / 30.0) * (1.0 - t2 * (1.0 / 56.0) * (1.0 - t2 * (1.0 / 90.0)))));
+    a = 1.0 - t2 * (1.0 / 6.0) *
+                  (1.0 - t2 * (1.0 / 20.0) * (1.0 - t2 * (1.0 / 42.0) * (1.0 - t2 * (1.0 / 72.0))));
+    b = 0.5 * (1.0 - t2 * (1.0 / 12.0) *
+                         (1.0 - t2 * (1.0 / 30.0) *
+                                    (1.0 - t2 * (1.0 / 56.0) * (1.0 - t2 * (1.0 / 90.0)))));
   } else {
     const double t = std::sqrt(t2);
     a = so3::detail::coefA(t, t2);
@@ -127,7 +130,8 @@ struct Rk4Carry {
 
 /// Y' = [[alpha]x R; [U]x R; -s R; R] at a node, column k of Y' (kYRows numbers) from column k
 /// of R (column-major, 3 numbers): [alpha x r; U x r; -s r; r].
-inline void FillDerivative(const double* R, double s, const double* alpha, const double* U, double* dY) {
+inline void FillDerivative(const double* R, double s, const double* alpha, const double* U,
+                           double* dY) {
   for (int k = 0; k < 3; ++k) {
     const double* r = R + 3 * k;
     double* d = dY + kYRows * k;
@@ -144,7 +148,8 @@ inline void FillDerivative(const double* R, double s, const double* alpha, const
 /// C = A B for column-major 3x3 arrays.
 inline void Mul3(const double* A, const double* B, double* C) {
   for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 3; ++i) C[i + 3 * j] = A[i] * B[3 * j] + A[i + 3] * B[3 * j + 1] + A[i + 6] * B[3 * j + 2];
+    for (int i = 0; i < 3; ++i)
+      C[i + 3 * j] = A[i] * B[3 * j] + A[i + 3] * B[3 * j + 1] + A[i + 6] * B[3 * j + 2];
 }
 
 /// A x for a column-major 3x3 array.
@@ -161,7 +166,8 @@ struct Rk4StepInput {
 /// One step of length h from s0 = t - t_s (see the file comment for the rules). `q` is only
 /// read for Outputs::All.
 template <Outputs kOut>
-inline void Rk4Step(Rk4Carry& c, const Rk4StepInput& u, double h, double s0, const NoiseVariances& q) {
+inline void Rk4Step(Rk4Carry& c, const Rk4StepInput& u, double h, double s0,
+                    const NoiseVariances& q) {
   constexpr bool kPhi = WantsTransition(kOut), kCov = WantsCovariance(kOut);
   // The step is written over plain arrays (3-vectors, column-major 3x3 and 12x3 blocks) rather
   // than Eigen expressions: Eigen stores a 3-vector element by element and then loads it in
@@ -210,7 +216,8 @@ inline void Rk4Step(Rk4Carry& c, const Rk4StepInput& u, double h, double s0, con
       alpha_m[i] = Wm - sm * Um[i];
       alpha1[i] = W1[i] - s1 * U1[i];
     }
-    // Y' at the middle and the end (Pa' = -s R, Tg' = R, X' = G_theta R: Pg' = [alpha]x R, Vg' = [U]x R).
+    // Y' at the middle and the end (Pa' = -s R, Tg' = R, X' = G_theta R: Pg' = [alpha]x R, Vg' =
+    // [U]x R).
     double dYm[kYSize], dY1[kYSize];
     FillDerivative(Rm, sm, alpha_m, Um, dYm);
     FillDerivative(R1, s1, alpha1, U1, dY1);
@@ -365,10 +372,10 @@ inline void IntegrateWindow(const PropagationInput& in, PropagationResult& out, 
 // instance_avx512.cpp, beside the preintegration kernel's recursion; dispatch.cpp picks the
 // instance from the CPU), and for the default target once (rk4.cpp: the portable code, which
 // is also the baseline instance's). Rk4Window is each instance's one entry: IMUCONV_RK4_TARGET
-// and IMUCONV_RK4_CODEGEN (kernel_config.h) give it the instance's target, `flatten`, which inlines the whole step
-// into it so that all of it is compiled for that instruction set (anything not inlined would
-// stay default-target code, so nothing wide runs on a CPU without it), and fp-contract=off,
-// which keeps GCC from fusing a * b + c into one multiply-add (its default,
+// and IMUCONV_RK4_CODEGEN (kernel_config.h) give it the instance's target, `flatten`, which inlines
+// the whole step into it so that all of it is compiled for that instruction set (anything not
+// inlined would stay default-target code, so nothing wide runs on a CPU without it), and
+// fp-contract=off, which keeps GCC from fusing a * b + c into one multiply-add (its default,
 // -ffp-contract=fast, would; aarch64 fuses at the default target too): the fused forms round
 // differently, and which products get fused differs between the output modes, so the state
 // would no longer be bitwise the same with and without Phi and P. Without fusing, vector and
@@ -383,13 +390,16 @@ inline void IntegrateWindow(const PropagationInput& in, PropagationResult& out, 
 #endif
 
 /// The whole window in the output mode asked (see IntegrateRk4Window, kernels/rk4.h).
-IMUCONV_RK4_TARGET IMUCONV_RK4_CODEGEN inline void Rk4Window(const PropagationInput& in, Outputs outputs, int substeps,
-                                        PropagationResult& out) {
+IMUCONV_RK4_TARGET IMUCONV_RK4_CODEGEN inline void Rk4Window(const PropagationInput& in,
+                                                             Outputs outputs, int substeps,
+                                                             PropagationResult& out) {
   switch (outputs) {
-    case Outputs::State: return rk4_detail::IntegrateWindow<Outputs::State>(in, out, substeps);
+    case Outputs::State:
+      return rk4_detail::IntegrateWindow<Outputs::State>(in, out, substeps);
     case Outputs::StateAndTransition:
       return rk4_detail::IntegrateWindow<Outputs::StateAndTransition>(in, out, substeps);
-    case Outputs::All: break;
+    case Outputs::All:
+      break;
   }
   rk4_detail::IntegrateWindow<Outputs::All>(in, out, substeps);
 }

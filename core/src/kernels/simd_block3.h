@@ -8,7 +8,8 @@
 #include "kernel_config.h"
 
 #if !IMUCONV_KERNEL_HAS_VECTORS
-#error "simd_block3.h needs GCC or Clang vector extensions; other compilers use the portable path only"
+#error \
+    "simd_block3.h needs GCC or Clang vector extensions; other compilers use the portable path only"
 #endif
 
 #include "imuconv/types.h"
@@ -81,7 +82,8 @@ struct B {
 IMUCONV_KERNEL_INLINE d4 Load3(const double* p) { return d4{p[0], p[1], p[2], 0.0}; }
 IMUCONV_KERNEL_INLINE d4 FromEigen(const Vec3& v) { return Load3(v.data()); }
 IMUCONV_KERNEL_INLINE Vec3 ToEigen(const d4& v) { return Vec3(v[0], v[1], v[2]); }
-IMUCONV_KERNEL_INLINE void ToEigen(const B& m, Eigen::Ref<Eigen::Matrix<double, 3, 3>, 0, Eigen::OuterStride<>> out) {
+IMUCONV_KERNEL_INLINE void ToEigen(
+    const B& m, Eigen::Ref<Eigen::Matrix<double, 3, 3>, 0, Eigen::OuterStride<>> out) {
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i < 3; ++i) out(i, j) = m.c[j][i];
 }
@@ -90,8 +92,12 @@ constexpr d4 kE0 = {1.0, 0.0, 0.0, 0.0}, kE1 = {0.0, 1.0, 0.0, 0.0}, kE2 = {0.0,
 IMUCONV_KERNEL_INLINE B Identity() { return {{kE0, kE1, kE2}}; }
 IMUCONV_KERNEL_INLINE B Zero() { return {{Splat(0.0), Splat(0.0), Splat(0.0)}}; }
 
-IMUCONV_KERNEL_INLINE B operator+(const B& a, const B& b) { return {{a.c[0] + b.c[0], a.c[1] + b.c[1], a.c[2] + b.c[2]}}; }
-IMUCONV_KERNEL_INLINE B operator-(const B& a, const B& b) { return {{a.c[0] - b.c[0], a.c[1] - b.c[1], a.c[2] - b.c[2]}}; }
+IMUCONV_KERNEL_INLINE B operator+(const B& a, const B& b) {
+  return {{a.c[0] + b.c[0], a.c[1] + b.c[1], a.c[2] + b.c[2]}};
+}
+IMUCONV_KERNEL_INLINE B operator-(const B& a, const B& b) {
+  return {{a.c[0] - b.c[0], a.c[1] - b.c[1], a.c[2] - b.c[2]}};
+}
 IMUCONV_KERNEL_INLINE B operator*(double s, const B& a) {
   const d4 v = Splat(s);
   return {{v * a.c[0], v * a.c[1], v * a.c[2]}};
@@ -108,14 +114,16 @@ IMUCONV_KERNEL_INLINE B AddDiagonal(const B& a, double s) {
 }
 IMUCONV_KERNEL_INLINE B Transpose(const B& a) {
 #if IMUCONV_KERNEL_NARROW  // the same lanes as below: lane 3 of every column is a.c[2]'s lane 3
-  const d2 &c0 = a.c[0].lo, &c1 = a.c[1].lo, &c2 = a.c[2].lo, &c0h = a.c[0].hi, &c1h = a.c[1].hi, &c2h = a.c[2].hi;
+  const d2 &c0 = a.c[0].lo, &c1 = a.c[1].lo, &c2 = a.c[2].lo, &c0h = a.c[0].hi, &c1h = a.c[1].hi,
+           &c2h = a.c[2].hi;
   return {{{__builtin_shufflevector(c0, c1, 0, 2), __builtin_shufflevector(c2, c2h, 0, 3)},
            {__builtin_shufflevector(c0, c1, 1, 3), __builtin_shufflevector(c2, c2h, 1, 3)},
            {__builtin_shufflevector(c0h, c1h, 0, 2), c2h}}};
 #else
   const d4 lo = __builtin_shufflevector(a.c[0], a.c[1], 0, 4, 2, 6);  // a00 a01 a20 a21
   const d4 hi = __builtin_shufflevector(a.c[0], a.c[1], 1, 5, 3, 7);  // a10 a11 0 0
-  return {{__builtin_shufflevector(lo, a.c[2], 0, 1, 4, 7), __builtin_shufflevector(hi, a.c[2], 0, 1, 5, 7),
+  return {{__builtin_shufflevector(lo, a.c[2], 0, 1, 4, 7),
+           __builtin_shufflevector(hi, a.c[2], 0, 1, 5, 7),
            __builtin_shufflevector(lo, a.c[2], 2, 3, 6, 7)}};
 #endif
 }
@@ -127,30 +135,36 @@ IMUCONV_KERNEL_INLINE B Transpose(const B& a) {
 IMUCONV_KERNEL_INLINE B MulAdd(const B& acc, const B& a, const B& b) {
   B r;
   for (int j = 0; j < 3; ++j)
-    r.c[j] = acc.c[j] + a.c[0] * Splat(b.c[j][0]) + a.c[1] * Splat(b.c[j][1]) + a.c[2] * Splat(b.c[j][2]);
+    r.c[j] = acc.c[j] + a.c[0] * Splat(b.c[j][0]) + a.c[1] * Splat(b.c[j][1]) +
+             a.c[2] * Splat(b.c[j][2]);
   return r;
 }
 /// a b.
 IMUCONV_KERNEL_INLINE B Mul(const B& a, const B& b) {
   B r;
-  for (int j = 0; j < 3; ++j) r.c[j] = a.c[0] * Splat(b.c[j][0]) + a.c[1] * Splat(b.c[j][1]) + a.c[2] * Splat(b.c[j][2]);
+  for (int j = 0; j < 3; ++j)
+    r.c[j] = a.c[0] * Splat(b.c[j][0]) + a.c[1] * Splat(b.c[j][1]) + a.c[2] * Splat(b.c[j][2]);
   return r;
 }
 /// acc + a b^T.
 IMUCONV_KERNEL_INLINE B MulTAdd(const B& acc, const B& a, const B& b) {
   B r;
   for (int j = 0; j < 3; ++j)
-    r.c[j] = acc.c[j] + a.c[0] * Splat(b.c[0][j]) + a.c[1] * Splat(b.c[1][j]) + a.c[2] * Splat(b.c[2][j]);
+    r.c[j] = acc.c[j] + a.c[0] * Splat(b.c[0][j]) + a.c[1] * Splat(b.c[1][j]) +
+             a.c[2] * Splat(b.c[2][j]);
   return r;
 }
 /// a b^T.
 IMUCONV_KERNEL_INLINE B MulT(const B& a, const B& b) {
   B r;
-  for (int j = 0; j < 3; ++j) r.c[j] = a.c[0] * Splat(b.c[0][j]) + a.c[1] * Splat(b.c[1][j]) + a.c[2] * Splat(b.c[2][j]);
+  for (int j = 0; j < 3; ++j)
+    r.c[j] = a.c[0] * Splat(b.c[0][j]) + a.c[1] * Splat(b.c[1][j]) + a.c[2] * Splat(b.c[2][j]);
   return r;
 }
 /// a v (v in a register: lane permutes).
-IMUCONV_KERNEL_INLINE d4 MulV(const B& a, const d4& v) { return a.c[0] * Lane<0>(v) + a.c[1] * Lane<1>(v) + a.c[2] * Lane<2>(v); }
+IMUCONV_KERNEL_INLINE d4 MulV(const B& a, const d4& v) {
+  return a.c[0] * Lane<0>(v) + a.c[1] * Lane<1>(v) + a.c[2] * Lane<2>(v);
+}
 
 IMUCONV_KERNEL_INLINE double Dot(const d4& a, const d4& b) {
   const d4 p = a * b;
@@ -163,7 +177,9 @@ IMUCONV_KERNEL_INLINE B TimesSkew(const B& z, const d4& b0, const d4& b1, const 
   return {{b2 * z.c[1] - b1 * z.c[2], b0 * z.c[2] - b2 * z.c[0], b1 * z.c[0] - b0 * z.c[1]}};
 }
 /// u v^T.
-IMUCONV_KERNEL_INLINE B Outer(const d4& u, const d4& v) { return {{u * Lane<0>(v), u * Lane<1>(v), u * Lane<2>(v)}}; }
+IMUCONV_KERNEL_INLINE B Outer(const d4& u, const d4& v) {
+  return {{u * Lane<0>(v), u * Lane<1>(v), u * Lane<2>(v)}};
+}
 
 /// [w]x and w w^T by columns, for alpha I + beta [w]x + gamma w w^T (Exp, Jr, Jl, Jr^{-1}
 /// of w, with [w]x^2 = w w^T - |w|^2 I).
@@ -185,7 +201,8 @@ IMUCONV_KERNEL_INLINE B Skew(const d4& w) {
 IMUCONV_KERNEL_INLINE So3Basis MakeSo3Basis(const d4& w) { return {Skew(w), Outer(w, w)}; }
 IMUCONV_KERNEL_INLINE B Poly(const So3Basis& s, double alpha, double beta, double gamma) {
   const d4 a = Splat(alpha), b = Splat(beta), g = Splat(gamma);
-  return {{a * kE0 + b * s.skew.c[0] + g * s.outer.c[0], a * kE1 + b * s.skew.c[1] + g * s.outer.c[1],
+  return {{a * kE0 + b * s.skew.c[0] + g * s.outer.c[0],
+           a * kE1 + b * s.skew.c[1] + g * s.outer.c[1],
            a * kE2 + b * s.skew.c[2] + g * s.outer.c[2]}};
 }
 

@@ -15,9 +15,15 @@ typedef double d8 __attribute__((vector_size(64)));
 struct d4x2 {
   d4 lo, hi;
 };
-IMUCONV_KERNEL_INLINE d4x2 operator+(const d4x2& a, const d4x2& b) { return {a.lo + b.lo, a.hi + b.hi}; }
-IMUCONV_KERNEL_INLINE d4x2 operator-(const d4x2& a, const d4x2& b) { return {a.lo - b.lo, a.hi - b.hi}; }
-IMUCONV_KERNEL_INLINE d4x2 operator*(const d4x2& a, const d4x2& b) { return {a.lo * b.lo, a.hi * b.hi}; }
+IMUCONV_KERNEL_INLINE d4x2 operator+(const d4x2& a, const d4x2& b) {
+  return {a.lo + b.lo, a.hi + b.hi};
+}
+IMUCONV_KERNEL_INLINE d4x2 operator-(const d4x2& a, const d4x2& b) {
+  return {a.lo - b.lo, a.hi - b.hi};
+}
+IMUCONV_KERNEL_INLINE d4x2 operator*(const d4x2& a, const d4x2& b) {
+  return {a.lo * b.lo, a.hi * b.hi};
+}
 IMUCONV_KERNEL_INLINE d4x2 operator-(const d4x2& a) { return {-a.lo, -a.hi}; }
 
 #if !IMUCONV_KERNEL_NARROW
@@ -32,7 +38,9 @@ struct PairOps;
 #if !IMUCONV_KERNEL_NARROW
 template <>
 struct PairOps<d8> {
-  static IMUCONV_KERNEL_INLINE d8 Cat(const d4& a, const d4& b) { return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7); }
+  static IMUCONV_KERNEL_INLINE d8 Cat(const d4& a, const d4& b) {
+    return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
+  }
   static IMUCONV_KERNEL_INLINE d8 Splat(double x) {
     const d8 v = {x, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     return __builtin_shufflevector(v, v, 0, 0, 0, 0, 0, 0, 0, 0);
@@ -42,16 +50,23 @@ struct PairOps<d8> {
   static IMUCONV_KERNEL_INLINE d8 Lane(const d8& x) {
     return __builtin_shufflevector(x, x, k, k, k, k, k + 4, k + 4, k + 4, k + 4);
   }
-  static IMUCONV_KERNEL_INLINE d8 Yzx(const d8& x) { return __builtin_shufflevector(x, x, 1, 2, 0, 3, 5, 6, 4, 7); }
+  static IMUCONV_KERNEL_INLINE d8 Yzx(const d8& x) {
+    return __builtin_shufflevector(x, x, 1, 2, 0, 3, 5, 6, 4, 7);
+  }
   /// [second half | 0].
   static IMUCONV_KERNEL_INLINE d8 ShiftDown(const d8& x) {
     const d8 z = {};
     return __builtin_shufflevector(x, z, 4, 5, 6, 7, 8, 8, 8, 8);
   }
   /// [first half of a | first half of b].
-  static IMUCONV_KERNEL_INLINE d8 Los(const d8& a, const d8& b) { return __builtin_shufflevector(a, b, 0, 1, 2, 3, 8, 9, 10, 11); }
+  static IMUCONV_KERNEL_INLINE d8 Los(const d8& a, const d8& b) {
+    return __builtin_shufflevector(a, b, 0, 1, 2, 3, 8, 9, 10, 11);
+  }
   /// [second half of a | second half of a].
-  static IMUCONV_KERNEL_INLINE d8 DupHi(const d8& a) { return __builtin_shufflevector(a, a, 4, 5, 6, 7, 4, 5, 6, 7); }};
+  static IMUCONV_KERNEL_INLINE d8 DupHi(const d8& a) {
+    return __builtin_shufflevector(a, a, 4, 5, 6, 7, 4, 5, 6, 7);
+  }
+};
 #endif
 template <>
 struct PairOps<d4x2> {
@@ -64,7 +79,9 @@ struct PairOps<d4x2> {
   static IMUCONV_KERNEL_INLINE d4x2 Lane(const d4x2& x) {
     return {simd::Lane<k>(x.lo), simd::Lane<k>(x.hi)};
   }
-  static IMUCONV_KERNEL_INLINE d4x2 Yzx(const d4x2& x) { return {simd::Yzx(x.lo), simd::Yzx(x.hi)}; }
+  static IMUCONV_KERNEL_INLINE d4x2 Yzx(const d4x2& x) {
+    return {simd::Yzx(x.lo), simd::Yzx(x.hi)};
+  }
   static IMUCONV_KERNEL_INLINE d4x2 ShiftDown(const d4x2& x) { return {x.hi, d4{}}; }
   static IMUCONV_KERNEL_INLINE d4x2 Los(const d4x2& a, const d4x2& b) { return {a.lo, b.lo}; }
   static IMUCONV_KERNEL_INLINE d4x2 DupHi(const d4x2& a) { return {a.hi, a.hi}; }
@@ -90,10 +107,12 @@ IMUCONV_KERNEL_INLINE d3x2 operator*(const d3x2& a, const d3x2& b) {
 IMUCONV_KERNEL_INLINE d3x2 operator-(const d3x2& a) { return {{-a.r[0], -a.r[1], -a.r[2]}}; }
 /// The column of the first block (Lo) and of the second (Hi), lane 3 zero.
 IMUCONV_KERNEL_INLINE d4 Lo(const d3x2& x) {
-  return {__builtin_shufflevector(x.r[0], x.r[1], 0, 2), __builtin_shufflevector(x.r[2], d2{}, 0, 2)};
+  return {__builtin_shufflevector(x.r[0], x.r[1], 0, 2),
+          __builtin_shufflevector(x.r[2], d2{}, 0, 2)};
 }
 IMUCONV_KERNEL_INLINE d4 Hi(const d3x2& x) {
-  return {__builtin_shufflevector(x.r[0], x.r[1], 1, 3), __builtin_shufflevector(x.r[2], d2{}, 1, 2)};
+  return {__builtin_shufflevector(x.r[0], x.r[1], 1, 3),
+          __builtin_shufflevector(x.r[2], d2{}, 1, 2)};
 }
 template <>
 struct PairOps<d3x2> {
@@ -111,15 +130,18 @@ struct PairOps<d3x2> {
   }
   static IMUCONV_KERNEL_INLINE d3x2 Yzx(const d3x2& x) { return {{x.r[1], x.r[2], x.r[0]}}; }
   static IMUCONV_KERNEL_INLINE d3x2 ShiftDown(const d3x2& x) {
-    return {{__builtin_shufflevector(x.r[0], d2{}, 1, 2), __builtin_shufflevector(x.r[1], d2{}, 1, 2),
+    return {{__builtin_shufflevector(x.r[0], d2{}, 1, 2),
+             __builtin_shufflevector(x.r[1], d2{}, 1, 2),
              __builtin_shufflevector(x.r[2], d2{}, 1, 2)}};
   }
   static IMUCONV_KERNEL_INLINE d3x2 Los(const d3x2& a, const d3x2& b) {
-    return {{__builtin_shufflevector(a.r[0], b.r[0], 0, 2), __builtin_shufflevector(a.r[1], b.r[1], 0, 2),
+    return {{__builtin_shufflevector(a.r[0], b.r[0], 0, 2),
+             __builtin_shufflevector(a.r[1], b.r[1], 0, 2),
              __builtin_shufflevector(a.r[2], b.r[2], 0, 2)}};
   }
   static IMUCONV_KERNEL_INLINE d3x2 DupHi(const d3x2& a) {
-    return {{__builtin_shufflevector(a.r[0], a.r[0], 1, 1), __builtin_shufflevector(a.r[1], a.r[1], 1, 1),
+    return {{__builtin_shufflevector(a.r[0], a.r[0], 1, 1),
+             __builtin_shufflevector(a.r[1], a.r[1], 1, 1),
              __builtin_shufflevector(a.r[2], a.r[2], 1, 1)}};
   }
 };
@@ -159,7 +181,8 @@ IMUCONV_KERNEL_INLINE BB<W> MulTAdd(const BB<W>& acc, const BB<W>& a, const B& b
   using O = PairOps<W>;
   BB<W> r;
   for (int j = 0; j < 3; ++j)
-    r.c[j] = acc.c[j] + a.c[0] * O::Splat(b.c[0][j]) + a.c[1] * O::Splat(b.c[1][j]) + a.c[2] * O::Splat(b.c[2][j]);
+    r.c[j] = acc.c[j] + a.c[0] * O::Splat(b.c[0][j]) + a.c[1] * O::Splat(b.c[1][j]) +
+             a.c[2] * O::Splat(b.c[2][j]);
   return r;
 }
 template <class W>
@@ -167,7 +190,8 @@ IMUCONV_KERNEL_INLINE BB<W> MulT(const BB<W>& a, const B& b) {
   using O = PairOps<W>;
   BB<W> r;
   for (int j = 0; j < 3; ++j)
-    r.c[j] = a.c[0] * O::Splat(b.c[0][j]) + a.c[1] * O::Splat(b.c[1][j]) + a.c[2] * O::Splat(b.c[2][j]);
+    r.c[j] =
+        a.c[0] * O::Splat(b.c[0][j]) + a.c[1] * O::Splat(b.c[1][j]) + a.c[2] * O::Splat(b.c[2][j]);
   return r;
 }
 /// [l1 b | l2 b]: the two blocks of l times the same b (b's entries broadcast).
@@ -176,7 +200,8 @@ IMUCONV_KERNEL_INLINE BB<W> MulPair(const BB<W>& l, const B& b) {
   using O = PairOps<W>;
   BB<W> r;
   for (int j = 0; j < 3; ++j)
-    r.c[j] = l.c[0] * O::Splat(b.c[j][0]) + l.c[1] * O::Splat(b.c[j][1]) + l.c[2] * O::Splat(b.c[j][2]);
+    r.c[j] =
+        l.c[0] * O::Splat(b.c[j][0]) + l.c[1] * O::Splat(b.c[j][1]) + l.c[2] * O::Splat(b.c[j][2]);
   return r;
 }
 /// [m z1 | m z2] for dm = [m | m]: one m times the two blocks of z.
@@ -194,7 +219,6 @@ template <class W>
 IMUCONV_KERNEL_INLINE BB<W> TimesSkew(const BB<W>& z, const W& b0, const W& b1, const W& b2) {
   return {{b2 * z.c[1] - b1 * z.c[2], b0 * z.c[2] - b2 * z.c[0], b1 * z.c[0] - b0 * z.c[1]}};
 }
-
 
 }  // namespace simd
 IMUCONV_KERNEL_END

@@ -5,8 +5,8 @@
 #pragma GCC diagnostic ignored "-Wpsabi"  // so3_fast.h's 4-lane helpers are never out of line
 #endif
 
-#include "so3_fast.h"
 #include "imuconv/kernels/preintegration.h"
+#include "so3_fast.h"
 
 namespace imuconv::kernels {
 
@@ -18,7 +18,8 @@ Mat3 JrInvTimesVecDerivative(const Vec3& theta, const Vec3& omega) {
 
 // Exp(phi) dR Exp(omega dt + dt domega) = Exp(phi + dR Exp(omega dt) Jr(omega dt) dt domega) dR'
 // to first order, and Exp(w) Jr(w) = Jl(w).
-void ManifoldStep(const Vec3& acc, const Vec3& omega, double dt, ManifoldIncrement& s, StepJacobians& J) {
+void ManifoldStep(const Vec3& acc, const Vec3& omega, double dt, ManifoldIncrement& s,
+                  StepJacobians& J) {
   const double h = 0.5 * dt * dt;
   const Vec3 phi = omega * dt;
   const double t2 = phi.squaredNorm(), t = std::sqrt(t2);
@@ -40,8 +41,8 @@ void ManifoldStep(const Vec3& acc, const Vec3& omega, double dt, ManifoldIncreme
   s.dt += dt;
 }
 
-
-void TangentStep(const Vec3& acc, const Vec3& omega, double dt, TangentIncrement& s, StepJacobians& J) {
+void TangentStep(const Vec3& acc, const Vec3& omega, double dt, TangentIncrement& s,
+                 StepJacobians& J) {
   const double h = 0.5 * dt * dt;
   const Vec3 theta = s.xi.segment<3>(0);
   const double t2 = theta.squaredNorm(), t = std::sqrt(t2);

@@ -30,8 +30,8 @@ struct StepMatrix {
 
 /// out = F M for any 15-column M (rows of F times M, block by block).
 void ApplyStep(const StepMatrix& F, const Mat15& M, Mat15& out) {
-  const auto p = M.middleRows<3>(kP), t = M.middleRows<3>(kTheta), v = M.middleRows<3>(kV), ba = M.middleRows<3>(kBa),
-             bg = M.middleRows<3>(kBg);
+  const auto p = M.middleRows<3>(kP), t = M.middleRows<3>(kTheta), v = M.middleRows<3>(kV),
+             ba = M.middleRows<3>(kBa), bg = M.middleRows<3>(kBg);
   out.middleRows<3>(kP) = p + F.F_pt * t + F.dt * v + F.F_pa * ba + F.F_pg * bg;
   out.middleRows<3>(kTheta) = F.F_tt * t - F.dt * bg;
   out.middleRows<3>(kV) = F.F_vt * t + v + F.F_va * ba + F.F_vg * bg;
@@ -46,28 +46,35 @@ struct StepVariances {
 
 /// The four numbers squared, once per interval.
 StepVariances Squares(const ImuNoise& n) {
-  return {n.accel_noise_density * n.accel_noise_density, n.gyro_noise_density * n.gyro_noise_density,
-          n.accel_random_walk * n.accel_random_walk, n.gyro_random_walk * n.gyro_random_walk};
+  return {n.accel_noise_density * n.accel_noise_density,
+          n.gyro_noise_density * n.gyro_noise_density, n.accel_random_walk * n.accel_random_walk,
+          n.gyro_random_walk * n.gyro_random_walk};
 }
 
 StepVariances VariancesAt(const StepVariances& squares, VinsNoiseMapping mapping, double dt) {
   if (mapping == VinsNoiseMapping::kAsConfigured) return squares;
   // acc_n^2 = 2 sigma_a^2 / dt, acc_w^2 = sigma_wa^2 / dt (header): the per-step variances
   // of continuous white noise through V's dt factors.
-  return {2.0 * squares.acc_n2 / dt, 2.0 * squares.gyr_n2 / dt, squares.acc_w2 / dt, squares.gyr_w2 / dt};
+  return {2.0 * squares.acc_n2 / dt, 2.0 * squares.gyr_n2 / dt, squares.acc_w2 / dt,
+          squares.gyr_w2 / dt};
 }
 
 /// Adds V diag(noise) V^T to the covariance, block by block (V as in the file comment);
 /// R1_a1_x = R1 [a_1]x.
-void AddStepNoise(const Mat3& R0, const Mat3& R1, const Mat3& R1_a1_x, double dt, const StepVariances& s, Mat15& cov) {
+void AddStepNoise(const Mat3& R0, const Mat3& R1, const Mat3& R1_a1_x, double dt,
+                  const StepVariances& s, Mat15& cov) {
   const double dt2 = dt * dt;
-  const Mat3 V_pa0 = (0.25 * dt2) * R0, V_pa1 = (0.25 * dt2) * R1, V_va0 = (0.5 * dt) * R0, V_va1 = (0.5 * dt) * R1;
+  const Mat3 V_pa0 = (0.25 * dt2) * R0, V_pa1 = (0.25 * dt2) * R1, V_va0 = (0.5 * dt) * R0,
+             V_va1 = (0.5 * dt) * R1;
   const Mat3 V_pg = (-0.125 * dt2 * dt) * R1_a1_x, V_vg = (-0.25 * dt2) * R1_a1_x;
   // The two gyro noises enter every row through the same block, so they add as 2 gyr_n^2.
   const double g2 = 2.0 * s.gyr_n2;
-  const Mat3 Q_pp = s.acc_n2 * (V_pa0 * V_pa0.transpose() + V_pa1 * V_pa1.transpose()) + g2 * (V_pg * V_pg.transpose());
-  const Mat3 Q_pv = s.acc_n2 * (V_pa0 * V_va0.transpose() + V_pa1 * V_va1.transpose()) + g2 * (V_pg * V_vg.transpose());
-  const Mat3 Q_vv = s.acc_n2 * (V_va0 * V_va0.transpose() + V_va1 * V_va1.transpose()) + g2 * (V_vg * V_vg.transpose());
+  const Mat3 Q_pp = s.acc_n2 * (V_pa0 * V_pa0.transpose() + V_pa1 * V_pa1.transpose()) +
+                    g2 * (V_pg * V_pg.transpose());
+  const Mat3 Q_pv = s.acc_n2 * (V_pa0 * V_va0.transpose() + V_pa1 * V_va1.transpose()) +
+                    g2 * (V_pg * V_vg.transpose());
+  const Mat3 Q_vv = s.acc_n2 * (V_va0 * V_va0.transpose() + V_va1 * V_va1.transpose()) +
+                    g2 * (V_vg * V_vg.transpose());
   const Mat3 Q_pt = (g2 * 0.5 * dt) * V_pg, Q_vt = (g2 * 0.5 * dt) * V_vg;  // against V_t = I dt/2
   const double q_tt = g2 * 0.25 * dt2;
   cov.block<3, 3>(kP, kP) += Q_pp;
@@ -85,8 +92,8 @@ void AddStepNoise(const Mat3& R0, const Mat3& R1, const Mat3& R1_a1_x, double dt
 
 }  // namespace
 
-Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mapping, VinsFusionPreintegration& out,
-                           bool jacobians) {
+Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mapping,
+                           VinsFusionPreintegration& out, bool jacobians) {
   if (Status s = CheckPreintegrationInput(in); !s.ok()) return s;
   const SampleWindow& w = in.window;
   out = VinsFusionPreintegration{};
@@ -106,7 +113,8 @@ Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mappi
     const Vec3 acc = 0.5 * (q * a0 + q1 * a1);
     if (jacobians) {
       const Mat3 R0 = q.toRotationMatrix(), R1 = q1.toRotationMatrix();
-      const Mat3 E = I - dt * so3::skew(omega);  // first-order Exp(-omega dt): upstream's rotation block
+      const Mat3 E =
+          I - dt * so3::skew(omega);  // first-order Exp(-omega dt): upstream's rotation block
       // The products F and V share, formed once: R1 [a_1]x, the rotation column's
       // R0 [a_0]x + R1 [a_1]x E and the accelerometer column's R0 + R1.
       const Mat3 R1_a1_x = R1 * so3::skew(a1);
@@ -138,7 +146,8 @@ Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mappi
   return Status::Ok();
 }
 
-Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mapping, Preintegrated& out) {
+Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mapping,
+                           Preintegrated& out) {
   VinsFusionPreintegration r;
   if (Status s = IntegrateVinsFusion(in, mapping, r); !s.ok()) return s;
   out.dt = r.sum_dt;

@@ -47,7 +47,8 @@ Mat3 VecBlock(const Eigen::Matrix4d& M) { return M.bottomRightCorner<3, 3>(); }
 
 }  // namespace
 
-VinsFusionCorrectedDelta VinsFusionCorrect(const VinsFusionMeasurement& m, const Vec3& ba, const Vec3& bg) {
+VinsFusionCorrectedDelta VinsFusionCorrect(const VinsFusionMeasurement& m, const Vec3& ba,
+                                           const Vec3& bg) {
   const Mat15& J = m.pre.jacobian;
   const Vec3 dba = ba - m.linearized_ba, dbg = bg - m.linearized_bg;
   VinsFusionCorrectedDelta c;
@@ -71,7 +72,8 @@ Vec15 VinsFusionEvaluate(const VinsFusionMeasurement& m, const VinsFusionFactorS
   return r;
 }
 
-VinsFusionFactorOutput VinsFusionRawFactor(const VinsFusionMeasurement& m, const VinsFusionFactorState& i,
+VinsFusionFactorOutput VinsFusionRawFactor(const VinsFusionMeasurement& m,
+                                           const VinsFusionFactorState& i,
                                            const VinsFusionFactorState& j) {
   VinsFusionFactorOutput out;
   out.residual = VinsFusionEvaluate(m, i, j);
@@ -83,8 +85,10 @@ VinsFusionFactorOutput VinsFusionRawFactor(const VinsFusionMeasurement& m, const
   const Mat3 I = Mat3::Identity();
 
   out.jacobian_pose_i.block<3, 3>(kP, kP) = -Ri_T;
-  out.jacobian_pose_i.block<3, 3>(kP, kTheta) = so3::skew(Qi_inv * (0.5 * m.G * T * T + j.P - i.P - i.V * T));
-  out.jacobian_pose_i.block<3, 3>(kTheta, kTheta) = -VecBlock(LeftProduct(j.Q.inverse() * i.Q) * RightProduct(c_q));
+  out.jacobian_pose_i.block<3, 3>(kP, kTheta) =
+      so3::skew(Qi_inv * (0.5 * m.G * T * T + j.P - i.P - i.V * T));
+  out.jacobian_pose_i.block<3, 3>(kTheta, kTheta) =
+      -VecBlock(LeftProduct(j.Q.inverse() * i.Q) * RightProduct(c_q));
   out.jacobian_pose_i.block<3, 3>(kV, kTheta) = so3::skew(Qi_inv * (m.G * T + j.V - i.V));
 
   Mat15x9& sb_i = out.jacobian_speedbias_i;
@@ -101,7 +105,8 @@ VinsFusionFactorOutput VinsFusionRawFactor(const VinsFusionMeasurement& m, const
   sb_i.block<3, 3>(kBg, kSbBg) = -I;
 
   out.jacobian_pose_j.block<3, 3>(kP, kP) = Ri_T;
-  out.jacobian_pose_j.block<3, 3>(kTheta, kTheta) = VecBlock(LeftProduct(c_q.inverse() * Qi_inv * j.Q));
+  out.jacobian_pose_j.block<3, 3>(kTheta, kTheta) =
+      VecBlock(LeftProduct(c_q.inverse() * Qi_inv * j.Q));
 
   out.jacobian_speedbias_j.block<3, 3>(kV, kSbV) = Ri_T;
   out.jacobian_speedbias_j.block<3, 3>(kBa, kSbBa) = I;
@@ -116,7 +121,8 @@ Status VinsFusionSqrtInfo(const Mat15& covariance, Mat15& sqrt_info) {
   sqrt_info = llt.matrixL().transpose();
   if (llt.info() != Eigen::Success || !covariance.allFinite() || !sqrt_info.allFinite())
     return Status::Error(
-        "the covariance is singular or not positive definite (is a noise density zero?): it has no square-root "
+        "the covariance is singular or not positive definite (is a noise density zero?): it has no "
+        "square-root "
         "information");
   return Status::Ok();
 }

@@ -34,13 +34,15 @@ struct PreintegrationMethod {
   /// A native scheme, with its covariance and bias-Jacobian conventions and the increment
   /// reference chart `preint_reference` its output is brought into.
   std::shared_ptr<const Preintegrator> preintegrator;
-  std::shared_ptr<const IncrementConvention> cov_convention, jacobian_convention, reference_increment;
+  std::shared_ptr<const IncrementConvention> cov_convention, jacobian_convention,
+      reference_increment;
 };
 
 /// Resolves `id` as a plugin of `kind` (Propagator or Preintegrator) with the conventions its
 /// path needs. Throws Error listing the known ids for an unknown id or convention, and for
 /// another kind.
-IMUCONV_API PreintegrationMethod ResolvePreintegrationMethod(const Registry& reg, PluginKind kind, std::string_view id);
+IMUCONV_API PreintegrationMethod ResolvePreintegrationMethod(const Registry& reg, PluginKind kind,
+                                                             std::string_view id);
 
 /// Preintegrates with a resolved method: by propagation (paper, section 3.1: propagates from
 /// the identity state with zero covariance and zero gravity, then converts with
@@ -50,19 +52,21 @@ IMUCONV_API Preintegrated Preintegrate(const Registry& reg, const Preintegration
                                        const ImuNoise& noise);
 
 /// Preintegrate with the propagator `propagator`, resolved for this one call.
-IMUCONV_API Preintegrated PreintegrateByPropagation(const Registry& reg, std::string_view propagator,
-                                        const SampleWindow& window, const Vec3& bg, const Vec3& ba,
-                                        const ImuNoise& noise);
+IMUCONV_API Preintegrated PreintegrateByPropagation(const Registry& reg,
+                                                    std::string_view propagator,
+                                                    const SampleWindow& window, const Vec3& bg,
+                                                    const Vec3& ba, const ImuNoise& noise);
 
 /// Preintegrate with the native preintegrator `preintegrator`, resolved for this one call.
 IMUCONV_API Preintegrated PreintegrateNative(const Registry& reg, std::string_view preintegrator,
-                                 const SampleWindow& window, const Vec3& bg, const Vec3& ba,
-                                 const ImuNoise& noise);
+                                             const SampleWindow& window, const Vec3& bg,
+                                             const Vec3& ba, const ImuNoise& noise);
 
 /// Expresses a measurement in a named increment convention: cov in `convention`, J_bias's rows
 /// in that convention's bias-Jacobian chart (IncrementConvention::jacobian_convention()), both
 /// in their block orders; the labels say so.
-IMUCONV_API Preintegrated Express(const Registry& reg, const Preintegrated& m, std::string_view convention);
+IMUCONV_API Preintegrated Express(const Registry& reg, const Preintegrated& m,
+                                  std::string_view convention);
 /// Brings a measurement into the reference charts, from the charts its labels name (e.g. to
 /// import numbers dumped from GTSAM). An empty `jacobian_convention` means the one that
 /// `convention` names for its bias Jacobian. Throws Error for an unknown id.
@@ -71,18 +75,22 @@ IMUCONV_API Preintegrated FromConvention(const Registry& reg, const Preintegrate
 /// Paper, section 3.2 (eq. prop-cov): propagation by preintegration. Phi_e|s and
 /// Sigma_e|s = Phi Sigma_s Phi^T + G Sigma_dx G^T, with x_s, cov_s and the results in the
 /// named state convention.
-IMUCONV_API PropagationResult PropagateByPreintegration(const Registry& reg, const Preintegrated& m, const ImuState& x_s,
-                                            const Mat15& cov_s, std::string_view state_convention,
-                                            const Vec3& gravity);
+IMUCONV_API PropagationResult PropagateByPreintegration(const Registry& reg, const Preintegrated& m,
+                                                        const ImuState& x_s, const Mat15& cov_s,
+                                                        std::string_view state_convention,
+                                                        const Vec3& gravity);
 
 /// First-order bias correction in the chart of `jacobian_convention` (GTSAM's
 /// biasCorrectedDelta when that chart is GTSAM's): retract(delta, J_chart (b - b_hat)).
-IMUCONV_API PreintIncrement BiasCorrectedDelta(const Registry& reg, const Preintegrated& m, std::string_view jacobian_convention,
-                                   const Vec3& bg, const Vec3& ba);
+IMUCONV_API PreintIncrement BiasCorrectedDelta(const Registry& reg, const Preintegrated& m,
+                                               std::string_view jacobian_convention, const Vec3& bg,
+                                               const Vec3& ba);
 
 enum class ResidualKind {
-  Gtsam,    ///< PreintegrationBase::computeError: Log(R_e^T R_pred), R_e^T(p_pred - p_e), R_e^T(v_pred - v_e); bias b_e - b_pred
-  Forster,  ///< Forster et al.: Log(R_pred^T R_e), R_s^T(p_e - p_pred), R_s^T(v_e - v_pred); bias b_e - b_pred
+  Gtsam,    ///< PreintegrationBase::computeError: Log(R_e^T R_pred), R_e^T(p_pred - p_e),
+            ///< R_e^T(v_pred - v_e); bias b_e - b_pred
+  Forster,  ///< Forster et al.: Log(R_pred^T R_e), R_s^T(p_e - p_pred), R_s^T(v_e - v_pred); bias
+            ///< b_e - b_pred
 };
 
 /// A 15-dim residual [theta, p, v, bg, ba] with its Jacobians with respect to the start
@@ -101,7 +109,8 @@ struct Residual {
 
 /// The start bias is x_s's; the increment is first-order bias-corrected from m.bg_hat/ba_hat
 /// to it in preint_reference (exact first order in any chart).
-IMUCONV_API Residual ComputeResidual(const Registry& reg, ResidualKind kind, const Preintegrated& m, const ImuState& x_s,
-                         const ImuState& x_e, std::string_view state_convention, const Vec3& gravity);
+IMUCONV_API Residual ComputeResidual(const Registry& reg, ResidualKind kind, const Preintegrated& m,
+                                     const ImuState& x_s, const ImuState& x_e,
+                                     std::string_view state_convention, const Vec3& gravity);
 
 }  // namespace imuconv

@@ -27,26 +27,29 @@ template <class Value>
 IMUCONV_API Mat15 Conversion(const Chart<Value>& from, const Chart<Value>& to, const Value& x);
 /// J S J^T (symmetrized) with J = Conversion(from, to, x).
 template <class Value>
-IMUCONV_API Mat15 ConvertCovariance(const Chart<Value>& from, const Chart<Value>& to, const Value& x, const Mat15& S);
+IMUCONV_API Mat15 ConvertCovariance(const Chart<Value>& from, const Chart<Value>& to,
+                                    const Value& x, const Mat15& S);
 
 /// J_e Phi J_s^{-1}, with J_e = Conversion(from, to, x_e) and J_s^{-1} = Conversion(to, from, x_s).
 template <class Value>
-IMUCONV_API Mat15 ConvertTransition(const Chart<Value>& from, const Chart<Value>& to, const Value& x_s,
-                                    const Value& x_e, const Mat15& Phi);
+IMUCONV_API Mat15 ConvertTransition(const Chart<Value>& from, const Chart<Value>& to,
+                                    const Value& x_s, const Value& x_e, const Mat15& Phi);
 
 /// Runs `prop` (whose native state convention is `native`) with in.cov_s in `convention`, and
 /// returns Phi and cov in `convention`. Throws Error naming the propagator when it fails.
 IMUCONV_API PropagationResult PropagateIn(const Propagator& prop, const StateConvention& native,
-                                          const StateConvention& convention, const PropagationInput& in);
+                                          const StateConvention& convention,
+                                          const PropagationInput& in);
 
 // Compiled for the two kinds in the registry library.
-#define IMUCONV_CONVERSION_INSTANCES(EXTERN, V)                                                            \
-  EXTERN template IMUCONV_API Mat15 ToReference<V>(const Chart<V>&, const V&);                             \
-  EXTERN template IMUCONV_API Mat15 FromReference<V>(const Chart<V>&, const V&);                           \
-  EXTERN template IMUCONV_API Mat15 Conversion<V>(const Chart<V>&, const Chart<V>&, const V&);             \
-  EXTERN template IMUCONV_API Mat15 ConvertCovariance<V>(const Chart<V>&, const Chart<V>&, const V&, const Mat15&); \
-  EXTERN template IMUCONV_API Mat15 ConvertTransition<V>(const Chart<V>&, const Chart<V>&, const V&, const V&,      \
-                                                         const Mat15&);
+#define IMUCONV_CONVERSION_INSTANCES(EXTERN, V)                                                \
+  EXTERN template IMUCONV_API Mat15 ToReference<V>(const Chart<V>&, const V&);                 \
+  EXTERN template IMUCONV_API Mat15 FromReference<V>(const Chart<V>&, const V&);               \
+  EXTERN template IMUCONV_API Mat15 Conversion<V>(const Chart<V>&, const Chart<V>&, const V&); \
+  EXTERN template IMUCONV_API Mat15 ConvertCovariance<V>(const Chart<V>&, const Chart<V>&,     \
+                                                         const V&, const Mat15&);              \
+  EXTERN template IMUCONV_API Mat15 ConvertTransition<V>(const Chart<V>&, const Chart<V>&,     \
+                                                         const V&, const V&, const Mat15&);
 IMUCONV_CONVERSION_INSTANCES(extern, ImuState)
 IMUCONV_CONVERSION_INSTANCES(extern, PreintIncrement)
 

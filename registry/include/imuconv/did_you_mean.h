@@ -23,10 +23,12 @@ IMUCONV_API std::size_t EditDistance(std::string_view a, std::string_view b);
 /// a long one, never more than three: more would suggest names that merely share letters), in
 /// the order of `known`. Empty when `word` is itself known (exactly), longer than 256
 /// characters, or nothing is close enough.
-IMUCONV_API std::vector<std::string> ClosestNames(std::string_view word, const std::vector<std::string>& known);
+IMUCONV_API std::vector<std::string> ClosestNames(std::string_view word,
+                                                  const std::vector<std::string>& known);
 
 /// " (did you mean 'a'?)" or " (did you mean 'a' or 'b'?)" for ClosestNames(word, known); "" when
 /// there is no suggestion. The names are quoted with Printable's escaping.
-[[nodiscard]] IMUCONV_API std::string DidYouMean(std::string_view word, const std::vector<std::string>& known);
+[[nodiscard]] IMUCONV_API std::string DidYouMean(std::string_view word,
+                                                 const std::vector<std::string>& known);
 
 }  // namespace imuconv

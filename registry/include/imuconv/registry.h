@@ -33,12 +33,14 @@ class IMUCONV_API Error : public std::runtime_error {
 struct PluginInfo {
   std::string id;
   PluginKind kind = PluginKind::StateConvention;
-  std::string file;     ///< shared object it came from ("built-in" for the reference charts)
+  std::string file;  ///< shared object it came from ("built-in" for the reference charts)
   std::string version;
   std::string summary;
   std::vector<std::string> blocks;  ///< block order, for conventions
-  std::string native_convention;    ///< propagators: native state convention; preintegrators: covariance convention
-  std::string jacobian_convention;  ///< preintegrators and increment conventions: the chart of the bias Jacobian
+  std::string native_convention;    ///< propagators: native state convention; preintegrators:
+                                    ///< covariance convention
+  std::string jacobian_convention;  ///< preintegrators and increment conventions: the chart of the
+                                    ///< bias Jacobian
   bool analytic_jacobians = false;  ///< conventions: analytic Jacobians given (and verified)
 };
 
@@ -83,14 +85,15 @@ class IMUCONV_API Registry {
   /// Loads every imuconv_plugin_*.so in dir (sorted by name); returns what failed (the rest is
   /// loaded), an unreadable directory included. Throws Error for duplicate ids unless
   /// options.allow_override (see LoadOptions).
-  [[nodiscard]] std::vector<LoadIssue> load_directory(const std::string& dir, const LoadOptions& options = {});
+  [[nodiscard]] std::vector<LoadIssue> load_directory(const std::string& dir,
+                                                      const LoadOptions& options = {});
   /// Loads the search path: extra_dirs (e.g. from a pipeline config), then the directories
   /// of IMUCONV_PLUGIN_PATH (colon-separated), then the install or build plugin directory.
   /// Returns what failed to load; throws Error, after the whole path was read and naming both
   /// files of every duplicate id, unless options.allow_override. Do not use the registry
   /// after that throw.
-  [[nodiscard]] std::vector<LoadIssue> load_search_path(const std::vector<std::string>& extra_dirs = {},
-                                                        const LoadOptions& options = {});
+  [[nodiscard]] std::vector<LoadIssue> load_search_path(
+      const std::vector<std::string>& extra_dirs = {}, const LoadOptions& options = {});
   static std::vector<std::string> search_path(const std::vector<std::string>& extra_dirs = {});
   /// Adopts the plugins compiled into this process (plugin_abi.h, IMUCONV_PLUGIN_STATIC; the
   /// build option IMUCONV_STATIC_PLUGINS compiles the built-in ones into this library) with
@@ -132,16 +135,19 @@ class IMUCONV_API Registry {
   [[nodiscard]] Mat15 from_reference(std::string_view to, const Value& x) const;
   /// A covariance in `from` at x expressed in `to`: J S J^T (symmetrized).
   template <class Value>
-  [[nodiscard]] Mat15 convert_covariance(std::string_view from, std::string_view to, const Value& x, const Mat15& S) const;
+  [[nodiscard]] Mat15 convert_covariance(std::string_view from, std::string_view to, const Value& x,
+                                         const Mat15& S) const;
   /// A transition matrix from x_s to x_e in `from` expressed in `to`: J_e Phi J_s^{-1},
   /// with J_s^{-1} = conversion(to, from, x_s).
   template <class Value>
-  [[nodiscard]] Mat15 convert_transition(std::string_view from, std::string_view to, const Value& x_s, const Value& x_e,
-                           const Mat15& Phi) const;
+  [[nodiscard]] Mat15 convert_transition(std::string_view from, std::string_view to,
+                                         const Value& x_s, const Value& x_e,
+                                         const Mat15& Phi) const;
 
   // ---- propagation in any state convention -----------------------------------------
   /// Runs the propagator; in.cov_s and the result's Phi and cov are in `convention`.
-  [[nodiscard]] PropagationResult propagate(std::string_view propagator, std::string_view convention,
+  [[nodiscard]] PropagationResult propagate(std::string_view propagator,
+                                            std::string_view convention,
                                             const PropagationInput& in) const;
 
  private:
@@ -155,14 +161,15 @@ class IMUCONV_API Registry {
 };
 
 // The conversions are compiled for the two value types in the registry library.
-#define IMUCONV_REGISTRY_CONVERSIONS(EXTERN, V)                                                                 \
-  EXTERN template IMUCONV_API Mat15 Registry::conversion<V>(std::string_view, std::string_view, const V&) const; \
-  EXTERN template IMUCONV_API Mat15 Registry::to_reference<V>(std::string_view, const V&) const;                 \
-  EXTERN template IMUCONV_API Mat15 Registry::from_reference<V>(std::string_view, const V&) const;               \
-  EXTERN template IMUCONV_API Mat15 Registry::convert_covariance<V>(std::string_view, std::string_view, const V&, \
-                                                                    const Mat15&) const;                         \
-  EXTERN template IMUCONV_API Mat15 Registry::convert_transition<V>(std::string_view, std::string_view, const V&, \
-                                                                    const V&, const Mat15&) const;
+#define IMUCONV_REGISTRY_CONVERSIONS(EXTERN, V)                                                    \
+  EXTERN template IMUCONV_API Mat15 Registry::conversion<V>(std::string_view, std::string_view,    \
+                                                            const V&) const;                       \
+  EXTERN template IMUCONV_API Mat15 Registry::to_reference<V>(std::string_view, const V&) const;   \
+  EXTERN template IMUCONV_API Mat15 Registry::from_reference<V>(std::string_view, const V&) const; \
+  EXTERN template IMUCONV_API Mat15 Registry::convert_covariance<V>(                               \
+      std::string_view, std::string_view, const V&, const Mat15&) const;                           \
+  EXTERN template IMUCONV_API Mat15 Registry::convert_transition<V>(                               \
+      std::string_view, std::string_view, const V&, const V&, const Mat15&) const;
 IMUCONV_REGISTRY_CONVERSIONS(extern, ImuState)
 IMUCONV_REGISTRY_CONVERSIONS(extern, PreintIncrement)
 

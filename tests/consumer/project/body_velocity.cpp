@@ -9,7 +9,9 @@ namespace {
 using namespace imuconv;
 class BodyVelocity : public StateConvention {
  public:
-  BlockOrder order() const noexcept override { return {Block::theta, Block::p, Block::v, Block::bg, Block::ba}; }
+  BlockOrder order() const noexcept override {
+    return {Block::theta, Block::p, Block::v, Block::bg, Block::ba};
+  }
   void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
     y.R = x.R * so3::Exp(d.segment<3>(0));
     y.p = x.p + d.segment<3>(3);
@@ -18,8 +20,10 @@ class BodyVelocity : public StateConvention {
     y.ba = x.ba + d.segment<3>(12);
   }
   void local(const ImuState& x, const ImuState& y, Vec15& d) const noexcept override {
-    d << so3::Log(x.R.transpose() * y.R), y.p - x.p, x.R.transpose() * (y.v - x.v), y.bg - x.bg, y.ba - x.ba;
+    d << so3::Log(x.R.transpose() * y.R), y.p - x.p, x.R.transpose() * (y.v - x.v), y.bg - x.bg,
+        y.ba - x.ba;
   }
 };
 }  // namespace
-IMUCONV_PLUGIN(StateConvention, BodyVelocity, "body_velocity", "1.0.0", "consumer test: velocity error in body frame")
+IMUCONV_PLUGIN(StateConvention, BodyVelocity, "body_velocity", "1.0.0",
+               "consumer test: velocity error in body frame")

@@ -11,19 +11,22 @@ using imuconv::test::Plugins;
 
 // The six built-in conventions and the reference, each in the block order it documents.
 TEST(PreintConventions, BuiltInsAndTheirBlockOrders) {
-  imuconv::test::CheckBuiltInBlockOrders<imuconv::test::IncrementKind>({{"preint_reference", "theta p v bg ba"},
-                                                                        {"gtsam_tangent", "theta p v ba bg"},
-                                                                        {"gtsam_manifold", "theta p v ba bg"},
-                                                                        {"gtsam_manifold_jacobian", "theta p v ba bg"},
-                                                                        {"forster", "theta p v bg ba"},
-                                                                        {"vins_fusion", "p theta v ba bg"},
-                                                                        {"basalt", "p theta v bg ba"}});
+  imuconv::test::CheckBuiltInBlockOrders<imuconv::test::IncrementKind>(
+      {{"preint_reference", "theta p v bg ba"},
+       {"gtsam_tangent", "theta p v ba bg"},
+       {"gtsam_manifold", "theta p v ba bg"},
+       {"gtsam_manifold_jacobian", "theta p v ba bg"},
+       {"forster", "theta p v bg ba"},
+       {"vins_fusion", "p theta v ba bg"},
+       {"basalt", "p theta v bg ba"}});
 }
 
 // GTSAM's ManifoldPreintegration states its covariance in c (gtsam_manifold) and its bias
 // Jacobians in j (gtsam_manifold_jacobian); every other convention uses its own chart.
 TEST(PreintConventions, BiasJacobianCharts) {
-  const auto chart = [](const char* id) { return std::string(Plugins().increment_convention(id)->jacobian_convention()); };
+  const auto chart = [](const char* id) {
+    return std::string(Plugins().increment_convention(id)->jacobian_convention());
+  };
   EXPECT_EQ(chart("gtsam_manifold"), "gtsam_manifold_jacobian");
   EXPECT_EQ(chart("gtsam_manifold_jacobian"), "gtsam_manifold_jacobian");
   EXPECT_EQ(chart("gtsam_tangent"), "gtsam_tangent");
@@ -31,7 +34,9 @@ TEST(PreintConventions, BiasJacobianCharts) {
   EXPECT_EQ(chart("vins_fusion"), "vins_fusion");
   EXPECT_EQ(chart("basalt"), "basalt");
   EXPECT_EQ(chart("preint_reference"), "preint_reference");
-  EXPECT_EQ(Plugins().info(imuconv::PluginKind::IncrementConvention, "gtsam_manifold").jacobian_convention,
+  EXPECT_EQ(Plugins()
+                .info(imuconv::PluginKind::IncrementConvention, "gtsam_manifold")
+                .jacobian_convention,
             "gtsam_manifold_jacobian");
 }
 

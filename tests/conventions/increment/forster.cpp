@@ -8,14 +8,17 @@ TEST(PreintStructure, ForsterIsMinusTheReference) {
   for (const PreintIncrement& x : IncrementKind::Points()) {
     // Every block of eq. preint-error-forster enters with a minus sign, in the reference's
     // order, so the permutation is the identity and the conversion -I.
-    EXPECT_TRUE(Plugins().conversion("preint_reference", "forster", x).isApprox(-Mat15::Identity(), 0.0));
-    EXPECT_TRUE(Plugins().conversion("forster", "preint_reference", x).isApprox(-Mat15::Identity(), 0.0));
+    EXPECT_TRUE(
+        Plugins().conversion("preint_reference", "forster", x).isApprox(-Mat15::Identity(), 0.0));
+    EXPECT_TRUE(
+        Plugins().conversion("forster", "preint_reference", x).isApprox(-Mat15::Identity(), 0.0));
   }
 }
 
 TEST(PreintStructure, ForsterToManifoldJacobianFlipsMotionKeepsBias) {
   // f and j have the same bias sign (Delta b = Delta b^ - db) but opposite motion signs.
-  ExpectConversion("forster", "gtsam_manifold_jacobian", [](const PreintIncrement&) -> BlockEntries {
-    return {{"theta", -I3}, {"p", -I3}, {"v", -I3}};
-  });
+  ExpectConversion("forster", "gtsam_manifold_jacobian",
+                   [](const PreintIncrement&) -> BlockEntries {
+                     return {{"theta", -I3}, {"p", -I3}, {"v", -I3}};
+                   });
 }

@@ -6,7 +6,8 @@ IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, gtsam_manifold);
 
 TEST(PreintStructure, ManifoldToManifoldJacobianRotatesTranslations) {
   // eq. residual-error vs subeq:preint-error-dp: dp_j = dR^ dp_c, dv_j = dR^ dv_c.
-  ExpectConversion("gtsam_manifold", "gtsam_manifold_jacobian", [](const PreintIncrement& x) -> BlockEntries {
-    return {{"p", x.dR}, {"v", x.dR}};
-  });
+  ExpectConversion("gtsam_manifold", "gtsam_manifold_jacobian",
+                   [](const PreintIncrement& x) -> BlockEntries {
+                     return {{"p", x.dR}, {"v", x.dR}};
+                   });
 }

@@ -5,9 +5,10 @@
 IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, gtsam_manifold_jacobian);
 
 TEST(PreintStructure, ReferenceToManifoldJacobianFlipsAndSwapsBiases) {
-  ExpectConversion("preint_reference", "gtsam_manifold_jacobian", [](const PreintIncrement&) -> BlockEntries {
-    return {{"ba", -I3}, {"bg", -I3}};
-  });
+  ExpectConversion("preint_reference", "gtsam_manifold_jacobian",
+                   [](const PreintIncrement&) -> BlockEntries {
+                     return {{"ba", -I3}, {"bg", -I3}};
+                   });
   for (const PreintIncrement& x : IncrementKind::Points()) {
     const Mat15 J = Plugins().conversion("preint_reference", "gtsam_manifold_jacobian", x);
     // Raw indices: j's ba rows 9-11 read the reference's ba columns 12-14 with a minus sign.

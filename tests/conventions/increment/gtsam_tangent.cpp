@@ -10,9 +10,10 @@ TEST(PreintStructure, TangentToManifoldJacobianIsTheRightJacobian) {
   // Exp(psi + dtheta) = Exp(psi) Exp(Jr(psi) dtheta + ...), psi = Log(dR^): the tangent
   // perturbation is Jr(psi) dtheta in the right-perturbation chart; dp, dv, Delta b (same
   // sign and order) pass through.
-  ExpectConversion("gtsam_tangent", "gtsam_manifold_jacobian", [](const PreintIncrement& x) -> BlockEntries {
-    return {{"theta", so3::Jr(so3::Log(x.dR))}};
-  });
+  ExpectConversion("gtsam_tangent", "gtsam_manifold_jacobian",
+                   [](const PreintIncrement& x) -> BlockEntries {
+                     return {{"theta", so3::Jr(so3::Log(x.dR))}};
+                   });
 }
 
 // gtsam_tangent parameterises dR by Log(dR) in (-pi, pi]: it is a chart only while

@@ -7,13 +7,16 @@ IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, vins_fusion);
 TEST(PreintStructure, VinsFusionIsTheReferenceReordered) {
   // The same perturbation of every block as preint_reference (right rotation error, plus
   // signs throughout), in the order [p, theta, v, ba, bg]: a pure permutation.
-  ExpectConversion("vins_fusion", "preint_reference", [](const PreintIncrement&) -> BlockEntries { return {}; });
-  ExpectConversion("preint_reference", "vins_fusion", [](const PreintIncrement&) -> BlockEntries { return {}; });
+  ExpectConversion("vins_fusion", "preint_reference",
+                   [](const PreintIncrement&) -> BlockEntries { return {}; });
+  ExpectConversion("preint_reference", "vins_fusion",
+                   [](const PreintIncrement&) -> BlockEntries { return {}; });
 }
 
 TEST(PreintStructure, VinsFusionToManifoldJacobianFlipsOnlyTheBias) {
   // GTSAM's j chart perturbs the motion the same way but takes Delta b = Delta b^ - db.
-  ExpectConversion("vins_fusion", "gtsam_manifold_jacobian", [](const PreintIncrement&) -> BlockEntries {
-    return {{"ba", -I3}, {"bg", -I3}};
-  });
+  ExpectConversion("vins_fusion", "gtsam_manifold_jacobian",
+                   [](const PreintIncrement&) -> BlockEntries {
+                     return {{"ba", -I3}, {"bg", -I3}};
+                   });
 }

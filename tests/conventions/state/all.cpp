@@ -9,13 +9,14 @@ namespace {
 
 // The six built-in conventions and the reference, each in the block order it documents.
 TEST(StateConventions, BuiltInsAndTheirBlockOrders) {
-  imuconv::test::CheckBuiltInBlockOrders<imuconv::test::StateKind>({{"left", "p theta v bg ba"},
-                                                                    {"gtsam_navstate", "theta p v ba bg"},
-                                                                    {"gtsam_pose3_vel", "theta p v ba bg"},
-                                                                    {"forster", "theta p v bg ba"},
-                                                                    {"openvins_jpl", "theta p v bg ba"},
-                                                                    {"right_invariant_se23", "theta v p bg ba"},
-                                                                    {"left_invariant_se23", "theta v p bg ba"}});
+  imuconv::test::CheckBuiltInBlockOrders<imuconv::test::StateKind>(
+      {{"left", "p theta v bg ba"},
+       {"gtsam_navstate", "theta p v ba bg"},
+       {"gtsam_pose3_vel", "theta p v ba bg"},
+       {"forster", "theta p v bg ba"},
+       {"openvins_jpl", "theta p v bg ba"},
+       {"right_invariant_se23", "theta v p bg ba"},
+       {"left_invariant_se23", "theta v p bg ba"}});
 }
 
 }  // namespace

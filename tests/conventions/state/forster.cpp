@@ -20,5 +20,7 @@ TEST(StateStructure, ForsterToNavStateDiffersInVelocityFrame) {
 
 TEST(StateStructure, ForsterToOpenVinsJplAgreeOnRotation) {
   // Both perturb R on the right; OpenVINS's position is global (R^ dp_forster).
-  ExpectConversion("forster", "openvins_jpl", [](const ImuState& x) -> BlockEntries { return {{"p", x.R}}; });
+  ExpectConversion("forster", "openvins_jpl", [](const ImuState& x) -> BlockEntries {
+    return {{"p", x.R}};
+  });
 }

@@ -33,7 +33,8 @@ TEST(StateStructure, Pose3ExpmapCouplesTranslationToRotation) {
   nav->retract(x, d, y2);
   // Pose3::Expmap: p = p^ + R^ Jl(theta) t; NavState: p = p^ + R^ dp. Tolerance: a few
   // ulps of |p| ~ 20 (the same products in another association).
-  EXPECT_LE((y1.p - (x.p + x.R * so3::Jl(d.segment<3>(0)) * d.segment<3>(3))).cwiseAbs().maxCoeff(), 1e-13);
-  EXPECT_GT((y1.p - y2.p).norm(), 0.1);  // |(Jl(theta) - I) t| ~ |theta||t|/2 ~ 0.5
+  EXPECT_LE((y1.p - (x.p + x.R * so3::Jl(d.segment<3>(0)) * d.segment<3>(3))).cwiseAbs().maxCoeff(),
+            1e-13);
+  EXPECT_GT((y1.p - y2.p).norm(), 0.1);                 // |(Jl(theta) - I) t| ~ |theta||t|/2 ~ 0.5
   EXPECT_LE((y1.R - y2.R).cwiseAbs().maxCoeff(), 0.0);  // the same R^ Exp(theta), bit for bit
 }

@@ -64,18 +64,21 @@ TEST(OpenVinsJpl, IndependentJplImplementationIsConsistent) {
   // and C is a rotation.
   for (int k = 0; k < 5; ++k) {
     const Quat q = RandomJpl(), p = RandomJpl();
-    EXPECT_LE((JplToRot(JplProduct(q, p)) - JplToRot(q) * JplToRot(p)).cwiseAbs().maxCoeff(), kRotTol);
-    EXPECT_LE((JplToRot(q) * JplToRot(q).transpose() - Mat3::Identity()).cwiseAbs().maxCoeff(), kRotTol);
+    EXPECT_LE((JplToRot(JplProduct(q, p)) - JplToRot(q) * JplToRot(p)).cwiseAbs().maxCoeff(),
+              kRotTol);
+    EXPECT_LE((JplToRot(q) * JplToRot(q).transpose() - Mat3::Identity()).cwiseAbs().maxCoeff(),
+              kRotTol);
     EXPECT_NEAR(JplToRot(q).determinant(), 1.0, kRotTol);
   }
   // OpenVINS's error-state definition: R_GtoI = (I - [dtheta]x) R^_GtoI to first order.
   // The second-order remainder is below |dtheta|^2 ~ 2e-14 for |dtheta| = 1.3e-7.
   const Vec3 small(1e-7, -0.5e-7, 0.7e-7);
   const Quat q = RandomJpl();
-  EXPECT_LE((JplToRot(JplUpdate(q, small)) - (Mat3::Identity() - imuconv::so3::skew(small)) * JplToRot(q))
-                .cwiseAbs()
-                .maxCoeff(),
-            1e-13);
+  EXPECT_LE(
+      (JplToRot(JplUpdate(q, small)) - (Mat3::Identity() - imuconv::so3::skew(small)) * JplToRot(q))
+          .cwiseAbs()
+          .maxCoeff(),
+      1e-13);
 }
 
 TEST(OpenVinsJpl, RetractIsJplLeftUpdateOfGlobalToImu) {
@@ -121,7 +124,8 @@ TEST(OpenVinsJpl, LocalRecoversTheJplErrorAngle) {
     conv->local(x, y, d);
     // Relative to max(1, |dtheta|): Log of a product of rotations, then the tan(|phi|/2)
     // rescaling whose derivative at |dtheta| = 2*sqrt(3) is ~7; rounding ~1e-15.
-    EXPECT_LE((d.segment<3>(0) - dtheta).cwiseAbs().maxCoeff() / std::max(1.0, dtheta.norm()), 1e-12)
+    EXPECT_LE((d.segment<3>(0) - dtheta).cwiseAbs().maxCoeff() / std::max(1.0, dtheta.norm()),
+              1e-12)
         << "|dtheta| = " << dtheta.norm();
   }
 }
@@ -133,7 +137,8 @@ TEST(OpenVinsJpl, HamiltonAngleOfTheJplErrorQuaternion) {
     Quat identity(0, 0, 0, 1);
     const Mat3 C = JplToRot(JplUpdate(identity, dtheta));
     const Vec3 phi = 2.0 * std::atan(0.5 * s) * dtheta / s;
-    EXPECT_LE((C.transpose() - imuconv::so3::Exp(phi)).cwiseAbs().maxCoeff(), kRotTol) << "|dtheta| = " << s;
+    EXPECT_LE((C.transpose() - imuconv::so3::Exp(phi)).cwiseAbs().maxCoeff(), kRotTol)
+        << "|dtheta| = " << s;
   }
 }
 

@@ -14,8 +14,13 @@ TEST(StateStructure, LeftToRightInvariantCouplesRotationIntoTranslations) {
 TEST(StateStructure, LeftToRightInvariantIsTheSe23Adjoint) {
   // X Exp(xi) = Exp(Ad_X xi) X with Ad_X = [[R, 0, 0], [[v]x R, R, 0], [[p]x R, 0, R]] in
   // the order [phi, nu, rho]; biases are outside the group.
-  ExpectConversion("left_invariant_se23", "right_invariant_se23", [](const ImuState& x) -> BlockEntries {
-    const Mat3& R = x.R;
-    return {{"theta", R}, {"v", "theta", so3::skew(x.v) * R}, {"v", R}, {"p", "theta", so3::skew(x.p) * R}, {"p", R}};
-  });
+  ExpectConversion("left_invariant_se23", "right_invariant_se23",
+                   [](const ImuState& x) -> BlockEntries {
+                     const Mat3& R = x.R;
+                     return {{"theta", R},
+                             {"v", "theta", so3::skew(x.v) * R},
+                             {"v", R},
+                             {"p", "theta", so3::skew(x.p) * R},
+                             {"p", R}};
+                   });
 }

@@ -10,8 +10,8 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -23,8 +23,9 @@ namespace imuconv::cli {
 struct CommandContext {
   std::vector<std::string> plugin_dirs_main;  ///< --plugin-dir before the subcommand
   std::vector<std::string> plugin_dirs_sub;   ///< --plugin-dir after it
-  bool allow_plugin_override = false;         ///< --allow-plugin-override: a duplicate id is a warning, the first wins
-  int exit_code = 0;                          ///< set by the subcommand that ran
+  bool allow_plugin_override =
+      false;          ///< --allow-plugin-override: a duplicate id is a warning, the first wins
+  int exit_code = 0;  ///< set by the subcommand that ran
   /// -q before the subcommand: -1, only the results, warnings and errors (no summaries, no
   /// "wrote" lines); -v: 1, also the plugin search path, each plugin loaded and the time taken,
   /// on stderr; 0 otherwise. Warnings and errors are never silenced.
@@ -57,7 +58,8 @@ void AddPluginDirOption(CLI::App& sub, CommandContext& ctx);
 /// Loads the plugin search path (--plugin-dir first, then `extra`, IMUCONV_PLUGIN_PATH and the
 /// default directory) and returns what failed to load. Throws Error for a duplicate plugin id
 /// unless --allow-plugin-override was given.
-[[nodiscard]] std::vector<LoadIssue> LoadRegistry(Registry& reg, const CommandContext& ctx, const std::vector<std::string>& extra = {});
+[[nodiscard]] std::vector<LoadIssue> LoadRegistry(Registry& reg, const CommandContext& ctx,
+                                                  const std::vector<std::string>& extra = {});
 
 /// Prints each plugin file that failed to load as "imuconv: warning: <file>: <message>" on stderr
 /// (a command that can do without it goes on).
@@ -75,7 +77,8 @@ void PrintWarnings(const std::vector<std::string>& warnings);
 
 /// A command's --json object with its warnings as "warnings" (an array of strings), when there
 /// are any; unchanged otherwise, so an output without warnings is what it always was.
-[[nodiscard]] nlohmann::json WithWarnings(nlohmann::json out, const std::vector<std::string>& warnings);
+[[nodiscard]] nlohmann::json WithWarnings(nlohmann::json out,
+                                          const std::vector<std::string>& warnings);
 
 /// Prints a failure that stopped a command and returns its exit code (exit_codes.h): 2 (bad
 /// input) for the errors imuconv reports about its input (imuconv::Error and every other
@@ -98,13 +101,15 @@ void RefuseNonFiniteNumbers(CLI::App& app);
 
 /// Prints a 15x15 matrix as a table whose rows and columns are labelled with the axes of the
 /// two conventions' blocks ("theta.x", ...), exact zeros as "0", the rest to 4 digits.
-void PrintLabelledMatrix(std::ostream& out, const Mat15& m, const std::vector<std::string>& row_blocks,
+void PrintLabelledMatrix(std::ostream& out, const Mat15& m,
+                         const std::vector<std::string>& row_blocks,
                          const std::vector<std::string>& col_blocks);
 
 /// "unknown state (or increment) convention 'id'; known: ..." (and that the id is one of the
 /// other kind, if so) when `id` is not a convention of `kind`; "" when it is.
-[[nodiscard]] std::string UnknownConventionMessage(const Registry& reg, PluginKind kind, const std::string& id,
-                                                  const std::vector<LoadIssue>& load_issues);
+[[nodiscard]] std::string UnknownConventionMessage(const Registry& reg, PluginKind kind,
+                                                   const std::string& id,
+                                                   const std::vector<LoadIssue>& load_issues);
 
 void RegisterPluginsCommand(CLI::App& app, CommandContext& ctx);
 void RegisterConversionCommand(CLI::App& app, CommandContext& ctx);

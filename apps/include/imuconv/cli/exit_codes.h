@@ -14,14 +14,17 @@ namespace imuconv::cli {
 enum ExitCode : int {
   kExitOk = 0,            ///< done; a judgment (check, montecarlo, nees, plugins --check) passed
   kExitInconsistent = 1,  ///< done, and judged inconsistent (output written as usual)
-  kExitBadInput = 2,      ///< a usage error or an unusable input (file, JSON, id, flag); nothing written
-  kExitInternal = 3,      ///< a failure that is not the input's: a defect of imuconv or a plugin, out of memory
+  kExitBadInput =
+      2,  ///< a usage error or an unusable input (file, JSON, id, flag); nothing written
+  kExitInternal =
+      3,  ///< a failure that is not the input's: a defect of imuconv or a plugin, out of memory
 };
 
 /// The table, as the footer of every --help.
 inline constexpr const char* kExitCodeFooter =
     "Exit codes (every command): 0 ok, or consistent; 1 judged inconsistent (check, montecarlo, "
-    "run's check tasks, plugins --check); 2 bad input (usage, a missing or malformed file, an unknown id or "
+    "run's check tasks, plugins --check); 2 bad input (usage, a missing or malformed file, an "
+    "unknown id or "
     "flag; nothing is written); 3 internal error (a defect of imuconv or a plugin, out of memory). "
     "docs/exit-codes.md";
 

@@ -12,8 +12,10 @@
 namespace imuconv::pipeline {
 
 std::optional<ImuState> GroundTruth::at(double tq) const {
-  if (t.empty() || x.size() != t.size() || !(tq >= t.front()) || !(tq <= t.back())) return std::nullopt;
-  const std::size_t i = static_cast<std::size_t>(std::lower_bound(t.begin(), t.end(), tq) - t.begin());
+  if (t.empty() || x.size() != t.size() || !(tq >= t.front()) || !(tq <= t.back()))
+    return std::nullopt;
+  const std::size_t i =
+      static_cast<std::size_t>(std::lower_bound(t.begin(), t.end(), tq) - t.begin());
   if (t[i] == tq) return x[i];
   // tq > t.front() here, so i >= 1.
   const ImuState& a = x[i - 1];
@@ -31,8 +33,9 @@ std::optional<ImuState> GroundTruth::at(double tq) const {
 
 namespace {
 constexpr std::size_t kGtFields = 17;
-const char* const kGtNames[kGtFields] = {"timestamp [ns]", "p_x", "p_y", "p_z", "q_w",  "q_x",  "q_y",  "q_z", "v_x",
-                                         "v_y",            "v_z", "bg_x", "bg_y", "bg_z", "ba_x", "ba_y", "ba_z"};
+const char* const kGtNames[kGtFields] = {
+    "timestamp [ns]", "p_x",  "p_y",  "p_z",  "q_w",  "q_x", "q_y", "q_z", "v_x", "v_y", "v_z",
+    "bg_x",           "bg_y", "bg_z", "ba_x", "ba_y", "ba_z"};
 
 std::string Fixed(double x) {
   char buf[32];
@@ -41,7 +44,8 @@ std::string Fixed(double x) {
 }
 }  // namespace
 
-GroundTruth ReadEurocGroundTruth(const std::string& path, const TimeOrigin& origin, const ReadOptions& options) {
+GroundTruth ReadEurocGroundTruth(const std::string& path, const TimeOrigin& origin,
+                                 const ReadOptions& options) {
   data::LineReader lr(path);
   data::RowFormat rf;
   rf.comment = "#";
@@ -79,10 +83,12 @@ GroundTruth ReadEurocGroundTruth(const std::string& path, const TimeOrigin& orig
   return gt;
 }
 
-GroundTruth ReadPoseGroundTruth(const std::string& path, const std::string& format, const TimeOrigin& origin,
-                                const ReadOptions& options, const SensorInBody& sensor) {
+GroundTruth ReadPoseGroundTruth(const std::string& path, const std::string& format,
+                                const TimeOrigin& origin, const ReadOptions& options,
+                                const SensorInBody& sensor) {
   const bool tum = format == "tum";
-  if (!tum && format != "euroc_pose") throw ReadError(path, 0, "unknown pose ground-truth format '" + format + "'");
+  if (!tum && format != "euroc_pose")
+    throw ReadError(path, 0, "unknown pose ground-truth format '" + format + "'");
   data::LineReader lr(path);
   data::RowFormat rf;
   rf.comment = "#";
@@ -119,8 +125,8 @@ GroundTruth ReadPoseGroundTruth(const std::string& path, const std::string& form
     const double qn = std::sqrt(qw * qw + qx * qx + qy * qy + qz * qz);
     // 1e-3, as for EuRoC's state files: quaternions written with 6 significant digits.
     if (!(std::abs(qn - 1.0) <= 1e-3))
-      row.fail(std::string("quaternion ") + (tum ? "(qx, qy, qz, qw)" : "(q_w, q_x, q_y, q_z)") + " has norm " +
-               Fixed(qn) + ", expected 1 (to 1e-3)");
+      row.fail(std::string("quaternion ") + (tum ? "(qx, qy, qz, qw)" : "(q_w, q_x, q_y, q_z)") +
+               " has norm " + Fixed(qn) + ", expected 1 (to 1e-3)");
     // The sensor's pose T_RS, then the body's: R_RB = R_RS R_SB, p_RB = p_RS - R_RB p_BS.
     ImuState s;
     s.R = so3::FromQuaternionWxyz(qw, qx, qy, qz) * R_SB;

@@ -17,7 +17,8 @@ namespace {
 // is recognised alike.
 constexpr double kGravity = 9.80665;
 constexpr double kNearGravityLow = 7.0, kNearGravityHigh = 13.0;
-constexpr double kNearOneLow = kNearGravityLow / kGravity, kNearOneHigh = kNearGravityHigh / kGravity;
+constexpr double kNearOneLow = kNearGravityLow / kGravity,
+                 kNearOneHigh = kNearGravityHigh / kGravity;
 // A median rate above 10 rad/s (573 deg/s) is sustained spinning no handheld, vehicle or
 // aerial platform shows; the same numbers read as deg/s are 0.17 rad/s, ordinary motion.
 constexpr double kImplausibleMedianGyro = 10.0;
@@ -58,7 +59,8 @@ ImuMagnitudes MeasureMagnitudes(const std::vector<ImuSample>& samples) {
   return m;
 }
 
-std::vector<std::string> ImuPlausibilityWarnings(const std::vector<ImuSample>& samples, const std::string& source) {
+std::vector<std::string> ImuPlausibilityWarnings(const std::vector<ImuSample>& samples,
+                                                 const std::string& source) {
   if (samples.size() < kPlausibilityMinSamples) return {};
   const ImuMagnitudes m = MeasureMagnitudes(samples);
   // A non-finite sample is the readers' error to report, not a unit question.
@@ -70,18 +72,23 @@ std::vector<std::string> ImuPlausibilityWarnings(const std::vector<ImuSample>& s
   const bool accel_near_g = near(m.median_accel, kNearGravityLow, kNearGravityHigh);
   const bool swapped = near(m.median_gyro, kNearGravityLow, kNearGravityHigh) && !accel_near_g;
   if (swapped) {
-    out.push_back(where + "the gyro and accelerometer columns look swapped: median |gyro| " + Num(m.median_gyro) +
-                  " (gravity's magnitude; angular rates in rad/s stay well below it) and median |accel| " + Num(m.median_accel) +
-                  " (expected near 9.81 m/s^2, gravity)" + over + "; check the column order (wx, wy, wz, ax, ay, az)");
+    out.push_back(
+        where + "the gyro and accelerometer columns look swapped: median |gyro| " +
+        Num(m.median_gyro) +
+        " (gravity's magnitude; angular rates in rad/s stay well below it) and median |accel| " +
+        Num(m.median_accel) + " (expected near 9.81 m/s^2, gravity)" + over +
+        "; check the column order (wx, wy, wz, ax, ay, az)");
     return out;  // the unit checks below would read the swapped columns
   }
   if (near(m.median_accel, kNearOneLow, kNearOneHigh))
-    out.push_back(where + "the accelerometer looks like it is in g, not m/s^2: median |accel| " + Num(m.median_accel) +
-                  over + " (gravity alone is 9.81 m/s^2, 1 g); multiply it by 9.80665");
+    out.push_back(where + "the accelerometer looks like it is in g, not m/s^2: median |accel| " +
+                  Num(m.median_accel) + over +
+                  " (gravity alone is 9.81 m/s^2, 1 g); multiply it by 9.80665");
   if (m.median_gyro > kImplausibleMedianGyro) {
-    std::string s = where + "the gyro looks like it is in deg/s, not rad/s: median |gyro| " + Num(m.median_gyro) +
-                    over + " (" + Num(m.median_gyro * kDegPerRad) + " deg/s if it were rad/s; " +
-                    Num(m.median_gyro / kDegPerRad) + " rad/s if it is deg/s)";
+    std::string s = where + "the gyro looks like it is in deg/s, not rad/s: median |gyro| " +
+                    Num(m.median_gyro) + over + " (" + Num(m.median_gyro * kDegPerRad) +
+                    " deg/s if it were rad/s; " + Num(m.median_gyro / kDegPerRad) +
+                    " rad/s if it is deg/s)";
     if (m.beyond_gyro_range > 0)
       s += ", and " + Num(100.0 * m.beyond_gyro_range) +
            "% of the samples exceed 34.9 rad/s, the +-2000 deg/s full scale of common MEMS gyros";

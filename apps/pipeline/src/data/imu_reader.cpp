@@ -1,13 +1,13 @@
 // The IMU readers: EuRoC and generic CSV, one streaming row loop for both.
-#include "imuconv/pipeline/imu_plausibility.h"
 #include "imuconv/pipeline/imu_reader.h"
+#include "imuconv/pipeline/imu_plausibility.h"
 
 #include <algorithm>
 
 #include "csv_text.h"
-#include "row_loop.h"
 #include "imuconv/pipeline/errors.h"
 #include "imuconv/printable.h"
+#include "row_loop.h"
 
 namespace imuconv::pipeline {
 
@@ -28,23 +28,28 @@ struct Layout {
 
 // The column with the largest index (the first such), for the width checks.
 int WidestColumn(const Layout& layout) {
-  return static_cast<int>(std::max_element(layout.index.begin(), layout.index.end()) - layout.index.begin());
+  return static_cast<int>(std::max_element(layout.index.begin(), layout.index.end()) -
+                          layout.index.begin());
 }
 
 // Every data line must have layout.n_fields fields (once known) and every field a column
 // refers to must exist: the width is checked against the header here, or against the first
 // data line by the row loop, before any field is indexed.
-ImuData ReadImuRows(const std::string& path, data::RowFormat rf, const Layout& layout, std::optional<TimeValue> origin,
-                    data::LineReader& lr, const ReadOptions& options) {
+ImuData ReadImuRows(const std::string& path, data::RowFormat rf, const Layout& layout,
+                    std::optional<TimeValue> origin, data::LineReader& lr,
+                    const ReadOptions& options) {
   const int widest = WidestColumn(layout);
   const auto max_index = static_cast<std::size_t>(layout.index[static_cast<std::size_t>(widest)]);
-  const std::string uses = "index " + std::to_string(max_index) + " (for '" + kImuColumnNames[widest] + "')";
+  const std::string uses =
+      "index " + std::to_string(max_index) + " (for '" + kImuColumnNames[widest] + "')";
   if (layout.n_fields > 0 && max_index >= layout.n_fields)
     throw ReadError(path, layout.header_line,
-                    "the column map uses " + uses + " but the header has " + std::to_string(layout.n_fields) + " columns");
+                    "the column map uses " + uses + " but the header has " +
+                        std::to_string(layout.n_fields) + " columns");
   rf.n_fields = layout.n_fields;
   rf.min_fields = max_index + 1;
-  rf.min_fields_why = " (the column map uses index " + std::to_string(max_index) + " for '" + kImuColumnNames[widest] + "')";
+  rf.min_fields_why = " (the column map uses index " + std::to_string(max_index) + " for '" +
+                      kImuColumnNames[widest] + "')";
   rf.time_index = static_cast<std::size_t>(layout.index[0]);
   rf.time_label = layout.label[0];
   std::optional<TimeOrigin> org;
@@ -82,7 +87,8 @@ data::RowFormat CsvRows(const CsvFormat& f) {
 
 }  // namespace
 
-ImuData ReadEurocImu(const std::string& path, std::optional<std::int64_t> origin_ns, const ReadOptions& options) {
+ImuData ReadEurocImu(const std::string& path, std::optional<std::int64_t> origin_ns,
+                     const ReadOptions& options) {
   data::LineReader lr(path);
   CsvFormat f;
   f.comment = "#";
@@ -107,7 +113,8 @@ namespace {
 std::string KnownColumns(const std::vector<std::string>& header) {
   constexpr std::size_t kShown = 20;
   std::string known;
-  for (std::size_t i = 0; i < header.size() && i < kShown; ++i) known += (i ? ", " : "") + Shown(header[i]);
+  for (std::size_t i = 0; i < header.size() && i < kShown; ++i)
+    known += (i ? ", " : "") + Shown(header[i]);
   if (header.size() > kShown) known += ", ... (" + std::to_string(header.size()) + " columns)";
   return known;
 }
@@ -121,7 +128,9 @@ ImuData ReadCsvImu(const std::string& path, const CsvFormat& f, const ReadOption
   std::string line;
   for (int h = 0; h < f.header_rows; ++h) {
     if (!lr.next(line))
-      throw ReadError(path, lr.line_no(), "expected " + std::to_string(f.header_rows) + " header rows, the file ends first");
+      throw ReadError(
+          path, lr.line_no(),
+          "expected " + std::to_string(f.header_rows) + " header rows, the file ends first");
     if (h == 0) {
       layout.header_line = lr.line_no();
       std::vector<std::string_view> names;
@@ -139,7 +148,8 @@ ImuData ReadCsvImu(const std::string& path, const CsvFormat& f, const ReadOption
     if (std::holds_alternative<int>(c)) {
       layout.index[k] = std::get<int>(c);
       if (layout.index[k] < 0)
-        throw ReadError(path, 0, std::string("column index of '") + kImuColumnNames[k] + "' is negative");
+        throw ReadError(path, 0,
+                        std::string("column index of '") + kImuColumnNames[k] + "' is negative");
       layout.label[k] = kImuColumnNames[k];
       if (static_cast<std::size_t>(layout.index[k]) < header.size())
         layout.label[k] += ", " + Shown(header[static_cast<std::size_t>(layout.index[k])]);
@@ -147,13 +157,15 @@ ImuData ReadCsvImu(const std::string& path, const CsvFormat& f, const ReadOption
       const std::string& name = std::get<std::string>(c);
       if (f.header_rows == 0)
         throw ReadError(path, 0,
-                        std::string("column '") + kImuColumnNames[k] + "' is given by the name " + Quoted(name) +
-                            " but the format has no header row (header_rows is 0)");
+                        std::string("column '") + kImuColumnNames[k] + "' is given by the name " +
+                            Quoted(name) + " but the format has no header row (header_rows is 0)");
       const auto it = std::find(header.begin(), header.end(), name);
       if (it == header.end())
         throw ReadError(path, layout.header_line,
-                        "no column named " + Quoted(name) + " (for '" + kImuColumnNames[k] + "') in the header; columns: " +
-                            (header.empty() ? std::string("none (the header row is blank)") : KnownColumns(header)));
+                        "no column named " + Quoted(name) + " (for '" + kImuColumnNames[k] +
+                            "') in the header; columns: " +
+                            (header.empty() ? std::string("none (the header row is blank)")
+                                            : KnownColumns(header)));
       layout.index[k] = static_cast<int>(it - header.begin());
       layout.label[k] = std::string(kImuColumnNames[k]) + ", " + Quoted(name);
     }

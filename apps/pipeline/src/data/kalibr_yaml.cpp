@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "../io/input_file.h"
 #include "imuconv/pipeline/errors.h"
 #include "imuconv/printable.h"
-#include "../io/input_file.h"
 
 namespace imuconv::pipeline::data {
 namespace {
@@ -19,7 +19,9 @@ std::size_t LineOf(const YAML::Node& n) { return static_cast<std::size_t>(n.Mark
 
 /// The mapping that holds the keys: the document, or its one imuN entry.
 YAML::Node ImuMapping(const std::string& path, const YAML::Node& doc) {
-  if (!doc.IsMap()) throw ReadError(path, doc.IsDefined() ? LineOf(doc) : 0, "expected a YAML mapping of Kalibr IMU keys");
+  if (!doc.IsMap())
+    throw ReadError(path, doc.IsDefined() ? LineOf(doc) : 0,
+                    "expected a YAML mapping of Kalibr IMU keys");
   if (doc["gyroscope_noise_density"] || doc["accelerometer_noise_density"]) return doc;
   std::vector<std::string> imus;
   YAML::Node found;
@@ -33,7 +35,8 @@ YAML::Node ImuMapping(const std::string& path, const YAML::Node& doc) {
   if (imus.size() == 1) return found;
   if (imus.empty())
     throw ReadError(path, 0,
-                    "no Kalibr IMU keys (gyroscope_noise_density, accelerometer_noise_density, gyroscope_random_walk, "
+                    "no Kalibr IMU keys (gyroscope_noise_density, accelerometer_noise_density, "
+                    "gyroscope_random_walk, "
                     "accelerometer_random_walk), at the top level or under one imu0 entry");
   std::string list;
   for (const auto& k : imus) list += (list.empty() ? "" : ", ") + Printable(k);
@@ -71,7 +74,8 @@ void RefuseDuplicateKeys(const std::string& path, const YAML::Node& doc) {
   }
 }
 
-double NonNegative(const std::string& path, const YAML::Node& map, const char* key, bool required, double fallback) {
+double NonNegative(const std::string& path, const YAML::Node& map, const char* key, bool required,
+                   double fallback) {
   const YAML::Node v = map[key];
   if (!v) {
     if (!required) return fallback;
@@ -81,21 +85,26 @@ double NonNegative(const std::string& path, const YAML::Node& map, const char* k
   if (!v.IsScalar() || !YAML::convert<double>::decode(v, x))
     throw ReadError(path, LineOf(v), std::string(key) + ": expected a number");
   if (!std::isfinite(x) || x < 0.0)
-    throw ReadError(path, LineOf(v), std::string(key) + ": expected a finite non-negative number, found " + Quoted(v.Scalar()));
+    throw ReadError(
+        path, LineOf(v),
+        std::string(key) + ": expected a finite non-negative number, found " + Quoted(v.Scalar()));
   return x;
 }
 
 }  // namespace
 
 ImuNoise ReadKalibrImuYaml(const std::string& path) {
-  const std::string text = ReadWholeFile(path, kMaxKalibrYamlBytes, "64 KiB", ", the largest Kalibr IMU file imuconv reads (a real one is a few hundred bytes)");
+  const std::string text = ReadWholeFile(
+      path, kMaxKalibrYamlBytes, "64 KiB",
+      ", the largest Kalibr IMU file imuconv reads (a real one is a few hundred bytes)");
   YAML::Node doc;
   try {
     doc = YAML::Load(text);
   } catch (const YAML::DeepRecursion& e) {
     // yaml-cpp's depth guard (its message says only "bad file").
     throw ReadError(path, static_cast<std::size_t>(e.mark.line + 1),
-                    "not valid YAML: nested " + std::to_string(e.depth()) + " levels deep, deeper than any IMU file");
+                    "not valid YAML: nested " + std::to_string(e.depth()) +
+                        " levels deep, deeper than any IMU file");
   } catch (const YAML::Exception& e) {
     // yaml-cpp's own message, without its "yaml-cpp: error at line L, column C: " prefix.
     throw ReadError(path, e.mark.is_null() ? 0 : static_cast<std::size_t>(e.mark.line + 1),

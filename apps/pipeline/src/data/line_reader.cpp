@@ -46,7 +46,8 @@ bool LineReader::next(std::string& line) {
   }
   ++line_no_;
   if (!line.empty() && line.back() == '\r') line.pop_back();
-  if (line_no_ == 1 && line.size() >= 3 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // UTF-8 BOM
+  if (line_no_ == 1 && line.size() >= 3 && line.compare(0, 3, "\xEF\xBB\xBF") == 0)
+    line.erase(0, 3);  // UTF-8 BOM
   return true;
 }
 

@@ -12,8 +12,8 @@ namespace imuconv::pipeline::data {
 
 /// `t` and `lines`: the kept rows; `window`: the times the median period is taken from
 /// (RangeKeeper::window()).
-void ThrowIfTimingIssue(const std::string& path, const std::vector<double>& t, const std::vector<std::size_t>& lines,
-                        const std::vector<double>& window, const TimingPolicy& policy, TimeUnit declared,
-                        TimeSource source);
+void ThrowIfTimingIssue(const std::string& path, const std::vector<double>& t,
+                        const std::vector<std::size_t>& lines, const std::vector<double>& window,
+                        const TimingPolicy& policy, TimeUnit declared, TimeSource source);
 
 }  // namespace imuconv::pipeline::data

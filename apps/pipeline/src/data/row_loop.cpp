@@ -7,8 +7,12 @@
 
 namespace imuconv::pipeline::data {
 
-RowLoop::RowLoop(std::string path, LineReader& lines, RowFormat format, std::optional<TimeOrigin> origin)
-    : path_(std::move(path)), lines_(lines), f_(std::move(format)), have_origin_(origin.has_value()) {
+RowLoop::RowLoop(std::string path, LineReader& lines, RowFormat format,
+                 std::optional<TimeOrigin> origin)
+    : path_(std::move(path)),
+      lines_(lines),
+      f_(std::move(format)),
+      have_origin_(origin.has_value()) {
   if (origin) origin_ = *origin;
   origin_.unit = origin ? origin->unit : f_.unit;
   delimited_ = " separated by " + DelimiterName(f_.delimiter, f_.whitespace_delimited);
@@ -20,7 +24,8 @@ double RowLoop::number(std::size_t index, const std::string& label) const {
   const std::string_view text = fields_[index];
   const auto v = ParseDouble(text);
   if (!v || !std::isfinite(*v))
-    fail("column " + std::to_string(index) + " (" + label + "): expected a finite number, found " + Shown(text));
+    fail("column " + std::to_string(index) + " (" + label + "): expected a finite number, found " +
+         Shown(text));
   return *v;
 }
 
@@ -31,13 +36,14 @@ TimeValue RowLoop::parse_time() const {
     std::int64_t whole = 0;
     const std::string_view tt = Trim(text);
     const auto r = std::from_chars(tt.data(), tt.data() + tt.size(), whole);
-    if (!tt.empty() && r.ec == std::errc() && r.ptr == tt.data() + tt.size()) tv = TimeValue{whole, 0.0};
+    if (!tt.empty() && r.ec == std::errc() && r.ptr == tt.data() + tt.size())
+      tv = TimeValue{whole, 0.0};
   } else {
     tv = ParseTimeValue(text);
   }
   if (!tv)
-    fail("column " + std::to_string(f_.time_index) + " (" + f_.time_label + "): expected " + f_.time_what + ", found " +
-         Shown(text));
+    fail("column " + std::to_string(f_.time_index) + " (" + f_.time_label + "): expected " +
+         f_.time_what + ", found " + Shown(text));
   return *tv;
 }
 
@@ -48,9 +54,11 @@ double RowLoop::relative(const TimeValue& tv) const {
     // origin's unit, whole units exactly where they fit in int64.
     const std::int64_t ratio = NanosPerUnit(f_.unit) / NanosPerUnit(origin_.unit);
     std::int64_t whole = 0;
-    if (__builtin_mul_overflow(tv.whole, ratio, &whole)) fail("timestamp is out of range on the IMU's time axis");
+    if (__builtin_mul_overflow(tv.whole, ratio, &whole))
+      fail("timestamp is out of range on the IMU's time axis");
     const double scaled = tv.frac * static_cast<double>(ratio), floor_scaled = std::floor(scaled);
-    return origin_.relative_seconds(TimeValue{whole + static_cast<std::int64_t>(floor_scaled), scaled - floor_scaled});
+    return origin_.relative_seconds(
+        TimeValue{whole + static_cast<std::int64_t>(floor_scaled), scaled - floor_scaled});
   }
   // The stamp in the origin's (coarser) unit first, so that the difference stays exact:
   // whole units and the remainder as the fraction.
@@ -60,7 +68,8 @@ double RowLoop::relative(const TimeValue& tv) const {
     whole -= 1;
     rem += ratio;
   }
-  return origin_.relative_seconds(TimeValue{whole, (static_cast<double>(rem) + tv.frac) / static_cast<double>(ratio)});
+  return origin_.relative_seconds(
+      TimeValue{whole, (static_cast<double>(rem) + tv.frac) / static_cast<double>(ratio)});
 }
 
 bool RowLoop::next() {
@@ -72,19 +81,20 @@ bool RowLoop::next() {
     if (f_.n_fields == 0) {
       f_.n_fields = fields_.size();
       if (fields_.size() < f_.min_fields)
-        fail("expected at least " + std::to_string(f_.min_fields) + " fields" + delimited_ + f_.min_fields_why +
-             ", found " + std::to_string(fields_.size()));
+        fail("expected at least " + std::to_string(f_.min_fields) + " fields" + delimited_ +
+             f_.min_fields_why + ", found " + std::to_string(fields_.size()));
     }
     if (fields_.size() != f_.n_fields)
-      fail("expected " + std::to_string(f_.n_fields) + " fields" + f_.fields_what + delimited_ + ", found " +
-           std::to_string(fields_.size()));
+      fail("expected " + std::to_string(f_.n_fields) + " fields" + f_.fields_what + delimited_ +
+           ", found " + std::to_string(fields_.size()));
     // From here on every field index of the format is in range (n_fields >= min_fields).
     const TimeValue tv = parse_time();
     if (prev_line_ == 0) {
       if (!have_origin_) origin_.value = tv;
     } else if (!(tv.whole > prev_.whole || (tv.whole == prev_.whole && tv.frac > prev_.frac))) {
-      fail("timestamp " + ShownBare(Trim(fields_[f_.time_index])) + " is not after the previous sample's (line " +
-           std::to_string(prev_line_) + "); timestamps must be strictly increasing");
+      fail("timestamp " + ShownBare(Trim(fields_[f_.time_index])) +
+           " is not after the previous sample's (line " + std::to_string(prev_line_) +
+           "); timestamps must be strictly increasing");
     }
     const double t = relative(tv);
     if (prev_line_ != 0 && !(t > t_))

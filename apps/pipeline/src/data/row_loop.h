@@ -36,20 +36,20 @@ struct RowFormat {
   /// What the fields are, after "expected 17 fields" (e.g. " (timestamp [ns], p xyz, ...)").
   std::string fields_what;
   std::size_t time_index = 0;
-  std::string time_label;   ///< "timestamp [ns]", "t, 'time'"
-  bool integer_time = false;  ///< integers only (nanosecond stamps)
-  std::string time_what;    ///< "an integer timestamp in nanoseconds", for messages
+  std::string time_label;       ///< "timestamp [ns]", "t, 'time'"
+  bool integer_time = false;    ///< integers only (nanosecond stamps)
+  std::string time_what;        ///< "an integer timestamp in nanoseconds", for messages
   TimeUnit unit = TimeUnit::s;  ///< of the stamps in the file
   TimeSource source = TimeSource::imu;
-  const char* row_noun = "sample";   ///< "the previous sample's"
+  const char* row_noun = "sample";                ///< "the previous sample's"
   const char* empty = "contains no IMU samples";  ///< the message for a file without rows
 };
 
 class RowLoop {
  public:
   /// Times are made relative to `origin`, in any unit (ground truth in ns on an IMU axis in
-  /// s, or in s on an axis in ns: the difference is taken exactly either way); with no origin, the first row's time is
-  /// the origin, in the file's unit.
+  /// s, or in s on an axis in ns: the difference is taken exactly either way); with no origin, the
+  /// first row's time is the origin, in the file's unit.
   RowLoop(std::string path, LineReader& lines, RowFormat format, std::optional<TimeOrigin> origin);
 
   /// Moves to the next data row; false at the end of the file.
@@ -93,8 +93,8 @@ RangeKeeper<Row> ReadRows(RowLoop& loop, const ReadOptions& options, MakeRow mak
   RangeKeeper<Row> keeper(options.keep);
   while (loop.next()) keeper.add(loop.t(), loop.line(), make_row(loop));
   if (keeper.times().empty()) throw ReadError(loop.path(), 0, loop.format().empty);
-  ThrowIfTimingIssue(loop.path(), keeper.times(), keeper.lines(), keeper.window(), options.timing, loop.format().unit,
-                     loop.format().source);
+  ThrowIfTimingIssue(loop.path(), keeper.times(), keeper.lines(), keeper.window(), options.timing,
+                     loop.format().unit, loop.format().source);
   return keeper;
 }
 

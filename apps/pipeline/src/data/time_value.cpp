@@ -47,7 +47,8 @@ std::optional<TimeValue> ParseTimeValue(std::string_view text) {
   }
   const std::size_t dot = body.find('.');
   const std::string_view int_part = body.substr(0, dot);
-  const std::string_view frac_part = dot == std::string_view::npos ? std::string_view() : body.substr(dot + 1);
+  const std::string_view frac_part =
+      dot == std::string_view::npos ? std::string_view() : body.substr(dot + 1);
   const auto all_digits = [](std::string_view d) {
     return std::all_of(d.begin(), d.end(), [](char c) { return c >= '0' && c <= '9'; });
   };
@@ -61,7 +62,8 @@ std::optional<TimeValue> ParseTimeValue(std::string_view text) {
   std::int64_t whole = 0;
   if (!int_part.empty()) {
     const auto r = std::from_chars(int_part.data(), int_part.data() + int_part.size(), whole);
-    if (r.ec != std::errc() || r.ptr != int_part.data() + int_part.size()) return std::nullopt;  // overflow
+    if (r.ec != std::errc() || r.ptr != int_part.data() + int_part.size())
+      return std::nullopt;  // overflow
   }
   double frac = 0.0;
   if (!frac_part.empty()) {
@@ -96,12 +98,13 @@ std::optional<std::int64_t> TimeOrigin::nanoseconds() const {
 
 std::optional<std::int64_t> TimeOrigin::absolute_ns(double relative_seconds) const {
   const auto o = nanoseconds();
-  if (!o || !std::isfinite(relative_seconds) || std::abs(relative_seconds) > 9.0e9) return std::nullopt;
+  if (!o || !std::isfinite(relative_seconds) || std::abs(relative_seconds) > 9.0e9)
+    return std::nullopt;
   std::int64_t out = 0;
-  if (__builtin_add_overflow(*o, static_cast<std::int64_t>(std::llround(relative_seconds * 1e9)), &out))
+  if (__builtin_add_overflow(*o, static_cast<std::int64_t>(std::llround(relative_seconds * 1e9)),
+                             &out))
     return std::nullopt;
   return out;
 }
-
 
 }  // namespace imuconv::pipeline

@@ -8,20 +8,28 @@ namespace imuconv::pipeline {
 
 std::int64_t NanosPerUnit(TimeUnit u) {
   switch (u) {
-    case TimeUnit::s: return 1000000000;
-    case TimeUnit::ms: return 1000000;
-    case TimeUnit::us: return 1000;
-    case TimeUnit::ns: return 1;
+    case TimeUnit::s:
+      return 1000000000;
+    case TimeUnit::ms:
+      return 1000000;
+    case TimeUnit::us:
+      return 1000;
+    case TimeUnit::ns:
+      return 1;
   }
   return 1;
 }
 
 const char* TimeUnitName(TimeUnit u) {
   switch (u) {
-    case TimeUnit::s: return "s";
-    case TimeUnit::ms: return "ms";
-    case TimeUnit::us: return "us";
-    case TimeUnit::ns: return "ns";
+    case TimeUnit::s:
+      return "s";
+    case TimeUnit::ms:
+      return "ms";
+    case TimeUnit::us:
+      return "us";
+    case TimeUnit::ns:
+      return "ns";
   }
   return "?";
 }
@@ -45,19 +53,26 @@ std::string Num(double x) {
 
 const char* LongName(TimeUnit u) {
   switch (u) {
-    case TimeUnit::s: return "seconds";
-    case TimeUnit::ms: return "milliseconds";
-    case TimeUnit::us: return "microseconds";
-    case TimeUnit::ns: return "nanoseconds";
+    case TimeUnit::s:
+      return "seconds";
+    case TimeUnit::ms:
+      return "milliseconds";
+    case TimeUnit::us:
+      return "microseconds";
+    case TimeUnit::ns:
+      return "nanoseconds";
   }
   return "?";
 }
 
 std::string GapAdvice(TimeSource source) {
   switch (source) {
-    case TimeSource::ground_truth: return "set \"allow_gaps\": true in the ground_truth object to interpolate across it";
-    case TimeSource::imu_array: return "pass allow_gaps=True to integrate across it";
-    default: return "set \"allow_gaps\": true in the IMU source to integrate across it";
+    case TimeSource::ground_truth:
+      return "set \"allow_gaps\": true in the ground_truth object to interpolate across it";
+    case TimeSource::imu_array:
+      return "pass allow_gaps=True to integrate across it";
+    default:
+      return "set \"allow_gaps\": true in the IMU source to integrate across it";
   }
 }
 
@@ -87,10 +102,12 @@ std::optional<TimeUnit> LikelyUnit(double period_s, TimeUnit declared) {
 }
 
 std::string RateMessage(double period, TimeUnit declared, TimeSource source) {
-  std::string m = "the median period is " + Num(period) + " s (rate " + Num(1.0 / period) + " Hz); ";
+  std::string m =
+      "the median period is " + Num(period) + " s (rate " + Num(1.0 / period) + " Hz); ";
   const auto likely = LikelyUnit(period, declared);
-  const std::string range = " (" + std::string(source == TimeSource::ground_truth ? "a ground-truth" : "an IMU") +
-                            " rate is expected between 1 Hz and 100 kHz)";
+  const std::string range =
+      " (" + std::string(source == TimeSource::ground_truth ? "a ground-truth" : "an IMU") +
+      " rate is expected between 1 Hz and 100 kHz)";
   if (!likely) {
     m += "no time unit (s, ms, us, ns) gives a plausible rate: check the time column";
     if (source == TimeSource::imu) m += " and time_unit";
@@ -103,8 +120,11 @@ std::string RateMessage(double period, TimeUnit declared, TimeSource source) {
       m += std::string(": set time_unit to \"") + TimeUnitName(*likely) + "\"";
       break;
     case TimeSource::imu_euroc:
-      m += std::string(", but the EuRoC format reads nanoseconds: convert them, or read the file with \"format\": \"csv\" "
-                       "and \"time_unit\": \"") + TimeUnitName(*likely) + "\"";
+      m += std::string(
+               ", but the EuRoC format reads nanoseconds: convert them, or read the file with "
+               "\"format\": \"csv\" "
+               "and \"time_unit\": \"") +
+           TimeUnitName(*likely) + "\"";
       break;
     case TimeSource::ground_truth:
       m += ", but ground-truth files are read in nanoseconds: convert them";
@@ -127,30 +147,35 @@ double MedianPeriod(const std::vector<double>& t) {
   return *mid;
 }
 
-std::optional<TimingIssue> FindTimingIssue(const std::vector<double>& t, const TimingPolicy& policy, TimeUnit declared,
-                                           TimeSource source) {
+std::optional<TimingIssue> FindTimingIssue(const std::vector<double>& t, const TimingPolicy& policy,
+                                           TimeUnit declared, TimeSource source) {
   return FindTimingIssue(t, MedianPeriod(t), policy, declared, source);
 }
 
-std::optional<TimingIssue> FindTimingIssue(const std::vector<double>& t, double median, const TimingPolicy& policy,
-                                           TimeUnit declared, TimeSource source) {
+std::optional<TimingIssue> FindTimingIssue(const std::vector<double>& t, double median,
+                                           const TimingPolicy& policy, TimeUnit declared,
+                                           TimeSource source) {
   if (t.size() < 2 || !(median > 0.0) || !std::isfinite(median)) return std::nullopt;
   // The rate first: a wrong unit makes every gap message beside the point.
   if (!PlausibleRate(1.0 / median))
     return TimingIssue{TimingIssue::Kind::rate, 0, RateMessage(median, declared, source), median};
   if (policy.allow_gaps) return std::nullopt;
-  const double factor =
-      std::isfinite(policy.max_gap_factor) && policy.max_gap_factor >= 1.0 ? policy.max_gap_factor : TimingPolicy{}.max_gap_factor;
+  const double factor = std::isfinite(policy.max_gap_factor) && policy.max_gap_factor >= 1.0
+                            ? policy.max_gap_factor
+                            : TimingPolicy{}.max_gap_factor;
   const double limit = factor * median;
   for (std::size_t i = 1; i < t.size(); ++i) {
     const double gap = t[i] - t[i - 1];
     if (!(gap > limit)) continue;
     const bool gt = source == TimeSource::ground_truth;
-    return TimingIssue{TimingIssue::Kind::gap, i,
-                       "gap of " + Num(gap) + " s before this " + (gt ? "row" : "sample") + " (the median period is " +
-                           Num(median) + " s; limit " + Num(factor) + " x median = " + Num(limit) +
-                           " s); " + GapAdvice(source),
-                       median, gap, limit};
+    return TimingIssue{TimingIssue::Kind::gap,
+                       i,
+                       "gap of " + Num(gap) + " s before this " + (gt ? "row" : "sample") +
+                           " (the median period is " + Num(median) + " s; limit " + Num(factor) +
+                           " x median = " + Num(limit) + " s); " + GapAdvice(source),
+                       median,
+                       gap,
+                       limit};
   }
   return std::nullopt;
 }

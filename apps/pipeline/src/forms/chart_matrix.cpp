@@ -19,17 +19,21 @@ json MatrixToJson(const Eigen::MatrixXd& m) {
 }
 
 json MixedMatrixToJson(const Eigen::MatrixXd& m, const std::string& row_convention,
-                       const std::vector<std::string>& row_blocks, const std::string& col_convention,
+                       const std::vector<std::string>& row_blocks,
+                       const std::string& col_convention,
                        const std::vector<std::string>& col_blocks) {
   return {{"rows", {{"convention", row_convention}, {"blocks", row_blocks}}},
           {"cols", {{"convention", col_convention}, {"blocks", col_blocks}}},
           {"matrix", MatrixToJson(m)}};
 }
 
-void WriteMixedCharts(JsonWriter& w, const std::string& row_convention, const std::vector<std::string>& row_blocks,
-                      const std::string& col_convention, const std::vector<std::string>& col_blocks) {
-  for (auto [k, c, b] : {std::tuple<const char*, const std::string*, const std::vector<std::string>*>{"rows", &row_convention, &row_blocks},
-                         {"cols", &col_convention, &col_blocks}}) {
+void WriteMixedCharts(JsonWriter& w, const std::string& row_convention,
+                      const std::vector<std::string>& row_blocks, const std::string& col_convention,
+                      const std::vector<std::string>& col_blocks) {
+  for (auto [k, c, b] :
+       {std::tuple<const char*, const std::string*, const std::vector<std::string>*>{
+            "rows", &row_convention, &row_blocks},
+        {"cols", &col_convention, &col_blocks}}) {
     w.key(k);
     w.begin_object();
     w.key("convention");
@@ -40,7 +44,8 @@ void WriteMixedCharts(JsonWriter& w, const std::string& row_convention, const st
   }
 }
 
-void WriteCovariance(JsonWriter& w, const Mat15& m, const std::string& convention, const std::vector<std::string>& blocks) {
+void WriteCovariance(JsonWriter& w, const Mat15& m, const std::string& convention,
+                     const std::vector<std::string>& blocks) {
   CheckOutputCovariance(m, w.pointer() + "/matrix");
   WriteChart(w, m, convention, blocks);
 }
@@ -66,8 +71,10 @@ std::optional<Matrix15In> Matrix15FromJson(const Node& n) {
     if (auto mn = n.get("matrix", true))
       if (auto m = mn->matrix(15, 15)) out.m = *m;
   } else {
-    n.fail("expected a 15x15 matrix (an array of 15 rows), {\"diagonal\": [15 numbers]}, {\"sigma\": [15 numbers]} or {\"convention\", \"blocks\", \"matrix\"}; found " +
-           TypeName(n.value()));
+    n.fail(
+        "expected a 15x15 matrix (an array of 15 rows), {\"diagonal\": [15 numbers]}, {\"sigma\": "
+        "[15 numbers]} or {\"convention\", \"blocks\", \"matrix\"}; found " +
+        TypeName(n.value()));
     return std::nullopt;
   }
   if (n.is_object()) {

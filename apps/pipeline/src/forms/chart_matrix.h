@@ -16,7 +16,8 @@ namespace imuconv::pipeline {
 
 /// {"convention", "blocks", "matrix"}.
 template <typename M>
-void WriteChart(JsonWriter& w, const M& m, const std::string& convention, const std::vector<std::string>& blocks) {
+void WriteChart(JsonWriter& w, const M& m, const std::string& convention,
+                const std::vector<std::string>& blocks) {
   w.begin_object();
   w.key("convention");
   w.string(convention);
@@ -29,7 +30,8 @@ void WriteChart(JsonWriter& w, const M& m, const std::string& convention, const 
 
 /// {"convention", "blocks", "vector"}.
 template <typename V>
-void WriteChartVector(JsonWriter& w, const V& v, const std::string& convention, const std::vector<std::string>& blocks) {
+void WriteChartVector(JsonWriter& w, const V& v, const std::string& convention,
+                      const std::vector<std::string>& blocks) {
   w.begin_object();
   w.key("convention");
   w.string(convention);
@@ -41,13 +43,15 @@ void WriteChartVector(JsonWriter& w, const V& v, const std::string& convention, 
 }
 
 /// The "rows" and "cols" keys of a two-chart matrix (WriteMixed without the matrix).
-void WriteMixedCharts(JsonWriter& w, const std::string& row_convention, const std::vector<std::string>& row_blocks,
-                      const std::string& col_convention, const std::vector<std::string>& col_blocks);
+void WriteMixedCharts(JsonWriter& w, const std::string& row_convention,
+                      const std::vector<std::string>& row_blocks, const std::string& col_convention,
+                      const std::vector<std::string>& col_blocks);
 
 /// {"rows": {"convention", "blocks"}, "cols": {...}, "matrix"}.
 template <typename M>
-void WriteMixed(JsonWriter& w, const M& m, const std::string& row_convention, const std::vector<std::string>& row_blocks,
-                const std::string& col_convention, const std::vector<std::string>& col_blocks) {
+void WriteMixed(JsonWriter& w, const M& m, const std::string& row_convention,
+                const std::vector<std::string>& row_blocks, const std::string& col_convention,
+                const std::vector<std::string>& col_blocks) {
   w.begin_object();
   WriteMixedCharts(w, row_convention, row_blocks, col_convention, col_blocks);
   w.key("matrix");
@@ -57,6 +61,7 @@ void WriteMixed(JsonWriter& w, const M& m, const std::string& row_convention, co
 
 /// A covariance the pipeline computed, in one chart: checked first (CheckOutputCovariance:
 /// a negative variance is a defect to report, never written), then written.
-void WriteCovariance(JsonWriter& w, const Mat15& m, const std::string& convention, const std::vector<std::string>& blocks);
+void WriteCovariance(JsonWriter& w, const Mat15& m, const std::string& convention,
+                     const std::vector<std::string>& blocks);
 
 }  // namespace imuconv::pipeline

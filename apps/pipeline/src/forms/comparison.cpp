@@ -11,7 +11,9 @@
 
 namespace imuconv::pipeline {
 
-double RotationErrorDeg(const Mat3& a, const Mat3& b) { return RotationAngleDeg(a.transpose() * b); }
+double RotationErrorDeg(const Mat3& a, const Mat3& b) {
+  return RotationAngleDeg(a.transpose() * b);
+}
 
 GtComparison Compare(const ImuState& pred, const ImuState& gt, bool full_state) {
   GtComparison c;

@@ -27,7 +27,8 @@ struct GtComparison {
 };
 
 /// `full_state`: whether ground_truth's velocity and biases are known (false for poses).
-GtComparison Compare(const ImuState& predicted, const ImuState& ground_truth, bool full_state = true);
+GtComparison Compare(const ImuState& predicted, const ImuState& ground_truth,
+                     bool full_state = true);
 void WriteComparison(JsonWriter& w, const GtComparison& c);
 
 /// The angle of a^T b in degrees.

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <sstream>
 
-#include "input_checks.h"
 #include "imuconv/pipeline/json_io.h"
 #include "imuconv/pipeline/json_parse.h"
 #include "imuconv/so3.h"
+#include "input_checks.h"
 
 namespace imuconv::pipeline {
 namespace {
@@ -30,23 +30,27 @@ std::string Num(double v, int precision) {
 double RotationAngleDeg(const Mat3& R) { return so3::Log(R).norm() * kRadToDeg; }
 
 std::optional<PreintIncrement> IncrementFromJson(const Node& n) {
-  if (!n.expect_object({"q_wxyz", "R", "dp", "dv", "dbg", "dba", "rotation_angle_deg"})) return std::nullopt;
+  if (!n.expect_object({"q_wxyz", "R", "dp", "dv", "dbg", "dba", "rotation_angle_deg"}))
+    return std::nullopt;
   const std::size_t before = n.checker().count();
   PreintIncrement d;
   std::optional<Mat3> Rq, Rm;
   if (auto qn = n.get("q_wxyz", false)) Rq = RotationFromQuaternion(*qn);
   if (auto rn = n.get("R", false)) Rm = RotationFromMatrix(*rn);
-  if (!n.has("q_wxyz") && !n.has("R")) n.checker().error(n.child_pointer("q_wxyz"), "required key is missing (give q_wxyz or R)");
+  if (!n.has("q_wxyz") && !n.has("R"))
+    n.checker().error(n.child_pointer("q_wxyz"), "required key is missing (give q_wxyz or R)");
   if (Rq && Rm) {
     const double disagree = RotationAngleDeg(Rq->transpose() * *Rm);
     if (disagree > kRotationAgreementDeg)
-      n.checker().error(n.child_pointer("R"), "R and q_wxyz disagree by " + Num(disagree, 6) + " deg (tolerance 1e-6 deg)");
+      n.checker().error(n.child_pointer("R"), "R and q_wxyz disagree by " + Num(disagree, 6) +
+                                                  " deg (tolerance 1e-6 deg)");
   }
   const std::optional<Mat3> R = Rq ? Rq : Rm;
   if (auto an = n.get("rotation_angle_deg", false))
-    if (auto a = an->number(); a && R && std::abs(*a - RotationAngleDeg(*R)) > kRotationAgreementDeg)
-      an->fail("rotation_angle_deg = " + Num(*a, 12) + " does not match the rotation's angle " + Num(RotationAngleDeg(*R), 12) +
-               " deg (tolerance 1e-6 deg)");
+    if (auto a = an->number();
+        a && R && std::abs(*a - RotationAngleDeg(*R)) > kRotationAgreementDeg)
+      an->fail("rotation_angle_deg = " + Num(*a, 12) + " does not match the rotation's angle " +
+               Num(RotationAngleDeg(*R), 12) + " deg (tolerance 1e-6 deg)");
   if (R) d.dR = *R;
   if (auto v = n.vec3("dp", true)) d.dp = *v;
   if (auto v = n.vec3("dv", true)) d.dv = *v;
@@ -76,6 +80,8 @@ void WriteIncrement(JsonWriter& w, const PreintIncrement& d, bool with_R) {
   w.end_object();
 }
 
-PreintIncrement ReadIncrementFile(const std::string& path) { return ReadJsonFileAs(path, IncrementFromJson); }
+PreintIncrement ReadIncrementFile(const std::string& path) {
+  return ReadJsonFileAs(path, IncrementFromJson);
+}
 
 }  // namespace imuconv::pipeline

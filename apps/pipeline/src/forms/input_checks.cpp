@@ -5,8 +5,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "imuconv/numeric.h"
 #include "imuconv/did_you_mean.h"
+#include "imuconv/numeric.h"
 #include "imuconv/printable.h"
 #include "imuconv/so3.h"
 
@@ -29,7 +29,8 @@ std::optional<Eigen::Vector4d> UnitQuaternion(const Node& n, const char* layout)
   if (!q) return std::nullopt;
   const double norm = q->norm();
   if (!(std::abs(norm - 1.0) <= kUnitQuaternionTol)) {
-    n.fail(std::string("expected a unit quaternion ") + layout + " (norm within 1e-6 of 1), found one of norm " + Num(norm));
+    n.fail(std::string("expected a unit quaternion ") + layout +
+           " (norm within 1e-6 of 1), found one of norm " + Num(norm));
     return std::nullopt;
   }
   return Eigen::Vector4d(*q);
@@ -57,8 +58,8 @@ std::optional<Mat3> RotationFromMatrix(const Node& n) {
   const Mat3 M = *R;
   const double err = (M.transpose() * M - Mat3::Identity()).cwiseAbs().maxCoeff();
   if (!(err <= kRotationMatrixTol) || !(M.determinant() > 0.0)) {
-    n.fail("expected a rotation matrix (R^T R = I within 1e-6, det +1), found max |R^T R - I| = " + Num(err) +
-           ", det = " + Num(M.determinant()));
+    n.fail("expected a rotation matrix (R^T R = I within 1e-6, det +1), found max |R^T R - I| = " +
+           Num(err) + ", det = " + Num(M.determinant()));
     return std::nullopt;
   }
   return so3::Exp(so3::Log(M));
@@ -75,7 +76,8 @@ std::string CovarianceInputProblem(const Mat15& C, double tol) {
     const Eigen::SelfAdjointEigenSolver<Mat15> eig(sym, Eigen::EigenvaluesOnly);
     p += " (smallest eigenvalue of (C + C^T)/2: " + Num(eig.eigenvalues().minCoeff()) + ")";
   }
-  const std::string precision = tol == kCovarianceTol ? "" : " (judged at float32 precision, tolerance " + Num(tol) + ")";
+  const std::string precision =
+      tol == kCovarianceTol ? "" : " (judged at float32 precision, tolerance " + Num(tol) + ")";
   return "not a valid covariance: " + p + precision + "; nothing is repaired, fix the input";
 }
 
@@ -92,25 +94,29 @@ void CheckOutputCovariance(const Mat15& C, const std::string& pointer) {
   const double scale = C.diagonal().cwiseAbs().maxCoeff();
   for (Eigen::Index i = 0; i < C.rows(); ++i)
     if (C(i, i) < -kCovarianceTol * scale)
-      throw Error("computed a covariance with a negative variance, entry (" + std::to_string(i) + ", " + std::to_string(i) +
-                  ") = " + Num(C(i, i)) + " (output " + Printable(pointer) + "; tolerance 1e-9 of the largest variance " +
-                  Num(scale) +
-                  "). The inputs were checked, so this is a defect of imuconv or of a plugin: please report it. No output "
+      throw Error("computed a covariance with a negative variance, entry (" + std::to_string(i) +
+                  ", " + std::to_string(i) + ") = " + Num(C(i, i)) + " (output " +
+                  Printable(pointer) + "; tolerance 1e-9 of the largest variance " + Num(scale) +
+                  "). The inputs were checked, so this is a defect of imuconv or of a plugin: "
+                  "please report it. No output "
                   "is written");
 }
 
-void CheckPluginId(Checker& c, const Registry& reg, PluginKind kind, const std::string& id, const std::string& pointer) {
+void CheckPluginId(Checker& c, const Registry& reg, PluginKind kind, const std::string& id,
+                   const std::string& pointer) {
   if (reg.has(kind, id)) return;
-  const char* what = kind == PluginKind::StateConvention    ? "state convention"
-                     : kind == PluginKind::IncrementConvention ? "increment (preintegration) convention"
-                     : kind == PluginKind::Propagator       ? "propagator"
-                                                            : "preintegrator";
+  const char* what = kind == PluginKind::StateConvention ? "state convention"
+                     : kind == PluginKind::IncrementConvention
+                         ? "increment (preintegration) convention"
+                     : kind == PluginKind::Propagator ? "propagator"
+                                                      : "preintegrator";
   std::string known;
   for (const auto& k : reg.ids(kind)) known += (known.empty() ? "" : ", ") + k;
-  std::string msg = std::string("unknown ") + what + " " + Quoted(id) + DidYouMean(id, reg.ids(kind)) + "; known: " + known;
+  std::string msg = std::string("unknown ") + what + " " + Quoted(id) +
+                    DidYouMean(id, reg.ids(kind)) + "; known: " + known;
   // A known id of another kind is a frequent slip: say so.
-  for (PluginKind k :
-       {PluginKind::StateConvention, PluginKind::IncrementConvention, PluginKind::Propagator, PluginKind::Preintegrator})
+  for (PluginKind k : {PluginKind::StateConvention, PluginKind::IncrementConvention,
+                       PluginKind::Propagator, PluginKind::Preintegrator})
     if (k != kind && reg.has(k, id)) msg += " (" + Quoted(id) + " is a " + KindName(k) + ")";
   c.error(pointer, msg);
 }

@@ -6,9 +6,9 @@
 #include <optional>
 #include <string>
 
+#include "imuconv/numeric.h"
 #include "imuconv/pipeline/json_check.h"
 #include "imuconv/registry.h"
-#include "imuconv/numeric.h"
 #include "imuconv/types.h"
 
 namespace imuconv::pipeline {
@@ -41,7 +41,8 @@ inline constexpr double kCovarianceTolFloat32 = 1e-4;
 /// eigenvalue when the problem does not already give it.
 std::string CovarianceInputProblem(const Mat15& C, double tol = kCovarianceTol);
 /// Reports CovarianceInputProblem(C, tol) at `pointer` (nothing is repaired); true when C is fine.
-bool CheckCovarianceInput(Checker& c, const std::string& pointer, const Mat15& C, double tol = kCovarianceTol);
+bool CheckCovarianceInput(Checker& c, const std::string& pointer, const Mat15& C,
+                          double tol = kCovarianceTol);
 
 /// A covariance the pipeline computed and is about to write at output `pointer`: throws
 /// imuconv::Error when a variance is negative beyond round-off (kCovarianceTol times the
@@ -51,6 +52,7 @@ void CheckOutputCovariance(const Mat15& C, const std::string& pointer);
 
 /// Reports an unknown plugin id at `pointer` with the known ids of that kind (and, for a
 /// frequent slip, the kind the id does have).
-void CheckPluginId(Checker& c, const Registry& reg, PluginKind kind, const std::string& id, const std::string& pointer);
+void CheckPluginId(Checker& c, const Registry& reg, PluginKind kind, const std::string& id,
+                   const std::string& pointer);
 
 }  // namespace imuconv::pipeline

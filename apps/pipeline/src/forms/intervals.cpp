@@ -29,9 +29,12 @@ double IntervalsSpec::time(std::size_t k) const {
 
 std::string IntervalsSpec::pointer_of(std::size_t k) const {
   switch (form) {
-    case Form::Interval: return pointer + (k == 0 ? "/t_start" : "/t_end");
-    case Form::Array: return pointer + "/" + std::to_string(k);
-    case Form::Generated: break;
+    case Form::Interval:
+      return pointer + (k == 0 ? "/t_start" : "/t_end");
+    case Form::Array:
+      return pointer + "/" + std::to_string(k);
+    case Form::Generated:
+      break;
   }
   if (k == 0) return pointer + "/start";
   if (k + 1 == count) return pointer + "/end";
@@ -44,8 +47,9 @@ std::optional<std::string> GenerateKeyframes(double a, double b, double h, Inter
     return std::string("step gives more than 1e7 keyframes (the limit of one task)");
   double n = std::floor(q);
   if (q - n >= 1.0 - kStepRoundOff) n += 1.0;  // just below a whole number of steps
-  const double frac = q - n;                     // in [-kStepRoundOff, 1 - kStepRoundOff)
-  if (n < 1.0) return std::string("step is longer than end - start: not one whole step between start and end");
+  const double frac = q - n;                   // in [-kStepRoundOff, 1 - kStepRoundOff)
+  if (n < 1.0)
+    return std::string("step is longer than end - start: not one whole step between start and end");
   iv.form = IntervalsSpec::Form::Generated;
   iv.start = a;
   iv.step = h;
@@ -55,7 +59,8 @@ std::optional<std::string> GenerateKeyframes(double a, double b, double h, Inter
   // Steps near the resolution of double at these times could make keyframes coincide.
   for (std::size_t k = 1; k < iv.count; ++k)
     if (!(iv.time(k) > iv.time(k - 1)))
-      return "step is too small to tell keyframes " + std::to_string(k - 1) + " and " + std::to_string(k) + " apart";
+      return "step is too small to tell keyframes " + std::to_string(k - 1) + " and " +
+             std::to_string(k) + " apart";
   return std::nullopt;
 }
 
@@ -64,13 +69,15 @@ std::optional<IntervalsSpec> ReadIntervals(const Node& task, bool allow_keyframe
   const bool has_i = task.has("interval"), has_k = task.has("keyframes");
   if (!allow_keyframes && has_k) return std::nullopt;  // reported as an unknown key
   if (has_i && has_k) {
-    task.checker().error(task.child_pointer("keyframes"), "give either \"interval\" or \"keyframes\", not both");
+    task.checker().error(task.child_pointer("keyframes"),
+                         "give either \"interval\" or \"keyframes\", not both");
     return std::nullopt;
   }
   if (!has_i && !has_k) {
     task.checker().error(task.child_pointer("interval"),
-                         allow_keyframes ? "required key is missing (give \"interval\" or \"keyframes\")"
-                                         : "required key is missing");
+                         allow_keyframes
+                             ? "required key is missing (give \"interval\" or \"keyframes\")"
+                             : "required key is missing");
     return std::nullopt;
   }
   IntervalsSpec iv;
@@ -113,7 +120,8 @@ std::optional<IntervalsSpec> ReadIntervals(const Node& task, bool allow_keyframe
   }
   if (kn.is_object()) {
     kn.expect_object({"start", "end", "step"});
-    const auto a = kn.number("start", true), b = kn.number("end", true), h = kn.number("step", true);
+    const auto a = kn.number("start", true), b = kn.number("end", true),
+               h = kn.number("step", true);
     if (!a || !b || !h) return std::nullopt;
     if (!(*h > 0.0)) {
       kn.checker().error(kn.child_pointer("step"), "expected a positive step");
@@ -129,7 +137,8 @@ std::optional<IntervalsSpec> ReadIntervals(const Node& task, bool allow_keyframe
     }
     return iv;
   }
-  kn.fail("expected an array of keyframe times or {\"start\", \"end\", \"step\"}, found " + TypeName(kn.value()));
+  kn.fail("expected an array of keyframe times or {\"start\", \"end\", \"step\"}, found " +
+          TypeName(kn.value()));
   return std::nullopt;
 }
 

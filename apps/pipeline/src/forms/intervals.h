@@ -23,11 +23,11 @@ constexpr std::size_t kMaxKeyframes = 10000000;
 /// (1e-9 of a step), is a last, shorter interval ending at `end`.
 struct IntervalsSpec {
   enum class Form { Interval, Array, Generated } form = Form::Interval;
-  std::vector<double> times;  // Interval, Array
+  std::vector<double> times;            // Interval, Array
   double start = 0, step = 0, end = 0;  // Generated
   std::size_t count = 0;                // Generated: number of keyframes
   bool short_last = false;              // Generated: the last interval is a remainder
-  std::string pointer;  // the "interval" or "keyframes" node
+  std::string pointer;                  // the "interval" or "keyframes" node
 
   std::size_t size() const { return form == Form::Generated ? count : times.size(); }
   /// Keyframe k (k < size()).
@@ -43,7 +43,8 @@ struct IntervalsSpec {
 /// `end` is always the last keyframe; a remainder shorter than a step (beyond round-off) is
 /// a last, shorter interval. Returns what is wrong instead (too many keyframes, not one
 /// whole step, keyframes too close to tell apart), for the step's pointer.
-std::optional<std::string> GenerateKeyframes(double start, double end, double step, IntervalsSpec& iv);
+std::optional<std::string> GenerateKeyframes(double start, double end, double step,
+                                             IntervalsSpec& iv);
 
 /// "interval" and, when `allow_keyframes`, "keyframes" of `task` (exactly one of them).
 std::optional<IntervalsSpec> ReadIntervals(const Node& task, bool allow_keyframes);

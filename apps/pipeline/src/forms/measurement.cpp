@@ -5,15 +5,15 @@
 #include <cmath>
 #include <tuple>
 
-#include "input_checks.h"
-#include "task_common.h"
 #include "../io/message_text.h"
-#include "imuconv/pipeline/block_labels.h"
 #include "chart_matrix.h"
+#include "imuconv/pipeline/block_labels.h"
 #include "imuconv/pipeline/json_parse.h"
 #include "imuconv/printable.h"
 #include "increment.h"
+#include "input_checks.h"
 #include "state.h"
+#include "task_common.h"
 
 namespace imuconv::pipeline {
 namespace {
@@ -27,12 +27,15 @@ void ReadJBias(const Node& n, const Registry& reg, const std::string& cov_conv, 
   std::string chart;
   std::optional<std::vector<std::string>> rows, cols;
   if (auto cv = n.string("convention", false)) chart = *cv;
-  for (auto [key, dst] : {std::pair<const char*, std::optional<std::vector<std::string>>*>{"rows", &rows}, {"cols", &cols}}) {
+  for (auto [key, dst] :
+       {std::pair<const char*, std::optional<std::vector<std::string>>*>{"rows", &rows},
+        {"cols", &cols}}) {
     if (auto rn = n.get(key, false)) {
       if (!rn->expect_object({"convention", "blocks"})) continue;
       if (auto cv = rn->string("convention", false)) {
         if (!chart.empty() && chart != *cv)
-          rn->checker().error(rn->child_pointer("convention"), Quoted(*cv) + " differs from the J_bias chart " + Quoted(chart));
+          rn->checker().error(rn->child_pointer("convention"),
+                              Quoted(*cv) + " differs from the J_bias chart " + Quoted(chart));
         chart = *cv;
       }
       if (auto bn = rn->get("blocks", false))
@@ -40,7 +43,8 @@ void ReadJBias(const Node& n, const Registry& reg, const std::string& cov_conv, 
     }
   }
   if (!chart.empty()) {
-    CheckPluginId(n.checker(), reg, PluginKind::IncrementConvention, chart, n.child_pointer("convention"));
+    CheckPluginId(n.checker(), reg, PluginKind::IncrementConvention, chart,
+                  n.child_pointer("convention"));
     if (!reg.has(PluginKind::IncrementConvention, chart)) return;
   } else if (!cov_conv.empty()) {
     chart = reg.info(PluginKind::IncrementConvention, cov_conv).jacobian_convention;
@@ -49,12 +53,13 @@ void ReadJBias(const Node& n, const Registry& reg, const std::string& cov_conv, 
   if (!chart.empty()) {
     const auto labels = Blocks(reg, PluginKind::IncrementConvention, chart);
     if (rows && *rows != NavLabels(labels))
-      n.checker().error(n.child_pointer("rows") + "/blocks", "rows [" + Printable(Join(*rows)) + "] do not match the order of '" +
-                                                                 chart + "': [" + Join(NavLabels(labels)) + "]");
+      n.checker().error(n.child_pointer("rows") + "/blocks",
+                        "rows [" + Printable(Join(*rows)) + "] do not match the order of '" +
+                            chart + "': [" + Join(NavLabels(labels)) + "]");
     if (cols && *cols != BiasLabels(labels))
-      n.checker().error(n.child_pointer("cols") + "/blocks", "cols [" + Printable(Join(*cols)) +
-                                                                 "] do not match the bias order of '" + chart + "': [" +
-                                                                 Join(BiasLabels(labels)) + "]");
+      n.checker().error(n.child_pointer("cols") + "/blocks",
+                        "cols [" + Printable(Join(*cols)) + "] do not match the bias order of '" +
+                            chart + "': [" + Join(BiasLabels(labels)) + "]");
   }
   in.jacobian_convention = chart;
   if (auto mn = n.get("matrix", true))
@@ -64,19 +69,25 @@ void ReadJBias(const Node& n, const Registry& reg, const std::string& cov_conv, 
 /// t_start / t_end of one measurement on the pipeline's time axis. Absolute stamps place it
 /// when the pipeline has an origin; a relative time is shifted by the file's own origin. When
 /// both are given and comparable they must agree (neither silently wins).
-void ReadTimes(const Node& e, std::optional<std::int64_t> file_origin, std::optional<std::int64_t> origin_ns, MeasRecord& r) {
-  for (auto [key, abs_key, dst] : {std::tuple<const char*, const char*, std::optional<double>*>{"t_start", "t_start_abs_ns", &r.t_s},
+void ReadTimes(const Node& e, std::optional<std::int64_t> file_origin,
+               std::optional<std::int64_t> origin_ns, MeasRecord& r) {
+  for (auto [key, abs_key, dst] : {std::tuple<const char*, const char*, std::optional<double>*>{
+                                       "t_start", "t_start_abs_ns", &r.t_s},
                                    {"t_end", "t_end_abs_ns", &r.t_e}}) {
     std::optional<double> from_abs, from_rel;
-    if (auto a = e.integer(abs_key, false); a && origin_ns) from_abs = static_cast<double>(*a - *origin_ns) * 1e-9;
+    if (auto a = e.integer(abs_key, false); a && origin_ns)
+      from_abs = static_cast<double>(*a - *origin_ns) * 1e-9;
     if (auto t = e.number(key, false)) {
       from_rel = *t;
-      if (file_origin && origin_ns) *from_rel = *t + static_cast<double>(*file_origin - *origin_ns) * 1e-9;
+      if (file_origin && origin_ns)
+        *from_rel = *t + static_cast<double>(*file_origin - *origin_ns) * 1e-9;
     }
     if (from_abs && from_rel && std::abs(*from_abs - *from_rel) > kTimeAgreement)
-      e.checker().error(e.child_pointer(key), std::string(key) + " places the measurement at " + Num(*from_rel, 15) +
-                                                  " s but " + abs_key + " at " + Num(*from_abs, 15) +
-                                                  " s on the IMU data's time axis (tolerance 1e-6 s); give one, or make them agree");
+      e.checker().error(
+          e.child_pointer(key),
+          std::string(key) + " places the measurement at " + Num(*from_rel, 15) + " s but " +
+              abs_key + " at " + Num(*from_abs, 15) +
+              " s on the IMU data's time axis (tolerance 1e-6 s); give one, or make them agree");
     *dst = from_abs ? from_abs : from_rel;
   }
 }
@@ -85,10 +96,9 @@ void ReadTimes(const Node& e, std::optional<std::int64_t> file_origin, std::opti
 
 namespace {
 
-const std::vector<std::string> kMeasurementKeys = {"index",        "t_start", "t_end",   "t_start_abs_ns",
-                                                   "t_end_abs_ns", "dt",      "n_knots", "bias_estimate",
-                                                   "delta",        "J_bias",  "cov",     "expressed",
-                                                   "precision"};
+const std::vector<std::string> kMeasurementKeys = {
+    "index", "t_start", "t_end", "t_start_abs_ns", "t_end_abs_ns", "dt", "n_knots", "bias_estimate",
+    "delta", "J_bias",  "cov",   "expressed",      "precision"};
 
 /// True when every number under `j` is a float32 value, and there is at least one number.
 bool AllFloat32(const json& j, std::size_t& count) {
@@ -112,8 +122,9 @@ NumberPrecision ReadPrecision(const Node& e) {
     if (*s == "float32")
       p.float32 = true;
     else if (*s != "float64")
-      e.checker().error(e.child_pointer("precision"), "expected \"float64\" or \"float32\" (the precision the numbers "
-                                                      "were computed in)");
+      e.checker().error(e.child_pointer("precision"),
+                        "expected \"float64\" or \"float32\" (the precision the numbers "
+                        "were computed in)");
     return p;
   }
   const json& v = e.value();
@@ -122,22 +133,27 @@ NumberPrecision ReadPrecision(const Node& e) {
   for (const char* key : {"delta", "J_bias", "cov"})
     if (v.contains(key)) {
       const json& part = v.at(key);
-      const bool matrix = key != std::string("delta") && part.is_object() && part.contains("matrix");
+      const bool matrix =
+          key != std::string("delta") && part.is_object() && part.contains("matrix");
       all = all && AllFloat32(matrix ? part.at("matrix") : part, count);
     }
   p.float32 = all && count > 0;
   return p;
 }
 
-double CovarianceTolerance(const NumberPrecision& p) { return p.float32 ? kCovarianceTolFloat32 : kCovarianceTol; }
+double CovarianceTolerance(const NumberPrecision& p) {
+  return p.float32 ? kCovarianceTolFloat32 : kCovarianceTol;
+}
 
 /// The envelope every measurements file shares: the root object, its optional origin and the
 /// non-empty "measurements" array (nullopt after reporting what is wrong).
 std::optional<Node> MeasurementArray(const Node& root, std::optional<std::int64_t>& file_origin) {
-  if (!root.expect_object({"$schema", "description", "time_origin_ns", "measurements"})) return std::nullopt;
+  if (!root.expect_object({"$schema", "description", "time_origin_ns", "measurements"}))
+    return std::nullopt;
   if (auto o = root.integer("time_origin_ns", false)) file_origin = *o;
   const auto ms = root.get("measurements", true);
-  if (ms && (!ms->is_array() || ms->size() == 0)) ms->fail("expected a non-empty array of measurements");
+  if (ms && (!ms->is_array() || ms->size() == 0))
+    ms->fail("expected a non-empty array of measurements");
   if (!ms || !ms->is_array()) return std::nullopt;
   return ms;
 }
@@ -151,8 +167,8 @@ void ReadChartFreeFields(const Node& e, std::size_t i, std::optional<std::int64_
   // tasks): an "index" that says otherwise would be silently wrong.
   if (auto in = e.get("index", false))
     if (auto k = in->integer(); k && *k != static_cast<std::int64_t>(i))
-      in->fail("index " + std::to_string(*k) + " is not the measurement's position " + std::to_string(i) +
-               " in the array (tasks refer to measurements by position)");
+      in->fail("index " + std::to_string(*k) + " is not the measurement's position " +
+               std::to_string(i) + " in the array (tasks refer to measurements by position)");
   if (auto dt = e.number("dt", true)) {
     if (!(*dt > 0.0))
       e.checker().error(e.child_pointer("dt"), "expected a positive duration");
@@ -171,8 +187,9 @@ void ReadChartFreeFields(const Node& e, std::size_t i, std::optional<std::int64_
 
 void CheckDtAgainstTimes(const Node& e, const MeasRecord& r, double dt) {
   if (r.t_s && r.t_e && std::abs((*r.t_e - *r.t_s) - dt) > kTimeAgreement)
-    e.checker().error(e.child_pointer("dt"), "dt = " + Num(dt, 10) + " s does not match t_end - t_start = " +
-                                                 Num(*r.t_e - *r.t_s, 10) + " s (tolerance 1e-6 s)");
+    e.checker().error(e.child_pointer("dt"),
+                      "dt = " + Num(dt, 10) + " s does not match t_end - t_start = " +
+                          Num(*r.t_e - *r.t_s, 10) + " s (tolerance 1e-6 s)");
 }
 
 // ---- the declared form (imuconv check): any chart may be missing or "unknown" ----
@@ -190,8 +207,8 @@ std::string DeclaredConvention(const Node& n, const char* key, const Registry& r
 
 /// A declared block order: {} when missing or "unknown" (then `unknown` is set), else an
 /// ordering of `labels` (each once; reported otherwise).
-std::vector<std::string> DeclaredBlocks(const Node& parent, const char* key, std::vector<std::string> labels,
-                                        bool* unknown = nullptr) {
+std::vector<std::string> DeclaredBlocks(const Node& parent, const char* key,
+                                        std::vector<std::string> labels, bool* unknown = nullptr) {
   const auto bn = parent.get(key, false);
   if (!bn) return {};
   if (bn->is_string() && bn->value().get<std::string>() == kUnknown) {
@@ -204,7 +221,8 @@ std::vector<std::string> DeclaredBlocks(const Node& parent, const char* key, std
   std::sort(sorted.begin(), sorted.end());
   std::sort(labels.begin(), labels.end());
   if (sorted != labels) {
-    bn->fail("blocks [" + Printable(Join(*b)) + "] are not an ordering of [" + Join(labels) + "] (or \"unknown\")");
+    bn->fail("blocks [" + Printable(Join(*b)) + "] are not an ordering of [" + Join(labels) +
+             "] (or \"unknown\")");
     return {};
   }
   return *b;
@@ -213,11 +231,13 @@ std::vector<std::string> DeclaredBlocks(const Node& parent, const char* key, std
 void ReadDeclaredCov(const Node& cn, const Registry& reg, DeclaredMeasurement& out) {
   if (!cn.expect_object({"convention", "blocks", "matrix"})) return;
   out.in.convention = DeclaredConvention(cn, "convention", reg);
-  out.cov_blocks = DeclaredBlocks(cn, "blocks", {"theta", "p", "v", "bg", "ba"}, &out.cov_blocks_unknown);
+  out.cov_blocks =
+      DeclaredBlocks(cn, "blocks", {"theta", "p", "v", "bg", "ba"}, &out.cov_blocks_unknown);
   if (auto mn = cn.get("matrix", true))
     if (auto m = mn->matrix(15, 15)) {
       out.in.cov = *m;
-      CheckCovarianceInput(cn.checker(), mn->pointer(), out.in.cov, CovarianceTolerance(out.precision));
+      CheckCovarianceInput(cn.checker(), mn->pointer(), out.in.cov,
+                           CovarianceTolerance(out.precision));
     }
 }
 
@@ -249,9 +269,9 @@ void ReadDeclaredJBias(const Node& n, const Registry& reg, DeclaredMeasurement& 
   if (!chart.empty() && !out.J_bias_rows.empty()) {
     const auto labels = NavLabels(Blocks(reg, PluginKind::IncrementConvention, chart));
     if (out.J_bias_rows != labels)
-      n.checker().error(
-          n.child_pointer("rows") + "/blocks",
-          "rows [" + Join(out.J_bias_rows) + "] do not match the order of '" + chart + "': [" + Join(labels) + "]");
+      n.checker().error(n.child_pointer("rows") + "/blocks",
+                        "rows [" + Join(out.J_bias_rows) + "] do not match the order of '" + chart +
+                            "': [" + Join(labels) + "]");
   }
   out.in.jacobian_convention = chart;
   if (auto mn = n.get("matrix", true))
@@ -260,7 +280,8 @@ void ReadDeclaredJBias(const Node& n, const Registry& reg, DeclaredMeasurement& 
 
 }  // namespace
 
-std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::string& file, const Registry& reg,
+std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::string& file,
+                                                const Registry& reg,
                                                 std::optional<std::int64_t> origin_ns) {
   Checker c(file);
   const Node root(doc, "", c);
@@ -281,7 +302,8 @@ std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::stri
     if (auto cn = e.get("cov", true)) {
       if (cn->expect_object({"convention", "blocks", "matrix"})) {
         if (auto cv = cn->string("convention", true)) {
-          CheckPluginId(c, reg, PluginKind::IncrementConvention, *cv, cn->child_pointer("convention"));
+          CheckPluginId(c, reg, PluginKind::IncrementConvention, *cv,
+                        cn->child_pointer("convention"));
           if (reg.has(PluginKind::IncrementConvention, *cv)) cov_conv = *cv;
         }
         if (auto mn = cn->get("matrix", true))
@@ -293,8 +315,8 @@ std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::stri
           if (auto b = bn->string_list(); b && !cov_conv.empty()) {
             const auto expect = Blocks(reg, PluginKind::IncrementConvention, cov_conv);
             if (*b != expect)
-              bn->fail("blocks [" + Printable(Join(*b)) + "] do not match the block order of '" + cov_conv + "': [" +
-                       Join(expect) + "]");
+              bn->fail("blocks [" + Printable(Join(*b)) + "] do not match the block order of '" +
+                       cov_conv + "': [" + Join(expect) + "]");
           }
       }
     }
@@ -323,14 +345,14 @@ std::optional<double> DtDifference(const DeclaredMeasurement& m) {
   return d;
 }
 
-std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(const std::string& path, const Registry& reg,
-                                                             std::optional<std::int64_t> origin_ns) {
+std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(
+    const std::string& path, const Registry& reg, std::optional<std::int64_t> origin_ns) {
   return ReadDeclaredMeasurementDocument(ParseJsonFile(path), path, reg, origin_ns);
 }
 
-std::vector<DeclaredMeasurement> ReadDeclaredMeasurementDocument(const json& doc, const std::string& path,
-                                                                 const Registry& reg,
-                                                                 std::optional<std::int64_t> origin_ns) {
+std::vector<DeclaredMeasurement> ReadDeclaredMeasurementDocument(
+    const json& doc, const std::string& path, const Registry& reg,
+    std::optional<std::int64_t> origin_ns) {
   Checker c(path);
   const Node root(doc, "", c);
   std::vector<DeclaredMeasurement> out;
@@ -361,12 +383,14 @@ std::vector<DeclaredMeasurement> ReadDeclaredMeasurementDocument(const json& doc
   return out;
 }
 
-std::vector<MeasRecord> ReadMeasurementFile(const std::string& path, const Registry& reg, std::optional<std::int64_t> origin_ns) {
+std::vector<MeasRecord> ReadMeasurementFile(const std::string& path, const Registry& reg,
+                                            std::optional<std::int64_t> origin_ns) {
   return ReadMeasurementDocument(ParseJsonFile(path), path, reg, origin_ns);
 }
 
-void WriteMeasurement(JsonWriter& w, const MeasRecord& r, std::size_t k, const std::vector<std::string>& conventions,
-                      const Registry& reg, const OmitSpec& omit, const std::optional<TimeOrigin>& origin) {
+void WriteMeasurement(JsonWriter& w, const MeasRecord& r, std::size_t k,
+                      const std::vector<std::string>& conventions, const Registry& reg,
+                      const OmitSpec& omit, const std::optional<TimeOrigin>& origin) {
   static const std::string kRef = "preint_reference";
   const Preintegrated& m = r.m;
   w.begin_object();
@@ -403,11 +427,13 @@ void WriteMeasurement(JsonWriter& w, const MeasRecord& r, std::size_t k, const s
       w.begin_object();
       if (!omit.J_bias) {
         w.key("J_bias");
-        WriteMixed(w, in.J_bias, in.jacobian_convention, NavLabels(jb), in.jacobian_convention, BiasLabels(jb));
+        WriteMixed(w, in.J_bias, in.jacobian_convention, NavLabels(jb), in.jacobian_convention,
+                   BiasLabels(jb));
       }
       if (!omit.cov) {
         w.key("cov");
-        WriteCovariance(w, in.cov, in.convention, reg.info(PluginKind::IncrementConvention, in.convention).blocks);
+        WriteCovariance(w, in.cov, in.convention,
+                        reg.info(PluginKind::IncrementConvention, in.convention).blocks);
       }
       w.end_object();
     }

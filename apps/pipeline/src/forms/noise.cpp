@@ -11,7 +11,8 @@ json NoiseToJson(const ImuNoise& n) {
 }
 
 std::optional<ImuNoise> NoiseFromJson(const Node& n) {
-  if (!n.expect_object({"gyro_noise_density", "accel_noise_density", "gyro_random_walk", "accel_random_walk"}))
+  if (!n.expect_object(
+          {"gyro_noise_density", "accel_noise_density", "gyro_random_walk", "accel_random_walk"}))
     return std::nullopt;
   const std::size_t before = n.checker().count();
   ImuNoise q;

@@ -1,9 +1,9 @@
 // The state form, read and written (json_io.h, state.h).
 #include "state.h"
 
-#include "input_checks.h"
 #include "imuconv/pipeline/json_parse.h"
 #include "imuconv/so3.h"
+#include "input_checks.h"
 
 namespace imuconv::pipeline {
 
@@ -49,12 +49,14 @@ std::optional<ImuState> StateFromJson(const Node& n) {
   // The rotation as imuconv writes it (Hamilton, body to world) or as OpenVINS stores it (JPL,
   // global to IMU): one of the two, never both (neither silently wins).
   if (n.has("q_wxyz") && n.has("q_GtoI_xyzw")) {
-    n.checker().error(n.child_pointer("q_GtoI_xyzw"), "give either q_wxyz or q_GtoI_xyzw, not both");
+    n.checker().error(n.child_pointer("q_GtoI_xyzw"),
+                      "give either q_wxyz or q_GtoI_xyzw, not both");
   } else if (auto jn = n.get("q_GtoI_xyzw", false)) {
     if (auto R = RotationFromJplQuaternion(*jn)) x.R = *R;
   } else if (!n.has("q_wxyz")) {
     n.checker().error(n.child_pointer("q_wxyz"),
-                      "required key is missing (the body-to-world Hamilton q_wxyz, or OpenVINS's JPL q_GtoI_xyzw)");
+                      "required key is missing (the body-to-world Hamilton q_wxyz, or OpenVINS's "
+                      "JPL q_GtoI_xyzw)");
   } else if (auto qn = n.get("q_wxyz", true)) {
     if (auto R = RotationFromQuaternion(*qn)) x.R = *R;
   }

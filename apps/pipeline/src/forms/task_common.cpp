@@ -3,8 +3,8 @@
 
 #include <filesystem>
 
-#include "input_checks.h"
 #include "imuconv/printable.h"
+#include "input_checks.h"
 
 namespace imuconv::pipeline {
 namespace {
@@ -12,7 +12,8 @@ namespace {
 /// "ground_truth" as a state or bias: needs the top-level source. False (reported) otherwise.
 bool GroundTruthString(const ParseContext& ctx, const Node& n, const std::string& expected) {
   if (n.value().get<std::string>() != "ground_truth") {
-    n.fail("expected " + expected + " or \"ground_truth\", found the string '" + n.value().get<std::string>() + "'");
+    n.fail("expected " + expected + " or \"ground_truth\", found the string '" +
+           n.value().get<std::string>() + "'");
     return false;
   }
   if (!ctx.has_gt) {
@@ -24,7 +25,8 @@ bool GroundTruthString(const ParseContext& ctx, const Node& n, const std::string
 
 /// A state or bias at `n`: its object form, read by read(spec), or "ground_truth".
 template <typename Spec, typename Read>
-std::optional<Spec> GroundTruthOr(const ParseContext& ctx, const Node& n, const std::string& expected, const Read& read) {
+std::optional<Spec> GroundTruthOr(const ParseContext& ctx, const Node& n,
+                                  const std::string& expected, const Read& read) {
   Spec s;
   s.pointer = n.pointer();
   if (!n.value().is_string()) return read(s) ? std::optional<Spec>(s) : std::nullopt;
@@ -63,11 +65,12 @@ std::string ParseContext::earlier_preintegrate_names() const {
 }
 
 std::optional<StateSpec> ReadStateSpec(const ParseContext& ctx, const Node& n) {
-  return GroundTruthOr<StateSpec>(ctx, n, "a state object {p, q_wxyz, v, bg, ba}", [&](StateSpec& s) {
-    const auto x = StateFromJson(n);
-    if (x) s.x = *x;
-    return x.has_value();
-  });
+  return GroundTruthOr<StateSpec>(ctx, n, "a state object {p, q_wxyz, v, bg, ba}",
+                                  [&](StateSpec& s) {
+                                    const auto x = StateFromJson(n);
+                                    if (x) s.x = *x;
+                                    return x.has_value();
+                                  });
 }
 
 std::optional<BiasSpec> ReadBiasSpec(const ParseContext& ctx, const Node& n) {
@@ -111,11 +114,13 @@ std::optional<MeasurementsSpec> ReadMeasurementsSpec(const ParseContext& ctx, co
     if (!type) {
       const std::string known = ctx.earlier_preintegrate_names();
       n->fail("no earlier preintegrate task named " + Quoted(name) +
-              (known.empty() ? std::string(" (there is none before this task)") : " (earlier ones: " + known + ")"));
+              (known.empty() ? std::string(" (there is none before this task)")
+                             : " (earlier ones: " + known + ")"));
       return std::nullopt;
     }
     if (*type != "preintegrate") {
-      n->fail("task " + Quoted(name) + " is a " + *type + " task; measurements come from a preintegrate task");
+      n->fail("task " + Quoted(name) + " is a " + *type +
+              " task; measurements come from a preintegrate task");
       return std::nullopt;
     }
     m.task = name;
@@ -129,11 +134,13 @@ std::optional<MeasurementsSpec> ReadMeasurementsSpec(const ParseContext& ctx, co
     }
     return std::nullopt;
   }
-  n->fail("expected the name of an earlier preintegrate task or {\"file\": PATH}, found " + TypeName(n->value()));
+  n->fail("expected the name of an earlier preintegrate task or {\"file\": PATH}, found " +
+          TypeName(n->value()));
   return std::nullopt;
 }
 
-std::optional<std::string> ReadPluginId(const Node& task, const char* key, bool required, std::string* pointer) {
+std::optional<std::string> ReadPluginId(const Node& task, const char* key, bool required,
+                                        std::string* pointer) {
   if (pointer) *pointer = task.child_pointer(key);
   auto s = task.string(key, required);
   if (s && s->empty()) {
@@ -159,16 +166,19 @@ std::optional<std::size_t> ReadIndex(const Node& task) {
 std::optional<bool> ReadCompareGroundTruth(const ParseContext& ctx, const Node& task) {
   const auto b = task.boolean("compare_ground_truth", false);
   if (b && *b && !ctx.has_gt)
-    task.checker().error(task.child_pointer("compare_ground_truth"), "needs a top-level /ground_truth source");
+    task.checker().error(task.child_pointer("compare_ground_truth"),
+                         "needs a top-level /ground_truth source");
   return b;
 }
 
 void RequireImu(const ParseContext& ctx, const Node& task, const std::string& type) {
   if (!ctx.has_imu)
-    task.checker().error(task.child_pointer("type"), "a " + type + " task needs IMU samples: add a top-level /imu source");
+    task.checker().error(task.child_pointer("type"),
+                         "a " + type + " task needs IMU samples: add a top-level /imu source");
 }
 
-void WriteTimes(JsonWriter& w, std::optional<double> ts, std::optional<double> te, const std::optional<TimeOrigin>& origin) {
+void WriteTimes(JsonWriter& w, std::optional<double> ts, std::optional<double> te,
+                const std::optional<TimeOrigin>& origin) {
   if (ts) {
     w.key("t_start");
     w.number(*ts);

@@ -1,8 +1,8 @@
 // The pieces several task kinds share: their parsed forms, readers and writers.
-//   "start": {"state": STATE | "ground_truth", "cov": MATRIX15}    propagate, propagate_by_preintegration
-//   "bias": {"bg", "ba"} | "ground_truth"                         preintegrate
-//   "measurements": NAME | {"file": PATH}                         tasks that read measurements
-//   t_start, t_end (and *_abs_ns) of an interval                  every interval result
+//   "start": {"state": STATE | "ground_truth", "cov": MATRIX15}    propagate,
+//   propagate_by_preintegration "bias": {"bg", "ba"} | "ground_truth" preintegrate "measurements":
+//   NAME | {"file": PATH}                         tasks that read measurements t_start, t_end (and
+//   *_abs_ns) of an interval                  every interval result
 // and what a task's parser sees of the document (ParseContext).
 #pragma once
 
@@ -80,7 +80,8 @@ void ReadStart(const ParseContext& ctx, const Node& task, StateSpec& state, CovS
 /// "measurements" of `task`: an earlier preintegrate task's name or {"file": PATH}.
 std::optional<MeasurementsSpec> ReadMeasurementsSpec(const ParseContext& ctx, const Node& task);
 /// A plugin id at task[key] (not empty); `pointer` receives its pointer when given.
-std::optional<std::string> ReadPluginId(const Node& task, const char* key, bool required, std::string* pointer = nullptr);
+std::optional<std::string> ReadPluginId(const Node& task, const char* key, bool required,
+                                        std::string* pointer = nullptr);
 /// "index" (>= 0) of `task`, when given.
 std::optional<std::size_t> ReadIndex(const Node& task);
 /// "compare_ground_truth" of `task`, when given (true needs a /ground_truth source).
@@ -90,7 +91,8 @@ void RequireImu(const ParseContext& ctx, const Node& task, const std::string& ty
 
 /// The keys t_start, t_end (and t_start_abs_ns, t_end_abs_ns when there is a time origin) of
 /// the open object.
-void WriteTimes(JsonWriter& w, std::optional<double> ts, std::optional<double> te, const std::optional<TimeOrigin>& origin);
+void WriteTimes(JsonWriter& w, std::optional<double> ts, std::optional<double> te,
+                const std::optional<TimeOrigin>& origin);
 /// "measurements": NAME | {"file": PATH}.
 void WriteMeasurementsSource(JsonWriter& w, const MeasurementsSpec& m);
 /// "task 'NAME'" or "file PATH", for messages and the summary.

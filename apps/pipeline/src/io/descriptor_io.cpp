@@ -38,7 +38,8 @@ int CopyThrough(int fd, int to) {
       return errno;
     }
     if (n == 0) return 0;
-    if (const int err = WriteAll(to, std::string_view(buf.data(), static_cast<std::size_t>(n)))) return err;
+    if (const int err = WriteAll(to, std::string_view(buf.data(), static_cast<std::size_t>(n))))
+      return err;
     at += n;
   }
 }

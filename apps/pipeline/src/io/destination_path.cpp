@@ -40,11 +40,13 @@ std::optional<int> OwnDescriptor(const std::string& p) {
   if (p == "/dev/stderr") return 2;
   const fs::path path(p);
   const std::string name = path.filename().string();
-  if (name.empty() || name.size() > 9 || !std::all_of(name.begin(), name.end(), [](char c) { return c >= '0' && c <= '9'; }))
+  if (name.empty() || name.size() > 9 ||
+      !std::all_of(name.begin(), name.end(), [](char c) { return c >= '0' && c <= '9'; }))
     return std::nullopt;
   const std::string parent = path.parent_path().string();
   if (parent.empty()) return std::nullopt;  // a file called "3" in the working directory
-  if (parent == "/dev/fd" || parent == "/proc/self/fd" || parent == "/proc/thread-self/fd") return std::stoi(name);
+  if (parent == "/dev/fd" || parent == "/proc/self/fd" || parent == "/proc/thread-self/fd")
+    return std::stoi(name);
   char buf[PATH_MAX];
   if (!::realpath(path.parent_path().c_str(), buf)) return std::nullopt;
   const std::string dir(buf), proc = "/proc/" + std::to_string(::getpid());
@@ -63,7 +65,9 @@ std::string ReadLink(const std::string& p, const std::string& shown) {
   std::string buf(256, '\0');
   for (;;) {
     const ssize_t n = ::readlink(p.c_str(), buf.data(), buf.size());
-    if (n < 0) throw Error(shown + ": cannot read the symbolic link " + Printable(p) + ": " + std::strerror(errno));
+    if (n < 0)
+      throw Error(shown + ": cannot read the symbolic link " + Printable(p) + ": " +
+                  std::strerror(errno));
     if (static_cast<std::size_t>(n) < buf.size()) return buf.substr(0, static_cast<std::size_t>(n));
     buf.resize(buf.size() * 2);
   }
@@ -92,8 +96,9 @@ std::optional<std::string> RealPath(const std::string& p) {
 /// `inner` is `outer` or lies below it (both real paths).
 bool IsInside(const std::string& inner, const std::string& outer) {
   if (outer == "/") return true;
-  return inner == outer || (inner.size() > outer.size() && inner.compare(0, outer.size(), outer) == 0 &&
-                            inner[outer.size()] == '/');
+  return inner == outer ||
+         (inner.size() > outer.size() && inner.compare(0, outer.size(), outer) == 0 &&
+          inner[outer.size()] == '/');
 }
 
 }  // namespace imuconv::pipeline::destination

@@ -27,7 +27,8 @@ FileDigest DigestFile(const std::string& file) {
     d.hash.add(buf.data(), got);
     d.bytes += got;
   }
-  if (in.bad()) throw ReadError(file, 0, "could not be read to the end to record its hash in the shard");
+  if (in.bad())
+    throw ReadError(file, 0, "could not be read to the end to record its hash in the shard");
   return d;
 }
 

@@ -27,7 +27,8 @@ std::string KindOf(mode_t m) {
 [[noreturn]] void CannotOpen(const std::string& path, int err) {
   // A missing file is the common case and says enough on its own.
   if (err == ENOENT) throw ReadError(path, 0, "cannot open the file for reading");
-  throw ReadError(path, 0, std::string("cannot open the file for reading (") + std::strerror(err) + ")");
+  throw ReadError(path, 0,
+                  std::string("cannot open the file for reading (") + std::strerror(err) + ")");
 }
 
 void CheckRegular(const std::string& path, const struct stat& st) {
@@ -41,7 +42,8 @@ InputFile::InputFile(const std::string& path) : path_(path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) CannotOpen(path, errno);
   CheckRegular(path, st);
-  fd_ = AboveStandardDescriptors(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC));
+  fd_ =
+      AboveStandardDescriptors(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC));
   if (fd_ < 0) CannotOpen(path, errno);
   try {
     if (::fstat(fd_, &st) != 0) CannotOpen(path, errno);

@@ -25,10 +25,12 @@ void Record(const struct stat& st, const std::string& path, const std::string& r
   if (!S_ISREG(st.st_mode)) return;
   Registry& r = TheRegistry();
   const std::lock_guard<std::mutex> lock(r.mutex);
-  const auto [it, added] = r.inputs.emplace(std::pair{st.st_dev, st.st_ino}, RegisteredInput{path, role});
+  const auto [it, added] =
+      r.inputs.emplace(std::pair{st.st_dev, st.st_ino}, RegisteredInput{path, role});
   // The first name stays; a role more precise than the opener's generic one replaces it (the
   // pipeline file is opened as any JSON file is, then said to be the pipeline).
-  if (!added && it->second.role == kGenericRole && role != kGenericRole) it->second = RegisteredInput{path, role};
+  if (!added && it->second.role == kGenericRole && role != kGenericRole)
+    it->second = RegisteredInput{path, role};
 }
 
 }  // namespace

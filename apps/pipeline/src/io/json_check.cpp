@@ -18,13 +18,15 @@ std::string PointerShown(std::string_view p) {
 
 // The first ConfigError::kShownIssues issues, one per line, then how many more there were.
 // File and pointer come from the user (a key can hold a newline): escaped.
-std::string JoinIssues(const std::string& file, const std::vector<Issue>& issues, std::size_t total) {
+std::string JoinIssues(const std::string& file, const std::vector<Issue>& issues,
+                       std::size_t total) {
   const std::string shown_file = Printable(file);
   std::string s;
   const std::size_t n = std::min(issues.size(), ConfigError::kShownIssues);
   for (std::size_t i = 0; i < n; ++i) {
     if (i) s += "\n";
-    s += shown_file + ": " + (issues[i].pointer.empty() ? std::string("(document)") : PointerShown(issues[i].pointer)) +
+    s += shown_file + ": " +
+         (issues[i].pointer.empty() ? std::string("(document)") : PointerShown(issues[i].pointer)) +
          ": " + issues[i].message;
   }
   if (total > n) s += "\n... and " + std::to_string(total - n) + " more problems in " + shown_file;
@@ -52,7 +54,8 @@ ConfigError::ConfigError(std::string file, std::vector<Issue> issues, std::size_
       total_(std::max(total, issues_.size())) {}
 
 ReadError::ReadError(std::string file, std::size_t line, const std::string& message)
-    : Error(line > 0 ? Printable(file) + ":" + std::to_string(line) + ": " + message : Printable(file) + ": " + message),
+    : Error(line > 0 ? Printable(file) + ":" + std::to_string(line) + ": " + message
+                     : Printable(file) + ": " + message),
       file_(std::move(file)),
       line_(line) {}
 
@@ -78,15 +81,23 @@ std::string PointerToken(std::string_view key) {
 
 std::string TypeName(const json& j) {
   switch (j.type()) {
-    case json::value_t::null: return "null";
-    case json::value_t::object: return "an object";
-    case json::value_t::array: return "an array";
-    case json::value_t::string: return "a string";
-    case json::value_t::boolean: return "a boolean";
+    case json::value_t::null:
+      return "null";
+    case json::value_t::object:
+      return "an object";
+    case json::value_t::array:
+      return "an array";
+    case json::value_t::string:
+      return "a string";
+    case json::value_t::boolean:
+      return "a boolean";
     case json::value_t::number_integer:
-    case json::value_t::number_unsigned: return "an integer";
-    case json::value_t::number_float: return "a number";
-    default: return "a value of unexpected type";
+    case json::value_t::number_unsigned:
+      return "an integer";
+    case json::value_t::number_float:
+      return "a number";
+    default:
+      return "a value of unexpected type";
   }
 }
 
@@ -106,7 +117,9 @@ bool Node::expect_object(const std::vector<std::string>& allowed) const {
   for (auto it = j_->begin(); it != j_->end(); ++it) {
     bool known = false;
     for (const auto& a : allowed) known = known || it.key() == a;
-    if (!known) c_->error(child_pointer(it.key()), "unknown key " + QuotedShort(it.key()) + " (allowed here: " + JoinQuoted(allowed) + ")");
+    if (!known)
+      c_->error(child_pointer(it.key()), "unknown key " + QuotedShort(it.key()) +
+                                             " (allowed here: " + JoinQuoted(allowed) + ")");
   }
   return true;
 }
@@ -138,13 +151,15 @@ std::optional<std::int64_t> Node::integer() const {
   if (j_->is_number_integer() && !j_->is_number_unsigned()) return j_->get<std::int64_t>();
   if (j_->is_number_unsigned()) {
     const auto u = j_->get<std::uint64_t>();
-    if (u <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) return static_cast<std::int64_t>(u);
+    if (u <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+      return static_cast<std::int64_t>(u);
     fail("integer out of range");
     return std::nullopt;
   }
   if (j_->is_number_float()) {
     const double v = j_->get<double>();
-    if (std::isfinite(v) && v == std::floor(v) && std::abs(v) < 9.0e15) return static_cast<std::int64_t>(v);
+    if (std::isfinite(v) && v == std::floor(v) && std::abs(v) < 9.0e15)
+      return static_cast<std::int64_t>(v);
   }
   fail("expected an integer, found " + TypeName(*j_));
   return std::nullopt;
@@ -170,8 +185,10 @@ std::optional<std::string> Node::one_of(std::initializer_list<std::string_view> 
   return one_of(std::vector<std::string>(choices.begin(), choices.end()), "");
 }
 
-std::optional<std::string> Node::one_of(const std::vector<std::string>& choices, std::string_view what) const {
-  const std::string label = what.empty() ? std::string("one of") : "one of the " + std::string(what);
+std::optional<std::string> Node::one_of(const std::vector<std::string>& choices,
+                                        std::string_view what) const {
+  const std::string label =
+      what.empty() ? std::string("one of") : "one of the " + std::string(what);
   if (!j_->is_string()) {
     fail("expected " + label + " " + JoinQuoted(choices) + ", found " + TypeName(*j_));
     return std::nullopt;
@@ -219,7 +236,8 @@ std::optional<std::vector<double>> Node::number_list(std::size_t min_size) const
     return std::nullopt;
   }
   if (j_->size() < min_size) {
-    fail("expected at least " + std::to_string(min_size) + " numbers, found " + std::to_string(j_->size()));
+    fail("expected at least " + std::to_string(min_size) + " numbers, found " +
+         std::to_string(j_->size()));
     return std::nullopt;
   }
   return ReadElements(*this, &Node::number);
@@ -273,7 +291,8 @@ std::optional<Eigen::MatrixXd> Node::matrix(Eigen::Index rows, Eigen::Index cols
 namespace {
 // The child `key` read by `read` (one of the typed reads above), as the keyed overloads do.
 template <typename T>
-std::optional<T> ReadChild(const Node& n, std::string_view key, bool required, std::optional<T> (Node::*read)() const) {
+std::optional<T> ReadChild(const Node& n, std::string_view key, bool required,
+                           std::optional<T> (Node::*read)() const) {
   const auto child = n.get(key, required);
   return child ? ((*child).*read)() : std::nullopt;
 }

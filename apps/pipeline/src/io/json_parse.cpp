@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <string_view>
 
-#include "input_file.h"
 #include "imuconv/pipeline/json_parse.h"
 #include "imuconv/printable.h"
+#include "input_file.h"
 
 namespace imuconv::pipeline {
 namespace {
@@ -23,7 +23,9 @@ class CheckedDomBuilder {
   bool boolean(bool b) { return value(json(b), 0); }
   bool number_integer(json::number_integer_t v) { return value(json(v), 0); }
   bool number_unsigned(json::number_unsigned_t v) { return value(json(v), 0); }
-  bool number_float(json::number_float_t v, const json::string_t& /*text*/) { return value(json(v), 0); }
+  bool number_float(json::number_float_t v, const json::string_t& /*text*/) {
+    return value(json(v), 0);
+  }
   bool string(json::string_t& s) {
     const std::size_t cost = kHeapString + HeapBytes(s);
     return value(json(std::move(s)), cost);
@@ -37,7 +39,8 @@ class CheckedDomBuilder {
   bool key(json::string_t& k) {
     Frame& f = stack_.back();
     if (f.container->contains(k))
-      c_.error(PointerTo(&k), "duplicate key " + QuotedShort(k) + " (the last one would silently win)");
+      c_.error(PointerTo(&k),
+               "duplicate key " + QuotedShort(k) + " (the last one would silently win)");
     f.key = std::move(k);
     return true;
   }
@@ -45,7 +48,8 @@ class CheckedDomBuilder {
   bool start_array(std::size_t /*unknown*/) { return open(json::value_t::array); }
   bool end_array() { return close(); }
 
-  bool parse_error(std::size_t position, const std::string& /*last_token*/, const nlohmann::detail::exception& ex) {
+  bool parse_error(std::size_t position, const std::string& /*last_token*/,
+                   const nlohmann::detail::exception& ex) {
     syntax_error_ = true;
     error_position_ = position;
     error_text_ = ex.what();
@@ -66,8 +70,9 @@ class CheckedDomBuilder {
 
   // Memory estimate, in bytes, of what nlohmann allocates (64-bit libstdc++, with malloc's
   // 16-byte overhead per block); checked against the measured 1.7x (numbers) to 22x ("[[],...]").
-  static constexpr std::size_t kArraySlot = 32;   // 16 B json in a vector that grows by doubling
-  static constexpr std::size_t kObjectSlot = 96;  // map node: 32 B links + 32 B key + 16 B json + malloc
+  static constexpr std::size_t kArraySlot = 32;  // 16 B json in a vector that grows by doubling
+  static constexpr std::size_t kObjectSlot =
+      96;  // map node: 32 B links + 32 B key + 16 B json + malloc
   static constexpr std::size_t kContainer = 48;   // the heap-allocated vector or map itself
   static constexpr std::size_t kHeapString = 48;  // a string value is a heap-allocated std::string
   // Characters beyond the short-string buffer (15) live in their own block.
@@ -77,7 +82,8 @@ class CheckedDomBuilder {
   bool charge(std::size_t extra) {
     std::size_t slot = 16;
     if (!stack_.empty())
-      slot = stack_.back().container->is_array() ? kArraySlot : kObjectSlot + HeapBytes(stack_.back().key);
+      slot = stack_.back().container->is_array() ? kArraySlot
+                                                 : kObjectSlot + HeapBytes(stack_.back().key);
     estimate_ += slot + extra;
     if (estimate_ <= limits_.max_memory) return true;
     too_large_ = true;
@@ -95,7 +101,8 @@ class CheckedDomBuilder {
       f.container->push_back(std::move(v));
       return &f.container->back();
     }
-    json& slot = (*f.container)[f.key];  // a duplicate replaces the earlier value (and was reported)
+    json& slot =
+        (*f.container)[f.key];  // a duplicate replaces the earlier value (and was reported)
     slot = std::move(v);
     return &slot;
   }
@@ -106,8 +113,8 @@ class CheckedDomBuilder {
   }
   bool open(json::value_t type) {
     if (stack_.size() >= limits_.max_depth) {
-      c_.error(PointerTo(nullptr),
-               "arrays and objects are nested deeper than " + std::to_string(limits_.max_depth) + " levels");
+      c_.error(PointerTo(nullptr), "arrays and objects are nested deeper than " +
+                                       std::to_string(limits_.max_depth) + " levels");
       return false;  // ends the parse
     }
     if (!charge(kContainer)) return false;
@@ -154,7 +161,8 @@ std::string SyntaxMessage(std::string_view text, std::size_t position, std::stri
   const auto end = text.begin() + static_cast<std::ptrdiff_t>(position);
   const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), end, '\n'));
   const std::size_t last_nl = position == 0 ? std::string::npos : text.rfind('\n', position - 1);
-  const std::size_t column = (last_nl == std::string::npos ? position : position - last_nl - 1) + past_end;
+  const std::size_t column =
+      (last_nl == std::string::npos ? position : position - last_nl - 1) + past_end;
   if (!what.empty() && what.front() == '[') {
     const auto p = what.find("] ");
     if (p != std::string::npos) what.erase(0, p + 2);
@@ -167,13 +175,14 @@ std::string SyntaxMessage(std::string_view text, std::size_t position, std::stri
   }
   // The library quotes the last token read, which can be any length: 200 bytes say enough.
   if (what.size() > 200) what = what.substr(0, 200) + "...";
-  return "not valid JSON: parse error at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " +
-         Printable(what);
+  return "not valid JSON: parse error at line " + std::to_string(line) + ", column " +
+         std::to_string(column) + ": " + Printable(what);
 }
 
 // "256 MiB", or bytes for limits that are not whole MiB.
 std::string Size(std::size_t n) {
-  if (n >= (std::size_t{1} << 20) && n % (std::size_t{1} << 20) == 0) return std::to_string(n >> 20) + " MiB";
+  if (n >= (std::size_t{1} << 20) && n % (std::size_t{1} << 20) == 0)
+    return std::to_string(n >> 20) + " MiB";
   return std::to_string(n) + " bytes";
 }
 
@@ -187,19 +196,23 @@ json ParseJsonFile(const std::string& path, const JsonLimits& limits) {
 
 json ParseJsonText(std::string_view text, const std::string& source, const JsonLimits& limits) {
   if (text.size() > limits.max_bytes)
-    throw ReadError(source, 0,
-                    "is larger than " + Size(limits.max_bytes) + ", the largest JSON document imuconv reads");
+    throw ReadError(
+        source, 0,
+        "is larger than " + Size(limits.max_bytes) + ", the largest JSON document imuconv reads");
   Checker c(source);
   CheckedDomBuilder builder(c, limits);
-  json::sax_parse(text.begin(), text.end(), &builder, nlohmann::detail::input_format_t::json, /*strict=*/true,
+  json::sax_parse(text.begin(), text.end(), &builder, nlohmann::detail::input_format_t::json,
+                  /*strict=*/true,
                   /*ignore_comments=*/false);
   if (builder.too_large())
     throw ReadError(source, 0,
                     "would take more than " + Size(limits.max_memory) +
-                        " of memory once parsed: it holds too many small values (imuconv's own documents take about "
+                        " of memory once parsed: it holds too many small values (imuconv's own "
+                        "documents take about "
                         "twice their size)");
   if (builder.syntax_error())
-    throw ConfigError(source, {{"", SyntaxMessage(text, builder.error_position(), builder.error_text())}});
+    throw ConfigError(source,
+                      {{"", SyntaxMessage(text, builder.error_position(), builder.error_text())}});
   c.throw_if_errors();  // duplicate keys, nesting
   return std::move(builder.root());
 }

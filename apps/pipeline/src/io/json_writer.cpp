@@ -7,16 +7,17 @@
 #include <cstring>
 
 #include "imuconv/printable.h"
+#include "imuconv/registry.h"
 #include "imuconv/utf8.h"
 #include "number_format.h"
 #include "value_events.h"
-#include "imuconv/registry.h"
 
 namespace imuconv::pipeline {
 
 namespace {
 
-constexpr char kSpaces[] = "                                                                ";  // 64
+constexpr char kSpaces[] =
+    "                                                                ";  // 64
 
 void AppendPad(std::string& out, int level) {
   std::size_t n = 2 * static_cast<std::size_t>(std::max(level, 0));
@@ -52,7 +53,8 @@ inline char* FormatDouble(char* p, double v) {
   }
   std::uint64_t bits;
   std::memcpy(&bits, &v, sizeof bits);
-  FormatMemo::Entry& e = g_format_memo.entries[(bits * 0x9E3779B97F4A7C15ull) >> (64 - FormatMemo::kBits)];
+  FormatMemo::Entry& e =
+      g_format_memo.entries[(bits * 0x9E3779B97F4A7C15ull) >> (64 - FormatMemo::kBits)];
   if (e.bits == bits) {
     std::memcpy(p, e.text, kMaxDoubleChars);  // the whole slot: p has room for kMaxDoubleChars
     return p + e.size;
@@ -82,13 +84,27 @@ std::size_t AppendJsonString(std::string& out, std::string_view s) {
     out.append(s.data() + run, i - run);
     run = i + 1;
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\b': out += "\\b"; break;
-      case '\f': out += "\\f"; break;
-      case '\n': out += "\\n"; break;
-      case '\r': out += "\\r"; break;
-      case '\t': out += "\\t"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\b':
+        out += "\\b";
+        break;
+      case '\f':
+        out += "\\f";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
       default: {
         static const char* hex = "0123456789abcdef";
         const char u[6] = {'\\', 'u', '0', '0', hex[c >> 4], hex[c & 15]};
@@ -103,7 +119,8 @@ std::size_t AppendJsonString(std::string& out, std::string_view s) {
 
 }  // namespace
 
-JsonWriter::JsonWriter(std::string& out, int depth, std::string pointer, NonFinite non_finite, Form form)
+JsonWriter::JsonWriter(std::string& out, int depth, std::string pointer, NonFinite non_finite,
+                       Form form)
     : out_(out),
       depth_(depth),
       pointer_(std::move(pointer)),
@@ -134,9 +151,11 @@ std::string JsonWriter::container_pointer() const {
 std::string JsonWriter::pointer() const { return pointer_upto(stack_.size()); }
 
 void JsonWriter::not_utf8(std::string_view s, std::size_t at, const std::string& where) const {
-  throw Error("would write a string that is not UTF-8 (output " + Printable(where) + ", byte " + std::to_string(at) + " of " +
-              Quoted(s) + "), which JSON text cannot hold; it comes from an input (a file's name, a plugin's id or "
-              "version?); no output is written");
+  throw Error(
+      "would write a string that is not UTF-8 (output " + Printable(where) + ", byte " +
+      std::to_string(at) + " of " + Quoted(s) +
+      "), which JSON text cannot hold; it comes from an input (a file's name, a plugin's id or "
+      "version?); no output is written");
 }
 
 void JsonWriter::non_finite() const {
@@ -206,8 +225,10 @@ void JsonWriter::key(std::string_view k) {
 void JsonWriter::append_number(double v) {
   if (!std::isfinite(v)) {
     if (non_finite_ == NonFinite::Throw) non_finite();
-    if (events_) out_.push_back('n');
-    else out_ += "null";
+    if (events_)
+      out_.push_back('n');
+    else
+      out_ += "null";
     return;
   }
   if (events_) {
@@ -245,8 +266,10 @@ void JsonWriter::unsigned_integer(std::uint64_t v) {
 
 void JsonWriter::boolean(bool b) {
   before_value();
-  if (events_) out_.push_back(b ? 't' : 'f');
-  else out_ += b ? "true" : "false";
+  if (events_)
+    out_.push_back(b ? 't' : 'f');
+  else
+    out_ += b ? "true" : "false";
 }
 
 void JsonWriter::string(std::string_view s) {
@@ -263,8 +286,10 @@ void JsonWriter::string(std::string_view s) {
 
 void JsonWriter::null() {
   before_value();
-  if (events_) out_.push_back('n');
-  else out_ += "null";
+  if (events_)
+    out_.push_back('n');
+  else
+    out_ += "null";
 }
 
 void JsonWriter::numbers(const double* v, std::size_t n) {
@@ -349,12 +374,24 @@ void JsonWriter::value(const json& j) {
       for (const auto& e : j) value(e);
       end_array();
       return;
-    case json::value_t::number_float: number(j.get<double>()); return;
-    case json::value_t::number_integer: integer(j.get<std::int64_t>()); return;
-    case json::value_t::number_unsigned: unsigned_integer(j.get<std::uint64_t>()); return;
-    case json::value_t::boolean: boolean(j.get<bool>()); return;
-    case json::value_t::string: string(j.get_ref<const std::string&>()); return;
-    default: null(); return;
+    case json::value_t::number_float:
+      number(j.get<double>());
+      return;
+    case json::value_t::number_integer:
+      integer(j.get<std::int64_t>());
+      return;
+    case json::value_t::number_unsigned:
+      unsigned_integer(j.get<std::uint64_t>());
+      return;
+    case json::value_t::boolean:
+      boolean(j.get<bool>());
+      return;
+    case json::value_t::string:
+      string(j.get_ref<const std::string&>());
+      return;
+    default:
+      null();
+      return;
   }
 }
 

@@ -68,7 +68,8 @@ void RemoveTemporariesOnSignal() {
   for (int s : signals) {
     struct sigaction old {};
     if (::sigaction(s, nullptr, &old) != 0) continue;
-    if (!(old.sa_flags & SA_SIGINFO) && old.sa_handler == SIG_IGN) continue;  // nohup: keep ignoring it
+    if (!(old.sa_flags & SA_SIGINFO) && old.sa_handler == SIG_IGN)
+      continue;  // nohup: keep ignoring it
     ::sigaction(s, &sa, nullptr);
   }
 }

@@ -26,7 +26,9 @@ void Put64(std::string& s, std::uint64_t v) {
   for (int i = 0; i < 8; ++i) s += static_cast<char>((v >> (8 * i)) & 0xFF);
 }
 
-std::uint32_t Clamp32(std::uint64_t v) { return v >= kMax32 ? kMax32 : static_cast<std::uint32_t>(v); }
+std::uint32_t Clamp32(std::uint64_t v) {
+  return v >= kMax32 ? kMax32 : static_cast<std::uint32_t>(v);
+}
 
 /// General-purpose flag bit 11 (4.4.4): the name is UTF-8. Set only when it is not plain ASCII,
 /// as zipfile and Info-ZIP do.
@@ -52,7 +54,8 @@ const CrcTables& CrcTable() {
       t[0][n] = c;
     }
     for (std::size_t k = 1; k < 8; ++k)
-      for (std::size_t n = 0; n < 256; ++n) t[k][n] = t[0][t[k - 1][n] & 0xFFu] ^ (t[k - 1][n] >> 8);
+      for (std::size_t n = 0; n < 256; ++n)
+        t[k][n] = t[0][t[k - 1][n] & 0xFFu] ^ (t[k - 1][n] >> 8);
     return t;
   }();
   return tables;
@@ -67,10 +70,10 @@ std::uint32_t Crc32(std::uint32_t crc, const void* data, std::size_t size) {
   // Eight bytes at a time; the bytes are assembled little-endian by hand, so the result does not
   // depend on the machine's byte order.
   for (; size >= 8; size -= 8, p += 8) {
-    const std::uint32_t lo =
-        crc ^ (std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 | std::uint32_t{p[2]} << 16 | std::uint32_t{p[3]} << 24);
-    crc = t[7][lo & 0xFFu] ^ t[6][(lo >> 8) & 0xFFu] ^ t[5][(lo >> 16) & 0xFFu] ^ t[4][lo >> 24] ^ t[3][p[4]] ^
-          t[2][p[5]] ^ t[1][p[6]] ^ t[0][p[7]];
+    const std::uint32_t lo = crc ^ (std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 |
+                                    std::uint32_t{p[2]} << 16 | std::uint32_t{p[3]} << 24);
+    crc = t[7][lo & 0xFFu] ^ t[6][(lo >> 8) & 0xFFu] ^ t[5][(lo >> 16) & 0xFFu] ^ t[4][lo >> 24] ^
+          t[3][p[4]] ^ t[2][p[5]] ^ t[1][p[6]] ^ t[0][p[7]];
   }
   for (; size > 0; --size, ++p) crc = t[0][(crc ^ *p) & 0xFFu] ^ (crc >> 8);
   return ~crc;
@@ -78,7 +81,8 @@ std::uint32_t Crc32(std::uint32_t crc, const void* data, std::size_t size) {
 
 std::string NpyHeader(const std::string& descr, const std::vector<std::size_t>& shape) {
   std::string tuple = "(";
-  for (std::size_t i = 0; i < shape.size(); ++i) tuple += (i ? ", " : "") + std::to_string(shape[i]);
+  for (std::size_t i = 0; i < shape.size(); ++i)
+    tuple += (i ? ", " : "") + std::to_string(shape[i]);
   if (shape.size() == 1) tuple += ",";
   tuple += ")";
   std::string dict = "{'descr': '" + descr + "', 'fortran_order': False, 'shape': " + tuple + ", }";
@@ -87,8 +91,9 @@ std::string NpyHeader(const std::string& descr, const std::vector<std::size_t>& 
   const std::size_t unpadded = 10 + dict.size() + 1;
   dict.append((64 - unpadded % 64) % 64, ' ');
   dict += '\n';
-  if (dict.size() > kMax16) throw Error("npz: the .npy header of an array of " + std::to_string(shape.size()) +
-                                        " dimensions is longer than format 1.0 allows");
+  if (dict.size() > kMax16)
+    throw Error("npz: the .npy header of an array of " + std::to_string(shape.size()) +
+                " dimensions is longer than format 1.0 allows");
   std::string h("\x93NUMPY\x01\x00", 8);
   Put16(h, static_cast<std::uint16_t>(dict.size()));
   return h + dict;
@@ -99,11 +104,12 @@ void NpzWriter::emit(std::string_view bytes) {
   offset_ += bytes.size();
 }
 
-void NpzWriter::add(const std::string& name, const std::string& descr, const std::vector<std::size_t>& shape,
-                    std::string_view data) {
+void NpzWriter::add(const std::string& name, const std::string& descr,
+                    const std::vector<std::size_t>& shape, std::string_view data) {
   if (finished_) throw Error("npz: member '" + name + "' added after the archive was finished");
   const std::string file = name + ".npy";
-  if (file.size() > kMax16) throw Error("npz: a member name of " + std::to_string(file.size()) + " bytes is too long");
+  if (file.size() > kMax16)
+    throw Error("npz: a member name of " + std::to_string(file.size()) + " bytes is too long");
   const std::string header = NpyHeader(descr, shape);
   const std::uint64_t size = header.size() + data.size();
   const std::uint32_t crc = Crc32(Crc32(0, header.data(), header.size()), data.data(), data.size());
@@ -140,7 +146,8 @@ void NpzWriter::finish() {
   const std::uint64_t cd_offset = offset_;
   std::string cd;
   for (const Member& m : members_) {
-    const bool big_size = force_zip64_ || m.size >= kMax32, big_offset = force_zip64_ || m.offset >= kMax32;
+    const bool big_size = force_zip64_ || m.size >= kMax32,
+               big_offset = force_zip64_ || m.offset >= kMax32;
     // The ZIP64 extra field holds, in this order, only the values whose classic field reads
     // 0xFFFFFFFF: uncompressed size, compressed size, local header offset (4.5.3).
     std::string extra;
@@ -177,7 +184,8 @@ void NpzWriter::finish() {
   const std::uint64_t count = members_.size(), cd_size = cd.size();
   emit(cd);
   const std::uint64_t end64_offset = offset_;
-  const bool zip64_end = force_zip64_ || count >= kMax16 || cd_size >= kMax32 || cd_offset >= kMax32;
+  const bool zip64_end =
+      force_zip64_ || count >= kMax16 || cd_size >= kMax32 || cd_offset >= kMax32;
   std::string end;
   if (zip64_end) {
     // ZIP64 end of central directory record (4.3.14) and its locator (4.3.15).

@@ -37,7 +37,8 @@ std::string NpyHeader(const std::string& descr, const std::vector<std::size_t>& 
 class NpzWriter {
  public:
   using Sink = std::function<void(std::string_view)>;
-  explicit NpzWriter(Sink sink, bool force_zip64 = false) : sink_(std::move(sink)), force_zip64_(force_zip64) {}
+  explicit NpzWriter(Sink sink, bool force_zip64 = false)
+      : sink_(std::move(sink)), force_zip64_(force_zip64) {}
 
   /// Writes member `name` + ".npy": the header for `descr` and `shape`, then `data`, the
   /// array's bytes (little-endian, C order; their count must be the shape's size times the

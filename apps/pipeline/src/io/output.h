@@ -58,7 +58,8 @@ class Output {
         [&](std::size_t k) {
           std::string& text = slots[k % slots_n];
           text = k == 0 ? first_sep : sep;
-          JsonWriter cw(text, depth, base + "/" + std::to_string(k), JsonWriter::NonFinite::Throw, form_);
+          JsonWriter cw(text, depth, base + "/" + std::to_string(k), JsonWriter::NonFinite::Throw,
+                        form_);
           write_one(cw, k);
         },
         [&](std::size_t k) {

@@ -1,8 +1,8 @@
 #include "imuconv/pipeline/output_file.h"
 
 #include <fcntl.h>
-#include <link.h>
 #include <limits.h>
+#include <link.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <sys/xattr.h>
@@ -22,10 +22,10 @@
 #include "descriptor_io.h"
 #include "destination_path.h"
 #include "imuconv/pipeline/input_registry.h"
-#include "live_temporaries.h"
 #include "imuconv/pipeline/standard_descriptors.h"
 #include "imuconv/printable.h"
 #include "imuconv/registry.h"
+#include "live_temporaries.h"
 
 namespace imuconv::pipeline {
 
@@ -42,8 +42,10 @@ using live_temporaries::Remember;
 OutputFile::OutputFile(std::string path, std::optional<Confinement> within)
     : path_(std::move(path)), within_(std::move(within)) {
   const std::string shown = Printable(path_);
-  if (path_.empty()) throw Error("the output path is empty; expected a file name, or '-' for standard output");
-  if (path_.find('\0') != std::string::npos) throw Error(shown + ": a path cannot contain a NUL byte");
+  if (path_.empty())
+    throw Error("the output path is empty; expected a file name, or '-' for standard output");
+  if (path_.find('\0') != std::string::npos)
+    throw Error(shown + ": a path cannot contain a NUL byte");
 
   // Follow symbolic links one at a time (a descriptor path is recognised before it is followed).
   std::string p = path_;
@@ -51,15 +53,22 @@ OutputFile::OutputFile(std::string path, std::optional<Confinement> within)
   for (int links = 0;; ++links) {
     if (const auto n = OwnDescriptor(p)) {
       if (within_)
-        throw Error(within_->named_by + ": " + shown + " leads to file descriptor " + std::to_string(*n) +
-                    " of this process, outside the pipeline's directory; expected a file inside it (to write "
+        throw Error(within_->named_by + ": " + shown + " leads to file descriptor " +
+                    std::to_string(*n) +
+                    " of this process, outside the pipeline's directory; expected a file inside it "
+                    "(to write "
                     "anywhere else, give the output on the command line with -o)");
       if (StandardDescriptorWasClosed(*n))
-        throw Error(shown + ": " + std::string(*n == 0 ? "standard input" : *n == 1 ? "standard output" : "standard error") +
-                    " was closed when imuconv started (it is /dev/null now, so that no file takes its number); give "
+        throw Error(shown + ": " +
+                    std::string(*n == 0   ? "standard input"
+                                : *n == 1 ? "standard output"
+                                          : "standard error") +
+                    " was closed when imuconv started (it is /dev/null now, so that no file takes "
+                    "its number); give "
                     "the output a file name");
       struct stat fst {};
-      if (::fstat(*n, &fst) != 0) throw Error(shown + ": file descriptor " + std::to_string(*n) + " is not open");
+      if (::fstat(*n, &fst) != 0)
+        throw Error(shown + ": file descriptor " + std::to_string(*n) + " is not open");
       const int flags = ::fcntl(*n, F_GETFL);
       if (flags < 0 || (flags & O_ACCMODE) == O_RDONLY)
         throw Error(shown + ": file descriptor " + std::to_string(*n) + " is not open for writing");
@@ -76,7 +85,8 @@ OutputFile::OutputFile(std::string path, std::optional<Confinement> within)
     }
     if (::lstat(p.c_str(), &st) != 0) {
       // A missing name is a new file (a missing directory is reported below).
-      if (errno != ENOENT) throw Error(shown + ": cannot examine " + Printable(p) + ": " + std::strerror(errno));
+      if (errno != ENOENT)
+        throw Error(shown + ": cannot examine " + Printable(p) + ": " + std::strerror(errno));
       break;
     }
     if (!S_ISLNK(st.st_mode)) {
@@ -84,12 +94,15 @@ OutputFile::OutputFile(std::string path, std::optional<Confinement> within)
       break;
     }
     if (links == 40)
-      throw Error(shown + ": more than 40 symbolic links to follow (a loop?); expected a file, a character device or a FIFO");
+      throw Error(shown +
+                  ": more than 40 symbolic links to follow (a loop?); expected a file, a character "
+                  "device or a FIFO");
     const fs::path to(ReadLink(p, shown));
     p = to.is_absolute() ? to.string() : (fs::path(p).parent_path() / to).string();
   }
   target_ = p;
-  const std::string where = target_ == path_ ? shown : shown + " (a symbolic link to " + Printable(target_) + ")";
+  const std::string where =
+      target_ == path_ ? shown : shown + " (a symbolic link to " + Printable(target_) + ")";
   dir_ = fs::path(target_).parent_path().string();
   if (dir_.empty()) dir_ = ".";
   if (within_) check_confined();
@@ -105,16 +118,20 @@ OutputFile::OutputFile(std::string path, std::optional<Confinement> within)
       mode_ = Mode::WriteThrough;
       fifo_ = S_ISFIFO(st.st_mode);
       if (::faccessat(AT_FDCWD, target_.c_str(), W_OK, AT_EACCESS) != 0)
-        throw Error(where + ": cannot write to this " + KindOf(st.st_mode).substr(2) + ": " + std::strerror(errno));
+        throw Error(where + ": cannot write to this " + KindOf(st.st_mode).substr(2) + ": " +
+                    std::strerror(errno));
       return;
     }
     if (!S_ISREG(st.st_mode))
       throw Error(where + ": is " + KindOf(st.st_mode) +
-                  "; expected a regular file (replaced atomically), a character device or a FIFO (written through)");
+                  "; expected a regular file (replaced atomically), a character device or a FIFO "
+                  "(written through)");
     if (st.st_nlink > 1)
       throw Error(where + ": has " + std::to_string(st.st_nlink) +
-                  " hard links; replacing it would split them (the other names would keep the old content) and "
-                  "writing into it in place could leave them all with half a document: remove the other links, or "
+                  " hard links; replacing it would split them (the other names would keep the old "
+                  "content) and "
+                  "writing into it in place could leave them all with half a document: remove the "
+                  "other links, or "
                   "write the output elsewhere");
     perms_ = st.st_mode & 07777;  // set-user-ID, set-group-ID and sticky bits too
     uid_ = st.st_uid;
@@ -128,7 +145,8 @@ OutputFile::OutputFile(std::string path, std::optional<Confinement> within)
   mode_ = Mode::Replace;
   // Checked now, so that a run is not done in vain; the temporary itself waits for the first write.
   if (::faccessat(AT_FDCWD, dir_.c_str(), W_OK | X_OK, AT_EACCESS) != 0)
-    throw Error(where + ": cannot create a temporary file in " + Printable(dir_) + ": " + std::strerror(errno));
+    throw Error(where + ": cannot create a temporary file in " + Printable(dir_) + ": " +
+                std::strerror(errno));
   // The directory is held from here to the rename: the temporary is created in it and renamed
   // within it by descriptor, so a directory (or a link on the way to it) swapped meanwhile
   // cannot redirect the output elsewhere, out of a confinement least of all. O_PATH when the
@@ -136,15 +154,19 @@ OutputFile::OutputFile(std::string path, std::optional<Confinement> within)
   dir_fd_ = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (dir_fd_ < 0) dir_fd_ = ::open(dir_.c_str(), O_PATH | O_DIRECTORY | O_CLOEXEC);
   dir_fd_ = AboveStandardDescriptors(dir_fd_);
-  if (dir_fd_ < 0) throw Error(where + ": cannot open its directory " + Printable(dir_) + ": " + std::strerror(errno));
+  if (dir_fd_ < 0)
+    throw Error(where + ": cannot open its directory " + Printable(dir_) + ": " +
+                std::strerror(errno));
   if (within_) {
     // The directory now held is the one checked (not one swapped in after the check).
-    struct stat held {}, named {};
-    if (::fstat(dir_fd_, &held) != 0 || ::stat(dir_.c_str(), &named) != 0 || held.st_dev != named.st_dev ||
-        held.st_ino != named.st_ino) {
+    struct stat held {
+    }, named{};
+    if (::fstat(dir_fd_, &held) != 0 || ::stat(dir_.c_str(), &named) != 0 ||
+        held.st_dev != named.st_dev || held.st_ino != named.st_ino) {
       ::close(dir_fd_);
       dir_fd_ = -1;
-      throw Error(within_->named_by + ": " + shown + ": its directory changed while it was examined; try again");
+      throw Error(within_->named_by + ": " + shown +
+                  ": its directory changed while it was examined; try again");
     }
   }
 }
@@ -153,18 +175,20 @@ void OutputFile::check_confined() const {
   const std::string shown = Printable(path_);
   const auto root = RealPath(within_->directory.empty() ? "." : within_->directory);
   if (!root)
-    throw Error(within_->named_by + ": cannot resolve the pipeline's directory " + Printable(within_->directory) +
-                ": " + std::strerror(errno));
+    throw Error(within_->named_by + ": cannot resolve the pipeline's directory " +
+                Printable(within_->directory) + ": " + std::strerror(errno));
   // The final name is not a link (links were followed above), so the file written is the real
   // directory's entry of that name.
   const auto dir = RealPath(dir_);
   if (!dir)
-    throw Error(within_->named_by + ": " + shown + ": cannot resolve its directory " + Printable(dir_) + ": " +
-                std::strerror(errno));
+    throw Error(within_->named_by + ": " + shown + ": cannot resolve its directory " +
+                Printable(dir_) + ": " + std::strerror(errno));
   if (!IsInside(*dir, *root))
-    throw Error(within_->named_by + ": " + shown + " leads outside the pipeline's directory " + Printable(*root) +
-                " (to " + Printable((fs::path(*dir) / fs::path(target_).filename()).string()) +
-                ", through a symbolic link); expected a file inside it (to write anywhere else, give the output on "
+    throw Error(within_->named_by + ": " + shown + " leads outside the pipeline's directory " +
+                Printable(*root) + " (to " +
+                Printable((fs::path(*dir) / fs::path(target_).filename()).string()) +
+                ", through a symbolic link); expected a file inside it (to write anywhere else, "
+                "give the output on "
                 "the command line with -o)");
 }
 
@@ -183,8 +207,10 @@ void OutputFile::discard() noexcept {
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;
   if (!tmp_.empty()) {
-    if (dir_fd_ >= 0) ::unlinkat(dir_fd_, fs::path(tmp_).filename().c_str(), 0);
-    else ::unlink(tmp_.c_str());
+    if (dir_fd_ >= 0)
+      ::unlinkat(dir_fd_, fs::path(tmp_).filename().c_str(), 0);
+    else
+      ::unlink(tmp_.c_str());
   }
   tmp_.clear();
   Forget(slot_);
@@ -195,7 +221,8 @@ void OutputFile::discard() noexcept {
 
 void OutputFile::fail(const std::string& what, int err) {
   discard();
-  throw Error(Printable(path_) + ": " + what + (err != 0 ? std::string(": ") + std::strerror(err) : std::string()));
+  throw Error(Printable(path_) + ": " + what +
+              (err != 0 ? std::string(": ") + std::strerror(err) : std::string()));
 }
 
 void OutputFile::refuse_if_same(const std::string& other, const std::string& role) const {
@@ -212,7 +239,8 @@ std::vector<std::string> LoadedObjects() {
   std::vector<std::string> files;
   ::dl_iterate_phdr(
       [](dl_phdr_info* info, std::size_t, void* data) {
-        if (info->dlpi_name && *info->dlpi_name) static_cast<std::vector<std::string>*>(data)->emplace_back(info->dlpi_name);
+        if (info->dlpi_name && *info->dlpi_name)
+          static_cast<std::vector<std::string>*>(data)->emplace_back(info->dlpi_name);
         return 0;
       },
       &files);
@@ -247,8 +275,10 @@ void OutputFile::create_temporary() {
     const std::string leaf = base + RandomSuffix();
     const std::string name = (fs::path(dir_) / leaf).string();
     slot_ = Remember(name);
-    if (slot_ < 0) fail("cannot create a temporary file: more than 16 open at once, or a path too long", 0);
-    fd_ = AboveStandardDescriptors(::openat(dir_fd_, leaf.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600));
+    if (slot_ < 0)
+      fail("cannot create a temporary file: more than 16 open at once, or a path too long", 0);
+    fd_ = AboveStandardDescriptors(
+        ::openat(dir_fd_, leaf.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600));
     if (fd_ >= 0) {
       tmp_ = name;
       return;
@@ -258,7 +288,8 @@ void OutputFile::create_temporary() {
     slot_ = -1;
     if (err != EEXIST) fail("cannot create a temporary file in " + Printable(dir_), err);
   }
-  fail("cannot create a temporary file in " + Printable(dir_) + ": 16 random names were all taken", 0);
+  fail("cannot create a temporary file in " + Printable(dir_) + ": 16 random names were all taken",
+       0);
 }
 
 void OutputFile::create_spool() {
@@ -274,8 +305,8 @@ void OutputFile::create_spool() {
   }
   spool_fd_ = AboveStandardDescriptors(fd);
   if (spool_fd_ < 0)
-    fail("cannot create the spool file that holds the output until the run has succeeded, in " + Printable(dir) +
-             " ($TMPDIR, else /tmp; set TMPDIR to a writable directory)",
+    fail("cannot create the spool file that holds the output until the run has succeeded, in " +
+             Printable(dir) + " ($TMPDIR, else /tmp; set TMPDIR to a writable directory)",
          errno);
 }
 
@@ -283,18 +314,21 @@ void OutputFile::write(std::string_view text) {
   if (committed_) throw Error(Printable(path_) + ": written after it was completed");
   if (mode_ == Mode::WriteThrough) {
     if (spool_fd_ < 0) create_spool();
-    if (const int err = WriteAll(spool_fd_, text)) fail("cannot write the spool file (in $TMPDIR, else /tmp)", err);
+    if (const int err = WriteAll(spool_fd_, text))
+      fail("cannot write the spool file (in $TMPDIR, else /tmp)", err);
     return;
   }
   if (fd_ < 0) create_temporary();
-  if (const int err = WriteAll(fd_, text)) fail("cannot write the temporary file " + Printable(tmp_), err);
+  if (const int err = WriteAll(fd_, text))
+    fail("cannot write the temporary file " + Printable(tmp_), err);
   written_ += text.size();
 #ifdef SYNC_FILE_RANGE_WRITE
   // Large outputs: start writing back what is there while the rest is produced, so that the
   // final fsync has little left to wait for. Only a hint; errors surface at fsync.
   constexpr std::size_t kWriteBehind = 8u << 20;
   if (written_ - synced_ >= kWriteBehind) {
-    ::sync_file_range(fd_, static_cast<off_t>(synced_), static_cast<off_t>(written_ - synced_), SYNC_FILE_RANGE_WRITE);
+    ::sync_file_range(fd_, static_cast<off_t>(synced_), static_cast<off_t>(written_ - synced_),
+                      SYNC_FILE_RANGE_WRITE);
     synced_ = written_;
   }
 #endif
@@ -323,13 +357,15 @@ void OutputFile::keep_attributes() {
     if (vgot < 0) continue;
     std::vector<char> have(value.size());
     const ssize_t hgot = ::fgetxattr(fd_, name.c_str(), have.data(), have.size());
-    if (hgot == vgot && std::memcmp(have.data(), value.data(), static_cast<std::size_t>(vgot)) == 0) continue;
+    if (hgot == vgot && std::memcmp(have.data(), value.data(), static_cast<std::size_t>(vgot)) == 0)
+      continue;
     if (::fsetxattr(fd_, name.c_str(), value.data(), static_cast<std::size_t>(vgot), 0) != 0)
       lost += (lost.empty() ? "" : ", ") + Printable(name) + " (" + std::strerror(errno) + ")";
   }
   if (!lost.empty())
     std::cerr << "imuconv: warning: " << Printable(path_)
-              << ": the replaced file's extended attributes were not all kept; not kept: " << lost << "\n";
+              << ": the replaced file's extended attributes were not all kept; not kept: " << lost
+              << "\n";
 }
 
 void OutputFile::commit() {
@@ -367,7 +403,9 @@ void OutputFile::commit() {
   struct stat now {};
   if (::fstatat(dir_fd_, leaf.c_str(), &now, AT_SYMLINK_NOFOLLOW) == 0) {
     if (!S_ISREG(now.st_mode) || now.st_nlink > 1)
-      fail("became " + (S_ISREG(now.st_mode) ? std::string("a file with several hard links") : KindOf(now.st_mode)) +
+      fail("became " +
+               (S_ISREG(now.st_mode) ? std::string("a file with several hard links")
+                                     : KindOf(now.st_mode)) +
                " while the output was produced; it is left as it is",
            0);
     refuse_input(now.st_dev, now.st_ino);
@@ -377,7 +415,8 @@ void OutputFile::commit() {
   // kernel clears set-group-ID itself when we are not in the file's group; that is said below.
   if (exists_ && (uid_ != ::geteuid() || gid_ != ::getegid())) {
     if (::fchown(fd_, uid_, gid_) != 0) {
-      [[maybe_unused]] const int ignored = ::fchown(fd_, static_cast<uid_t>(-1), gid_);  // then the owner is ours
+      [[maybe_unused]] const int ignored =
+          ::fchown(fd_, static_cast<uid_t>(-1), gid_);  // then the owner is ours
     }
   }
   // A set-ID bit is kept only with the owner (group) it was given for: a file set-user-ID to
@@ -390,7 +429,8 @@ void OutputFile::commit() {
       if (owned.st_gid != gid_) applied &= ~static_cast<mode_t>(S_ISGID);
     }
   }
-  if (::fchmod(fd_, applied) != 0) fail("cannot set the permissions of the temporary file " + Printable(tmp_), errno);
+  if (::fchmod(fd_, applied) != 0)
+    fail("cannot set the permissions of the temporary file " + Printable(tmp_), errno);
   if (exists_) {
     keep_attributes();
     struct stat made {};
@@ -399,7 +439,8 @@ void OutputFile::commit() {
       std::snprintf(want, sizeof want, "%04o", static_cast<unsigned>(perms_));
       std::snprintf(have, sizeof have, "%04o", static_cast<unsigned>(made.st_mode & 07777));
       std::cerr << "imuconv: warning: " << shown << ": the replaced file's mode " << want
-                << " could not be kept in full (a set-ID bit needs the file's owner or group, which this process "
+                << " could not be kept in full (a set-ID bit needs the file's owner or group, "
+                   "which this process "
                    "cannot give it): "
                 << have << " now\n";
     }

@@ -21,7 +21,8 @@ ResultArrays Collector::Finish() {
   std::unordered_set<std::string> names{kSidecarKey};
   auto add = [&](std::string name, NdArray a) {
     if (!names.insert(name).second)
-      Fail(name, name == kSidecarKey ? "an array would take the sidecar's name" : "two arrays would have this name");
+      Fail(name, name == kSidecarKey ? "an array would take the sidecar's name"
+                                     : "two arrays would have this name");
     r.arrays.emplace_back(std::move(name), std::move(a));
   };
   ojson stacked = ojson::object(), values = ojson::object();
@@ -47,9 +48,12 @@ ResultArrays Collector::Finish() {
         a.shape = k.shapes[k.shape_of[n]];
         std::size_t size = 1;
         for (std::size_t e : a.shape) size *= e;
-        const auto from = static_cast<std::ptrdiff_t>(k.offset[n]), to = from + static_cast<std::ptrdiff_t>(size);
-        if (k.type == NdArray::Type::kFloat64) a.data.assign(k.data.begin() + from, k.data.begin() + to);
-        else a.integers.assign(k.integers.begin() + from, k.integers.begin() + to);
+        const auto from = static_cast<std::ptrdiff_t>(k.offset[n]),
+                   to = from + static_cast<std::ptrdiff_t>(size);
+        if (k.type == NdArray::Type::kFloat64)
+          a.data.assign(k.data.begin() + from, k.data.begin() + to);
+        else
+          a.integers.assign(k.integers.begin() + from, k.integers.begin() + to);
         add(PointerOf(k, n), std::move(a));
       }
     }

@@ -10,7 +10,8 @@
 
 namespace imuconv::pipeline::detail {
 
-EventCollector::EventCollector(std::string what) : c_(std::make_unique<Collector>(std::move(what))) {}
+EventCollector::EventCollector(std::string what)
+    : c_(std::make_unique<Collector>(std::move(what))) {}
 EventCollector::~EventCollector() = default;
 
 void EventCollector::feed(std::string_view events) {

@@ -30,7 +30,8 @@ constexpr std::int64_t kExactInDouble = std::int64_t{1} << 53;
 inline std::string Escape(const std::string& s) {
   if (s.find_first_of("~/") == std::string::npos) return s;  // nearly every name
   std::string e;
-  for (char c : s) e += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
+  for (char c : s)
+    e += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
   return e;
 }
 
@@ -46,9 +47,10 @@ struct MemberSlot {
   std::string name;     ///< as read
   std::string escaped;  ///< as a pointer segment
   std::string key;      ///< the frame key joined with it
-  int child_key = -1;   ///< the entry of `key` in the collector's frame keys, once an object or array is there
-  int numeric = -1;     ///< its entry in the collector's numeric keys, once known
-  int value = -1;       ///< and in its sidecar keys
+  int child_key =
+      -1;  ///< the entry of `key` in the collector's frame keys, once an object or array is there
+  int numeric = -1;  ///< its entry in the collector's numeric keys, once known
+  int value = -1;    ///< and in its sidecar keys
 };
 /// A frame key (objects and arrays of objects with one key share it) and the members met under it,
 /// in the order first met. A deque: slots are held by address while more are added.
@@ -65,13 +67,13 @@ struct Destination {
 };
 
 struct Frame {
-  bool aoo = false;                  ///< an array of objects; else an object
-  std::string key;                   ///< the frame's key (indices of arrays of objects removed)
-  std::string pointer;               ///< its pointer, indices kept, without the leading '/'
-  int key_id = -1;                   ///< the frame key's entry in the collector's list of them
-  MemberSlot* member = nullptr;      ///< object: the current member
-  std::size_t count = 0;             ///< object: members so far; array: elements so far
-  bool element = false;              ///< an object that is an element of an array of objects (not /tasks)
+  bool aoo = false;              ///< an array of objects; else an object
+  std::string key;               ///< the frame's key (indices of arrays of objects removed)
+  std::string pointer;           ///< its pointer, indices kept, without the leading '/'
+  int key_id = -1;               ///< the frame key's entry in the collector's list of them
+  MemberSlot* member = nullptr;  ///< object: the current member
+  std::size_t count = 0;         ///< object: members so far; array: elements so far
+  bool element = false;  ///< an object that is an element of an array of objects (not /tasks)
   bool task = false, named = false;  ///< an element of /tasks, and whether its name was read
   bool tasks = false;                ///< the /tasks array: elements named, not stacked
   int aoo_id = -1;                   ///< an array of objects' entry in the collector's list of them

@@ -29,11 +29,13 @@ std::string_view LittleEndianBytes(const NdArray& a, std::vector<unsigned char>&
 
 }  // namespace
 
-void WriteResultNpz(const ResultArrays& r, const std::function<void(std::string_view)>& sink, bool force_zip64) {
+void WriteResultNpz(const ResultArrays& r, const std::function<void(std::string_view)>& sink,
+                    bool force_zip64) {
   NpzWriter npz(sink, force_zip64);
   std::vector<unsigned char> swapped;
   for (const auto& [name, a] : r.arrays)
-    npz.add(name, a.type == NdArray::Type::kFloat64 ? "<f8" : "<i8", a.shape, LittleEndianBytes(a, swapped));
+    npz.add(name, a.type == NdArray::Type::kFloat64 ? "<f8" : "<i8", a.shape,
+            LittleEndianBytes(a, swapped));
   // The sidecar as a 0-d "<U{n}" array: UTF-32LE, one code unit per (ASCII) character.
   std::string utf32;
   utf32.reserve(4 * r.sidecar.size());

@@ -92,8 +92,10 @@ class Collector {
       task.named = true;
       task.key = task.pointer = "tasks/" + Escape(s);
       task.key_id = FrameKeyId(task.key);
-      task.member = &Slot(task.key_id, task.member->name, 0);  // "name", now under the task's own key
-      if (!task_names_.insert(s).second) Fail(task.pointer, "a second task named '" + Printable(s) + "'");
+      task.member =
+          &Slot(task.key_id, task.member->name, 0);  // "name", now under the task's own key
+      if (!task_names_.insert(s).second)
+        Fail(task.pointer, "a second task named '" + Printable(s) + "'");
     }
     EmitValue(Here("a string"), s);
     return true;
@@ -143,7 +145,8 @@ class Collector {
     }
     Frame& f = frames_.back();
     if (f.task && !f.named && k != "name")
-      Fail(f.pointer, "expected the task's \"name\" as its first member, found \"" + Printable(k) + "\"");
+      Fail(f.pointer,
+           "expected the task's \"name\" as its first member, found \"" + Printable(k) + "\"");
     f.member = &Slot(f.key_id, k, f.count);
     ++f.count;
     return true;
@@ -162,8 +165,10 @@ class Collector {
       index_.pop_back();
       levels_.pop_back();
     }
-    if (frames_.empty()) done_ = true;
-    else if (frames_.back().aoo) ++frames_.back().count;
+    if (frames_.empty())
+      done_ = true;
+    else if (frames_.back().aoo)
+      ++frames_.back().count;
     return true;
   }
   bool start_array(std::size_t) {
@@ -196,8 +201,10 @@ class Collector {
     frames_.pop_back();
     if (!a.tasks) {
       ArrayOfObjects& info = aoos_[static_cast<std::size_t>(a.aoo_id)];
-      if (info.instances++ == 0) info.length = a.count;
-      else if (info.length != a.count) info.ragged = true;
+      if (info.instances++ == 0)
+        info.length = a.count;
+      else if (info.length != a.count)
+        info.ragged = true;
     }
     return true;
   }
@@ -221,7 +228,8 @@ class Collector {
   /// Nesting is bounded (an output document is a few levels deep): JSON values are copied and
   /// written recursively, and a hostile text must not exhaust the stack.
   void CheckDepth() const {
-    const std::size_t depth = frames_.size() + static_cast<std::size_t>(buffer_depth_) + (pending_array_ ? 1 : 0);
+    const std::size_t depth =
+        frames_.size() + static_cast<std::size_t>(buffer_depth_) + (pending_array_ ? 1 : 0);
     if (depth >= kMaxDepth)
       Fail(frames_.empty() ? std::string() : frames_.back().pointer,
            "nested deeper than " + std::to_string(kMaxDepth) + " levels");
@@ -256,9 +264,11 @@ class Collector {
     if (!a.tasks) {
       const int parent = levels_.empty() ? -1 : levels_.back();
       const auto [it, added] = aoo_ids_.emplace(a.key, static_cast<int>(aoos_.size()));
-      if (added) aoos_.push_back({a.key, parent});
+      if (added)
+        aoos_.push_back({a.key, parent});
       else if (aoos_[static_cast<std::size_t>(it->second)].parent != parent)
-        Fail(a.pointer, "an array of objects nested differently from an earlier one of the same key");
+        Fail(a.pointer,
+             "an array of objects nested differently from an earlier one of the same key");
       a.aoo_id = it->second;
     }
     frames_.push_back(std::move(a));
@@ -272,7 +282,8 @@ class Collector {
            std::string("expected an object (the array's first element is one), found ") + found);
     if (f.task && !f.named)
       Fail(f.pointer + "/name", std::string("expected the task's name (a string), found ") + found);
-    if (f.member == nullptr) throw std::logic_error("result collector: a value in an object before its member name");
+    if (f.member == nullptr)
+      throw std::logic_error("result collector: a value in an object before its member name");
     return {f.member, {}, {}};
   }
   /// A destination's key and pointer. A slot's pointer is the innermost frame's member: it is
@@ -296,7 +307,8 @@ class Collector {
   /// of this key had its member number `position`, then among all its members; added when new.
   MemberSlot& Slot(int key_id, const std::string& name, std::size_t position) {
     FrameKey& fk = frame_keys_[static_cast<std::size_t>(key_id)];
-    if (position < fk.members.size() && fk.members[position].name == name) return fk.members[position];
+    if (position < fk.members.size() && fk.members[position].name == name)
+      return fk.members[position];
     for (MemberSlot& m : fk.members)
       if (m.name == name) return m;
     MemberSlot m;
@@ -308,7 +320,8 @@ class Collector {
   }
 
   void FlushBuffer() {
-    std::vector<std::size_t>& shape = shape_;  // reused: one array per vector or matrix of the output
+    std::vector<std::size_t>& shape =
+        shape_;  // reused: one array per vector or matrix of the output
     if (!buf_.Rectangular(shape)) {
       EmitBufferedValue(array_dest_);
       return;
@@ -326,16 +339,18 @@ class Collector {
     v.reserve(buf_.floats.size() + buf_.ints.size());
     std::size_t i_int = 0, i_float = 0;
     for (ValueBuffer::Event e : buf_.events) {
-      if (e == ValueBuffer::kFloat) v.push_back(buf_.floats[i_float++]);
-      else if (e == ValueBuffer::kInt) v.push_back(ExactDouble(buf_.ints[i_int++], array_dest_));
+      if (e == ValueBuffer::kFloat)
+        v.push_back(buf_.floats[i_float++]);
+      else if (e == ValueBuffer::kInt)
+        v.push_back(ExactDouble(buf_.ints[i_int++], array_dest_));
     }
     EmitNumbers(array_dest_, shape, std::move(v), {}, true);
   }
 
   double ExactDouble(std::int64_t i, const Destination& d) const {
     if (i > kExactInDouble || i < -kExactInDouble)
-      Fail(PointerOf(d),
-           "mixes integers and reals, and the integer " + std::to_string(i) + " is not exact as a double");
+      Fail(PointerOf(d), "mixes integers and reals, and the integer " + std::to_string(i) +
+                             " is not exact as a double");
     return static_cast<double>(i);
   }
 
@@ -346,18 +361,20 @@ class Collector {
       o.levels = levels_;
     } else {
       if (o.levels != levels_)
-        Fail(PointerOf(d), "reached through other arrays of objects than earlier values of its key");
+        Fail(PointerOf(d),
+             "reached through other arrays of objects than earlier values of its key");
       const std::size_t n = levels_.size();
-      if (!std::lexicographical_compare(o.indices.end() - static_cast<std::ptrdiff_t>(n), o.indices.end(),
-                                        index_.begin(), index_.end()))
+      if (!std::lexicographical_compare(o.indices.end() - static_cast<std::ptrdiff_t>(n),
+                                        o.indices.end(), index_.begin(), index_.end()))
         Fail(PointerOf(d), "a duplicate key");
     }
     o.indices.insert(o.indices.end(), index_.begin(), index_.end());
     ++o.count;
   }
 
-  void EmitNumbers(const Destination& d, const std::vector<std::size_t>& shape, const std::vector<double>& reals,
-                   const std::vector<std::int64_t>& integers, bool real) {
+  void EmitNumbers(const Destination& d, const std::vector<std::size_t>& shape,
+                   const std::vector<double>& reals, const std::vector<std::int64_t>& integers,
+                   bool real) {
     if (shape.empty() && levels_.empty()) {  // a number alone, in no array of objects
       EmitValue(d, real ? ojson(reals[0]) : ojson(integers[0]));
       return;
@@ -369,13 +386,16 @@ class Collector {
         numeric_.back().key = KeyOf(d);
         numeric_.back().type = real ? NdArray::Type::kFloat64 : NdArray::Type::kInt64;
       }
-      if (d.slot == nullptr) return AddNumbers(numeric_[it->second], d, shape, reals, integers, real);
+      if (d.slot == nullptr)
+        return AddNumbers(numeric_[it->second], d, shape, reals, integers, real);
       d.slot->numeric = static_cast<int>(it->second);
     }
-    AddNumbers(numeric_[static_cast<std::size_t>(d.slot->numeric)], d, shape, reals, integers, real);
+    AddNumbers(numeric_[static_cast<std::size_t>(d.slot->numeric)], d, shape, reals, integers,
+               real);
   }
   void AddNumbers(NumericKey& k, const Destination& d, const std::vector<std::size_t>& shape,
-                  const std::vector<double>& reals, const std::vector<std::int64_t>& integers, bool real) {
+                  const std::vector<double>& reals, const std::vector<std::int64_t>& integers,
+                  bool real) {
     Record(k, d);
     if (real && k.type == NdArray::Type::kInt64) {  // the key's integers so far become reals
       k.data.reserve(k.integers.size() + reals.size());
@@ -388,7 +408,8 @@ class Collector {
     if (s == k.shapes.end()) k.shapes.push_back(shape);
     if (k.type == NdArray::Type::kFloat64) {
       k.offset.push_back(k.data.size());
-      if (real) k.data.insert(k.data.end(), reals.begin(), reals.end());
+      if (real)
+        k.data.insert(k.data.end(), reals.begin(), reals.end());
       else
         for (std::int64_t i : integers) k.data.push_back(ExactDouble(i, d));
     } else {
@@ -400,8 +421,10 @@ class Collector {
   void EmitValue(const Destination& d, ojson v) {
     ValueKey& k = ValueKeyOf(d);
     Record(k, d);
-    if (k.count == 1) k.first = std::move(v);
-    else if (v != k.first) k.other.emplace_back(k.count - 1, std::move(v));
+    if (k.count == 1)
+      k.first = std::move(v);
+    else if (v != k.first)
+      k.other.emplace_back(k.count - 1, std::move(v));
   }
   /// EmitValue of the buffered array (not a rectangular array of numbers: a list of labels, say).
   /// The same list recurs once per element of an array of objects: when its events are those of
@@ -470,7 +493,7 @@ class Collector {
   int buffer_depth_ = 0;
   Destination array_dest_;
   ValueBuffer buf_;
-  std::vector<std::size_t> shape_;  ///< FlushBuffer's
+  std::vector<std::size_t> shape_;   ///< FlushBuffer's
   std::deque<FrameKey> frame_keys_;  ///< every frame key met, and its members
   std::unordered_map<std::string, int> frame_key_ids_;
   std::vector<std::uint32_t> index_;  ///< indices of the enclosing arrays of objects

@@ -15,7 +15,9 @@ namespace {
 std::atomic<bool> g_was_closed[3];
 }  // namespace
 
-bool StandardDescriptorWasClosed(int fd) noexcept { return fd >= 0 && fd <= 2 && g_was_closed[fd].load(); }
+bool StandardDescriptorWasClosed(int fd) noexcept {
+  return fd >= 0 && fd <= 2 && g_was_closed[fd].load();
+}
 
 void OpenClosedStandardDescriptors() {
   for (int fd = 0; fd <= 2; ++fd) {
@@ -26,16 +28,20 @@ void OpenClosedStandardDescriptors() {
     // standard descriptor, as it would have inherited the closed one's replacement.
     const int got = ::open("/dev/null", fd == 0 ? O_RDONLY : O_WRONLY);
     if (got < 0)
-      throw Error("standard " + std::string(fd == 0 ? "input" : fd == 1 ? "output" : "error") +
-                  " (descriptor " + std::to_string(fd) + ") is closed and /dev/null cannot be opened in its place: " +
-                  std::strerror(errno));
+      throw Error(
+          "standard " +
+          std::string(fd == 0   ? "input"
+                      : fd == 1 ? "output"
+                                : "error") +
+          " (descriptor " + std::to_string(fd) +
+          ") is closed and /dev/null cannot be opened in its place: " + std::strerror(errno));
     if (got != fd) {  // only if another thread opened something meanwhile
       const int moved = ::dup2(got, fd);
       const int err = errno;
       ::close(got);
       if (moved != fd)
-        throw Error("standard descriptor " + std::to_string(fd) + " is closed and cannot be reopened: " +
-                    std::strerror(err));
+        throw Error("standard descriptor " + std::to_string(fd) +
+                    " is closed and cannot be reopened: " + std::strerror(err));
     }
   }
 }

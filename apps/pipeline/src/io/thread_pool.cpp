@@ -54,7 +54,8 @@ void ThreadPool::wait_workers() {
   job_ = nullptr;
 }
 
-void ThreadPool::ordered_for(std::size_t n, std::size_t window, const std::function<void(std::size_t)>& produce,
+void ThreadPool::ordered_for(std::size_t n, std::size_t window,
+                             const std::function<void(std::size_t)>& produce,
                              const std::function<void(std::size_t)>& consume) {
   if (threads_.empty() || n <= 1) {
     for (std::size_t i = 0; i < n; ++i) {
@@ -111,7 +112,8 @@ void ThreadPool::ordered_for(std::size_t n, std::size_t window, const std::funct
     // consumer must never wait for the window itself).
     while (state(j).load(std::memory_order_acquire) == 0) {
       std::size_t i = next.load(std::memory_order_relaxed);
-      if (i < n && i < j + window && next.compare_exchange_weak(i, i + 1, std::memory_order_relaxed)) {
+      if (i < n && i < j + window &&
+          next.compare_exchange_weak(i, i + 1, std::memory_order_relaxed)) {
         run(i);
         continue;
       }

@@ -39,7 +39,8 @@ class ThreadPool {
   /// item i - window is consumed. An exception from produce(i) is rethrown when i's turn to
   /// be consumed comes (so the lowest failing index wins); one from consume(i) at once. No
   /// barrier between items: a thread that is descheduled holds up at most its own item.
-  void ordered_for(std::size_t n, std::size_t window, const std::function<void(std::size_t)>& produce,
+  void ordered_for(std::size_t n, std::size_t window,
+                   const std::function<void(std::size_t)>& produce,
                    const std::function<void(std::size_t)>& consume);
 
  private:

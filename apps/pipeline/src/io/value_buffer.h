@@ -43,7 +43,7 @@ class ValueBuffer {
   /// every array at a depth of one length, at least one number); nothing otherwise.
   bool Rectangular(std::vector<std::size_t>& shape) const {
     std::vector<std::size_t>& counts = counts_;  // elements so far of each open array
-    std::vector<long long>& dims = dims_;        // each depth's length, -1 until an array there closes
+    std::vector<long long>& dims = dims_;  // each depth's length, -1 until an array there closes
     counts.clear();
     dims.clear();
     std::size_t leaf_depth = 0, max_array_depth = 0;
@@ -89,7 +89,8 @@ class ValueBuffer {
   /// Whether `o` holds the same events and values. Numbers compare with ==, as JSON values do
   /// (0.0 equals -0.0, NaN equals nothing), so that equal buffers give equal JSON values.
   bool SameEvents(const ValueBuffer& o) const {
-    return events == o.events && ints == o.ints && big == o.big && floats == o.floats && strings == o.strings;
+    return events == o.events && ints == o.ints && big == o.big && floats == o.floats &&
+           strings == o.strings;
   }
 
   /// The events as a JSON value (numbers as they were read: integers stay integers).

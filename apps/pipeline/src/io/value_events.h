@@ -25,7 +25,9 @@ namespace imuconv::pipeline::detail {
 
 static_assert(sizeof(double) == 8, "a 'd' or 'v' record holds 8-byte doubles");
 
-inline void PutEventBytes(std::string& out, const void* p, std::size_t n) { out.append(static_cast<const char*>(p), n); }
+inline void PutEventBytes(std::string& out, const void* p, std::size_t n) {
+  out.append(static_cast<const char*>(p), n);
+}
 
 template <typename T>
 inline void PutEventScalar(std::string& out, char tag, T v) {
@@ -45,8 +47,8 @@ inline void PutEventString(std::string& out, char tag, std::string_view s) {
 template <typename Sax, typename = void>
 struct TakesNumberRows : std::false_type {};
 template <typename Sax>
-struct TakesNumberRows<
-    Sax, std::void_t<decltype(std::declval<Sax&>().number_row(static_cast<const char*>(nullptr), std::size_t{0}))>>
+struct TakesNumberRows<Sax, std::void_t<decltype(std::declval<Sax&>().number_row(
+                                static_cast<const char*>(nullptr), std::size_t{0}))>>
     : std::true_type {};
 
 /// Calls `sax` (nlohmann::json's SAX interface) for each whole record at the start of `events`;
@@ -66,13 +68,27 @@ std::size_t ReplayEvents(std::string_view events, Sax& sax) {
     const char* const record = p;
     const char tag = *p++;
     switch (tag) {
-      case '{': sax.start_object(std::size_t(-1)); break;
-      case '}': sax.end_object(); break;
-      case '[': sax.start_array(std::size_t(-1)); break;
-      case ']': sax.end_array(); break;
-      case 't': sax.boolean(true); break;
-      case 'f': sax.boolean(false); break;
-      case 'n': sax.null(); break;
+      case '{':
+        sax.start_object(std::size_t(-1));
+        break;
+      case '}':
+        sax.end_object();
+        break;
+      case '[':
+        sax.start_array(std::size_t(-1));
+        break;
+      case ']':
+        sax.end_array();
+        break;
+      case 't':
+        sax.boolean(true);
+        break;
+      case 'f':
+        sax.boolean(false);
+        break;
+      case 'n':
+        sax.null();
+        break;
       case 'd': {
         if (!has(8)) return static_cast<std::size_t>(record - begin);
         double v;
@@ -102,8 +118,10 @@ std::size_t ReplayEvents(std::string_view events, Sax& sax) {
         if (!has(n)) return static_cast<std::size_t>(record - begin);
         text.assign(p, n);
         p += n;
-        if (tag == 'k') sax.key(text);
-        else sax.string(text);
+        if (tag == 'k')
+          sax.key(text);
+        else
+          sax.string(text);
         break;
       }
       case 'v': {
@@ -127,7 +145,8 @@ std::size_t ReplayEvents(std::string_view events, Sax& sax) {
         break;
       }
       default:
-        throw std::logic_error("value events: unknown record " + std::to_string(static_cast<int>(tag)));
+        throw std::logic_error("value events: unknown record " +
+                               std::to_string(static_cast<int>(tag)));
     }
   }
   return events.size();

@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "imuconv/pipeline/pipeline.h"
-#include "imuconv/printable.h"
-#include "imuconv/pipeline/kalibr_yaml.h"
-#include "parse.h"
 #include "../spec/sources.h"
 #include "../tasks/task.h"
+#include "imuconv/pipeline/kalibr_yaml.h"
+#include "imuconv/pipeline/pipeline.h"
+#include "imuconv/printable.h"
+#include "parse.h"
 
 namespace imuconv::pipeline {
 namespace {
@@ -17,7 +17,8 @@ namespace fs = std::filesystem;
 
 bool ValidName(const std::string& s) {
   return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-' || c == '.';
   });
 }
 
@@ -40,7 +41,9 @@ std::unique_ptr<const Task> ReadTask(ParseContext& ctx, const Node& n) {
   const auto name = n.string("name", true);
   if (name) {
     if (!ValidName(*name))
-      n.checker().error(n.child_pointer("name"), "expected a name of letters, digits, '_', '-' and '.', found '" + *name + "'");
+      n.checker().error(
+          n.child_pointer("name"),
+          "expected a name of letters, digits, '_', '-' and '.', found '" + *name + "'");
     else if (ctx.earlier(*name))
       n.checker().error(n.child_pointer("name"), "duplicate task name " + Quoted(*name));
   }
@@ -49,7 +52,8 @@ std::unique_ptr<const Task> ReadTask(ParseContext& ctx, const Node& n) {
     if (name) ctx.remember(*name, "?");
     return nullptr;
   }
-  const auto kind = std::find_if(TaskKinds().begin(), TaskKinds().end(), [&](const TaskKind& k) { return *type == k.type; });
+  const auto kind = std::find_if(TaskKinds().begin(), TaskKinds().end(),
+                                 [&](const TaskKind& k) { return *type == k.type; });
   std::unique_ptr<Task> t = kind->parse(ctx, n);
   t->type = *type;
   t->pointer = n.pointer();
@@ -61,14 +65,16 @@ std::unique_ptr<const Task> ReadTask(ParseContext& ctx, const Node& n) {
 
 }  // namespace
 
-std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file, const std::string& base_dir) {
+std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file,
+                                        const std::string& base_dir) {
   auto spec = std::make_unique<PipelineSpec>();
   spec->file = file;
   spec->base_dir = base_dir;
   Checker c(file);
   const Node root(doc, "", c);
-  if (!root.expect_object({"$schema", "description", "plugin_dirs", "allow_plugin_override", "gravity", "noise", "imu",
-                           "ground_truth", "output", "omit", "tasks", "allow_empty_intervals"}))
+  if (!root.expect_object({"$schema", "description", "plugin_dirs", "allow_plugin_override",
+                           "gravity", "noise", "imu", "ground_truth", "output", "omit", "tasks",
+                           "allow_empty_intervals"}))
     c.throw_if_errors();
   ParseContext ctx(c, base_dir);
   if (auto d = root.string("description", false)) spec->description = *d;
@@ -82,23 +88,26 @@ std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file
   // the user, is not restricted. Lexical check: a symbolic link inside the directory is trusted.
   if (auto o = root.string("output", false)) {
     const fs::path rel = fs::path(*o).lexically_normal();
-    if (o->empty() || o->find('\0') != std::string::npos || rel.is_absolute() || rel.has_root_name() ||
-        rel.has_root_directory() || (!rel.empty() && *rel.begin() == ".."))
+    if (o->empty() || o->find('\0') != std::string::npos || rel.is_absolute() ||
+        rel.has_root_name() || rel.has_root_directory() || (!rel.empty() && *rel.begin() == ".."))
       c.error("/output",
-              "expected a relative path inside the pipeline's directory (not absolute, not leading out of it with "
+              "expected a relative path inside the pipeline's directory (not absolute, not leading "
+              "out of it with "
               "'..'); to write anywhere else, give the output on the command line with -o");
     else
       spec->output = ctx.resolve(*o);
   }
   if (auto on = root.get("omit", false)) {
     if (!on->is_array()) {
-      on->fail("expected an array of names (Phi, cov, J_bias, R, reference), found " + TypeName(on->value()));
+      on->fail("expected an array of names (Phi, cov, J_bias, R, reference), found " +
+               TypeName(on->value()));
     } else {
       std::vector<std::string> seen;
       for (std::size_t i = 0; i < on->size(); ++i) {
         const auto what = (*on)[i].one_of({"Phi", "cov", "J_bias", "R", "reference"});
         if (!what) continue;
-        if (std::find(seen.begin(), seen.end(), *what) != seen.end()) (*on)[i].fail("'" + *what + "' is listed twice");
+        if (std::find(seen.begin(), seen.end(), *what) != seen.end())
+          (*on)[i].fail("'" + *what + "' is listed twice");
         seen.push_back(*what);
         OmitSpec& o = spec->omit;
         if (*what == "Phi") o.Phi = true;
@@ -136,11 +145,13 @@ std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file
     ctx.has_gt = true;
     spec->gt = ReadGroundTruthSource(ctx, *gn);
     if (!root.has("imu"))
-      c.error(gn->pointer(), "ground truth is put on the IMU data's time axis: add a top-level /imu source");
+      c.error(gn->pointer(),
+              "ground truth is put on the IMU data's time axis: add a top-level /imu source");
   }
   if (auto tn = root.get("tasks", true)) {
     if (!tn->is_array() || tn->size() == 0) {
-      tn->fail("expected a non-empty array of tasks, found " + (tn->is_array() ? std::string("an empty array") : TypeName(tn->value())));
+      tn->fail("expected a non-empty array of tasks, found " +
+               (tn->is_array() ? std::string("an empty array") : TypeName(tn->value())));
     } else {
       spec->tasks.reserve(tn->size());
       for (std::size_t i = 0; i < tn->size(); ++i)
@@ -152,8 +163,8 @@ std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file
   if (!spec->has_noise)
     for (const auto& t : spec->tasks)
       if (t->intervals()) {
-        c.error("/noise", "required key is missing: task '" + Printable(t->name) + "' (" + t->pointer + ", " + t->type +
-                              ") integrates IMU samples with it");
+        c.error("/noise", "required key is missing: task '" + Printable(t->name) + "' (" +
+                              t->pointer + ", " + t->type + ") integrates IMU samples with it");
         break;
       }
   c.throw_if_errors();

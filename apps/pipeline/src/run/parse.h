@@ -10,6 +10,7 @@
 namespace imuconv::pipeline {
 
 /// Parses and validates the structure; throws ConfigError listing every issue.
-std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file, const std::string& base_dir);
+std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file,
+                                        const std::string& base_dir);
 
 }  // namespace imuconv::pipeline

@@ -2,11 +2,11 @@
 #include <filesystem>
 #include <unordered_set>
 
+#include "../tasks/task.h"
 #include "imuconv/pipeline/input_registry.h"
 #include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "parse.h"
-#include "../tasks/task.h"
 
 namespace imuconv::pipeline {
 

@@ -15,11 +15,13 @@ std::optional<GroundTruth> ReadPipelineGroundTruth(const Pipeline& p, const ImuD
   if (imu.origin)
     o = *imu.origin;
   else
-    o.unit = TimeUnit::s;  // inline samples without an origin: stamps taken as absolute (as a run does)
+    o.unit =
+        TimeUnit::s;  // inline samples without an origin: stamps taken as absolute (as a run does)
   ReadOptions ro;
   ro.timing = s.gt->timing;
-  GroundTruth gt = s.gt->format == "euroc" ? ReadEurocGroundTruth(s.gt->path, o, ro)
-                                           : ReadPoseGroundTruth(s.gt->path, s.gt->format, o, ro, s.gt->sensor);
+  GroundTruth gt = s.gt->format == "euroc"
+                       ? ReadEurocGroundTruth(s.gt->path, o, ro)
+                       : ReadPoseGroundTruth(s.gt->path, s.gt->format, o, ro, s.gt->sensor);
   CheckImuAgainstKnownData(s, imu, &gt);
   return gt;
 }

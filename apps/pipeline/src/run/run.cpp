@@ -9,19 +9,19 @@
 #include <tuple>
 #include <unordered_map>
 
-#include "../tasks/context.h"
+#include "../io/output.h"
+#include "../io/result_collector.h"
+#include "../spec/pipeline_spec.h"
 #include "../spec/spec_data.h"
+#include "../tasks/context.h"
+#include "../tasks/plugins_used.h"
+#include "../tasks/results.h"
+#include "../tasks/task.h"
 #include "imuconv/kernels/preintegration.h"
 #include "imuconv/pipeline/file_digest.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/pipeline/result_arrays.h"
 #include "imuconv/printable.h"
-#include "../io/result_collector.h"
-#include "../io/output.h"
-#include "../tasks/plugins_used.h"
-#include "../tasks/results.h"
-#include "../spec/pipeline_spec.h"
-#include "../tasks/task.h"
 
 #ifndef IMUCONV_VERSION
 #define IMUCONV_VERSION "unknown"
@@ -69,11 +69,13 @@ void LoadData(RunContext& ctx) {
     // checks say which time is outside.
     if (ctx.imu.samples.size() < 2 && !(ctx.imu_keep && !ctx.imu.samples.empty()))
       throw ReadError(ctx.imu.source, 0,
-                      "has " + std::to_string(ctx.imu.samples.size()) + " IMU sample(s); at least 2 are needed");
+                      "has " + std::to_string(ctx.imu.samples.size()) +
+                          " IMU sample(s); at least 2 are needed");
   }
   // Measurement files (on the IMU data's time axis, so after it).
   for (const auto& t : s.tasks)
-    if (const MeasurementsSpec* m = t->measurements(); m && !m->file.empty() && !ctx.files.count(m->file))
+    if (const MeasurementsSpec* m = t->measurements();
+        m && !m->file.empty() && !ctx.files.count(m->file))
       ctx.files[m->file] = ReadMeasurementFile(m->file, ctx.reg, ctx.origin_ns);
   if (s.gt) {
     TimeOrigin o;
@@ -90,8 +92,9 @@ void LoadData(RunContext& ctx) {
     ReadOptions ro;
     ro.timing = s.gt->timing;
     ro.keep = range;
-    ctx.gt = s.gt->format == "euroc" ? ReadEurocGroundTruth(s.gt->path, o, ro)
-                                     : ReadPoseGroundTruth(s.gt->path, s.gt->format, o, ro, s.gt->sensor);
+    ctx.gt = s.gt->format == "euroc"
+                 ? ReadEurocGroundTruth(s.gt->path, o, ro)
+                 : ReadPoseGroundTruth(s.gt->path, s.gt->format, o, ro, s.gt->sensor);
     ctx.gt_keep = range;
   }
   CheckImuAgainstKnownData(s, ctx.imu, ctx.gt ? &*ctx.gt : nullptr);
@@ -114,8 +117,8 @@ void WriteKept(JsonWriter& w, const TimeRange& keep) {
 }
 
 /// {"source", COUNT_KEY, "t_first", "t_last", "kept_range"?} of a data source.
-void WriteSource(JsonWriter& w, const char* key, const std::string& source, const char* count_key, std::size_t count,
-                 double t_first, double t_last, const TimeRange& keep) {
+void WriteSource(JsonWriter& w, const char* key, const std::string& source, const char* count_key,
+                 std::size_t count, double t_first, double t_last, const TimeRange& keep) {
   w.key(key);
   w.begin_object();
   w.key("source");
@@ -146,7 +149,8 @@ void WriteHead(const RunContext& ctx, JsonWriter& w) {
     w.integer(*ctx.origin_ns);
   }
   w.key("times");
-  w.string(ctx.origin_ns ? "seconds relative to time_origin_ns; *_abs_ns are absolute nanoseconds" : "seconds, as given");
+  w.string(ctx.origin_ns ? "seconds relative to time_origin_ns; *_abs_ns are absolute nanoseconds"
+                         : "seconds, as given");
   w.key("gravity");
   w.vector(s.gravity);
   if (s.has_noise) {
@@ -172,15 +176,17 @@ void WriteHead(const RunContext& ctx, JsonWriter& w) {
   w.end_array();
   // Only the part of the data the tasks need is read into memory: say which.
   if (ctx.have_imu)
-    WriteSource(w, "imu", ctx.imu.source, "samples", ctx.imu.samples.size(), ctx.imu.samples.front().t,
-                ctx.imu.samples.back().t, ctx.imu_keep);
-  if (ctx.gt) WriteSource(w, "ground_truth", ctx.gt->source, "rows", ctx.gt->t.size(), ctx.gt->t.front(), ctx.gt->t.back(), ctx.gt_keep);
+    WriteSource(w, "imu", ctx.imu.source, "samples", ctx.imu.samples.size(),
+                ctx.imu.samples.front().t, ctx.imu.samples.back().t, ctx.imu_keep);
+  if (ctx.gt)
+    WriteSource(w, "ground_truth", ctx.gt->source, "rows", ctx.gt->t.size(), ctx.gt->t.front(),
+                ctx.gt->t.back(), ctx.gt_keep);
 }
 
 /// What a shard writes in its "shard" member and which tasks it runs (RunOptions::Shard).
 struct ShardPlan {
   RunOptions::Shard shard;
-  std::size_t first = 0, end = 0;  ///< its block of tasks [first, end)
+  std::size_t first = 0, end = 0;                          ///< its block of tasks [first, end)
   std::vector<std::pair<std::string, FileDigest>> inputs;  ///< each input file and its digest
   /// FNV-1a 64 of the shard document's bytes as they go to the sink, up to and including the
   /// bracket that closes "tasks": written after it as the last member, "shard_fnv1a_64", which
@@ -191,7 +197,8 @@ struct ShardPlan {
 /// The shard's block of tasks: units are the shortest runs of consecutive tasks that no
 /// reference to an earlier task crosses (a task's results stay in the process that computed
 /// them), and shard k of n takes units [k*U/n, (k+1)*U/n).
-std::pair<std::size_t, std::size_t> ShardBlock(const PipelineSpec& s, const RunOptions::Shard& shard) {
+std::pair<std::size_t, std::size_t> ShardBlock(const PipelineSpec& s,
+                                               const RunOptions::Shard& shard) {
   const std::size_t n = s.tasks.size();
   std::unordered_map<std::string, std::size_t> index;
   for (std::size_t i = 0; i < n; ++i) index.emplace(s.tasks[i]->name, i);
@@ -288,7 +295,8 @@ void Execute(RunContext& ctx, ShardPlan* plan) {
     } catch (const SinkFailure&) {
       throw;
     } catch (const std::exception& e) {
-      throw TaskFailure(ctx.spec.file + ": " + t->pointer + " (task '" + t->name + "'): " + e.what());
+      throw TaskFailure(ctx.spec.file + ": " + t->pointer + " (task '" + t->name +
+                        "'): " + e.what());
     }
     ctx.out.flush(false);
   }
@@ -316,13 +324,13 @@ void FillStats(const RunContext& ctx, RunOptions::Stats& stats) {
 }
 
 /// RunToText, in either of the writer's forms (text, or value events for RunToArrays).
-void RunToSink(const Pipeline& p, const Registry& reg, const RunOptions& options, const TextSink& sink,
-               JsonWriter::Form form) {
+void RunToSink(const Pipeline& p, const Registry& reg, const RunOptions& options,
+               const TextSink& sink, JsonWriter::Form form) {
   std::optional<ShardPlan> plan;
   if (options.shard) {
     if (options.shard->count == 0 || options.shard->index >= options.shard->count)
-      throw Error("shard " + std::to_string(options.shard->index) + "/" + std::to_string(options.shard->count) +
-                  ": expected K/N with 0 <= K < N");
+      throw Error("shard " + std::to_string(options.shard->index) + "/" +
+                  std::to_string(options.shard->count) + ": expected K/N with 0 <= K < N");
     if (form != JsonWriter::Form::kText) throw Error("a shard is written as JSON text only");
     plan.emplace();
     plan->shard = *options.shard;
@@ -341,8 +349,9 @@ void RunToSink(const Pipeline& p, const Registry& reg, const RunOptions& options
   if (options.log)
     for (const auto& w : ctx.imu.warnings) *options.log << "warning: " << w << "\n";
   CheckTimes(ctx);
-  CheckKeptMemory(ctx.spec, ctx.referenced, [&](const std::string& f) { return ctx.files.at(f).size(); },
-                  options.max_kept_bytes);
+  CheckKeptMemory(
+      ctx.spec, ctx.referenced, [&](const std::string& f) { return ctx.files.at(f).size(); },
+      options.max_kept_bytes);
   if (options.check_only) return;
   if (plan)
     for (const auto& f : p.input_files()) plan->inputs.emplace_back(f, DigestFile(f));
@@ -359,12 +368,14 @@ void LoadRegistry(const Pipeline& p, const RunOptions& options, Registry& reg) {
   lo.allow_override = options.allow_plugin_override || p.spec().allow_plugin_override;
   const auto issues = reg.load_search_path(dirs, lo);
   if (options.log)
-    for (const auto& i : issues) *options.log << "warning: plugin " << Printable(i.file) << ": " << i.message << "\n";
+    for (const auto& i : issues)
+      *options.log << "warning: plugin " << Printable(i.file) << ": " << i.message << "\n";
 }
 
 }  // namespace
 
-void RunToText(const Pipeline& p, const Registry& reg, const RunOptions& options, const TextSink& sink) {
+void RunToText(const Pipeline& p, const Registry& reg, const RunOptions& options,
+               const TextSink& sink) {
   RunToSink(p, reg, options, sink, JsonWriter::Form::kText);
 }
 
@@ -390,7 +401,8 @@ ResultArrays RunToArrays(const Pipeline& p, const Registry& reg, const RunOption
   return collector.finish();
 }
 
-ResultArrays RunToArrays(const Pipeline& p, const RunOptions& options, const std::function<void()>& started) {
+ResultArrays RunToArrays(const Pipeline& p, const RunOptions& options,
+                         const std::function<void()>& started) {
   Registry reg;
   LoadRegistry(p, options, reg);
   return RunToArrays(p, reg, options, started);

@@ -44,7 +44,8 @@ struct Layout {
   std::string whole_open;           ///< the whole document's text before the head's first value
   std::string tasks_open;           ///< the end of the head: the "tasks" key and its bracket
   std::string first_sep, next_sep;  ///< before the first task element, before any later one
-  std::string digest_open;   ///< after the bracket closing "tasks": the last member up to its 16 digits
+  std::string
+      digest_open;  ///< after the bracket closing "tasks": the last member up to its 16 digits
   std::string digest_close;  ///< after the digits, to the end of the shard document
 
   Layout() {
@@ -125,7 +126,8 @@ class ShardReader {
   }
 
   [[noreturn]] void fail(const std::string& what) const {
-    throw ShardError(Printable(file_) + (offset_ ? " (byte " + std::to_string(offset_) + ")" : "") + ": " + what);
+    throw ShardError(Printable(file_) + (offset_ ? " (byte " + std::to_string(offset_) + ")" : "") +
+                     ": " + what);
   }
 
   /// The next byte, or -1 at the end.
@@ -159,12 +161,15 @@ class ShardReader {
   }
 
   /// Appends the text up to and including `marker` to `out`; fails beyond `limit` bytes.
-  void read_through(std::string_view marker, std::size_t limit, std::string& out, const std::string& what) {
-    while (out.size() < marker.size() || out.compare(out.size() - marker.size(), marker.size(), marker) != 0) {
+  void read_through(std::string_view marker, std::size_t limit, std::string& out,
+                    const std::string& what) {
+    while (out.size() < marker.size() ||
+           out.compare(out.size() - marker.size(), marker.size(), marker) != 0) {
       const int g = get();
       if (g < 0) fail("ends before " + what + " (a truncated shard?)");
       out.push_back(static_cast<char>(g));
-      if (out.size() > limit) fail("no " + what + " within its first " + std::to_string(limit) + " bytes");
+      if (out.size() > limit)
+        fail("no " + what + " within its first " + std::to_string(limit) + " bytes");
     }
   }
 
@@ -218,19 +223,23 @@ class ShardReader {
   pipeline::Fnv1a64 hash_;
 };
 
-constexpr std::size_t kShardMemberLimit = std::size_t{16} << 20;  // the inputs' list: a few lines per file
-constexpr std::size_t kHeadLimit = std::size_t{64} << 20;         // version, description, noise, plugins, ranges
+constexpr std::size_t kShardMemberLimit = std::size_t{16}
+                                          << 20;  // the inputs' list: a few lines per file
+constexpr std::size_t kHeadLimit = std::size_t{64}
+                                   << 20;  // version, description, noise, plugins, ranges
 
 /// Reads a shard up to its first element (the reader is left there).
 ShardHead ReadHead(ShardReader& r, const std::string& file, const Layout& layout) {
   ShardHead h;
   h.file = file;
   r.expect(layout.shard_open,
-           "not a shard: it does not begin with the member \"shard\" that imuconv run --shard K/N writes first");
+           "not a shard: it does not begin with the member \"shard\" that imuconv run --shard K/N "
+           "writes first");
   r.copy_object(
       [&](const std::string& piece) {
         h.shard_text += piece;
-        if (h.shard_text.size() > kShardMemberLimit) r.fail("its \"shard\" member is longer than any imuconv writes");
+        if (h.shard_text.size() > kShardMemberLimit)
+          r.fail("its \"shard\" member is longer than any imuconv writes");
       },
       "the \"shard\" member", 3);  // {"inputs": [{...}]}
   try {
@@ -238,14 +247,16 @@ ShardHead ReadHead(ShardReader& r, const std::string& file, const Layout& layout
   } catch (const pipeline::ConfigError& e) {
     const pipeline::Issue& first = e.issues().front();
     r.fail("its \"shard\" member is not JSON as imuconv writes it: " +
-           (first.pointer.empty() ? std::string() : "/shard" + Printable(first.pointer) + ": ") + first.message);
+           (first.pointer.empty() ? std::string() : "/shard" + Printable(first.pointer) + ": ") +
+           first.message);
   } catch (const pipeline::ReadError& e) {
     r.fail(std::string("its \"shard\" member cannot be read as JSON: ") + e.what());
   }
   if (!h.shard.is_object()) r.fail("/shard: expected an object");
   const auto field = [&](const char* key, std::uint64_t& v) {
     const auto it = h.shard.find(key);
-    if (it == h.shard.end() || !it->is_number_unsigned()) r.fail(std::string("/shard/") + key + ": expected a count");
+    if (it == h.shard.end() || !it->is_number_unsigned())
+      r.fail(std::string("/shard/") + key + ": expected a count");
     v = it->get<std::uint64_t>();
   };
   field("index", h.index);
@@ -253,17 +264,19 @@ ShardHead ReadHead(ShardReader& r, const std::string& file, const Layout& layout
   field("tasks", h.tasks);
   field("first_task", h.first);
   field("end_task", h.end);
-  if (!h.shard.contains("inputs") || !h.shard["inputs"].is_array()) r.fail("/shard/inputs: expected an array");
+  if (!h.shard.contains("inputs") || !h.shard["inputs"].is_array())
+    r.fail("/shard/inputs: expected an array");
   if (h.count == 0 || h.index >= h.count || h.first > h.end || h.end > h.tasks)
-    r.fail("its \"shard\" member is inconsistent (index " + std::to_string(h.index) + " of " + std::to_string(h.count) +
-           ", tasks [" + std::to_string(h.first) + ", " + std::to_string(h.end) + ") of " + std::to_string(h.tasks) +
-           ")");
+    r.fail("its \"shard\" member is inconsistent (index " + std::to_string(h.index) + " of " +
+           std::to_string(h.count) + ", tasks [" + std::to_string(h.first) + ", " +
+           std::to_string(h.end) + ") of " + std::to_string(h.tasks) + ")");
   // A count read from the file is checked against the file's size before anything is sized by
   // it: each of its elements takes at least the two bytes of "{}".
   if ((h.end - h.first) > r.size() / 2)
-    r.fail("its \"shard\" member says it holds " + std::to_string(h.end - h.first) + " task elements, more than its " +
-           std::to_string(r.size()) + " bytes can hold");
-  r.expect(layout.shard_close, "expected the key \"imuconv_version\" right after the \"shard\" member");
+    r.fail("its \"shard\" member says it holds " + std::to_string(h.end - h.first) +
+           " task elements, more than its " + std::to_string(r.size()) + " bytes can hold");
+  r.expect(layout.shard_close,
+           "expected the key \"imuconv_version\" right after the \"shard\" member");
   r.read_through(layout.tasks_open, kHeadLimit, h.head, "the \"tasks\" array");
   return h;
 }
@@ -273,7 +286,8 @@ std::size_t FirstDifferentLine(const std::string& a, const std::string& b) {
   const std::size_t n = std::min(a.size(), b.size());
   std::size_t i = 0;
   while (i < n && a[i] == b[i]) ++i;
-  return 1 + static_cast<std::size_t>(std::count(a.begin(), a.begin() + static_cast<std::ptrdiff_t>(i), '\n'));
+  return 1 + static_cast<std::size_t>(
+                 std::count(a.begin(), a.begin() + static_cast<std::ptrdiff_t>(i), '\n'));
 }
 
 /// That every shard comes from one run of one split, and that together they are all of it.
@@ -281,31 +295,40 @@ std::size_t FirstDifferentLine(const std::string& a, const std::string& b) {
 std::vector<const ShardHead*> CheckShards(const std::vector<ShardHead>& heads) {
   const ShardHead& a = heads.front();
   const auto other = [&](const ShardHead& h, const std::string& what) {
-    throw ShardError(Printable(h.file) + " and " + Printable(a.file) + " are not shards of one run: " + what);
+    throw ShardError(Printable(h.file) + " and " + Printable(a.file) +
+                     " are not shards of one run: " + what);
   };
   // By index; a map, since a header may claim any number of shards (the count is checked
   // against the shards given before anything is sized by it).
   std::map<std::uint64_t, const ShardHead*> by_index;
   for (const ShardHead& h : heads) {
     if (h.count != a.count)
-      other(h, "one is shard " + std::to_string(h.index) + " of " + std::to_string(h.count) + ", the other of " +
-                   std::to_string(a.count));
+      other(h, "one is shard " + std::to_string(h.index) + " of " + std::to_string(h.count) +
+                   ", the other of " + std::to_string(a.count));
     if (h.tasks != a.tasks)
-      other(h, "their pipelines have " + std::to_string(h.tasks) + " and " + std::to_string(a.tasks) + " tasks");
+      other(h, "their pipelines have " + std::to_string(h.tasks) + " and " +
+                   std::to_string(a.tasks) + " tasks");
     if (h.shard["inputs"] != a.shard["inputs"])
-      other(h, "their input files (the pipeline, its data) differ in name, size or FNV-1a hash (/shard/inputs)");
-    if (const json here = h.shard.value("kernel_instance", json()), there = a.shard.value("kernel_instance", json());
+      other(h,
+            "their input files (the pipeline, its data) differ in name, size or FNV-1a hash "
+            "(/shard/inputs)");
+    if (const json here = h.shard.value("kernel_instance", json()),
+        there = a.shard.value("kernel_instance", json());
         here != there)
-      other(h, "they were computed by different SIMD instances of the kernels (/shard/kernel_instance: " +
-                   Printable(here.dump()) + " and " + Printable(there.dump()) +
-                   "), which round the last bits differently; run every shard on one kind of CPU");
+      other(h,
+            "they were computed by different SIMD instances of the kernels "
+            "(/shard/kernel_instance: " +
+                Printable(here.dump()) + " and " + Printable(there.dump()) +
+                "), which round the last bits differently; run every shard on one kind of CPU");
     if (!h.head_as_first && h.head != a.head)
-      other(h, "their documents differ before \"tasks\" at line " +
-                   std::to_string(1 + FirstDifferentLine(h.head, a.head)) +
-                   " (another pipeline path, imuconv version, gravity, noise, plugins or data range)");
+      other(h,
+            "their documents differ before \"tasks\" at line " +
+                std::to_string(1 + FirstDifferentLine(h.head, a.head)) +
+                " (another pipeline path, imuconv version, gravity, noise, plugins or data range)");
     if (const auto seen = by_index.find(h.index); seen != by_index.end())
       throw ShardError("shard " + std::to_string(h.index) + " of " + std::to_string(h.count) +
-                       " is given twice: " + Printable(seen->second->file) + " and " + Printable(h.file));
+                       " is given twice: " + Printable(seen->second->file) + " and " +
+                       Printable(h.file));
     by_index[h.index] = &h;
   }
   const std::uint64_t n_missing = a.count - by_index.size();
@@ -318,7 +341,8 @@ std::vector<const ShardHead*> CheckShards(const std::vector<ShardHead>& heads) {
   if (n_missing)
     throw ShardError("missing " + std::to_string(n_missing) + " of the " + std::to_string(a.count) +
                      " shards (index " + missing + (n_missing > 20 ? ", ..." : "") +
-                     "); every shard K/N of the run is needed (N is /shard/count of " + Printable(a.file) + ")");
+                     "); every shard K/N of the run is needed (N is /shard/count of " +
+                     Printable(a.file) + ")");
   std::vector<const ShardHead*> ordered;
   for (const auto& [index, h] : by_index) ordered.push_back(h);
   std::uint64_t end = 0;
@@ -329,19 +353,22 @@ std::vector<const ShardHead*> CheckShards(const std::vector<ShardHead>& heads) {
     end = h->end;
   }
   if (end != a.tasks)
-    throw ShardError("the shards hold tasks up to " + std::to_string(end) + " of " + std::to_string(a.tasks));
+    throw ShardError("the shards hold tasks up to " + std::to_string(end) + " of " +
+                     std::to_string(a.tasks));
   return ordered;
 }
 
 /// Reads a shard's elements (the reader is past its head) to its end, handing each element's
 /// text to `element(k, piece)`, and checks the hash its last member records.
 template <typename Element>
-void ReadElementsAndDigest(ShardReader& r, const ShardHead& h, const Layout& layout, const Element& element) {
+void ReadElementsAndDigest(ShardReader& r, const ShardHead& h, const Layout& layout,
+                           const Element& element) {
   for (std::uint64_t k = h.first; k < h.end; ++k) {
     r.expect(k == h.first ? layout.first_sep : layout.next_sep,
              "expected task " + std::to_string(k) + "'s element here (the shard holds tasks [" +
                  std::to_string(h.first) + ", " + std::to_string(h.end) + "))");
-    r.copy_object([&](const std::string& piece) { element(k, piece); }, "task " + std::to_string(k) + "'s element",
+    r.copy_object([&](const std::string& piece) { element(k, piece); },
+                  "task " + std::to_string(k) + "'s element",
                   static_cast<int>(pipeline::kMaxJsonDepth));
   }
   r.expect(Layout::close_tasks(h.end - h.first),
@@ -349,7 +376,8 @@ void ReadElementsAndDigest(ShardReader& r, const ShardHead& h, const Layout& lay
                " (a shard holding other tasks than its \"shard\" member says?)");
   const std::string computed = r.hash().hex();
   r.expect(layout.digest_open,
-           "expected the member \"shard_fnv1a_64\" after \"tasks\" (the hash of the shard's content that imuconv run "
+           "expected the member \"shard_fnv1a_64\" after \"tasks\" (the hash of the shard's "
+           "content that imuconv run "
            "--shard K/N writes last)");
   std::string written;
   for (int i = 0; i < 16; ++i) {
@@ -357,11 +385,14 @@ void ReadElementsAndDigest(ShardReader& r, const ShardHead& h, const Layout& lay
     if (g < 0) r.fail("ends inside /shard_fnv1a_64 (a truncated shard?)");
     written.push_back(static_cast<char>(g));
   }
-  r.expect(layout.digest_close, "expected the end of the document after /shard_fnv1a_64 (16 hexadecimal digits)");
+  r.expect(layout.digest_close,
+           "expected the end of the document after /shard_fnv1a_64 (16 hexadecimal digits)");
   r.expect_end();
   if (written != computed)
-    r.fail("is corrupted or was edited: its content does not match the FNV-1a 64 hash in /shard_fnv1a_64 (" +
-           Printable(written) + " written, " + computed + " read)");
+    r.fail(
+        "is corrupted or was edited: its content does not match the FNV-1a 64 hash in "
+        "/shard_fnv1a_64 (" +
+        Printable(written) + " written, " + computed + " read)");
 }
 
 }  // namespace
@@ -380,11 +411,13 @@ RunShards CheckRunShards(const std::vector<std::string>& files) {
       std::string().swap(set.heads.back().head);
     }
   }
-  for (const ShardHead* h : CheckShards(set.heads)) set.order.push_back(static_cast<std::size_t>(h - set.heads.data()));
+  for (const ShardHead* h : CheckShards(set.heads))
+    set.order.push_back(static_cast<std::size_t>(h - set.heads.data()));
   return set;
 }
 
-std::uint64_t JoinRunShards(const RunShards& set, const std::function<void(std::string_view)>& write) {
+std::uint64_t JoinRunShards(const RunShards& set,
+                            const std::function<void(std::string_view)>& write) {
   const Layout layout;
   const std::string& head = set.heads.front().head;
   write(layout.whole_open);
@@ -395,7 +428,8 @@ std::uint64_t JoinRunShards(const RunShards& set, const std::function<void(std::
     // Read again from the start: the file must still be the one checked.
     ShardReader r(h->file);
     const ShardHead again = ReadHead(r, h->file, layout);
-    if (again.shard_text != h->shard_text || again.head != head) r.fail("changed while it was being merged");
+    if (again.shard_text != h->shard_text || again.head != head)
+      r.fail("changed while it was being merged");
     std::uint64_t current = h->end;  // no element started yet
     ReadElementsAndDigest(r, *h, layout, [&](std::uint64_t k, const std::string& piece) {
       if (k != current) {

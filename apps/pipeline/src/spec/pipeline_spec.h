@@ -21,18 +21,18 @@ class Task;
 
 struct ImuSourceSpec {
   enum class Format { Euroc, Csv, Inline } format = Format::Euroc;
-  std::string path;  // resolved
+  std::string path;                       // resolved
   std::optional<std::int64_t> origin_ns;  // euroc
   CsvFormat csv;                          // csv (and time_unit/time_origin for inline)
   std::vector<ImuSample> inline_raw;      // inline: t in time units (not yet relative)
   std::vector<TimeValue> inline_t;
   std::vector<std::size_t> inline_index;  // inline: the index of each kept sample in "samples"
-  TimingPolicy timing;  // max_gap_factor, allow_gaps
+  TimingPolicy timing;                    // max_gap_factor, allow_gaps
   std::string pointer;
 };
 
 struct GroundTruthSpec {
-  std::string path;  // resolved
+  std::string path;              // resolved
   std::string format = "euroc";  ///< "euroc" (full state), "euroc_pose" or "tum" (poses only)
   SensorInBody sensor;           ///< T_BS of a pose file's sensor (identity by default)
   TimingPolicy timing;
@@ -51,13 +51,14 @@ struct PipelineSpec {
   std::optional<std::string> output;
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
   ImuNoise noise;
-  bool has_noise = false;  ///< the document gives "noise" (required only by tasks that integrate samples)
+  bool has_noise =
+      false;  ///< the document gives "noise" (required only by tasks that integrate samples)
   std::string noise_file;  ///< the Kalibr imu.yaml the noise was read from (resolved), if any
   std::optional<ImuSourceSpec> imu;
   std::optional<GroundTruthSpec> gt;
   std::vector<std::unique_ptr<const Task>> tasks;
 
-  PipelineSpec();   // tasks/task.cpp, where Task is complete
+  PipelineSpec();  // tasks/task.cpp, where Task is complete
   ~PipelineSpec();
   PipelineSpec(const PipelineSpec&) = delete;
   PipelineSpec& operator=(const PipelineSpec&) = delete;

@@ -3,9 +3,9 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 
+#include "../io/message_text.h"
 #include "imuconv/pipeline/sample_checks.h"
 #include "imuconv/pipeline/timing.h"
-#include "../io/message_text.h"
 #include "sources.h"
 
 namespace imuconv::pipeline {
@@ -26,7 +26,8 @@ std::optional<TimeValue> TimeFromJson(const Node& n) {
     n.fail("expected a decimal time, found '" + n.value().get<std::string>() + "'");
     return std::nullopt;
   }
-  n.fail("expected a time (a number, or a string holding a decimal number), found " + TypeName(n.value()));
+  n.fail("expected a time (a number, or a string holding a decimal number), found " +
+         TypeName(n.value()));
   return std::nullopt;
 }
 
@@ -37,7 +38,9 @@ TimingPolicy Timing(const Node& n) {
   if (auto fn = n.get("max_gap_factor", false))
     if (auto f = fn->number()) {
       if (!(*f > 1.0))
-        fn->fail("expected a number > 1 (a gap longer than this many median sample periods is an error)");
+        fn->fail(
+            "expected a number > 1 (a gap longer than this many median sample periods is an "
+            "error)");
       else
         t.max_gap_factor = *f;
     }
@@ -48,7 +51,8 @@ TimingPolicy Timing(const Node& n) {
 /// Inline samples get the checks every series of samples gets (sample_checks.h: finite,
 /// increasing, rate, gaps), reported at the sample.
 void CheckInlineTiming(const Node& n, const ImuSourceSpec& s) {
-  if (s.inline_t.size() < 2 || s.inline_t.size() != s.inline_index.size() || s.inline_raw.size() != s.inline_t.size())
+  if (s.inline_t.size() < 2 || s.inline_t.size() != s.inline_index.size() ||
+      s.inline_raw.size() != s.inline_t.size())
     return;
   TimeOrigin o;
   o.unit = s.csv.time_unit;
@@ -58,17 +62,20 @@ void CheckInlineTiming(const Node& n, const ImuSourceSpec& s) {
   const auto issue = FindSampleIssue(samples, s.timing, s.csv.time_unit, TimeSource::imu);
   if (!issue) return;
   if (issue->index && *issue->index < s.inline_index.size())
-    n.checker().error(n.child_pointer("samples") + "/" + std::to_string(s.inline_index[*issue->index]) + "/0",
-                      issue->message);
+    n.checker().error(
+        n.child_pointer("samples") + "/" + std::to_string(s.inline_index[*issue->index]) + "/0",
+        issue->message);
   else
-    n.checker().error(n.child_pointer(n.has("time_unit") ? "time_unit" : "samples"), issue->message);
+    n.checker().error(n.child_pointer(n.has("time_unit") ? "time_unit" : "samples"),
+                      issue->message);
 }
 
 }  // namespace
 
 std::optional<ImuSourceSpec> ReadImuSource(const ParseContext& ctx, const Node& n) {
   if (!n.is_object()) {
-    n.fail("expected an object with \"format\": \"euroc\", \"csv\" or \"inline\", found " + TypeName(n.value()));
+    n.fail("expected an object with \"format\": \"euroc\", \"csv\" or \"inline\", found " +
+           TypeName(n.value()));
     return std::nullopt;
   }
   ImuSourceSpec s;
@@ -77,8 +84,9 @@ std::optional<ImuSourceSpec> ReadImuSource(const ParseContext& ctx, const Node& 
   std::optional<std::string> f;
   if (fmt) f = fmt->one_of({"euroc", "csv", "inline"});
   if (!f) {
-    n.expect_object({"format", "path", "time_origin_ns", "delimiter", "header_rows", "comment", "time_unit", "columns",
-                     "time_origin", "samples", "max_gap_factor", "allow_gaps"});
+    n.expect_object({"format", "path", "time_origin_ns", "delimiter", "header_rows", "comment",
+                     "time_unit", "columns", "time_origin", "samples", "max_gap_factor",
+                     "allow_gaps"});
     return std::nullopt;
   }
   if (*f == "euroc") {
@@ -98,8 +106,8 @@ std::optional<ImuSourceSpec> ReadImuSource(const ParseContext& ctx, const Node& 
     }
   } else if (*f == "csv") {
     s.format = ImuSourceSpec::Format::Csv;
-    n.expect_object({"format", "path", "delimiter", "header_rows", "comment", "time_unit", "columns", "time_origin",
-                     "max_gap_factor", "allow_gaps"});
+    n.expect_object({"format", "path", "delimiter", "header_rows", "comment", "time_unit",
+                     "columns", "time_origin", "max_gap_factor", "allow_gaps"});
     if (auto p = n.string("path", true)) s.path = ctx.resolve(*p);
     if (auto dn = n.get("delimiter", false)) {
       if (auto d = dn->string()) {
@@ -108,7 +116,9 @@ std::optional<ImuSourceSpec> ReadImuSource(const ParseContext& ctx, const Node& 
         else if (d->size() == 1 && (*d)[0] != '"' && (*d)[0] != '\n')
           s.csv.delimiter = (*d)[0];
         else
-          dn->fail("expected one character (e.g. \",\", \";\", \"\\t\") or \"whitespace\", found '" + *d + "'");
+          dn->fail(
+              "expected one character (e.g. \",\", \";\", \"\\t\") or \"whitespace\", found '" +
+              *d + "'");
       }
     }
     if (auto hn = n.get("header_rows", false)) {
@@ -137,7 +147,8 @@ std::optional<ImuSourceSpec> ReadImuSource(const ParseContext& ctx, const Node& 
             else
               col->fail("expected a column index >= 0");
           } else {
-            col->fail("expected a 0-based column index or a header name, found " + TypeName(col->value()));
+            col->fail("expected a 0-based column index or a header name, found " +
+                      TypeName(col->value()));
           }
         }
       }
@@ -147,7 +158,8 @@ std::optional<ImuSourceSpec> ReadImuSource(const ParseContext& ctx, const Node& 
   } else {
     s.format = ImuSourceSpec::Format::Inline;
     s.path = "inline";
-    n.expect_object({"format", "samples", "time_unit", "time_origin", "max_gap_factor", "allow_gaps"});
+    n.expect_object(
+        {"format", "samples", "time_unit", "time_origin", "max_gap_factor", "allow_gaps"});
     if (auto un = n.get("time_unit", false))
       if (auto u = un->one_of({"s", "ms", "us", "ns"})) s.csv.time_unit = *ParseTimeUnit(*u);
     if (auto o = n.get("time_origin", false))
@@ -160,7 +172,8 @@ std::optional<ImuSourceSpec> ReadImuSource(const ParseContext& ctx, const Node& 
           const Node row = (*sn)[i];
           if (!row.is_array() || row.size() != 7) {
             row.fail("expected a sample [t, wx, wy, wz, ax, ay, az] (7 numbers), found " +
-                     (row.is_array() ? "an array of " + std::to_string(row.size()) : TypeName(row.value())));
+                     (row.is_array() ? "an array of " + std::to_string(row.size())
+                                     : TypeName(row.value())));
             continue;
           }
           const auto t = TimeFromJson(row[0]);
@@ -181,7 +194,9 @@ std::optional<ImuSourceSpec> ReadImuSource(const ParseContext& ctx, const Node& 
           if (!s.inline_t.empty()) {
             const TimeValue& prev = s.inline_t.back();
             if (!(t->whole > prev.whole || (t->whole == prev.whole && t->frac > prev.frac))) {
-              row[0].fail("time is not after the previous sample's; sample times must be strictly increasing");
+              row[0].fail(
+                  "time is not after the previous sample's; sample times must be strictly "
+                  "increasing");
               continue;
             }
           }
@@ -198,7 +213,8 @@ std::optional<ImuSourceSpec> ReadImuSource(const ParseContext& ctx, const Node& 
 }
 
 std::optional<GroundTruthSpec> ReadGroundTruthSource(const ParseContext& ctx, const Node& gn) {
-  if (!gn.expect_object({"format", "path", "max_gap_factor", "allow_gaps", "T_BS"})) return std::nullopt;
+  if (!gn.expect_object({"format", "path", "max_gap_factor", "allow_gaps", "T_BS"}))
+    return std::nullopt;
   GroundTruthSpec g;
   if (auto fn = gn.get("format", true))
     if (auto f = fn->one_of({"euroc", "euroc_pose", "tum"})) g.format = *f;
@@ -207,9 +223,10 @@ std::optional<GroundTruthSpec> ReadGroundTruthSource(const ParseContext& ctx, co
   if (auto p = gn.string("path", true)) g.path = ctx.resolve(*p);
   if (auto tn = gn.get("T_BS", false)) {
     if (g.format == "euroc") {
-      tn->checker().error(tn->pointer(),
-                          "T_BS is for pose files (\"euroc_pose\", \"tum\"): \"euroc\" ground truth is "
-                          "already the body's state");
+      tn->checker().error(
+          tn->pointer(),
+          "T_BS is for pose files (\"euroc_pose\", \"tum\"): \"euroc\" ground truth is "
+          "already the body's state");
     } else if (auto T = tn->matrix(4, 4)) {
       // EuRoC's sensor.yaml gives T_BS with 5 significant digits: its rotation is orthonormal
       // to about 1e-5. Within 1e-4 it is taken as the nearest rotation (by the normalised
@@ -220,8 +237,9 @@ std::optional<GroundTruthSpec> ReadGroundTruthSource(const ParseContext& ctx, co
       if (!bottom)
         tn->checker().error(tn->pointer() + "/3", "the last row of T_BS must be [0, 0, 0, 1]");
       else if (!(err <= 1e-4) || R.determinant() <= 0.0)
-        tn->checker().error(tn->pointer(), "the rotation of T_BS is not a rotation (|R^T R - I| = " + Num(err, 3) +
-                                               ", allowed 1e-4, and det > 0)");
+        tn->checker().error(tn->pointer(),
+                            "the rotation of T_BS is not a rotation (|R^T R - I| = " + Num(err, 3) +
+                                ", allowed 1e-4, and det > 0)");
       else {
         g.sensor.R_BS = Eigen::Quaterniond(R).normalized().toRotationMatrix();
         g.sensor.p_BS = T->topRightCorner<3, 1>();

@@ -1,12 +1,12 @@
 // "bias_update": measurements corrected to a new bias estimate to first order in one or more
 // bias-Jacobian charts, and (for a preintegrate task's measurements) compared with
 // re-integrating the samples with that bias.
-#include "context.h"
 #include "../forms/comparison.h"
 #include "../forms/increment.h"
 #include "../forms/state.h"
-#include "plugins_used.h"
 #include "../io/message_text.h"
+#include "context.h"
+#include "plugins_used.h"
 #include "task.h"
 
 namespace imuconv::pipeline {
@@ -31,7 +31,8 @@ class BiasUpdateTask : public Task {
 
   void check_plugins(RunContext& ctx, Checker& c) const override {
     for (std::size_t i = 0; i < charts.size(); ++i)
-      ctx.check_id(c, PluginKind::IncrementConvention, charts[i], charts_pointer + "/" + std::to_string(i));
+      ctx.check_id(c, PluginKind::IncrementConvention, charts[i],
+                   charts_pointer + "/" + std::to_string(i));
   }
 
   /// The largest differences between the first-order corrections and re-integration.
@@ -40,8 +41,9 @@ class BiasUpdateTask : public Task {
   };
 
   /// "first_order": {CHART: {"delta", "vs_reintegrated"?}} of one measurement.
-  void write_first_order(const RunContext& ctx, JsonWriter& w, const MeasRecord& r, const Vec3& nbg, const Vec3& nba,
-                         const std::optional<Preintegrated>& re, MaxErrors& max) const {
+  void write_first_order(const RunContext& ctx, JsonWriter& w, const MeasRecord& r, const Vec3& nbg,
+                         const Vec3& nba, const std::optional<Preintegrated>& re,
+                         MaxErrors& max) const {
     w.key("first_order");
     w.begin_object();
     for (const auto& c : charts) {
@@ -107,10 +109,11 @@ class BiasUpdateTask : public Task {
     }
     w.end_array();
     if (std::ostream* o = ctx.summary()) {
-      *o << "bias_update '" << name << "': " << sel.size() << " measurement(s), first order in " << Join(charts);
+      *o << "bias_update '" << name << "': " << sel.size() << " measurement(s), first order in "
+         << Join(charts);
       if (reintegrate && origin)
-        *o << "; first order vs re-integration: max " << Num(max.rot, 3) << " deg, " << Num(max.dp, 3) << " m (dp), "
-           << Num(max.dv, 3) << " m/s (dv)";
+        *o << "; first order vs re-integration: max " << Num(max.rot, 3) << " deg, "
+           << Num(max.dp, 3) << " m (dp), " << Num(max.dv, 3) << " m/s (dv)";
       *o << "\n";
     }
   }
@@ -120,7 +123,9 @@ void ReadNewBias(const Node& bn, BiasUpdateTask& p) {
   if (!bn.expect_object({"bg", "ba", "delta_bg", "delta_ba"})) return;
   const bool abs = bn.has("bg") || bn.has("ba"), rel = bn.has("delta_bg") || bn.has("delta_ba");
   if (abs && rel) {
-    bn.fail("give either bg/ba (the new bias) or delta_bg/delta_ba (a change of each measurement's bias), not both");
+    bn.fail(
+        "give either bg/ba (the new bias) or delta_bg/delta_ba (a change of each measurement's "
+        "bias), not both");
   } else if (rel) {
     p.relative = true;
     if (auto v = bn.vec3("delta_bg", false)) p.bg = *v;
@@ -129,14 +134,16 @@ void ReadNewBias(const Node& bn, BiasUpdateTask& p) {
     if (auto v = bn.vec3("bg", true)) p.bg = *v;
     if (auto v = bn.vec3("ba", true)) p.ba = *v;
   } else {
-    bn.checker().error(bn.child_pointer("bg"), "required key is missing (give bg and ba, or delta_bg/delta_ba)");
+    bn.checker().error(bn.child_pointer("bg"),
+                       "required key is missing (give bg and ba, or delta_bg/delta_ba)");
   }
 }
 
 }  // namespace
 
 std::unique_ptr<Task> ParseBiasUpdate(const ParseContext& ctx, const Node& n) {
-  n.expect_object({"type", "name", "description", "measurements", "bias", "first_order_charts", "reintegrate", "index"});
+  n.expect_object({"type", "name", "description", "measurements", "bias", "first_order_charts",
+                   "reintegrate", "index"});
   auto p = std::make_unique<BiasUpdateTask>();
   if (auto m = ReadMeasurementsSpec(ctx, n)) p->meas = *m;
   p->index = ReadIndex(n);
@@ -147,9 +154,10 @@ std::unique_ptr<Task> ParseBiasUpdate(const ParseContext& ctx, const Node& n) {
     if (auto l = cn->string_list(true)) p->charts = *l;
   if (auto b = n.boolean("reintegrate", false)) p->reintegrate = *b;
   if (p->reintegrate && !p->meas.file.empty())
-    n.checker().error(n.child_pointer("reintegrate"),
-                      "re-integration needs the IMU samples of a preintegrate task; measurements from a file "
-                      "can only be corrected to first order (set \"reintegrate\": false)");
+    n.checker().error(
+        n.child_pointer("reintegrate"),
+        "re-integration needs the IMU samples of a preintegrate task; measurements from a file "
+        "can only be corrected to first order (set \"reintegrate\": false)");
   return p;
 }
 

@@ -12,12 +12,12 @@
 // checks of the input and the output.
 #include <algorithm>
 
-#include "context.h"
-#include "../spec/spec_data.h"
-#include "plugins_used.h"
 #include "../io/message_text.h"
+#include "../spec/spec_data.h"
+#include "context.h"
 #include "imuconv/pipeline/check_evaluator.h"
 #include "imuconv/printable.h"
+#include "plugins_used.h"
 #include "task.h"
 
 namespace imuconv::pipeline {
@@ -31,10 +31,12 @@ class CheckTask : public Task {
   const std::string* input_file() const override { return file.empty() ? nullptr : &file; }
 
   void plugins_used(PluginUse& use) const override {
-    // What check compares with (apps/check/references.h, imuconv/check/candidates.h): the three propagator
-    // schemes, every registered preintegrator, and the numbers in every increment convention.
+    // What check compares with (apps/check/references.h, imuconv/check/candidates.h): the three
+    // propagator schemes, every registered preintegrator, and the numbers in every increment
+    // convention.
     for (const char* id : {"euler", "midpoint", "rk4"}) use.propagator(id);
-    for (const auto& id : use.registry().ids(PluginKind::Preintegrator)) use.add(PluginKind::Preintegrator, id);
+    for (const auto& id : use.registry().ids(PluginKind::Preintegrator))
+      use.add(PluginKind::Preintegrator, id);
     for (const auto& id : use.registry().ids(PluginKind::IncrementConvention)) use.increment(id);
     use.measurements();
   }
@@ -62,13 +64,15 @@ class CheckTask : public Task {
     std::vector<Issue> issues;
     for (const DeclaredMeasurement& m : declared_) {
       if (!m.t_s || !m.t_e)
-        issues.push_back({m.pointer,
-                          "t_start and t_end (seconds on the pipeline's time axis) are needed to check a "
-                          "measurement"});
+        issues.push_back(
+            {m.pointer,
+             "t_start and t_end (seconds on the pipeline's time axis) are needed to check a "
+             "measurement"});
       // 1e-6 s: the measurements form's own agreement of two statements of one time.
       else if (*m.t_s < t0 - 1e-6 || *m.t_e > t1 + 1e-6)
         issues.push_back({m.pointer, "the interval [" + Num(*m.t_s, 12) + ", " + Num(*m.t_e, 12) +
-                                         "] s is not inside the IMU samples [" + Num(t0, 12) + ", " + Num(t1, 12) +
+                                         "] s is not inside the IMU samples [" + Num(t0, 12) +
+                                         ", " + Num(t1, 12) +
                                          "] s (times relative to the pipeline's time origin)"});
     }
     if (!issues.empty()) throw ConfigError(file, issues);
@@ -78,7 +82,8 @@ class CheckTask : public Task {
     const CheckEvaluator evaluate = GetCheckEvaluator();
     if (!evaluate)
       ctx.fail(pointer,
-               "this program cannot run a check task: imuconv check (apps/check) registers it, and it is "
+               "this program cannot run a check task: imuconv check (apps/check) registers it, and "
+               "it is "
                "not linked in; run the pipeline with the imuconv command");
     const ImuData& data = whole_ ? *whole_ : ctx.imu;
     const CheckEvaluation e = evaluate(ctx.reg, data.samples, ctx.spec.noise, declared_, file);
@@ -113,7 +118,8 @@ std::unique_ptr<Task> ParseCheck(const ParseContext& ctx, const Node& n) {
         if (auto f = m->string("file", true)) p->file = ctx.resolve(*f);
     } else {
       m->fail(
-          "expected {\"file\": PATH}: a check reads a measurements file (schemas/measurements.schema.json), "
+          "expected {\"file\": PATH}: a check reads a measurements file "
+          "(schemas/measurements.schema.json), "
           "found " +
           TypeName(m->value()));
     }

@@ -3,14 +3,15 @@
 #include "imuconv/pipeline/timing.h"
 #include "imuconv/window.h"
 
-#include "imuconv/printable.h"
 #include "../forms/input_checks.h"
-#include "task.h"
 #include "../io/message_text.h"
+#include "imuconv/printable.h"
+#include "task.h"
 
 namespace imuconv::pipeline {
 
-RunContext::RunContext(const PipelineSpec& s, const Registry& r, const RunOptions& o, Output& output)
+RunContext::RunContext(const PipelineSpec& s, const Registry& r, const RunOptions& o,
+                       Output& output)
     : spec(s), reg(r), opt(o), out(output) {
   for (const auto& t : spec.tasks) by_name_.emplace(t->name, t.get());
 }
@@ -37,14 +38,16 @@ SampleWindow RunContext::window(double ts, double te) const {
 /// first row read is before the file's first row (and after the last, after its last).
 std::string RunContext::gt_uncovered(double t) const {
   return "ground truth does not cover t = " + Num(t, 10) + " s (" + Printable(gt->source) +
-         (t < gt->t.front() ? " starts at t = " + Num(gt->t.front(), 10) : " ends at t = " + Num(gt->t.back(), 10)) +
+         (t < gt->t.front() ? " starts at t = " + Num(gt->t.front(), 10)
+                            : " ends at t = " + Num(gt->t.back(), 10)) +
          " s)";
 }
 
 namespace {
 std::string PoseOnly(const GroundTruth& gt) {
   return "the ground truth (" + Printable(gt.source) + ", format \"" + gt.format +
-         "\") has poses only: a start state or bias estimate from it would need velocity and biases; give them "
+         "\") has poses only: a start state or bias estimate from it would need velocity and "
+         "biases; give them "
          "in the task instead";
 }
 }  // namespace
@@ -57,7 +60,8 @@ ImuState RunContext::gt_at(double t, const std::string& pointer) const {
   return *x;
 }
 
-GtComparison RunContext::compare_gt(const ImuState& predicted, double t, const std::string& pointer) const {
+GtComparison RunContext::compare_gt(const ImuState& predicted, double t,
+                                    const std::string& pointer) const {
   if (!gt) fail(pointer, "there is no /ground_truth");
   auto x = gt->at(t);
   if (!x) fail(pointer, gt_uncovered(t));
@@ -69,34 +73,41 @@ const std::vector<MeasRecord>& RunContext::measurements(const MeasurementsSpec& 
   return files.at(m.file);
 }
 
-std::vector<std::size_t> RunContext::select(const std::vector<MeasRecord>& ms, const std::optional<std::size_t>& index,
-                                            const std::string& task_pointer, const std::string& what) const {
+std::vector<std::size_t> RunContext::select(const std::vector<MeasRecord>& ms,
+                                            const std::optional<std::size_t>& index,
+                                            const std::string& task_pointer,
+                                            const std::string& what) const {
   if (!index) {
     std::vector<std::size_t> all(ms.size());
     for (std::size_t i = 0; i < ms.size(); ++i) all[i] = i;
     return all;
   }
   if (*index >= ms.size())
-    fail(task_pointer + "/index", what + " has " + std::to_string(ms.size()) + " measurement(s); index " +
-                                      std::to_string(*index) + " is out of range");
+    fail(task_pointer + "/index", what + " has " + std::to_string(ms.size()) +
+                                      " measurement(s); index " + std::to_string(*index) +
+                                      " is out of range");
   return {*index};
 }
 
 Mat15 RunContext::start_cov(const CovSpec& cov, const std::string& conv, const ImuState& x) const {
   if (!cov.given) return Mat15::Zero();
-  if (cov.m().convention && *cov.m().convention != conv) return reg.convert_covariance(*cov.m().convention, conv, x, cov.m().m);
+  if (cov.m().convention && *cov.m().convention != conv)
+    return reg.convert_covariance(*cov.m().convention, conv, x, cov.m().m);
   return cov.m().m;
 }
 
-void RunContext::write_times(JsonWriter& w, std::optional<double> ts, std::optional<double> te) const {
+void RunContext::write_times(JsonWriter& w, std::optional<double> ts,
+                             std::optional<double> te) const {
   WriteTimes(w, ts, te, imu.origin);
 }
 
-void RunContext::check_id(Checker& c, PluginKind kind, const std::string& id, const std::string& pointer) const {
+void RunContext::check_id(Checker& c, PluginKind kind, const std::string& id,
+                          const std::string& pointer) const {
   CheckPluginId(c, reg, kind, id, pointer);
 }
 
-void RunContext::check_cov_convention(Checker& c, const CovSpec& cov, PluginKind kind, const std::string& target) const {
+void RunContext::check_cov_convention(Checker& c, const CovSpec& cov, PluginKind kind,
+                                      const std::string& target) const {
   if (!cov.given) return;
   const std::string conv = cov.m().convention.value_or(target);
   if (cov.m().convention) {
@@ -106,17 +117,20 @@ void RunContext::check_cov_convention(Checker& c, const CovSpec& cov, PluginKind
   if (cov.m().blocks && reg.has(kind, conv)) {
     const auto& expect = blocks(kind, conv);
     if (*cov.m().blocks != expect)
-      c.error(cov.m().pointer + "/blocks", "blocks [" + Join(*cov.m().blocks) + "] do not match the block order of '" + conv +
-                                             "': [" + Join(expect) + "]");
+      c.error(cov.m().pointer + "/blocks", "blocks [" + Join(*cov.m().blocks) +
+                                               "] do not match the block order of '" + conv +
+                                               "': [" + Join(expect) + "]");
   }
 }
 
 void RunContext::check_time(Checker& c, double t, const std::string& pointer) const {
   const double t0 = imu.samples.front().t, t1 = imu.samples.back().t;
   if (t < t0)
-    c.error(pointer, "t = " + Num(t, 10) + " s is before the first IMU sample (t = " + Num(t0, 10) + " s; times are relative to the time origin)");
+    c.error(pointer, "t = " + Num(t, 10) + " s is before the first IMU sample (t = " + Num(t0, 10) +
+                         " s; times are relative to the time origin)");
   else if (t > t1)
-    c.error(pointer, "t = " + Num(t, 10) + " s is after the last IMU sample (t = " + Num(t1, 10) + " s; times are relative to the time origin)");
+    c.error(pointer, "t = " + Num(t, 10) + " s is after the last IMU sample (t = " + Num(t1, 10) +
+                         " s; times are relative to the time origin)");
 }
 
 void RunContext::check_gt(Checker& c, double t, const std::string& pointer) const {
@@ -135,7 +149,8 @@ void RunContext::check_gt_state(Checker& c, double t, const std::string& pointer
 void RunContext::check_intervals_hold_samples(Checker& c, const IntervalsSpec& iv) const {
   const auto& s = imu.samples;
   if (spec.allow_empty_intervals || iv.size() < 2 || s.size() < 2) return;
-  std::size_t j = 0;  // the first sample at or after the current interval's start (within kSameInstant)
+  std::size_t j =
+      0;  // the first sample at or after the current interval's start (within kSameInstant)
   for (std::size_t k = 0; k + 1 < iv.size(); ++k) {
     const double a = iv.time(k), b = iv.time(k + 1);
     // Keyframes out of order or outside the data are reported by the other checks.
@@ -147,11 +162,14 @@ void RunContext::check_intervals_hold_samples(Checker& c, const IntervalsSpec& i
     const double period = MedianPeriod(t);
     const bool generated = iv.form == IntervalsSpec::Form::Generated;
     c.error(generated ? iv.pointer + "/step" : iv.pointer_of(k + 1),
-            "interval " + std::to_string(k) + " [" + Num(a, 10) + ", " + Num(b, 10) + "] s holds no IMU sample: " +
+            "interval " + std::to_string(k) + " [" + Num(a, 10) + ", " + Num(b, 10) +
+                "] s holds no IMU sample: " +
                 (generated ? "the keyframe step is " + Num(iv.step, 6) : "it is " + Num(b - a, 6)) +
-                " s, the IMU period " + Num(period, 6) + " s (median), so it lies between two samples and is " +
+                " s, the IMU period " + Num(period, 6) +
+                " s (median), so it lies between two samples and is " +
                 "interpolation only (a step in the wrong unit?); " + std::to_string(iv.size() - 1) +
-                " intervals in all. Set \"allow_empty_intervals\": true at the top of the pipeline if that is meant");
+                " intervals in all. Set \"allow_empty_intervals\": true at the top of the pipeline "
+                "if that is meant");
     return;
   }
 }
@@ -173,10 +191,11 @@ void RunContext::check_interval_times(Checker& c, const IntervalsSpec& iv) const
     (iv.time(mid) > t1 ? hi : lo) = mid;
   }
   if (iv.time(lo) > t1) hi = lo;
-  c.error(iv.pointer_of(iv.size() - 1), "t = " + Num(iv.time(hi), 10) + " s is after the last IMU sample (t = " +
-                                            Num(t1, 10) + " s; times are relative to the time origin): keyframe " +
-                                            std::to_string(hi) + " of " + std::to_string(iv.size()) +
-                                            (hi + 1 < iv.size() ? " and every later one up to end" : std::string()));
+  c.error(iv.pointer_of(iv.size() - 1),
+          "t = " + Num(iv.time(hi), 10) + " s is after the last IMU sample (t = " + Num(t1, 10) +
+              " s; times are relative to the time origin): keyframe " + std::to_string(hi) +
+              " of " + std::to_string(iv.size()) +
+              (hi + 1 < iv.size() ? " and every later one up to end" : std::string()));
 }
 
 }  // namespace imuconv::pipeline

@@ -14,12 +14,12 @@
 
 #include "../forms/comparison.h"
 #include "../forms/intervals.h"
-#include "imuconv/pipeline/measurement.h"
-#include "imuconv/bridge.h"
-#include "imuconv/pipeline/run_options.h"
 #include "../io/output.h"
-#include "results.h"
 #include "../spec/pipeline_spec.h"
+#include "imuconv/bridge.h"
+#include "imuconv/pipeline/measurement.h"
+#include "imuconv/pipeline/run_options.h"
+#include "results.h"
 
 namespace imuconv::pipeline {
 
@@ -44,7 +44,7 @@ class RunContext {
   std::optional<std::int64_t> origin_ns;
   std::optional<GroundTruth> gt;
   std::optional<std::pair<double, double>> imu_keep, gt_keep;  ///< the time ranges read into memory
-  std::map<std::string, std::vector<MeasRecord>> files;        ///< measurement files by resolved path
+  std::map<std::string, std::vector<MeasRecord>> files;  ///< measurement files by resolved path
 
   // ---- results and resolved plugins ----
   /// The tasks a later task names: name -> the pointer of the first reference.
@@ -74,19 +74,24 @@ class RunContext {
   const std::vector<MeasRecord>& measurements(const MeasurementsSpec& m) const;
   /// The indices of the measurements a task uses: all of them, or the one at `index`
   /// (TaskFailure at task_pointer/index when out of range; `what` names the measurements).
-  std::vector<std::size_t> select(const std::vector<MeasRecord>& ms, const std::optional<std::size_t>& index,
+  std::vector<std::size_t> select(const std::vector<MeasRecord>& ms,
+                                  const std::optional<std::size_t>& index,
                                   const std::string& task_pointer, const std::string& what) const;
   /// Block labels of a registered plugin.
-  const std::vector<std::string>& blocks(PluginKind kind, const std::string& id) const { return reg.info(kind, id).blocks; }
+  const std::vector<std::string>& blocks(PluginKind kind, const std::string& id) const {
+    return reg.info(kind, id).blocks;
+  }
   /// A start covariance in the chart `conv` at x (zero when none is given).
   Mat15 start_cov(const CovSpec& cov, const std::string& conv, const ImuState& x) const;
   /// WriteTimes with the data's time origin.
   void write_times(JsonWriter& w, std::optional<double> ts, std::optional<double> te) const;
 
   // ---- checks (the stages "check ids" and "check times") ----
-  void check_id(Checker& c, PluginKind kind, const std::string& id, const std::string& pointer) const;
+  void check_id(Checker& c, PluginKind kind, const std::string& id,
+                const std::string& pointer) const;
   /// The chart a given covariance names (and its block order) against the registry.
-  void check_cov_convention(Checker& c, const CovSpec& cov, PluginKind kind, const std::string& target) const;
+  void check_cov_convention(Checker& c, const CovSpec& cov, PluginKind kind,
+                            const std::string& target) const;
   /// t within the IMU data.
   void check_time(Checker& c, double t, const std::string& pointer) const;
   /// t within the ground truth, when there is one.

@@ -1,13 +1,13 @@
 // "convert": one conversion between two conventions of a kind: a state Jacobian, covariance
 // or transition matrix, or an increment Jacobian or covariance, of given values or of an
 // earlier task's result ("source").
-#include "context.h"
 #include "../forms/chart_matrix.h"
 #include "../forms/increment.h"
-#include "../forms/state.h"
 #include "../forms/input_checks.h"
-#include "plugins_used.h"
+#include "../forms/state.h"
+#include "context.h"
 #include "imuconv/printable.h"
+#include "plugins_used.h"
 #include "task.h"
 
 namespace imuconv::pipeline {
@@ -17,7 +17,13 @@ constexpr const char* kRef = "preint_reference";
 
 class ConvertTask : public Task {
  public:
-  enum class What { StateJacobian, StateCovariance, StateTransition, IncrementJacobian, IncrementCovariance } what{};
+  enum class What {
+    StateJacobian,
+    StateCovariance,
+    StateTransition,
+    IncrementJacobian,
+    IncrementCovariance
+  } what{};
   std::string what_name;
   std::optional<std::string> from;
   std::string to;
@@ -28,16 +34,26 @@ class ConvertTask : public Task {
   std::size_t source_index = 0;
   std::string from_pointer, to_pointer, source_pointer;
 
-  bool state_kind() const { return what == What::StateJacobian || what == What::StateCovariance || what == What::StateTransition; }
-  bool covariance() const { return what == What::StateCovariance || what == What::IncrementCovariance; }
-  PluginKind kind() const { return state_kind() ? PluginKind::StateConvention : PluginKind::IncrementConvention; }
+  bool state_kind() const {
+    return what == What::StateJacobian || what == What::StateCovariance ||
+           what == What::StateTransition;
+  }
+  bool covariance() const {
+    return what == What::StateCovariance || what == What::IncrementCovariance;
+  }
+  PluginKind kind() const {
+    return state_kind() ? PluginKind::StateConvention : PluginKind::IncrementConvention;
+  }
 
-  void references(const std::function<void(const std::string&, const std::string&)>& f) const override {
+  void references(
+      const std::function<void(const std::string&, const std::string&)>& f) const override {
     if (source_task) f(*source_task, source_pointer + "/task");
   }
 
   void plugins_used(PluginUse& use) const override {
-    const auto conv = [&](const std::string& id) { state_kind() ? use.state(id) : use.increment(id); };
+    const auto conv = [&](const std::string& id) {
+      state_kind() ? use.state(id) : use.increment(id);
+    };
     if (from) conv(*from);
     conv(to);
     if (matrix && matrix->convention) conv(*matrix->convention);
@@ -48,7 +64,8 @@ class ConvertTask : public Task {
     if (from) ctx.check_id(c, kind(), *from, from_pointer);
     ctx.check_id(c, kind(), to, to_pointer);
     if (matrix && matrix->convention && from && *matrix->convention != *from)
-      c.error(matrix->pointer + "/convention", "the matrix is in '" + *matrix->convention + "' but \"from\" is '" + *from + "'");
+      c.error(matrix->pointer + "/convention",
+              "the matrix is in '" + *matrix->convention + "' but \"from\" is '" + *from + "'");
     if (matrix && from && ctx.reg.has(kind(), *from)) {
       CovSpec cs;
       cs.given = true;
@@ -57,12 +74,14 @@ class ConvertTask : public Task {
     }
     if (source_task) {
       const std::string& type = ctx.type_of(*source_task);
-      const bool ok = state_kind() ? (type == "propagate" || type == "propagate_by_preintegration") : type == "preintegrate";
+      const bool ok = state_kind() ? (type == "propagate" || type == "propagate_by_preintegration")
+                                   : type == "preintegrate";
       if (!ok)
-        c.error(source_pointer + "/task", "task '" + *source_task + "' is a " + type + " task; a " + what_name +
-                                              " conversion takes its matrix from " +
-                                              (state_kind() ? "a propagate or propagate_by_preintegration task"
-                                                            : "a preintegrate task"));
+        c.error(source_pointer + "/task",
+                "task '" + *source_task + "' is a " + type + " task; a " + what_name +
+                    " conversion takes its matrix from " +
+                    (state_kind() ? "a propagate or propagate_by_preintegration task"
+                                  : "a preintegrate task"));
     }
   }
 
@@ -86,7 +105,8 @@ class ConvertTask : public Task {
     const TaskResult& src = ctx.results.at(*source_task);
     const std::size_t count = state_kind() ? src.props.size() : src.meas.size();
     if (source_index >= count)
-      ctx.fail(source_pointer + "/index", "task '" + *source_task + "' has " + std::to_string(count) + " result(s); index " +
+      ctx.fail(source_pointer + "/index", "task '" + *source_task + "' has " +
+                                              std::to_string(count) + " result(s); index " +
                                               std::to_string(source_index) + " is out of range");
     std::string src_conv;
     if (state_kind()) {
@@ -115,13 +135,24 @@ class ConvertTask : public Task {
     const auto& bt = ctx.blocks(kind(), to);
     // The result first (it may throw), then the output.
     Mat15 result;
-    const ImuState& x_at = source_task ? in.xe : in.xs;  // state Jacobian / covariance: at the source's end state
+    const ImuState& x_at =
+        source_task ? in.xe : in.xs;  // state Jacobian / covariance: at the source's end state
     switch (what) {
-      case What::StateJacobian: result = reg.conversion(in.from, to, x_at); break;
-      case What::StateCovariance: result = reg.convert_covariance(in.from, to, x_at, in.M); break;
-      case What::StateTransition: result = reg.convert_transition(in.from, to, in.xs, in.xe, in.M); break;
-      case What::IncrementJacobian: result = reg.conversion(in.from, to, in.d); break;
-      case What::IncrementCovariance: result = reg.convert_covariance(in.from, to, in.d, in.M); break;
+      case What::StateJacobian:
+        result = reg.conversion(in.from, to, x_at);
+        break;
+      case What::StateCovariance:
+        result = reg.convert_covariance(in.from, to, x_at, in.M);
+        break;
+      case What::StateTransition:
+        result = reg.convert_transition(in.from, to, in.xs, in.xe, in.M);
+        break;
+      case What::IncrementJacobian:
+        result = reg.conversion(in.from, to, in.d);
+        break;
+      case What::IncrementCovariance:
+        result = reg.convert_covariance(in.from, to, in.d, in.M);
+        break;
     }
     w.key("what");
     w.string(what_name);
@@ -163,7 +194,9 @@ class ConvertTask : public Task {
       w.key("result");
       WriteChart(w, result, to, bt);
     }
-    if (std::ostream* o = ctx.summary()) *o << "convert '" << name << "': " << what_name << " from " << in.from << " to " << to << "\n";
+    if (std::ostream* o = ctx.summary())
+      *o << "convert '" << name << "': " << what_name << " from " << in.from << " to " << to
+         << "\n";
   }
 };
 
@@ -171,16 +204,20 @@ class ConvertTask : public Task {
 void CheckGivenValues(const Node& n, const ConvertTask& p) {
   if (n.has("source")) {
     for (const char* k : {"state", "state_end", "increment", "matrix"})
-      if (n.has(k)) n.checker().error(n.child_pointer(k), "not allowed together with \"source\" (it comes from the source task)");
+      if (n.has(k))
+        n.checker().error(n.child_pointer(k),
+                          "not allowed together with \"source\" (it comes from the source task)");
     return;
   }
   if (p.what_name.empty()) return;
   const auto required = [&](const char* key) {
-    if (!n.has(key)) n.checker().error(n.child_pointer(key), "required key is missing (or give \"source\")");
+    if (!n.has(key))
+      n.checker().error(n.child_pointer(key), "required key is missing (or give \"source\")");
   };
   required(p.state_kind() ? "state" : "increment");
   if (p.what == ConvertTask::What::StateTransition) required("state_end");
-  if (p.what != ConvertTask::What::StateJacobian && p.what != ConvertTask::What::IncrementJacobian) required("matrix");
+  if (p.what != ConvertTask::What::StateJacobian && p.what != ConvertTask::What::IncrementJacobian)
+    required("matrix");
 }
 
 void ReadSource(const ParseContext& ctx, const Node& sn, ConvertTask& p) {
@@ -203,18 +240,19 @@ void ReadSource(const ParseContext& ctx, const Node& sn, ConvertTask& p) {
 }  // namespace
 
 std::unique_ptr<Task> ParseConvert(const ParseContext& ctx, const Node& n) {
-  n.expect_object({"type", "name", "description", "what", "from", "to", "state", "state_end", "increment", "matrix", "source"});
+  n.expect_object({"type", "name", "description", "what", "from", "to", "state", "state_end",
+                   "increment", "matrix", "source"});
   auto p = std::make_unique<ConvertTask>();
   using W = ConvertTask::What;
   if (auto wn = n.get("what", true)) {
-    if (auto w = wn->one_of({"state_jacobian", "state_covariance", "state_transition", "increment_jacobian",
-                             "increment_covariance"})) {
+    if (auto w = wn->one_of({"state_jacobian", "state_covariance", "state_transition",
+                             "increment_jacobian", "increment_covariance"})) {
       p->what_name = *w;
-      p->what = *w == "state_jacobian"         ? W::StateJacobian
-                : *w == "state_covariance"     ? W::StateCovariance
-                : *w == "state_transition"     ? W::StateTransition
-                : *w == "increment_jacobian"   ? W::IncrementJacobian
-                                               : W::IncrementCovariance;
+      p->what = *w == "state_jacobian"       ? W::StateJacobian
+                : *w == "state_covariance"   ? W::StateCovariance
+                : *w == "state_transition"   ? W::StateTransition
+                : *w == "increment_jacobian" ? W::IncrementJacobian
+                                             : W::IncrementCovariance;
     }
   }
   p->from_pointer = n.child_pointer("from");
@@ -232,7 +270,8 @@ std::unique_ptr<Task> ParseConvert(const ParseContext& ctx, const Node& n) {
   if (auto mn = n.get("matrix", false))
     if (auto m = Matrix15FromJson(*mn)) {
       // A covariance must be one; a transition matrix need not be symmetric.
-      if (p->what_name.empty() || !p->covariance() || CheckCovarianceInput(n.checker(), mn->pointer(), m->m))
+      if (p->what_name.empty() || !p->covariance() ||
+          CheckCovarianceInput(n.checker(), mn->pointer(), m->m))
         p->matrix = std::make_shared<const Matrix15In>(std::move(*m));
     }
   CheckGivenValues(n, *p);

@@ -3,18 +3,19 @@
 #include "task.h"
 
 // KIND(type, parser), in the schema's order.
-#define IMUCONV_TASK_KINDS(KIND)                                  \
-  KIND("propagate", ParsePropagate)                               \
-  KIND("preintegrate", ParsePreintegrate)                         \
+#define IMUCONV_TASK_KINDS(KIND)                                      \
+  KIND("propagate", ParsePropagate)                                   \
+  KIND("preintegrate", ParsePreintegrate)                             \
   KIND("propagate_by_preintegration", ParsePropagateByPreintegration) \
-  KIND("convert", ParseConvert)                                   \
-  KIND("residual", ParseResidual)                                 \
-  KIND("bias_update", ParseBiasUpdate)                            \
+  KIND("convert", ParseConvert)                                       \
+  KIND("residual", ParseResidual)                                     \
+  KIND("bias_update", ParseBiasUpdate)                                \
   KIND("check", ParseCheck)
 
 namespace imuconv::pipeline {
 
-#define IMUCONV_DECLARE_PARSER(type, parser) std::unique_ptr<Task> parser(const ParseContext& ctx, const Node& n);
+#define IMUCONV_DECLARE_PARSER(type, parser) \
+  std::unique_ptr<Task> parser(const ParseContext& ctx, const Node& n);
 IMUCONV_TASK_KINDS(IMUCONV_DECLARE_PARSER)
 #undef IMUCONV_DECLARE_PARSER
 

@@ -12,12 +12,14 @@ void PluginUse::add(PluginKind kind, const std::string& id) {
 void PluginUse::increment(const std::string& id) {
   add(PluginKind::IncrementConvention, id);
   if (reg_.has(PluginKind::IncrementConvention, id))
-    add(PluginKind::IncrementConvention, reg_.info(PluginKind::IncrementConvention, id).jacobian_convention);
+    add(PluginKind::IncrementConvention,
+        reg_.info(PluginKind::IncrementConvention, id).jacobian_convention);
 }
 
 void PluginUse::propagator(const std::string& id) {
   add(PluginKind::Propagator, id);
-  if (reg_.has(PluginKind::Propagator, id)) state(reg_.info(PluginKind::Propagator, id).native_convention);
+  if (reg_.has(PluginKind::Propagator, id))
+    state(reg_.info(PluginKind::Propagator, id).native_convention);
 }
 
 void PluginUse::state_cov(const CovSpec& cov) {
@@ -39,8 +41,9 @@ std::vector<const PluginInfo*> PluginUse::list() {
   return out;
 }
 
-std::vector<const PluginInfo*> PluginsUsed(const PipelineSpec& s, const Registry& reg,
-                                           const std::map<std::string, std::vector<MeasRecord>>& files) {
+std::vector<const PluginInfo*> PluginsUsed(
+    const PipelineSpec& s, const Registry& reg,
+    const std::map<std::string, std::vector<MeasRecord>>& files) {
   PluginUse use(reg);
   for (const auto& t : s.tasks) t->plugins_used(use);
   for (const auto& [path, records] : files)

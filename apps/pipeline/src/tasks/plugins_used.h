@@ -45,7 +45,8 @@ class PluginUse {
 /// Every plugin a task uses, named or implied: propagators and preintegrators with their
 /// native charts, the state and increment conventions named by tasks, matrices and
 /// measurement files (`files`), and each kind's reference chart.
-std::vector<const PluginInfo*> PluginsUsed(const PipelineSpec& s, const Registry& reg,
-                                           const std::map<std::string, std::vector<MeasRecord>>& files);
+std::vector<const PluginInfo*> PluginsUsed(
+    const PipelineSpec& s, const Registry& reg,
+    const std::map<std::string, std::vector<MeasRecord>>& files);
 
 }  // namespace imuconv::pipeline

@@ -2,10 +2,10 @@
 // propagator (preintegration by propagation, paper section 3.1) or a native preintegrator,
 // expressed in any increment conventions. Intervals are independent: computed and written on
 // the thread pool.
-#include "context.h"
 #include "../forms/state.h"
-#include "plugins_used.h"
 #include "../io/message_text.h"
+#include "context.h"
+#include "plugins_used.h"
 #include "task.h"
 
 namespace imuconv::pipeline {
@@ -23,7 +23,8 @@ class PreintegrateTask : public Task {
   const IntervalsSpec* intervals() const override { return &keyframes; }
   std::size_t count() const { return keyframes.size() < 2 ? 0 : keyframes.size() - 1; }
 
-  KeptRecords kept_records(const std::function<std::size_t(const MeasurementsSpec&)>&) const override {
+  KeptRecords kept_records(
+      const std::function<std::size_t(const MeasurementsSpec&)>&) const override {
     return {count(), sizeof(MeasRecord), "measurement"};
   }
 
@@ -58,7 +59,8 @@ class PreintegrateTask : public Task {
       }
     }
     for (std::size_t i = 0; i < conventions.size(); ++i)
-      ctx.check_id(c, PluginKind::IncrementConvention, conventions[i], conventions_pointer + "/" + std::to_string(i));
+      ctx.check_id(c, PluginKind::IncrementConvention, conventions[i],
+                   conventions_pointer + "/" + std::to_string(i));
   }
 
   void check_times(const RunContext& ctx, Checker& c) const override {
@@ -73,7 +75,8 @@ class PreintegrateTask : public Task {
   }
 
   /// Interval k, from keyframe k to k + 1.
-  void compute(const RunContext& ctx, const PreintegrationMethod& method, std::size_t k, MeasRecord& r) const {
+  void compute(const RunContext& ctx, const PreintegrationMethod& method, std::size_t k,
+               MeasRecord& r) const {
     const double ts = keyframes.time(k), te = keyframes.time(k + 1);
     Vec3 bg = bias.bg, ba = bias.ba;
     if (bias.ground_truth) {
@@ -127,13 +130,14 @@ class PreintegrateTask : public Task {
         [&](std::size_t k) { total += dts[k % window]; });
     w.end_array();
     if (std::ostream* o = ctx.summary()) {
-      *o << "preintegrate '" << name << "': " << n << " measurement(s) over " << Num(total) << " s by "
-         << (native ? "native preintegrator " : "propagation with ") << method_id
+      *o << "preintegrate '" << name << "': " << n << " measurement(s) over " << Num(total)
+         << " s by " << (native ? "native preintegrator " : "propagation with ") << method_id
          << (conventions.empty() ? std::string() : ", expressed in " + Join(conventions));
       const IntervalsSpec& iv = keyframes;
       if (iv.form == IntervalsSpec::Form::Generated && iv.short_last)
-        *o << "; the last interval, [" << Num(iv.time(n - 1), 10) << ", " << Num(iv.end, 10) << "] s, is the "
-           << Num(iv.end - iv.time(n - 1)) << " s left after " << n - 1 << " whole step(s) of " << Num(iv.step) << " s";
+        *o << "; the last interval, [" << Num(iv.time(n - 1), 10) << ", " << Num(iv.end, 10)
+           << "] s, is the " << Num(iv.end - iv.time(n - 1)) << " s left after " << n - 1
+           << " whole step(s) of " << Num(iv.step) << " s";
       *o << "\n";
     }
   }
@@ -142,21 +146,26 @@ class PreintegrateTask : public Task {
 }  // namespace
 
 std::unique_ptr<Task> ParsePreintegrate(const ParseContext& ctx, const Node& n) {
-  n.expect_object({"type", "name", "description", "method", "conventions", "bias", "interval", "keyframes"});
+  n.expect_object(
+      {"type", "name", "description", "method", "conventions", "bias", "interval", "keyframes"});
   RequireImu(ctx, n, "preintegrate");
   auto p = std::make_unique<PreintegrateTask>();
   if (auto mn = n.get("method", true)) {
     p->method_pointer = mn->pointer();
     if (mn->expect_object({"propagator", "preintegrator"})) {
       if (mn->has("propagator") && mn->has("preintegrator")) {
-        mn->fail("give either \"propagator\" (preintegration by propagation) or \"preintegrator\" (native), not both");
+        mn->fail(
+            "give either \"propagator\" (preintegration by propagation) or \"preintegrator\" "
+            "(native), not both");
       } else if (mn->has("propagator")) {
         if (auto s = ReadPluginId(*mn, "propagator", true, &p->method_pointer)) p->method_id = *s;
       } else if (mn->has("preintegrator")) {
         p->native = true;
-        if (auto s = ReadPluginId(*mn, "preintegrator", true, &p->method_pointer)) p->method_id = *s;
+        if (auto s = ReadPluginId(*mn, "preintegrator", true, &p->method_pointer))
+          p->method_id = *s;
       } else {
-        mn->checker().error(mn->child_pointer("propagator"), "required key is missing (give \"propagator\" or \"preintegrator\")");
+        mn->checker().error(mn->child_pointer("propagator"),
+                            "required key is missing (give \"propagator\" or \"preintegrator\")");
       }
     }
   }

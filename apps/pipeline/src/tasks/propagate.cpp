@@ -1,12 +1,12 @@
 // "propagate": one propagator run over one interval from a given (or ground-truth) start
 // state and covariance, in a state convention; compared with the ground truth when there is
 // one at the end.
-#include "context.h"
 #include "../forms/chart_matrix.h"
 #include "../forms/comparison.h"
 #include "../forms/state.h"
-#include "plugins_used.h"
 #include "../io/message_text.h"
+#include "context.h"
+#include "plugins_used.h"
 #include "task.h"
 
 namespace imuconv::pipeline {
@@ -22,7 +22,8 @@ class PropagateTask : public Task {
 
   const IntervalsSpec* intervals() const override { return &interval; }
 
-  KeptRecords kept_records(const std::function<std::size_t(const MeasurementsSpec&)>&) const override {
+  KeptRecords kept_records(
+      const std::function<std::size_t(const MeasurementsSpec&)>&) const override {
     return {1, sizeof(PropRecord), "propagation"};
   }
 
@@ -57,7 +58,8 @@ class PropagateTask : public Task {
     in.window = ctx.window(ts, te);
     const PropagationResult r = ctx.reg.propagate(propagator, convention, in);
     std::optional<GtComparison> cmp;
-    if (compare_gt.value_or(ctx.gt_covers(te))) cmp = ctx.compare_gt(r.x_e, te, pointer + "/interval/t_end");
+    if (compare_gt.value_or(ctx.gt_covers(te)))
+      cmp = ctx.compare_gt(r.x_e, te, pointer + "/interval/t_end");
     const OmitSpec& omit = ctx.spec.omit;
     const auto& blocks = ctx.blocks(PluginKind::StateConvention, convention);
     w.key("propagator");
@@ -93,9 +95,11 @@ class PropagateTask : public Task {
     ctx.out.count_record();
     res.props.push_back({in.x_s, r.x_e, r.Phi, r.cov, convention, ts, te});
     if (std::ostream* o = ctx.summary()) {
-      *o << "propagate '" << name << "': " << propagator << " over [" << Num(ts) << ", " << Num(te) << "] s ("
-         << in.window.size() << " knots), state convention " << convention;
-      if (cmp) *o << "; vs ground truth: position " << Num(cmp->e.pos, 4) << " m, rotation " << Num(cmp->e.rot, 4) << " deg";
+      *o << "propagate '" << name << "': " << propagator << " over [" << Num(ts) << ", " << Num(te)
+         << "] s (" << in.window.size() << " knots), state convention " << convention;
+      if (cmp)
+        *o << "; vs ground truth: position " << Num(cmp->e.pos, 4) << " m, rotation "
+           << Num(cmp->e.rot, 4) << " deg";
       *o << "\n";
     }
   }
@@ -104,8 +108,8 @@ class PropagateTask : public Task {
 }  // namespace
 
 std::unique_ptr<Task> ParsePropagate(const ParseContext& ctx, const Node& n) {
-  n.expect_object({"type", "name", "description", "propagator", "state_convention", "start", "interval",
-                   "compare_ground_truth"});
+  n.expect_object({"type", "name", "description", "propagator", "state_convention", "start",
+                   "interval", "compare_ground_truth"});
   RequireImu(ctx, n, "propagate");
   auto p = std::make_unique<PropagateTask>();
   if (auto s = ReadPluginId(n, "propagator", true)) p->propagator = *s;

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "context.h"
 #include "../forms/chart_matrix.h"
 #include "../forms/increment.h"
 #include "../forms/state.h"
+#include "context.h"
 #include "plugins_used.h"
 #include "summary.h"
 #include "task.h"
@@ -34,13 +34,15 @@ std::string Seconds(double t) {
 /// "measurement 3 (M.json: /measurements/3, [0.1 s, 0.2 s])": which, where, and when.
 std::string DescribeMeasurement(const MeasurementsSpec& meas, const MeasRecord& r, std::size_t k) {
   std::string where = meas.task.empty() ? meas.file + ": " + r.pointer : "task '" + meas.task + "'";
-  return "measurement " + std::to_string(k) + " (" + where + ", [" + Seconds(*r.t_s) + ", " + Seconds(*r.t_e) + "])";
+  return "measurement " + std::to_string(k) + " (" + where + ", [" + Seconds(*r.t_s) + ", " +
+         Seconds(*r.t_e) + "])";
 }
 
 /// Nothing if every measurement starts where the previous one ended (within
 /// kChainTolerance); otherwise the sentence naming both. Measurements without t_start and
 /// t_end cannot be checked and are chained in the order given.
-std::optional<std::string> ChainBreak(const MeasurementsSpec& meas, const std::vector<MeasRecord>& ms) {
+std::optional<std::string> ChainBreak(const MeasurementsSpec& meas,
+                                      const std::vector<MeasRecord>& ms) {
   for (std::size_t k = 1; k < ms.size(); ++k) {
     const MeasRecord& a = ms[k - 1];
     const MeasRecord& b = ms[k];
@@ -48,7 +50,8 @@ std::optional<std::string> ChainBreak(const MeasurementsSpec& meas, const std::v
     const double jump = *b.t_s - *a.t_e;
     if (std::abs(jump) <= kChainTolerance) continue;
     std::string what;
-    if (std::abs(*b.t_s - *a.t_s) <= kChainTolerance && std::abs(*b.t_e - *a.t_e) <= kChainTolerance)
+    if (std::abs(*b.t_s - *a.t_s) <= kChainTolerance &&
+        std::abs(*b.t_e - *a.t_e) <= kChainTolerance)
       what = "repeats the interval of";
     else if (jump > 0.0)
       what = "leaves a gap of " + Seconds(jump) + " after";
@@ -56,9 +59,12 @@ std::optional<std::string> ChainBreak(const MeasurementsSpec& meas, const std::v
       what = "runs backwards (starts before the start of)";
     else
       what = "overlaps by " + Seconds(-jump) + ", so does not start at the end of";
-    return "\"chain\": true needs each measurement to start where the previous one ended (tolerance 1e-6 s), but " +
-           DescribeMeasurement(meas, b, k) + " " + what + " " + DescribeMeasurement(meas, a, k - 1) +
-           "; give contiguous measurements, or set \"chain\": false to start each from its own state";
+    return "\"chain\": true needs each measurement to start where the previous one ended "
+           "(tolerance 1e-6 s), but " +
+           DescribeMeasurement(meas, b, k) + " " + what + " " +
+           DescribeMeasurement(meas, a, k - 1) +
+           "; give contiguous measurements, or set \"chain\": false to start each from its own "
+           "state";
   }
   return std::nullopt;
 }
@@ -70,12 +76,14 @@ class PropagateByPreintegrationTask : public Task {
   StateSpec start;
   CovSpec cov;
   bool chain = false;
-  bool has_chain_key = false;  // "chain" written (else chaining is the default of a given start state)
+  bool has_chain_key =
+      false;  // "chain" written (else chaining is the default of a given start state)
   std::optional<bool> compare_gt;
 
   const MeasurementsSpec* measurements() const override { return &meas; }
 
-  KeptRecords kept_records(const std::function<std::size_t(const MeasurementsSpec&)>& count_of) const override {
+  KeptRecords kept_records(
+      const std::function<std::size_t(const MeasurementsSpec&)>& count_of) const override {
     return {count_of(meas), sizeof(PropRecord), "step"};
   }
 
@@ -101,11 +109,14 @@ class PropagateByPreintegrationTask : public Task {
   }
 
   /// Step k from its start state (and covariance) to its end.
-  void step(const RunContext& ctx, const std::vector<MeasRecord>& ms, std::size_t k, const ImuState& x_s,
-            const Mat15& cov_s, PropRecord& pr, std::optional<GtComparison>& cmp) const {
+  void step(const RunContext& ctx, const std::vector<MeasRecord>& ms, std::size_t k,
+            const ImuState& x_s, const Mat15& cov_s, PropRecord& pr,
+            std::optional<GtComparison>& cmp) const {
     const MeasRecord& r = ms[k];
-    const std::string where = meas.task.empty() ? r.pointer : meas.pointer + " (measurement " + std::to_string(k) + ")";
-    const PropagationResult out = PropagateByPreintegration(ctx.reg, r.m, x_s, cov_s, convention, ctx.spec.gravity);
+    const std::string where =
+        meas.task.empty() ? r.pointer : meas.pointer + " (measurement " + std::to_string(k) + ")";
+    const PropagationResult out =
+        PropagateByPreintegration(ctx.reg, r.m, x_s, cov_s, convention, ctx.spec.gravity);
     if (compare_gt.value_or(r.t_e && ctx.gt_covers(*r.t_e))) {
       if (!r.t_e) ctx.fail(where, "comparing with ground truth needs t_end");
       cmp = ctx.compare_gt(out.x_e, *r.t_e, where);
@@ -115,17 +126,18 @@ class PropagateByPreintegrationTask : public Task {
 
   /// The start of step k when it does not continue the previous one: given, or the ground
   /// truth at its start.
-  ImuState start_state(const RunContext& ctx, const std::vector<MeasRecord>& ms, std::size_t k) const {
+  ImuState start_state(const RunContext& ctx, const std::vector<MeasRecord>& ms,
+                       std::size_t k) const {
     if (!start.ground_truth) return start.x;
     const MeasRecord& r = ms[k];
     if (!r.t_s)
-      ctx.fail(start.pointer, "starting from ground truth needs t_start of " + MeasurementsName(meas) + " measurement " +
-                                  std::to_string(k));
+      ctx.fail(start.pointer, "starting from ground truth needs t_start of " +
+                                  MeasurementsName(meas) + " measurement " + std::to_string(k));
     return ctx.gt_at(*r.t_s, start.pointer);
   }
 
-  void write_step(const RunContext& ctx, JsonWriter& w, const MeasRecord& r, std::size_t k, const PropRecord& pr,
-                  const std::optional<GtComparison>& cmp) const {
+  void write_step(const RunContext& ctx, JsonWriter& w, const MeasRecord& r, std::size_t k,
+                  const PropRecord& pr, const std::optional<GtComparison>& cmp) const {
     const auto& blocks = ctx.blocks(PluginKind::StateConvention, convention);
     w.begin_object();
     w.key("index");
@@ -159,17 +171,20 @@ class PropagateByPreintegrationTask : public Task {
     if (keep) res.props.resize(n);
     std::ostream* o = ctx.summary();
     if (o) {
-      *o << "\npropagate_by_preintegration '" << name << "': " << MeasurementsName(meas) << ", state convention "
-         << convention << ", "
+      *o << "\npropagate_by_preintegration '" << name << "': " << MeasurementsName(meas)
+         << ", state convention " << convention << ", "
          << (start.ground_truth ? (chain ? "chained from the ground truth at the first keyframe"
                                          : "each interval from the ground truth at its start")
-                                : (chain ? "chained from the given start state" : "each interval from the given start state"))
+                                : (chain ? "chained from the given start state"
+                                         : "each interval from the given start state"))
          << "\n";
     }
     StepTable table(o, ctx.gt && compare_gt.value_or(true), n, ctx.opt.every_row);
-    const auto row = [&](std::size_t k, const ImuState& x_e, const std::optional<GtComparison>& cmp) {
+    const auto row = [&](std::size_t k, const ImuState& x_e,
+                         const std::optional<GtComparison>& cmp) {
       const MeasRecord& r = ms[k];
-      table.row(k, r.t_s, r.m.dt, r.m.delta.dp.norm(), RotationAngleDeg(r.m.delta.dR), cmp ? &cmp->e : nullptr);
+      table.row(k, r.t_s, r.m.dt, r.m.delta.dp.norm(), RotationAngleDeg(r.m.delta.dR),
+                cmp ? &cmp->e : nullptr);
       if (ctx.opt.on_step) {
         std::optional<std::int64_t> abs_ns;
         if (r.t_e && ctx.imu.origin) abs_ns = ctx.imu.origin->absolute_ns(*r.t_e);
@@ -219,7 +234,8 @@ class PropagateByPreintegrationTask : public Task {
     } else {
       const std::size_t window = ctx.out.window();
       std::vector<std::optional<GtComparison>> cmps(std::min(window, n));
-      std::vector<ImuState> ends(std::min(window, n));  // each step's prediction, until its row is printed
+      std::vector<ImuState> ends(
+          std::min(window, n));  // each step's prediction, until its row is printed
       ctx.out.write_elements(
           w, n,
           [&](JsonWriter& sw, std::size_t k) {
@@ -243,8 +259,8 @@ class PropagateByPreintegrationTask : public Task {
 }  // namespace
 
 std::unique_ptr<Task> ParsePropagateByPreintegration(const ParseContext& ctx, const Node& n) {
-  n.expect_object({"type", "name", "description", "measurements", "state_convention", "start", "chain",
-                   "compare_ground_truth"});
+  n.expect_object({"type", "name", "description", "measurements", "state_convention", "start",
+                   "chain", "compare_ground_truth"});
   auto p = std::make_unique<PropagateByPreintegrationTask>();
   if (auto m = ReadMeasurementsSpec(ctx, n)) p->meas = *m;
   if (auto s = ReadPluginId(n, "state_convention", false)) p->convention = *s;

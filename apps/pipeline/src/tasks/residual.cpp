@@ -15,13 +15,13 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-#include "context.h"
 #include "../forms/chart_matrix.h"
 #include "../forms/state.h"
-#include "plugins_used.h"
 #include "../io/message_text.h"
+#include "context.h"
 #include "imuconv/kernels/basalt_residual.h"
 #include "imuconv/kernels/vins_fusion_residual.h"
+#include "plugins_used.h"
 #include "task.h"
 
 namespace imuconv::pipeline {
@@ -99,9 +99,11 @@ kernels::BasaltPoseVelState BasaltState(const ImuState& x) {
 
 /// r^T cov^-1 r when cov is positive definite.
 template <int N>
-std::optional<double> Mahalanobis(const Eigen::Matrix<double, N, 1>& r, const Eigen::Matrix<double, N, N>& cov) {
+std::optional<double> Mahalanobis(const Eigen::Matrix<double, N, 1>& r,
+                                  const Eigen::Matrix<double, N, N>& cov) {
   const Eigen::LDLT<Eigen::Matrix<double, N, N>> ldlt(cov);
-  if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || !(ldlt.vectorD().minCoeff() > 0.0)) return std::nullopt;
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || !(ldlt.vectorD().minCoeff() > 0.0))
+    return std::nullopt;
   return r.dot(ldlt.solve(r));
 }
 
@@ -132,15 +134,17 @@ class ResidualTask : public Task {
       ctx.check_id(c, PluginKind::IncrementConvention, kind_name, pointer + "/kind");
   }
 
-  ImuState state_at(const RunContext& ctx, const StateSpec& s, std::optional<double> t, const char* which) const {
+  ImuState state_at(const RunContext& ctx, const StateSpec& s, std::optional<double> t,
+                    const char* which) const {
     if (!s.ground_truth) return s.x;
-    if (!t) ctx.fail(s.pointer, std::string("ground truth needs the measurement's ") + which + " time");
+    if (!t)
+      ctx.fail(s.pointer, std::string("ground truth needs the measurement's ") + which + " time");
     return ctx.gt_at(*t, s.pointer);
   }
 
   /// One residual of a native kind: the system's own names (anchors README) under its kind.
-  std::optional<double> run_native(RunContext& ctx, JsonWriter& w, const MeasRecord& r, const ImuState& xs,
-                                   const ImuState& xe) const {
+  std::optional<double> run_native(RunContext& ctx, JsonWriter& w, const MeasRecord& r,
+                                   const ImuState& xs, const ImuState& xe) const {
     const Preintegrated m = Express(ctx.reg, r.m, kind_name);
     w.key(kind_name);
     w.begin_object();
@@ -170,8 +174,8 @@ class ResidualTask : public Task {
       }
     } else {
       const kernels::BasaltMeasurement b = BasaltMeasurementOf(m);
-      const kernels::BasaltResidual res =
-          kernels::BasaltResidualOf(b, BasaltState(xs), ctx.spec.gravity, BasaltState(xe), xs.bg, xs.ba);
+      const kernels::BasaltResidual res = kernels::BasaltResidualOf(
+          b, BasaltState(xs), ctx.spec.gravity, BasaltState(xe), xs.bg, xs.ba);
       w.key("residual");
       w.vector(res.residual);
       w.key("d_res_d_state0");
@@ -193,21 +197,27 @@ class ResidualTask : public Task {
     w.key("layout");
     if (native == NativeKind::kVinsFusion)
       w.string(
-          "VINS-Fusion IMUFactor::Evaluate: residual [p, theta, v, ba, bg] (IntegrationBase::evaluate); "
-          "jacobian_pose_i/j 15x7 w.r.t. PoseLocalParameterization (p + dp, q (x) [1, dtheta/2] normalized), "
-          "columns [dp, dtheta, 0]; jacobian_speedbias_i/j 15x9, columns [v, ba, bg]; raw (sqrt_info = I) and "
-          "whitened by sqrt_info = LLT(cov^-1).L^T; state i = x_s (its biases the current estimate), j = x_e; "
+          "VINS-Fusion IMUFactor::Evaluate: residual [p, theta, v, ba, bg] "
+          "(IntegrationBase::evaluate); "
+          "jacobian_pose_i/j 15x7 w.r.t. PoseLocalParameterization (p + dp, q (x) [1, dtheta/2] "
+          "normalized), "
+          "columns [dp, dtheta, 0]; jacobian_speedbias_i/j 15x9, columns [v, ba, bg]; raw "
+          "(sqrt_info = I) and "
+          "whitened by sqrt_info = LLT(cov^-1).L^T; state i = x_s (its biases the current "
+          "estimate), j = x_e; "
           "the measurement expressed in vins_fusion, G = -gravity");
     else
       w.string(
-          "Basalt IntegratedImuMeasurement::residual: residual [trans, rot, vel]; d_res_d_state0/1 9x9 w.r.t. "
-          "PoseVelState::applyInc (p + dp, Exp(dtheta) R, v + dv); d_res_d_bg, d_res_d_ba 9x3; state0 = x_s "
+          "Basalt IntegratedImuMeasurement::residual: residual [trans, rot, vel]; d_res_d_state0/1 "
+          "9x9 w.r.t. "
+          "PoseVelState::applyInc (p + dp, Exp(dtheta) R, v + dv); d_res_d_bg, d_res_d_ba 9x3; "
+          "state0 = x_s "
           "with curr_bg/ba = x_s's biases, state1 = x_e; the measurement expressed in basalt");
   }
 
   /// One residual of kind gtsam or forster: the generic form, Jacobians in `convention`.
-  std::optional<double> run_generic(RunContext& ctx, JsonWriter& w, const MeasRecord& r, const ImuState& xs,
-                                    const ImuState& xe) const {
+  std::optional<double> run_generic(RunContext& ctx, JsonWriter& w, const MeasRecord& r,
+                                    const ImuState& xs, const ImuState& xe) const {
     static const std::vector<std::string> rblocks = {"theta", "p", "v", "bg", "ba"};
     const std::string rconv = "residual_" + kind_name;
     const auto& sb = ctx.blocks(PluginKind::StateConvention, convention);
@@ -230,8 +240,8 @@ class ResidualTask : public Task {
     const auto& ms = ctx.measurements(meas);
     const auto sel = ctx.select(ms, index, pointer, MeasurementsName(meas));
     if ((!start.ground_truth || !end.ground_truth) && sel.size() > 1)
-      ctx.fail(pointer, "explicit start/end states go with one measurement; give \"index\" (" + MeasurementsName(meas) +
-                            " has " + std::to_string(ms.size()) + ")");
+      ctx.fail(pointer, "explicit start/end states go with one measurement; give \"index\" (" +
+                            MeasurementsName(meas) + " has " + std::to_string(ms.size()) + ")");
     w.key("kind");
     w.string(kind_name);
     WriteMeasurementsSource(w, meas);
@@ -247,7 +257,8 @@ class ResidualTask : public Task {
     std::size_t n_m2 = 0;
     for (std::size_t k : sel) {
       const MeasRecord& r = ms[k];
-      const ImuState xs = state_at(ctx, start, r.t_s, "start"), xe = state_at(ctx, end, r.t_e, "end");
+      const ImuState xs = state_at(ctx, start, r.t_s, "start"),
+                     xe = state_at(ctx, end, r.t_e, "end");
       w.begin_object();
       w.key("index");
       w.unsigned_integer(k);
@@ -256,8 +267,8 @@ class ResidualTask : public Task {
       WriteState(w, xs);
       w.key("x_e");
       WriteState(w, xe);
-      const std::optional<double> m2 =
-          native == NativeKind::kNone ? run_generic(ctx, w, r, xs, xe) : run_native(ctx, w, r, xs, xe);
+      const std::optional<double> m2 = native == NativeKind::kNone ? run_generic(ctx, w, r, xs, xe)
+                                                                   : run_native(ctx, w, r, xs, xe);
       if (m2) {
         w.key("mahalanobis_squared");
         w.number(*m2);
@@ -284,7 +295,8 @@ class ResidualTask : public Task {
 }  // namespace
 
 std::unique_ptr<Task> ParseResidual(const ParseContext& ctx, const Node& n) {
-  n.expect_object({"type", "name", "description", "kind", "measurements", "state_convention", "start", "end", "index"});
+  n.expect_object({"type", "name", "description", "kind", "measurements", "state_convention",
+                   "start", "end", "index"});
   auto p = std::make_unique<ResidualTask>();
   if (auto kn = n.get("kind", true))
     if (auto k = kn->one_of({"gtsam", "forster", "vins_fusion", "basalt"})) {
@@ -298,20 +310,23 @@ std::unique_ptr<Task> ParseResidual(const ParseContext& ctx, const Node& n) {
   if (auto s = ReadPluginId(n, "state_convention", false)) {
     p->convention = *s;
     if (p->native != NativeKind::kNone)
-      n.checker().error(n.child_pointer("state_convention"),
-                        "does not apply to kind '" + p->kind_name +
-                            "': its Jacobians are w.r.t. the system's own parameter increments (see the output's "
-                            "\"layout\"); give state_convention with kind gtsam or forster only");
+      n.checker().error(
+          n.child_pointer("state_convention"),
+          "does not apply to kind '" + p->kind_name +
+              "': its Jacobians are w.r.t. the system's own parameter increments (see the output's "
+              "\"layout\"); give state_convention with kind gtsam or forster only");
   }
   p->index = ReadIndex(n);
-  for (auto [key, dst] : {std::pair<const char*, StateSpec*>{"start", &p->start}, {"end", &p->end}}) {
+  for (auto [key, dst] :
+       {std::pair<const char*, StateSpec*>{"start", &p->start}, {"end", &p->end}}) {
     if (auto sn = n.get(key, false)) {
       if (auto s = ReadStateSpec(ctx, *sn)) *dst = *s;
     } else if (ctx.has_gt) {
       dst->ground_truth = true;
       dst->pointer = n.child_pointer(key);
     } else {
-      n.checker().error(n.child_pointer(key), "required key is missing (there is no /ground_truth to default to)");
+      n.checker().error(n.child_pointer(key),
+                        "required key is missing (there is no /ground_truth to default to)");
     }
   }
   return p;

@@ -2,9 +2,9 @@
 
 #include <cstdio>
 
+#include "../spec/pipeline_spec.h"
 #include "imuconv/pipeline/errors.h"
 #include "imuconv/printable.h"
-#include "../spec/pipeline_spec.h"
 #include "task.h"
 
 namespace imuconv::pipeline {
@@ -28,19 +28,25 @@ std::size_t StringBytes(const std::string& s) { return s.capacity() > 15 ? s.cap
 }  // namespace
 
 std::size_t KeptBytes(const MeasRecord& r) {
-  return sizeof(MeasRecord) + StringBytes(r.pointer) + StringBytes(r.convention) + StringBytes(r.jacobian_convention);
+  return sizeof(MeasRecord) + StringBytes(r.pointer) + StringBytes(r.convention) +
+         StringBytes(r.jacobian_convention);
 }
-std::size_t KeptBytes(const PropRecord& r) { return sizeof(PropRecord) + StringBytes(r.convention); }
+std::size_t KeptBytes(const PropRecord& r) {
+  return sizeof(PropRecord) + StringBytes(r.convention);
+}
 
 std::unordered_map<std::string, std::string> ReferencedTasks(const PipelineSpec& s) {
   std::unordered_map<std::string, std::string> refs;
   for (const auto& t : s.tasks)
-    t->references([&](const std::string& name, const std::string& pointer) { refs.emplace(name, pointer); });
+    t->references(
+        [&](const std::string& name, const std::string& pointer) { refs.emplace(name, pointer); });
   return refs;
 }
 
-std::size_t CheckKeptMemory(const PipelineSpec& s, const std::unordered_map<std::string, std::string>& referenced,
-                            const std::function<std::size_t(const std::string& file)>& file_count, std::size_t limit) {
+std::size_t CheckKeptMemory(const PipelineSpec& s,
+                            const std::unordered_map<std::string, std::string>& referenced,
+                            const std::function<std::size_t(const std::string& file)>& file_count,
+                            std::size_t limit) {
   // Records per task, in task order (a task can only name an earlier one).
   std::unordered_map<std::string, std::size_t> count;
   const auto measurements = [&](const MeasurementsSpec& m) -> std::size_t {
@@ -60,15 +66,18 @@ std::size_t CheckKeptMemory(const PipelineSpec& s, const std::unordered_map<std:
     if (ref == referenced.end() || n == 0) continue;
     const double bytes = static_cast<double>(n) * static_cast<double>(each);
     if (total + bytes > static_cast<double>(limit))
-      throw ConfigError(s.file,
-                        {{t->pointer, "task " + Quoted(t->name) + " has " + std::to_string(n) + " " + what +
-                                         "(s), and a later task uses them (" + Printable(ref->second) +
-                                         "), so they are kept in memory: " + std::to_string(n) + " x " +
-                                         std::to_string(each) + " bytes = " + Bytes(bytes) +
-                                         (total > 0 ? " (plus " + Bytes(total) + " kept for earlier tasks)" : std::string()) +
-                                         ", over the limit of " + Bytes(static_cast<double>(limit)) +
-                                         " (RunOptions::max_kept_bytes). Use fewer intervals, or do not name this task "
-                                         "from a later one: results no task names are written and dropped, not kept"}});
+      throw ConfigError(
+          s.file,
+          {{t->pointer,
+            "task " + Quoted(t->name) + " has " + std::to_string(n) + " " + what +
+                "(s), and a later task uses them (" + Printable(ref->second) +
+                "), so they are kept in memory: " + std::to_string(n) + " x " +
+                std::to_string(each) + " bytes = " + Bytes(bytes) +
+                (total > 0 ? " (plus " + Bytes(total) + " kept for earlier tasks)"
+                           : std::string()) +
+                ", over the limit of " + Bytes(static_cast<double>(limit)) +
+                " (RunOptions::max_kept_bytes). Use fewer intervals, or do not name this task "
+                "from a later one: results no task names are written and dropped, not kept"}});
     total += bytes;
   }
   return static_cast<std::size_t>(total);

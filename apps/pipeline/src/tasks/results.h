@@ -41,8 +41,10 @@ std::unordered_map<std::string, std::string> ReferencedTasks(const PipelineSpec&
 /// measurement files, by `file_count`), summed in task order against `limit` bytes. Throws
 /// ConfigError naming the task that crosses the limit, its count and the sizes. Returns the
 /// estimate.
-std::size_t CheckKeptMemory(const PipelineSpec& s, const std::unordered_map<std::string, std::string>& referenced,
-                            const std::function<std::size_t(const std::string& file)>& file_count, std::size_t limit);
+std::size_t CheckKeptMemory(const PipelineSpec& s,
+                            const std::unordered_map<std::string, std::string>& referenced,
+                            const std::function<std::size_t(const std::string& file)>& file_count,
+                            std::size_t limit);
 
 /// Bytes one kept record takes (the record and its heap parts, for the estimate).
 std::size_t KeptBytes(const MeasRecord& r);

@@ -12,14 +12,16 @@ StepTable::StepTable(std::ostream* o, bool gt_columns, std::size_t steps, bool e
     : o_(o), every_row_(every_row || steps <= kFullTableRows) {
   if (!o_) return;
   if (!every_row_)
-    *o_ << steps << " steps: the totals" << (gt_columns ? " and the worst steps against the ground truth" : "")
+    *o_ << steps << " steps: the totals"
+        << (gt_columns ? " and the worst steps against the ground truth" : "")
         << " (--table prints every row)\n";
   *o_ << "     k   t_start[s]   dt[s]    |dp|[m]   angle[deg]";
   if (gt_columns) *o_ << "   pos.err[m]   rot.err[deg]";
   *o_ << "\n";
 }
 
-void StepTable::row(std::size_t k, std::optional<double> t_start, double dt, double dp, double ang, const GtError* gt) {
+void StepTable::row(std::size_t k, std::optional<double> t_start, double dt, double dp, double ang,
+                    const GtError* gt) {
   sum_dt_ += dt;
   sum_dp_ += dp;
   sum_ang_ += ang;
@@ -79,14 +81,16 @@ void StepTable::print_totals(std::size_t n) const {
   if (!o_) return;
   char buf[256];
   const std::string label = " total (" + std::to_string(n) + ")";
-  std::snprintf(buf, sizeof buf, "%-19s %7.4f %10.5f %12.5f", label.c_str(), sum_dt_, sum_dp_, sum_ang_);
+  std::snprintf(buf, sizeof buf, "%-19s %7.4f %10.5f %12.5f", label.c_str(), sum_dt_, sum_dp_,
+                sum_ang_);
   *o_ << buf;
   if (ngt_) {
     const double ngt = static_cast<double>(ngt_);
-    std::snprintf(buf, sizeof buf, " %12.3e %14.3e   rms over %zu interval(s)\n", std::sqrt(se_p_ / ngt),
-                  std::sqrt(se_r_ / ngt), ngt_);
+    std::snprintf(buf, sizeof buf, " %12.3e %14.3e   rms over %zu interval(s)\n",
+                  std::sqrt(se_p_ / ngt), std::sqrt(se_r_ / ngt), ngt_);
     *o_ << buf;
-    std::snprintf(buf, sizeof buf, "%-19s %7s %10s %12s %12.3e %14.3e   max\n", "", "", "", "", max_p_, max_r_);
+    std::snprintf(buf, sizeof buf, "%-19s %7s %10s %12s %12.3e %14.3e   max\n", "", "", "", "",
+                  max_p_, max_r_);
     *o_ << buf;
   } else {
     *o_ << "\n";
@@ -96,9 +100,11 @@ void StepTable::print_totals(std::size_t n) const {
   std::vector<const Row*> shown;
   for (const auto* list : {&worst_pos_, &worst_rot_})
     for (const Row& r : *list)
-      if (std::none_of(shown.begin(), shown.end(), [&](const Row* s) { return s->k == r.k; })) shown.push_back(&r);
+      if (std::none_of(shown.begin(), shown.end(), [&](const Row* s) { return s->k == r.k; }))
+        shown.push_back(&r);
   std::sort(shown.begin(), shown.end(), [](const Row* a, const Row* b) { return a->k < b->k; });
-  *o_ << "worst steps (the " << kWorstRows << " largest position and the " << kWorstRows << " largest rotation errors):\n";
+  *o_ << "worst steps (the " << kWorstRows << " largest position and the " << kWorstRows
+      << " largest rotation errors):\n";
   for (const Row* r : shown) *o_ << r->text << "\n";
 }
 

@@ -27,7 +27,8 @@ class StepTable {
   StepTable(std::ostream* o, bool gt_columns, std::size_t steps, bool every_row);
   /// Step k: its start time (when known), dt, |dp|, rotation angle and, when compared with
   /// the ground truth, its errors.
-  void row(std::size_t k, std::optional<double> t_start, double dt, double dp, double angle_deg, const GtError* gt);
+  void row(std::size_t k, std::optional<double> t_start, double dt, double dp, double angle_deg,
+           const GtError* gt);
   /// "ground_truth_summary" (rms and max errors) of the open object, when a step was compared.
   void write_ground_truth_summary(JsonWriter& w) const;
   /// The totals line(s) after n steps, then (in the short form) the worst steps.

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "../forms/task_common.h"
 #include "../forms/intervals.h"
+#include "../forms/task_common.h"
 #include "imuconv/pipeline/json_check.h"
 #include "imuconv/pipeline/json_writer.h"
 
@@ -48,10 +48,12 @@ class Task {
   virtual const std::string* input_file() const { return nullptr; }
   /// Calls f(name, pointer) for each earlier task whose results it uses (by default the task
   /// its measurements come from): those tasks keep their results.
-  virtual void references(const std::function<void(const std::string& name, const std::string& pointer)>& f) const;
+  virtual void references(
+      const std::function<void(const std::string& name, const std::string& pointer)>& f) const;
   /// What it keeps when a later task names it; `count_of` says how many measurements a
   /// measurements source holds.
-  virtual KeptRecords kept_records(const std::function<std::size_t(const MeasurementsSpec&)>& count_of) const;
+  virtual KeptRecords kept_records(
+      const std::function<std::size_t(const MeasurementsSpec&)>& count_of) const;
   /// The plugins it uses, for the output's provenance list.
   virtual void plugins_used(PluginUse& use) const = 0;
 

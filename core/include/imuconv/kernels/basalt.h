@@ -68,14 +68,15 @@ struct BasaltPreintegration {
 /// CheckPreintegrationInput does, and that every step is at least 1 ns. Without
 /// `jacobians`, only the delta state is computed (covariance and bias Jacobians stay 0).
 IMUCONV_API Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding,
-                                   const std::optional<BasaltSampleVariances>& variances, BasaltPreintegration& out,
-                                   bool jacobians = true);
+                                   const std::optional<BasaltSampleVariances>& variances,
+                                   BasaltPreintegration& out, bool jacobians = true);
 
 /// The same as a native preintegration (densities over each step's dt): covariance and bias
 /// Jacobian in `basalt` ([p, theta, v, bg, ba]); the bias blocks of the covariance are the
 /// random walks over the interval, sigma_b^2 T, uncorrelated with the rest, as Basalt's
 /// separate random-walk factors model them.
-IMUCONV_API Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding, Preintegrated& out,
+IMUCONV_API Status IntegrateBasalt(const PreintegrationInput& in, BasaltFeeding feeding,
+                                   Preintegrated& out,
                                    BasaltNoiseMapping noise = BasaltNoiseMapping::kFromDensities);
 
 /// The scheme with one feeding as a preintegrator's kernel (plugin/kernel_plugin.h): its

@@ -50,11 +50,13 @@ struct BasaltResidual {
 };
 
 /// The first-order bias-corrected delta state residual() compares against (header).
-IMUCONV_API BasaltPoseVelState BasaltCorrectedDelta(const BasaltMeasurement& m, const Vec3& bg, const Vec3& ba);
+IMUCONV_API BasaltPoseVelState BasaltCorrectedDelta(const BasaltMeasurement& m, const Vec3& bg,
+                                                    const Vec3& ba);
 
 /// IntegratedImuMeasurement::residual(state0, g, state1, curr_bg, curr_ba) with its Jacobians.
-IMUCONV_API BasaltResidual BasaltResidualOf(const BasaltMeasurement& m, const BasaltPoseVelState& state0,
-                                            const Vec3& g, const BasaltPoseVelState& state1, const Vec3& curr_bg,
+IMUCONV_API BasaltResidual BasaltResidualOf(const BasaltMeasurement& m,
+                                            const BasaltPoseVelState& state0, const Vec3& g,
+                                            const BasaltPoseVelState& state1, const Vec3& curr_bg,
                                             const Vec3& curr_ba);
 
 /// PoseVelState::applyInc: [trans, rot (left, world), vel].

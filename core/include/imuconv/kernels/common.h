@@ -42,16 +42,21 @@ inline bool SampleFinite(const ImuSample& s) {
 /// the window; it only allocates when it reports an error.
 inline Status CheckPropagationInput(const PropagationInput& in) {
   const SampleWindow& w = in.window;
-  if (w.end < w.begin) return Status::Error("sample window is malformed (end before begin): fewer than two knots");
-  if (w.end > w.begin && w.samples == nullptr) return Status::Error("sample window has interior knots but no samples");
+  if (w.end < w.begin)
+    return Status::Error("sample window is malformed (end before begin): fewer than two knots");
+  if (w.end > w.begin && w.samples == nullptr)
+    return Status::Error("sample window has interior knots but no samples");
   const auto& x = in.x_s;
-  if (!(x.R.allFinite() && x.p.allFinite() && x.v.allFinite() && x.bg.allFinite() && x.ba.allFinite()))
+  if (!(x.R.allFinite() && x.p.allFinite() && x.v.allFinite() && x.bg.allFinite() &&
+        x.ba.allFinite()))
     return Status::Error("start state is not finite");
   if (!in.cov_s.allFinite()) return Status::Error("start covariance is not finite");
   if (!in.gravity.allFinite()) return Status::Error("gravity is not finite");
   const ImuNoise& n = in.noise;
-  for (double d : {n.gyro_noise_density, n.accel_noise_density, n.gyro_random_walk, n.accel_random_walk})
-    if (!(std::isfinite(d) && d >= 0.0)) return Status::Error("noise densities must be finite and non-negative");
+  for (double d :
+       {n.gyro_noise_density, n.accel_noise_density, n.gyro_random_walk, n.accel_random_walk})
+    if (!(std::isfinite(d) && d >= 0.0))
+      return Status::Error("noise densities must be finite and non-negative");
   const std::size_t knots = w.size();
   for (std::size_t j = 0; j < knots; ++j) {
     const ImuSample& s = w[j];
@@ -64,8 +69,8 @@ inline Status CheckPropagationInput(const PropagationInput& in) {
     if (j > 0 && !(s.t > w[j - 1].t)) {
       std::ostringstream msg;
       msg.precision(17);
-      msg << "IMU knot times must increase strictly: knot " << j << " at t = " << s.t << " follows t = "
-          << w[j - 1].t;
+      msg << "IMU knot times must increase strictly: knot " << j << " at t = " << s.t
+          << " follows t = " << w[j - 1].t;
       return Status::Error(msg.str());
     }
   }
@@ -97,11 +102,13 @@ inline Vec3 JrInvTimes(const Vec3& phi, const Vec3& w) {
 /// generic small-product path does not. `out` may be a block expression (hence Out&&).
 template <typename A, typename Out>
 inline void AssignTimes3x3(const Eigen::MatrixBase<A>& a, const Mat3& b, Out&& out) {
-  for (int j = 0; j < 3; ++j) out.col(j) = a.col(0) * b(0, j) + a.col(1) * b(1, j) + a.col(2) * b(2, j);
+  for (int j = 0; j < 3; ++j)
+    out.col(j) = a.col(0) * b(0, j) + a.col(1) * b(1, j) + a.col(2) * b(2, j);
 }
 template <typename A, typename Out>
 inline void AddTimes3x3(const Eigen::MatrixBase<A>& a, const Mat3& b, Out&& out) {
-  for (int j = 0; j < 3; ++j) out.col(j) += a.col(0) * b(0, j) + a.col(1) * b(1, j) + a.col(2) * b(2, j);
+  for (int j = 0; j < 3; ++j)
+    out.col(j) += a.col(0) * b(0, j) + a.col(1) * b(1, j) + a.col(2) * b(2, j);
 }
 
 }  // namespace imuconv::kernels

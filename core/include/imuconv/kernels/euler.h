@@ -13,7 +13,8 @@
 // beyond the exact first derivative of this map.
 //
 // Exact Jacobian of the step in the left chart (R = Exp(dtheta) R^, paper eq. left-dpr..):
-//   dtheta' = dtheta - R' Jr(w dt) dt dbg             (Exp(w dt - dbg dt) ~ Exp(w dt) Exp(-Jr dbg dt),
+//   dtheta' = dtheta - R' Jr(w dt) dt dbg             (Exp(w dt - dbg dt) ~ Exp(w dt) Exp(-Jr dbg
+//   dt),
 //                                                      moved to the left through R')
 //   dv'     = dv - dt [R a]x dtheta - dt R dba        (Exp(dtheta) R a ~ R a - [R a]x dtheta)
 //   dp'     = dp + dt dv - dt^2/2 [R a]x dtheta - dt^2/2 R dba
@@ -51,8 +52,8 @@ struct EulerStepJacobian {
 /// One Euler step of the nominal state with a held input (the Basalt-style static step).
 /// `next` may alias `x`. J is filled when kJacobian (it may be null otherwise).
 template <bool kJacobian>
-inline void EulerStep(const ImuState& x, const Vec3& gyro, const Vec3& accel, double dt, const Vec3& gravity,
-                      ImuState& next, EulerStepJacobian* J) {
+inline void EulerStep(const ImuState& x, const Vec3& gyro, const Vec3& accel, double dt,
+                      const Vec3& gravity, ImuState& next, EulerStepJacobian* J) {
   const Vec3 w = gyro - x.bg;
   const Vec3 Ra = x.R * (accel - x.ba);
   const Vec3 acc_world = Ra + gravity;
@@ -150,7 +151,8 @@ inline void IntegrateHeldPerSample(const PropagationInput& in, PropagationResult
     if constexpr (kHold == Hold::Euler) {
       EulerStep<kPhi>(x, k0->gyro, k0->accel, dt, in.gravity, x, &J);
     } else {
-      EulerStep<kPhi>(x, 0.5 * (k0->gyro + k1->gyro), 0.5 * (k0->accel + k1->accel), dt, in.gravity, x, &J);
+      EulerStep<kPhi>(x, 0.5 * (k0->gyro + k1->gyro), 0.5 * (k0->accel + k1->accel), dt, in.gravity,
+                      x, &J);
     }
     if constexpr (kPhi) PrependEulerStepBiasColumns(J, Phi);
     if constexpr (kCov) EulerCovarianceStep(J, q, P);
@@ -198,8 +200,10 @@ inline PreintegrationInput StartFrameInput(const PropagationInput& in) {
 }
 
 /// The end state from the start state and the start-frame increment (paper, eq.
-/// prop-by-int-rot..b): R_e = R_s dR, v_e = v_s + T g + R_s dv, p_e = p_s + T v_s + T^2/2 g + R_s dp.
-inline void ComposeEndState(const PropagationInput& in, const ManifoldIncrement& inc, ImuState& x_e) {
+/// prop-by-int-rot..b): R_e = R_s dR, v_e = v_s + T g + R_s dv, p_e = p_s + T v_s + T^2/2 g + R_s
+/// dp.
+inline void ComposeEndState(const PropagationInput& in, const ManifoldIncrement& inc,
+                            ImuState& x_e) {
   const ImuState& x_s = in.x_s;
   const double T = in.window.t_end() - in.window.t_start();
   const Mat3& Rs = x_s.R;
@@ -213,11 +217,14 @@ inline void ComposeEndState(const PropagationInput& in, const ManifoldIncrement&
 }  // namespace held_detail
 
 template <Hold kHold, bool kCov>
-inline Status IntegrateHeldByPreintegration(const PropagationInput& in, PropagationResult& out, Isa isa) {
+inline Status IntegrateHeldByPreintegration(const PropagationInput& in, PropagationResult& out,
+                                            Isa isa) {
   using namespace left_idx;
   const ImuState& x_s = in.x_s;
   StartFrameManifold pre;
-  if (Status st = IntegrateManifoldStartFrame(held_detail::StartFrameInput(in), kHold, kCov, isa, pre); !st.ok())
+  if (Status st =
+          IntegrateManifoldStartFrame(held_detail::StartFrameInput(in), kHold, kCov, isa, pre);
+      !st.ok())
     return st;
   held_detail::ComposeEndState(in, pre.increment, out.x_e);
   const ImuState& x_e = out.x_e;
@@ -237,11 +244,12 @@ inline Status IntegrateHeldByPreintegration(const PropagationInput& in, Propagat
   if constexpr (kCov) {
     // M Sigma_k M^T: reorder and flip the bias rows and columns, then rotate the first nine.
     const Mat15& K = pre.cov;
-    constexpr int kFrom[5] = {3, 0, 6, 12, 9};        // kernel block of left blocks p, theta, v, bg, ba
+    constexpr int kFrom[5] = {3, 0, 6, 12, 9};  // kernel block of left blocks p, theta, v, bg, ba
     constexpr double kSign[5] = {1, 1, 1, -1, -1};
     Mat15 S;
     for (int i = 0; i < 5; ++i)
-      for (int j = 0; j < 5; ++j) S.block<3, 3>(3 * i, 3 * j) = (kSign[i] * kSign[j]) * K.block<3, 3>(kFrom[i], kFrom[j]);
+      for (int j = 0; j < 5; ++j)
+        S.block<3, 3>(3 * i, 3 * j) = (kSign[i] * kSign[j]) * K.block<3, 3>(kFrom[i], kFrom[j]);
     for (int b = 0; b < 9; b += 3) S.middleRows<3>(b) = Rs * S.middleRows<3>(b);
     for (int b = 0; b < 9; b += 3) S.middleCols<3>(b) = S.middleCols<3>(b) * Rs.transpose();
     // Phi Sigma_s Phi^T only where there is a start covariance (preintegration by
@@ -262,7 +270,8 @@ inline Status IntegrateHeldByPreintegration(const PropagationInput& in, Propagat
 /// differences and Monte Carlo, not speed.
 template <Hold kHold, Outputs kOut = Outputs::All>
 inline void IntegrateHeld(const PropagationInput& in, PropagationResult& out) {
-  (void)IntegrateHeldByPreintegration<kHold, true>(in, out, BestIsa());  // BestIsa() is available: no error
+  (void)IntegrateHeldByPreintegration<kHold, true>(in, out,
+                                                   BestIsa());  // BestIsa() is available: no error
 }
 
 /// The propagator entry point: checks the input, then integrates. Never throws except

@@ -116,7 +116,8 @@ struct FastLio2Input {
 };
 
 /// One `predict` of the state alone (x_.oplus(f(x, in), dt)).
-IMUCONV_API FastLio2State FastLio2PredictState(const FastLio2State& x, const FastLio2Input& in, double dt);
+IMUCONV_API FastLio2State FastLio2PredictState(const FastLio2State& x, const FastLio2Input& in,
+                                               double dt);
 
 /// One `predict`'s transition F (F_x1 + f_x dt) and noise Jacobian dt G (23x12, noise order
 /// [ng, na, nbg, nba]) at the pre-step state x.
@@ -134,9 +135,9 @@ struct FastLio2Predict {
 /// IMU message (at or before last_scan_end), the scan ends at scan_end; the last call is the
 /// frame-end one. Refuses fewer than two samples, a non-finite value, decreasing stamps,
 /// reversed scan ends, a scan with no sample after its start and a non-positive |mean_acc|.
-IMUCONV_API Status FastLio2ScanPredicts(const std::vector<ImuSample>& samples, const FastLio2Parameters& params,
-                                        double last_scan_end, double scan_end,
-                                        std::vector<FastLio2Predict>& predicts);
+IMUCONV_API Status FastLio2ScanPredicts(const std::vector<ImuSample>& samples,
+                                        const FastLio2Parameters& params, double last_scan_end,
+                                        double scan_end, std::vector<FastLio2Predict>& predicts);
 
 /// What the forward propagation of one scan returns.
 struct FastLio2Propagation {
@@ -144,7 +145,7 @@ struct FastLio2Propagation {
   double sum_dt = 0.0;           ///< the sum of their dt
   double last_predict_dt = 0.0;  ///< the frame-end predict's dt
   FastLio2State end;
-  Mat23 covariance = Mat23::Zero();  ///< from P0
+  Mat23 covariance = Mat23::Zero();      ///< from P0
   Mat23 Phi_summed = Mat23::Identity();  ///< the product of every predict's F
   Mat23 Qd_summed = Mat23::Zero();       ///< from P0 = 0: the noise alone
 };
@@ -152,9 +153,9 @@ struct FastLio2Propagation {
 /// ImuProcess's forward propagation of one scan: the calls of FastLio2ScanPredicts from
 /// `start` with the covariance P0. Refuses what FastLio2ScanPredicts refuses, a non-finite
 /// start or P0, a non-positive gravity length and negative variances.
-IMUCONV_API Status PropagateFastLio2Scan(const std::vector<ImuSample>& samples, const FastLio2Parameters& params,
-                                         double last_scan_end, double scan_end, const FastLio2State& start,
-                                         const Mat23& P0, FastLio2Propagation& out,
-                                         FastLio2Transition transition = FastLio2Transition::kAsFastLio);
+IMUCONV_API Status PropagateFastLio2Scan(
+    const std::vector<ImuSample>& samples, const FastLio2Parameters& params, double last_scan_end,
+    double scan_end, const FastLio2State& start, const Mat23& P0, FastLio2Propagation& out,
+    FastLio2Transition transition = FastLio2Transition::kAsFastLio);
 
 }  // namespace imuconv::kernels

@@ -31,14 +31,16 @@ struct LeftTransition {
   Mat3 th_bg = Mat3::Zero();
   Mat3 v_th = Mat3::Zero(), v_bg = Mat3::Zero(), v_ba = Mat3::Zero();
   Mat3 p_th = Mat3::Zero(), p_bg = Mat3::Zero(), p_ba = Mat3::Zero();
-  double p_v = 0.0;  ///< the p-v block is p_v * I: position integrates velocity over the elapsed time
+  double p_v =
+      0.0;  ///< the p-v block is p_v * I: position integrates velocity over the elapsed time
 
   static LeftTransition Identity() { return LeftTransition(); }
 
   /// this <- step * this, i.e. the transition over a later step applied after this one.
   void PrependStep(const LeftTransition& s) {
     // Block rows of the product (s after a), from the form above:
-    //   p:  p_th = a.p_th + s.p_th + s.p_v a.v_th, p_bg = a.p_bg + s.p_th a.th_bg + s.p_v a.v_bg + s.p_bg,
+    //   p:  p_th = a.p_th + s.p_th + s.p_v a.v_th, p_bg = a.p_bg + s.p_th a.th_bg + s.p_v a.v_bg +
+    //   s.p_bg,
     //       p_ba = a.p_ba + s.p_v a.v_ba + s.p_ba, p_v = a.p_v + s.p_v
     //   th: th_bg = a.th_bg + s.th_bg
     //   v:  v_th = a.v_th + s.v_th, v_bg = a.v_bg + s.v_th a.th_bg + s.v_bg, v_ba = a.v_ba + s.v_ba
@@ -70,13 +72,13 @@ struct LeftTransition {
   }
 };
 
-
 /// T P T^T for a transition in block form and a symmetric P, once per interval. With
 /// T = I + E (E non-zero only in the p, theta and v rows) and C = P E^T (non-zero only in
 /// the p, theta and v columns): T P T^T = P + C + C^T + E C, as in the Euler covariance step.
 inline Mat15 Congruence(const LeftTransition& T, const Mat15& P) {
   using namespace left_idx;
-  // E_p = [0, p_th, p_v I, p_bg, p_ba], E_theta = [0, 0, 0, th_bg, 0], E_v = [0, v_th, 0, v_bg, v_ba].
+  // E_p = [0, p_th, p_v I, p_bg, p_ba], E_theta = [0, 0, 0, th_bg, 0], E_v = [0, v_th, 0, v_bg,
+  // v_ba].
   Eigen::Matrix<double, 15, 9> C;
   C.middleCols<3>(p).noalias() = P.middleCols<3>(theta) * T.p_th.transpose();
   C.middleCols<3>(p) += T.p_v * P.middleCols<3>(v);
@@ -108,8 +110,8 @@ inline Mat15 Congruence(const LeftTransition& T, const Mat15& P) {
 ///   v_th = -[v_e - v_s - g T]x,   p_th = -[p_e - p_s - v_s T - g T^2/2]x.
 /// The Euler step and RK4 integrate v_th and v with the same weights on the same R a, so the
 /// identity holds for them too (up to rounding): these blocks need no per-sample work.
-inline void ThetaColumnsFromState(const ImuState& x_s, const ImuState& x_e, double T, const Vec3& gravity,
-                                  LeftTransition& Phi) {
+inline void ThetaColumnsFromState(const ImuState& x_s, const ImuState& x_e, double T,
+                                  const Vec3& gravity, LeftTransition& Phi) {
   Phi.v_th = -so3::skew(x_e.v - x_s.v - T * gravity);
   Phi.p_th = -so3::skew(x_e.p - x_s.p - T * x_s.v - (0.5 * T * T) * gravity);
   Phi.p_v = T;

@@ -37,8 +37,10 @@ namespace mean_only_detail {
 template <Hold kHold>
 inline void HeldEndState(const PropagationInput& in, ImuState& x_e) {
   StartFrameManifold pre;  // BestIsa() is available, so the kernel cannot refuse it
-  (void)IntegrateManifoldStartFrame(held_detail::StartFrameInput(in), kHold, /*covariance=*/false, BestIsa(), pre);
-  held_detail::ComposeEndState(in, pre.increment, x_e);  // as IntegrateHeldByPreintegration composes it
+  (void)IntegrateManifoldStartFrame(held_detail::StartFrameInput(in), kHold, /*covariance=*/false,
+                                    BestIsa(), pre);
+  held_detail::ComposeEndState(in, pre.increment,
+                               x_e);  // as IntegrateHeldByPreintegration composes it
 }
 
 }  // namespace mean_only_detail
@@ -47,8 +49,8 @@ inline void HeldEndState(const PropagationInput& in, ImuState& x_e) {
 /// (bg, ba), as the method's full preintegration gives it (see the file comment). `noise` is
 /// only checked (the mean does not depend on it). Checks the input as the full run does and
 /// returns its error; never throws except std::bad_alloc while building a message.
-inline Status IncrementMean(MeanKernel kernel, const SampleWindow& window, const Vec3& bg, const Vec3& ba,
-                            const ImuNoise& noise, PreintIncrement& delta) {
+inline Status IncrementMean(MeanKernel kernel, const SampleWindow& window, const Vec3& bg,
+                            const Vec3& ba, const ImuNoise& noise, PreintIncrement& delta) {
   delta = PreintIncrement();
   if (kernel == MeanKernel::kManifold || kernel == MeanKernel::kTangent) {
     PreintegrationInput in;
@@ -65,16 +67,22 @@ inline Status IncrementMean(MeanKernel kernel, const SampleWindow& window, const
     delta.dv = out.delta.dv;
     return st;
   }
-  const PropagationInput in = PreintegrationByPropagationStart(window, bg, ba, noise);  // the bridge's start
+  const PropagationInput in =
+      PreintegrationByPropagationStart(window, bg, ba, noise);  // the bridge's start
   Status st = CheckPropagationInput(in);
   if (!st.ok()) return st;
   ImuState x_e;
   switch (kernel) {
-    case MeanKernel::kEuler: mean_only_detail::HeldEndState<Hold::Euler>(in, x_e); break;
-    case MeanKernel::kMidpoint: mean_only_detail::HeldEndState<Hold::Midpoint>(in, x_e); break;
+    case MeanKernel::kEuler:
+      mean_only_detail::HeldEndState<Hold::Euler>(in, x_e);
+      break;
+    case MeanKernel::kMidpoint:
+      mean_only_detail::HeldEndState<Hold::Midpoint>(in, x_e);
+      break;
     default: {
       PropagationResult r;
-      IntegrateRk4Window(in, r, Outputs::State, 1, Isa::kAuto);  // the plugin's one step per knot interval
+      IntegrateRk4Window(in, r, Outputs::State, 1,
+                         Isa::kAuto);  // the plugin's one step per knot interval
       x_e = r.x_e;
     }
   }

@@ -77,16 +77,16 @@ IMUCONV_API double Okvis2Seconds(std::int64_t duration_ns);
 
 /// OKVIS's pose and speed-and-biases.
 struct Okvis2State {
-  Vec3 r = Vec3::Zero();                                    ///< position in world
-  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();    ///< body to world
-  Vec3 v = Vec3::Zero();                                    ///< velocity in world
+  Vec3 r = Vec3::Zero();                                  ///< position in world
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();  ///< body to world
+  Vec3 v = Vec3::Zero();                                  ///< velocity in world
   Vec3 bg = Vec3::Zero();
   Vec3 ba = Vec3::Zero();
 };
 
 /// Which transition the covariance uses.
 enum class Okvis2Transition {
-  kAsOkvis,      ///< upstream's F_delta, whole-interval sums in three blocks (see above)
+  kAsOkvis,         ///< upstream's F_delta, whole-interval sums in three blocks (see above)
   kOkvisStepLocal,  ///< those three blocks step-local: the linearization of the step
 };
 
@@ -95,7 +95,7 @@ struct Okvis2Propagation {
   int steps = 0;         ///< steps integrated (upstream's return value)
   double Delta_t = 0.0;  ///< sum of the steps' dt
   Okvis2State end;
-  Mat15 covariance = Mat15::Zero();  ///< noise-only covariance of the end state
+  Mat15 covariance = Mat15::Zero();    ///< noise-only covariance of the end state
   Mat15 jacobian = Mat15::Identity();  ///< d end / d start
 };
 

@@ -74,8 +74,8 @@ IMUCONV_API void OpenVinsIntegralsOf(double dt, const Vec3& w, const Vec3& a, bo
 /// Propagates over the window as OpenVINS does with `mean` (see the file comment), in the
 /// `left` chart: the end state always, Phi and the covariance as `outputs` asks (the reduced
 /// modes serve finite differences and Monte Carlo). Checks the input (CheckPropagationInput).
-IMUCONV_API Status PropagateOpenVins(const PropagationInput& in, OpenVinsMean mean, PropagationResult& out,
-                                     Outputs outputs = Outputs::All);
+IMUCONV_API Status PropagateOpenVins(const PropagationInput& in, OpenVinsMean mean,
+                                     PropagationResult& out, Outputs outputs = Outputs::All);
 
 /// One method as a propagator's kernel (plugin/kernel_plugin.h; native convention `left`).
 template <OpenVinsMean kMean>

@@ -46,7 +46,8 @@ struct OrbSlam3Calib {
 
 /// The Calib that ORB-SLAM3's Tracking makes from the yaml's densities and IMU rate f:
 /// IMU::Calib(Ng sqrt f, Na sqrt f, Ngw / sqrt f, Naw / sqrt f), squared, all in float.
-IMUCONV_API OrbSlam3Calib OrbSlam3CalibFromDensities(const ImuNoise& densities, double frequency_hz);
+IMUCONV_API OrbSlam3Calib OrbSlam3CalibFromDensities(const ImuNoise& densities,
+                                                     double frequency_hz);
 
 /// IMU::Bias, in float.
 struct OrbSlam3Bias {
@@ -77,12 +78,14 @@ struct OrbSlam3Preintegrated {
 /// The steps of Tracking::PreintegrateIMU between two frames at the first and last sample:
 /// the mean of consecutive samples (stored in float), dt the float of their double time
 /// difference.
-IMUCONV_API Status OrbSlam3Steps(const std::vector<ImuSample>& samples, std::vector<OrbSlam3Step>& steps);
+IMUCONV_API Status OrbSlam3Steps(const std::vector<ImuSample>& samples,
+                                 std::vector<OrbSlam3Step>& steps);
 
 /// IMU::Preintegrated(b, calib) fed `steps` by IntegrateNewMeasurement. Reintegrate at a new
 /// bias is this call with the same steps and that bias.
 IMUCONV_API OrbSlam3Preintegrated PreintegrateOrbSlam3(const std::vector<OrbSlam3Step>& steps,
-                                                       const OrbSlam3Calib& calib, const OrbSlam3Bias& b);
+                                                       const OrbSlam3Calib& calib,
+                                                       const OrbSlam3Bias& b);
 
 /// GetDeltaRotation / GetDeltaVelocity / GetDeltaPosition at the bias `b`: the first-order
 /// bias update (GetUpdatedDelta* after SetNewBias(b) gives the same).

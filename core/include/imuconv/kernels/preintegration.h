@@ -73,14 +73,16 @@ struct TangentIncrement {
 ///   dp' = dp + dv dt + dR acc dt^2/2,  dv' = dv + dR acc dt,  dR' = dR Exp(omega dt).
 /// Jacobians in the start-frame chart (Exp(phi) dR, dp + ddp, dv + ddv), dR before the step:
 ///   A_tt = I,  K = -dt [dR acc]x,  N = dR,  C_t = dR Jl(omega dt) dt.
-IMUCONV_API void ManifoldStep(const Vec3& acc, const Vec3& omega, double dt, ManifoldIncrement& s, StepJacobians& J);
+IMUCONV_API void ManifoldStep(const Vec3& acc, const Vec3& omega, double dt, ManifoldIncrement& s,
+                              StepJacobians& J);
 
 /// One zero-order-hold step of the tangent scheme, with R = Exp(theta):
 ///   theta' = theta + Jr^{-1}(theta) omega dt,  p' = p + v dt + R acc dt^2/2,  v' = v + R acc dt.
 /// Exact Jacobians in the additive chart of xi:
 ///   A_tt = I + d(Jr^{-1}(theta) omega)/dtheta dt,  K = -[R acc]x Jl(theta) dt,
 ///   N = R,  C_t = Jr^{-1}(theta) dt.
-IMUCONV_API void TangentStep(const Vec3& acc, const Vec3& omega, double dt, TangentIncrement& s, StepJacobians& J);
+IMUCONV_API void TangentStep(const Vec3& acc, const Vec3& omega, double dt, TangentIncrement& s,
+                             StepJacobians& J);
 
 /// d/dtheta [Jr^{-1}(theta) omega] for fixed omega: the exact derivative of the tangent
 /// scheme's angular-rate map.
@@ -162,7 +164,7 @@ struct StartFrameManifold {
 /// The manifold scheme with the given hold, without the input checks (the caller has made
 /// them). Its only error: an `isa` this CPU lacks (kBaseline runs the baseline instance of
 /// the SIMD recursion where the compiler has one, else the portable path).
-IMUCONV_API Status IntegrateManifoldStartFrame(const PreintegrationInput& in, Hold hold, bool covariance, Isa isa,
-                                               StartFrameManifold& out);
+IMUCONV_API Status IntegrateManifoldStartFrame(const PreintegrationInput& in, Hold hold,
+                                               bool covariance, Isa isa, StartFrameManifold& out);
 
 }  // namespace imuconv::kernels

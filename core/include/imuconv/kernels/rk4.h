@@ -26,17 +26,18 @@ namespace imuconv::kernels {
 /// `outputs` asks. `isa` chooses the instance (tests and benchmarks; it must be available,
 /// IsaAvailable); kAuto runs the widest this CPU has, kPortable and kBaseline the
 /// default-target code. Allocates nothing.
-IMUCONV_API void IntegrateRk4Window(const PropagationInput& in, PropagationResult& out, Outputs outputs, int substeps,
-                                    Isa isa);
+IMUCONV_API void IntegrateRk4Window(const PropagationInput& in, PropagationResult& out,
+                                    Outputs outputs, int substeps, Isa isa);
 
 /// The propagator entry point: checks the input (substeps >= 1, `isa` available, the window
 /// and state, CheckPropagationInput), then integrates with every output.
-IMUCONV_API Status PropagateRk4(const PropagationInput& in, PropagationResult& out, int substeps = 1,
-                                Isa isa = Isa::kAuto);
+IMUCONV_API Status PropagateRk4(const PropagationInput& in, PropagationResult& out,
+                                int substeps = 1, Isa isa = Isa::kAuto);
 
 /// IntegrateRk4Window with the output mode as a template argument.
 template <Outputs kOut = Outputs::All>
-inline void IntegrateRk4(const PropagationInput& in, PropagationResult& out, int substeps = 1, Isa isa = Isa::kAuto) {
+inline void IntegrateRk4(const PropagationInput& in, PropagationResult& out, int substeps = 1,
+                         Isa isa = Isa::kAuto) {
   IntegrateRk4Window(in, out, kOut, substeps, isa);
 }
 

@@ -22,7 +22,8 @@
 // standard deviations, whatever their name. Per step that gives the rotation a variance
 // gyr_n^2 dt^2/2 and a bias gyr_w^2 dt^2. Continuous densities (sigma, sigma_w) give those
 // variances, sigma^2 dt and sigma_w^2 dt, with
-//   acc_n = sigma_a sqrt(2/dt),  gyr_n = sigma_g sqrt(2/dt),  acc_w = sigma_wa / sqrt(dt),  gyr_w = sigma_wg / sqrt(dt)
+//   acc_n = sigma_a sqrt(2/dt),  gyr_n = sigma_g sqrt(2/dt),  acc_w = sigma_wa / sqrt(dt),  gyr_w =
+//   sigma_wg / sqrt(dt)
 // at each step's own dt (VinsNoiseMapping::kFromDensities). kAsConfigured uses the four
 // numbers as VINS-Fusion does with the values in its configuration file.
 #pragma once

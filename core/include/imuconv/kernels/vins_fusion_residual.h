@@ -22,7 +22,8 @@
 // Qleft(q) and Qright(q) are the 4x4 left and right quaternion product matrices and br(.) their
 // lower-right 3x3:
 //   pose_i:  (p,p) = -R_i^T, (p,theta) = [Q_i^-1 (G T^2/2 + P_j - P_i - V_i T)]x,
-//            (theta,theta) = -br(Qleft(Q_j^-1 Q_i) Qright(c_q)), (v,theta) = [Q_i^-1 (G T + V_j - V_i)]x
+//            (theta,theta) = -br(Qleft(Q_j^-1 Q_i) Qright(c_q)), (v,theta) = [Q_i^-1 (G T + V_j -
+//            V_i)]x
 //   sb_i:    (p,v) = -R_i^T T, (p,ba) = -J_p,ba, (p,bg) = -J_p,bg,
 //            (theta,bg) = -br(Qleft(Q_j^-1 Q_i delta_q)) J_theta,bg   -- the UNcorrected delta_q
 //            (v,v) = -R_i^T, (v,ba) = -J_v,ba, (v,bg) = -J_v,bg, (ba,ba) = -I, (bg,bg) = -I
@@ -85,21 +86,24 @@ struct VinsFusionFactorOutput {
 };
 
 /// The correction at new start biases (ba, bg).
-IMUCONV_API VinsFusionCorrectedDelta VinsFusionCorrect(const VinsFusionMeasurement& m, const Vec3& ba, const Vec3& bg);
+IMUCONV_API VinsFusionCorrectedDelta VinsFusionCorrect(const VinsFusionMeasurement& m,
+                                                       const Vec3& ba, const Vec3& bg);
 
 /// IntegrationBase::evaluate(): the 15-vector residual.
 IMUCONV_API Vec15 VinsFusionEvaluate(const VinsFusionMeasurement& m, const VinsFusionFactorState& i,
                                      const VinsFusionFactorState& j);
 
 /// IMUFactor::Evaluate with sqrt_info = I: the residual and the raw Jacobians.
-IMUCONV_API VinsFusionFactorOutput VinsFusionRawFactor(const VinsFusionMeasurement& m, const VinsFusionFactorState& i,
-                                                      const VinsFusionFactorState& j);
+IMUCONV_API VinsFusionFactorOutput VinsFusionRawFactor(const VinsFusionMeasurement& m,
+                                                       const VinsFusionFactorState& i,
+                                                       const VinsFusionFactorState& j);
 
 /// sqrt_info = LLT(covariance^-1).matrixL()^T, as IMUFactor computes it. An error if the
 /// inverse is not positive definite (upstream would go on with a meaningless factor).
 IMUCONV_API Status VinsFusionSqrtInfo(const Mat15& covariance, Mat15& sqrt_info);
 
 /// The raw outputs multiplied by sqrt_info: IMUFactor::Evaluate's own outputs.
-IMUCONV_API VinsFusionFactorOutput VinsFusionWhiten(const VinsFusionFactorOutput& raw, const Mat15& sqrt_info);
+IMUCONV_API VinsFusionFactorOutput VinsFusionWhiten(const VinsFusionFactorOutput& raw,
+                                                    const Mat15& sqrt_info);
 
 }  // namespace imuconv::kernels

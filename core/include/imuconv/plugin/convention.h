@@ -45,8 +45,9 @@ class ConventionChart : public Chart<Value> {
  protected:
   using Ref = ReferenceChart<Value>;
   // Offsets of this chart's blocks in its perturbation vector.
-  static constexpr int p = Order.offset(Block::p), theta = Order.offset(Block::theta), v = Order.offset(Block::v),
-                       bg = Order.offset(Block::bg), ba = Order.offset(Block::ba);
+  static constexpr int p = Order.offset(Block::p), theta = Order.offset(Block::theta),
+                       v = Order.offset(Block::v), bg = Order.offset(Block::bg),
+                       ba = Order.offset(Block::ba);
 
   /// J_ref_this as the permutation between the two orders (identity blocks, BiasSign * I on
   /// the biases), with the given blocks replaced: J(ref(b), this(b)) = M. Always returns true
@@ -64,13 +65,15 @@ class ConventionChart : public Chart<Value> {
   /// of R (d_b = R^T d_ref_b: a body-frame perturbation against a world-frame one) and whose
   /// other blocks are the reference's: R on those blocks of J_ref_this, R^T on J_this_ref's.
   template <std::size_t N>
-  static bool RefThisRotated(Mat15& J, const Mat3& R, const std::array<Block, N>& rotated) noexcept {
+  static bool RefThisRotated(Mat15& J, const Mat3& R,
+                             const std::array<Block, N>& rotated) noexcept {
     Permutation(J, Ref::order, Order, {});
     for (const Block b : rotated) RefThisBlock(J, b, b) = R;
     return true;
   }
   template <std::size_t N>
-  static bool ThisRefRotated(Mat15& J, const Mat3& R, const std::array<Block, N>& rotated) noexcept {
+  static bool ThisRefRotated(Mat15& J, const Mat3& R,
+                             const std::array<Block, N>& rotated) noexcept {
     Permutation(J, Order, Ref::order, {});
     for (const Block b : rotated) ThisRefBlock(J, b, b) = R.transpose();
     return true;
@@ -93,7 +96,8 @@ class ConventionChart : public Chart<Value> {
       const double sign = (b == Block::bg || b == Block::ba) ? BiasSign : 1;
       J.template block<3, 3>(rows.offset(b), cols.offset(b)).diagonal().setConstant(sign);
     }
-    for (const BlockMap& m : blocks) J.template block<3, 3>(rows.offset(m.first), cols.offset(m.first)) = m.second;
+    for (const BlockMap& m : blocks)
+      J.template block<3, 3>(rows.offset(m.first), cols.offset(m.first)) = m.second;
   }
 };
 
@@ -138,7 +142,8 @@ class RightPerturbedIncrementChart : public IncrementChart<Order, BiasSign> {
   using Base = IncrementChart<Order, BiasSign>;
 
  public:
-  void retract(const PreintIncrement& x, const Vec15& d, PreintIncrement& y) const noexcept override {
+  void retract(const PreintIncrement& x, const Vec15& d,
+               PreintIncrement& y) const noexcept override {
     y.dR = x.dR * so3::Exp(d.template segment<3>(Base::theta));
     y.dp = x.dp + d.template segment<3>(Base::p);
     y.dv = x.dv + d.template segment<3>(Base::v);
@@ -150,8 +155,12 @@ class RightPerturbedIncrementChart : public IncrementChart<Order, BiasSign> {
     d.template segment<3>(Base::v) = y.dv - x.dv;
     Base::LocalBiases(x, y, d);
   }
-  bool J_ref_this(const PreintIncrement&, Mat15& J) const noexcept override { return Base::RefThis(J, {}); }
-  bool J_this_ref(const PreintIncrement&, Mat15& J) const noexcept override { return Base::ThisRef(J, {}); }
+  bool J_ref_this(const PreintIncrement&, Mat15& J) const noexcept override {
+    return Base::RefThis(J, {});
+  }
+  bool J_this_ref(const PreintIncrement&, Mat15& J) const noexcept override {
+    return Base::ThisRef(J, {});
+  }
 };
 
 /// The rotation a chart's body frame is that of: the state's R, or the increment's Delta R.

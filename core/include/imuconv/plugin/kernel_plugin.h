@@ -4,7 +4,8 @@
 // conventions its outputs are in; the id comes from its IMUCONV_PLUGIN line.
 //
 //   struct Euler {
-//     imuconv::Status operator()(const imuconv::PropagationInput& in, imuconv::PropagationResult& out) const {
+//     imuconv::Status operator()(const imuconv::PropagationInput& in, imuconv::PropagationResult&
+//     out) const {
 //       return imuconv::kernels::PropagateHeld<imuconv::kernels::Hold::Euler>(in, out);
 //     }
 //   };

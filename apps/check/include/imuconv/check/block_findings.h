@@ -32,9 +32,9 @@ namespace imuconv::check {
 struct BlockFinding {
   std::string matrix;  // "J_bias" or "cov"
   std::vector<std::string> rows, cols;
-  std::string kind;     // "missing", "sign", "swap", "transpose", "scale"
-  double factor = 1.0;  // scale: U = factor K; sign: -1; missing: 0; swap, transpose: 1
-  double max_d = 0.0;   // the block's max d as the numbers are
+  std::string kind;       // "missing", "sign", "swap", "transpose", "scale"
+  double factor = 1.0;    // scale: U = factor K; sign: -1; missing: 0; swap, transpose: 1
+  double max_d = 0.0;     // the block's max d as the numbers are
   double residual = 0.0;  // its max d once the finding is undone (<= the tolerance)
 };
 
@@ -56,11 +56,13 @@ struct BlockAnalysis {
 };
 
 /// J_bias (9x6): `row_labels` the three row blocks, `col_labels` the two column blocks.
-BlockAnalysis AnalyzeJacobianBlocks(MatrixView K, MatrixView U, const std::vector<std::string>& row_labels,
+BlockAnalysis AnalyzeJacobianBlocks(MatrixView K, MatrixView U,
+                                    const std::vector<std::string>& row_labels,
                                     const std::vector<std::string>& col_labels, double tol);
 
 /// The covariance (15x15), `labels` its five blocks in order.
-BlockAnalysis AnalyzeCovarianceBlocks(MatrixView K, MatrixView U, const std::vector<std::string>& labels, double tol);
+BlockAnalysis AnalyzeCovarianceBlocks(MatrixView K, MatrixView U,
+                                      const std::vector<std::string>& labels, double tol);
 
 /// A factor in words when it is (to 1 %) a simple one: "2", "1/2", "4", "1/4", "1/dt", "dt",
 /// "1/dt^2", "dt^2" with `dt` the sample period; else its value to three digits.

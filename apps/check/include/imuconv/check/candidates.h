@@ -40,13 +40,16 @@ struct SchemeCandidates {
   std::vector<JacobianCandidate> jacobians;      // one per registered increment convention
 };
 
-SchemeCandidates MakeCandidates(const Registry& reg, const std::string& scheme, const Preintegrated& ref);
+SchemeCandidates MakeCandidates(const Registry& reg, const std::string& scheme,
+                                const Preintegrated& ref);
 
 /// The candidate's covariance with its blocks in `order` (an ordering of its labels).
 Mat15 Reordered(const CovarianceCandidate& c, const std::vector<std::string>& order);
 
-/// Row (and column) i of Reordered(c, order) is row (and column) ReorderedIndices(c, order)[i] of c.cov.
-std::array<Eigen::Index, 15> ReorderedIndices(const CovarianceCandidate& c, const std::vector<std::string>& order);
+/// Row (and column) i of Reordered(c, order) is row (and column) ReorderedIndices(c, order)[i] of
+/// c.cov.
+std::array<Eigen::Index, 15> ReorderedIndices(const CovarianceCandidate& c,
+                                              const std::vector<std::string>& order);
 
 /// The candidate's bias Jacobian with columns in `columns` ({"bg", "ba"} or {"ba", "bg"}) and
 /// multiplied by `sign`.

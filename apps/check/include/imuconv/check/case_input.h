@@ -13,8 +13,8 @@
 namespace imuconv::check {
 
 struct CaseInput {
-  std::vector<ImuSample> samples;  // strictly increasing times, seconds
-  ImuNoise noise;                  // continuous-time densities (FORMAT.md)
+  std::vector<ImuSample> samples;             // strictly increasing times, seconds
+  ImuNoise noise;                             // continuous-time densities (FORMAT.md)
   std::string source = "the case's samples";  // for messages: where the samples came from
 };
 

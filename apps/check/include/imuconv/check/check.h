@@ -52,7 +52,8 @@ struct CheckResult {
 
 /// Checks every measurement. Throws pipeline::ConfigError naming `measurements_file` and the
 /// measurement's pointer when its interval is not inside the case's samples.
-CheckResult RunCheck(const Registry& reg, const CaseInput& input, const std::vector<pipeline::DeclaredMeasurement>& ms,
+CheckResult RunCheck(const Registry& reg, const CaseInput& input,
+                     const std::vector<pipeline::DeclaredMeasurement>& ms,
                      const std::string& measurements_file);
 
 }  // namespace imuconv::check

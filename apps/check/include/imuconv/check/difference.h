@@ -52,9 +52,10 @@ class ReorderedCovarianceDiffs {
 EntryDiff RelativeAboveFloorDiff(MatrixView ref, MatrixView user);
 
 // The same differences entry by entry (what a heatmap draws; ReorderedCovarianceDiffs's
-// CorrelationScale and RelativeAboveFloorDiff are their max and mean), and the note's d exactly as it defines it: |r -
-// e| / |r| where |r| > 1e-4, else |r - e|, with an absolute threshold (the note's Figures 1 and 2). A non-finite entry
-// of `user`, or a NaN difference, is an infinite difference.
+// CorrelationScale and RelativeAboveFloorDiff are their max and mean), and the note's d exactly as
+// it defines it: |r - e| / |r| where |r| > 1e-4, else |r - e|, with an absolute threshold (the
+// note's Figures 1 and 2). A non-finite entry of `user`, or a NaN difference, is an infinite
+// difference.
 Eigen::MatrixXd CorrelationScaleEntries(MatrixView ref, MatrixView user);
 Eigen::MatrixXd RelativeAboveFloorEntries(MatrixView ref, MatrixView user);
 Eigen::MatrixXd NoteEntries(MatrixView ref, MatrixView user);

@@ -29,7 +29,9 @@ struct Tolerances {
 struct CovarianceChoice {
   std::string convention;
   std::vector<std::string> blocks;
-  bool operator==(const CovarianceChoice& o) const { return convention == o.convention && blocks == o.blocks; }
+  bool operator==(const CovarianceChoice& o) const {
+    return convention == o.convention && blocks == o.blocks;
+  }
 };
 struct JacobianChoice {
   std::string chart;
@@ -93,8 +95,8 @@ struct UserNumbers {
 /// tolerance (explain.cpp) as equal, and ties keep the first found: what `prefer` names (the
 /// declaration) first, then the registry's order, a chart's own block order first, [bg, ba]
 /// before [ba, bg], + before -. The tied others are the explanation's `equivalent`.
-Explanation Explain(const std::vector<SchemeCandidates>& schemes, const UserNumbers& user, const Constraints& c,
-                    const Tolerances& tol, const Constraints& prefer = {});
+Explanation Explain(const std::vector<SchemeCandidates>& schemes, const UserNumbers& user,
+                    const Constraints& c, const Tolerances& tol, const Constraints& prefer = {});
 
 /// The worst part of an explanation relative to its tolerance (<= 1: within tolerance).
 double Score(const Explanation& e, const Tolerances& tol);

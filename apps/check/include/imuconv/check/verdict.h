@@ -25,8 +25,9 @@ struct Judgement {
 /// tolerance, or the nearest explanation, its d and its block findings (block_findings.h) when
 /// none is. `nearest` is the best explanation's candidates (for the diagonal ratios of a
 /// covariance nothing explains); `sample_period` names scale factors (x1/dt).
-Judgement Judge(const Constraints& declared, const Explanation& under_declaration, const Explanation& best,
-                const SchemeCandidates& nearest, const UserNumbers& user, double sample_period);
+Judgement Judge(const Constraints& declared, const Explanation& under_declaration,
+                const Explanation& best, const SchemeCandidates& nearest, const UserNumbers& user,
+                double sample_period);
 
 /// "[theta, p, v, ba, bg]".
 std::string BlockList(const std::vector<std::string>& blocks);

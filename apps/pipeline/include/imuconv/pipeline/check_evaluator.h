@@ -26,8 +26,10 @@ struct CheckEvaluation {
   json report;
   bool consistent = true;
 };
-using CheckEvaluator = CheckEvaluation (*)(const Registry& reg, const std::vector<ImuSample>& samples,
-                                           const ImuNoise& noise, const std::vector<DeclaredMeasurement>& ms,
+using CheckEvaluator = CheckEvaluation (*)(const Registry& reg,
+                                           const std::vector<ImuSample>& samples,
+                                           const ImuNoise& noise,
+                                           const std::vector<DeclaredMeasurement>& ms,
                                            const std::string& measurements_file);
 void SetCheckEvaluator(CheckEvaluator evaluator);
 CheckEvaluator GetCheckEvaluator();

@@ -35,7 +35,8 @@ ImuMagnitudes MeasureMagnitudes(const std::vector<ImuSample>& samples);
 /// median |accel| 0.0123 over 2000 samples; ...". Empty when nothing is suspicious or there
 /// are fewer than kMinSamples samples (a median of a handful says little). Work and memory:
 /// one copy of the magnitudes, O(n).
-std::vector<std::string> ImuPlausibilityWarnings(const std::vector<ImuSample>& samples, const std::string& source);
+std::vector<std::string> ImuPlausibilityWarnings(const std::vector<ImuSample>& samples,
+                                                 const std::string& source);
 
 inline constexpr std::size_t kPlausibilityMinSamples = 20;
 

@@ -42,7 +42,7 @@ TimeValue TimeValueFromDouble(double t);
 
 /// The time origin of a data set: absolute time = origin + relative time.
 struct TimeOrigin {
-  TimeValue value;                 ///< in `unit`
+  TimeValue value;  ///< in `unit`
   TimeUnit unit = TimeUnit::s;
   /// Seconds from the origin to a time given in the same unit (exact difference first).
   double relative_seconds(const TimeValue& t) const;
@@ -87,7 +87,8 @@ extern const std::array<const char*, 7> kImuColumnNames;
 
 /// A column index must be below the header's width (when there is a header) and below the
 /// first data row's field count; every data row must have the same count.
-ImuData ReadCsvImu(const std::string& path, const CsvFormat& format, const ReadOptions& options = {});
+ImuData ReadCsvImu(const std::string& path, const CsvFormat& format,
+                   const ReadOptions& options = {});
 
 /// A ground-truth trajectory on the same time axis as the IMU data.
 struct GroundTruth {
@@ -106,7 +107,8 @@ struct GroundTruth {
 /// files): `#time(ns), p xyz, q wxyz, v xyz, bg xyz, ba xyz` (17 fields), made relative to
 /// `origin` (the IMU data's origin). Gaps between rows are judged by options.timing like IMU
 /// gaps: they would be interpolated across and used as start states.
-GroundTruth ReadEurocGroundTruth(const std::string& path, const TimeOrigin& origin, const ReadOptions& options = {});
+GroundTruth ReadEurocGroundTruth(const std::string& path, const TimeOrigin& origin,
+                                 const ReadOptions& options = {});
 
 /// A pose of the ground-truth sensor S (e.g. a Vicon marker) in the body (IMU) frame B:
 /// EuRoC's sensor.yaml T_BS. The body's pose is then T_RB = T_RS T_BS^-1.
@@ -120,7 +122,8 @@ struct SensorInBody {
 ///   "euroc_pose": EuRoC vicon0/data.csv, `#timestamp [ns], p xyz, q wxyz` (8 fields).
 /// Quaternions are Hamilton, sensor to world, unit within 1e-3 (files with 6 digits).
 /// `sensor` (T_BS) maps the sensor's poses to the body's.
-GroundTruth ReadPoseGroundTruth(const std::string& path, const std::string& format, const TimeOrigin& origin,
-                                const ReadOptions& options = {}, const SensorInBody& sensor = {});
+GroundTruth ReadPoseGroundTruth(const std::string& path, const std::string& format,
+                                const TimeOrigin& origin, const ReadOptions& options = {},
+                                const SensorInBody& sensor = {});
 
 }  // namespace imuconv::pipeline

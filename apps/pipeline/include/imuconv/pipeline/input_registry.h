@@ -28,7 +28,8 @@ struct RegisteredInput {
 
 /// Records the file open as `fd` (read by `path`, in `role`). Only regular files are recorded:
 /// a device or FIFO is not content the tool could destroy by replacing it.
-void RegisterInputDescriptor(int fd, const std::string& path, const std::string& role = "the input file");
+void RegisterInputDescriptor(int fd, const std::string& path,
+                             const std::string& role = "the input file");
 /// Records the file `path` names (links followed); a missing file records nothing (it fails
 /// where it is read). For readers that do not hold a descriptor (std::ifstream), and to give a
 /// file already recorded as "the input file" a more precise role ("the pipeline").

@@ -57,7 +57,8 @@ class Checker {
 
 class Node {
  public:
-  Node(const json& j, std::string pointer, Checker& checker) : j_(&j), ptr_(std::move(pointer)), c_(&checker) {}
+  Node(const json& j, std::string pointer, Checker& checker)
+      : j_(&j), ptr_(std::move(pointer)), c_(&checker) {}
   const json& value() const noexcept { return *j_; }
   const std::string& pointer() const noexcept { return ptr_; }
   Checker& checker() const noexcept { return *c_; }
@@ -71,7 +72,9 @@ class Node {
   bool is_string() const noexcept { return j_->is_string(); }
   bool has(std::string_view key) const { return j_->is_object() && j_->contains(key); }
   /// Child by key or index; the caller checks has() / the size first.
-  Node operator[](std::string_view key) const { return Node(j_->at(std::string(key)), child_pointer(key), *c_); }
+  Node operator[](std::string_view key) const {
+    return Node(j_->at(std::string(key)), child_pointer(key), *c_);
+  }
   Node operator[](std::size_t i) const { return Node(j_->at(i), child_pointer(i), *c_); }
   std::size_t size() const noexcept { return j_->size(); }
 
@@ -90,7 +93,8 @@ class Node {
   std::optional<std::string> string() const;
   /// One of `choices` (reported with the list of accepted values).
   std::optional<std::string> one_of(std::initializer_list<std::string_view> choices) const;
-  std::optional<std::string> one_of(const std::vector<std::string>& choices, std::string_view what) const;
+  std::optional<std::string> one_of(const std::vector<std::string>& choices,
+                                    std::string_view what) const;
   std::optional<std::vector<std::string>> string_list(bool allow_empty = false) const;
   std::optional<std::vector<double>> number_list(std::size_t min_size = 0) const;
   std::optional<Vec3> vec3() const;

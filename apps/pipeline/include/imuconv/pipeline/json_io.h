@@ -27,7 +27,8 @@ json StateToJson(const ImuState& x);
 json NoiseToJson(const ImuNoise& n);
 /// {"rows": {...}, "cols": {...}, "matrix": m}.
 json MixedMatrixToJson(const Eigen::MatrixXd& m, const std::string& row_convention,
-                       const std::vector<std::string>& row_blocks, const std::string& col_convention,
+                       const std::vector<std::string>& row_blocks,
+                       const std::string& col_convention,
                        const std::vector<std::string>& col_blocks);
 
 /// Block labels of a registered convention, e.g. {"theta","p","v","ba","bg"}.

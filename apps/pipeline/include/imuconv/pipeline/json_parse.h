@@ -44,7 +44,8 @@ struct JsonLimits {
 /// imuconv run and imuconv montecarlo, ...): `text` read from `source` (named in every
 /// message), with the same limits (size, memory, nesting depth), duplicate keys refused and the
 /// same errors as ParseJsonFile.
-[[nodiscard]] json ParseJsonText(std::string_view text, const std::string& source, const JsonLimits& limits = {});
+[[nodiscard]] json ParseJsonText(std::string_view text, const std::string& source,
+                                 const JsonLimits& limits = {});
 
 /// A whole file read as one form: ParseJsonFile, then `read` (a form's reader, Node ->
 /// std::optional<T>, reporting at pointers) on the document. Throws ConfigError naming the

@@ -43,8 +43,8 @@ class JsonWriter {
   /// Appends to `out`. `depth` is the indentation level of the first value's contents (0 for
   /// a whole document; JsonWriter::content_depth() of the parent for a spliced element) and
   /// `pointer` the JSON pointer of that value.
-  explicit JsonWriter(std::string& out, int depth = 0, std::string pointer = {}, NonFinite non_finite = NonFinite::Throw,
-                      Form form = Form::kText);
+  explicit JsonWriter(std::string& out, int depth = 0, std::string pointer = {},
+                      NonFinite non_finite = NonFinite::Throw, Form form = Form::kText);
 
   // ---- containers -------------------------------------------------------------------------
   void begin_object();
@@ -133,7 +133,7 @@ class JsonWriter {
   std::string pointer_upto(std::size_t frames) const;
 
   std::string& out_;
-  int depth_;  // base depth
+  int depth_;           // base depth
   int open_lines_ = 0;  // multi-line containers open
   std::string pointer_;
   NonFinite non_finite_;

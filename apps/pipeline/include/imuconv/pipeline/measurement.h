@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "imuconv/bridge.h"
-#include "imuconv/pipeline/json_check.h"
 #include "imuconv/pipeline/imu_reader.h"
+#include "imuconv/pipeline/json_check.h"
 #include "imuconv/pipeline/json_writer.h"
 #include "imuconv/pipeline/omit.h"
 
@@ -48,7 +48,8 @@ struct MeasRecord {
 std::vector<MeasRecord> ReadMeasurementFile(const std::string& path, const Registry& reg,
                                             std::optional<std::int64_t> origin_ns);
 /// The same from a parsed document; `file` names it in messages.
-std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::string& file, const Registry& reg,
+std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::string& file,
+                                                const Registry& reg,
                                                 std::optional<std::int64_t> origin_ns);
 
 /// A measurement as a file declares it, before anything is assumed about its charts: what
@@ -58,10 +59,13 @@ struct DeclaredMeasurement {
   std::string pointer;  // "/measurements/<i>", for messages
   std::optional<double> t_s, t_e;
   Preintegrated in;  // in.convention / in.jacobian_convention: as declared ("" = not declared)
-  std::vector<std::string> cov_blocks;     // the declared order of the five blocks of cov ({} = not declared)
-  std::vector<std::string> J_bias_rows;    // the declared row blocks of J_bias ({} = not declared)
-  std::vector<std::string> J_bias_cols;    // the declared column order of J_bias, e.g. {"ba", "bg"} ({} = not declared)
-  bool jacobian_convention_implied = false;  // the J_bias chart is the one the cov convention implies, not written
+  std::vector<std::string>
+      cov_blocks;  // the declared order of the five blocks of cov ({} = not declared)
+  std::vector<std::string> J_bias_rows;  // the declared row blocks of J_bias ({} = not declared)
+  std::vector<std::string>
+      J_bias_cols;  // the declared column order of J_bias, e.g. {"ba", "bg"} ({} = not declared)
+  bool jacobian_convention_implied =
+      false;  // the J_bias chart is the one the cov convention implies, not written
   // "unknown" written for cov.blocks / J_bias cols.blocks. A missing order, by contrast, means
   // the chart's own order when the chart is declared (as ReadMeasurementFile takes it).
   bool cov_blocks_unknown = false, J_bias_cols_unknown = false;
@@ -83,18 +87,20 @@ std::optional<double> DtDifference(const DeclaredMeasurement& m);
 /// unless `origin_ns` is given: then they are put on that pipeline's time axis as
 /// ReadMeasurementFile puts them (imuconv check --pipeline, the check task).
 /// Problems are reported as ReadMeasurementFile reports them (ConfigError with pointers).
-std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(const std::string& path, const Registry& reg,
-                                                             std::optional<std::int64_t> origin_ns = std::nullopt);
+std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(
+    const std::string& path, const Registry& reg,
+    std::optional<std::int64_t> origin_ns = std::nullopt);
 /// The same from a parsed document (the Python module's measurements given as values);
 /// `file` names it in messages.
-std::vector<DeclaredMeasurement> ReadDeclaredMeasurementDocument(const json& doc, const std::string& file,
-                                                                 const Registry& reg,
-                                                                 std::optional<std::int64_t> origin_ns = std::nullopt);
+std::vector<DeclaredMeasurement> ReadDeclaredMeasurementDocument(
+    const json& doc, const std::string& file, const Registry& reg,
+    std::optional<std::int64_t> origin_ns = std::nullopt);
 
 /// Writes measurement `k`: index, times, dt, n_knots, bias_estimate, delta, then J_bias and
 /// cov in preint_reference and "expressed" in each of `conventions`, less what `omit` leaves
 /// out. Computed covariances are checked before they are written (WriteCovariance).
-void WriteMeasurement(JsonWriter& w, const MeasRecord& r, std::size_t k, const std::vector<std::string>& conventions,
-                      const Registry& reg, const OmitSpec& omit, const std::optional<TimeOrigin>& origin);
+void WriteMeasurement(JsonWriter& w, const MeasRecord& r, std::size_t k,
+                      const std::vector<std::string>& conventions, const Registry& reg,
+                      const OmitSpec& omit, const std::optional<TimeOrigin>& origin);
 
 }  // namespace imuconv::pipeline

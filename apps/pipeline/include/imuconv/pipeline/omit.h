@@ -10,7 +10,8 @@ struct OmitSpec {
   bool cov = false;        ///< covariances of measurements, propagations and steps
   bool J_bias = false;     ///< bias Jacobians of measurements
   bool R = false;          ///< rotation matrices of increments (q_wxyz stays)
-  bool reference = false;  ///< a measurement's preint_reference J_bias and cov when it is expressed in other conventions
+  bool reference = false;  ///< a measurement's preint_reference J_bias and cov when it is expressed
+                           ///< in other conventions
 };
 
 }  // namespace imuconv::pipeline

@@ -59,8 +59,9 @@ class OutputFile {
   /// standard output says "-".
   explicit OutputFile(std::string path, std::optional<Confinement> within = std::nullopt);
   /// An output that was not committed is discarded: the temporary is removed, a
-  /// written-through output's spool closed (it was unlinked when made, so nothing is left). A reader already waiting on a FIFO is sent end-of-file (no data) rather than
-  /// left waiting for ever.
+  /// written-through output's spool closed (it was unlinked when made, so nothing is left). A
+  /// reader already waiting on a FIFO is sent end-of-file (no data) rather than left waiting for
+  /// ever.
   ~OutputFile();
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;

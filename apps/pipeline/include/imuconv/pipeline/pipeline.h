@@ -52,7 +52,8 @@ class Pipeline {
   /// The pipeline's "output" key, resolved against its directory.
   const std::optional<std::string>& output_path() const;
   /// Every file the pipeline reads: the pipeline itself, the Kalibr noise file, the IMU and
-  /// ground-truth files and the measurement files, each once, as resolved paths. An output must be none of them.
+  /// ground-truth files and the measurement files, each once, as resolved paths. An output must be
+  /// none of them.
   std::vector<std::string> input_files() const;
   /// The names of the tasks whose steps RunOptions::on_step receives (propagate_by_preintegration).
   std::vector<std::string> step_tasks() const;
@@ -71,7 +72,8 @@ class Pipeline {
 /// the sink has received an incomplete document: write it to a temporary (OutputFile) and
 /// discard it on failure.
 void RunToText(const Pipeline& p, const RunOptions& options, const TextSink& sink);
-void RunToText(const Pipeline& p, const Registry& reg, const RunOptions& options, const TextSink& sink);
+void RunToText(const Pipeline& p, const Registry& reg, const RunOptions& options,
+               const TextSink& sink);
 
 /// Loads the registry from RunOptions::plugin_dirs, the pipeline's plugin_dirs and the
 /// default search path, then runs. Throws ConfigError / ReadError / Error naming the file.
@@ -81,15 +83,16 @@ json Run(const Pipeline& p, const RunOptions& options);
 json Run(const Pipeline& p, const Registry& reg, const RunOptions& options);
 
 /// Runs the pipeline (as RunToText does, the registry loaded as RunToText loads it, or given)
-/// and returns its output document's arrays and sidecar (result_arrays.h): the same, name for name and bit for
-/// bit, as CollectResultArrays gives for the document's text, but collected from the values
-/// the tasks write, without formatting them as text and reading them back. Holds what
+/// and returns its output document's arrays and sidecar (result_arrays.h): the same, name for name
+/// and bit for bit, as CollectResultArrays gives for the document's text, but collected from the
+/// values the tasks write, without formatting them as text and reading them back. Holds what
 /// CollectResultArrays holds (the numbers and the sidecar), never the document. `started` (may
 /// be empty) is called once, when the first values are collected, after every check of the run
 /// has passed (e.g. to check that the destination is no loaded plugin). With
 /// RunOptions::check_only nothing runs and the result is empty. Throws as RunToText and
 /// CollectResultArrays do, messages naming "the output of PIPELINE".
-ResultArrays RunToArrays(const Pipeline& p, const RunOptions& options, const std::function<void()>& started = {});
+ResultArrays RunToArrays(const Pipeline& p, const RunOptions& options,
+                         const std::function<void()>& started = {});
 ResultArrays RunToArrays(const Pipeline& p, const Registry& reg, const RunOptions& options,
                          const std::function<void()>& started = {});
 

@@ -58,7 +58,9 @@ struct NdArray {
   std::vector<std::size_t> shape;      ///< empty: a 0-d array (one value)
   std::vector<double> data;            ///< kFloat64
   std::vector<std::int64_t> integers;  ///< kInt64
-  std::size_t size() const noexcept { return type == Type::kFloat64 ? data.size() : integers.size(); }
+  std::size_t size() const noexcept {
+    return type == Type::kFloat64 ? data.size() : integers.size();
+  }
 };
 
 struct ResultArrays {
@@ -82,8 +84,8 @@ ResultArrays CollectResultArrays(std::string_view text, const std::string& what)
 
 /// Writes `r` as a NumPy .npz archive (format 1.0 members, "<f8" / "<i8" little-endian, C
 /// order, stored; the sidecar as member kSidecarKey) into `sink`, in pieces. ZIP64 records are
-/// written when the archive needs them (past 4 GiB, or 65535 members or more); `force_zip64` writes them
-/// always (for tests).
+/// written when the archive needs them (past 4 GiB, or 65535 members or more); `force_zip64` writes
+/// them always (for tests).
 void WriteResultNpz(const ResultArrays& r, const std::function<void(std::string_view)>& sink,
                     bool force_zip64 = false);
 

@@ -30,13 +30,15 @@ struct SampleIssue {
 
 /// Finite numbers, strictly increasing t, then FindTimingIssue(t, policy, declared, source).
 /// Nothing when the series is fine.
-[[nodiscard]] std::optional<SampleIssue> FindSampleIssue(const std::vector<ImuSample>& samples, const TimingPolicy& policy,
-                                           TimeUnit declared, TimeSource source);
+[[nodiscard]] std::optional<SampleIssue> FindSampleIssue(const std::vector<ImuSample>& samples,
+                                                         const TimingPolicy& policy,
+                                                         TimeUnit declared, TimeSource source);
 
 /// The noise densities must be finite and >= 0, and their squares divided by
 /// `shortest_period` (seconds, the shortest sample period; the discrete covariance of one
 /// step) finite: 1e160 passes the first test and turns every covariance into inf.
-[[nodiscard]] std::optional<std::string> FindNoiseIssue(const ImuNoise& noise, double shortest_period);
+[[nodiscard]] std::optional<std::string> FindNoiseIssue(const ImuNoise& noise,
+                                                        double shortest_period);
 
 /// An IMU is as fast as the motion capture it is compared with, or up to some ten times
 /// faster (EuRoC: 200 Hz and 200 Hz; TUM VI: 200 Hz and 120 Hz; phones: 100-400 Hz against
@@ -50,7 +52,8 @@ inline constexpr double kMaxImuToGroundTruthRate = 316.22776601683796;    // 10^
 /// Compares the median periods of the IMU samples and of the ground truth (seconds, both
 /// positive). Nothing when the rates agree (see above); else the sentence, naming the unit the
 /// IMU's stamps would then be in.
-[[nodiscard]] std::optional<std::string> FindRateDisagreement(double imu_period, double ground_truth_period, TimeUnit declared,
-                                                TimeSource source);
+[[nodiscard]] std::optional<std::string> FindRateDisagreement(double imu_period,
+                                                              double ground_truth_period,
+                                                              TimeUnit declared, TimeSource source);
 
 }  // namespace imuconv::pipeline

@@ -32,7 +32,7 @@ struct ShardHead {
 
 /// Shards read through and checked, in shard order.
 struct RunShards {
-  std::vector<ShardHead> heads;  ///< as given
+  std::vector<ShardHead> heads;    ///< as given
   std::vector<std::size_t> order;  ///< indices into heads, shard 0 first
 };
 
@@ -45,6 +45,7 @@ RunShards CheckRunShards(const std::vector<std::string>& files);
 /// Writes the whole run's document, byte for byte what `imuconv run P.json` writes, through
 /// `write`, reading each shard again (and refusing, with ShardError, one that changed since it
 /// was checked: the caller's output must then be discarded). Returns the number of task elements.
-std::uint64_t JoinRunShards(const RunShards& shards, const std::function<void(std::string_view)>& write);
+std::uint64_t JoinRunShards(const RunShards& shards,
+                            const std::function<void(std::string_view)>& write);
 
 }  // namespace imuconv::pipeline

@@ -70,11 +70,13 @@ double MedianPeriod(const std::vector<double>& t);
 /// stamps look like), then, unless policy.allow_gaps, every gap against
 /// policy.max_gap_factor x the median period. Nothing if the series is fine or has < 2 samples.
 std::optional<TimingIssue> FindTimingIssue(const std::vector<double>& t, const TimingPolicy& policy,
-                                           TimeUnit declared = TimeUnit::s, TimeSource source = TimeSource::imu);
+                                           TimeUnit declared = TimeUnit::s,
+                                           TimeSource source = TimeSource::imu);
 
 /// The same with the median period given (the readers take it from a window around the kept
 /// range, see imu_reader.h).
 std::optional<TimingIssue> FindTimingIssue(const std::vector<double>& t, double median_period,
-                                           const TimingPolicy& policy, TimeUnit declared, TimeSource source);
+                                           const TimingPolicy& policy, TimeUnit declared,
+                                           TimeSource source);
 
 }  // namespace imuconv::pipeline

@@ -25,8 +25,8 @@ struct PointSeries {
   std::string name;
   std::vector<double> x, y;
   std::string color = "#1f77b4";
-  bool line = false;     ///< joined by a polyline, else dots
-  double radius = 2.0;   ///< of a dot
+  bool line = false;    ///< joined by a polyline, else dots
+  double radius = 2.0;  ///< of a dot
 };
 
 /// The region between lo(x) and hi(x), filled.

@@ -20,14 +20,16 @@ class HtmlDocument {
   /// <h1>..<h6> (level clamped to 1..6). The title is already the page's <h1>.
   void AddHeading(int level, std::string_view text);
   void AddParagraph(std::string_view text);
-  /// The judgment as a coloured badge, <div class="verdict" data-verdict="consistent|inconsistent">:
-  /// the word and the one-line reason. Call it first, so it is at the top under the title.
+  /// The judgment as a coloured badge, <div class="verdict"
+  /// data-verdict="consistent|inconsistent">: the word and the one-line reason. Call it first, so
+  /// it is at the top under the title.
   void AddVerdict(bool consistent, std::string_view reason);
   /// Text in a fixed-width font (a command line, a path).
   void AddCode(std::string_view text);
   void AddList(const std::vector<std::string>& items);
   /// A table: a header row, then rows (a short row is padded with empty cells).
-  void AddTable(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
+  void AddTable(const std::vector<std::string>& header,
+                const std::vector<std::vector<std::string>>& rows);
   /// Figures side by side (wrapping on a narrow window), each an SVG element and its caption.
   struct Figure {
     std::string svg;  ///< markup from HeatmapSvg or ChartSvg
