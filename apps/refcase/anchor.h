@@ -13,8 +13,10 @@
 //                `openvins_rk4`, `openvins_analytical`, looked up by id at run time) in the
 //                `openvins_jpl` error state from P0 = cov_s_left in that chart; the document's
 //                `methods_written` and `methods_missing` say which.
-// The residuals' end states follow the anchors' recipe: the system's own prediction from
-// state_s retracted by end_perturbation (R^ Exp(dth), p^ + R^ dp, v^ + R^ dv, biases added).
+// Each writer is one file of anchors/ (anchors/anchor_writer.h: a new system adds its file
+// there and edits nothing else). The residuals' end states follow the anchors' recipe: the system's
+// own prediction from state_s retracted by end_perturbation (R^ Exp(dth), p^ + R^ dp, v^ + R^ dv,
+// biases added).
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -1,0 +1,63 @@
+// One anchor writer of `imuconv refcase --anchor NAME` (anchor.h): a system's computed fields
+// of tests/data/reference/anchors/NAME/, from a case, with that system's input conventions.
+// Each system's writer is one file in this folder, ending with IMUCONV_ANCHOR_WRITER; CMake
+// lists the folder's files into the table anchor.cpp reads (anchor_table.inc), so adding a
+// system adds a file here and edits none.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "imuconv/registry.h"
+#include "imuconv/so3.h"
+#include "imuconv/window.h"
+#include "refcase.h"
+
+namespace imuconv::refcase {
+
+struct AnchorWriter {
+  const char* name;  ///< the NAME of --anchor and of the anchors' folder
+  nlohmann::json (*write)(const Registry& reg, const Case& k);
+};
+
+namespace anchor_support {
+
+/// The whole case, first sample to last, at the bias estimate given.
+inline PreintegrationInput Input(const Case& k, const Vec3& bg, const Vec3& ba) {
+  PreintegrationInput in;
+  const Status st = MakeWindow(k.samples.data(), k.samples.size(), k.samples.front().t,
+                               k.samples.back().t, in.window);
+  if (!st.ok()) throw Error("/imu: " + st.message());
+  in.bg = bg;
+  in.ba = ba;
+  in.noise = k.noise;
+  return in;
+}
+
+inline void Require(const Status& st, const char* what) {
+  if (!st.ok()) throw Error(std::string(what) + ": " + st.message());
+}
+
+inline nlohmann::json Wxyz(const Eigen::Quaterniond& q) {
+  return nlohmann::json::array({q.w(), q.x(), q.y(), q.z()});
+}
+
+/// The rotation Exp(dtheta) as a quaternion with w >= 0.
+inline Eigen::Quaterniond QuaternionExp(const Vec3& dtheta) {
+  const Eigen::Vector4d q = so3::ToQuaternionWxyz(so3::Exp(dtheta));
+  return Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+}
+
+}  // namespace anchor_support
+}  // namespace imuconv::refcase
+
+/// Declares this file's writer: STEM is the file's name without .cpp, NAME the --anchor name,
+/// WRITE the function json(const Registry&, const Case&).
+#define IMUCONV_ANCHOR_WRITER(STEM, NAME, WRITE)   \
+  namespace imuconv::refcase {                     \
+  const AnchorWriter& STEM##_anchor_writer() {     \
+    static const AnchorWriter writer{NAME, WRITE}; \
+    return writer;                                 \
+  }                                                \
+  }
