@@ -36,7 +36,7 @@ const Registry& WithUserPlugins() {
   return *reg;
 }
 
-Result RunMethod(const std::string& id, const Input& in, bool allow_mean_only = true) {
+Result RunUserMethod(const std::string& id, const Input& in, bool allow_mean_only = true) {
   const Registry& reg = WithUserPlugins();
   const PreintegrationMethod method = ResolvePreintegrationMethod(reg, PluginKind::Propagator, id);
   Options o;
@@ -53,7 +53,7 @@ bool SameBits(const Mat15& a, const Mat15& b) {
 
 TEST(MontecarloUserPlugin, ARightMeanOnlyIntegrationIsServedByTheFastPath) {
   const Input in = CaseInput("jitter-0", 1.0);
-  const Result user = RunMethod("user_euler", in), builtin = RunMethod("euler", in);
+  const Result user = RunUserMethod("user_euler", in), builtin = RunUserMethod("euler", in);
   EXPECT_EQ(user.trial_path, "mean_only");
   EXPECT_EQ(user.mean_only_offset, 0.0);
   EXPECT_TRUE(user.mean_only_refused.empty()) << user.mean_only_refused;
@@ -65,8 +65,8 @@ TEST(MontecarloUserPlugin, ARightMeanOnlyIntegrationIsServedByTheFastPath) {
 
 TEST(MontecarloUserPlugin, AWrongMeanOnlyIntegrationIsRefusedAndTheRunSaysSo) {
   const Input in = CaseInput("jitter-0", 1.0);
-  const Result wrong = RunMethod("user_euler_wrong_mean", in);
-  const Result full = RunMethod("user_euler_wrong_mean", in, /*allow_mean_only=*/false);
+  const Result wrong = RunUserMethod("user_euler_wrong_mean", in);
+  const Result full = RunUserMethod("user_euler_wrong_mean", in, /*allow_mean_only=*/false);
   EXPECT_EQ(wrong.trial_path, "full");
   EXPECT_NE(wrong.mean_only_refused.find("standard deviations of the prediction from the full "
                                          "path's nominal increment"),
@@ -76,7 +76,7 @@ TEST(MontecarloUserPlugin, AWrongMeanOnlyIntegrationIsRefusedAndTheRunSaysSo) {
   // path, and as the built-in euler's full path (the fixture's propagate() is its kernel).
   EXPECT_TRUE(SameBits(wrong.stats.sample_cov, full.stats.sample_cov));
   EXPECT_EQ(wrong.stats.nees_mean, full.stats.nees_mean);
-  EXPECT_TRUE(SameBits(wrong.stats.sample_cov, RunMethod("euler", in).stats.sample_cov));
+  EXPECT_TRUE(SameBits(wrong.stats.sample_cov, RunUserMethod("euler", in).stats.sample_cov));
   EXPECT_TRUE(full.mean_only_refused.empty());  // not asked for: nothing refused
   // Said in the outputs a user reads, not only in the Result.
   EXPECT_EQ(ReportJson(wrong).at("mean_only_refused"), wrong.mean_only_refused);
@@ -91,7 +91,7 @@ TEST(MontecarloUserPlugin, AWrongMeanOnlyIntegrationIsRefusedAndTheRunSaysSo) {
 
 TEST(MontecarloUserPlugin, AFailingMeanOnlyIntegrationIsRefusedWithItsMessage) {
   const Input in = CaseInput("smooth-0", 0.5);
-  const Result r = RunMethod("user_euler_mean_fails", in);
+  const Result r = RunUserMethod("user_euler_mean_fails", in);
   EXPECT_EQ(r.trial_path, "full");
   EXPECT_NE(r.mean_only_refused.find("fixture user_euler_mean_fails: no mean today"),
             std::string::npos)
@@ -102,7 +102,7 @@ TEST(MontecarloUserPlugin, AFailingMeanOnlyIntegrationIsRefusedWithItsMessage) {
 // refusal: nothing was offered.
 TEST(MontecarloUserPlugin, APluginWithoutItRunsTheFullPathSilently) {
   const Input in = CaseInput("smooth-0", 0.5);
-  const Result r = RunMethod("openvins_rk4", in);
+  const Result r = RunUserMethod("openvins_rk4", in);
   EXPECT_EQ(r.trial_path, "full");
   EXPECT_TRUE(r.mean_only_refused.empty()) << r.mean_only_refused;
 }
