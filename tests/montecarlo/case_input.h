@@ -4,6 +4,7 @@
 // estimate. Short windows keep the montecarlo tests at about a second each.
 #pragma once
 
+#include <cstring>
 #include <string>
 
 #include "imuconv_test.h"
@@ -21,6 +22,11 @@ inline Input CaseInput(const std::string& id, double seconds) {
   in.bg = test::JsonVec3(c.at("state_s").at("bg"));
   in.ba = test::JsonVec3(c.at("state_s").at("ba"));
   return in;
+}
+
+/// Whether two matrices hold the same doubles bit for bit (a path's results "by construction").
+inline bool SameBits(const Mat15& a, const Mat15& b) {
+  return std::memcmp(a.data(), b.data(), sizeof(double) * 225) == 0;
 }
 
 }  // namespace imuconv::montecarlo

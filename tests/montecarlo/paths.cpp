@@ -34,10 +34,6 @@ Result RunMethod(const std::string& method_id, PluginKind kind, const Input& in,
   return RunMonteCarlo(Plugins(), method, DefaultConvention(method), in, o);
 }
 
-bool SameBits(const Mat15& a, const Mat15& b) {
-  return std::memcmp(a.data(), b.data(), sizeof(double) * 225) == 0;
-}
-
 TEST(MontecarloPaths, MeanOnlyGivesTheFullPathsTrialsBitForBit) {
   for (const char* case_id : {"aggressive-0", "jitter-0"}) {
     const Input in = CaseInput(case_id, 2.0);

@@ -47,10 +47,6 @@ Result RunUserMethod(const std::string& id, const Input& in, bool allow_mean_onl
   return RunMonteCarlo(reg, method, DefaultConvention(method), in, o);
 }
 
-bool SameBits(const Mat15& a, const Mat15& b) {
-  return std::memcmp(a.data(), b.data(), sizeof(double) * 225) == 0;
-}
-
 TEST(MontecarloUserPlugin, ARightMeanOnlyIntegrationIsServedByTheFastPath) {
   const Input in = CaseInput("jitter-0", 1.0);
   const Result user = RunUserMethod("user_euler", in), builtin = RunUserMethod("euler", in);
