@@ -5,8 +5,8 @@
 // host calls these functions by a method's name.
 //
 // Each function below gives, bit for bit, the increment that the kernel's full run gives
-// through its plugin and the bridge (registry/src/bridge.cpp), without the transition matrix,
-// the covariance or (for the propagators) the plugin call:
+// through its plugin and the bridge (registry/src/bridge.cpp), without the transition matrix
+// or the covariance:
 //   propagators (euler, midpoint, rk4), preintegration by propagation (the paper, section
 //     3.1): propagated from the identity with zero gravity, the end state is the increment;
 //   native preintegrators (manifold, tangent): their increment, which the bridge copies
