@@ -28,15 +28,15 @@ namespace {
 using namespace imuconv;
 using namespace imuconv::test;
 
-constexpr double kFloatTol = 1e-4;
+constexpr double kPluginFloatTol = 1e-4;
 #if defined(__x86_64__)
-constexpr bool kSameFloatArithmetic = true;
+constexpr bool kPluginSameFloatArithmetic = true;
 #else
-constexpr bool kSameFloatArithmetic = false;
+constexpr bool kPluginSameFloatArithmetic = false;
 #endif
 
 /// A 9x6 bias Jacobian from the anchor's five blocks, rows [theta; v; p], columns [bg, ba].
-Mat96 AnchorJacobian(const nlohmann::json& p) {
+Mat96 OrbAnchorBiasJacobian(const nlohmann::json& p) {
   Mat96 J = Mat96::Zero();
   J.block<3, 3>(0, 0) = JsonMatrix(p.at("JRg"));
   J.block<3, 3>(3, 0) = JsonMatrix(p.at("JVg"));
@@ -47,7 +47,7 @@ Mat96 AnchorJacobian(const nlohmann::json& p) {
 }
 
 /// ORB's [theta, v, p, bg, ba] to the reference's [theta, p, v, bg, ba], written out by hand.
-Eigen::PermutationMatrix<15> OrbToReference() {
+Eigen::PermutationMatrix<15> OrbOrderToReference() {
   Eigen::VectorXi to(15);  // to[i]: where ORB's coordinate i goes
   for (int i = 0; i < 3; ++i) {
     to[i] = i;            // theta
@@ -59,35 +59,35 @@ Eigen::PermutationMatrix<15> OrbToReference() {
   return Eigen::PermutationMatrix<15>(to);
 }
 
-void ExpectPluginIsAnchor(const nlohmann::json& a, const Preintegrated& m,
-                          const std::string& label) {
+void ExpectOrbPluginIsAnchor(const nlohmann::json& a, const Preintegrated& m,
+                             const std::string& label) {
   const Preintegrated orb = Express(Plugins(), m, "orb_slam3");
   ASSERT_EQ(orb.convention, "orb_slam3");
   ASSERT_EQ(orb.jacobian_convention, "orb_slam3");
   EXPECT_EQ(static_cast<float>(a.at("dT").get<double>()), static_cast<float>(orb.dt)) << label;
   EXPECT_NEAR(a.at("dT").get<double>(), orb.dt, 1e-6) << label;
-  AnchorFieldDiffs w(label, kFloatTol);
-  w.Float("dR", JsonMatrix(a.at("dR")), orb.delta.dR, kSameFloatArithmetic);
-  w.Float("dV", JsonMatrix(a.at("dV")), orb.delta.dv, kSameFloatArithmetic);
-  w.Float("dP", JsonMatrix(a.at("dP")), orb.delta.dp, kSameFloatArithmetic);
+  AnchorFieldDiffs w(label, kPluginFloatTol);
+  w.Float("dR", JsonMatrix(a.at("dR")), orb.delta.dR, kPluginSameFloatArithmetic);
+  w.Float("dV", JsonMatrix(a.at("dV")), orb.delta.dv, kPluginSameFloatArithmetic);
+  w.Float("dP", JsonMatrix(a.at("dP")), orb.delta.dp, kPluginSameFloatArithmetic);
   // ORB-SLAM3's C is not exactly symmetric: A C A^T + B N B^T in float rounds (i, j) and
   // (j, i) differently, up to 1.5e-5 of an entry (aggressive-0, reintegrated: an entry of
   // 1.6e-4). The registry symmetrizes every covariance it converts (bridge.cpp), so the plugin
   // path gives (C + C^T) / 2, which is exact in double from floats: that is compared.
   const Mat15 C_orb = JsonMatrix(a.at("C").at("matrix"));
   const Mat15 C = 0.5 * (C_orb + C_orb.transpose());
-  const Mat96 J = AnchorJacobian(a);
-  w.Float("C", C, orb.cov, kSameFloatArithmetic);
-  w.Float("J_bias", J, orb.J_bias, kSameFloatArithmetic);
+  const Mat96 J = OrbAnchorBiasJacobian(a);
+  w.Float("C", C, orb.cov, kPluginSameFloatArithmetic);
+  w.Float("J_bias", J, orb.J_bias, kPluginSameFloatArithmetic);
 
   // The same numbers in the reference charts: C and the Jacobian's rows permuted.
   const Preintegrated ref = Express(Plugins(), m, "preint_reference");
-  const Eigen::PermutationMatrix<15> P = OrbToReference();
+  const Eigen::PermutationMatrix<15> P = OrbOrderToReference();
   const Mat15 C_ref = P * C * P.transpose();
   Mat96 J_ref;
   J_ref << J.middleRows<3>(0), J.middleRows<3>(6), J.middleRows<3>(3);  // [theta; p; v]
-  w.Float("C in preint_reference", C_ref, ref.cov, kSameFloatArithmetic);
-  w.Float("J_bias in preint_reference", J_ref, ref.J_bias, kSameFloatArithmetic);
+  w.Float("C in preint_reference", C_ref, ref.cov, kPluginSameFloatArithmetic);
+  w.Float("J_bias in preint_reference", J_ref, ref.J_bias, kPluginSameFloatArithmetic);
   w.Print();
 }
 
@@ -105,7 +105,7 @@ class OrbSlam3Plugin : public ::testing::TestWithParam<const char*> {
 
 TEST_P(OrbSlam3Plugin, PreintegrationIsOrbSlam3Own) {
   const PreintegrationInput in = AnchorInput(case_, case_.x_s.bg, case_.x_s.ba);
-  ExpectPluginIsAnchor(
+  ExpectOrbPluginIsAnchor(
       anchor_.at("preintegration"),
       PreintegrateNative(Plugins(), "orb_slam3", in.window, in.bg, in.ba, in.noise),
       std::string(GetParam()) + " orb_slam3");
@@ -116,7 +116,7 @@ TEST_P(OrbSlam3Plugin, ReintegrationAtTheNewBiasIsOrbSlam3Own) {
   const nlohmann::json& bc = anchor_.at("bias_correction");
   const PreintegrationInput in =
       AnchorInput(case_, JsonVec3(bc.at("bg_new")), JsonVec3(bc.at("ba_new")));
-  ExpectPluginIsAnchor(
+  ExpectOrbPluginIsAnchor(
       bc.at("reintegrated"),
       PreintegrateNative(Plugins(), "orb_slam3", in.window, in.bg, in.ba, in.noise),
       std::string(GetParam()) + " orb_slam3 reintegrated");

@@ -22,51 +22,51 @@ using namespace anchor_support;
 constexpr double kOrbSlam3ImuFrequency = 200.0;
 
 template <typename Derived>
-json FloatJson(const Eigen::MatrixBase<Derived>& m) {
+json OrbFloatJson(const Eigen::MatrixBase<Derived>& m) {
   if constexpr (Derived::ColsAtCompileTime == 1)
     return ToJsonVec(m.template cast<double>());
   else
     return ToJson(m.template cast<double>());
 }
 
-json PreintegratedJson(const OrbSlam3Preintegrated& p) {
+json OrbPreintegratedJson(const OrbSlam3Preintegrated& p) {
   return {{"dT", static_cast<double>(p.dT)},
-          {"dR", FloatJson(p.dR)},
-          {"dV", FloatJson(p.dV)},
-          {"dP", FloatJson(p.dP)},
-          {"JRg", FloatJson(p.JRg)},
-          {"JVg", FloatJson(p.JVg)},
-          {"JVa", FloatJson(p.JVa)},
-          {"JPg", FloatJson(p.JPg)},
-          {"JPa", FloatJson(p.JPa)},
-          {"avgA", FloatJson(p.avgA)},
-          {"avgW", FloatJson(p.avgW)},
+          {"dR", OrbFloatJson(p.dR)},
+          {"dV", OrbFloatJson(p.dV)},
+          {"dP", OrbFloatJson(p.dP)},
+          {"JRg", OrbFloatJson(p.JRg)},
+          {"JVg", OrbFloatJson(p.JVg)},
+          {"JVa", OrbFloatJson(p.JVa)},
+          {"JPg", OrbFloatJson(p.JPg)},
+          {"JPa", OrbFloatJson(p.JPa)},
+          {"avgA", OrbFloatJson(p.avgA)},
+          {"avgW", OrbFloatJson(p.avgW)},
           {"C",
            {{"order", json::array({"theta", "v", "p", "bg", "ba"})},
             {"definition",
              "dR = dR^ Exp(dtheta) (right, frame of the first sample), dV = dV^ + dv, dP = dP^ + "
              "dp, bg = bg^ + dbg, ba = ba^ + dba; bias blocks are only the accumulated random walk "
              "(no cross terms)"},
-            {"matrix", FloatJson(p.C)}}}};
+            {"matrix", OrbFloatJson(p.C)}}}};
 }
 
 /// A vertex's values as the file writes them: R, p, v, biases and R's quaternion as Eigen's
 /// Quaterniond(R) converts it (the sign its branch on the trace and the largest diagonal entry
 /// gives: w < 0 on jitter-1 and smooth-3), the conversion ORB-SLAM3's Converter and g2o use.
-json StateJson(const OrbSlam3Pose<double>& x, const Vec3& bg, const Vec3& ba) {
+json OrbStateJson(const OrbSlam3Pose<double>& x, const Vec3& bg, const Vec3& ba) {
   return {{"R", ToJson(x.R)},    {"q_wxyz", Wxyz(Eigen::Quaterniond(x.R))},
           {"p", ToJsonVec(x.p)}, {"v", ToJsonVec(x.v)},
           {"bg", ToJsonVec(bg)}, {"ba", ToJsonVec(ba)}};
 }
 
-json EdgeJson(const OrbSlam3EdgeInertial& e) {
+json OrbEdgeJson(const OrbSlam3EdgeInertial& e) {
   return {{"residual", ToJsonVec(e.residual)},      {"chi2", e.chi2},
           {"J_pose1", ToJson(e.J_pose1)},           {"J_vel1", ToJson(e.J_vel1)},
           {"J_gyro_bias1", ToJson(e.J_gyro_bias1)}, {"J_acc_bias1", ToJson(e.J_acc_bias1)},
           {"J_pose2", ToJson(e.J_pose2)},           {"J_vel2", ToJson(e.J_vel2)}};
 }
 
-json OrbSlam3(const Registry&, const Case& k) {
+json OrbSlam3Fields(const Registry&, const Case& k) {
   std::vector<OrbSlam3Step> steps;
   Require(OrbSlam3Steps(k.samples, steps), "ORB-SLAM3 preintegration");
   const OrbSlam3Calib calib = OrbSlam3CalibFromDensities(k.noise, kOrbSlam3ImuFrequency);
@@ -75,7 +75,7 @@ json OrbSlam3(const Registry&, const Case& k) {
   const OrbSlam3Preintegrated pre = PreintegrateOrbSlam3(steps, calib, b_lin);
 
   json out;
-  out["preintegration"] = PreintegratedJson(pre);
+  out["preintegration"] = OrbPreintegratedJson(pre);
 
   // The start state from the case's quaternion as written (ORB-SLAM3's frames hold it so).
   OrbSlam3Pose<double> s1;
@@ -88,10 +88,11 @@ json OrbSlam3(const Registry&, const Case& k) {
   s1_float.p = s1.p.cast<float>();
   s1_float.v = s1.v.cast<float>();
   const OrbSlam3Pose<float> tracked = PredictOrbSlam3Tracking(pre, s1_float);
-  out["predict_tracking_float"] = {
-      {"R", FloatJson(tracked.R)}, {"p", FloatJson(tracked.p)}, {"v", FloatJson(tracked.v)}};
+  out["predict_tracking_float"] = {{"R", OrbFloatJson(tracked.R)},
+                                   {"p", OrbFloatJson(tracked.p)},
+                                   {"v", OrbFloatJson(tracked.v)}};
   const OrbSlam3Pose<double> pred = PredictOrbSlam3(pre, s1);
-  out["predict"] = StateJson(pred, k.x_s.bg, k.x_s.ba);
+  out["predict"] = OrbStateJson(pred, k.x_s.bg, k.x_s.ba);
 
   // End state: the shared recipe on `predict`, end_perturbation = [dth, dp, dv, dbg, dba].
   const Vec15& e = k.end_perturbation;
@@ -104,13 +105,13 @@ json OrbSlam3(const Registry&, const Case& k) {
       {"g", json::array({0.0, 0.0, -static_cast<double>(9.81f)})},  // IMU::GRAVITY_VALUE
       {"dt", static_cast<double>(pre.dT)},
       {"information", ToJson(OrbSlam3EdgeInformation(pre))},
-      {"state_i", StateJson(s1, k.x_s.bg, k.x_s.ba)},
-      {"state_j", StateJson(s2, k.x_s.bg + e.segment<3>(9), k.x_s.ba + e.segment<3>(12))},
+      {"state_i", OrbStateJson(s1, k.x_s.bg, k.x_s.ba)},
+      {"state_j", OrbStateJson(s2, k.x_s.bg + e.segment<3>(9), k.x_s.ba + e.segment<3>(12))},
       {"residual_at_predict",
        ToJsonVec(EvaluateOrbSlam3EdgeInertial(pre, s1, k.x_s.bg, k.x_s.ba, pred).residual)},
-      {"at_lin_bias", EdgeJson(EvaluateOrbSlam3EdgeInertial(pre, s1, k.x_s.bg, k.x_s.ba, s2))},
-      {"state_i_new_bias", StateJson(s1, bg_new, ba_new)},
-      {"at_new_bias", EdgeJson(EvaluateOrbSlam3EdgeInertial(pre, s1, bg_new, ba_new, s2))}};
+      {"at_lin_bias", OrbEdgeJson(EvaluateOrbSlam3EdgeInertial(pre, s1, k.x_s.bg, k.x_s.ba, s2))},
+      {"state_i_new_bias", OrbStateJson(s1, bg_new, ba_new)},
+      {"at_new_bias", OrbEdgeJson(EvaluateOrbSlam3EdgeInertial(pre, s1, bg_new, ba_new, s2))}};
 
   const OrbSlam3Bias b_new{bg_new.cast<float>(), ba_new.cast<float>()};
   Eigen::Matrix<float, 6, 1> db;
@@ -118,20 +119,20 @@ json OrbSlam3(const Registry&, const Case& k) {
   out["bias_correction"] = {
       {"bg_new", ToJsonVec(bg_new)},
       {"ba_new", ToJsonVec(ba_new)},
-      {"bias_new_float", {{"bg", FloatJson(b_new.bg)}, {"ba", FloatJson(b_new.ba)}}},
+      {"bias_new_float", {{"bg", OrbFloatJson(b_new.bg)}, {"ba", OrbFloatJson(b_new.ba)}}},
       {"first_order",
-       {{"dR", FloatJson(OrbSlam3DeltaRotation(pre, b_new))},
-        {"dV", FloatJson(OrbSlam3DeltaVelocity(pre, b_new))},
-        {"dP", FloatJson(OrbSlam3DeltaPosition(pre, b_new))},
-        {"db", FloatJson(db)},
+       {{"dR", OrbFloatJson(OrbSlam3DeltaRotation(pre, b_new))},
+        {"dV", OrbFloatJson(OrbSlam3DeltaVelocity(pre, b_new))},
+        {"dP", OrbFloatJson(OrbSlam3DeltaPosition(pre, b_new))},
+        {"db", OrbFloatJson(db)},
         // SetNewBias then GetUpdatedDelta* is GetDelta*(b_new): the kernel has one function
         // for both (OrbSlam3Delta*), as upstream's two compute the same expressions.
         {"equals_GetDelta_of_new_bias", true}}},
-      {"reintegrated", PreintegratedJson(PreintegrateOrbSlam3(pre.steps, calib, b_new))}};
+      {"reintegrated", OrbPreintegratedJson(PreintegrateOrbSlam3(pre.steps, calib, b_new))}};
   return out;
 }
 
 }  // namespace
 }  // namespace imuconv::refcase
 
-IMUCONV_ANCHOR_WRITER(orb_slam3, "orb-slam3", &OrbSlam3)
+IMUCONV_ANCHOR_WRITER(orb_slam3, "orb-slam3", &OrbSlam3Fields)
