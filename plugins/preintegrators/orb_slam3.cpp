@@ -50,6 +50,12 @@ double NominalRate(const SampleWindow& w) {
 struct OrbSlam3Scheme {
   static constexpr const char* kCovConvention = "orb_slam3";
   static constexpr const char* kJacobianConvention = "orb_slam3";
+  // Each step integrates the mean of its two samples (each sample weighed over half of each
+  // step beside it); the bias constant over the interval, its walk only in C's bias blocks.
+  static constexpr NoiseSimulation kNoiseSimulation{
+      SampleCells::kCentered, NoiseReading::kWalkInIncrementOnly, /*simulable=*/true,
+      ", as ORB-SLAM3's preintegration assumes (its bias walk is weighted by separate edges; "
+      "docs/orb-slam3.md)"};
   Status operator()(const PreintegrationInput& in, Preintegrated& out) const {
     const SampleWindow& w = in.window;
     if (w.size() < 2) return Status::Error("ORB-SLAM3 preintegration: the window has no step");
