@@ -373,9 +373,17 @@ TEST_F(Check, OwnMeasurementsInEveryConventionAreConsistent) {
         EXPECT_EQ(m["best"]["convention"], ms[i]["cov"]["convention"]) << what[i];
       }
       double worst_i = 0.0;
-      for (const char* part : {"delta", "J_bias", "cov"})
+      for (const char* part : {"J_bias", "cov"})
         worst_i = std::max(worst_i, m["best"][part]["max_d"].get<double>());
       EXPECT_LE(worst_i, 1e-9) << what[i];
+      // orb_slam3 computes in float: its rotation is orthogonal only to float precision, and
+      // the measurements form reads R as Exp(Log(R)) (forms/input_checks.cpp), which moves it
+      // by that, about 1e-7 per entry and up to 2e-6 relative to an entry above the metric's
+      // floor (measured). Its increment is judged at the float bound, 1e-4; every other
+      // method's at 1e-9, and every method's J_bias and cov above.
+      const double delta_d = m["best"]["delta"]["max_d"].get<double>();
+      EXPECT_LE(delta_d, method == "orb_slam3" ? 1e-4 : 1e-9) << what[i];
+      worst_i = std::max(worst_i, delta_d);
       worst = std::max(worst, worst_i);
     }
     std::printf("  %-28s worst max d %.2g over %zu measurements (%s)\n", method.c_str(), worst,

@@ -5,7 +5,6 @@
 // these numbers; what the tests assert is what the README says each system computes.
 #include <gtest/gtest.h>
 
-#include <set>
 #include <string>
 
 #include "../pipeline/pipeline_test_util.h"
@@ -99,10 +98,13 @@ AnchorChecked RunCheck(const json& m, const std::string& name) {
 
 std::string Labels(const json& f) { return f["rows"].dump() + " x " + f["cols"].dump(); }
 
-TEST(CheckAnchors, OrbSlam3IsJudgedAndItsMissingCrossTermsNamed) {
+// With the `orb_slam3` preintegrator registered, check has ORB-SLAM3's own scheme among its
+// references, and recognizes the original's numbers as that scheme's. (Before it was, check
+// explained them as `midpoint` with the state-bias cross terms found missing; that finding's
+// mechanism is exercised on its own in check_blocks.cpp.)
+TEST(CheckAnchors, OrbSlam3IsRecognizedAsItsOwnScheme) {
   const AnchorChecked c = RunCheck(OrbSlam3Measurement(), "orb-slam3");
-  // Judged, not refused (exit 2): float32 numbers are a normal input.
-  ASSERT_EQ(c.exit_code, 1) << c.err;
+  ASSERT_EQ(c.exit_code, 0) << c.err << c.findings;
   const json& m = c.m;
   std::printf("%s\n%s\n", m["best"].dump().c_str(), c.findings.c_str());
   EXPECT_EQ(m["precision"]["numbers"], "float32");
@@ -113,33 +115,16 @@ TEST(CheckAnchors, OrbSlam3IsJudgedAndItsMissingCrossTermsNamed) {
   EXPECT_NEAR(m["dt_difference"].get<double>(), 10.000181198120117 - 10.0, 1e-9);
   EXPECT_NEAR(m["dt_rounding_bound"].get<double>(), 2000 * std::ldexp(1.0, -24) * 10.0, 1e-9);
   EXPECT_NE(c.findings.find("within what a float32 sum"), std::string::npos) << c.findings;
-  // The README: midpoint (the mean of consecutive samples held over each step), the right
-  // perturbation, block order [theta, v, p, bg, ba].
-  EXPECT_EQ(m["best"]["scheme"], "midpoint");
+  EXPECT_EQ(m["best"]["scheme"], "orb_slam3");
   EXPECT_EQ(m["best"]["blocks"], json({"theta", "v", "p", "bg", "ba"}));
-  EXPECT_LE(m["best"]["delta"]["max_d"].get<double>(), 1e-2);
-  EXPECT_LE(m["best"]["J_bias"]["max_d"].get<double>(), 1e-2);
-  // No state-bias cross terms are ever formed: those blocks are found missing. With them the
-  // bias random walk never reaches theta, v and p, so C[0:9] lacks its share: the README
-  // measures C[0:9] within 2e-4..1.8e-2 of the same scheme's covariance (OpenVINS
-  // `discrete`) on the public cases, so a state block may be a scale within 2 % of 1, and
-  // nothing else may be found.
-  const std::set<std::string> state = {"theta", "p", "v"}, bias = {"bg", "ba"};
-  int missing = 0;
-  for (const json& f : m["block_findings"]) {
-    EXPECT_EQ(f["matrix"], "cov") << f.dump();
-    if (f["kind"] == "missing") {
-      ++missing;
-      EXPECT_TRUE(state.count(f["rows"][0]) && bias.count(f["cols"][0])) << Labels(f);
-    } else {
-      EXPECT_EQ(f["kind"], "scale") << f.dump();
-      EXPECT_TRUE(state.count(f["rows"][0]) && state.count(f["cols"][0])) << Labels(f);
-      EXPECT_NEAR(f["factor"].get<double>(), 1.0, 0.02) << f.dump();
-    }
-  }
-  EXPECT_GE(missing, 1) << c.findings;
-  EXPECT_NE(c.findings.find("is zero where the reference is not: terms never formed"),
-            std::string::npos);
+  // The same float computation: J_bias equal; the increment moved only by the measurements
+  // form's reading of R as Exp(Log(R)) (a float rotation is orthogonal to about 1e-7); C by
+  // half its float asymmetry (the reference is symmetrized, ORB's C is not: 1.4e-6 of an entry
+  // on smooth-0). Bound: the 1e-4 for single precision (measured 1.9e-7 and 7e-7).
+  EXPECT_LE(m["best"]["J_bias"]["max_d"].get<double>(), 1e-4);
+  EXPECT_LE(m["best"]["delta"]["max_d"].get<double>(), 1e-4);
+  EXPECT_LE(m["best"]["cov"]["max_d"].get<double>(), 1e-4);
+  EXPECT_TRUE(m["block_findings"].empty()) << m["block_findings"].dump(1);
   EXPECT_TRUE(m["unexplained_blocks"].empty()) << m["unexplained_blocks"].dump(1);
 }
 

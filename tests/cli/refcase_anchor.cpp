@@ -102,6 +102,7 @@ void RunAnchor(const std::string& name) {
 TEST(RefcaseAnchor, VinsFusionFieldsAreVinsFusionOwn) { RunAnchor("vins-fusion"); }
 TEST(RefcaseAnchor, BasaltFieldsAreBasaltOwn) { RunAnchor("basalt"); }
 TEST(RefcaseAnchor, OpenVinsFieldsAreOpenVinsOwn) { RunAnchor("openvins"); }
+TEST(RefcaseAnchor, OrbSlam3FieldsAreOrbSlam3Own) { RunAnchor("orb-slam3"); }
 
 TEST(RefcaseAnchor, UnknownNameIsRefusedAndNothingWritten) {
   TempDir tmp;
