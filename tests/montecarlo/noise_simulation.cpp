@@ -44,6 +44,7 @@ TEST(MontecarloNoiseSimulation, TheBuiltInPluginsSayTheirCellsAndReadings) {
       {N, "basalt", SampleCells::kBackward, NoiseReading::kWalkInIncrementOnly, true},
       {N, "basalt_forward_zoh", SampleCells::kForward, NoiseReading::kWalkInIncrementOnly, true},
       {N, "basalt_as_configured", SampleCells::kBackward, NoiseReading::kPerSampleStd, true},
+      {N, "orb_slam3", SampleCells::kCentered, NoiseReading::kWalkInIncrementOnly, true},
   };
   for (const auto& e : kExpected) {
     const NoiseSimulation sim = Of(e.kind, e.id);
