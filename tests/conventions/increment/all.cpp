@@ -9,7 +9,7 @@ namespace {
 
 using imuconv::test::Plugins;
 
-// The six built-in conventions and the reference, each in the block order it documents.
+// The seven built-in conventions and the reference, each in the block order it documents.
 TEST(PreintConventions, BuiltInsAndTheirBlockOrders) {
   imuconv::test::CheckBuiltInBlockOrders<imuconv::test::IncrementKind>(
       {{"preint_reference", "theta p v bg ba"},
@@ -18,7 +18,8 @@ TEST(PreintConventions, BuiltInsAndTheirBlockOrders) {
        {"gtsam_manifold_jacobian", "theta p v ba bg"},
        {"forster", "theta p v bg ba"},
        {"vins_fusion", "p theta v ba bg"},
-       {"basalt", "p theta v bg ba"}});
+       {"basalt", "p theta v bg ba"},
+       {"okvis2", "p theta v bg ba"}});
 }
 
 // GTSAM's ManifoldPreintegration states its covariance in c (gtsam_manifold) and its bias
@@ -33,6 +34,7 @@ TEST(PreintConventions, BiasJacobianCharts) {
   EXPECT_EQ(chart("forster"), "forster");
   EXPECT_EQ(chart("vins_fusion"), "vins_fusion");
   EXPECT_EQ(chart("basalt"), "basalt");
+  EXPECT_EQ(chart("okvis2"), "okvis2");
   EXPECT_EQ(chart("preint_reference"), "preint_reference");
   EXPECT_EQ(Plugins()
                 .info(imuconv::PluginKind::IncrementConvention, "gtsam_manifold")
