@@ -22,6 +22,10 @@ class Okvis2StepLocalPropagator : public imuconv::Propagator {
                             imuconv::PropagationResult& out) const noexcept override {
     return imuconv::plugin::detail::RunContained<Scheme>(id(), in, out);
   }
+  // Centered cells, continuous densities (kernels/okvis2_scheme.h); no mean-only integration.
+  imuconv::NoiseSimulation noise_simulation() const noexcept override {
+    return Scheme::kNoiseSimulation;
+  }
 };
 
 }  // namespace

@@ -24,11 +24,18 @@
 #include <Eigen/Geometry>
 
 #include "imuconv/kernels/okvis2.h"
+#include "imuconv/noise_simulation.h"
 #include "imuconv/preintegrated.h"
 #include "imuconv/preintegrator.h"
 #include "imuconv/propagator.h"
 
 namespace imuconv::kernels {
+
+/// OKVIS's noise for a host that simulates it (noise_simulation.h): each step averages its two
+/// samples (trapezoid weights, so centered cells) and the four numbers are continuous densities
+/// with the bias walk in the samples, as OKVIS adds sigma^2 dt per step (docs/okvis2.md).
+inline constexpr NoiseSimulation kOkvis2NoiseSimulation{SampleCells::kCentered,
+                                                        NoiseReading::kContinuous};
 
 /// Every knot of the window as OKVIS stores a sample (okvis::Time stamps).
 inline Status Okvis2SamplesOf(const SampleWindow& w, std::vector<Okvis2Sample>& out) {
@@ -61,6 +68,7 @@ inline Okvis2ImuParameters Okvis2ParametersOf(const ImuNoise& n) {
 /// cov = Phi cov_s Phi^T + OKVIS's noise-only covariance, in `okvis2` ([r, alpha, v, bg, ba]).
 template <Okvis2Transition kTransition>
 struct Okvis2PropagationScheme {
+  static constexpr NoiseSimulation kNoiseSimulation = kOkvis2NoiseSimulation;
   Status operator()(const PropagationInput& in, PropagationResult& out) const {
     std::vector<Okvis2Sample> samples;
     if (Status st = Okvis2SamplesOf(in.window, samples); !st.ok()) return st;
@@ -94,6 +102,7 @@ template <Okvis2Transition kTransition>
 struct Okvis2PreintegrationScheme {
   static constexpr const char* kCovConvention = "okvis2";
   static constexpr const char* kJacobianConvention = "okvis2";
+  static constexpr NoiseSimulation kNoiseSimulation = kOkvis2NoiseSimulation;
   Status operator()(const PreintegrationInput& in, Preintegrated& out) const {
     std::vector<Okvis2Sample> samples;
     if (Status st = Okvis2SamplesOf(in.window, samples); !st.ok()) return st;
