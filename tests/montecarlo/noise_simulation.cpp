@@ -37,6 +37,8 @@ TEST(MontecarloNoiseSimulation, TheBuiltInPluginsSayTheirCellsAndReadings) {
       {P, "openvins_discrete", SampleCells::kCentered, NoiseReading::kContinuous, true},
       {P, "openvins_analytical", SampleCells::kCentered, NoiseReading::kContinuous, true},
       {P, "openvins_rk4", SampleCells::kCentered, NoiseReading::kContinuous, true},
+      {P, "okvis2", SampleCells::kCentered, NoiseReading::kContinuous, true},
+      {P, "okvis2_step_local", SampleCells::kCentered, NoiseReading::kContinuous, true},
       {N, "manifold", SampleCells::kForward, NoiseReading::kContinuous, true},
       {N, "tangent", SampleCells::kForward, NoiseReading::kContinuous, true},
       {N, "vins_fusion", SampleCells::kCentered, NoiseReading::kContinuous, true},
@@ -45,6 +47,7 @@ TEST(MontecarloNoiseSimulation, TheBuiltInPluginsSayTheirCellsAndReadings) {
       {N, "basalt_forward_zoh", SampleCells::kForward, NoiseReading::kWalkInIncrementOnly, true},
       {N, "basalt_as_configured", SampleCells::kBackward, NoiseReading::kPerSampleStd, true},
       {N, "orb_slam3", SampleCells::kCentered, NoiseReading::kWalkInIncrementOnly, true},
+      {N, "okvis2", SampleCells::kCentered, NoiseReading::kContinuous, true},
   };
   for (const auto& e : kExpected) {
     const NoiseSimulation sim = Of(e.kind, e.id);

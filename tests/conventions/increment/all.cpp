@@ -19,7 +19,8 @@ TEST(PreintConventions, BuiltInsAndTheirBlockOrders) {
        {"forster", "theta p v bg ba"},
        {"vins_fusion", "p theta v ba bg"},
        {"basalt", "p theta v bg ba"},
-       {"orb_slam3", "theta v p bg ba"}});
+       {"orb_slam3", "theta v p bg ba"},
+       {"okvis2", "p theta v bg ba"}});
 }
 
 // GTSAM's ManifoldPreintegration states its covariance in c (gtsam_manifold) and its bias
@@ -35,6 +36,7 @@ TEST(PreintConventions, BiasJacobianCharts) {
   EXPECT_EQ(chart("vins_fusion"), "vins_fusion");
   EXPECT_EQ(chart("basalt"), "basalt");
   EXPECT_EQ(chart("orb_slam3"), "orb_slam3");
+  EXPECT_EQ(chart("okvis2"), "okvis2");
   EXPECT_EQ(chart("preint_reference"), "preint_reference");
   EXPECT_EQ(Plugins()
                 .info(imuconv::PluginKind::IncrementConvention, "gtsam_manifold")
