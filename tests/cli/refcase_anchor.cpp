@@ -102,6 +102,7 @@ void RunAnchor(const std::string& name) {
 TEST(RefcaseAnchor, VinsFusionFieldsAreVinsFusionOwn) { RunAnchor("vins-fusion"); }
 TEST(RefcaseAnchor, BasaltFieldsAreBasaltOwn) { RunAnchor("basalt"); }
 TEST(RefcaseAnchor, OpenVinsFieldsAreOpenVinsOwn) { RunAnchor("openvins"); }
+TEST(RefcaseAnchor, FastLio2FieldsAreFastLioOwn) { RunAnchor("fast-lio2"); }
 
 TEST(RefcaseAnchor, UnknownNameIsRefusedAndNothingWritten) {
   TempDir tmp;
