@@ -32,6 +32,7 @@
 
 #include "anchor_field_diffs.h"
 #include "anchors.h"
+#include "imuconv/bridge.h"
 #include "imuconv/kernels/fast_lio2.h"
 #include "imuconv/so3.h"
 #include "imuconv/window.h"
@@ -262,6 +263,27 @@ TEST_P(FastLio2Plugins, WithoutGravityOnlyTheMeanMoves) {
   w.Covariance("covariance", with.cov, without.cov);
   w.Jacobian("Phi", with.Phi, without.Phi);
   w.Print();
+}
+
+TEST_P(FastLio2Plugins, IncrementMeanIsPreintegrationByPropagationBitForBit) {
+  // The kernel's mean alone (Monte Carlo trials) against the registry's preintegration by
+  // propagation with `fast_lio2`: the same predicts from the same start, so the same bits.
+  const PreintegrationMethod method =
+      ResolvePreintegrationMethod(Plugins(), PluginKind::Propagator, "fast_lio2");
+  const Preintegrated full =
+      Preintegrate(Plugins(), method, in_.window, in_.x_s.bg, in_.x_s.ba, CaseNoise(case_));
+  PreintegrationInput in;
+  in.window = in_.window;
+  in.bg = in_.x_s.bg;
+  in.ba = in_.x_s.ba;
+  in.noise = CaseNoise(case_);
+  PreintIncrement mean;
+  ASSERT_TRUE(FastLio2IncrementMean(in, mean).ok());
+  EXPECT_EQ(mean.dR, full.delta.dR);
+  EXPECT_EQ(mean.dp, full.delta.dp);
+  EXPECT_EQ(mean.dv, full.delta.dv);
+  EXPECT_EQ(mean.dbg, Vec3::Zero());
+  EXPECT_EQ(mean.dba, Vec3::Zero());
 }
 
 INSTANTIATE_TEST_SUITE_P(Reference, FastLio2Plugins, ::testing::ValuesIn(kReferenceCaseIds),

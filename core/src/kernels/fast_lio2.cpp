@@ -300,6 +300,13 @@ Mat23 Embed(const Mat15& m) {
   return out;
 }
 
+/// The window's knots as ImuProcess's samples of one scan (PropagateFastLio2's feeding).
+std::vector<ImuSample> Knots(const SampleWindow& win) {
+  std::vector<ImuSample> knots(win.size());
+  for (std::size_t j = 0; j < win.size(); ++j) knots[j] = win[j];
+  return knots;
+}
+
 Mat15 Restrict(const Mat23& m) {
   Mat15 out;
   for (int i = 0; i < 5; ++i)
@@ -314,8 +321,7 @@ Status PropagateFastLio2(const PropagationInput& in, FastLio2Transition transiti
                          FastLio2NoiseReading noise, PropagationResult& out) {
   if (Status st = CheckPropagationInput(in); !st.ok()) return st;
   const SampleWindow& win = in.window;
-  std::vector<ImuSample> knots(win.size());
-  for (std::size_t j = 0; j < win.size(); ++j) knots[j] = win[j];
+  const std::vector<ImuSample> knots = Knots(win);
 
   FastLio2Parameters params;  // G_m_s2 = |mean_acc| = 9.81
   const ImuNoise& n = in.noise;
@@ -351,6 +357,26 @@ Status PropagateFastLio2(const PropagationInput& in, FastLio2Transition transiti
   out.x_e.ba = run.end.ba;
   out.Phi = Restrict(run.Phi_summed);
   out.cov = Restrict(run.covariance);
+  return Status::Ok();
+}
+
+Status FastLio2IncrementMean(const PreintegrationInput& in, PreintIncrement& delta) {
+  delta = PreintIncrement();
+  const PropagationInput start =
+      PreintegrationByPropagationStart(in.window, in.bg, in.ba, in.noise);
+  if (Status st = CheckPropagationInput(start); !st.ok()) return st;
+  std::vector<FastLio2Predict> predicts;
+  const Status fed = FastLio2ScanPredicts(Knots(in.window), FastLio2Parameters(),
+                                          in.window.t_start(), in.window.t_end(), predicts);
+  if (!fed.ok()) return fed;
+  FastLio2State x;  // identity, zero position and velocity
+  x.bg = in.bg;
+  x.ba = in.ba;
+  x.grav = FastLio2GravityExact(Vec3::Zero());
+  for (const FastLio2Predict& p : predicts) x = FastLio2PredictState(x, p.in, p.dt);
+  delta.dR = x.rot.toRotationMatrix();
+  delta.dp = x.pos;
+  delta.dv = x.vel;
   return Status::Ok();
 }
 

@@ -50,6 +50,7 @@
 #include <Eigen/Geometry>
 
 #include "imuconv/export.h"
+#include "imuconv/preintegrator.h"
 #include "imuconv/propagator.h"
 #include "imuconv/status.h"
 #include "imuconv/types.h"
@@ -194,6 +195,13 @@ enum class FastLio2NoiseReading {
 /// state and the [pos, rot, vel, bg, ba] rows and columns of Phi_summed and the covariance.
 IMUCONV_API Status PropagateFastLio2(const PropagationInput& in, FastLio2Transition transition,
                                      FastLio2NoiseReading noise, PropagationResult& out);
+
+/// The mean alone of preintegration by propagation of the window with PropagateFastLio2
+/// (the start PreintegrationByPropagationStart: identity, zero velocity, the bias estimate,
+/// no gravity): dR, dp, dv of the end state, dbg = dba = 0, by the same predicts and state
+/// updates, without the 23x23 covariance steps (Monte Carlo trials). Checks its input as
+/// PropagateFastLio2 does.
+IMUCONV_API Status FastLio2IncrementMean(const PreintegrationInput& in, PreintIncrement& delta);
 
 /// One reading of FAST-LIO as a propagator's kernel (plugin/kernel_plugin.h).
 template <FastLio2Transition kTransition, FastLio2NoiseReading kNoise>
