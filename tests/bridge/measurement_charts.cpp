@@ -31,7 +31,7 @@ const char* const kCharts[] = {"gtsam_manifold", "gtsam_tangent", "vins_fusion",
 // for another (a block order, a sign, a bias Jacobian's rows) is wrong by O(1) on that scale.
 constexpr double kRoundTrip = 1e-10;
 
-struct Scenario {
+struct ChartScenario {
   std::vector<ImuSample> imu = test::SmoothImu(1.0);
   SampleWindow w;
   Vec3 bg = Vec3(0.01, -0.02, 0.005), ba = Vec3(0.1, 0.05, -0.2);
@@ -39,7 +39,7 @@ struct Scenario {
   Mat15 cov_s = Mat15::Identity() * 1e-4;
   Vec3 g = Vec3(0, 0, -9.81);
   Preintegrated m;
-  Scenario() {
+  ChartScenario() {
     EXPECT_TRUE(MakeWindow(imu.data(), imu.size(), imu.front().t, imu.back().t, w).ok());
     m = PreintegrateNative(Plugins(), "manifold", w, bg, ba, test::TestNoise());
     x_s.R = so3::Exp(Vec3(0.3, -1.1, 0.7));
@@ -60,7 +60,7 @@ double MaxRelative(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& est) {
 }
 
 TEST(MeasurementCharts, PreintegrationIsLabelledWithTheReferenceCharts) {
-  const Scenario s;
+  const ChartScenario s;
   EXPECT_EQ(s.m.convention, kRef);
   EXPECT_EQ(s.m.jacobian_convention, kRef);
   EXPECT_TRUE(s.m.in_reference_charts());
@@ -70,7 +70,7 @@ TEST(MeasurementCharts, PreintegrationIsLabelledWithTheReferenceCharts) {
 }
 
 TEST(MeasurementCharts, ExpressNamesItsChartsAndFromConventionReadsThem) {
-  const Scenario s;
+  const ChartScenario s;
   for (const char* c : kCharts) {
     SCOPED_TRACE(c);
     const Preintegrated e = Express(Plugins(), s.m, c);
@@ -89,7 +89,7 @@ TEST(MeasurementCharts, ExpressNamesItsChartsAndFromConventionReadsThem) {
 // computations written in preint_reference. Now each brings it into those charts first and
 // gives the answer of the reference measurement.
 TEST(MeasurementCharts, ComputationsTakeAMeasurementInAnyCharts) {
-  const Scenario s;
+  const ChartScenario s;
   const PropagationResult p_ref =
       PropagateByPreintegration(Plugins(), s.m, s.x_s, s.cov_s, "forster", s.g);
   const Residual r_ref =
@@ -122,7 +122,7 @@ TEST(MeasurementCharts, ComputationsTakeAMeasurementInAnyCharts) {
 }
 
 TEST(MeasurementCharts, AnUnknownChartIsAnErrorNamingIt) {
-  const Scenario s;
+  const ChartScenario s;
   Preintegrated e = Express(Plugins(), s.m, "vins_fusion");
   e.convention = "no_such_chart";
   try {
@@ -136,7 +136,7 @@ TEST(MeasurementCharts, AnUnknownChartIsAnErrorNamingIt) {
 // A kernel's or a plugin's raw output states no charts: computing with it as if it were in
 // the reference charts would be a wrong answer given in silence.
 TEST(MeasurementCharts, AMeasurementWhoseChartsAreNotStatedIsRefused) {
-  const Scenario s;
+  const ChartScenario s;
   PreintegrationInput in;
   in.bg = s.bg;
   in.ba = s.ba;
@@ -169,7 +169,7 @@ TEST(MeasurementCharts, AMeasurementWhoseChartsAreNotStatedIsRefused) {
 // The plugin writes the numbers and never the labels: the host sets those, so no std::string
 // is made or freed on the plugin's side (preintegrated.h).
 TEST(MeasurementCharts, ANativePreintegratorLeavesTheLabelsAlone) {
-  const Scenario s;
+  const ChartScenario s;
   for (const char* id : {"manifold", "tangent", "vins_fusion", "basalt"}) {
     SCOPED_TRACE(id);
     PreintegrationInput in;

@@ -16,9 +16,9 @@ using namespace imuconv;
 using imuconv::test::Plugins;
 
 /// The shared scenario with a random start covariance in the left chart.
-struct Scenario : test::SmoothScenario {
+struct ByPreintegrationScenario : test::SmoothScenario {
   Mat15 cov_left;
-  Scenario() {
+  ByPreintegrationScenario() {
     Eigen::Matrix<double, 15, 15> A = Eigen::Matrix<double, 15, 15>::Random();
     cov_left = 1e-3 * (A * A.transpose() + 15 * Mat15::Identity());
   }
@@ -39,7 +39,7 @@ class ByPreintegration : public ::testing::TestWithParam<const char*> {};
 TEST_P(ByPreintegration, PhiMatchesCentralDifferencesOfThePrediction) {
   // The start bias differs from the measurement's bias estimate, so the first-order bias
   // correction and its curvature are exercised.
-  Scenario s;
+  ByPreintegrationScenario s;
   const Preintegrated m =
       PreintegrateByPropagation(Plugins(), "rk4", s.w, s.x_s.bg - Vec3(2e-3, 1e-3, -1e-3),
                                 s.x_s.ba + Vec3(0.02, -0.01, 0.03), test::TestNoise());
@@ -62,7 +62,7 @@ TEST_P(ByPreintegration, AgreesWithThePropagatorItCameFrom) {
   // rk4's Phi and covariance come from its linearised ODE, the prediction's from the exact
   // derivative of the prediction equations with the same rk4 increments: they agree up to
   // rk4's truncation error (~1e-10 relative at 200 Hz over 1 s); 1e-7 leaves margin.
-  Scenario s;
+  ByPreintegrationScenario s;
   const std::string conv = GetParam();
   const Mat15 cov_conv = Plugins().convert_covariance("left", conv, s.x_s, s.cov_left);
   const Preintegrated m =
@@ -87,7 +87,7 @@ TEST_P(ByPreintegration, AgreesWithThePropagatorItCameFrom) {
 // It is second order, so halving db must divide the difference by ~4 ([3, 5]; measured
 // 4.00). Propagating from b^ instead, as a missing correction would, gives 0.05 and ratio 2.
 TEST_P(ByPreintegration, StartBiasAwayFromTheEstimateAgreesWithThePropagatorToSecondOrder) {
-  Scenario s;
+  ByPreintegrationScenario s;
   const std::string conv = GetParam();
   const Vec3 dbg(2e-3, -1.5e-3, 1e-3), dba(0.05, -0.03, 0.04);
   const double T = s.w.t_end() - s.w.t_start(), a_max = 12.0;

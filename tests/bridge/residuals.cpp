@@ -15,10 +15,10 @@ using namespace imuconv;
 using imuconv::test::Plugins;
 
 /// The shared scenario with a measurement over its window and an end state x_e.
-struct Scenario : test::SmoothScenario {
+struct ResidualScenario : test::SmoothScenario {
   ImuState x_e;
   Preintegrated m;
-  Scenario() {
+  ResidualScenario() {
     // Bias estimate of the measurement differs from x_s's: the correction is exercised.
     m = PreintegrateByPropagation(Plugins(), "euler", w, x_s.bg + Vec3(1e-3, -2e-3, 1e-3),
                                   x_s.ba + Vec3(-0.01, 0.02, 0.01), test::TestNoise());
@@ -35,7 +35,7 @@ using Param = std::tuple<ResidualKind, const char*>;
 class ResidualJacobians : public ::testing::TestWithParam<Param> {};
 
 TEST_P(ResidualJacobians, MatchCentralDifferences) {
-  Scenario s;
+  ResidualScenario s;
   // Named copies, not a structured binding: lambdas capture them (C++17 does not capture bindings).
   const auto kind = std::get<0>(GetParam());
   const auto conv = std::get<1>(GetParam());
@@ -57,7 +57,7 @@ TEST_P(ResidualJacobians, MatchCentralDifferences) {
 }
 
 TEST_P(ResidualJacobians, IncrementJacobianAndCovariance) {
-  Scenario s;
+  ResidualScenario s;
   // Named copies, not a structured binding: lambdas capture them (C++17 does not capture bindings).
   const auto kind = std::get<0>(GetParam());
   const auto conv = std::get<1>(GetParam());
@@ -86,7 +86,7 @@ INSTANTIATE_TEST_SUITE_P(
 // (eq. forster-res-jac). Blocks are in each chart's order [theta, p, v, ba, bg] /
 // [theta, p, v, bg, ba]; the bias blocks of the gtsam charts are swapped accordingly.
 TEST(ResidualIncrementJacobian, MatchesThePapersClosedForms) {
-  Scenario s;
+  ResidualScenario s;
   s.m.bg_hat = s.x_s.bg;  // at the estimate, so the increment is not bias-corrected
   s.m.ba_hat = s.x_s.ba;
   const Residual g =

@@ -18,7 +18,7 @@ using namespace imuconv;
 using namespace imuconv::test;
 using nlohmann::json;
 
-const char* const kCase = "smooth-0";
+const char* const kAnchorCase = "smooth-0";
 
 /// ORB-SLAM3's IMU::Preintegrated (float32 throughout, held as doubles) as a measurement:
 /// the increment dR, dP, dV; J_bias rows [theta, p, v] (right perturbation, the README's
@@ -27,8 +27,9 @@ const char* const kCase = "smooth-0";
 /// float sum of the steps dT; the bias estimate ORB linearized at (rounded to float). No
 /// chart, order or precision is declared.
 json OrbSlam3Measurement() {
-  const json c = CaseJson(kCase);
-  const json a = ReadJson(DataPath(std::string("reference/anchors/orb-slam3/") + kCase + ".json"));
+  const json c = CaseJson(kAnchorCase);
+  const json a =
+      ReadJson(DataPath(std::string("reference/anchors/orb-slam3/") + kAnchorCase + ".json"));
   const json& p = a["preintegration"];
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(9, 6);
   J.block<3, 3>(0, 0) = JsonMatrix(p["JRg"]);
@@ -54,8 +55,9 @@ json OrbSlam3Measurement() {
 /// dp/dbg = dp_db_g, dp/dba = -C_doubleintegral, dalpha/dbg = -dalpha_db_g (Dq =
 /// exp(-dalpha_db_g dbg) Delta q), dv/dbg = dv_db_g, dv/dba = -C_integral. Nothing declared.
 json Okvis2Measurement() {
-  const json c = CaseJson(kCase);
-  const json a = ReadJson(DataPath(std::string("reference/anchors/okvis2/") + kCase + ".json"));
+  const json c = CaseJson(kAnchorCase);
+  const json a =
+      ReadJson(DataPath(std::string("reference/anchors/okvis2/") + kAnchorCase + ".json"));
   const json& p = a["imu_error"]["preintegration"];
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(9, 6);
   J.block<3, 3>(0, 0) = JsonMatrix(p["dp_db_g"]);
@@ -74,20 +76,20 @@ json Okvis2Measurement() {
       {"cov", {{"convention", "unknown"}, {"matrix", p["P_delta"]["matrix"]}}}};
 }
 
-struct Checked {
+struct AnchorChecked {
   int exit_code = -1;
   json m;  // measurement 0
   std::string err, findings;
 };
 
-Checked RunCheck(const json& m, const std::string& name) {
+AnchorChecked RunCheck(const json& m, const std::string& name) {
   static TempDir tmp;
   const std::string file = tmp.write(name + ".json", json{{"measurements", {m}}}.dump());
   const CommandResult r = RunImuconv(
       "check " + ShellQuote(file) + " --case " +
-          ShellQuote(DataPath(std::string("reference/cases/") + kCase + ".json")) + " --json",
+          ShellQuote(DataPath(std::string("reference/cases/") + kAnchorCase + ".json")) + " --json",
       tmp);
-  Checked c{r.exit_code, json(), r.err, ""};
+  AnchorChecked c{r.exit_code, json(), r.err, ""};
   if (r.exit_code == 0 || r.exit_code == 1) {
     c.m = json::parse(r.out)["measurements"][0];
     for (const auto& f : c.m["findings"]) c.findings += f.get<std::string>() + "\n";
@@ -98,7 +100,7 @@ Checked RunCheck(const json& m, const std::string& name) {
 std::string Labels(const json& f) { return f["rows"].dump() + " x " + f["cols"].dump(); }
 
 TEST(CheckAnchors, OrbSlam3IsJudgedAndItsMissingCrossTermsNamed) {
-  const Checked c = RunCheck(OrbSlam3Measurement(), "orb-slam3");
+  const AnchorChecked c = RunCheck(OrbSlam3Measurement(), "orb-slam3");
   // Judged, not refused (exit 2): float32 numbers are a normal input.
   ASSERT_EQ(c.exit_code, 1) << c.err;
   const json& m = c.m;
@@ -142,7 +144,7 @@ TEST(CheckAnchors, OrbSlam3IsJudgedAndItsMissingCrossTermsNamed) {
 }
 
 TEST(CheckAnchors, Okvis2CovarianceIsExplainedInItsOwnOrder) {
-  const Checked c = RunCheck(Okvis2Measurement(), "okvis2");
+  const AnchorChecked c = RunCheck(Okvis2Measurement(), "okvis2");
   ASSERT_EQ(c.exit_code, 1) << c.err;
   const json& m = c.m;
   std::printf("%s\n%s\n", m["best"].dump().c_str(), c.findings.c_str());

@@ -28,7 +28,7 @@ using nlohmann::json;
 constexpr int kTheta = 0, kP = 3, kV = 6, kBa = 9, kBg = 12;
 constexpr int kColBa = 0, kColBg = 3;
 
-const char* const kCase = "smooth-0";
+const char* const kBlocksCase = "smooth-0";
 
 /// The largest |K_ij| / sqrt(K_ii K_jj) over the 3x3 block of `K` at (r, c): what check's
 /// difference (the correlation scale) makes of that block's entries.
@@ -53,7 +53,8 @@ class CheckBlocks : public ::testing::Test {
     const std::string file = Tmp().write(name + ".json", json{{"measurements", {m}}}.dump());
     const CommandResult r = RunImuconv(
         "check " + ShellQuote(file) + " --case " +
-            ShellQuote(DataPath("reference/cases/" + std::string(kCase) + ".json")) + " --json",
+            ShellQuote(DataPath("reference/cases/" + std::string(kBlocksCase) + ".json")) +
+            " --json",
         Tmp());
     EXPECT_EQ(r.exit_code, expect_exit) << name << "\n" << r.err << r.out;
     if (r.exit_code != 0 && r.exit_code != 1) return json::object();
@@ -69,7 +70,7 @@ class CheckBlocks : public ::testing::Test {
     return s;
   }
   static double SamplePeriod() {
-    const json c = CaseJson(kCase);
+    const json c = CaseJson(kBlocksCase);
     return c["imu"][1][0].get<double>() - c["imu"][0][0].get<double>();
   }
 };
@@ -81,7 +82,7 @@ class CheckBlocks : public ::testing::Test {
 // absolute read as a difference and named "sign -".
 TEST_F(CheckBlocks, OneNegatedBlockKeepsTheDeclaredChartAndNamesTheBlock) {
   Eigen::MatrixXd J, cov;
-  json m = GtsamMeasurement(kCase, &J, &cov);
+  json m = GtsamMeasurement(kBlocksCase, &J, &cov);
   J.block<3, 3>(kTheta, kColBg) *= -1.0;
   m["J_bias"]["matrix"] = JsonRows(J);
   const json r = Run(m, "negated-block");
@@ -105,7 +106,7 @@ TEST_F(CheckBlocks, OneNegatedBlockKeepsTheDeclaredChartAndNamesTheBlock) {
 // J_bias's (p, ba) block per step (x 1/dt, dt the sample period).
 TEST_F(CheckBlocks, JacobianBlockScaledByOneOverDtIsNamed) {
   Eigen::MatrixXd J, cov;
-  json m = GtsamMeasurement(kCase, &J, &cov);
+  json m = GtsamMeasurement(kBlocksCase, &J, &cov);
   const double dt = SamplePeriod();
   J.block<3, 3>(kP, kColBa) /= dt;
   m["J_bias"]["matrix"] = JsonRows(J);
@@ -122,7 +123,7 @@ TEST_F(CheckBlocks, JacobianBlockScaledByOneOverDtIsNamed) {
 
 TEST_F(CheckBlocks, SwappedJacobianBlocksAreNamed) {
   Eigen::MatrixXd J, cov;
-  json m = GtsamMeasurement(kCase, &J, &cov);
+  json m = GtsamMeasurement(kBlocksCase, &J, &cov);
   const Eigen::Matrix3d a = J.block<3, 3>(kP, kColBa), b = J.block<3, 3>(kP, kColBg);
   J.block<3, 3>(kP, kColBa) = b;
   J.block<3, 3>(kP, kColBg) = a;
@@ -139,7 +140,7 @@ TEST_F(CheckBlocks, SwappedJacobianBlocksAreNamed) {
 
 TEST_F(CheckBlocks, TransposedJacobianBlockIsNamed) {
   Eigen::MatrixXd J, cov;
-  json m = GtsamMeasurement(kCase, &J, &cov);
+  json m = GtsamMeasurement(kBlocksCase, &J, &cov);
   const Eigen::Matrix3d t = J.block<3, 3>(kV, kColBg).transpose();
   // The block must not be symmetric, or its transpose would be the same numbers.
   ASSERT_GT((t - t.transpose()).cwiseAbs().maxCoeff(), 0.1 * t.cwiseAbs().maxCoeff());
@@ -160,7 +161,7 @@ TEST_F(CheckBlocks, TransposedJacobianBlockIsNamed) {
 // only bg's here, which keeps the matrix positive semi-definite: bg decoupled from the rest.)
 TEST_F(CheckBlocks, MissingCrossTermsAreNamed) {
   Eigen::MatrixXd J, cov;
-  json m = GtsamMeasurement(kCase, &J, &cov);
+  json m = GtsamMeasurement(kBlocksCase, &J, &cov);
   std::set<std::pair<std::string, std::string>> expect;
   const std::pair<const char*, int> state[] = {{"theta", kTheta}, {"p", kP}, {"v", kV}};
   for (const auto& [s, r] : state)
@@ -191,7 +192,7 @@ TEST_F(CheckBlocks, MissingCrossTermsAreNamed) {
 // found with the opposite sign.
 TEST_F(CheckBlocks, NegatedCovarianceBlocksAreNamed) {
   Eigen::MatrixXd J, cov;
-  json m = GtsamMeasurement(kCase, &J, &cov);
+  json m = GtsamMeasurement(kBlocksCase, &J, &cov);
   std::set<std::string> expect;
   for (const auto& [s, r] :
        {std::pair<const char*, int>{"theta", kTheta}, {"p", kP}, {"v", kV}, {"ba", kBa}})
@@ -217,7 +218,7 @@ TEST_F(CheckBlocks, NegatedCovarianceBlocksAreNamed) {
 // density is meant); each adds a positive semi-definite term, so the covariance stays valid.
 TEST_F(CheckBlocks, ScaledCovarianceBlocksAreNamedWithTheirFactors) {
   Eigen::MatrixXd J, cov;
-  json m = GtsamMeasurement(kCase, &J, &cov);
+  json m = GtsamMeasurement(kBlocksCase, &J, &cov);
   const double dt = SamplePeriod();
   cov.block<3, 3>(kP, kP) *= 2.0;
   cov.block<3, 3>(kBa, kBa) /= dt;
@@ -245,7 +246,7 @@ TEST_F(CheckBlocks, ScaledCovarianceBlocksAreNamedWithTheirFactors) {
 // same numbers. The declared chart is named, the other listed as equivalent, on every run.
 TEST_F(CheckBlocks, EquivalentExplanationsAreListedAndThePickIsStable) {
   Eigen::MatrixXd J, cov;
-  json m = GtsamMeasurement(kCase, &J, &cov);
+  json m = GtsamMeasurement(kBlocksCase, &J, &cov);
   m["J_bias"]["matrix"] = JsonRows(-J);
   const json first = Run(m, "equivalent-1");
   const json again = Run(m, "equivalent-2");
@@ -265,13 +266,13 @@ TEST_F(CheckBlocks, EquivalentExplanationsAreListedAndThePickIsStable) {
 
 TEST_F(CheckBlocks, ConsistentWithNothingDeclaredDoesNotSayDeclared) {
   Eigen::MatrixXd J, cov;
-  json m = GtsamMeasurement(kCase, &J, &cov);
+  json m = GtsamMeasurement(kBlocksCase, &J, &cov);
   m["J_bias"] = {{"convention", "unknown"}, {"matrix", m["J_bias"]["matrix"]}};
   m["cov"] = {{"convention", "unknown"}, {"matrix", m["cov"]["matrix"]}};
   const json r = Run(m, "nothing-declared", 0);
   EXPECT_FALSE(Has(Findings(r), "under the declared")) << Findings(r);
   EXPECT_TRUE(Has(Findings(r), "no chart was declared")) << Findings(r);
-  const json d = Run(GtsamMeasurement(kCase, &J, &cov), "declared", 0);
+  const json d = Run(GtsamMeasurement(kBlocksCase, &J, &cov), "declared", 0);
   EXPECT_TRUE(Has(Findings(d), "under the declared covariance convention gtsam_manifold"))
       << Findings(d);
 }
@@ -283,17 +284,17 @@ TEST_F(CheckBlocks, ConsistentWithNothingDeclaredDoesNotSayDeclared) {
 // a "precision" that is neither is refused at its pointer.
 TEST_F(CheckBlocks, PrecisionAndDtAreJudgedNotRefused) {
   Eigen::MatrixXd J, cov;
-  json m = GtsamMeasurement(kCase, &J, &cov);
+  json m = GtsamMeasurement(kBlocksCase, &J, &cov);
   Eigen::MatrixXd asym = cov;
   asym(kP, kTheta) += 1e-6 * std::sqrt(cov(kP, kP) * cov(kTheta, kTheta));
   json a = m;
   a["cov"]["matrix"] = JsonRows(asym);
   {
     const std::string file = Tmp().write("asym64.json", json{{"measurements", {a}}}.dump());
-    const CommandResult r =
-        RunImuconv("check " + ShellQuote(file) + " --case " +
-                       ShellQuote(DataPath(std::string("reference/cases/") + kCase + ".json")),
-                   Tmp());
+    const CommandResult r = RunImuconv(
+        "check " + ShellQuote(file) + " --case " +
+            ShellQuote(DataPath(std::string("reference/cases/") + kBlocksCase + ".json")),
+        Tmp());
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_TRUE(Has(r.err, "/measurements/0/cov/matrix")) << r.err;
   }
@@ -314,7 +315,7 @@ TEST_F(CheckBlocks, PrecisionAndDtAreJudgedNotRefused) {
   const std::string file = Tmp().write("float16.json", json{{"measurements", {bad}}}.dump());
   const CommandResult r =
       RunImuconv("check " + ShellQuote(file) + " --case " +
-                     ShellQuote(DataPath(std::string("reference/cases/") + kCase + ".json")),
+                     ShellQuote(DataPath(std::string("reference/cases/") + kBlocksCase + ".json")),
                  Tmp());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "/measurements/0/precision")) << r.err;

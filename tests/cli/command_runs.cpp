@@ -23,7 +23,7 @@ using namespace imuconv::test;
 using imuconv::cli::CommandContext;
 using nlohmann::json;
 
-const std::string kCase = SourcePath("tests/data/reference/cases/smooth-0.json");
+const std::string kCasePath = SourcePath("tests/data/reference/cases/smooth-0.json");
 // GTSAM's manifold preintegration of smooth-0, one measurement (examples/data/SOURCE.md).
 const std::string kMeasurements =
     SourcePath("examples/data/gtsam_smooth0_manifold.measurements.json");
@@ -67,7 +67,7 @@ TEST(CommandRuns, CheckRunsWithoutTheCommandLineAsTheProgramDoes) {
   TempDir tmp;
   imuconv::cli::CheckCommandOptions o;
   o.measurements = kMeasurements;
-  o.case_path = kCase;
+  o.case_path = kCasePath;
   o.as_json = true;
   o.report_path = tmp.file("check.html");
   const CommandContext ctx;
@@ -81,7 +81,7 @@ TEST(CommandRuns, CheckRunsWithoutTheCommandLineAsTheProgramDoes) {
   EXPECT_TRUE(Has(run.err, "wrote " + o.report_path)) << run.err;
 
   const CommandResult program =
-      RunImuconv("check " + ShellQuote(kMeasurements) + " --case " + ShellQuote(kCase) +
+      RunImuconv("check " + ShellQuote(kMeasurements) + " --case " + ShellQuote(kCasePath) +
                      " --json --report " + ShellQuote(tmp.file("program.html")),
                  tmp);
   EXPECT_EQ(program.exit_code, run.exit_code);
@@ -93,14 +93,14 @@ TEST(CommandRuns, CheckFailuresAreExitCodesAndMessages) {
   const CommandContext ctx;
   imuconv::cli::CheckCommandOptions o;
   o.measurements = tmp.file("missing.json");
-  o.case_path = kCase;
+  o.case_path = kCasePath;
   const Captured missing = Capture([&] { return RunCheckCommand(ctx, o); });
   EXPECT_EQ(missing.exit_code, imuconv::cli::kExitBadInput);
   EXPECT_EQ(missing.out, "");  // nothing judged, nothing printed
   EXPECT_TRUE(Has(missing.err, "imuconv: error: " + o.measurements)) << missing.err;
   // The report's destination is refused before any work: an input's own name.
   o.measurements = kMeasurements;
-  o.report_path = kCase;
+  o.report_path = kCasePath;
   const Captured own_input = Capture([&] { return RunCheckCommand(ctx, o); });
   EXPECT_EQ(own_input.exit_code, imuconv::cli::kExitBadInput);
   EXPECT_TRUE(Has(own_input.err, "is the same file as the input file")) << own_input.err;
@@ -111,7 +111,7 @@ TEST(CommandRuns, CheckFailuresAreExitCodesAndMessages) {
 
 imuconv::cli::MontecarloCommandOptions SmallRun() {
   imuconv::cli::MontecarloCommandOptions o;
-  o.case_path = kCase;
+  o.case_path = kCasePath;
   o.method = "euler";
   o.trials = 20;
   o.seed = 1;
@@ -134,7 +134,7 @@ TEST(CommandRuns, MontecarloRunsWithoutTheCommandLineAsTheProgramDoes) {
   EXPECT_EQ(j.at("verdict") == "consistent", run.exit_code == 0);
 
   const CommandResult program =
-      RunImuconv("montecarlo --case " + ShellQuote(kCase) +
+      RunImuconv("montecarlo --case " + ShellQuote(kCasePath) +
                      " --method euler --trials 20 --seed 1 --duration 0.2 --threads 1 --json",
                  tmp);
   EXPECT_EQ(program.exit_code, run.exit_code);

@@ -32,13 +32,6 @@ CommandResult Experiment(const std::string& args, const TempDir& tmp) {
   return RunImuconv("experiment " + args, tmp);
 }
 
-json RunJson(const std::string& args, const TempDir& tmp) {
-  const CommandResult r = Experiment(args + " --json", tmp);
-  EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
-  if (r.exit_code != 0) return json::object();
-  return json::parse(r.out);
-}
-
 const json& Find(const json& doc, const std::string& experiment, const std::string& matrix,
                  const std::string& scheme) {
   for (const json& c : doc["comparisons"])
@@ -125,8 +118,8 @@ TEST(ExperimentPieces, MidInputAndSubdivision) {
 
 TEST(Experiment, SameSchemePropagatorLeavesOnlyRounding) {
   TempDir tmp;
-  const json doc =
-      RunJson("both --propagator openvins_discrete --trials 3 --duration 2 --seed 7", tmp);
+  const json doc = RunImuconvJson(
+      "experiment", "both --propagator openvins_discrete --trials 3 --duration 2 --seed 7", tmp);
   ASSERT_EQ(doc["comparisons"].size(), 8u);
   for (const json& c : doc["comparisons"]) {
     const double note_max = c["note_d"]["max"], scaled_max = c["scaled_d"]["max"];
@@ -155,9 +148,9 @@ TEST(Experiment, SameSchemePropagatorLeavesOnlyRounding) {
 TEST(Experiment, Rk4DifferenceIsTheFirstOrderErrorOfGtsamsSchemes) {
   TempDir tmp;
   const std::string common = "both --trials 3 --duration 2 --seed 11";
-  const json base = RunJson(common, tmp);
-  const json fine_rate = RunJson(common + " --rate 400", tmp);
-  const json fine_rk4 = RunJson(common + " --propagator-substeps 2", tmp);
+  const json base = RunImuconvJson("experiment", common, tmp);
+  const json fine_rate = RunImuconvJson("experiment", common + " --rate 400", tmp);
+  const json fine_rk4 = RunImuconvJson("experiment", common + " --propagator-substeps 2", tmp);
   ASSERT_EQ(base["comparisons"].size(), 8u);
   ASSERT_EQ(fine_rate["comparisons"].size(), 8u);
   ASSERT_EQ(fine_rk4["comparisons"].size(), 8u);
@@ -201,7 +194,7 @@ TEST(Experiment, DeterministicForASeedAndAnyThreadCount) {
 
 TEST(Experiment, TheNotesSetupAndBlockLayouts) {
   TempDir tmp;
-  const json doc = RunJson("both --trials 1 --seed 1", tmp);
+  const json doc = RunImuconvJson("experiment", "both --trials 1 --seed 1", tmp);
   EXPECT_EQ(doc["rate_hz"], 200.0);
   EXPECT_EQ(doc["duration_s"], 10.0);
   EXPECT_EQ(doc["propagator"], "rk4");
@@ -232,7 +225,8 @@ TEST(Experiment, TheNotesSetupAndBlockLayouts) {
       EXPECT_EQ(c["row_blocks"], json::array({"p", "theta", "v", "bg", "ba"}));
     }
   // One experiment alone gives its own four.
-  const json one = RunJson("prop-by-preint --trials 1 --seed 1 --duration 1", tmp);
+  const json one =
+      RunImuconvJson("experiment", "prop-by-preint --trials 1 --seed 1 --duration 1", tmp);
   ASSERT_EQ(one["comparisons"].size(), 4u);
   for (const json& c : one["comparisons"]) EXPECT_EQ(c["experiment"], "prop-by-preint");
 }

@@ -99,7 +99,7 @@ TEST(MontecarloInput, EveryMissingRequiredKeyIsNamedAtOnce) {
 }
 
 /// A case's samples as a generic CSV (times in ms) and a pipeline reading it with the case's noise.
-std::string CasePipeline(const TempDir& tmp, const json& c) {
+std::string McCasePipeline(const TempDir& tmp, const json& c) {
   std::string csv = "time_ms,wx,wy,wz,ax,ay,az\n";
   for (const auto& r : c["imu"]) {
     csv += Num17(r[0].get<double>() * 1000.0);
@@ -140,7 +140,7 @@ TEST(MontecarloInput, PipelineOverAnIntervalIsTheCaseOverIt) {
   for (auto& k : {"bg", "ba"})
     c["state_s"][k] = {0.0, 0.0, 0.0};  // a pipeline's bias estimate is zero
   const std::string case_path = tmp.write("case.json", c.dump());
-  const std::string pipeline = CasePipeline(tmp, c);
+  const std::string pipeline = McCasePipeline(tmp, c);
   const double t0 = c["imu"][0][0].get<double>();
   char interval[96];
   std::snprintf(interval, sizeof interval, " --from %.17g --to %.17g", t0 + 1.0, t0 + 1.2);

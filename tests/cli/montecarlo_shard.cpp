@@ -117,8 +117,8 @@ TEST(MontecarloShard, MoreShardsThanTrialsLeavesSomeEmpty) {
 }
 
 /// A merge of `files` exits 2, prints nothing, and says `what` about `named`.
-void ExpectRefused(McRun& run, const std::vector<std::string>& files, const std::string& named,
-                   const std::string& what) {
+void ExpectShardsRefused(McRun& run, const std::vector<std::string>& files,
+                         const std::string& named, const std::string& what) {
   const CommandResult r = run.merge(files, "--json");
   EXPECT_EQ(r.exit_code, 2) << named << ": " << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
@@ -131,49 +131,51 @@ TEST(MontecarloShard, HostileMergesAreRefused) {
   const std::vector<std::string> s = run.shards(3);
   const std::string text = ReadText(s[1]);
 
-  ExpectRefused(run, {s[0], s[2]}, "missing 1 of the 3 shards (index 1)",
-                "every shard K/N of the run is needed");
-  ExpectRefused(run, {s[0], s[1], s[1], s[2]}, "shard 1 of 3 is given twice", "S1of3.mcs");
+  ExpectShardsRefused(run, {s[0], s[2]}, "missing 1 of the 3 shards (index 1)",
+                      "every shard K/N of the run is needed");
+  ExpectShardsRefused(run, {s[0], s[1], s[1], s[2]}, "shard 1 of 3 is given twice", "S1of3.mcs");
   // Another copy of the same shard under another name is still a duplicate.
   const std::string copy = run.tmp.write("copy.mcs", text);
-  ExpectRefused(run, {s[0], s[1], copy, s[2]}, "copy.mcs", "given twice");
+  ExpectShardsRefused(run, {s[0], s[1], copy, s[2]}, "copy.mcs", "given twice");
 
   // Foreign: another seed, another method, another split.
   McRun other_seed(41, 8);
   const std::string foreign = other_seed.shard(1, 3, "F");
   const std::string foreign_here = run.tmp.write("F1of3.mcs", ReadText(foreign));
-  ExpectRefused(run, {s[0], foreign_here, s[2]}, "F1of3.mcs",
-                "not shards of one run: their /run/seed differ (8 and 7)");
+  ExpectShardsRefused(run, {s[0], foreign_here, s[2]}, "F1of3.mcs",
+                      "not shards of one run: their /run/seed differ (8 and 7)");
   McRun other_method(41, 7, "euler");
   const std::string euler = run.tmp.write("E1of3.mcs", ReadText(other_method.shard(1, 3, "E")));
-  ExpectRefused(run, {s[0], euler, s[2]}, "E1of3.mcs", "not shards of one run: their /run/");
+  ExpectShardsRefused(run, {s[0], euler, s[2]}, "E1of3.mcs", "not shards of one run: their /run/");
   const std::string half = run.shard(0, 2, "H");
-  ExpectRefused(run, {s[0], half, s[2]}, "H0of2.mcs", "one is shard 0 of 2, the other of 3");
+  ExpectShardsRefused(run, {s[0], half, s[2]}, "H0of2.mcs", "one is shard 0 of 2, the other of 3");
 
   // Truncated: inside the header, inside the errors, without its hash line.
   const std::size_t header_end = text.find('\n', text.find('\n') + 1);
   ASSERT_NE(header_end, std::string::npos);
-  ExpectRefused(run, {s[0], run.tmp.write("t1.mcs", text.substr(0, header_end / 2)), s[2]},
-                "t1.mcs", "ends inside its header line");
-  ExpectRefused(run, {s[0], run.tmp.write("t2.mcs", text.substr(0, header_end + 1 + 500)), s[2]},
-                "t2.mcs", "is truncated");
-  ExpectRefused(run, {s[0], run.tmp.write("t3.mcs", text.substr(0, text.size() - 1)), s[2]},
-                "t3.mcs", "is truncated");
-  ExpectRefused(run, {s[0], run.tmp.write("long.mcs", text + "x"), s[2]}, "long.mcs",
-                "bytes after its end");
+  ExpectShardsRefused(run, {s[0], run.tmp.write("t1.mcs", text.substr(0, header_end / 2)), s[2]},
+                      "t1.mcs", "ends inside its header line");
+  ExpectShardsRefused(run,
+                      {s[0], run.tmp.write("t2.mcs", text.substr(0, header_end + 1 + 500)), s[2]},
+                      "t2.mcs", "is truncated");
+  ExpectShardsRefused(run, {s[0], run.tmp.write("t3.mcs", text.substr(0, text.size() - 1)), s[2]},
+                      "t3.mcs", "is truncated");
+  ExpectShardsRefused(run, {s[0], run.tmp.write("long.mcs", text + "x"), s[2]}, "long.mcs",
+                      "bytes after its end");
 
   // Corrupted: one bit of one end error; one digit of the predicted covariance in the header
   // (the JSON is still valid; the other shards disagree); the hash line.
   std::string flipped = text;
   flipped[header_end + 1 + 700] ^= 0x01;
-  ExpectRefused(run, {s[0], run.tmp.write("c1.mcs", flipped), s[2]}, "c1.mcs", "is corrupted");
+  ExpectShardsRefused(run, {s[0], run.tmp.write("c1.mcs", flipped), s[2]}, "c1.mcs",
+                      "is corrupted");
   std::string header_digit = text;
   const std::size_t pred = header_digit.find("\"predicted\":[\"0x1.");
   ASSERT_NE(pred, std::string::npos);
   char& digit = header_digit[pred + 18];
   digit = digit == '0' ? '1' : '0';
-  ExpectRefused(run, {s[0], run.tmp.write("c2.mcs", header_digit), s[2]}, "c2.mcs",
-                "not shards of one run: their /run/predicted differ");
+  ExpectShardsRefused(run, {s[0], run.tmp.write("c2.mcs", header_digit), s[2]}, "c2.mcs",
+                      "not shards of one run: their /run/predicted differ");
   // A shard from a CPU whose kernel instance rounds differently (FMA or not): its trials'
   // last bits would differ from this one's, so the merge names the instance instead of joining.
   std::string other_cpu = text;
@@ -183,22 +185,22 @@ TEST(MontecarloShard, HostileMergesAreRefused) {
   const std::string here = other_cpu.substr(name, other_cpu.find('"', name) - name);
   const std::string there = here == "baseline" ? "avx2" : "baseline";
   other_cpu.replace(name, here.size(), there);
-  ExpectRefused(run, {s[0], run.tmp.write("cpu.mcs", other_cpu), s[2]}, "cpu.mcs",
-                "not shards of one run: their /run/kernel_instance differ");
+  ExpectShardsRefused(run, {s[0], run.tmp.write("cpu.mcs", other_cpu), s[2]}, "cpu.mcs",
+                      "not shards of one run: their /run/kernel_instance differ");
   std::string hash = text;
   hash[hash.size() - 2] = hash[hash.size() - 2] == '0' ? '1' : '0';
-  ExpectRefused(run, {s[0], run.tmp.write("c3.mcs", hash), s[2]}, "c3.mcs", "is corrupted");
+  ExpectShardsRefused(run, {s[0], run.tmp.write("c3.mcs", hash), s[2]}, "c3.mcs", "is corrupted");
 
   // Not a shard: the whole run's JSON output, an empty file, a directory, no such file.
   const std::string json = run.tmp.write("whole.json", run.whole("--json").out);
-  ExpectRefused(run, {json}, "whole.json", "not a montecarlo shard");
-  ExpectRefused(run, {run.tmp.write("empty.mcs", "")}, "empty.mcs", "not a montecarlo shard");
-  ExpectRefused(run, {run.tmp.path()}, run.tmp.path(), "is not a regular file");
-  ExpectRefused(run, {run.tmp.file("nothing.mcs")}, "nothing.mcs", "cannot be read");
+  ExpectShardsRefused(run, {json}, "whole.json", "not a montecarlo shard");
+  ExpectShardsRefused(run, {run.tmp.write("empty.mcs", "")}, "empty.mcs", "not a montecarlo shard");
+  ExpectShardsRefused(run, {run.tmp.path()}, run.tmp.path(), "is not a regular file");
+  ExpectShardsRefused(run, {run.tmp.file("nothing.mcs")}, "nothing.mcs", "cannot be read");
   // Another version of the format.
   std::string v2 = text;
   v2.replace(0, std::string("imuconv montecarlo shard 1").size(), "imuconv montecarlo shard 2");
-  ExpectRefused(run, {run.tmp.write("v2.mcs", v2)}, "v2.mcs", "another format version");
+  ExpectShardsRefused(run, {run.tmp.write("v2.mcs", v2)}, "v2.mcs", "another format version");
 }
 
 TEST(MontecarloShard, CorruptedHeaderDigitIsNamed) {

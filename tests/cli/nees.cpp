@@ -40,12 +40,6 @@ std::string DataArgs(const std::string& noise_path) {
          ShellQuote(kEurocSliceGroundTruth) + " --noise " + ShellQuote(noise_path);
 }
 
-json RunJson(const std::string& args, const TempDir& tmp) {
-  const CommandResult r = Nees(args + " --json", tmp);
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  return r.exit_code == 0 ? json::parse(r.out) : json();
-}
-
 // The median and the q-quantile recomputed independently of apps/nees/order_statistics.h: a full
 // sort, the two middle values for an even count, and for q the rank (n - 1) q interpolated
 // linearly (the definition the schema documents).
@@ -89,7 +83,8 @@ class NeesSlice : public ::testing::TestWithParam<std::string> {};
 TEST_P(NeesSlice, StatisticsAndFactorFromTheValuesItPrints) {
   TempDir tmp;
   const std::string noise = tmp.write("noise.json", NoiseJson(1.0));
-  const json doc = RunJson(DataArgs(noise) + " --windows 0.2,0.5,1.0 --method " + GetParam(), tmp);
+  const json doc = RunImuconvJson(
+      "nees", DataArgs(noise) + " --windows 0.2,0.5,1.0 --method " + GetParam(), tmp);
   ASSERT_TRUE(doc.is_object());
   EXPECT_EQ(doc["method"], GetParam());
   EXPECT_EQ(doc["convention"], "left");
@@ -148,8 +143,10 @@ INSTANTIATE_TEST_SUITE_P(Propagators, NeesSlice, ::testing::Values("rk4", "euler
 TEST(NeesScaling, NeesScalesAsOneOverKSquared) {
   TempDir tmp;
   const std::string args = " --windows 0.2,0.5,1.0 --method rk4";
-  const json one = RunJson(DataArgs(tmp.write("n1.json", NoiseJson(1.0))) + args, tmp);
-  const json two = RunJson(DataArgs(tmp.write("n2.json", NoiseJson(2.0))) + args, tmp);
+  const json one =
+      RunImuconvJson("nees", DataArgs(tmp.write("n1.json", NoiseJson(1.0))) + args, tmp);
+  const json two =
+      RunImuconvJson("nees", DataArgs(tmp.write("n2.json", NoiseJson(2.0))) + args, tmp);
   ASSERT_TRUE(one.is_object() && two.is_object());
   for (int i = 0; i < 3; ++i) {
     const std::vector<double> a = one["windows"][i]["nees"], b = two["windows"][i]["nees"];
@@ -173,10 +170,11 @@ TEST(NeesNoiseInput, KalibrYamlJsonAndPipelineAgree) {
                                      "rostopic: /imu0\n"
                                      "update_rate: 200.0\n");
   const std::string args = " --windows 0.5 --method midpoint";
-  const json from_json = RunJson(DataArgs(tmp.write("noise.json", NoiseJson(1.0))) + args, tmp);
-  const json from_yaml = RunJson(DataArgs(yaml) + args, tmp);
-  const json from_pipeline =
-      RunJson(DataArgs(SourcePath("examples/euroc_v1_01_keyframes.json")) + args, tmp);
+  const json from_json =
+      RunImuconvJson("nees", DataArgs(tmp.write("noise.json", NoiseJson(1.0))) + args, tmp);
+  const json from_yaml = RunImuconvJson("nees", DataArgs(yaml) + args, tmp);
+  const json from_pipeline = RunImuconvJson(
+      "nees", DataArgs(SourcePath("examples/euroc_v1_01_keyframes.json")) + args, tmp);
   EXPECT_EQ(from_json, from_yaml);
   EXPECT_EQ(from_json, from_pipeline);
 }
@@ -187,8 +185,9 @@ TEST(NeesNoiseInput, KalibrYamlJsonAndPipelineAgree) {
 TEST(NeesStride, OverlappingWindowsContainTheNonOverlappingOnes) {
   TempDir tmp;
   const std::string noise = tmp.write("noise.json", NoiseJson(1.0));
-  const json plain = RunJson(DataArgs(noise) + " --windows 0.2 --method rk4", tmp);
-  const json half = RunJson(DataArgs(noise) + " --windows 0.2 --stride 0.1 --method rk4", tmp);
+  const json plain = RunImuconvJson("nees", DataArgs(noise) + " --windows 0.2 --method rk4", tmp);
+  const json half =
+      RunImuconvJson("nees", DataArgs(noise) + " --windows 0.2 --stride 0.1 --method rk4", tmp);
   ASSERT_TRUE(plain.is_object() && half.is_object());
   const std::vector<double> a = plain["windows"][0]["nees"], b = half["windows"][0]["nees"];
   EXPECT_EQ(half["windows"][0]["stride"].get<double>(), 0.1);
@@ -203,9 +202,9 @@ TEST(NeesStride, OverlappingWindowsContainTheNonOverlappingOnes) {
 TEST(NeesConvention, ForsterChartGivesNearlyTheSameNees) {
   TempDir tmp;
   const std::string noise = tmp.write("noise.json", NoiseJson(1.0));
-  const json left = RunJson(DataArgs(noise) + " --windows 1.0 --method rk4", tmp);
-  const json forster =
-      RunJson(DataArgs(noise) + " --windows 1.0 --method rk4 --convention forster", tmp);
+  const json left = RunImuconvJson("nees", DataArgs(noise) + " --windows 1.0 --method rk4", tmp);
+  const json forster = RunImuconvJson(
+      "nees", DataArgs(noise) + " --windows 1.0 --method rk4 --convention forster", tmp);
   ASSERT_TRUE(left.is_object() && forster.is_object());
   const std::vector<double> a = left["windows"][0]["nees"], b = forster["windows"][0]["nees"];
   ASSERT_EQ(a.size(), b.size());

@@ -68,12 +68,6 @@ json GenericPipeline(const std::string& csv) {
                          {"az", 4}}}});
 }
 
-json RunJson(const std::string& args, const TempDir& tmp) {
-  const CommandResult r = RunImuconv("nees " + args + " --json", tmp);
-  EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
-  return r.exit_code == 0 ? json::parse(r.out) : json();
-}
-
 void ExpectSameNees(const json& a, const json& b) {
   ASSERT_EQ(a["windows"].size(), b["windows"].size());
   for (std::size_t w = 0; w < a["windows"].size(); ++w) {
@@ -96,11 +90,12 @@ TEST(NeesPipelineInput, GenericCsvGivesTheNeesOfTheEurocFiles) {
   const std::string csv = tmp.write("imu_generic.csv", GenericCsv());
   const std::string pipeline = tmp.write("generic.json", GenericPipeline(csv).dump(1));
   const std::string common = " --windows 0.5,1.0 --method rk4";
-  const json euroc =
-      RunJson("--imu " + ShellQuote(kEurocSliceImu) + " --ground-truth " +
-                  ShellQuote(kEurocSliceGroundTruth) + " --noise " + ShellQuote(noise) + common,
-              tmp);
-  const json generic = RunJson("--pipeline " + ShellQuote(pipeline) + common, tmp);
+  const json euroc = RunImuconvJson("nees",
+                                    "--imu " + ShellQuote(kEurocSliceImu) + " --ground-truth " +
+                                        ShellQuote(kEurocSliceGroundTruth) + " --noise " +
+                                        ShellQuote(noise) + common,
+                                    tmp);
+  const json generic = RunImuconvJson("nees", "--pipeline " + ShellQuote(pipeline) + common, tmp);
   ExpectSameNees(euroc, generic);
   std::printf("  %zu + %zu windows; factor at 0.5 s: EuRoC %.12g, generic CSV %.12g\n",
               euroc["windows"][0]["nees"].size(), euroc["windows"][1]["nees"].size(),
@@ -108,14 +103,17 @@ TEST(NeesPipelineInput, GenericCsvGivesTheNeesOfTheEurocFiles) {
               generic["windows"][0]["factor"].get<double>());
   // --noise replaces the pipeline's: a Kalibr imu.yaml of the same densities, and a JSON noise
   // object of twice them (NEES / 4, the exact 1/k^2 scaling: 1e-12 relative, round-off).
-  ExpectSameNees(euroc, RunJson("--pipeline " + ShellQuote(pipeline) + " --noise " +
-                                    ShellQuote(kKalibr) + common,
-                                tmp));
+  ExpectSameNees(euroc, RunImuconvJson("nees",
+                                       "--pipeline " + ShellQuote(pipeline) + " --noise " +
+                                           ShellQuote(kKalibr) + common,
+                                       tmp));
   json twice = kEurocNoise;
   for (auto& v : twice) v = 2.0 * v.get<double>();
-  const json doubled = RunJson("--pipeline " + ShellQuote(pipeline) + " --noise " +
-                                   ShellQuote(tmp.write("twice.json", twice.dump())) + common,
-                               tmp);
+  const json doubled =
+      RunImuconvJson("nees",
+                     "--pipeline " + ShellQuote(pipeline) + " --noise " +
+                         ShellQuote(tmp.write("twice.json", twice.dump())) + common,
+                     tmp);
   ASSERT_EQ(doubled["windows"][0]["nees"].size(), euroc["windows"][0]["nees"].size());
   for (std::size_t i = 0; i < doubled["windows"][0]["nees"].size(); ++i)
     EXPECT_NEAR(doubled["windows"][0]["nees"][i].get<double>() * 4.0,

@@ -16,8 +16,8 @@ namespace {
 using namespace imuconv::test;
 
 /// `args` with `flag value` appended must be refused: exit 2, the option and the rule named.
-void ExpectRefused(const std::string& args, const std::string& flag, const std::string& value,
-                   const TempDir& tmp) {
+void ExpectFlagRefused(const std::string& args, const std::string& flag, const std::string& value,
+                       const TempDir& tmp) {
   SCOPED_TRACE(flag + " " + value);
   const CommandResult r = RunImuconv(args + " " + flag + " " + ShellQuote(value), tmp);
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
@@ -34,21 +34,21 @@ TEST(NumericFlags, NonFiniteValuesAreRefusedInEveryCommand) {
   const std::string montecarlo = "montecarlo --case " +
                                  ShellQuote(DataPath("reference/cases/smooth-0.json")) +
                                  " --method rk4 --trials 16";
-  ExpectRefused(montecarlo, "--duration", "nan", tmp);
-  ExpectRefused(montecarlo, "--duration", "NaN", tmp);
-  ExpectRefused(montecarlo, "--noise-scale", "1e999", tmp);  // beyond the largest double: inf
-  ExpectRefused(montecarlo, "--duration", "0x1p99999", tmp);
+  ExpectFlagRefused(montecarlo, "--duration", "nan", tmp);
+  ExpectFlagRefused(montecarlo, "--duration", "NaN", tmp);
+  ExpectFlagRefused(montecarlo, "--noise-scale", "1e999", tmp);  // beyond the largest double: inf
+  ExpectFlagRefused(montecarlo, "--duration", "0x1p99999", tmp);
   const std::string nees =
       "nees --imu " + ShellQuote(SourcePath("examples/data/V1_01_easy_imu0_slice.csv")) +
       " --ground-truth " +
       ShellQuote(SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv")) +
       " --noise " + ShellQuote(DataPath("kalibr/euroc_imu.yaml")) + " --method rk4";
-  ExpectRefused(nees + " --windows 0.5", "--stride", "nan", tmp);
-  ExpectRefused(nees, "--windows", "0.5,nan", tmp);
-  ExpectRefused("plugins --check " + ShellQuote(tmp.path()), "--check-timeout", "nan", tmp);
-  ExpectRefused("plugins --check " + ShellQuote(tmp.path()), "--check-timeout", "inf", tmp);
-  ExpectRefused("experiment preint-by-prop --trials 1", "--duration", "Infinity", tmp);
-  ExpectRefused("experiment preint-by-prop --trials 1", "--rate", "nan", tmp);
+  ExpectFlagRefused(nees + " --windows 0.5", "--stride", "nan", tmp);
+  ExpectFlagRefused(nees, "--windows", "0.5,nan", tmp);
+  ExpectFlagRefused("plugins --check " + ShellQuote(tmp.path()), "--check-timeout", "nan", tmp);
+  ExpectFlagRefused("plugins --check " + ShellQuote(tmp.path()), "--check-timeout", "inf", tmp);
+  ExpectFlagRefused("experiment preint-by-prop --trials 1", "--duration", "Infinity", tmp);
+  ExpectFlagRefused("experiment preint-by-prop --trials 1", "--rate", "nan", tmp);
 }
 
 TEST(NumericFlags, IntegerOptionsRefuseInfinityToo) {

@@ -46,7 +46,7 @@ std::string Generic(const TempDir& tmp) {
 }
 
 /// Every file of a directory with its bytes, to show that nothing in it changed.
-std::map<std::string, std::string> Snapshot(const std::string& dir) {
+std::map<std::string, std::string> FilesWithBytes(const std::string& dir) {
   std::map<std::string, std::string> m;
   for (const auto& e : fs::recursive_directory_iterator(dir))
     if (e.is_regular_file()) m[e.path().string()] = ReadText(e.path().string());
@@ -148,7 +148,7 @@ TEST(OutputSafety, AnInputIsNeverTheOutput) {
   const std::string imu = tmp.file("data/generic_imu_seconds.csv");
   const std::string gt = tmp.file("data/V1_01_easy_groundtruth_vicon2gt_slice.csv");
   fs::create_symlink("data/generic_imu_seconds.csv", tmp.file("imu_link.json"));
-  const auto before = Snapshot(tmp.path());
+  const auto before = FilesWithBytes(tmp.path());
   const std::vector<std::pair<std::string, std::string>> cases = {
       {p, "is the same file as the pipeline " + p},
       {imu, "is the same file as the input file " + imu},
@@ -164,7 +164,7 @@ TEST(OutputSafety, AnInputIsNeverTheOutput) {
         << r.err;
     EXPECT_EQ(r.out, "") << "refused before the run";
   }
-  EXPECT_TRUE(Snapshot(tmp.path()) == before) << "an input changed";
+  EXPECT_TRUE(FilesWithBytes(tmp.path()) == before) << "an input changed";
   EXPECT_TRUE(S_ISLNK(Lmode(tmp.file("imu_link.json"))));
   EXPECT_EQ(tmp.entries(), 3u);  // no temporaries
 }
@@ -174,13 +174,13 @@ TEST(OutputSafety, AMeasurementsFileIsNeverTheOutput) {
   const std::string p =
       CopyExample(tmp, "gtsam_import.json", {"gtsam_smooth0_manifold.measurements.json"});
   const std::string meas = tmp.file("data/gtsam_smooth0_manifold.measurements.json");
-  const auto before = Snapshot(tmp.path());
+  const auto before = FilesWithBytes(tmp.path());
   CommandResult r = RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(meas), tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(
       r.err, meas + ": is the same file as the input file " + meas + ": refusing to overwrite it"))
       << r.err;
-  EXPECT_TRUE(Snapshot(tmp.path()) == before);
+  EXPECT_TRUE(FilesWithBytes(tmp.path()) == before);
   // The same through the pipeline's own "output" key.
   json doc = json::parse(ReadText(p));
   doc["output"] = "data/gtsam_smooth0_manifold.measurements.json";
@@ -251,7 +251,7 @@ pid_t Spawn(const std::vector<std::string>& args) {
   return rc == 0 ? pid : -1;
 }
 
-std::vector<std::string> Temporaries(const std::string& dir) {
+std::vector<std::string> TemporariesIn(const std::string& dir) {
   std::vector<std::string> t;
   for (const auto& e : fs::directory_iterator(dir))
     if (e.path().filename().string().find(".tmp.") != std::string::npos)
@@ -293,7 +293,7 @@ TEST(OutputSafety, SigtermRemovesTheTemporaryAndKeepsTheOldOutput) {
   int status = 0;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   while (std::chrono::steady_clock::now() < deadline) {
-    if (!Temporaries(tmp.path()).empty()) {
+    if (!TemporariesIn(tmp.path()).empty()) {
       seen = true;
       break;
     }
@@ -315,7 +315,7 @@ TEST(OutputSafety, SigtermRemovesTheTemporaryAndKeepsTheOldOutput) {
   if (WIFEXITED(status))
     GTEST_SKIP() << "the run finished (exit " << WEXITSTATUS(status) << ") before SIGTERM arrived";
   EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << "status " << status;
-  EXPECT_TRUE(Temporaries(tmp.path()).empty()) << Temporaries(tmp.path()).front();
+  EXPECT_TRUE(TemporariesIn(tmp.path()).empty()) << TemporariesIn(tmp.path()).front();
   EXPECT_EQ(ReadText(out), "previous result\n");
   EXPECT_EQ(tmp.entries(), 2u);
 }

@@ -131,8 +131,8 @@ TEST(ShardMerge, MoreShardsThanUnitsLeavesSomeEmpty) {
 
 /// A merge that must fail: exit 2, the message names `file` and says `why`, and the directory
 /// holds no output and nothing new (no temporary).
-void ExpectRefused(Batch& b, const std::vector<std::string>& shards, const std::string& file,
-                   const std::string& why) {
+void ExpectMergeRefused(Batch& b, const std::vector<std::string>& shards, const std::string& file,
+                        const std::string& why) {
   const std::size_t before = b.tmp.entries();
   const CommandResult r = b.merge("out.json", shards);
   EXPECT_EQ(r.exit_code, 2) << r.err;
@@ -154,12 +154,12 @@ TEST(ShardMerge, HostileMergesAreRefused) {
   }
   {
     SCOPED_TRACE("duplicated");
-    ExpectRefused(b, {s0, s1, s2, s1}, "S1of3.json", "shard 1 of 3 is given twice");
+    ExpectMergeRefused(b, {s0, s1, s2, s1}, "S1of3.json", "shard 1 of 3 is given twice");
   }
   {
     SCOPED_TRACE("another split");
     const std::string other = b.shard(0, 2);
-    ExpectRefused(b, {other, s1, s2}, "S1of3.json", "one is shard 1 of 3, the other of 2");
+    ExpectMergeRefused(b, {other, s1, s2}, "S1of3.json", "one is shard 1 of 3, the other of 2");
   }
   {
     SCOPED_TRACE("another pipeline");
@@ -169,7 +169,8 @@ TEST(ShardMerge, HostileMergesAreRefused) {
         "-q run " + ShellQuote(q) + " --shard 1/3 -o " + ShellQuote(b.tmp.file("Q1of3.json")),
         b.tmp);
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    ExpectRefused(b, {s0, b.tmp.file("Q1of3.json"), s2}, "Q1of3.json", "not shards of one run");
+    ExpectMergeRefused(b, {s0, b.tmp.file("Q1of3.json"), s2}, "Q1of3.json",
+                       "not shards of one run");
   }
   {
     SCOPED_TRACE("other data under the same name");
@@ -182,7 +183,7 @@ TEST(ShardMerge, HostileMergesAreRefused) {
     b.tmp.write("data/V1_01_easy_imu0_slice.csv", changed);
     const std::string moved = b.run("--shard 1/3", "D1of3.json", 2);
     b.tmp.write("data/V1_01_easy_imu0_slice.csv", original);
-    ExpectRefused(b, {s0, moved, s2}, "D1of3.json", "/shard/inputs");
+    ExpectMergeRefused(b, {s0, moved, s2}, "D1of3.json", "/shard/inputs");
   }
   {
     SCOPED_TRACE("another CPU's kernel instance");
@@ -196,8 +197,8 @@ TEST(ShardMerge, HostileMergesAreRefused) {
     text.replace(name, here.size(), here == "baseline" ? "avx2" : "baseline");
     // Resealed: such a shard's own hash is right (an edit that is not is shard_integrity.cpp's).
     const std::string edited = b.tmp.write("K1of3.json", ResealRunShard(text));
-    ExpectRefused(b, {s0, edited, s2}, "K1of3.json",
-                  "different SIMD instances of the kernels (/shard/kernel_instance");
+    ExpectMergeRefused(b, {s0, edited, s2}, "K1of3.json",
+                       "different SIMD instances of the kernels (/shard/kernel_instance");
   }
   {
     SCOPED_TRACE("another imuconv version");
@@ -209,26 +210,26 @@ TEST(ShardMerge, HostileMergesAreRefused) {
     ASSERT_NE(at, std::string::npos);
     text.insert(at + key.size(), "9.9-");
     const std::string edited = b.tmp.write("V1of3.json", ResealRunShard(text));
-    ExpectRefused(b, {s0, edited, s2}, "V1of3.json", "differ before \"tasks\" at line 2");
+    ExpectMergeRefused(b, {s0, edited, s2}, "V1of3.json", "differ before \"tasks\" at line 2");
   }
   {
     SCOPED_TRACE("truncated");
     const std::string text = ReadText(s1);
     const std::string half = b.tmp.write("half.json", text.substr(0, text.size() / 2));
-    ExpectRefused(b, {s0, half, s2}, "half.json", "truncated shard");
+    ExpectMergeRefused(b, {s0, half, s2}, "half.json", "truncated shard");
     // Cut by its last byte (the closing newline) only.
     const std::string cut = b.tmp.write("cut.json", text.substr(0, text.size() - 1));
-    ExpectRefused(b, {s0, cut, s2}, "cut.json", "truncated shard");
+    ExpectMergeRefused(b, {s0, cut, s2}, "cut.json", "truncated shard");
   }
   {
     SCOPED_TRACE("not a shard");
     const std::string whole = b.run("", "whole.json", 2);
-    ExpectRefused(b, {whole}, "whole.json", "not a shard");
+    ExpectMergeRefused(b, {whole}, "whole.json", "not a shard");
   }
   {
     SCOPED_TRACE("text after the document");
     const std::string longer = b.tmp.write("longer.json", ReadText(s2) + "{}");
-    ExpectRefused(b, {s0, s1, longer}, "longer.json", "more text after the end");
+    ExpectMergeRefused(b, {s0, s1, longer}, "longer.json", "more text after the end");
   }
   // The output is never one of the shards: refused, the shard unchanged.
   const std::string before = ReadText(s0);

@@ -107,8 +107,8 @@ Mat23 Transition(const FastLio2Scan& s, FastLio2Transition transition) {
 // sqrt(N) eps |x| (a random walk of N roundings), divided by 2h. Entries under 1e-4 of a
 // matrix's largest are judged relative to that floor (RelativeAboveFloorDiff), so the bound
 // on the relative difference is that rounding over the floor; at least 1e-7.
-double DifferenceBound(double h, std::size_t n_predict, double largest_value,
-                       double largest_entry) {
+double FastLio2DifferenceBound(double h, std::size_t n_predict, double largest_value,
+                               double largest_entry) {
   const double rounding =
       std::sqrt(double(n_predict)) * std::numeric_limits<double>::epsilon() * largest_value / h;
   return std::max(1e-7, rounding / (1e-4 * largest_entry));
@@ -136,8 +136,8 @@ TEST_P(FastLio2Derivatives, ExactTransitionIsTheScansDerivative) {
   const Mat23 as_built = Transition(s, FastLio2Transition::kAsFastLio);
   const ScaledDiff e = RelativeAboveFloorDiff(numeric, exact);
   const ScaledDiff a = RelativeAboveFloorDiff(numeric, as_built);
-  const double bound =
-      DifferenceBound(kStep, s.predicts.size(), LargestValue(nominal), exact.cwiseAbs().maxCoeff());
+  const double bound = FastLio2DifferenceBound(kStep, s.predicts.size(), LargestValue(nominal),
+                                               exact.cwiseAbs().maxCoeff());
   std::printf(
       "  %-13s Phi_summed vs central differences: exact %.2g at (%d,%d) (bound %.2g), as built "
       "%.2g at (%d,%d)\n",

@@ -116,4 +116,14 @@ double RelChange(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
   return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
 }
 
+/// A case's measurement noise with the random walks raised (2e-4, 2e-3) so that over 1 s the
+/// bias blocks are as large as the start bias uncertainty and resolved by a Monte Carlo (the
+/// cases' own are ~100x smaller and would not be tested): monte_carlo.cpp, openvins_methods.cpp.
+inline ImuNoise McNoise(const ImuNoise& from_case) {
+  ImuNoise n = from_case;
+  n.gyro_random_walk = 2e-4;
+  n.accel_random_walk = 2e-3;
+  return n;
+}
+
 }  // namespace imuconv::test

@@ -51,15 +51,6 @@ Mat15 StartCovariance() {
   return L * L.transpose();
 }
 
-// smooth-0's measurement noise; random walks raised so that over 1 s they are as large as the
-// start bias uncertainty (the case's own are ~100x smaller and would not be tested).
-ImuNoise McNoise(const ImuNoise& from_case) {
-  ImuNoise n = from_case;
-  n.gyro_random_walk = 2e-4;
-  n.accel_random_walk = 2e-3;
-  return n;
-}
-
 struct McStatistics {
   double worst_sigmas = 0.0;  // max over entries of |S - I| and |mean| in their standard deviations
   double nees = 0.0;          // trace(S), expected 15

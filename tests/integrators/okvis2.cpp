@@ -86,7 +86,7 @@ Vec15 Minus(const Okvis2State& y, const Okvis2State& x) {
 // that add up; at least 1e-7.
 constexpr double kStep = 1e-6;
 
-double DifferenceBound(double largest_value, double largest_entry) {
+double Okvis2DifferenceBound(double largest_value, double largest_entry) {
   const double rounding = std::numeric_limits<double>::epsilon() * largest_value / kStep;
   return std::max(1e-7, 10.0 * rounding / (1e-4 * largest_entry));
 }
@@ -126,7 +126,7 @@ TEST_P(Okvis2Derivatives, ImuErrorJacobiansAreTheResidualsDerivatives) {
   // predicted displacement and the preintegrated one).
   const double largest = std::max({t.residual.cwiseAbs().maxCoeff(), pre.acc_doubleintegral.norm(),
                                    pre.acc_integral.norm(), 1.0});
-  const double bound = DifferenceBound(largest, analytic.cwiseAbs().maxCoeff());
+  const double bound = Okvis2DifferenceBound(largest, analytic.cwiseAbs().maxCoeff());
   std::printf("  %-13s ImuError Jacobians vs central differences: %.2g at (%d,%d), bound %.2g\n",
               GetParam(), s.d, s.row, s.col, bound);
   EXPECT_LE(s.d, bound) << "at (" << s.row << "," << s.col << ")";
@@ -157,7 +157,7 @@ TEST_P(Okvis2Derivatives, PropagationJacobianIsTheEndStatesDerivative) {
   const double largest =
       std::max({nominal.end.r.cwiseAbs().maxCoeff(), nominal.end.v.cwiseAbs().maxCoeff(), 1.0});
   const double bound =
-      DifferenceBound(largest, nominal.jacobian.leftCols<9>().cwiseAbs().maxCoeff());
+      Okvis2DifferenceBound(largest, nominal.jacobian.leftCols<9>().cwiseAbs().maxCoeff());
   std::printf(
       "  %-13s propagation Jacobian vs central differences: state columns %.2g (bound %.2g), bias "
       "blocks %.2g\n",

@@ -185,15 +185,6 @@ INSTANTIATE_TEST_SUITE_P(
 // 4000, limits 0.112 / 0.079 / 15 +- 0.43): rk4 max|W_ii - 1| 0.055, max|W_ij| 0.043, NEES
 // 15.10; analytical 0.042, 0.046, 15.03; with 0.8x densities 0.65 and 0.63 (rejected).
 
-// smooth-0's measurement noise; random walks raised so that over 1 s the bias blocks are
-// resolved (the case's own are ~100x smaller), as in monte_carlo.cpp.
-ImuNoise McNoise(const ImuNoise& from_case) {
-  ImuNoise n = from_case;
-  n.gyro_random_walk = 2e-4;
-  n.accel_random_walk = 2e-3;
-  return n;
-}
-
 class OpenVinsQdMonteCarlo : public ::testing::TestWithParam<Method> {};
 
 TEST_P(OpenVinsQdMonteCarlo, WhitenedNoiseCovarianceIsIdentity) {

@@ -19,11 +19,11 @@ using namespace imuconv;
 using namespace imuconv::test;
 namespace li = imuconv::left_idx;
 
-struct Difference {
+struct CrossCheckDifference {
   double state, phi, cov;
 };
 
-Difference KernelVsReference(const PropagationInput& in, int substeps) {
+CrossCheckDifference KernelVsReference(const PropagationInput& in, int substeps) {
   PropagationResult a, b;
   kernels::IntegrateRk4<kernels::Outputs::All>(in, a, substeps);
   rk4_reference::IntegrateRk4(in, b, substeps);
@@ -38,7 +38,7 @@ class Rk4VsClassicalRk4 : public ::testing::TestWithParam<const char*> {};
 TEST_P(Rk4VsClassicalRk4, AgreeToFourthOrder) {
   const ImuCase c = LoadCase(GetParam());
   const PropagationInput in = MakeInput(c, c.samples.front().t, c.samples[400].t);
-  const Difference one = KernelVsReference(in, 1), two = KernelVsReference(in, 2);
+  const CrossCheckDifference one = KernelVsReference(in, 1), two = KernelVsReference(in, 2);
   std::cout << "[ measured ] rk4 vs classical RK4 on " << GetParam() << " (2 s), 1 substep: state "
             << one.state << ", Phi " << one.phi << ", cov " << one.cov
             << "; ratio to 2 substeps: " << one.state / two.state << ", " << one.phi / two.phi

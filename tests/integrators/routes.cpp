@@ -17,16 +17,16 @@ using kernels::Isa;
 
 using kernels::IsaName;  // the library's names ("baseline", "avx2", "avx512")
 
-struct Difference {
+struct RouteDifference {
   double state = 0.0, phi = 0.0, cov = 0.0, variances = 0.0;
 };
 
 template <Hold kHold>
-Difference CompareRoutes(const PropagationInput& in, Isa isa) {
+RouteDifference CompareRoutes(const PropagationInput& in, Isa isa) {
   PropagationResult spec, fast;
   kernels::IntegrateHeldPerSample<kHold, kernels::Outputs::All>(in, spec);
   EXPECT_TRUE((kernels::IntegrateHeldByPreintegration<kHold, true>(in, fast, isa).ok()));
-  Difference d;
+  RouteDifference d;
   d.state = std::max({RelChange(fast.x_e.R, spec.x_e.R), RelChange(fast.x_e.p, spec.x_e.p),
                       RelChange(fast.x_e.v, spec.x_e.v)});
   EXPECT_EQ(fast.x_e.bg, spec.x_e.bg);
@@ -54,7 +54,7 @@ TEST_P(HeldRoutes, PreintegrationRouteMatchesTheStepRecursion) {
   const Isa isa = GetParam();
   if (!kernels::IsaAvailable(isa))
     GTEST_SKIP() << IsaName(isa) << " instance: not supported by this CPU";
-  Difference worst;
+  RouteDifference worst;
   for (const char* name : {"smooth-0", "smooth-3", "aggressive-0", "static-0"}) {
     const ImuCase c = LoadCase(name);
     // A long window with interpolated ends, a three-knot one and a two-knot one (between samples).
@@ -69,8 +69,8 @@ TEST_P(HeldRoutes, PreintegrationRouteMatchesTheStepRecursion) {
         if (zero_start) in.cov_s.setZero();
         {
           for (Hold hold : {Hold::Euler, Hold::Midpoint}) {
-            const Difference d = hold == Hold::Euler ? CompareRoutes<Hold::Euler>(in, isa)
-                                                     : CompareRoutes<Hold::Midpoint>(in, isa);
+            const RouteDifference d = hold == Hold::Euler ? CompareRoutes<Hold::Euler>(in, isa)
+                                                          : CompareRoutes<Hold::Midpoint>(in, isa);
             // Both routes compute the same discrete map (euler.h); they differ only in
             // rounding: up to ~3000 steps of O(1)..O(100) sums, each adding ~1e-16
             // relative. 1e-11 relative to the largest entry (variances: to themselves) is

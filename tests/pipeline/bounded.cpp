@@ -22,7 +22,7 @@ using namespace imuconv;
 using namespace imuconv::pipeline;
 using nlohmann::json;
 
-const char* kFile = "mem/bounded.json";
+const char* kBoundedFile = "mem/bounded.json";
 
 json Doc(const json& tasks) {
   json samples = json::array();
@@ -39,7 +39,7 @@ json Doc(const json& tasks) {
           {"tasks", tasks}};
 }
 
-json State() { return {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {1, 0, 0}}}; }
+json MovingState() { return {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {1, 0, 0}}}; }
 
 /// 1000 keyframe intervals of 1 ms over the second of samples.
 json Keyframes() {
@@ -52,14 +52,14 @@ json Predict(bool chain) {
   return {{"type", "propagate_by_preintegration"},
           {"name", "pred"},
           {"measurements", "kf"},
-          {"start", {{"state", State()}}},
+          {"start", {{"state", MovingState()}}},
           {"chain", chain}};
 }
 
 RunOptions::Stats RunStats(const json& doc, RunOptions ro = {}) {
   RunOptions::Stats stats;
   ro.stats = &stats;
-  const Pipeline p = Pipeline::FromJson(doc, kFile, IMUCONV_SOURCE_DIR);
+  const Pipeline p = Pipeline::FromJson(doc, kBoundedFile, IMUCONV_SOURCE_DIR);
   std::size_t bytes = 0;
   RunToText(p, imuconv::test::Plugins(), ro, [&](std::string_view s) { bytes += s.size(); });
   EXPECT_GT(bytes, 0u);
@@ -89,7 +89,7 @@ TEST(Streaming, IntervalsNoLaterTaskNamesAreNotKept) {
 TEST(Streaming, TheOutputIsTheSameWhetherResultsAreKeptOrNot) {
   // The preintegrate task's text is the same when a later task keeps its results.
   const auto text = [](const json& doc) {
-    const Pipeline p = Pipeline::FromJson(doc, kFile, IMUCONV_SOURCE_DIR);
+    const Pipeline p = Pipeline::FromJson(doc, kBoundedFile, IMUCONV_SOURCE_DIR);
     std::string t;
     RunToText(p, imuconv::test::Plugins(), RunOptions{}, [&](std::string_view s) { t.append(s); });
     return json::parse(t);
@@ -102,8 +102,8 @@ TEST(Streaming, TheOutputIsTheSameWhetherResultsAreKeptOrNot) {
 TEST(Streaming, KeptResultsBeyondTheLimitAreRefusedBeforeAnyTaskRuns) {
   RunOptions ro;
   ro.max_kept_bytes = 100000;  // ~40 measurements
-  const Pipeline p = Pipeline::FromJson(Doc(json::array({Keyframes(), Predict(false)})), kFile,
-                                        IMUCONV_SOURCE_DIR);
+  const Pipeline p = Pipeline::FromJson(Doc(json::array({Keyframes(), Predict(false)})),
+                                        kBoundedFile, IMUCONV_SOURCE_DIR);
   std::size_t bytes = 0;
   try {
     RunToText(p, imuconv::test::Plugins(), ro, [&](std::string_view s) { bytes += s.size(); });
@@ -128,7 +128,7 @@ TEST(Keyframes, GeneratedKeyframesStoreNothingPerKeyframe) {
   // 1e7 keyframes (the most one task may ask for): the spec holds three numbers.
   json doc = Doc(json::array({Keyframes()}));
   doc["tasks"][0]["keyframes"]["step"] = 1e-7;
-  const Pipeline p = Pipeline::FromJson(doc, kFile, IMUCONV_SOURCE_DIR);
+  const Pipeline p = Pipeline::FromJson(doc, kBoundedFile, IMUCONV_SOURCE_DIR);
   ASSERT_NE(p.spec().tasks[0]->intervals(), nullptr);
   const IntervalsSpec& iv = *p.spec().tasks[0]->intervals();
   EXPECT_EQ(iv.form, IntervalsSpec::Form::Generated);
@@ -141,7 +141,7 @@ TEST(Keyframes, GeneratedKeyframesStoreNothingPerKeyframe) {
   EXPECT_EQ(iv.pointer_of(10000000), "/tasks/0/keyframes/end");
   doc["tasks"][0]["keyframes"]["step"] = 0.9e-7;
   EXPECT_NE(imuconv::test::MessageOf<ConfigError>([&] {
-              Pipeline::FromJson(doc, kFile, IMUCONV_SOURCE_DIR);
+              Pipeline::FromJson(doc, kBoundedFile, IMUCONV_SOURCE_DIR);
             }).find("/tasks/0/keyframes/step: step gives more than 1e7 keyframes"),
             std::string::npos);
 }
@@ -158,7 +158,7 @@ TEST(Validation, OneHundredThousandTasksThatNameEarlierOnes) {
   tasks.push_back({{"type", "propagate"},
                    {"name", "prop"},
                    {"propagator", "euler"},
-                   {"start", {{"state", State()}}},
+                   {"start", {{"state", MovingState()}}},
                    {"interval", {{"t_start", 0.0}, {"t_end", 1.0}}}});
   for (int i = 2; i < 100000; ++i) {
     const std::string name = "t" + std::to_string(i);
@@ -168,8 +168,8 @@ TEST(Validation, OneHundredThousandTasksThatNameEarlierOnes) {
                        {"kind", "gtsam"},
                        {"measurements", "pre"},
                        {"index", 0},
-                       {"start", State()},
-                       {"end", State()}});
+                       {"start", MovingState()},
+                       {"end", MovingState()}});
     else if (i % 3 == 1)
       tasks.push_back({{"type", "convert"},
                        {"name", name},
@@ -183,7 +183,7 @@ TEST(Validation, OneHundredThousandTasksThatNameEarlierOnes) {
                        {"reintegrate", false},
                        {"bias", {{"delta_bg", {0.001, 0, 0}}}}});
   }
-  const Pipeline p = Pipeline::FromJson(Doc(tasks), kFile, IMUCONV_SOURCE_DIR);
+  const Pipeline p = Pipeline::FromJson(Doc(tasks), kBoundedFile, IMUCONV_SOURCE_DIR);
   EXPECT_EQ(p.spec().tasks.size(), 100000u);
   // The run-time checks (plugin ids, times, kept memory) without running the tasks.
   RunOptions ro;
@@ -195,7 +195,7 @@ TEST(Validation, OneHundredThousandTasksThatNameEarlierOnes) {
   json bad = Doc(tasks);
   bad["tasks"][99999]["measurements"] = "nowhere";
   const std::string m = imuconv::test::MessageOf<ConfigError>(
-      [&] { Pipeline::FromJson(bad, kFile, IMUCONV_SOURCE_DIR); });
+      [&] { Pipeline::FromJson(bad, kBoundedFile, IMUCONV_SOURCE_DIR); });
   EXPECT_NE(m.find("/tasks/99999/measurements: no earlier preintegrate task named 'nowhere' "
                    "(earlier ones: 'pre')"),
             std::string::npos)

@@ -14,7 +14,7 @@ using namespace imuconv::pipeline;
 using imuconv::test::TempDir;
 using nlohmann::json;
 
-const char* kFile = "mem/pipeline.json";
+const char* kConfigFile = "mem/pipeline.json";
 
 /// A valid pipeline: 0.1 s of inline samples at 100 Hz and one task of each kind.
 json Base() {
@@ -62,13 +62,13 @@ json Base() {
 /// The issues of loading and running `doc` (empty if it runs).
 std::vector<Issue> Issues(const json& doc) {
   try {
-    const Pipeline p = Pipeline::FromJson(doc, kFile, IMUCONV_SOURCE_DIR);
+    const Pipeline p = Pipeline::FromJson(doc, kConfigFile, IMUCONV_SOURCE_DIR);
     pipeline::Run(p, imuconv::test::Plugins(), RunOptions{});
   } catch (const ConfigError& e) {
-    EXPECT_EQ(e.file(), kFile);
+    EXPECT_EQ(e.file(), kConfigFile);
     // what() is one "FILE: POINTER: MESSAGE" line per issue.
     const std::string w = e.what();
-    EXPECT_EQ(w.rfind(std::string(kFile) + ": ", 0), 0u) << w;
+    EXPECT_EQ(w.rfind(std::string(kConfigFile) + ": ", 0), 0u) << w;
     return e.issues();
   }
   return {};
@@ -126,7 +126,7 @@ TEST(PipelineConfig, NoiseIsRequiredOnlyByTasksThatIntegrateSamples) {
                          {"to", "gtsam_navstate"},
                          {"state", Base()["tasks"][0]["start"]["state"]}}}}};
   EXPECT_TRUE(Issues(conversions).empty());
-  const Pipeline p = Pipeline::FromJson(conversions, kFile, IMUCONV_SOURCE_DIR);
+  const Pipeline p = Pipeline::FromJson(conversions, kConfigFile, IMUCONV_SOURCE_DIR);
   const json out = pipeline::Run(p, imuconv::test::Plugins(), RunOptions{});
   EXPECT_FALSE(out.contains("noise"));
   ASSERT_EQ(out["tasks"].size(), 1u);
@@ -245,7 +245,7 @@ TEST(PipelineConfig, DataSourceErrorsNameTheirFiles) {
   TempDir tmp;
   json d = Base();
   d["imu"] = {{"format", "euroc"}, {"path", "nowhere/imu.csv"}};
-  const Pipeline p = Pipeline::FromJson(d, kFile, tmp.path());
+  const Pipeline p = Pipeline::FromJson(d, kConfigFile, tmp.path());
   const std::string msg = imuconv::test::MessageOf<ReadError>(
       [&] { pipeline::Run(p, imuconv::test::Plugins(), RunOptions{}); });
   EXPECT_EQ(msg, tmp.file("nowhere/imu.csv") + ": cannot open the file for reading");
@@ -281,7 +281,7 @@ TEST(PipelineConfig, MeasurementFileErrorsPointIntoThatFile) {
   const std::string f = tmp.write("m.json", m.dump());
   json d = Base();
   d["tasks"][2]["measurements"] = {{"file", "m.json"}};
-  const Pipeline p = Pipeline::FromJson(d, kFile, tmp.path());
+  const Pipeline p = Pipeline::FromJson(d, kConfigFile, tmp.path());
   try {
     pipeline::Run(p, imuconv::test::Plugins(), RunOptions{});
     FAIL();
@@ -298,23 +298,23 @@ TEST(PipelineConfig, MeasurementFileErrorsPointIntoThatFile) {
 TEST(PipelineConfig, RuntimeFailuresNameTheTask) {
   json d = Base();
   d["tasks"][5]["source"]["index"] = 3;  // prop has one result
-  const Pipeline p = Pipeline::FromJson(d, kFile, IMUCONV_SOURCE_DIR);
+  const Pipeline p = Pipeline::FromJson(d, kConfigFile, IMUCONV_SOURCE_DIR);
   const std::string msg = imuconv::test::MessageOf<Error>(
       [&] { pipeline::Run(p, imuconv::test::Plugins(), RunOptions{}); });
   EXPECT_EQ(msg,
-            std::string(kFile) +
+            std::string(kConfigFile) +
                 ": /tasks/5/source/index: task 'prop' has 1 result(s); index 3 is out of range");
   // A start covariance of 1e308 overflows in propagation: the task fails instead of writing null.
   json big = Base();
   json sigma = json::array();
   for (int i = 0; i < 15; ++i) sigma.push_back(1e154);
   big["tasks"][0]["start"]["cov"] = {{"sigma", sigma}};
-  const Pipeline q = Pipeline::FromJson(big, kFile, IMUCONV_SOURCE_DIR);
+  const Pipeline q = Pipeline::FromJson(big, kConfigFile, IMUCONV_SOURCE_DIR);
   const std::string m2 = imuconv::test::MessageOf<Error>(
       [&] { pipeline::Run(q, imuconv::test::Plugins(), RunOptions{}); });
   EXPECT_NE(
       m2.find(
-          std::string(kFile) +
+          std::string(kConfigFile) +
           ": /tasks/0 (task 'prop'): produced a non-finite number (output /tasks/0/cov/matrix/"),
       std::string::npos)
       << m2;

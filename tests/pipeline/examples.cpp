@@ -30,12 +30,6 @@ json RunExample(const std::string& name, std::string* summary = nullptr) {
   return out;
 }
 
-const json& Task(const json& out, const std::string& name) {
-  for (const auto& t : out["tasks"])
-    if (t["name"] == name) return t;
-  throw std::runtime_error("no task " + name);
-}
-
 Vec3 V3(const json& j) { return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>()); }
 Mat3 Rot(const json& state) {
   const auto& q = state["q_wxyz"];
@@ -57,7 +51,7 @@ TEST(Examples, EurocKeyframes) {
   const json out = RunExample("euroc_v1_01_keyframes.json", &summary);
   EXPECT_EQ(out["time_origin_ns"].get<std::int64_t>(), 1403715293262142976LL);
   for (const char* pre : {"kf_rk4", "kf_manifold"}) {
-    const json& ms = Task(out, pre)["measurements"];
+    const json& ms = TaskOutput(out, pre)["measurements"];
     ASSERT_EQ(ms.size(), 200u);
     for (std::size_t k = 0; k < ms.size(); ++k) {
       // 10 Hz keyframes on the absolute time axis, exact to the nanosecond.
@@ -72,7 +66,7 @@ TEST(Examples, EurocKeyframes) {
   // (rk4) and 0.42 mm / 0.024 deg (manifold, zero-order hold); the bounds leave ~3x room
   // (the ground truth itself is a batch estimate, not exact).
   for (const char* pred : {"pred_rk4", "pred_manifold"}) {
-    const json& s = Task(out, pred)["ground_truth_summary"];
+    const json& s = TaskOutput(out, pred)["ground_truth_summary"];
     EXPECT_EQ(s["intervals"], 200);
     EXPECT_LT(s["rms_position_error_m"].get<double>(), 1.5e-3) << pred;
     EXPECT_LT(s["rms_rotation_error_deg"].get<double>(), 0.08) << pred;
@@ -91,8 +85,8 @@ TEST(Examples, InlineBasicsPropagationByPreintegrationMatchesPropagation) {
   // 0.1 s intervals: the paper's equivalence, here to round-off (observed 1e-15 on the
   // state, 6e-13 relative on the covariance; bounds 1e-12 and 1e-10).
   const json out = RunExample("inline_basics.json");
-  const json& direct = Task(out, "direct");
-  const json& steps = Task(out, "by_preint")["steps"];
+  const json& direct = TaskOutput(out, "direct");
+  const json& steps = TaskOutput(out, "by_preint")["steps"];
   ASSERT_EQ(steps.size(), 2u);
   const json& last = steps[1];
   EXPECT_LT((V3(direct["x_e"]["p"]) - V3(last["x_e"]["p"])).norm(), 1e-12);
@@ -103,7 +97,7 @@ TEST(Examples, InlineBasicsPropagationByPreintegrationMatchesPropagation) {
       imuconv::test::RelErr(JsonMatrix(last["cov"]["matrix"]), JsonMatrix(direct["cov"]["matrix"])),
       1e-10);
   // The covariance conversion task equals the registry's own conversion (same code path: 1e-12).
-  const json& cv = Task(out, "cov_navstate");
+  const json& cv = TaskOutput(out, "cov_navstate");
   ImuState xe;
   xe.p = V3(direct["x_e"]["p"]);
   xe.v = V3(direct["x_e"]["v"]);
@@ -116,7 +110,7 @@ TEST(Examples, InlineBasicsPropagationByPreintegrationMatchesPropagation) {
   EXPECT_EQ(cv["result"]["blocks"], json({"theta", "p", "v", "ba", "bg"}));
   // First-order bias correction vs re-integration: a change of 2e-3 rad/s and 5e-2 m/s^2 over
   // 0.1 s leaves second-order differences (observed <= 1e-6); bound 1e-5 in every chart.
-  for (const auto& u : Task(out, "rebias")["updates"])
+  for (const auto& u : TaskOutput(out, "rebias")["updates"])
     for (const auto& [chart, fo] : u["first_order"].items()) {
       EXPECT_LT(fo["vs_reintegrated"]["rotation_deg"].get<double>(), 1e-5) << chart;
       EXPECT_LT(fo["vs_reintegrated"]["dp_m"].get<double>(), 1e-5) << chart;
@@ -132,16 +126,16 @@ TEST(Examples, GtsamImportReproducesGtsamsPrediction) {
       imuconv::test::ReadJson(imuconv::test::DataPath("reference/gtsam/smooth-0.gtsam.json"));
   const json& g = ref["zoh"]["manifold"]["predict"];
   const json out = RunExample("gtsam_import.json");
-  const json& x = Task(out, "predict")["steps"][0]["x_e"];
+  const json& x = TaskOutput(out, "predict")["steps"][0]["x_e"];
   const Vec3 gp = V3(g["p"]), gv = V3(g["v"]);
   EXPECT_LT((V3(x["p"]) - gp).norm() / gp.norm(), 1e-9);
   EXPECT_LT((V3(x["v"]) - gv).norm() / gv.norm(), 1e-9);
   EXPECT_LT(so3::Log(Mat3(JsonMatrix(g["R"])).transpose() * Rot(x)).norm(), 1e-9);
   // GTSAM's residual at GTSAM's prediction is zero (bound 1e-8 on every entry).
-  const json& r = Task(out, "residual_at_gtsam_prediction")["residuals"][0]["r"]["vector"];
+  const json& r = TaskOutput(out, "residual_at_gtsam_prediction")["residuals"][0]["r"]["vector"];
   for (const auto& v : r) EXPECT_LT(std::abs(v.get<double>()), 1e-8);
   // The covariance conversion names its charts.
-  const json& cl = Task(out, "cov_left");
+  const json& cl = TaskOutput(out, "cov_left");
   EXPECT_EQ(cl["from"], "gtsam_navstate");
   EXPECT_EQ(cl["result"]["convention"], "left");
 }
@@ -156,8 +150,8 @@ TEST(Examples, GenericCsvAgreesWithTheSameDataInEurocFormat) {
   const json ref =
       pipeline::Run(Pipeline::FromJson(doc, "euroc-variant.json", SourcePath("examples")),
                     imuconv::test::Plugins(), {});
-  const json& a = Task(out, "kf_tangent")["measurements"];
-  const json& b = Task(ref, "kf_tangent")["measurements"];
+  const json& a = TaskOutput(out, "kf_tangent")["measurements"];
+  const json& b = TaskOutput(ref, "kf_tangent")["measurements"];
   ASSERT_EQ(a.size(), 4u);
   ASSERT_EQ(b.size(), 4u);
   for (std::size_t k = 0; k < 4; ++k) {
@@ -183,7 +177,7 @@ TEST(Examples, MeasurementsRoundTripThroughFiles) {
   // and the JSON text round trip lose only round-off (bounds: 1e-12 on the state, 1e-9
   // relative on the covariance).
   const json out = RunExample("inline_basics.json");
-  const json& ms = Task(out, "kf")["measurements"];
+  const json& ms = TaskOutput(out, "kf")["measurements"];
   json as_is = {{"measurements", ms}};
   json manifold = {{"measurements", json::array()}};
   for (const auto& m : ms) {
@@ -197,7 +191,7 @@ TEST(Examples, MeasurementsRoundTripThroughFiles) {
   tmp.write("as_is.json", PrettyJson(as_is));
   tmp.write("manifold.json", PrettyJson(manifold));
   json doc = imuconv::test::ReadJson(SourcePath("examples/inline_basics.json"));
-  json pbp = Task(doc, "by_preint");
+  json pbp = TaskOutput(doc, "by_preint");
   json tasks = json::array({doc["tasks"][1], pbp});
   for (const char* f : {"as_is.json", "manifold.json"}) {
     json t = pbp;
@@ -209,10 +203,10 @@ TEST(Examples, MeasurementsRoundTripThroughFiles) {
   doc["tasks"] = tasks;
   const json res = pipeline::Run(Pipeline::FromJson(doc, "roundtrip.json", tmp.path()),
                                  imuconv::test::Plugins(), {});
-  const json& ref = Task(res, "by_preint")["steps"];
+  const json& ref = TaskOutput(res, "by_preint")["steps"];
   for (const char* name : {"from_as_is", "from_manifold"}) {
     SCOPED_TRACE(name);
-    const json& st = Task(res, name)["steps"];
+    const json& st = TaskOutput(res, name)["steps"];
     ASSERT_EQ(st.size(), ref.size());
     for (std::size_t k = 0; k < st.size(); ++k) {
       EXPECT_EQ(st[k]["t_start"], ref[k]["t_start"]);
@@ -244,9 +238,9 @@ TEST(Examples, OmitLeavesOutTheNamedMatrices) {
   doc["omit"] = {"Phi", "cov", "J_bias", "R"};
   const json bare = pipeline::Run(Pipeline::FromJson(doc, "bare.json", SourcePath("examples")),
                                   imuconv::test::Plugins(), {});
-  const json& fm = Task(full, "kf_rk4")["measurements"][7];
-  const json& lm = Task(light, "kf_rk4")["measurements"][7];
-  const json& bm = Task(bare, "kf_rk4")["measurements"][7];
+  const json& fm = TaskOutput(full, "kf_rk4")["measurements"][7];
+  const json& lm = TaskOutput(light, "kf_rk4")["measurements"][7];
+  const json& bm = TaskOutput(bare, "kf_rk4")["measurements"][7];
   // "reference": the preint_reference copies go, the expressed ones stay (the same numbers).
   EXPECT_TRUE(fm.contains("J_bias") && fm.contains("cov"));
   EXPECT_FALSE(lm.contains("J_bias") || lm.contains("cov"));
@@ -257,16 +251,16 @@ TEST(Examples, OmitLeavesOutTheNamedMatrices) {
                bm["delta"].contains("R"));
   EXPECT_EQ(bm["delta"]["q_wxyz"], fm["delta"]["q_wxyz"]);
   EXPECT_EQ(imuconv::test::CheckMatricesLabelled(bare), 0u);
-  const json& fs = Task(full, "pred_rk4")["steps"][7];
-  const json& ls = Task(light, "pred_rk4")["steps"][7];
-  const json& bs = Task(bare, "pred_rk4")["steps"][7];
+  const json& fs = TaskOutput(full, "pred_rk4")["steps"][7];
+  const json& ls = TaskOutput(light, "pred_rk4")["steps"][7];
+  const json& bs = TaskOutput(bare, "pred_rk4")["steps"][7];
   EXPECT_FALSE(ls.contains("Phi"));
   EXPECT_EQ(ls["cov"], fs["cov"]);
   EXPECT_FALSE(bs.contains("Phi") || bs.contains("cov"));
   EXPECT_EQ(bs["x_e"], fs["x_e"]);
   EXPECT_EQ(bs["ground_truth"], fs["ground_truth"]);
-  EXPECT_EQ(Task(bare, "pred_rk4")["ground_truth_summary"],
-            Task(full, "pred_rk4")["ground_truth_summary"]);
+  EXPECT_EQ(TaskOutput(bare, "pred_rk4")["ground_truth_summary"],
+            TaskOutput(full, "pred_rk4")["ground_truth_summary"]);
   EXPECT_LT(bare.dump().size() * 5, full.dump().size());
   // Names are checked.
   doc["omit"] = {"Phi", "phi", "Phi"};

@@ -24,7 +24,7 @@ using namespace imuconv;
 using namespace imuconv::pipeline;
 using namespace imuconv::test;
 
-const std::string kEurocHeader = "#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z\n";
+const std::string kShortEurocHeader = "#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z\n";
 
 // EuRoC rows from t0 (ns) every `period` ns; row i (0-based) is preceded by an extra `gap_ns`
 // when i == gap_at. The first data row is line 2 of the file.
@@ -111,7 +111,7 @@ TEST(ImuTiming, GapIsAnErrorAtTheLineAfterIt) {
   TempDir tmp;
   // 200 Hz, and 0.5 s missing before row 100 (line 102).
   const std::string f =
-      tmp.write("imu.csv", kEurocHeader + EurocRows(300, 1000000000, 5000000, 100, 495000000));
+      tmp.write("imu.csv", kShortEurocHeader + EurocRows(300, 1000000000, 5000000, 100, 495000000));
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(f); }),
             f + ":102: gap of 0.5 s before this sample (the median period is 0.005 s; limit 10 x "
                 "median = 0.05 s); "
@@ -178,7 +178,8 @@ TEST(ImuTiming, NanosecondStampsDeclaredAsSecondsNameTheUnit) {
 
 TEST(ImuTiming, EurocFileInMicroseconds) {
   TempDir tmp;
-  const std::string f = tmp.write("imu.csv", kEurocHeader + EurocRows(20, 1403715273262142, 5000));
+  const std::string f =
+      tmp.write("imu.csv", kShortEurocHeader + EurocRows(20, 1403715273262142, 5000));
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(f); }),
             f + ": the median period is 5e-06 s (rate 200000 Hz); the timestamps look like "
                 "microseconds, but the EuRoC "
@@ -248,7 +249,8 @@ TEST(GroundTruthTiming, HoleIsAnError) {
 TEST(KeepRange, OnlyTheRangeAndOneSampleEachSideAreKept) {
   TempDir tmp;
   // 10 s at 200 Hz; t relative to the first stamp.
-  const std::string f = tmp.write("imu.csv", kEurocHeader + EurocRows(2000, 1000000000, 5000000));
+  const std::string f =
+      tmp.write("imu.csv", kShortEurocHeader + EurocRows(2000, 1000000000, 5000000));
   ReadOptions o;
   o.keep = std::make_pair(2.0, 3.0);
   const ImuData d = ReadEurocImu(f, std::nullopt, o);
@@ -290,15 +292,16 @@ TEST(KeepRange, OnlyTheRangeAndOneSampleEachSideAreKept) {
 
 TEST(KeepRange, EveryLineIsStillValidated) {
   TempDir tmp;
-  std::string body = kEurocHeader + EurocRows(2000, 1000000000, 5000000);
+  std::string body = kShortEurocHeader + EurocRows(2000, 1000000000, 5000000);
   body += "20000000000,0,0,nan,0,0,9.81\n";  // line 2002, far after the range
   const std::string f = tmp.write("imu.csv", body);
   ReadOptions o;
   o.keep = std::make_pair(2.0, 3.0);
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(f, std::nullopt, o); }),
             f + ":2002: column 3 (w_z): expected a finite number, found 'nan'");
-  const std::string g = tmp.write("back.csv", kEurocHeader + EurocRows(2000, 1000000000, 5000000) +
-                                                  "1000000000,0,0,0,0,0,9.81\n");
+  const std::string g =
+      tmp.write("back.csv", kShortEurocHeader + EurocRows(2000, 1000000000, 5000000) +
+                                "1000000000,0,0,0,0,0,9.81\n");
   EXPECT_NE(MessageOf<ReadError>([&] {
               ReadEurocImu(g, std::nullopt, o);
             }).find(g + ":2002: timestamp 1000000000 is not after"),
@@ -308,8 +311,8 @@ TEST(KeepRange, EveryLineIsStillValidated) {
 TEST(KeepRange, TimingIsJudgedOnTheKeptRange) {
   TempDir tmp;
   // A 1 s gap before row 1000 (t = 4.995 + 1 s): outside [1, 2] it does not matter.
-  const std::string f =
-      tmp.write("imu.csv", kEurocHeader + EurocRows(2000, 1000000000, 5000000, 1000, 1000000000));
+  const std::string f = tmp.write(
+      "imu.csv", kShortEurocHeader + EurocRows(2000, 1000000000, 5000000, 1000, 1000000000));
   ReadOptions o;
   o.keep = std::make_pair(1.0, 2.0);
   EXPECT_EQ(ReadEurocImu(f, std::nullopt, o).samples.size(), 203u);
@@ -581,7 +584,7 @@ TEST(Escaping, FileNamesKeysAndFieldsInMessages) {
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(g, fmt); }),
             g + ":1: no column named 'gx' (for 'wx') in the header; columns: 't', 'g\\x1b[2Jx', "
                 "'gy', 'gz', 'ax', 'ay', 'az'");
-  const std::string h = tmp.write("f.csv", kEurocHeader +
+  const std::string h = tmp.write("f.csv", kShortEurocHeader +
                                                "1000,0,0,\x07"
                                                "1,0,0,9.81\n");
   EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(h); }),

@@ -22,7 +22,7 @@ using namespace imuconv;
 using namespace imuconv::pipeline;
 using nlohmann::json;
 
-const char* kFile = "increment_reader_test.json";
+const char* kIncrementFile = "increment_reader_test.json";
 
 json Zeros(int rows, int cols) {
   json m = json::array();
@@ -64,7 +64,7 @@ json ViaConvertTask(const json& increment) {
                        {"from", "preint_reference"},
                        {"to", "gtsam_tangent"},
                        {"increment", increment}}}}};
-  const Pipeline p = Pipeline::FromJson(doc, kFile, IMUCONV_SOURCE_DIR);
+  const Pipeline p = Pipeline::FromJson(doc, kIncrementFile, IMUCONV_SOURCE_DIR);
   return pipeline::Run(p, imuconv::test::Plugins(), {})["tasks"][0]["increment"];
 }
 
@@ -77,7 +77,8 @@ json ViaMeasurementFile(const json& delta) {
          {"delta", delta},
          {"J_bias", {{"convention", "preint_reference"}, {"matrix", Zeros(9, 6)}}},
          {"cov", {{"convention", "preint_reference"}, {"matrix", Identity15(1e-6)}}}}}}};
-  const auto records = ReadMeasurementDocument(doc, kFile, imuconv::test::Plugins(), std::nullopt);
+  const auto records =
+      ReadMeasurementDocument(doc, kIncrementFile, imuconv::test::Plugins(), std::nullopt);
   EXPECT_EQ(records.size(), 1u);
   std::string text;
   JsonWriter w(text);

@@ -36,7 +36,9 @@ std::string WriteError(const std::string& key, const std::string& value, JsonWri
     return e.what();
   }
   // What was written is JSON and holds the value unchanged.
-  if (form == JsonWriter::Form::kText) EXPECT_EQ(json::parse(out)["tasks"][0][key], value) << out;
+  if (form == JsonWriter::Form::kText) {
+    EXPECT_EQ(json::parse(out)["tasks"][0][key], value) << out;
+  }
   return "";
 }
 

@@ -32,12 +32,6 @@ std::string RunText(const Pipeline& p, unsigned threads, std::string* summary = 
   return text;
 }
 
-const json& Task(const json& out, const std::string& name) {
-  for (const auto& t : out["tasks"])
-    if (t["name"] == name) return t;
-  throw std::runtime_error("no task " + name);
-}
-
 TEST(ThreadPool, EveryItemOnceAndTheLowestFailureWins) {
   for (unsigned threads : {1u, 2u, 5u}) {
     SCOPED_TRACE(threads);
@@ -221,7 +215,7 @@ TEST(Parallel, WholeEurocFile) {
   EXPECT_EQ(out["imu"]["samples"], 28942);
   EXPECT_EQ(out["imu"]["kept_range"], json({0.0, 144.7}));
   EXPECT_EQ(out["ground_truth"]["rows"], 2895);
-  const json& ms = Task(out, "kf_rk4")["measurements"];
+  const json& ms = TaskOutput(out, "kf_rk4")["measurements"];
   ASSERT_EQ(ms.size(), 1447u);
   for (std::size_t k = 0; k < ms.size(); ++k) {
     ASSERT_EQ(ms[k]["t_start_abs_ns"].get<std::int64_t>(),
@@ -230,7 +224,7 @@ TEST(Parallel, WholeEurocFile) {
     ASSERT_EQ(ms[k]["n_knots"], 21);  // 200 Hz samples on the keyframes: 20 steps
     ASSERT_TRUE(ms[k]["expressed"].contains("gtsam_manifold"));
   }
-  const json& pred = Task(out, "pred_rk4");
+  const json& pred = TaskOutput(out, "pred_rk4");
   ASSERT_EQ(pred["steps"].size(), 1447u);
   EXPECT_EQ(pred["steps"][1446]["cov"]["convention"], "left");
   // Over the whole sequence, as on the 20 s slice (examples.cpp: observed RMS 0.29 mm /

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "imuconv/pipeline/errors.h"
@@ -93,6 +94,22 @@ inline CommandResult RunImuconv(const std::string& args, const TempDir& tmp) {
   fs::remove(out);
   fs::remove(err);
   return r;
+}
+
+/// The output of the task named `name` in a run's document (its "tasks" list).
+inline const nlohmann::json& TaskOutput(const nlohmann::json& out, const std::string& name) {
+  for (const auto& t : out.at("tasks"))
+    if (t.at("name") == name) return t;
+  throw std::runtime_error("no task " + name);
+}
+
+/// Runs `imuconv COMMAND ARGS --json` and parses what it prints; a run that does not exit 0 is
+/// a test failure (its stderr shown) and gives null.
+inline nlohmann::json RunImuconvJson(const std::string& command, const std::string& args,
+                                     const TempDir& tmp) {
+  const CommandResult r = RunImuconv(command + " " + args + " --json", tmp);
+  EXPECT_EQ(r.exit_code, 0) << command << " " << args << "\n" << r.err;
+  return r.exit_code == 0 ? nlohmann::json::parse(r.out) : nlohmann::json();
 }
 
 /// Checks that every matrix in an output document names its chart(s) and block order, and

@@ -13,7 +13,7 @@ using namespace imuconv;
 using namespace imuconv::pipeline;
 using nlohmann::json;
 
-const char* kFile = "mem/provenance.json";
+const char* kProvenanceFile = "mem/provenance.json";
 
 json Doc() {
   json samples = json::array();
@@ -48,7 +48,7 @@ std::map<std::string, json> ByKey(const json& plugins) {
 }
 
 TEST(Provenance, EveryPluginUsedIsListedWithItsFileAndVersion) {
-  const Pipeline p = Pipeline::FromJson(Doc(), kFile, IMUCONV_SOURCE_DIR);
+  const Pipeline p = Pipeline::FromJson(Doc(), kProvenanceFile, IMUCONV_SOURCE_DIR);
   const json out = pipeline::Run(p, imuconv::test::Plugins(), RunOptions{});
   const auto used = ByKey(out["plugins"]);
   // Named by the tasks, implied by them (rk4's native chart, tangent's covariance and
@@ -86,7 +86,7 @@ TEST(Provenance, AnOverridingPluginIsRefusedUnlessAllowedAndThenVisible) {
   const std::string dir = std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/override";
   json doc = Doc();
   doc["plugin_dirs"] = {dir};
-  const Pipeline refused = Pipeline::FromJson(doc, kFile, IMUCONV_SOURCE_DIR);
+  const Pipeline refused = Pipeline::FromJson(doc, kProvenanceFile, IMUCONV_SOURCE_DIR);
   const std::string m = imuconv::test::MessageOf([&] { pipeline::Run(refused, RunOptions{}); });
   EXPECT_NE(m.find("imuconv_plugin_claims_rk4.so"), std::string::npos) << m;
   EXPECT_NE(m.find("imuconv_plugin_integrators_rk4.so"), std::string::npos) << m;
@@ -100,7 +100,7 @@ TEST(Provenance, AnOverridingPluginIsRefusedUnlessAllowedAndThenVisible) {
       allowed["allow_plugin_override"] = true;
     else
       ro.allow_plugin_override = true;
-    const Pipeline p = Pipeline::FromJson(allowed, kFile, IMUCONV_SOURCE_DIR);
+    const Pipeline p = Pipeline::FromJson(allowed, kProvenanceFile, IMUCONV_SOURCE_DIR);
     const std::string failure = imuconv::test::MessageOf([&] { pipeline::Run(p, ro); });
     EXPECT_NE(failure.find("fixture claims_rk4: not an integrator"), std::string::npos) << failure;
     Registry reg;

@@ -11,7 +11,7 @@ using namespace imuconv;
 using namespace imuconv::pipeline;
 using namespace imuconv::test;
 
-const std::string kEurocHeader =
+const std::string kFullEurocHeader =
     "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
     "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n";
 
@@ -40,7 +40,7 @@ TEST(EurocReader, NanosecondStepsSurviveLargeStamps) {
   // 1.4e18 ns is beyond 2^53: as a double its resolution is 256 ns. Read as int64 and made
   // relative first, a 1 ns offset on top of the 5 ms (200 Hz) steps stays exact.
   TempDir tmp;
-  const std::string f = tmp.write("imu.csv", kEurocHeader +
+  const std::string f = tmp.write("imu.csv", kFullEurocHeader +
                                                  "1403715273262142976,0,0,0,0,0,9.81\n"
                                                  "1403715273267142977,0,0,0,0,0,9.81\n"
                                                  "1403715273272142979,0,0,0,0,0,9.81\n");
@@ -80,7 +80,7 @@ class EurocMalformed : public ::testing::TestWithParam<Malformed> {};
 TEST_P(EurocMalformed, SpecificError) {
   const Malformed& m = GetParam();
   TempDir tmp;
-  const std::string f = tmp.write("bad.csv", kEurocHeader + m.body);
+  const std::string f = tmp.write("bad.csv", kFullEurocHeader + m.body);
   try {
     ReadEurocImu(f);
     FAIL() << "no error for " << m.name;
@@ -127,17 +127,17 @@ TEST(EurocReader, MissingAndEmptyFiles) {
   const std::string missing = tmp.file("nope.csv");
   std::string msg = MessageOf<ReadError>([&] { ReadEurocImu(missing); });
   EXPECT_EQ(msg, missing + ": cannot open the file for reading");
-  const std::string empty = tmp.write("empty.csv", kEurocHeader);
+  const std::string empty = tmp.write("empty.csv", kFullEurocHeader);
   msg = MessageOf<ReadError>([&] { ReadEurocImu(empty); });
   EXPECT_EQ(msg, empty + ": contains no IMU samples");
   // A directory, and a binary file: refused rather than read without end.
   msg = MessageOf<ReadError>([&] { ReadEurocImu(tmp.path()); });
   EXPECT_EQ(msg, tmp.path() + ": is a directory, not a file");
   const std::string bin =
-      tmp.write("bin.csv", kEurocHeader + std::string("1000,0,0,\0,0,0,9.81\n", 21));
+      tmp.write("bin.csv", kFullEurocHeader + std::string("1000,0,0,\0,0,0,9.81\n", 21));
   msg = MessageOf<ReadError>([&] { ReadEurocImu(bin); });
   EXPECT_EQ(msg, bin + ":2: contains a NUL byte; expected a text (CSV) file");
-  const std::string longline = tmp.write("long.csv", kEurocHeader + std::string(2u << 20, '1'));
+  const std::string longline = tmp.write("long.csv", kFullEurocHeader + std::string(2u << 20, '1'));
   msg = MessageOf<ReadError>([&] { ReadEurocImu(longline); });
   EXPECT_EQ(msg, longline + ":2: line is longer than 1 MiB; expected a text (CSV) file");
 }

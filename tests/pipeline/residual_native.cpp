@@ -26,6 +26,7 @@
 #include "../reference/anchors.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
+#include "pipeline_test_util.h"
 
 namespace {
 using namespace imuconv;
@@ -95,12 +96,6 @@ json RunCase(const std::string& id) {
   return pipeline::Run(p, Plugins(), o);
 }
 
-const json& Task(const json& out, const std::string& name) {
-  for (const auto& t : out.at("tasks"))
-    if (t.at("name") == name) return t;
-  throw std::runtime_error("no task " + name);
-}
-
 double Worst(const json& ref, const json& est, const std::initializer_list<const char*> keys) {
   double d = 0.0;
   for (const char* k : keys)
@@ -119,13 +114,13 @@ TEST_P(ResidualNative, VinsFusionAndBasaltKindsWriteTheSystemsOwnFactor) {
                           .at("forward_zoh")
                           .at("factor")
                           .at("at_lin_bias");
-  const json& v = Task(out, "vins_task").at("residuals").at(0).at("vins_fusion");
-  const json& b = Task(out, "basalt_task").at("residuals").at(0).at("basalt");
+  const json& v = TaskOutput(out, "vins_task").at("residuals").at(0).at("vins_fusion");
+  const json& b = TaskOutput(out, "basalt_task").at("residuals").at(0).at("basalt");
   const auto fields = {"residual", "jacobian_pose_i", "jacobian_speedbias_i", "jacobian_pose_j",
                        "jacobian_speedbias_j"};
   // The residual vectors: the metric, or 1e-12 of the increment's size (header).
-  const json vins_meas = Task(out, "vins_pre").at("measurements").at(0).at("delta");
-  const json basalt_meas = Task(out, "basalt_pre").at("measurements").at(0).at("delta");
+  const json vins_meas = TaskOutput(out, "vins_pre").at("measurements").at(0).at("delta");
+  const json basalt_meas = TaskOutput(out, "basalt_pre").at("measurements").at(0).at("delta");
   auto residual_ok = [](const json& ref, const json& est, const json& delta, double& worst_scaled) {
     const Eigen::VectorXd r = JsonMatrix(ref), e = JsonMatrix(est);
     const double dp = JsonMatrix(delta.at("dp")).norm(), dv = JsonMatrix(delta.at("dv")).norm();
@@ -161,8 +156,9 @@ TEST_P(ResidualNative, VinsFusionAndBasaltKindsWriteTheSystemsOwnFactor) {
   EXPECT_LE(d_basalt, kAnchorMetricTol);
   // VINS's squared Mahalanobis distance is the whitened residual's squared norm.
   const Vec15 white = JsonMatrix(v.at("whitened").at("residual"));
-  EXPECT_NEAR(Task(out, "vins_task").at("residuals").at(0).at("mahalanobis_squared").get<double>(),
-              white.squaredNorm(), 1e-9 * white.squaredNorm());
+  EXPECT_NEAR(
+      TaskOutput(out, "vins_task").at("residuals").at(0).at("mahalanobis_squared").get<double>(),
+      white.squaredNorm(), 1e-9 * white.squaredNorm());
 }
 
 INSTANTIATE_TEST_SUITE_P(Reference, ResidualNative, ::testing::ValuesIn(kReferenceCaseIds),

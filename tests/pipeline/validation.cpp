@@ -20,7 +20,7 @@ using namespace imuconv::pipeline;
 using imuconv::test::TempDir;
 using nlohmann::json;
 
-const char* kFile = "mem/validation.json";
+const char* kValidationFile = "mem/validation.json";
 
 json Noise() {
   return {{"gyro_noise_density", 1e-4},
@@ -28,7 +28,7 @@ json Noise() {
           {"gyro_random_walk", 1e-5},
           {"accel_random_walk", 1e-4}};
 }
-json State() { return {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {0, 0, 0}}}; }
+json RestState() { return {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {0, 0, 0}}}; }
 
 /// Inline samples at rest, 100 Hz from 0 to `seconds`.
 json Samples(double seconds) {
@@ -73,7 +73,7 @@ json Propagate(const json& cov) {
   return {{"type", "propagate"},
           {"name", "prop"},
           {"propagator", "rk4"},
-          {"start", {{"state", State()}, {"cov", cov}}},
+          {"start", {{"state", RestState()}, {"cov", cov}}},
           {"interval", {{"t_start", 0.0}, {"t_end", 1.0}}}};
 }
 
@@ -87,7 +87,7 @@ struct Outcome {
 Outcome RunDoc(const json& doc, const std::string& base = IMUCONV_SOURCE_DIR) {
   Outcome o;
   try {
-    const Pipeline p = Pipeline::FromJson(doc, kFile, base);
+    const Pipeline p = Pipeline::FromJson(doc, kValidationFile, base);
     std::ostringstream s;
     RunOptions ro;
     ro.summary = &s;
@@ -107,7 +107,7 @@ TEST(Covariances, TheIndefiniteStartCovarianceOfTheReportIsRefused) {
   // 1 - 2 * 1.499 + 1 = -0.998, which is what was written out before this check.
   const Outcome bad = RunDoc(Pipeline1({Propagate(PxVxCov(-1.499))}));
   ASSERT_FALSE(bad.issues.empty()) << bad.out.dump().substr(0, 300);
-  EXPECT_EQ(bad.file, kFile);
+  EXPECT_EQ(bad.file, kValidationFile);
   const std::string m = test::IssueAt(bad.issues, "/tasks/0/start/cov");
   EXPECT_NE(
       m.find("not a valid covariance: not positive semi-definite: smallest eigenvalue -0.499"),
@@ -138,13 +138,13 @@ TEST(Covariances, EveryFormAndEveryPlaceIsChecked) {
        {"name", "pbp"},
        {"measurements", "pre"},
        {"start",
-        {{"state", State()}, {"cov", {{"convention", "gtsam_navstate"}, {"matrix", asym}}}}}},
+        {{"state", RestState()}, {"cov", {{"convention", "gtsam_navstate"}, {"matrix", asym}}}}}},
       {{"type", "convert"},
        {"name", "cv"},
        {"what", "state_covariance"},
        {"from", "left"},
        {"to", "gtsam_navstate"},
-       {"state", State()},
+       {"state", RestState()},
        {"matrix", PxVxCov(2.0)}},
       // A transition matrix is not a covariance: not symmetric, and accepted.
       {{"type", "convert"},
@@ -152,8 +152,8 @@ TEST(Covariances, EveryFormAndEveryPlaceIsChecked) {
        {"what", "state_transition"},
        {"from", "left"},
        {"to", "gtsam_navstate"},
-       {"state", State()},
-       {"state_end", State()},
+       {"state", RestState()},
+       {"state_end", RestState()},
        {"matrix", asym}},
       {{"type", "convert"},
        {"name", "ic"},
@@ -193,7 +193,7 @@ Outcome RunFile(const json& ms, const TempDir& tmp) {
                      {{{"type", "propagate_by_preintegration"},
                        {"name", "pbp"},
                        {"measurements", {{"file", "m.json"}}},
-                       {"start", {{"state", State()}}}}}}};
+                       {"start", {{"state", RestState()}}}}}}};
   return RunDoc(doc, tmp.path());
 }
 
@@ -255,14 +255,14 @@ TEST(Quaternions, RunsRuleHoldsForStatesIncrementsAndFiles) {
        {"name", "res"},
        {"kind", "gtsam"},
        {"measurements", {{"file", "m.json"}}},
-       {"start", State()},
+       {"start", RestState()},
        {"end", {{"p", {0, 0, 0}}, {"q_wxyz", {1, 1, 0, 0}}, {"v", {0, 0, 0}}}}}};
   TempDir tmp;
   json m = Measurement();
   m["delta"]["q_wxyz"] = {0.5, 0, 0, 0};
   tmp.write("m.json", json({{"measurements", {m}}}).dump());
   try {
-    Pipeline::FromJson(Pipeline1(tasks), kFile, tmp.path());
+    Pipeline::FromJson(Pipeline1(tasks), kValidationFile, tmp.path());
     FAIL();
   } catch (const ConfigError& e) {
     EXPECT_ISSUE(
@@ -332,7 +332,7 @@ TEST(Measurements, RelativeAndAbsoluteTimesMustAgree) {
   json doc = Pipeline1({{{"type", "propagate_by_preintegration"},
                          {"name", "pbp"},
                          {"measurements", {{"file", "m.json"}}},
-                         {"start", {{"state", State()}}}}});
+                         {"start", {{"state", RestState()}}}}});
   doc["imu"]["time_origin"] = "1";  // seconds: the same origin as the file's, 1e9 ns
   const Outcome o = RunDoc(doc, tmp.path());
   EXPECT_ISSUE(o.issues, "/measurements/1/t_end",

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdio>
 #include <string>
@@ -15,6 +16,15 @@
 #include "scale_aware.h"
 
 namespace imuconv::test {
+
+/// An anchor's quaternion [w, x, y, z].
+inline Eigen::Quaterniond JsonQuaternionWxyz(const nlohmann::json& q) {
+  return Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
+                            q[3].get<double>());
+}
+
+/// A quaternion as the anchors write it, [w, x, y, z].
+inline Eigen::Vector4d Wxyz(const Eigen::Quaterniond& q) { return {q.w(), q.x(), q.y(), q.z()}; }
 
 class AnchorFieldDiffs {
  public:

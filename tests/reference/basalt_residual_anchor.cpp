@@ -24,12 +24,13 @@ using namespace imuconv;
 using namespace imuconv::kernels;
 using namespace imuconv::test;  // DataPath, JsonMatrix, MaxEntryDiff, the anchors' bounds
 
-struct Feeding {
+/// The anchor's two feedings: its key and the kernel's feeding.
+struct ResidualFeeding {
   const char* key;
   BasaltFeeding feeding;
 };
-const Feeding kFeedings[] = {{"native", BasaltFeeding::kNative},
-                             {"forward_zoh", BasaltFeeding::kForwardZoh}};
+const ResidualFeeding kResidualFeedings[] = {{"native", BasaltFeeding::kNative},
+                                             {"forward_zoh", BasaltFeeding::kForwardZoh}};
 
 BasaltPoseVelState PoseVel(const nlohmann::json& s) {
   BasaltPoseVelState x;
@@ -67,7 +68,7 @@ class BasaltResidualAnchor : public ::testing::TestWithParam<const char*> {
 };
 
 TEST_P(BasaltResidualAnchor, ResidualAndJacobiansAreBasaltOwn) {
-  for (const Feeding& feed : kFeedings) {
+  for (const ResidualFeeding& feed : kResidualFeedings) {
     const nlohmann::json& f = anchor_.at(feed.key).at("factor");
     const BasaltMeasurement m = Measure(feed.feeding);
     const BasaltPoseVelState x0 = PoseVel(f.at("state0")), x1 = PoseVel(f.at("state1"));
@@ -91,7 +92,7 @@ TEST_P(BasaltResidualAnchor, ResidualAndJacobiansAreBasaltOwn) {
 }
 
 TEST_P(BasaltResidualAnchor, FirstOrderBiasCorrectionIsBasaltOwn) {
-  for (const Feeding& feed : kFeedings) {
+  for (const ResidualFeeding& feed : kResidualFeedings) {
     const nlohmann::json& bc = anchor_.at(feed.key).at("bias_correction");
     const BasaltMeasurement m = Measure(feed.feeding);
     const BasaltPoseVelState c =
@@ -113,8 +114,8 @@ TEST_P(BasaltResidualAnchor, FirstOrderBiasCorrectionIsBasaltOwn) {
 // rounding alone gives about 2.2e-16 x 490 / (2 h) = 5e-8 per entry; the truncation
 // h^2/6 |r'''| is below 1e-9. Bound 1e-6 absolute, measured below (the anchors README
 // reports upstream's own agreement as <= 1.2e-7).
-constexpr double kFdStep = 1e-6;
-constexpr double kFdTol = 1e-6;
+constexpr double kBasaltFdStep = 1e-6;
+constexpr double kBasaltFdTol = 1e-6;
 
 struct Numeric {
   Mat9 d_state0, d_state1;
@@ -126,22 +127,22 @@ Numeric NumericJacobians(const BasaltMeasurement& m, const BasaltPoseVelState& x
   Numeric n;
   for (int k = 0; k < 9; ++k) {
     Vec9 d = Vec9::Zero();
-    d[k] = kFdStep;
+    d[k] = kBasaltFdStep;
     n.d_state0.col(k) = (BasaltResidualOf(m, BasaltApplyInc(x0, d), g, x1, bg, ba).residual -
                          BasaltResidualOf(m, BasaltApplyInc(x0, -d), g, x1, bg, ba).residual) /
-                        (2 * kFdStep);
+                        (2 * kBasaltFdStep);
     n.d_state1.col(k) = (BasaltResidualOf(m, x0, g, BasaltApplyInc(x1, d), bg, ba).residual -
                          BasaltResidualOf(m, x0, g, BasaltApplyInc(x1, -d), bg, ba).residual) /
-                        (2 * kFdStep);
+                        (2 * kBasaltFdStep);
   }
   for (int k = 0; k < 3; ++k) {
-    const Vec3 d = kFdStep * Vec3::Unit(k);
+    const Vec3 d = kBasaltFdStep * Vec3::Unit(k);
     n.d_bg.col(k) = (BasaltResidualOf(m, x0, g, x1, bg + d, ba).residual -
                      BasaltResidualOf(m, x0, g, x1, bg - d, ba).residual) /
-                    (2 * kFdStep);
+                    (2 * kBasaltFdStep);
     n.d_ba.col(k) = (BasaltResidualOf(m, x0, g, x1, bg, ba + d).residual -
                      BasaltResidualOf(m, x0, g, x1, bg, ba - d).residual) /
-                    (2 * kFdStep);
+                    (2 * kBasaltFdStep);
   }
   return n;
 }
@@ -152,7 +153,7 @@ Numeric NumericJacobians(const BasaltMeasurement& m, const BasaltPoseVelState& x
 // factor put back the block is held to the FD bound, so the approximation is exactly the
 // one named; upstream's own block is printed beside it.
 TEST_P(BasaltResidualAnchor, JacobiansAreCentralDifferencesThroughApplyInc) {
-  for (const Feeding& feed : kFeedings) {
+  for (const ResidualFeeding& feed : kResidualFeedings) {
     const nlohmann::json& f = anchor_.at(feed.key).at("factor");
     const BasaltMeasurement m = Measure(feed.feeding);
     const BasaltPoseVelState x0 = PoseVel(f.at("state0")), x1 = PoseVel(f.at("state1"));
@@ -176,9 +177,9 @@ TEST_P(BasaltResidualAnchor, JacobiansAreCentralDifferencesThroughApplyInc) {
           "|d_res_d_bg| %.2g)\n",
           GetParam(), feed.key, lin ? "lin bias" : "new bias", worst, upstream_bg, phi.norm(),
           r.d_res_d_bg.cwiseAbs().maxCoeff());
-      EXPECT_LE(worst, kFdTol);
+      EXPECT_LE(worst, kBasaltFdTol);
       if (lin) {
-        EXPECT_LE(upstream_bg, kFdTol);  // phi = 0: upstream's block is the derivative
+        EXPECT_LE(upstream_bg, kBasaltFdTol);  // phi = 0: upstream's block is the derivative
       }
     }
   }

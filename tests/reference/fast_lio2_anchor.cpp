@@ -32,13 +32,6 @@ using namespace imuconv;
 using namespace imuconv::kernels;
 using namespace imuconv::test;  // DataPath, JsonMatrix, MaxEntryDiff, the anchors' bounds
 
-Eigen::Quaterniond JsonQuaternionWxyz(const nlohmann::json& q) {
-  return Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
-                            q[3].get<double>());
-}
-
-Eigen::Vector4d Wxyz(const Eigen::Quaterniond& q) { return {q.w(), q.x(), q.y(), q.z()}; }
-
 class FastLio2Anchor : public ::testing::TestWithParam<const char*> {
  protected:
   void SetUp() override {

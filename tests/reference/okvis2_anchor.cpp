@@ -33,11 +33,6 @@ using namespace imuconv;
 using namespace imuconv::kernels;
 using namespace imuconv::test;  // DataPath, JsonMatrix, MaxEntryDiff, the anchors' bounds
 
-Eigen::Quaterniond JsonQuaternionWxyz(const nlohmann::json& q) {
-  return Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
-                            q[3].get<double>());
-}
-
 Okvis2State JsonState(const nlohmann::json& s) {
   Okvis2State x;
   x.r = JsonVec3(s.at("r"));
@@ -47,8 +42,6 @@ Okvis2State JsonState(const nlohmann::json& s) {
   x.ba = JsonVec3(s.at("ba"));
   return x;
 }
-
-Eigen::Vector4d Wxyz(const Eigen::Quaterniond& q) { return {q.w(), q.x(), q.y(), q.z()}; }
 
 std::int64_t JsonOkvisTime(const nlohmann::json& t) {
   return t.at("sec").get<std::int64_t>() * 1000000000 + t.at("nsec").get<std::int64_t>();

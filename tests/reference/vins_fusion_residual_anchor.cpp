@@ -151,8 +151,8 @@ TEST_P(VinsFusionResidualAnchor, FactorAtANewBiasIsVinsFusionOwn) {
 // rounding alone gives about 2.2e-16 x 490 / (2 h) = 5e-8 per entry; the third-order
 // truncation h^2/6 |r'''| is below 1e-9 (|r'''| < 1e3). Bound: 1e-6 absolute, measured
 // below (the anchors README reports upstream's own agreement as <= 2e-7).
-constexpr double kFdStep = 1e-6;
-constexpr double kFdTol = 1e-6;
+constexpr double kVinsFdStep = 1e-6;
+constexpr double kVinsFdTol = 1e-6;
 
 enum class Block { kPoseI, kSpeedBiasI, kPoseJ, kSpeedBiasJ };
 
@@ -165,7 +165,7 @@ Eigen::MatrixXd NumericJacobian(const VinsFusionMeasurement& m, const VinsFusion
   for (int k = 0; k < n; ++k) {
     Vec15 r[2];
     for (int s = 0; s < 2; ++s) {
-      const double h = s == 0 ? kFdStep : -kFdStep;
+      const double h = s == 0 ? kVinsFdStep : -kVinsFdStep;
       VinsFusionFactorState a = i, b = j;
       VinsFusionFactorState& x = (block == Block::kPoseI || block == Block::kSpeedBiasI) ? a : b;
       Eigen::Matrix<double, 9, 1> d = Eigen::Matrix<double, 9, 1>::Zero();
@@ -181,7 +181,7 @@ Eigen::MatrixXd NumericJacobian(const VinsFusionMeasurement& m, const VinsFusion
       }
       r[s] = VinsFusionEvaluate(m, a, b);
     }
-    J.col(k) = (r[0] - r[1]) / (2.0 * kFdStep);
+    J.col(k) = (r[0] - r[1]) / (2.0 * kVinsFdStep);
   }
   return J;
 }
@@ -209,7 +209,7 @@ TEST_P(VinsFusionResidualAnchor, RawJacobiansAreCentralDifferencesAtTheLineariza
     worst =
         std::max(worst, (NumericJacobian(m_, i, j, b) - Analytic(raw, b)).cwiseAbs().maxCoeff());
   std::printf("  %-13s FD at the linearization bias: %.2g abs\n", GetParam(), worst);
-  EXPECT_LE(worst, kFdTol);
+  EXPECT_LE(worst, kVinsFdTol);
   // Column 6 of the pose blocks (q.w) is zero, as upstream fills it.
   EXPECT_TRUE(raw.jacobian_pose_i.col(6).isZero(0.0));
   EXPECT_TRUE(raw.jacobian_pose_j.col(6).isZero(0.0));
@@ -245,14 +245,14 @@ TEST_P(VinsFusionResidualAnchor, RawJacobiansAtANewBiasExactBlocksAndUpstreamApp
     }
     exact = std::max(exact, (fd - an).cwiseAbs().maxCoeff());
   }
-  const double bound =
-      1.5 * phi * J_tbg.cwiseAbs().maxCoeff() + phi * phi * J_tbg.cwiseAbs().maxCoeff() + kFdTol;
+  const double bound = 1.5 * phi * J_tbg.cwiseAbs().maxCoeff() +
+                       phi * phi * J_tbg.cwiseAbs().maxCoeff() + kVinsFdTol;
   std::printf(
       "  %-13s FD at the new bias: exact blocks %.2g abs | upstream's d r_theta/d bg %.2g abs "
       "(|phi| = %.2g, "
       "bound %.2g), |c_q|^2 - 1 = %.2g\n",
       GetParam(), exact, approx_bg, phi, bound, c_q.squaredNorm() - 1.0);
-  EXPECT_LE(exact, kFdTol);
+  EXPECT_LE(exact, kVinsFdTol);
   EXPECT_LE(approx_bg, bound);
 }
 

@@ -41,10 +41,6 @@ std::string Fixture(const std::string& rel) {
 }
 std::string BuiltIn(const std::string& name) { return imuconv::test::BuiltInPlugin(name); }
 
-std::string ErrorOf(Registry& r, const std::string& path) {
-  return imuconv::test::LoadErrorOf(r, path);
-}
-
 // A control byte in a message means a name or id was echoed raw.
 bool HasControlByte(const std::string& s) {
   for (unsigned char c : s)
@@ -108,7 +104,7 @@ CommandResult RunCli(const std::string& args, const TempDir& tmp, double* second
 TEST(HostilePlugins, CreateThatThrowsIsALoadErrorNamingTheFile) {
   Registry r;
   const std::string f = Fixture("hostile/imuconv_plugin_create_throws.so");
-  const std::string msg = ErrorOf(r, f);
+  const std::string msg = imuconv::test::LoadErrorOf(r, f);
   EXPECT_TRUE(Has(msg, "'" + f + "'")) << msg;
   EXPECT_TRUE(Has(msg,
                   "imuconv_plugin_create() threw an exception: 'fixture: create() refuses to build "
@@ -123,7 +119,7 @@ TEST(HostilePlugins, NullVersionOrSummaryIsRefusedNamingTheFile) {
   Registry r;
   for (const char* what : {"version", "summary"}) {
     const std::string f = Fixture(std::string("hostile/imuconv_plugin_null_") + what + ".so");
-    const std::string msg = ErrorOf(r, f);
+    const std::string msg = imuconv::test::LoadErrorOf(r, f);
     EXPECT_TRUE(Has(msg, "'" + f + "'")) << msg;
     EXPECT_TRUE(Has(msg, std::string("its descriptor's ") + what + " is a null pointer")) << msg;
     EXPECT_FALSE(Has(msg, "basic_string")) << msg;
@@ -133,12 +129,15 @@ TEST(HostilePlugins, NullVersionOrSummaryIsRefusedNamingTheFile) {
 
 TEST(HostilePlugins, IdsWithControlBytesAreRefusedAndShownEscaped) {
   Registry r;
-  const std::string nl = ErrorOf(r, Fixture("hostile/imuconv_plugin_id_newline.so"));
+  const std::string nl =
+      imuconv::test::LoadErrorOf(r, Fixture("hostile/imuconv_plugin_id_newline.so"));
   EXPECT_TRUE(Has(nl, "its descriptor's id 'fake\\n  left 1.0.0 ok' has a character other than"))
       << nl;
-  const std::string esc = ErrorOf(r, Fixture("hostile/imuconv_plugin_id_escape.so"));
+  const std::string esc =
+      imuconv::test::LoadErrorOf(r, Fixture("hostile/imuconv_plugin_id_escape.so"));
   EXPECT_TRUE(Has(esc, "'esc\\x1b[2Jape'")) << esc;
-  const std::string nul = ErrorOf(r, Fixture("hostile/imuconv_plugin_id_nul.so"));
+  const std::string nul =
+      imuconv::test::LoadErrorOf(r, Fixture("hostile/imuconv_plugin_id_nul.so"));
   EXPECT_TRUE(Has(nul, "its descriptor's id is empty")) << nul;
   for (const auto& m : {nl, esc, nul}) {
     EXPECT_TRUE(Has(m, "imuconv_plugin_id_")) << m;  // names the file

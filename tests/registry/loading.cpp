@@ -17,10 +17,6 @@ using imuconv::Registry;
 
 std::string PluginFile(const std::string& name) { return imuconv::test::BuiltInPlugin(name); }
 
-std::string ErrorOf(Registry& r, const std::string& path) {
-  return imuconv::test::LoadErrorOf(r, path);
-}
-
 TEST(Loading, BuiltPluginsLoad) {
   Registry r;
   const auto issues = r.load_directory(Registry::default_plugin_dir());
@@ -33,7 +29,7 @@ TEST(Loading, BuiltPluginsLoad) {
 
 TEST(Loading, MissingFile) {
   Registry r;
-  const std::string msg = ErrorOf(r, "/nonexistent/imuconv_plugin_x.so");
+  const std::string msg = imuconv::test::LoadErrorOf(r, "/nonexistent/imuconv_plugin_x.so");
   EXPECT_NE(msg.find("does not exist"), std::string::npos) << msg;
   EXPECT_NE(msg.find("/nonexistent/imuconv_plugin_x.so"), std::string::npos) << msg;
 }
@@ -42,7 +38,7 @@ TEST(Loading, FileThatIsNotASharedLibrary) {
   imuconv::test::TempDir tmp;  // unique: tests run in parallel
   const std::string p = tmp.write("imuconv_plugin_not_a_library.so", "this is text, not ELF\n");
   Registry r;
-  const std::string msg = ErrorOf(r, p);
+  const std::string msg = imuconv::test::LoadErrorOf(r, p);
   EXPECT_NE(msg.find("cannot load '" + p + "': it is not an ELF shared object"), std::string::npos)
       << msg;
 }
@@ -51,14 +47,14 @@ TEST(Loading, SharedLibraryThatIsNotAPlugin) {
   // The registry library itself is a shared object without the plugin aliases.
   Registry r;
   const std::string lib = std::string(IMUCONV_BINARY_DIR) + "/lib/libimuconv_core.so";
-  const std::string msg = ErrorOf(r, lib);
+  const std::string msg = imuconv::test::LoadErrorOf(r, lib);
   EXPECT_NE(msg.find("is not an imuconv plugin"), std::string::npos) << msg;
 }
 
 TEST(Loading, WrongAbiVersion) {
   Registry r;
-  const std::string msg =
-      ErrorOf(r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_wrong_abi.so");
+  const std::string msg = imuconv::test::LoadErrorOf(
+      r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_wrong_abi.so");
   EXPECT_NE(msg.find("ABI version 999"), std::string::npos) << msg;
 }
 
@@ -67,7 +63,7 @@ TEST(Loading, DuplicateIdNamesBothFiles) {
   r.load_file(PluginFile("imuconv_plugin_state_left.so"));
   const std::string dup =
       std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_duplicate_left.so";
-  const std::string msg = ErrorOf(r, dup);
+  const std::string msg = imuconv::test::LoadErrorOf(r, dup);
   EXPECT_NE(msg.find("duplicate"), std::string::npos) << msg;
   EXPECT_NE(msg.find("imuconv_plugin_state_left.so"), std::string::npos) << msg;
   EXPECT_NE(msg.find("imuconv_plugin_duplicate_left.so"), std::string::npos) << msg;
@@ -75,15 +71,15 @@ TEST(Loading, DuplicateIdNamesBothFiles) {
 
 TEST(Loading, WrongAnalyticJacobianIsRefused) {
   Registry r;
-  const std::string msg = ErrorOf(
+  const std::string msg = imuconv::test::LoadErrorOf(
       r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_bad_jacobian.so");
   EXPECT_NE(msg.find("analytic J_ref_this differs"), std::string::npos) << msg;
 }
 
 TEST(Loading, BlockOrderThatIsNoPermutationIsRefused) {
   Registry r;
-  const std::string msg =
-      ErrorOf(r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_bad_order.so");
+  const std::string msg = imuconv::test::LoadErrorOf(
+      r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_bad_order.so");
   EXPECT_NE(msg.find("state convention 'bad_order'"), std::string::npos) << msg;
   EXPECT_NE(
       msg.find(
@@ -94,9 +90,11 @@ TEST(Loading, BlockOrderThatIsNoPermutationIsRefused) {
 
 TEST(Loading, RegistryStaysUsableAfterFailures) {
   Registry r;
-  ErrorOf(r, "/nonexistent.so");
-  ErrorOf(r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_wrong_abi.so");
-  ErrorOf(r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_bad_jacobian.so");
+  imuconv::test::LoadErrorOf(r, "/nonexistent.so");
+  imuconv::test::LoadErrorOf(
+      r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_wrong_abi.so");
+  imuconv::test::LoadErrorOf(
+      r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_bad_jacobian.so");
   r.load_file(PluginFile("imuconv_plugin_state_left.so"));
   imuconv::ImuState x;
   EXPECT_TRUE(r.conversion("left", "left", x).isIdentity());

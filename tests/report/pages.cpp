@@ -14,16 +14,11 @@
 #include "imuconv_test.h"
 #include "montecarlo.h"
 #include "nees.h"
+#include "text_contains.h"
 
 namespace {
 using namespace imuconv;
 using namespace imuconv::test;
-
-std::size_t Count(const std::string& s, const std::string& sub) {
-  std::size_t n = 0;
-  for (std::size_t p = s.find(sub); p != std::string::npos; p = s.find(sub, p + sub.size())) ++n;
-  return n;
-}
 
 const std::string kCase = "reference/cases/smooth-0.json";
 const std::string kMeasurements =

@@ -18,16 +18,11 @@
 
 namespace {
 using namespace imuconv::report;
+using imuconv::test::Count;
 using imuconv::test::Has;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-std::size_t Count(const std::string& s, const std::string& sub) {
-  std::size_t n = 0;
-  for (std::size_t p = s.find(sub); p != std::string::npos; p = s.find(sub, p + sub.size())) ++n;
-  return n;
-}
 
 int Channel(const std::string& hex, int k) {
   return std::stoi(hex.substr(1 + 2 * k, 2), nullptr, 16);
