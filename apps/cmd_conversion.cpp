@@ -10,12 +10,12 @@
 namespace imuconv::cli {
 namespace {
 
-struct Options {
+struct ConversionOptions {
   std::string from, to, state;
   bool as_json = false;
 };
 
-int Run(const CommandContext& ctx, const Options& o) {
+int ExecuteConversion(const CommandContext& ctx, const ConversionOptions& o) {
   Registry reg;
   const auto issues = LoadRegistry(reg, ctx);
   for (const auto& id : {o.from, o.to}) {
@@ -49,7 +49,7 @@ void RegisterConversionCommand(CLI::App& app, CommandContext& ctx) {
   auto* sub = app.add_subcommand(
       "conversion",
       "Print the 15x15 Jacobian d dx_B / d dx_A between two state conventions at a state");
-  static Options o;
+  static ConversionOptions o;
   sub->add_option("--from", o.from, "State convention id A (e.g. left)")
       ->required()
       ->type_name("A");
@@ -62,7 +62,7 @@ void RegisterConversionCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_flag("--json", o.as_json,
                 "Print JSON (the matrix with its row and column conventions and blocks)");
   AddPluginDirOption(*sub, ctx);
-  sub->callback([&ctx] { ctx.exit_code = Run(ctx, o); });
+  sub->callback([&ctx] { ctx.exit_code = ExecuteConversion(ctx, o); });
 }
 
 }  // namespace imuconv::cli

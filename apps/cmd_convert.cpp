@@ -23,7 +23,7 @@ namespace {
 
 enum class What { Covariance, Transition, Jacobian, IncrementCovariance, IncrementJacobian };
 
-struct Options {
+struct ConvertOptions {
   std::string what, from, to, state, state_end, increment, matrix;
   bool as_json = false;
 };
@@ -48,7 +48,7 @@ Request Classify(const std::string& what) {
   return r;
 }
 
-void CheckOptions(const Options& o, const Request& q) {
+void CheckOptions(const ConvertOptions& o, const Request& q) {
   const bool increment = q.kind == PluginKind::IncrementConvention;
   if (increment && o.increment.empty()) throw UsageError{"--what " + o.what + " needs --increment"};
   if (!increment && o.state.empty()) throw UsageError{"--what " + o.what + " needs --state"};
@@ -66,7 +66,7 @@ void CheckOptions(const Options& o, const Request& q) {
   if (!q.jacobian && o.matrix.empty()) throw UsageError{"--what " + o.what + " needs --matrix"};
 }
 
-int Run(const CommandContext& ctx, const Options& o) {
+int ExecuteConvert(const CommandContext& ctx, const ConvertOptions& o) {
   const Request q = Classify(o.what);
   CheckOptions(o, q);
   // Every file is read and checked before the plugins are loaded: a bad file is the first
@@ -167,7 +167,7 @@ void RegisterConvertCommand(CLI::App& app, CommandContext& ctx) {
                                  "Convert a covariance, a transition matrix or a conversion "
                                  "Jacobian between two conventions at a state "
                                  "or an increment (no pipeline file)");
-  static Options o;
+  static ConvertOptions o;
   sub->add_option("--what", o.what, "What to convert")
       ->required()
       ->check(CLI::IsMember(
@@ -192,7 +192,7 @@ void RegisterConvertCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_flag("--json", o.as_json,
                 "Print JSON: the input and the result, each with its convention and blocks");
   AddPluginDirOption(*sub, ctx);
-  SetCommandAction(*sub, ctx, [&ctx] { return Run(ctx, o); });
+  SetCommandAction(*sub, ctx, [&ctx] { return ExecuteConvert(ctx, o); });
 }
 
 }  // namespace imuconv::cli

@@ -26,12 +26,12 @@
 namespace imuconv::cli {
 namespace {
 
-struct Options {
+struct MergeOptions {
   std::string output;
   std::vector<std::string> shards;
 };
 
-int Merge(const CommandContext& ctx, const Options& o) {
+int Merge(const CommandContext& ctx, const MergeOptions& o) {
   for (const auto& file : o.shards) {
     // A montecarlo shard has its own merge (it concludes statistics, it does not join text).
     std::ifstream in(file, std::ios::binary);
@@ -69,7 +69,7 @@ void RegisterMergeCommand(CLI::App& app, CommandContext& ctx) {
                                  "nothing written: a missing or duplicate shard, a "
                                  "truncated one, shards of another split, pipeline, imuconv "
                                  "version, plugins or input data (examples/batch/)");
-  static Options o;
+  static MergeOptions o;
   sub->add_option("-o,--output", o.output,
                   "Output file (replaced atomically, as imuconv run writes it; '-' is stdout); "
                   "never one of the shards")

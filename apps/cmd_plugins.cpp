@@ -14,7 +14,7 @@
 namespace imuconv::cli {
 namespace {
 
-struct Options {
+struct PluginsOptions {
   bool as_json = false;
   std::vector<std::string> check_dirs;
   double check_timeout = 20.0;
@@ -94,7 +94,7 @@ int List(const CommandContext& ctx, bool as_json) {
 }
 
 // Never loads a plugin in this process: each file is checked by CheckPluginInChild.
-int Check(const Options& o) {
+int Check(const PluginsOptions& o) {
   std::vector<PluginCheck> results;
   std::vector<std::pair<std::string, std::string>> dir_problems;  // dir, message
   for (const auto& dir : o.check_dirs) {
@@ -154,7 +154,7 @@ void RegisterPluginsCommand(CLI::App& app, CommandContext& ctx) {
                                  "and load errors; or, with --check DIR, load "
                                  "and exercise each plugin file of DIR in a child process and "
                                  "report which ones fail, crash or hang");
-  static Options o;
+  static PluginsOptions o;
   sub->add_flag("--json", o.as_json, "Print JSON instead of a table");
   sub->add_option("--check", o.check_dirs,
                   "Check every imuconv_plugin_*.so in DIR, each in its own child process "

@@ -35,14 +35,14 @@
 namespace imuconv::cli {
 namespace {
 
-struct Options {
+struct RunCommandOptions {
   std::string pipeline, output, format, tum, errors, trajectory_task, shard;
   bool quiet = false, every_row = false;
   unsigned threads = 0;
 };
 
 /// The task whose steps --tum / --errors write: --trajectory-task, or the only one there is.
-std::string TrajectoryTask(const pipeline::Pipeline& p, const Options& o) {
+std::string TrajectoryTask(const pipeline::Pipeline& p, const RunCommandOptions& o) {
   const std::vector<std::string> tasks = p.step_tasks();
   std::string list;
   for (const auto& t : tasks) list += (list.empty() ? "'" : ", '") + Printable(t) + "'";
@@ -140,7 +140,7 @@ void RunToNpz(const pipeline::Pipeline& p, const pipeline::RunOptions& ro,
   pipeline::WriteResultNpz(arrays, [&](std::string_view s) { file.write(s); });
 }
 
-int Run(const CommandContext& ctx, const Options& o) {
+int ExecuteRun(const CommandContext& ctx, const RunCommandOptions& o) {
   const pipeline::Pipeline p = pipeline::Pipeline::Load(o.pipeline);
   std::optional<pipeline::RunOptions::Shard> shard;
   if (!o.shard.empty()) {
@@ -275,7 +275,7 @@ void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
                                  "arrays (docs/interop.md); the summary goes to stdout (stderr "
                                  "when the result does). A failing run writes "
                                  "nothing.");
-  static Options o;
+  static RunCommandOptions o;
   sub->add_option("pipeline", o.pipeline, "Pipeline file")->required()->type_name("PIPELINE.json");
   sub->add_option("-o,--output", o.output,
                   "Output file: a regular file is replaced atomically (keeping its permissions; a "
@@ -329,7 +329,7 @@ void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
          "(examples/batch/)")
       ->type_name("K/N");
   AddPluginDirOption(*sub, ctx);
-  SetCommandAction(*sub, ctx, [&ctx] { return Run(ctx, o); });
+  SetCommandAction(*sub, ctx, [&ctx] { return ExecuteRun(ctx, o); });
 }
 
 }  // namespace imuconv::cli

@@ -8,11 +8,11 @@
 namespace imuconv::check {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kBlockInf = std::numeric_limits<double>::infinity();
 
 // The note's threshold (difference.cpp): J_bias entries below 1e-4 of its largest are judged
 // by their absolute difference.
-constexpr double kFloor = 1e-4;
+constexpr double kBlockFloor = 1e-4;
 
 struct Block {
   Eigen::Index r0, c0;
@@ -21,7 +21,7 @@ struct Block {
 
 /// The denominators of a part's difference, entry by entry, of the reference K.
 Eigen::MatrixXd JacobianScales(MatrixView K) {
-  const double small = kFloor * K.cwiseAbs().maxCoeff();
+  const double small = kBlockFloor * K.cwiseAbs().maxCoeff();
   return K.cwiseAbs().cwiseMax(small);
 }
 Eigen::MatrixXd CovarianceScales(MatrixView K) {
@@ -46,13 +46,14 @@ double Residual(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, const Bloc
     for (Eigen::Index j = B.c0; j < B.c0 + 3; ++j) {
       double d;
       if (f == 0.0) {
-        d = S(i, j) > 0.0 ? std::abs(U(i, j)) / S(i, j) : (U(i, j) == 0.0 ? 0.0 : kInf);
+        d = S(i, j) > 0.0 ? std::abs(U(i, j)) / S(i, j) : (U(i, j) == 0.0 ? 0.0 : kBlockInf);
       } else {
         const auto [a, b] = src(i, j);
         const double s = std::abs(f) * S(a, b);
-        d = s > 0.0 ? std::abs(f * K(a, b) - U(i, j)) / s : (f * K(a, b) == U(i, j) ? 0.0 : kInf);
+        d = s > 0.0 ? std::abs(f * K(a, b) - U(i, j)) / s
+                    : (f * K(a, b) == U(i, j) ? 0.0 : kBlockInf);
       }
-      if (!(d <= worst)) worst = std::isnan(d) ? kInf : std::max(worst, d);
+      if (!(d <= worst)) worst = std::isnan(d) ? kBlockInf : std::max(worst, d);
     }
   return worst;
 }

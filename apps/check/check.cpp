@@ -54,7 +54,7 @@ BestEntries EntriesOf(const Registry& reg, const SchemeCandidates& s, const User
   return out;
 }
 
-std::string Short(double v) {
+std::string CheckShort(double v) {
   std::ostringstream o;
   o.precision(2);
   o << v;
@@ -82,16 +82,16 @@ void PrecisionFindings(MeasurementCheck& r, std::size_t steps) {
   r.dt_rounding_bound = static_cast<double>(steps) * u * T;
   const std::string what = "dt = " + Seconds(T + *r.dt_difference) +
                            " differs from t_end - t_start = " + Seconds(T) + " by " +
-                           Short(*r.dt_difference) + " s";
+                           CheckShort(*r.dt_difference) + " s";
   if (std::abs(*r.dt_difference) <= r.dt_rounding_bound) {
     f.push_back(
         what + ", within what a " + (r.float32 ? "float32" : "double") + " sum of the interval's " +
-        std::to_string(steps) + " steps can lose (" + Short(r.dt_rounding_bound) +
+        std::to_string(steps) + " steps can lose (" + CheckShort(r.dt_rounding_bound) +
         " s); check propagates over [t_start, t_end], and a factor using this dt predicts over it");
   } else {
     f.push_back(what + ", more than a " + std::string(r.float32 ? "float32" : "double") +
                 " sum of the interval's " + std::to_string(steps) + " steps can lose (" +
-                Short(r.dt_rounding_bound) +
+                CheckShort(r.dt_rounding_bound) +
                 " s): dt is not the interval's duration; fix dt or the times");
     r.judgement.verdict = Verdict::inconsistent;
   }

@@ -67,7 +67,7 @@ json EquivalentJson(const Equivalents& q) {
   return {{"schemes", q.schemes}, {"cov", cov}, {"J_bias", jac}};
 }
 
-std::string Short(double d) {
+std::string ReportShort(double d) {
   char b[32];
   std::snprintf(b, sizeof b, "%.1e", d);
   return b;
@@ -132,8 +132,8 @@ void PrintTable(std::ostream& out, const CheckResult& r) {
     char line[400];
     std::snprintf(line, sizeof line, "%s  %-12s  %-8s  %-34s  %-18s  %-8s  %-8s %-8s\n", head,
                   m.judgement.verdict == Verdict::consistent ? "consistent" : "INCONSISTENT",
-                  b.scheme.c_str(), cov.c_str(), jac.c_str(), Short(b.delta.max).c_str(),
-                  Short(b.J_bias.max).c_str(), Short(b.cov.max).c_str());
+                  b.scheme.c_str(), cov.c_str(), jac.c_str(), ReportShort(b.delta.max).c_str(),
+                  ReportShort(b.J_bias.max).c_str(), ReportShort(b.cov.max).c_str());
     out << line;
     for (const auto& f : m.judgement.findings) out << "       - " << f << "\n";
     for (const auto& [scheme, reason] : m.not_applicable)

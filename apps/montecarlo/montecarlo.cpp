@@ -22,6 +22,8 @@
 // on jitter-0, 2.8 % on jitter-1; equal steps: only the two end samples differ, 1/(2K)):
 // that was the rk4 "inconsistency" on the jittered cases, a simulation that did not draw the
 // continuous noise these methods' covariances (rightly) integrate.
+// Which cells a method has, and how it reads the noise, the method's plugin says
+// (noise_simulation(), core/include/imuconv/noise_simulation.h); this file names no method.
 #include "montecarlo.h"
 
 #include "normal.h"
@@ -39,7 +41,8 @@
 #include <system_error>
 #include <thread>
 
-#include "imuconv/kernels/mean_only.h"
+#include "imuconv/increment_mean.h"
+#include "imuconv/noise_simulation.h"
 #include "imuconv/printable.h"
 #include "imuconv/status.h"
 #include "imuconv/window.h"
@@ -47,29 +50,24 @@
 namespace imuconv::montecarlo {
 namespace {
 
-enum class Feeding { forward, backward, centered };
-
-/// How a method weights its samples (see the file comment), by id: the schemes of
-/// plugins/propagators/*.cpp and plugins/preintegrators/*.cpp. Another id is simulated
-/// forward, and its note says so.
-Feeding FeedingOf(const PreintegrationMethod& method) {
-  if (method.id == "basalt" || method.id == "basalt_as_configured") return Feeding::backward;
-  static const char* const kCentered[] = {
-      "midpoint",     "rk4",         "openvins_discrete",        "openvins_analytical",
-      "openvins_rk4", "vins_fusion", "vins_fusion_as_configured"};
-  for (const char* id : kCentered)
-    if (method.id == id) return Feeding::centered;
-  return Feeding::forward;
+/// The resolved method's plugin's simulation facts (noise_simulation.h).
+NoiseSimulation NoiseSimulationOf(const PreintegrationMethod& method) {
+  if (method.kind == PluginKind::Preintegrator && method.preintegrator)
+    return method.preintegrator->noise_simulation();
+  if (method.kind == PluginKind::Propagator && method.propagator)
+    return method.propagator->noise_simulation();
+  return NoiseSimulation();
 }
 
-const char* CellNote(Feeding f) {
-  switch (f) {
-    case Feeding::backward:
+const char* CellNote(SampleCells cells) {
+  switch (cells) {
+    case SampleCells::kBackward:
       return "; each sample's white noise is over the step ending at it (sigma^2/h_k-1)";
-    case Feeding::centered:
+    case SampleCells::kCentered:
       return "; each sample's white noise is over its centered cell, half of each step beside it "
              "(sigma^2/((h_k-1 + h_k)/2)), as the method averages the two ends of a step";
-    case Feeding::forward:
+    case SampleCells::kForward:
+    default:  // an unknown value: simulated forward (NoiseModelFor says so)
       break;
   }
   return "; each sample's white noise is over the step it starts (sigma^2/h_k)";
@@ -84,25 +82,20 @@ Preintegrated PreintegrateAll(const Registry& reg, const PreintegrationMethod& m
   return Preintegrate(reg, method, window, in.bg, in.ba, in.noise);
 }
 
-/// The core kernel that computes a method's mean on its own, for the methods whose plugin is
-/// that kernel (plugins/propagators/{euler,midpoint,rk4}.cpp, plugins/preintegrators/
-/// {manifold,tangent}.cpp); none for the others, whose trials run the full preintegration.
-std::optional<kernels::MeanKernel> MeanKernelOf(const PreintegrationMethod& method) {
-  using kernels::MeanKernel;
-  struct Entry {
-    const char* id;
-    PluginKind kind;
-    MeanKernel kernel;
-  };
-  static constexpr Entry kServed[] = {
-      {"euler", PluginKind::Propagator, MeanKernel::kEuler},
-      {"midpoint", PluginKind::Propagator, MeanKernel::kMidpoint},
-      {"rk4", PluginKind::Propagator, MeanKernel::kRk4},
-      {"manifold", PluginKind::Preintegrator, MeanKernel::kManifold},
-      {"tangent", PluginKind::Preintegrator, MeanKernel::kTangent}};
-  for (const Entry& e : kServed)
-    if (method.id == e.id && method.kind == e.kind) return e.kernel;
-  return std::nullopt;
+/// The mean alone of the method's trials, by its plugin's optional increment_mean()
+/// (increment_mean.h): "not provided" by a plugin without it.
+Status IncrementMean(const PreintegrationMethod& method, const SampleWindow& window,
+                     const Input& input, PreintIncrement& delta) {
+  PreintegrationInput in;
+  in.bg = input.bg;
+  in.ba = input.ba;
+  in.noise = input.noise;
+  in.window = window;
+  if (method.kind == PluginKind::Preintegrator && method.preintegrator)
+    return method.preintegrator->increment_mean(in, delta);
+  if (method.kind == PluginKind::Propagator && method.propagator)
+    return method.propagator->increment_mean(in, delta);
+  return IncrementMeanNotProvided();
 }
 
 /// The largest offset, in standard deviations of the prediction (whitened), accepted between
@@ -121,41 +114,42 @@ bool SameBits(const PreintIncrement& a, const PreintIncrement& b) {
 }  // namespace
 
 NoiseModel NoiseModelFor(const PreintegrationMethod& method) {
+  const NoiseSimulation sim = NoiseSimulationOf(method);
   NoiseModel m;
-  if (method.id == "basalt" || method.id == "basalt_forward_zoh") {
-    m.simulated = "basalt";
-    m.note =
-        "white noise sigma^2/dt per sample; bias random walk in the increment's bias entries only, "
-        "the samples "
-        "integrated at the constant bias estimate, as Basalt's preintegration assumes "
-        "(docs/basalt.md)";
-    return m;
+  // The names of `simulated` are the output's since its first release ("basalt" was the first
+  // scheme to read the noise so); the plugin's note says which scheme and why.
+  switch (sim.reading) {
+    case NoiseReading::kWalkInIncrementOnly:
+      m.simulated = "basalt";
+      m.note =
+          "white noise sigma^2/dt per sample; bias random walk in the increment's bias entries "
+          "only, the samples integrated at the constant bias estimate";
+      break;
+    case NoiseReading::kPerSampleStd:
+      m.simulated = "basalt_per_sample";
+      m.note =
+          "white noise with the two white-noise numbers as per-sample standard deviations (not "
+          "divided by sqrt dt)";
+      break;
+    case NoiseReading::kContinuous:
+    default:
+      m.simulated = "continuous";
+      m.note =
+          "white noise sigma^2/dt per sample and a bias random walk sigma_b^2 dt per step, folded "
+          "into the samples";
+      break;
   }
-  if (method.id == "basalt_as_configured") {
-    m.simulated = "basalt_per_sample";
-    m.note =
-        "white noise with the two white-noise numbers as per-sample standard deviations (not "
-        "divided by sqrt dt), "
-        "as basalt_as_configured reads them (Basalt's dicrete_time_*_noise_std), each sample held "
-        "over the step "
-        "ending at it; bias random walk (densities) in the increment's bias entries only "
-        "(docs/basalt.md)";
-    return m;
-  }
-  m.simulated = "continuous";
-  m.note =
-      "white noise sigma^2/dt per sample and a bias random walk sigma_b^2 dt per step, folded into "
-      "the samples";
-  if (method.id == "vins_fusion_as_configured") {
+  if (sim.note) m.note += Printable(sim.note);
+  m.matches = sim.simulable;
+  // A value outside the enums (a plugin built against another header) is simulated as the
+  // defaults (the switches' `default`), and said, never taken silently.
+  const int cells = static_cast<int>(sim.cells), reading = static_cast<int>(sim.reading);
+  if (cells < 0 || cells > static_cast<int>(SampleCells::kCentered) || reading < 0 ||
+      reading > static_cast<int>(NoiseReading::kPerSampleStd)) {
     m.matches = false;
-    m.note +=
-        "; MISMATCH: vins_fusion_as_configured reads the four numbers as VINS-Fusion's per-step "
-        "standard deviations "
-        "(docs/vins-fusion.md), a model no per-sample noise reproduces (it takes the two ends of a "
-        "step as "
-        "independent); with continuous densities its covariance is about dt/2 of the simulated "
-        "one, so the "
-        "verdict measures that reading, not the scheme. Use `vins_fusion` for densities";
+    m.note += "; MISMATCH: the plugin's noise_simulation() gave cells " + std::to_string(cells) +
+              " and reading " + std::to_string(reading) +
+              ", not all known here; simulated with forward cells and continuous densities";
   }
   return m;
 }
@@ -202,29 +196,35 @@ Result RunTrials(const Registry& reg, const PreintegrationMethod& method,
   }
   const bool walk_in_samples = res.noise_model.simulated == "continuous";
   const bool per_sample_std = res.noise_model.simulated == "basalt_per_sample";
-  const Feeding feeding = FeedingOf(method);
-  if (!per_sample_std) res.noise_model.note += CellNote(feeding);
+  const SampleCells cells = NoiseSimulationOf(method).cells;
+  if (!per_sample_std) res.noise_model.note += CellNote(cells);
 
   // The prediction and the nominal increment: the full path, once.
   const Preintegrated nominal = PreintegrateAll(reg, method, z, input);
   res.predicted = Express(reg, nominal, res.convention).cov;
 
-  // The trials need only the mean. Where the method is a kernel of the core, they call that
-  // kernel's mean alone (kernels/mean_only.h), provided it reproduces the plugin's nominal
+  // The trials need only the mean. Where the method's plugin gives its mean alone
+  // (increment_mean(), increment_mean.h; the core's kernels give it through their plugins,
+  // kernels/mean_only.h), the trials call it, provided it reproduces the full path's nominal
   // increment: bit for bit where the two are the same compiled arithmetic, or to within
   // kMeanOffsetSigmas of the prediction's standard deviations where a separate compilation
-  // only sums in another order (rounding, ~1e-15 relative). A plugin of the same id from
-  // another directory (an override) is another scheme and is not accepted; then, as for every
-  // other method, each trial runs the full path.
-  std::optional<kernels::MeanKernel> mean_kernel;
-  if (options.allow_mean_only) mean_kernel = MeanKernelOf(method);
-  if (mean_kernel) {
+  // only sums in another order (rounding, ~1e-15 relative). A plugin's mean-only integration
+  // is not taken on trust: this check is what keeps a wrong one (a user's plugin, an override)
+  // from giving a wrong verdict in silence; refused, each trial runs the full path, and the
+  // result says why (mean_only_refused).
+  bool mean_only = false;
+  if (options.allow_mean_only) {
     SampleWindow window;
     PreintIncrement mean;
-    if (!MakeWindow(z.data(), z.size(), z.front().t, z.back().t, window).ok() ||
-        !kernels::IncrementMean(*mean_kernel, window, input.bg, input.ba, input.noise, mean).ok()) {
-      mean_kernel.reset();
-    } else if (!SameBits(mean, nominal.delta)) {
+    Status st = MakeWindow(z.data(), z.size(), z.front().t, z.back().t, window);
+    if (st.ok()) st = IncrementMean(method, window, input, mean);
+    if (!st.ok()) {
+      if (!IsIncrementMeanNotProvided(st))
+        res.mean_only_refused = "the plugin's increment_mean() failed on the nominal samples: " +
+                                Printable(st.message());
+    } else if (SameBits(mean, nominal.delta)) {
+      mean_only = true;
+    } else {
       mean.dbg = nominal.delta.dbg;
       mean.dba = nominal.delta.dba;
       Vec15 offset;
@@ -233,10 +233,19 @@ Result RunTrials(const Registry& reg, const PreintegrationMethod& method,
       res.mean_only_offset = llt.info() == Eigen::Success
                                  ? Vec15(llt.matrixL().solve(offset)).norm()
                                  : std::numeric_limits<double>::infinity();
-      if (!(res.mean_only_offset <= kMeanOffsetSigmas)) mean_kernel.reset();
+      mean_only = res.mean_only_offset <= kMeanOffsetSigmas;
+      if (!mean_only) {
+        char offset_text[64];
+        std::snprintf(offset_text, sizeof offset_text, "%.3g (at most %.3g accepted)",
+                      res.mean_only_offset, kMeanOffsetSigmas);
+        res.mean_only_refused = "the plugin's increment_mean() is " + std::string(offset_text) +
+                                " standard deviations of the prediction from the full path's "
+                                "nominal increment";
+        res.mean_only_offset = 0.0;
+      }
     }
   }
-  res.trial_path = mean_kernel ? "mean_only" : "full";
+  res.trial_path = mean_only ? "mean_only" : "full";
   // The blocks' names in the convention's order; Conclude fills their ratios.
   const auto labels = conv->order().labels();
   for (int b = 0; b < kBlockCount; ++b) res.blocks.push_back(BlockRatio{labels[b], 0.0, {}});
@@ -245,14 +254,15 @@ Result RunTrials(const Registry& reg, const PreintegrationMethod& method,
   std::vector<double> white_dt(K + 1), step_dt(K);
   for (std::size_t k = 0; k < K; ++k) step_dt[k] = z[k + 1].t - z[k].t;
   for (std::size_t k = 0; k <= K; ++k) {
-    switch (feeding) {
-      case Feeding::forward:
+    switch (cells) {
+      case SampleCells::kForward:
+      default:
         white_dt[k] = step_dt[std::min(k, K - 1)];
         break;
-      case Feeding::backward:
+      case SampleCells::kBackward:
         white_dt[k] = step_dt[k == 0 ? 0 : k - 1];
         break;
-      case Feeding::centered:
+      case SampleCells::kCentered:
         white_dt[k] = 0.5 * ((k == 0 ? 0.0 : step_dt[k - 1]) + (k == K ? 0.0 : step_dt[k]));
         break;
     }
@@ -317,9 +327,8 @@ Result RunTrials(const Registry& reg, const PreintegrationMethod& method,
         if (!MakeWindow(truth.data(), truth.size(), truth.front().t, truth.back().t, window).ok())
           throw Error("montecarlo: cannot window the samples");
         Preintegrated m;
-        if (mean_kernel) {
-          const Status st = kernels::IncrementMean(*mean_kernel, window, input.bg, input.ba,
-                                                   input.noise, m.delta);
+        if (mean_only) {
+          const Status st = IncrementMean(method, window, input, m.delta);
           if (!st.ok())
             throw Error("montecarlo: trial " + std::to_string(i) + ": " + Printable(st.message()));
         } else {

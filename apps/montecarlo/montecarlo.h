@@ -28,8 +28,8 @@ struct NoiseModel {
   std::string note;     ///< one sentence on the model (and on a mismatch, why)
 };
 
-/// The model simulated for a method (by id, the methods whose noise reading is not the
-/// continuous one are listed in montecarlo.cpp).
+/// The model simulated for a method: what its plugin's noise_simulation() says
+/// (core/include/imuconv/noise_simulation.h).
 NoiseModel NoiseModelFor(const PreintegrationMethod& method);
 
 /// Limits: trials keep one 15-vector each (10^7 trials: 1.2 GB), threads are capped.
@@ -41,8 +41,8 @@ struct Options {
   std::uint64_t seed = 1;
   int threads = 1;
   double noise_scale = 1.0;  ///< densities of the simulation only (the prediction keeps the case's)
-  /// false: every trial runs the method's full preintegration, even where a kernel of the core
-  /// would give its mean alone (the two are compared by tests/montecarlo/paths.cpp).
+  /// false: every trial runs the method's full preintegration, even where its plugin would
+  /// give its mean alone (increment_mean()) (the two are compared by tests/montecarlo/paths.cpp).
   bool allow_mean_only = true;
   /// Called with (trials done, trials) from the worker that finished a trial, under a lock, at
   /// most once per percent; it only reports (the results do not depend on it).
@@ -82,12 +82,15 @@ struct Result {
   /// Each trial's NEES e_i^T Sigma^-1 e_i under the predicted covariance, in trial order (set by
   /// Conclude; the report's histogram against chi-square(15)).
   std::vector<double> trial_nees;
-  /// How each trial was integrated: "mean_only" (the mean alone, by the method's kernel in the
-  /// core) or "full" (the method's whole preintegration); docs/montecarlo.md, "Speed".
+  /// How each trial was integrated: "mean_only" (the mean alone, by the method's plugin's
+  /// increment_mean()) or "full" (the method's whole preintegration); docs/montecarlo.md, "Speed".
   std::string trial_path;
   /// For "mean_only": how far the mean-only path's nominal increment is from the full path's,
   /// in standard deviations of the prediction (0: bit for bit the same).
   double mean_only_offset = 0.0;
+  /// For "full" where the plugin gives a mean-only integration (increment_mean()): why it was
+  /// not used (it failed, or its nominal increment is not the full path's); empty otherwise.
+  std::string mean_only_refused;
 };
 
 /// The default scoring chart of a method: its covariance convention for a native

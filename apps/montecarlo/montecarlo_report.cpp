@@ -26,33 +26,37 @@ nlohmann::json ReportJson(const Result& r) {
     blocks.push_back({{"block", b.block},
                       {"variance_ratio", b.variance_ratio},
                       {"axes", {b.axes[0], b.axes[1], b.axes[2]}}});
-  return json{{"method", r.method},
-              {"method_kind", r.method_kind},
-              {"convention", r.convention},
-              {"trials", r.trials},
-              {"seed", r.seed},
-              {"samples", r.samples},
-              {"duration", r.duration},
-              {"noise_model",
-               {{"simulated", r.noise_model.simulated},
-                {"matches_prediction", r.noise_model.matches},
-                {"noise_scale", r.noise_scale},
-                {"note", r.noise_model.note}}},
-              {"relative_frobenius", st.relative_frobenius},
-              {"nees_mean", st.nees_mean},
-              {"nees_bounds", {st.nees_bounds[0], st.nees_bounds[1]}},
-              {"nees_confidence", kNeesConfidence},
-              {"nees_p_value", st.nees_p_value},
-              {"kl", st.kl},
-              {"kl_bound", st.kl_bound},
-              {"kl_level", kKlLevel},
-              {"kl_p_value", st.kl_p_value},
-              {"blocks", blocks},
-              {"verdict", VerdictName(r.verdict)},
-              {"verdict_p_value", r.verdict_p_value},
-              {"false_alarm_rate", kFalseAlarmRate},
-              {"reasons", r.reasons},
-              {"trial_path", r.trial_path}};
+  json out{{"method", r.method},
+           {"method_kind", r.method_kind},
+           {"convention", r.convention},
+           {"trials", r.trials},
+           {"seed", r.seed},
+           {"samples", r.samples},
+           {"duration", r.duration},
+           {"noise_model",
+            {{"simulated", r.noise_model.simulated},
+             {"matches_prediction", r.noise_model.matches},
+             {"noise_scale", r.noise_scale},
+             {"note", r.noise_model.note}}},
+           {"relative_frobenius", st.relative_frobenius},
+           {"nees_mean", st.nees_mean},
+           {"nees_bounds", {st.nees_bounds[0], st.nees_bounds[1]}},
+           {"nees_confidence", kNeesConfidence},
+           {"nees_p_value", st.nees_p_value},
+           {"kl", st.kl},
+           {"kl_bound", st.kl_bound},
+           {"kl_level", kKlLevel},
+           {"kl_p_value", st.kl_p_value},
+           {"blocks", blocks},
+           {"verdict", VerdictName(r.verdict)},
+           {"verdict_p_value", r.verdict_p_value},
+           {"false_alarm_rate", kFalseAlarmRate},
+           {"reasons", r.reasons},
+           {"trial_path", r.trial_path}};
+  // Only where a plugin's mean-only integration was refused, so that every other run's output
+  // keeps its bytes.
+  if (!r.mean_only_refused.empty()) out["mean_only_refused"] = r.mean_only_refused;
+  return out;
 }
 
 void PrintSummary(std::ostream& out, const Result& r) {
@@ -66,12 +70,15 @@ void PrintSummary(std::ostream& out, const Result& r) {
       << "\n"
       << "  trials: "
       << (r.trial_path == "mean_only"
-              ? "the mean only, by the core's " + r.method +
-                    " kernel (the covariance computed once; its nominal " +
+              ? "the mean only, by " + r.method +
+                    "'s increment_mean() (the covariance computed once; its nominal " +
                     (r.mean_only_offset == 0.0 ? std::string("is the full path's bit for bit)")
                                                : "is within " + Fmt("%.2g", r.mean_only_offset) +
                                                      " standard deviations of the full path's)")
-              : std::string("the method's full preintegration each"))
+              : std::string("the method's full preintegration each") +
+                    (r.mean_only_refused.empty()
+                         ? std::string()
+                         : "; its mean-only integration was not used: " + r.mean_only_refused))
       << "\n\n"
       << "  relative Frobenius error  " << Fmt("%.4g", st.relative_frobenius)
       << "   (|S - Sigma|_F / |Sigma|_F)\n"

@@ -157,6 +157,7 @@ json ShardRunJson(const Result& head, const json& provenance) {
                   {"trial_path", head.trial_path},
                   {"mean_only_offset", HexFloat(head.mean_only_offset)},
                   {"predicted", predicted}});
+  if (!head.mean_only_refused.empty()) run["mean_only_refused"] = head.mean_only_refused;
   return run;
 }
 
@@ -192,6 +193,8 @@ Result ResultFromRunJson(const json& run) {
   }
   r.trial_path = StringAt(run, "trial_path", "");
   r.mean_only_offset = HexFloatAt(Member(run, "mean_only_offset", ""), "/mean_only_offset");
+  if (run.contains("mean_only_refused"))  // written only where a mean-only path was refused
+    r.mean_only_refused = StringAt(run, "mean_only_refused", "");
   const json& predicted = Member(run, "predicted", "");
   if (!predicted.is_array() || predicted.size() != static_cast<std::size_t>(kDim * kDim))
     Bad("/predicted", "expected the 225 entries of the predicted covariance, row by row");

@@ -9,7 +9,13 @@
 #include "imuconv/plugin_abi.h"
 
 namespace {
-using Scheme = imuconv::kernels::BasaltScheme<imuconv::kernels::BasaltFeeding::kNative>;
+// Each sample held over the step ending at it; the bias constant over the interval, its walk
+// only in the increment's bias entries.
+struct Scheme : imuconv::kernels::BasaltScheme<imuconv::kernels::BasaltFeeding::kNative> {
+  static constexpr imuconv::NoiseSimulation kNoiseSimulation{
+      imuconv::SampleCells::kBackward, imuconv::NoiseReading::kWalkInIncrementOnly,
+      /*simulable=*/true, ", as Basalt's preintegration assumes (docs/basalt.md)"};
+};
 }  // namespace
 
 IMUCONV_PLUGIN(

@@ -12,8 +12,17 @@
 #include "imuconv/plugin_abi.h"
 
 namespace {
-using Scheme = imuconv::kernels::BasaltScheme<imuconv::kernels::BasaltFeeding::kNative,
-                                              imuconv::kernels::BasaltNoiseMapping::kAsConfigured>;
+// Each sample held over the step ending at it; the white-noise numbers read as per-sample
+// standard deviations (Basalt's dicrete_time_*_noise_std), the walk only in the increment.
+struct Scheme
+    : imuconv::kernels::BasaltScheme<imuconv::kernels::BasaltFeeding::kNative,
+                                     imuconv::kernels::BasaltNoiseMapping::kAsConfigured> {
+  static constexpr imuconv::NoiseSimulation kNoiseSimulation{
+      imuconv::SampleCells::kBackward, imuconv::NoiseReading::kPerSampleStd, /*simulable=*/true,
+      ", as basalt_as_configured reads them (Basalt's dicrete_time_*_noise_std), each sample "
+      "held over the step ending at it; bias random walk (densities) in the increment's bias "
+      "entries only (docs/basalt.md)"};
+};
 }  // namespace
 
 IMUCONV_PLUGIN(Preintegrator, imuconv::plugin::KernelPreintegrator<Scheme>, "basalt_as_configured",

@@ -6,7 +6,13 @@
 #include "imuconv/plugin_abi.h"
 
 namespace {
-using Scheme = imuconv::kernels::BasaltScheme<imuconv::kernels::BasaltFeeding::kForwardZoh>;
+// Each sample held over the step starting at it; the bias constant over the interval, its walk
+// only in the increment's bias entries.
+struct Scheme : imuconv::kernels::BasaltScheme<imuconv::kernels::BasaltFeeding::kForwardZoh> {
+  static constexpr imuconv::NoiseSimulation kNoiseSimulation{
+      imuconv::SampleCells::kForward, imuconv::NoiseReading::kWalkInIncrementOnly,
+      /*simulable=*/true, ", as Basalt's preintegration assumes (docs/basalt.md)"};
+};
 }  // namespace
 
 IMUCONV_PLUGIN(Preintegrator, imuconv::plugin::KernelPreintegrator<Scheme>, "basalt_forward_zoh",

@@ -3,6 +3,7 @@
 // increment, paper eq. residual-error) and the bias Jacobian in dR Exp(dtheta), additive
 // dp, dv (paper, "GTSAM Peculiarities", eq. preint-error-dr..db).
 // The numerics live in imuconv/kernels/preintegration.h (compiled into imuconv_core).
+#include "imuconv/kernels/mean_only.h"
 #include "imuconv/kernels/preintegration.h"
 #include "imuconv/plugin/kernel_plugin.h"
 #include "imuconv/plugin_abi.h"
@@ -15,6 +16,10 @@ struct Manifold {
   imuconv::Status operator()(const imuconv::PreintegrationInput& in,
                              imuconv::Preintegrated& out) const {
     return imuconv::kernels::IntegrateManifold(in, out);
+  }
+  static imuconv::Status Mean(const imuconv::PreintegrationInput& in,
+                              imuconv::PreintIncrement& delta) {
+    return imuconv::kernels::ManifoldIncrementMean(in, delta);
   }
 };
 

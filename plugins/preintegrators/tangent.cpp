@@ -3,6 +3,7 @@
 // both additive on the tangent 9-vector [theta, p, v] with dR = Exp(theta) (paper,
 // "GTSAM Peculiarities": the tangent covariance follows the j perturbation).
 // The numerics live in imuconv/kernels/preintegration.h (compiled into imuconv_core).
+#include "imuconv/kernels/mean_only.h"
 #include "imuconv/kernels/preintegration.h"
 #include "imuconv/plugin/kernel_plugin.h"
 #include "imuconv/plugin_abi.h"
@@ -15,6 +16,10 @@ struct Tangent {
   imuconv::Status operator()(const imuconv::PreintegrationInput& in,
                              imuconv::Preintegrated& out) const {
     return imuconv::kernels::IntegrateTangent(in, out);
+  }
+  static imuconv::Status Mean(const imuconv::PreintegrationInput& in,
+                              imuconv::PreintIncrement& delta) {
+    return imuconv::kernels::TangentIncrementMean(in, delta);
   }
 };
 

@@ -12,8 +12,11 @@
 #include "imuconv/plugin_abi.h"
 
 namespace {
-using Scheme =
-    imuconv::kernels::VinsFusionScheme<imuconv::kernels::VinsNoiseMapping::kFromDensities>;
+// The midpoint of each step's two ends: each sample's cell is half of each step beside it.
+struct Scheme
+    : imuconv::kernels::VinsFusionScheme<imuconv::kernels::VinsNoiseMapping::kFromDensities> {
+  static constexpr imuconv::NoiseSimulation kNoiseSimulation{imuconv::SampleCells::kCentered};
+};
 }  // namespace
 
 IMUCONV_PLUGIN(Preintegrator, imuconv::plugin::KernelPreintegrator<Scheme>, "vins_fusion", "1.0.0",

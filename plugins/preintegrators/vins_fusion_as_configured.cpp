@@ -10,8 +10,18 @@
 #include "imuconv/plugin_abi.h"
 
 namespace {
-using Scheme =
-    imuconv::kernels::VinsFusionScheme<imuconv::kernels::VinsNoiseMapping::kAsConfigured>;
+// The midpoint of each step's two ends (centered cells); its noise reading, per-step standard
+// deviations with the two ends of a step independent, is one no per-sample noise reproduces.
+struct Scheme
+    : imuconv::kernels::VinsFusionScheme<imuconv::kernels::VinsNoiseMapping::kAsConfigured> {
+  static constexpr imuconv::NoiseSimulation kNoiseSimulation{
+      imuconv::SampleCells::kCentered, imuconv::NoiseReading::kContinuous, /*simulable=*/false,
+      "; MISMATCH: vins_fusion_as_configured reads the four numbers as VINS-Fusion's per-step "
+      "standard deviations (docs/vins-fusion.md), a model no per-sample noise reproduces (it "
+      "takes the two ends of a step as independent); with continuous densities its covariance "
+      "is about dt/2 of the simulated one, so the verdict measures that reading, not the "
+      "scheme. Use `vins_fusion` for densities"};
+};
 }  // namespace
 
 IMUCONV_PLUGIN(Preintegrator, imuconv::plugin::KernelPreintegrator<Scheme>,

@@ -2,6 +2,7 @@
 // Jacobian of the discrete step as transition matrix; native convention `left`.
 // The kernel is core/include/imuconv/kernels/euler.h.
 #include "imuconv/kernels/euler.h"
+#include "imuconv/kernels/mean_only.h"
 
 #include "imuconv/plugin/kernel_plugin.h"
 #include "imuconv/plugin_abi.h"
@@ -13,6 +14,11 @@ struct Euler {
                              imuconv::PropagationResult& out) const {
     return imuconv::kernels::PropagateHeld<imuconv::kernels::Hold::Euler>(in, out);
   }
+  static imuconv::Status Mean(const imuconv::PreintegrationInput& in,
+                              imuconv::PreintIncrement& delta) {
+    return imuconv::kernels::HeldIncrementMean<imuconv::kernels::Hold::Euler>(in, delta);
+  }
+  // Each sample held over the step it starts: the default cells (forward), densities.
 };
 
 }  // namespace

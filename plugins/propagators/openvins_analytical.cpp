@@ -21,8 +21,12 @@
 #include "imuconv/plugin_abi.h"
 
 namespace {
-using Analytical =
-    imuconv::kernels::OpenVinsPropagation<imuconv::kernels::OpenVinsMean::kAnalytical>;
+// Its transition and noise (compute_F_and_G_analytic) average the two ends of each step:
+// each sample's cell is half of each step beside it.
+struct Analytical
+    : imuconv::kernels::OpenVinsPropagation<imuconv::kernels::OpenVinsMean::kAnalytical> {
+  static constexpr imuconv::NoiseSimulation kNoiseSimulation{imuconv::SampleCells::kCentered};
+};
 }  // namespace
 
 IMUCONV_PLUGIN(Propagator, imuconv::plugin::KernelPropagator<Analytical>, "openvins_analytical",

@@ -23,6 +23,8 @@ struct OpenVinsDiscrete {
                              imuconv::PropagationResult& out) const {
     return imuconv::kernels::PropagateHeld<imuconv::kernels::Hold::Midpoint>(in, out);
   }
+  // Averages the two ends of each step: each sample's cell is half of each step beside it.
+  static constexpr imuconv::NoiseSimulation kNoiseSimulation{imuconv::SampleCells::kCentered};
 };
 
 }  // namespace

@@ -19,7 +19,10 @@
 #include "imuconv/plugin_abi.h"
 
 namespace {
-using Rk4 = imuconv::kernels::OpenVinsPropagation<imuconv::kernels::OpenVinsMean::kRk4>;
+// RK4 of the linearly interpolated samples: each sample's cell is half of each step beside it.
+struct Rk4 : imuconv::kernels::OpenVinsPropagation<imuconv::kernels::OpenVinsMean::kRk4> {
+  static constexpr imuconv::NoiseSimulation kNoiseSimulation{imuconv::SampleCells::kCentered};
+};
 }  // namespace
 
 IMUCONV_PLUGIN(Propagator, imuconv::plugin::KernelPropagator<Rk4>, "openvins_rk4", "1.0.0",

@@ -7,6 +7,7 @@
 // The kernel is compiled in imuconv_core (core/include/imuconv/kernels/rk4.h, its code in
 // core/src/kernels/rk4_window.h); this plugin only names it.
 #include "imuconv/kernels/rk4.h"
+#include "imuconv/kernels/mean_only.h"
 
 #include "imuconv/plugin/kernel_plugin.h"
 #include "imuconv/plugin_abi.h"
@@ -18,6 +19,12 @@ struct Rk4 {  // one step per knot interval
                              imuconv::PropagationResult& out) const {
     return imuconv::kernels::PropagateRk4(in, out, 1);
   }
+  static imuconv::Status Mean(const imuconv::PreintegrationInput& in,
+                              imuconv::PreintIncrement& delta) {
+    return imuconv::kernels::Rk4IncrementMean(in, 1, delta);
+  }
+  // Interpolates linearly between knots: each sample's cell is half of each step beside it.
+  static constexpr imuconv::NoiseSimulation kNoiseSimulation{imuconv::SampleCells::kCentered};
 };
 
 }  // namespace

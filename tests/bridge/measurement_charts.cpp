@@ -1,7 +1,7 @@
 // The one measurement type (imuconv/preintegrated.h): its two convention labels say the charts
 // of its numbers, every bridge function takes it in any charts, and a native preintegrator
 // still writes only the numbers, at the places it wrote them before the labels were added (the
-// plugin ABI, kPluginAbiVersion 2, unchanged).
+// plugin ABI was not changed by them: kPluginAbiVersion stayed 2).
 #include <gtest/gtest.h>
 
 #include <cstddef>

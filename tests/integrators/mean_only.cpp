@@ -1,6 +1,8 @@
-// The mean-only path (core/include/imuconv/kernels/mean_only.h, what imuconv montecarlo's
-// trials run) against the full path a method's preintegration takes (its plugin, through the
-// bridge's Preintegrate): the same increment bit for bit, for every method it serves.
+// The mean-only path (a plugin's optional increment_mean(), core/include/imuconv/
+// increment_mean.h, which the core's kernels give through kernels/mean_only.h and
+// plugin/kernel_plugin.h; what imuconv montecarlo's trials run) against the full path a
+// method's preintegration takes (its plugin, through the bridge's Preintegrate): the same
+// increment bit for bit, for every plugin that provides it; and what a plugin without it says.
 //
 // Bit for bit for every method, no tolerance: each is one kernel compiled once in imuconv_core,
 // which the plugin and the mean-only path both call. euler and midpoint run the preintegration
@@ -18,27 +20,35 @@
 #include <cstring>
 
 #include "imuconv/bridge.h"
-#include "imuconv/kernels/mean_only.h"
+#include "imuconv/increment_mean.h"
 #include "integrator_cases.h"
 
 namespace imuconv::test {
 namespace {
 
-using kernels::MeanKernel;
-
 struct Served {
   const char* id;
   PluginKind kind;
-  MeanKernel kernel;
 };
 
+// The plugins whose kernel has a mean-only function (kernels/mean_only.h).
 constexpr Served kServed[] = {
-    {"euler", PluginKind::Propagator, MeanKernel::kEuler},
-    {"midpoint", PluginKind::Propagator, MeanKernel::kMidpoint},
-    {"rk4", PluginKind::Propagator, MeanKernel::kRk4},
-    {"manifold", PluginKind::Preintegrator, MeanKernel::kManifold},
-    {"tangent", PluginKind::Preintegrator, MeanKernel::kTangent},
+    {"euler", PluginKind::Propagator},      {"midpoint", PluginKind::Propagator},
+    {"rk4", PluginKind::Propagator},        {"manifold", PluginKind::Preintegrator},
+    {"tangent", PluginKind::Preintegrator},
 };
+
+// The plugin's increment_mean(), as montecarlo calls it.
+Status PluginMean(const Registry& reg, const Served& m, const SampleWindow& w, const Vec3& bg,
+                  const Vec3& ba, const ImuNoise& noise, PreintIncrement& mean) {
+  PreintegrationInput in;
+  in.bg = bg;
+  in.ba = ba;
+  in.noise = noise;
+  in.window = w;
+  return m.kind == PluginKind::Propagator ? reg.propagator(m.id)->increment_mean(in, mean)
+                                          : reg.preintegrator(m.id)->increment_mean(in, mean);
+}
 
 // Bitwise equality of two matrices (EXPECT_EQ on Eigen compares values, which would let
 // -0 == +0 through; that difference is harmless but is not "the same arithmetic", so the
@@ -82,7 +92,7 @@ TEST(MeanOnly, SameIncrementAsTheFullPathBitForBit) {
           ASSERT_TRUE(MakeWindow(samples.data(), samples.size(), samples.front().t, t_e, w).ok());
           const Preintegrated full = Preintegrate(reg, method, w, bg, ba, c.noise);
           PreintIncrement mean;
-          const Status st = kernels::IncrementMean(m.kernel, w, bg, ba, c.noise, mean);
+          const Status st = PluginMean(reg, m, w, bg, ba, c.noise, mean);
           ASSERT_TRUE(st.ok()) << st.message();
           const std::string what = std::string(m.id) + " on " + name;
           EXPECT_TRUE(SameIncrement(full.delta, mean))
@@ -109,11 +119,57 @@ TEST(MeanOnly, RefusesWhatTheFullPathRefuses) {
   ASSERT_TRUE(MakeWindow(s.data(), s.size(), s.front().t, s.back().t, w).ok());
   for (const Served& m : kServed) {
     PreintIncrement mean;
-    const Status st =
-        kernels::IncrementMean(m.kernel, w, Vec3::Zero(), Vec3::Zero(), c.noise, mean);
+    const Status st = PluginMean(Plugins(), m, w, Vec3::Zero(), Vec3::Zero(), c.noise, mean);
     EXPECT_FALSE(st.ok()) << m.id;
     EXPECT_NE(st.message().find("not finite"), std::string::npos) << m.id << ": " << st.message();
   }
+}
+
+// A plugin without the capability says "not provided" (the base classes' default, which
+// montecarlo answers with the full path), and writes the identity rather than leave `delta`
+// as it was: the built-in plugins whose kernel has no mean-only function, and a plugin that
+// overrides nothing optional.
+TEST(MeanOnly, APluginWithoutItSaysNotProvided) {
+  const ImuCase c = LoadCase("smooth-0");
+  SampleWindow w;
+  ASSERT_TRUE(MakeWindow(c.samples.data(), 20, c.samples.front().t, c.samples[19].t, w).ok());
+  PreintegrationInput in;
+  in.noise = c.noise;
+  in.window = w;
+  PreintIncrement stale;
+  stale.dp = Vec3(1.0, 2.0, 3.0);
+  for (const char* id : {"openvins_rk4", "openvins_discrete", "openvins_analytical"}) {
+    PreintIncrement mean = stale;
+    const Status st = Plugins().propagator(id)->increment_mean(in, mean);
+    EXPECT_TRUE(IsIncrementMeanNotProvided(st)) << id << ": " << st.message();
+    EXPECT_EQ(mean.dp, Vec3::Zero()) << id;
+  }
+  for (const char* id : {"basalt", "basalt_as_configured", "basalt_forward_zoh", "vins_fusion",
+                         "vins_fusion_as_configured"}) {
+    PreintIncrement mean = stale;
+    const Status st = Plugins().preintegrator(id)->increment_mean(in, mean);
+    EXPECT_TRUE(IsIncrementMeanNotProvided(st)) << id << ": " << st.message();
+    EXPECT_EQ(mean.dp, Vec3::Zero()) << id;
+  }
+  struct Bare final : Propagator {
+    const char* id() const noexcept override { return "bare"; }
+    const char* native_convention() const noexcept override { return "left"; }
+    Status propagate(const PropagationInput&, PropagationResult&) const noexcept override {
+      return Status::Ok();
+    }
+  } bare;
+  PreintIncrement mean = stale;
+  EXPECT_TRUE(IsIncrementMeanNotProvided(bare.increment_mean(in, mean)));
+  EXPECT_EQ(mean.dp, Vec3::Zero());
+  // And the default simulation facts: forward cells, continuous densities, simulable.
+  const NoiseSimulation sim = bare.noise_simulation();
+  EXPECT_EQ(sim.cells, SampleCells::kForward);
+  EXPECT_EQ(sim.reading, NoiseReading::kContinuous);
+  EXPECT_TRUE(sim.simulable);
+  EXPECT_STREQ(sim.note, "");
+  // A failure is not "not provided": the served plugins' bad-input message is not the sentinel.
+  EXPECT_FALSE(IsIncrementMeanNotProvided(Status::Error("euler: not finite")));
+  EXPECT_FALSE(IsIncrementMeanNotProvided(Status::Ok()));
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // imuconv montecarlo's two ways of integrating a trial (apps/montecarlo/montecarlo.cpp): the
-// mean alone by the method's kernel in the core, and the method's full preintegration through
-// its plugin. For every method the mean-only path serves, a run each way gives the same
+// mean alone by the plugin's optional increment_mean() (the built-in plugins give it from the
+// core's kernels, kernels/mean_only.h), and the method's full preintegration through its
+// plugin. For every method the mean-only path serves, a run each way gives the same
 // statistics bit for bit (so the same trials' end errors), and the run says which path it took;
 // the other methods take the full path.
 //
@@ -59,7 +60,7 @@ TEST(MontecarloPaths, MeanOnlyGivesTheFullPathsTrialsBitForBit) {
   }
 }
 
-// Methods that are not kernels of the core run their plugin per trial.
+// Plugins without increment_mean() run their full preintegration per trial.
 TEST(MontecarloPaths, OtherMethodsRunTheFullPath) {
   const Input in = CaseInput("smooth-0", 1.0);
   for (const auto& [id, kind] :

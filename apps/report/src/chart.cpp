@@ -11,7 +11,8 @@
 namespace imuconv::report {
 namespace {
 
-constexpr double kCharWidth = 6.5;  // of an 11 px sans-serif character, for the legend's layout
+constexpr double kLegendCharWidth =
+    6.5;  // of an 11 px sans-serif character, for the legend's layout
 constexpr double kLeft = 64.0, kRight = 24.0, kBottom = 38.0, kPad = 6.0;
 
 struct Range {
@@ -193,7 +194,7 @@ std::string ChartSvg(const ChartSpec& spec) {
   double row_w = 0.0;
   for (const auto& item : legend) {
     if (item.text.empty()) continue;
-    const double w = 22.0 + kCharWidth * static_cast<double>(item.text.size()) + 12.0;
+    const double w = 22.0 + kLegendCharWidth * static_cast<double>(item.text.size()) + 12.0;
     if (row_w + w > spec.width - kLeft && !rows.back().empty()) {
       rows.emplace_back();
       row_w = 0.0;

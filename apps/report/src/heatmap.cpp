@@ -10,8 +10,8 @@
 namespace imuconv::report {
 namespace {
 
-constexpr double kPad = 8.0;
-constexpr double kCharWidth =
+constexpr double kHeatmapPad = 8.0;
+constexpr double kHeatmapCharWidth =
     7.0;  // of an 11 px sans-serif character, generously: labels must not clip
 constexpr double kBarWidth = 14.0;
 constexpr int kBarSteps =
@@ -54,9 +54,9 @@ std::string HeatmapSvg(const HeatmapSpec& spec) {
   const double c = spec.cell;
   const double title_h = spec.title.empty() ? 0.0 : 22.0;
   const double entry_w =
-      spec.entry_labels.empty() ? 0.0 : kCharWidth * LongestLabel(spec.entry_labels) + 6.0;
-  const double x0 = kPad + kCharWidth * LongestLabel(spec.row_blocks) + 8.0 + entry_w;
-  const double y0 = kPad + title_h;
+      spec.entry_labels.empty() ? 0.0 : kHeatmapCharWidth * LongestLabel(spec.entry_labels) + 6.0;
+  const double x0 = kHeatmapPad + kHeatmapCharWidth * LongestLabel(spec.row_blocks) + 8.0 + entry_w;
+  const double y0 = kHeatmapPad + title_h;
   const double w = c * m.cols(), h = c * m.rows();
   const double label_bottom = y0 + h + (spec.entry_labels.empty() ? 0.0 : 13.0) + 16.0;
 
@@ -89,16 +89,17 @@ std::string HeatmapSvg(const HeatmapSpec& spec) {
       (below ? "\u2264" : "") + std::string("1e") + std::to_string(scale.lo_decade());
   const std::string hi_label =
       (above ? "\u2265" : "") + std::string("1e") + std::to_string(scale.hi_decade());
-  const double tick_w = kCharWidth * std::max<std::size_t>({lo_label.size(), hi_label.size(), 6});
+  const double tick_w =
+      kHeatmapCharWidth * std::max<std::size_t>({lo_label.size(), hi_label.size(), 6});
   int specials =
       anchored ? 1 : 0;  // the anchored legend's line counting the entries beyond the tolerance
   for (EntryKind k :
        {EntryKind::zero, EntryKind::not_a_number, EntryKind::infinite, EntryKind::negative})
     specials += kind_count[static_cast<int>(k)] > 0 ? 1 : 0;
   const double legend_bottom = bar_y + bar_h + 8.0 + specials * kSwatchRow;
-  const double width =
-      legend_x + kBarWidth + 6.0 + std::max(tick_w, (anchored ? 17.0 : 9.0) * kCharWidth) + kPad;
-  const double height = std::max(label_bottom, legend_bottom) + kPad;
+  const double width = legend_x + kBarWidth + 6.0 +
+                       std::max(tick_w, (anchored ? 17.0 : 9.0) * kHeatmapCharWidth) + kHeatmapPad;
+  const double height = std::max(label_bottom, legend_bottom) + kHeatmapPad;
 
   std::string data_attributes;
   if (anchored)
@@ -112,7 +113,7 @@ std::string HeatmapSvg(const HeatmapSpec& spec) {
       svg::Open(width, height, "heatmap",
                 spec.title.empty() ? "heatmap of " + spec.value_name : spec.title, data_attributes);
   if (!spec.title.empty())
-    out += svg::Text(x0, kPad + 13.0, spec.title, "start", "title", "font-size=\"13\"") + "\n";
+    out += svg::Text(x0, kHeatmapPad + 13.0, spec.title, "start", "title", "font-size=\"13\"") + "\n";
 
   // The cells, row by row.
   out += "<g class=\"cells\">\n";

@@ -17,8 +17,9 @@ namespace imuconv {
 
 /// Bumped whenever a base class, value type or the descriptor changes layout. 2: the two
 /// convention interfaces became Chart<Value> (order(), J_ref_this, J_this_ref,
-/// jacobian_convention()).
-constexpr int kPluginAbiVersion = 2;
+/// jacobian_convention()). 3: Propagator and Preintegrator gained the optional
+/// increment_mean() and noise_simulation() (increment_mean.h, noise_simulation.h).
+constexpr int kPluginAbiVersion = 3;
 
 enum class PluginKind : int {
   StateConvention = 1,      ///< StateConvention (Chart<ImuState>)

@@ -13,7 +13,7 @@
 namespace imuconv {
 
 struct Preintegrated {
-  // The plugin ABI (preintegrator.h, kPluginAbiVersion 2): a native preintegrator writes the
+  // The plugin ABI (preintegrator.h, since kPluginAbiVersion 2): a native preintegrator writes the
   // members from dt to J_bias, which keep the order and layout they had as the plugin's output
   // type; it never writes the two labels below them. The host sets those from the plugin's
   // cov_convention() and jacobian_convention() (registry/src/bridge.cpp), so no std::string

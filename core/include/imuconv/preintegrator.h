@@ -6,6 +6,8 @@
 // alone; the host sets them from those two ids.
 #pragma once
 
+#include "imuconv/increment_mean.h"
+#include "imuconv/noise_simulation.h"
 #include "imuconv/preintegrated.h"
 #include "imuconv/status.h"
 #include "imuconv/types.h"
@@ -27,6 +29,19 @@ class Preintegrator {
   virtual const char* cov_convention() const noexcept = 0;
   virtual const char* jacobian_convention() const noexcept = 0;
   virtual Status integrate(const PreintegrationInput& in, Preintegrated& out) const noexcept = 0;
+
+  /// Optional (increment_mean.h): integrate()'s increment alone (dR, dp, dv; dbg = dba = 0),
+  /// without its covariance and bias Jacobian. Checks its input as integrate() does. Default:
+  /// IncrementMeanNotProvided().
+  virtual Status increment_mean(const PreintegrationInput& in,
+                                PreintIncrement& delta) const noexcept {
+    (void)in;
+    delta = PreintIncrement();
+    return IncrementMeanNotProvided();
+  }
+  /// How the scheme weights its samples and reads the noise (noise_simulation.h). Default:
+  /// forward cells, continuous densities.
+  virtual NoiseSimulation noise_simulation() const noexcept { return NoiseSimulation(); }
 };
 
 }  // namespace imuconv

@@ -4,6 +4,9 @@
 // convention, declared by native_convention(); the registry converts to any other.
 #pragma once
 
+#include "imuconv/increment_mean.h"
+#include "imuconv/noise_simulation.h"
+#include "imuconv/preintegrator.h"
 #include "imuconv/status.h"
 #include "imuconv/types.h"
 #include "imuconv/window.h"
@@ -45,6 +48,20 @@ class Propagator {
   virtual const char* id() const noexcept = 0;
   virtual const char* native_convention() const noexcept = 0;
   virtual Status propagate(const PropagationInput& in, PropagationResult& out) const noexcept = 0;
+
+  /// Optional (increment_mean.h): the increment alone that preintegration by propagation of
+  /// `in` gives, i.e. the end state of propagate(PreintegrationByPropagationStart(in.window,
+  /// in.bg, in.ba, in.noise)) as dR, dp, dv, with dbg = dba = 0. Checks its input as
+  /// propagate() does. Default: IncrementMeanNotProvided().
+  virtual Status increment_mean(const PreintegrationInput& in,
+                                PreintIncrement& delta) const noexcept {
+    (void)in;
+    delta = PreintIncrement();
+    return IncrementMeanNotProvided();
+  }
+  /// How the scheme weights its samples and reads the noise (noise_simulation.h). Default:
+  /// forward cells, continuous densities.
+  virtual NoiseSimulation noise_simulation() const noexcept { return NoiseSimulation(); }
 };
 
 }  // namespace imuconv

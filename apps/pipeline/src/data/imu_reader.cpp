@@ -19,7 +19,7 @@ using data::Shown;
 using data::Split;
 using data::Trim;
 
-struct Layout {
+struct ImuLayout {
   std::array<int, 7> index{};        // field index of t, wx, ..., az (each >= 0)
   std::array<std::string, 7> label;  // for messages (escaped)
   std::size_t n_fields = 0;          // fields per line; 0: set by the first data line
@@ -27,7 +27,7 @@ struct Layout {
 };
 
 // The column with the largest index (the first such), for the width checks.
-int WidestColumn(const Layout& layout) {
+int WidestColumn(const ImuLayout& layout) {
   return static_cast<int>(std::max_element(layout.index.begin(), layout.index.end()) -
                           layout.index.begin());
 }
@@ -35,7 +35,7 @@ int WidestColumn(const Layout& layout) {
 // Every data line must have layout.n_fields fields (once known) and every field a column
 // refers to must exist: the width is checked against the header here, or against the first
 // data line by the row loop, before any field is indexed.
-ImuData ReadImuRows(const std::string& path, data::RowFormat rf, const Layout& layout,
+ImuData ReadImuRows(const std::string& path, data::RowFormat rf, const ImuLayout& layout,
                     std::optional<TimeValue> origin, data::LineReader& lr,
                     const ReadOptions& options) {
   const int widest = WidestColumn(layout);
@@ -97,7 +97,7 @@ ImuData ReadEurocImu(const std::string& path, std::optional<std::int64_t> origin
   rf.integer_time = true;
   rf.time_what = "an integer timestamp in nanoseconds";
   rf.source = TimeSource::imu_euroc;
-  Layout layout;
+  ImuLayout layout;
   layout.index = {0, 1, 2, 3, 4, 5, 6};
   layout.label = {"timestamp [ns]", "w_x", "w_y", "w_z", "a_x", "a_y", "a_z"};
   layout.n_fields = 7;
@@ -123,7 +123,7 @@ std::string KnownColumns(const std::vector<std::string>& header) {
 
 ImuData ReadCsvImu(const std::string& path, const CsvFormat& f, const ReadOptions& options) {
   data::LineReader lr(path);
-  Layout layout;
+  ImuLayout layout;
   std::vector<std::string> header;
   std::string line;
   for (int h = 0; h < f.header_rows; ++h) {

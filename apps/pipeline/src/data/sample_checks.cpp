@@ -9,7 +9,7 @@
 namespace imuconv::pipeline {
 namespace {
 
-std::string Num(double x) {
+std::string SampleNum(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", x);
   return buf;
@@ -41,10 +41,10 @@ std::optional<SampleIssue> FindSampleIssue(const std::vector<ImuSample>& s,
                          s[k].accel[0], s[k].accel[1], s[k].accel[2]};
     for (int j = 0; j < 7; ++j)
       if (!std::isfinite(v[j]))
-        return SampleIssue{k, std::string(kNames[j]) + " is not finite (" + Num(v[j]) + ")"};
+        return SampleIssue{k, std::string(kNames[j]) + " is not finite (" + SampleNum(v[j]) + ")"};
     if (k > 0 && !(s[k].t > s[k - 1].t))
-      return SampleIssue{k, "time must increase strictly: t = " + Num(s[k].t) + " s after " +
-                                Num(s[k - 1].t) + " s"};
+      return SampleIssue{k, "time must increase strictly: t = " + SampleNum(s[k].t) + " s after " +
+                                SampleNum(s[k - 1].t) + " s"};
   }
   std::vector<double> t(s.size());
   for (std::size_t k = 0; k < s.size(); ++k) t[k] = s[k].t;
@@ -61,13 +61,13 @@ std::optional<std::string> FindNoiseIssue(const ImuNoise& q, double shortest_per
                                                    {"accel_random_walk", q.accel_random_walk}};
   for (const auto& [name, value] : fields) {
     if (!std::isfinite(value) || value < 0.0)
-      return std::string(name) + ": expected a finite number >= 0, got " + Num(value);
+      return std::string(name) + ": expected a finite number >= 0, got " + SampleNum(value);
     // The discrete covariance of one step is density^2 / dt (white noise) or density^2 x dt
     // (random walk); the larger of the two must be a number for the sums to stay finite.
     const double per_step = value * value * std::max(1.0 / shortest_period, shortest_period);
     if (std::isfinite(shortest_period) && shortest_period > 0.0 && !std::isfinite(per_step))
-      return std::string(name) + " = " + Num(value) +
-             " is too large: its square over the sample period (" + Num(shortest_period) +
+      return std::string(name) + " = " + SampleNum(value) +
+             " is too large: its square over the sample period (" + SampleNum(shortest_period) +
              " s) is not a finite number, so every covariance would be inf";
   }
   return std::nullopt;
@@ -82,9 +82,10 @@ std::optional<std::string> FindRateDisagreement(double imu_period, double gt_per
   if (ratio >= kMinImuToGroundTruthRate && ratio <= kMaxImuToGroundTruthRate) return std::nullopt;
   // Too slow an IMU: its stamps were read 1000x too large, i.e. they are in a finer unit.
   const bool finer = ratio < kMinImuToGroundTruthRate;
-  std::string m = "the IMU's median period is " + Num(imu_period) + " s (" + Num(1.0 / imu_period) +
-                  " Hz) but the ground truth's is " + Num(gt_period) + " s (" +
-                  Num(1.0 / gt_period) + " Hz): the IMU would be " + Num(ratio) +
+  std::string m = "the IMU's median period is " + SampleNum(imu_period) + " s (" +
+                  SampleNum(1.0 / imu_period) + " Hz) but the ground truth's is " +
+                  SampleNum(gt_period) + " s (" + SampleNum(1.0 / gt_period) +
+                  " Hz): the IMU would be " + SampleNum(ratio) +
                   " times as fast as the ground truth (expected 10^-1.5 to 10^2.5, a wrong time "
                   "unit moves it by 10^3); ";
   const auto likely = Neighbour(declared, finer);

@@ -45,7 +45,7 @@ std::optional<TimeUnit> ParseTimeUnit(const std::string& s) {
 namespace {
 
 // 6 significant digits, as %g: 0.005, 5e+06.
-std::string Num(double x) {
+std::string TimingNum(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", x);
   return buf;
@@ -102,8 +102,8 @@ std::optional<TimeUnit> LikelyUnit(double period_s, TimeUnit declared) {
 }
 
 std::string RateMessage(double period, TimeUnit declared, TimeSource source) {
-  std::string m =
-      "the median period is " + Num(period) + " s (rate " + Num(1.0 / period) + " Hz); ";
+  std::string m = "the median period is " + TimingNum(period) + " s (rate " +
+                  TimingNum(1.0 / period) + " Hz); ";
   const auto likely = LikelyUnit(period, declared);
   const std::string range =
       " (" + std::string(source == TimeSource::ground_truth ? "a ground-truth" : "an IMU") +
@@ -170,9 +170,10 @@ std::optional<TimingIssue> FindTimingIssue(const std::vector<double>& t, double 
     const bool gt = source == TimeSource::ground_truth;
     return TimingIssue{TimingIssue::Kind::gap,
                        i,
-                       "gap of " + Num(gap) + " s before this " + (gt ? "row" : "sample") +
-                           " (the median period is " + Num(median) + " s; limit " + Num(factor) +
-                           " x median = " + Num(limit) + " s); " + GapAdvice(source),
+                       "gap of " + TimingNum(gap) + " s before this " + (gt ? "row" : "sample") +
+                           " (the median period is " + TimingNum(median) + " s; limit " +
+                           TimingNum(factor) + " x median = " + TimingNum(limit) + " s); " +
+                           GapAdvice(source),
                        median,
                        gap,
                        limit};

@@ -18,7 +18,7 @@ constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 // disagreement.
 constexpr double kRotationAgreementDeg = 1e-6;
 
-std::string Num(double v, int precision) {
+std::string IncrementNum(double v, int precision) {
   std::ostringstream o;
   o.precision(precision);
   o << v;
@@ -42,15 +42,17 @@ std::optional<PreintIncrement> IncrementFromJson(const Node& n) {
   if (Rq && Rm) {
     const double disagree = RotationAngleDeg(Rq->transpose() * *Rm);
     if (disagree > kRotationAgreementDeg)
-      n.checker().error(n.child_pointer("R"), "R and q_wxyz disagree by " + Num(disagree, 6) +
-                                                  " deg (tolerance 1e-6 deg)");
+      n.checker().error(
+          n.child_pointer("R"),
+          "R and q_wxyz disagree by " + IncrementNum(disagree, 6) + " deg (tolerance 1e-6 deg)");
   }
   const std::optional<Mat3> R = Rq ? Rq : Rm;
   if (auto an = n.get("rotation_angle_deg", false))
     if (auto a = an->number();
         a && R && std::abs(*a - RotationAngleDeg(*R)) > kRotationAgreementDeg)
-      an->fail("rotation_angle_deg = " + Num(*a, 12) + " does not match the rotation's angle " +
-               Num(RotationAngleDeg(*R), 12) + " deg (tolerance 1e-6 deg)");
+      an->fail("rotation_angle_deg = " + IncrementNum(*a, 12) +
+               " does not match the rotation's angle " + IncrementNum(RotationAngleDeg(*R), 12) +
+               " deg (tolerance 1e-6 deg)");
   if (R) d.dR = *R;
   if (auto v = n.vec3("dp", true)) d.dp = *v;
   if (auto v = n.vec3("dv", true)) d.dv = *v;

@@ -13,7 +13,7 @@
 namespace imuconv::pipeline {
 namespace {
 
-std::string Num(double v, int precision = 10) {
+std::string InputNum(double v, int precision = 10) {
   std::ostringstream o;
   o.precision(precision);
   o << v;
@@ -30,7 +30,7 @@ std::optional<Eigen::Vector4d> UnitQuaternion(const Node& n, const char* layout)
   const double norm = q->norm();
   if (!(std::abs(norm - 1.0) <= kUnitQuaternionTol)) {
     n.fail(std::string("expected a unit quaternion ") + layout +
-           " (norm within 1e-6 of 1), found one of norm " + Num(norm));
+           " (norm within 1e-6 of 1), found one of norm " + InputNum(norm));
     return std::nullopt;
   }
   return Eigen::Vector4d(*q);
@@ -59,7 +59,7 @@ std::optional<Mat3> RotationFromMatrix(const Node& n) {
   const double err = (M.transpose() * M - Mat3::Identity()).cwiseAbs().maxCoeff();
   if (!(err <= kRotationMatrixTol) || !(M.determinant() > 0.0)) {
     n.fail("expected a rotation matrix (R^T R = I within 1e-6, det +1), found max |R^T R - I| = " +
-           Num(err) + ", det = " + Num(M.determinant()));
+           InputNum(err) + ", det = " + InputNum(M.determinant()));
     return std::nullopt;
   }
   return so3::Exp(so3::Log(M));
@@ -74,10 +74,11 @@ std::string CovarianceInputProblem(const Mat15& C, double tol) {
   if (p.find("eigenvalue") == std::string::npos && C.allFinite()) {
     const Mat15 sym = 0.5 * (C + C.transpose());
     const Eigen::SelfAdjointEigenSolver<Mat15> eig(sym, Eigen::EigenvaluesOnly);
-    p += " (smallest eigenvalue of (C + C^T)/2: " + Num(eig.eigenvalues().minCoeff()) + ")";
+    p += " (smallest eigenvalue of (C + C^T)/2: " + InputNum(eig.eigenvalues().minCoeff()) + ")";
   }
   const std::string precision =
-      tol == kCovarianceTol ? "" : " (judged at float32 precision, tolerance " + Num(tol) + ")";
+      tol == kCovarianceTol ? ""
+                            : " (judged at float32 precision, tolerance " + InputNum(tol) + ")";
   return "not a valid covariance: " + p + precision + "; nothing is repaired, fix the input";
 }
 
@@ -95,8 +96,9 @@ void CheckOutputCovariance(const Mat15& C, const std::string& pointer) {
   for (Eigen::Index i = 0; i < C.rows(); ++i)
     if (C(i, i) < -kCovarianceTol * scale)
       throw Error("computed a covariance with a negative variance, entry (" + std::to_string(i) +
-                  ", " + std::to_string(i) + ") = " + Num(C(i, i)) + " (output " +
-                  Printable(pointer) + "; tolerance 1e-9 of the largest variance " + Num(scale) +
+                  ", " + std::to_string(i) + ") = " + InputNum(C(i, i)) + " (output " +
+                  Printable(pointer) + "; tolerance 1e-9 of the largest variance " +
+                  InputNum(scale) +
                   "). The inputs were checked, so this is a defect of imuconv or of a plugin: "
                   "please report it. No output "
                   "is written");

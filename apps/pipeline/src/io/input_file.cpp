@@ -16,7 +16,7 @@ namespace imuconv::pipeline::data {
 namespace {
 
 // What a non-regular file is, for "is a FIFO, not a regular file".
-std::string KindOf(mode_t m) {
+std::string InputKindOf(mode_t m) {
   if (S_ISFIFO(m)) return "is a FIFO, not a regular file";
   if (S_ISCHR(m)) return "is a character device, not a regular file";
   if (S_ISBLK(m)) return "is a block device, not a regular file";
@@ -33,7 +33,7 @@ std::string KindOf(mode_t m) {
 
 void CheckRegular(const std::string& path, const struct stat& st) {
   if (S_ISDIR(st.st_mode)) throw ReadError(path, 0, "is a directory, not a file");
-  if (!S_ISREG(st.st_mode)) throw ReadError(path, 0, KindOf(st.st_mode));
+  if (!S_ISREG(st.st_mode)) throw ReadError(path, 0, InputKindOf(st.st_mode));
 }
 
 }  // namespace

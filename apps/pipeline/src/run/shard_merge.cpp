@@ -38,7 +38,7 @@ namespace {
 /// The fixed text between the pieces, as the pipeline's JsonWriter lays out a run's document
 /// (apps/pipeline/src/run/run.cpp: the "shard" member, the head whose first key is
 /// "imuconv_version", then "tasks").
-struct Layout {
+struct ShardLayout {
   std::string shard_open;           ///< the shard document's text before the "shard" member's value
   std::string shard_close;          ///< after that value, up to the head's first value
   std::string whole_open;           ///< the whole document's text before the head's first value
@@ -48,7 +48,7 @@ struct Layout {
       digest_open;  ///< after the bracket closing "tasks": the last member up to its 16 digits
   std::string digest_close;  ///< after the digits, to the end of the shard document
 
-  Layout() {
+  ShardLayout() {
     std::string s;
     JsonWriter shard(s);
     shard.begin_object();
@@ -229,7 +229,7 @@ constexpr std::size_t kHeadLimit = std::size_t{64}
                                    << 20;  // version, description, noise, plugins, ranges
 
 /// Reads a shard up to its first element (the reader is left there).
-ShardHead ReadHead(ShardReader& r, const std::string& file, const Layout& layout) {
+ShardHead ReadHead(ShardReader& r, const std::string& file, const ShardLayout& layout) {
   ShardHead h;
   h.file = file;
   r.expect(layout.shard_open,
@@ -361,7 +361,7 @@ std::vector<const ShardHead*> CheckShards(const std::vector<ShardHead>& heads) {
 /// Reads a shard's elements (the reader is past its head) to its end, handing each element's
 /// text to `element(k, piece)`, and checks the hash its last member records.
 template <typename Element>
-void ReadElementsAndDigest(ShardReader& r, const ShardHead& h, const Layout& layout,
+void ReadElementsAndDigest(ShardReader& r, const ShardHead& h, const ShardLayout& layout,
                            const Element& element) {
   for (std::uint64_t k = h.first; k < h.end; ++k) {
     r.expect(k == h.first ? layout.first_sep : layout.next_sep,
@@ -371,7 +371,7 @@ void ReadElementsAndDigest(ShardReader& r, const ShardHead& h, const Layout& lay
                   "task " + std::to_string(k) + "'s element",
                   static_cast<int>(pipeline::kMaxJsonDepth));
   }
-  r.expect(Layout::close_tasks(h.end - h.first),
+  r.expect(ShardLayout::close_tasks(h.end - h.first),
            "expected the end of the \"tasks\" array after task " + std::to_string(h.end) +
                " (a shard holding other tasks than its \"shard\" member says?)");
   const std::string computed = r.hash().hex();
@@ -399,7 +399,7 @@ void ReadElementsAndDigest(ShardReader& r, const ShardHead& h, const Layout& lay
 
 RunShards CheckRunShards(const std::vector<std::string>& files) {
   if (files.empty()) throw ShardError("no shard given");
-  const Layout layout;
+  const ShardLayout layout;
   RunShards set;
   for (const auto& file : files) {
     ShardReader r(file);
@@ -418,7 +418,7 @@ RunShards CheckRunShards(const std::vector<std::string>& files) {
 
 std::uint64_t JoinRunShards(const RunShards& set,
                             const std::function<void(std::string_view)>& write) {
-  const Layout layout;
+  const ShardLayout layout;
   const std::string& head = set.heads.front().head;
   write(layout.whole_open);
   write(head);
@@ -440,7 +440,7 @@ std::uint64_t JoinRunShards(const RunShards& set,
       write(piece);
     });
   }
-  write(Layout::close(written));
+  write(ShardLayout::close(written));
   return written;
 }
 

@@ -1,6 +1,8 @@
 // The mean alone of the core's integration kernels, for re-integrations that need the end
 // value and nothing else (imuconv montecarlo's trials: the predicted covariance is computed
-// once, each noisy trial only integrates its samples, docs/montecarlo.md).
+// once, each noisy trial only integrates its samples, docs/montecarlo.md). The kernels' plugins
+// give it as their optional increment_mean() (increment_mean.h, plugin/kernel_plugin.h); no
+// host calls these functions by a method's name.
 //
 // Each function below gives, bit for bit, the increment that the kernel's full run gives
 // through its plugin and the bridge (registry/src/bridge.cpp), without the transition matrix,
@@ -9,7 +11,8 @@
 //     3.1): propagated from the identity with zero gravity, the end state is the increment;
 //   native preintegrators (manifold, tangent): their increment, which the bridge copies
 //     unchanged into preint_reference (only the covariance and bias Jacobian change chart).
-// tests/integrators/mean_only.cpp compares each with the full path bit for bit.
+// tests/integrators/mean_only.cpp compares each plugin's increment_mean() with the full path
+// bit for bit.
 //
 // Why the same arithmetic: every method here runs a kernel compiled once, in imuconv_core
 // (core/src/kernels/), through the instance the CPU runs; its plugin calls the same copy.
@@ -26,10 +29,6 @@
 
 namespace imuconv::kernels {
 
-/// The kernels with a mean-only path, named as their plugins' ids (plugins/propagators/,
-/// plugins/preintegrators/).
-enum class MeanKernel { kEuler, kMidpoint, kRk4, kManifold, kTangent };
-
 namespace mean_only_detail {
 
 /// A held-input propagation's end state: IntegrateHeld's route (the preintegration kernel's
@@ -43,52 +42,67 @@ inline void HeldEndState(const PropagationInput& in, ImuState& x_e) {
                                x_e);  // as IntegrateHeldByPreintegration composes it
 }
 
-}  // namespace mean_only_detail
-
-/// The increment (dR, dp, dv; dbg = dba = 0) of `kernel` over `window` at the bias estimate
-/// (bg, ba), as the method's full preintegration gives it (see the file comment). `noise` is
-/// only checked (the mean does not depend on it). Checks the input as the full run does and
-/// returns its error; never throws except std::bad_alloc while building a message.
-inline Status IncrementMean(MeanKernel kernel, const SampleWindow& window, const Vec3& bg,
-                            const Vec3& ba, const ImuNoise& noise, PreintIncrement& delta) {
-  delta = PreintIncrement();
-  if (kernel == MeanKernel::kManifold || kernel == MeanKernel::kTangent) {
-    PreintegrationInput in;
-    in.bg = bg;
-    in.ba = ba;
-    in.noise = noise;
-    in.window = window;
-    Preintegrated out;
-    const Status st = kernel == MeanKernel::kManifold ? IntegrateManifold<false>(in, out)
-                                                      : IntegrateTangent<false>(in, out);
-    if (!st.ok()) return st;
-    delta.dR = out.delta.dR;
-    delta.dp = out.delta.dp;
-    delta.dv = out.delta.dv;
-    return st;
-  }
-  const PropagationInput in =
-      PreintegrationByPropagationStart(window, bg, ba, noise);  // the bridge's start
-  Status st = CheckPropagationInput(in);
-  if (!st.ok()) return st;
-  ImuState x_e;
-  switch (kernel) {
-    case MeanKernel::kEuler:
-      mean_only_detail::HeldEndState<Hold::Euler>(in, x_e);
-      break;
-    case MeanKernel::kMidpoint:
-      mean_only_detail::HeldEndState<Hold::Midpoint>(in, x_e);
-      break;
-    default: {
-      PropagationResult r;
-      IntegrateRk4Window(in, r, Outputs::State, 1,
-                         Isa::kAuto);  // the plugin's one step per knot interval
-      x_e = r.x_e;
-    }
-  }
+inline void EndStateAsIncrement(const ImuState& x_e, PreintIncrement& delta) {
   delta.dR = x_e.R;
   delta.dp = x_e.p;
   delta.dv = x_e.v;
+}
+
+}  // namespace mean_only_detail
+
+// Each function below gives the increment (dR, dp, dv; dbg = dba = 0) over in.window at the
+// bias estimate (in.bg, in.ba), as the method's full preintegration gives it (see the file
+// comment); in.noise is only checked (the mean does not depend on it). Each checks the input as
+// the full run does and returns its error; never throws except std::bad_alloc while building a
+// message. The plugins' increment_mean() calls them (plugin/kernel_plugin.h).
+
+/// euler (Hold::Euler) and midpoint (Hold::Midpoint): PropagateHeld's end state.
+template <Hold kHold>
+inline Status HeldIncrementMean(const PreintegrationInput& pin, PreintIncrement& delta) {
+  delta = PreintIncrement();
+  const PropagationInput in = PreintegrationByPropagationStart(pin.window, pin.bg, pin.ba,
+                                                               pin.noise);  // the bridge's start
+  Status st = CheckPropagationInput(in);
+  if (!st.ok()) return st;
+  ImuState x_e;
+  mean_only_detail::HeldEndState<kHold>(in, x_e);
+  mean_only_detail::EndStateAsIncrement(x_e, delta);
+  return st;
+}
+
+/// rk4 with `steps` steps per knot interval: PropagateRk4's end state (its state-only mode).
+inline Status Rk4IncrementMean(const PreintegrationInput& pin, int steps, PreintIncrement& delta) {
+  delta = PreintIncrement();
+  const PropagationInput in = PreintegrationByPropagationStart(pin.window, pin.bg, pin.ba,
+                                                               pin.noise);  // the bridge's start
+  Status st = CheckPropagationInput(in);
+  if (!st.ok()) return st;
+  PropagationResult r;
+  IntegrateRk4Window(in, r, Outputs::State, steps, Isa::kAuto);
+  mean_only_detail::EndStateAsIncrement(r.x_e, delta);
+  return st;
+}
+
+/// manifold and tangent: IntegrateManifold<false> / IntegrateTangent<false>'s increment, the
+/// recursion with its covariance switched off.
+inline Status ManifoldIncrementMean(const PreintegrationInput& in, PreintIncrement& delta) {
+  delta = PreintIncrement();
+  Preintegrated out;
+  const Status st = IntegrateManifold<false>(in, out);
+  if (!st.ok()) return st;
+  delta.dR = out.delta.dR;
+  delta.dp = out.delta.dp;
+  delta.dv = out.delta.dv;
+  return st;
+}
+inline Status TangentIncrementMean(const PreintegrationInput& in, PreintIncrement& delta) {
+  delta = PreintIncrement();
+  Preintegrated out;
+  const Status st = IntegrateTangent<false>(in, out);
+  if (!st.ok()) return st;
+  delta.dR = out.delta.dR;
+  delta.dp = out.delta.dp;
+  delta.dv = out.delta.dv;
   return st;
 }
 

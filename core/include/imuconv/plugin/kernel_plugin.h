@@ -10,10 +10,19 @@
 //     }
 //   };
 //   IMUCONV_PLUGIN(Propagator, imuconv::plugin::KernelPropagator<Euler>, "euler", "1.0.0", "...")
+//
+// The optional capabilities are given once here, from what the kernel struct declares:
+//   static Status Mean(const PreintegrationInput&, PreintIncrement&)   the increment alone
+//     (increment_mean(), increment_mean.h): where the kernel has a mean-only function
+//     (kernels/mean_only.h); without it the plugin says "not provided";
+//   static constexpr NoiseSimulation kNoiseSimulation   its sample cells and noise reading
+//     (noise_simulation(), noise_simulation.h); without it the default (forward, continuous).
+// A plugin whose kernel is a type of the core declares them on a struct derived from it.
 #pragma once
 
 #include <exception>
 #include <string>
+#include <type_traits>
 
 #include "imuconv/preintegrator.h"
 #include "imuconv/propagator.h"
@@ -31,6 +40,52 @@ Status RunContained(const char* id, const In& in, Out& out) noexcept {
     return Status::Error(std::string(id) + ": " + e.what());
   }
 }
+
+/// Runs Kernel::Mean so that no exception crosses the plugin boundary.
+template <class Kernel>
+Status MeanContained(const char* id, const PreintegrationInput& in,
+                     PreintIncrement& delta) noexcept {
+  try {
+    return Kernel::Mean(in, delta);
+  } catch (const std::exception& e) {
+    return Status::Error(std::string(id) + ": " + e.what());
+  }
+}
+
+template <class Kernel, class = void>
+struct HasMean : std::false_type {};
+template <class Kernel>
+struct HasMean<Kernel, std::void_t<decltype(Kernel::Mean(std::declval<const PreintegrationInput&>(),
+                                                         std::declval<PreintIncrement&>()))>>
+    : std::true_type {};
+
+template <class Kernel, class = void>
+struct HasNoiseSimulation : std::false_type {};
+template <class Kernel>
+struct HasNoiseSimulation<Kernel, std::void_t<decltype(Kernel::kNoiseSimulation)>>
+    : std::true_type {};
+
+template <class Kernel>
+NoiseSimulation NoiseSimulationOf() noexcept {
+  if constexpr (HasNoiseSimulation<Kernel>::value)
+    return Kernel::kNoiseSimulation;
+  else
+    return NoiseSimulation();
+}
+
+template <class Kernel>
+Status IncrementMeanOf(const char* id, const PreintegrationInput& in,
+                       PreintIncrement& delta) noexcept {
+  if constexpr (HasMean<Kernel>::value) {
+    return MeanContained<Kernel>(id, in, delta);
+  } else {
+    (void)id;
+    (void)in;
+    delta = PreintIncrement();
+    return IncrementMeanNotProvided();
+  }
+}
+
 }  // namespace detail
 
 /// A propagator whose propagate() is Kernel{}(in, out), in the native convention `left`.
@@ -40,6 +95,13 @@ class KernelPropagator : public Propagator {
   const char* native_convention() const noexcept override { return "left"; }
   Status propagate(const PropagationInput& in, PropagationResult& out) const noexcept override {
     return detail::RunContained<Kernel>(id(), in, out);
+  }
+  Status increment_mean(const PreintegrationInput& in,
+                        PreintIncrement& delta) const noexcept override {
+    return detail::IncrementMeanOf<Kernel>(id(), in, delta);
+  }
+  NoiseSimulation noise_simulation() const noexcept override {
+    return detail::NoiseSimulationOf<Kernel>();
   }
 };
 
@@ -52,6 +114,13 @@ class KernelPreintegrator : public Preintegrator {
   const char* jacobian_convention() const noexcept override { return Kernel::kJacobianConvention; }
   Status integrate(const PreintegrationInput& in, Preintegrated& out) const noexcept override {
     return detail::RunContained<Kernel>(id(), in, out);
+  }
+  Status increment_mean(const PreintegrationInput& in,
+                        PreintIncrement& delta) const noexcept override {
+    return detail::IncrementMeanOf<Kernel>(id(), in, delta);
+  }
+  NoiseSimulation noise_simulation() const noexcept override {
+    return detail::NoiseSimulationOf<Kernel>();
   }
 };
 
