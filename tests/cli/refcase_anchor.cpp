@@ -192,6 +192,7 @@ TEST(RefcaseAnchor, BasaltFieldsAreBasaltOwn) { RunAnchor("basalt"); }
 TEST(RefcaseAnchor, OpenVinsFieldsAreOpenVinsOwn) { RunAnchor("openvins"); }
 TEST(RefcaseAnchor, OrbSlam3FieldsAreOrbSlam3Own) { RunAnchor("orb-slam3"); }
 TEST(RefcaseAnchor, Okvis2FieldsAreOkvis2Own) { RunAnchor("okvis2"); }
+TEST(RefcaseAnchor, FastLio2FieldsAreFastLioOwn) { RunAnchor("fast-lio2"); }
 
 TEST(RefcaseAnchor, UnknownNameIsRefusedAndNothingWritten) {
   TempDir tmp;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "imuconv/kernels/common.h"
 #include "imuconv/so3.h"
 
 namespace imuconv::kernels {
@@ -88,9 +89,13 @@ Status CheckStart(const FastLio2Parameters& params, const FastLio2State& start, 
   for (const double c : {params.gyr_cov, params.acc_cov, params.b_gyr_cov, params.b_acc_cov})
     if (!std::isfinite(c) || c < 0.0)
       return Status::Error(std::string(kWhat) + ": a noise covariance is negative or not finite");
-  if (!(start.grav.length > 0.0) || !std::isfinite(start.grav.length) || !Finite(start.grav.vec))
+  // Length 0 is the no-gravity point (header comment), valid only with the zero vector.
+  const bool no_gravity = start.grav.length == 0.0 && start.grav.vec.isZero(0.0);
+  if (!(start.grav.length > 0.0 || no_gravity) || !std::isfinite(start.grav.length) ||
+      !Finite(start.grav.vec))
     return Status::Error(std::string(kWhat) +
-                         ": the gravity's S2 length must be positive and finite");
+                         ": the gravity's S2 length must be positive and finite (or 0 with a "
+                         "zero gravity vector)");
   if (!Finite(start.pos) || !Finite(start.vel) || !Finite(start.bg) || !Finite(start.ba) ||
       !Finite(start.offset_T_L_I) || !start.rot.coeffs().allFinite() ||
       !start.offset_R_L_I.coeffs().allFinite())
@@ -214,9 +219,11 @@ void FastLio2StepJacobians(const FastLio2State& x, const FastLio2Input& in, doub
     // turns this into the identity; the extrinsic rotation's own block is Exp(0) = I anyway.
     F.block<3, 3>(kFastLio2Rot, kFastLio2Rot) = RotationQuaternion(-omega, dt).toRotationMatrix();
   }
-  // Gravity does not move: its block is the chart's own N(g) M(g) (the identity to rounding).
-  F.block<2, 2>(kFastLio2Grav, kFastLio2Grav) =
-      S2BoxminusJacobian(x.grav) * S2BoxplusJacobian(x.grav);
+  // Gravity does not move: its block is the chart's own N(g) M(g) (the identity to rounding);
+  // with no gravity (length 0) that product is 0/0, and its limit, the identity, stays.
+  if (x.grav.length > 0.0)
+    F.block<2, 2>(kFastLio2Grav, kFastLio2Grav) =
+        S2BoxminusJacobian(x.grav) * S2BoxplusJacobian(x.grav);
   F += f_x * dt;
 
   // Noise [ng, na, nbg, nba]: w = gyro - bg - ng, a = acc - ba - na, bias rates nbg, nba.
@@ -276,6 +283,100 @@ Status PropagateFastLio2Scan(const std::vector<ImuSample>& samples,
   }
   out.last_predict_dt = predicts.back().dt;
   out.end = x;
+  return Status::Ok();
+}
+
+namespace {
+
+// The [pos, rot, vel, bg, ba] blocks (convention `fast_lio2`, 15) in the 23-dimensional state.
+constexpr int kFifteenIn23[5] = {kFastLio2Pos, kFastLio2Rot, kFastLio2Vel, kFastLio2Bg,
+                                 kFastLio2Ba};
+
+Mat23 Embed(const Mat15& m) {
+  Mat23 out = Mat23::Zero();
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j)
+      out.block<3, 3>(kFifteenIn23[i], kFifteenIn23[j]) = m.block<3, 3>(3 * i, 3 * j);
+  return out;
+}
+
+/// The window's knots as ImuProcess's samples of one scan (PropagateFastLio2's feeding).
+std::vector<ImuSample> Knots(const SampleWindow& win) {
+  std::vector<ImuSample> knots(win.size());
+  for (std::size_t j = 0; j < win.size(); ++j) knots[j] = win[j];
+  return knots;
+}
+
+Mat15 Restrict(const Mat23& m) {
+  Mat15 out;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j)
+      out.block<3, 3>(3 * i, 3 * j) = m.block<3, 3>(kFifteenIn23[i], kFifteenIn23[j]);
+  return out;
+}
+
+}  // namespace
+
+Status PropagateFastLio2(const PropagationInput& in, FastLio2Transition transition,
+                         FastLio2NoiseReading noise, PropagationResult& out) {
+  if (Status st = CheckPropagationInput(in); !st.ok()) return st;
+  const SampleWindow& win = in.window;
+  const std::vector<ImuSample> knots = Knots(win);
+
+  FastLio2Parameters params;  // G_m_s2 = |mean_acc| = 9.81
+  const ImuNoise& n = in.noise;
+  if (noise == FastLio2NoiseReading::kDensities) {
+    const double rate = static_cast<double>(win.size() - 1) / (win.t_end() - win.t_start());
+    params.gyr_cov = n.gyro_noise_density * n.gyro_noise_density * rate;
+    params.acc_cov = n.accel_noise_density * n.accel_noise_density * rate;
+    params.b_gyr_cov = n.gyro_random_walk * n.gyro_random_walk * rate;
+    params.b_acc_cov = n.accel_random_walk * n.accel_random_walk * rate;
+  } else {
+    params.gyr_cov = n.gyro_noise_density;
+    params.acc_cov = n.accel_noise_density;
+    params.b_gyr_cov = n.gyro_random_walk;
+    params.b_acc_cov = n.accel_random_walk;
+  }
+
+  FastLio2State start;
+  start.pos = in.x_s.p;
+  start.rot = Eigen::Quaterniond(in.x_s.R).normalized();
+  start.vel = in.x_s.v;
+  start.bg = in.x_s.bg;
+  start.ba = in.x_s.ba;
+  start.grav = FastLio2GravityExact(in.gravity);
+
+  FastLio2Propagation run;
+  const Status st = PropagateFastLio2Scan(knots, params, win.t_start(), win.t_end(), start,
+                                          Embed(in.cov_s), run, transition);
+  if (!st.ok()) return st;
+  out.x_e.R = run.end.rot.toRotationMatrix();
+  out.x_e.p = run.end.pos;
+  out.x_e.v = run.end.vel;
+  out.x_e.bg = run.end.bg;
+  out.x_e.ba = run.end.ba;
+  out.Phi = Restrict(run.Phi_summed);
+  out.cov = Restrict(run.covariance);
+  return Status::Ok();
+}
+
+Status FastLio2IncrementMean(const PreintegrationInput& in, PreintIncrement& delta) {
+  delta = PreintIncrement();
+  const PropagationInput start =
+      PreintegrationByPropagationStart(in.window, in.bg, in.ba, in.noise);
+  if (Status st = CheckPropagationInput(start); !st.ok()) return st;
+  std::vector<FastLio2Predict> predicts;
+  const Status fed = FastLio2ScanPredicts(Knots(in.window), FastLio2Parameters(),
+                                          in.window.t_start(), in.window.t_end(), predicts);
+  if (!fed.ok()) return fed;
+  FastLio2State x;  // identity, zero position and velocity
+  x.bg = in.bg;
+  x.ba = in.ba;
+  x.grav = FastLio2GravityExact(Vec3::Zero());
+  for (const FastLio2Predict& p : predicts) x = FastLio2PredictState(x, p.in, p.dt);
+  delta.dR = x.rot.toRotationMatrix();
+  delta.dp = x.pos;
+  delta.dv = x.vel;
   return Status::Ok();
 }
 

@@ -14,6 +14,7 @@ TEST(StateConventions, BuiltInsAndTheirBlockOrders) {
        {"gtsam_navstate", "theta p v ba bg"},
        {"gtsam_pose3_vel", "theta p v ba bg"},
        {"forster", "theta p v bg ba"},
+       {"fast_lio2", "p theta v bg ba"},
        {"openvins_jpl", "theta p v bg ba"},
        {"right_invariant_se23", "theta v p bg ba"},
        {"left_invariant_se23", "theta v p bg ba"},

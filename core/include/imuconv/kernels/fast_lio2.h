@@ -32,6 +32,17 @@
 // [3,3,3,3,3,3,3,2]: pos, offset_T_L_I, vel, bg, ba additive; rot = rot^ Exp(d) (right, body:
 // MTK SO3 boxplus), offset_R_L_I likewise; grav = Exp(B(grav^) d) grav^ (MTK S2 boxplus, the
 // basis B of S2 type 1, FastLio2S2Basis).
+//
+// No gravity (length 0, a zero vector: preintegration by propagation, the note's section 3.1)
+// is accepted: S2 then has no tangent plane, the gravity rows and columns of the error state
+// carry nothing, and its block of F is taken as the identity, the limit of N(g) M(g).
+//
+// imuconv's 15-dimensional face (PropagateFastLio2, the `fast_lio2*` propagators): the rows
+// and columns [pos, rot, vel, bg, ba] of the 23-dimensional error state, in that order, which
+// is the state convention `fast_lio2`. With the start covariance zero in the extrinsic and
+// gravity blocks, which nothing in a forward propagation couples back into those five blocks
+// (F's rows for them have no extrinsic or gravity column but the velocity's gravity column,
+// whose covariance stays zero), the restriction is exact: the same numbers as the 23x23 run's.
 #pragma once
 
 #include <vector>
@@ -39,6 +50,8 @@
 #include <Eigen/Geometry>
 
 #include "imuconv/export.h"
+#include "imuconv/preintegrator.h"
+#include "imuconv/propagator.h"
 #include "imuconv/status.h"
 #include "imuconv/types.h"
 
@@ -69,7 +82,8 @@ struct FastLio2Gravity {
 /// S2<double, 98090, 10000, 1>(g) as FAST-LIO builds its gravity: g rescaled to 9.809.
 IMUCONV_API FastLio2Gravity FastLio2GravityAsBuilt(const Vec3& g);
 
-/// The gravity g itself (length |g|): the S2 members set to the case's gravity.
+/// The gravity g itself (length |g|): the S2 members set to the case's gravity; for g = 0 the
+/// no-gravity point (length 0).
 IMUCONV_API FastLio2Gravity FastLio2GravityExact(const Vec3& g);
 
 /// The orthonormal tangent basis B(vec) (3x2) of MTK's S2 of type 1 (the chart's basis).
@@ -152,10 +166,49 @@ struct FastLio2Propagation {
 
 /// ImuProcess's forward propagation of one scan: the calls of FastLio2ScanPredicts from
 /// `start` with the covariance P0. Refuses what FastLio2ScanPredicts refuses, a non-finite
-/// start or P0, a non-positive gravity length and negative variances.
+/// start or P0, a negative gravity length (0 only with a zero vector) and negative variances.
 IMUCONV_API Status PropagateFastLio2Scan(
     const std::vector<ImuSample>& samples, const FastLio2Parameters& params, double last_scan_end,
     double scan_end, const FastLio2State& start, const Mat23& P0, FastLio2Propagation& out,
     FastLio2Transition transition = FastLio2Transition::kAsFastLio);
+
+/// How the propagator face reads the four numbers of ImuNoise.
+enum class FastLio2NoiseReading {
+  /// Continuous densities sigma (imuconv's meaning of ImuNoise), mapped as FAST-LIO's users
+  /// set its covariances from a datasheet: Q = sigma^2 f at the nominal rate f, here the
+  /// window's mean rate (knots - 1) / (t_e - t_s), one Q for the whole window as ImuProcess
+  /// has one (per step Q dt_k^2 = sigma^2 dt_k^2 / mean dt: sigma^2 dt_k on regular sampling).
+  kDensities,
+  /// FAST-LIO's own numbers, as its configuration file has them and ImuProcess reads them
+  /// (mapping/gyr_cov, acc_cov, b_gyr_cov, b_acc_cov: Q's diagonal, per-sample variances),
+  /// carried in gyro_noise_density, accel_noise_density, gyro_random_walk, accel_random_walk.
+  kAsConfigured,
+};
+
+/// One window as FAST-LIO propagates it (header comment), in imuconv's 15-dimensional face:
+/// the knots fed as ImuProcess feeds one scan's samples (the first knot as the previous scan's
+/// last message, the scan ending on the last knot, so that the frame-end predict is the -0.0
+/// no-op), G_m_s2 = |mean_acc| = 9.81 (a factor 1 on the accelerometer, rounded as upstream),
+/// start x_s with identity extrinsics and the gravity `in.gravity` as it is given (its own
+/// length, FastLio2GravityExact; FAST-LIO's 9.809 is the gravity [0, 0, -9.809] given so),
+/// P0 = in.cov_s in [pos, rot, vel, bg, ba] padded with zeros. x_e, Phi and cov are the end
+/// state and the [pos, rot, vel, bg, ba] rows and columns of Phi_summed and the covariance.
+IMUCONV_API Status PropagateFastLio2(const PropagationInput& in, FastLio2Transition transition,
+                                     FastLio2NoiseReading noise, PropagationResult& out);
+
+/// The mean alone of preintegration by propagation of the window with PropagateFastLio2
+/// (the start PreintegrationByPropagationStart: identity, zero velocity, the bias estimate,
+/// no gravity): dR, dp, dv of the end state, dbg = dba = 0, by the same predicts and state
+/// updates, without the 23x23 covariance steps (Monte Carlo trials). Checks its input as
+/// PropagateFastLio2 does.
+IMUCONV_API Status FastLio2IncrementMean(const PreintegrationInput& in, PreintIncrement& delta);
+
+/// One reading of FAST-LIO as a propagator's kernel (plugin/kernel_plugin.h).
+template <FastLio2Transition kTransition, FastLio2NoiseReading kNoise>
+struct FastLio2Propagator {
+  Status operator()(const PropagationInput& in, PropagationResult& out) const {
+    return PropagateFastLio2(in, kTransition, kNoise, out);
+  }
+};
 
 }  // namespace imuconv::kernels

@@ -1,0 +1,42 @@
+// `fast_lio2_as_configured`: `fast_lio2` (FAST-LIO2's forward propagation as built, identity
+// rotation block of F included; native convention `fast_lio2`) with the four noise numbers
+// used as FAST-LIO uses its configuration's mapping/gyr_cov, acc_cov, b_gyr_cov and
+// b_acc_cov (laserMapping.cpp passes them to ImuProcess's set_*_cov; UndistortPcl puts them
+// on the diagonal of Q, and predict adds Q dt^2 per step): gyro_noise_density is gyr_cov,
+// accel_noise_density acc_cov, gyro_random_walk b_gyr_cov and accel_random_walk b_acc_cov,
+// each a per-sample VARIANCE, used as given (not squared, not scaled by any rate). Give it
+// the four values of a FAST-LIO configuration file to get that run's covariance. They are
+// the densities' sigma^2 f (what `fast_lio2` forms) only when they were chosen so.
+#include "imuconv/kernels/fast_lio2.h"
+#include "imuconv/plugin/kernel_plugin.h"
+#include "imuconv/plugin_abi.h"
+
+namespace {
+
+struct Kernel
+    : imuconv::kernels::FastLio2Propagator<imuconv::kernels::FastLio2Transition::kAsFastLio,
+                                           imuconv::kernels::FastLio2NoiseReading::kAsConfigured> {
+  static imuconv::Status Mean(const imuconv::PreintegrationInput& in,
+                              imuconv::PreintIncrement& delta) {
+    return imuconv::kernels::FastLio2IncrementMean(in, delta);
+  }
+  // Centered cells as `fast_lio2`; no noise drawn from densities reproduces numbers read as
+  // per-sample variances.
+  static constexpr imuconv::NoiseSimulation kNoiseSimulation{
+      imuconv::SampleCells::kCentered, imuconv::NoiseReading::kContinuous, /*simulable=*/false,
+      "; MISMATCH: fast_lio2_as_configured reads the four numbers as FAST-LIO's gyr_cov, "
+      "acc_cov, b_gyr_cov, b_acc_cov, per-sample variances used as given (docs/fast-lio2.md), "
+      "not densities, so the verdict measures that reading, not the scheme. Use `fast_lio2` for "
+      "densities"};
+};
+
+class FastLio2AsConfigured : public imuconv::plugin::KernelPropagator<Kernel> {
+ public:
+  const char* native_convention() const noexcept override { return "fast_lio2"; }
+};
+
+}  // namespace
+
+IMUCONV_PLUGIN(Propagator, FastLio2AsConfigured, "fast_lio2_as_configured", "1.0.0",
+               "FAST-LIO2 propagation as built; noise numbers used as its gyr_cov, acc_cov, "
+               "b_gyr_cov, b_acc_cov (per-sample variances)")
