@@ -42,7 +42,7 @@ json ErrorStateMatrix(const Mat23& m) {
           {"matrix", ToJson(m)}};
 }
 
-json StateJson(const FastLio2State& s) {
+json FastLio2StateJson(const FastLio2State& s) {
   return {{"pos", ToJsonVec(s.pos)},
           {"rot_q_wxyz", Wxyz(s.rot)},
           {"rot_R", ToJson(s.rot.toRotationMatrix())},
@@ -55,8 +55,8 @@ json StateJson(const FastLio2State& s) {
           {"grav_S2_length", s.grav.length}};
 }
 
-json Run(const Case& k, const FastLio2Parameters& params, const FastLio2State& start,
-         const Mat23& P0, const char* gravity_setup) {
+json ScanRun(const Case& k, const FastLio2Parameters& params, const FastLio2State& start,
+             const Mat23& P0, const char* gravity_setup) {
   const double first = k.samples.front().t, last = k.samples.back().t;
   FastLio2Propagation out;
   Require(PropagateFastLio2Scan(k.samples, params, first, last, start, P0, out),
@@ -67,7 +67,7 @@ json Run(const Case& k, const FastLio2Parameters& params, const FastLio2State& s
           {"last_predict_dt", out.last_predict_dt},
           // the scan ends on the last sample: the frame-end predict's dt is -0.0, a no-op
           {"last_predict_is_noop", out.last_predict_dt == 0.0},
-          {"state_end", StateJson(out.end)},
+          {"state_end", FastLio2StateJson(out.end)},
           {"covariance", ErrorStateMatrix(out.covariance)},
           {"Phi_summed", ErrorStateMatrix(out.Phi_summed)},
           {"Qd_summed", ErrorStateMatrix(out.Qd_summed)}};
@@ -103,14 +103,14 @@ json FastLio2(const Registry&, const Case& k) {
   as_built.grav = FastLio2GravityAsBuilt(k.gravity);
   case_gravity.grav = FastLio2GravityExact(k.gravity);
   return {{"as_fastlio",
-           Run(k, params, as_built, P0,
-               "grav = S2(case gravity): FAST-LIO's S2<double, 98090, 10000, 1> rescales it to "
-               "length 9.809")},
-          {"case_gravity",
-           Run(k, params, case_gravity, P0,
-               ("grav S2 members set to the case gravity (length = |g| = " +
-                ShortestText(case_gravity.grav.length) + ", vec = g); everything else identical")
-                   .c_str())}};
+           ScanRun(k, params, as_built, P0,
+                   "grav = S2(case gravity): FAST-LIO's S2<double, 98090, 10000, 1> rescales it to "
+                   "length 9.809")},
+          {"case_gravity", ScanRun(k, params, case_gravity, P0,
+                                   ("grav S2 members set to the case gravity (length = |g| = " +
+                                    ShortestText(case_gravity.grav.length) +
+                                    ", vec = g); everything else identical")
+                                       .c_str())}};
 }
 
 }  // namespace

@@ -33,7 +33,7 @@ const char* const kIncrementDefinition =
     "increments in the frame S0 of the first state: Delta_p = Delta_p^ + dp, Delta_C = "
     "Exp(dalpha) Delta_C^ (LEFT), Delta_v = Delta_v^ + dv, bg = bg^ + dbg, ba = ba^ + dba";
 
-json StateJson(const Okvis2State& s) {
+json Okvis2StateJson(const Okvis2State& s) {
   return {{"r", ToJsonVec(s.r)},
           {"q_wxyz", Wxyz(s.q)},
           {"C", ToJson(s.q.normalized().toRotationMatrix())},
@@ -138,7 +138,7 @@ json Okvis2(const Registry&, const Case& k) {
   json out;
   out["propagation"] = {
       {"n_steps", prop.steps},
-      {"state_end", StateJson(prop.end)},
+      {"state_end", Okvis2StateJson(prop.end)},
       {"covariance", Ordered(kOrder, kStateDefinition, prop.covariance)},
       {"jacobian", Ordered(kOrder, std::string("d state_end / d state_start; ") + kStateDefinition,
                            prop.jacobian)}};
@@ -175,14 +175,14 @@ json Okvis2(const Registry&, const Case& k) {
   const Mat15 S_new = SquareRootInformation(fresh);
 
   out["imu_error"] = {
-      {"state_0", StateJson(s0)},
-      {"state_1", StateJson(s1)},
+      {"state_0", Okvis2StateJson(s0)},
+      {"state_1", Okvis2StateJson(s1)},
       {"at_lin_bias",
        EvaluationJson(EvaluateOkvis2ImuError(at_lin, params, Delta_t, s0, s1), S_lin)},
       {"preintegration", PreintegrationJson(at_lin, s0.v, S_lin)},
       {"residual_at_propagation",
        ToJsonVec(EvaluateOkvis2ImuError(at_lin, params, Delta_t, s0, prop.end).residual)},
-      {"state_0_new_bias", StateJson(s0_new)},
+      {"state_0_new_bias", Okvis2StateJson(s0_new)},
       {"at_new_bias",
        EvaluationJson(EvaluateOkvis2ImuError(at_new_kept, params, Delta_t, s0_new, s1),
                       redo ? SquareRootInformation(at_new_kept) : S_lin)},
