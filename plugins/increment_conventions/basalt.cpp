@@ -18,30 +18,7 @@ using namespace imuconv::plugin::prelude;
 
 constexpr BlockOrder kOrder{Block::p, Block::theta, Block::v, Block::bg, Block::ba};
 
-class BasaltIncrement : public imuconv::plugin::IncrementChart<kOrder, 1> {
- public:
-  void retract(const PreintIncrement& x, const Vec15& d,
-               PreintIncrement& y) const noexcept override {
-    y.dR = so3::Exp(d.segment<3>(theta)) * x.dR;
-    y.dp = x.dp + d.segment<3>(p);
-    y.dv = x.dv + d.segment<3>(v);
-    RetractBiases(x, d, y);
-  }
-
-  void local(const PreintIncrement& x, const PreintIncrement& y, Vec15& d) const noexcept override {
-    d.segment<3>(theta) = so3::Log(y.dR * x.dR.transpose());
-    d.segment<3>(p) = y.dp - x.dp;
-    d.segment<3>(v) = y.dv - x.dv;
-    LocalBiases(x, y, d);
-  }
-
-  bool J_ref_this(const PreintIncrement& x, Mat15& J) const noexcept override {
-    return RefThis(J, {{Block::theta, x.dR.transpose()}});
-  }
-  bool J_this_ref(const PreintIncrement& x, Mat15& J) const noexcept override {
-    return ThisRef(J, {{Block::theta, x.dR}});
-  }
-};
+using BasaltIncrement = imuconv::plugin::LeftPerturbedIncrementChart<kOrder, 1>;
 
 }  // namespace
 

@@ -29,22 +29,9 @@
 
 namespace {
 
-struct Kernel
-    : imuconv::kernels::FastLio2Propagator<imuconv::kernels::FastLio2Transition::kAsFastLio,
-                                           imuconv::kernels::FastLio2NoiseReading::kDensities> {
-  static imuconv::Status Mean(const imuconv::PreintegrationInput& in,
-                              imuconv::PreintIncrement& delta) {
-    return imuconv::kernels::FastLio2IncrementMean(in, delta);
-  }
-  // ImuProcess averages the two ends of each step: each sample's cell is half of each step
-  // beside it.
-  static constexpr imuconv::NoiseSimulation kNoiseSimulation{imuconv::SampleCells::kCentered};
-};
-
-class FastLio2 : public imuconv::plugin::KernelPropagator<Kernel> {
- public:
-  const char* native_convention() const noexcept override { return "fast_lio2"; }
-};
+using FastLio2 = imuconv::plugin::KernelPropagator<
+    imuconv::kernels::FastLio2Propagator<imuconv::kernels::FastLio2Transition::kAsFastLio,
+                                         imuconv::kernels::FastLio2NoiseReading::kDensities>>;
 
 }  // namespace
 

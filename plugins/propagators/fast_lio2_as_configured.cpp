@@ -13,27 +13,9 @@
 
 namespace {
 
-struct Kernel
-    : imuconv::kernels::FastLio2Propagator<imuconv::kernels::FastLio2Transition::kAsFastLio,
-                                           imuconv::kernels::FastLio2NoiseReading::kAsConfigured> {
-  static imuconv::Status Mean(const imuconv::PreintegrationInput& in,
-                              imuconv::PreintIncrement& delta) {
-    return imuconv::kernels::FastLio2IncrementMean(in, delta);
-  }
-  // Centered cells as `fast_lio2`; no noise drawn from densities reproduces numbers read as
-  // per-sample variances.
-  static constexpr imuconv::NoiseSimulation kNoiseSimulation{
-      imuconv::SampleCells::kCentered, imuconv::NoiseReading::kContinuous, /*simulable=*/false,
-      "; MISMATCH: fast_lio2_as_configured reads the four numbers as FAST-LIO's gyr_cov, "
-      "acc_cov, b_gyr_cov, b_acc_cov, per-sample variances used as given (docs/fast-lio2.md), "
-      "not densities, so the verdict measures that reading, not the scheme. Use `fast_lio2` for "
-      "densities"};
-};
-
-class FastLio2AsConfigured : public imuconv::plugin::KernelPropagator<Kernel> {
- public:
-  const char* native_convention() const noexcept override { return "fast_lio2"; }
-};
+using FastLio2AsConfigured = imuconv::plugin::KernelPropagator<
+    imuconv::kernels::FastLio2Propagator<imuconv::kernels::FastLio2Transition::kAsFastLio,
+                                         imuconv::kernels::FastLio2NoiseReading::kAsConfigured>>;
 
 }  // namespace
 

@@ -12,21 +12,9 @@
 
 namespace {
 
-using Scheme =
-    imuconv::kernels::Okvis2PropagationScheme<imuconv::kernels::Okvis2Transition::kOkvisStepLocal>;
-
-class Okvis2StepLocalPropagator : public imuconv::Propagator {
- public:
-  const char* native_convention() const noexcept override { return "okvis2"; }
-  imuconv::Status propagate(const imuconv::PropagationInput& in,
-                            imuconv::PropagationResult& out) const noexcept override {
-    return imuconv::plugin::detail::RunContained<Scheme>(id(), in, out);
-  }
-  // Centered cells, continuous densities (kernels/okvis2_scheme.h); no mean-only integration.
-  imuconv::NoiseSimulation noise_simulation() const noexcept override {
-    return Scheme::kNoiseSimulation;
-  }
-};
+// Centered cells, continuous densities (kernels/okvis2_scheme.h); no mean-only integration.
+using Okvis2StepLocalPropagator = imuconv::plugin::KernelPropagator<
+    imuconv::kernels::Okvis2PropagationScheme<imuconv::kernels::Okvis2Transition::kOkvisStepLocal>>;
 
 }  // namespace
 

@@ -203,11 +203,28 @@ IMUCONV_API Status PropagateFastLio2(const PropagationInput& in, FastLio2Transit
 /// PropagateFastLio2 does.
 IMUCONV_API Status FastLio2IncrementMean(const PreintegrationInput& in, PreintIncrement& delta);
 
-/// One reading of FAST-LIO as a propagator's kernel (plugin/kernel_plugin.h).
+/// One reading of FAST-LIO as a propagator's kernel (plugin/kernel_plugin.h): native
+/// convention `fast_lio2`, its mean alone FastLio2IncrementMean (the transition and the noise
+/// do not enter it), and ImuProcess's feeding, the two ends of each step averaged, so that
+/// each sample's cell is half of each step beside it. The noise read as FAST-LIO's own
+/// per-sample variances is not simulable from densities.
 template <FastLio2Transition kTransition, FastLio2NoiseReading kNoise>
 struct FastLio2Propagator {
+  static constexpr const char* kNativeConvention = "fast_lio2";
+  static constexpr NoiseSimulation kNoiseSimulation =
+      kNoise == FastLio2NoiseReading::kDensities
+          ? NoiseSimulation{SampleCells::kCentered}
+          : NoiseSimulation{
+                SampleCells::kCentered, NoiseReading::kContinuous, /*simulable=*/false,
+                "; MISMATCH: fast_lio2_as_configured reads the four numbers as FAST-LIO's gyr_cov, "
+                "acc_cov, b_gyr_cov, b_acc_cov, per-sample variances used as given "
+                "(docs/fast-lio2.md), not densities, so the verdict measures that reading, not "
+                "the scheme. Use `fast_lio2` for densities"};
   Status operator()(const PropagationInput& in, PropagationResult& out) const {
     return PropagateFastLio2(in, kTransition, kNoise, out);
+  }
+  static Status Mean(const PreintegrationInput& in, PreintIncrement& delta) {
+    return FastLio2IncrementMean(in, delta);
   }
 };
 

@@ -68,6 +68,7 @@ inline Okvis2ImuParameters Okvis2ParametersOf(const ImuNoise& n) {
 /// cov = Phi cov_s Phi^T + OKVIS's noise-only covariance, in `okvis2` ([r, alpha, v, bg, ba]).
 template <Okvis2Transition kTransition>
 struct Okvis2PropagationScheme {
+  static constexpr const char* kNativeConvention = "okvis2";
   static constexpr NoiseSimulation kNoiseSimulation = kOkvis2NoiseSimulation;
   Status operator()(const PropagationInput& in, PropagationResult& out) const {
     std::vector<Okvis2Sample> samples;

@@ -163,6 +163,38 @@ class RightPerturbedIncrementChart : public IncrementChart<Order, BiasSign> {
   }
 };
 
+/// An increment chart with the rotation error on the left, Delta R = Exp(dtheta) Delta R^ (in
+/// the interval's start frame), and additive dp, dv, in a block order and bias sign: against
+/// the reference, Exp(dtheta) Delta R^ = Delta R^ Exp(Delta R^T dtheta), so dtheta_ref =
+/// Delta R^T dtheta and dtheta = Delta R^ dtheta_ref, the other blocks a permutation. Basalt's
+/// delta state and OKVIS2's P_delta are this chart (each plugin names it after its system).
+/// Declared with a `using`, as RightPerturbedIncrementChart.
+template <const BlockOrder& Order, int BiasSign>
+class LeftPerturbedIncrementChart : public IncrementChart<Order, BiasSign> {
+  using Base = IncrementChart<Order, BiasSign>;
+
+ public:
+  void retract(const PreintIncrement& x, const Vec15& d,
+               PreintIncrement& y) const noexcept override {
+    y.dR = so3::Exp(d.template segment<3>(Base::theta)) * x.dR;
+    y.dp = x.dp + d.template segment<3>(Base::p);
+    y.dv = x.dv + d.template segment<3>(Base::v);
+    Base::RetractBiases(x, d, y);
+  }
+  void local(const PreintIncrement& x, const PreintIncrement& y, Vec15& d) const noexcept override {
+    d.template segment<3>(Base::theta) = so3::Log(y.dR * x.dR.transpose());
+    d.template segment<3>(Base::p) = y.dp - x.dp;
+    d.template segment<3>(Base::v) = y.dv - x.dv;
+    Base::LocalBiases(x, y, d);
+  }
+  bool J_ref_this(const PreintIncrement& x, Mat15& J) const noexcept override {
+    return Base::RefThis(J, {{Block::theta, x.dR.transpose()}});
+  }
+  bool J_this_ref(const PreintIncrement& x, Mat15& J) const noexcept override {
+    return Base::ThisRef(J, {{Block::theta, x.dR}});
+  }
+};
+
 /// The rotation a chart's body frame is that of: the state's R, or the increment's Delta R.
 inline const Mat3& RotationOf(const ImuState& x) noexcept { return x.R; }
 inline const Mat3& RotationOf(const PreintIncrement& x) noexcept { return x.dR; }

@@ -60,6 +60,22 @@ struct HasMean<Kernel, std::void_t<decltype(Kernel::Mean(std::declval<const Prei
     : std::true_type {};
 
 template <class Kernel, class = void>
+struct HasNativeConvention : std::false_type {};
+template <class Kernel>
+struct HasNativeConvention<Kernel, std::void_t<decltype(Kernel::kNativeConvention)>>
+    : std::true_type {};
+
+/// The kernel's native state convention: Kernel::kNativeConvention where it says one, `left`
+/// (the convention of the core's own propagation kernels) where it does not.
+template <class Kernel>
+constexpr const char* NativeConventionOf() noexcept {
+  if constexpr (HasNativeConvention<Kernel>::value)
+    return Kernel::kNativeConvention;
+  else
+    return "left";
+}
+
+template <class Kernel, class = void>
 struct HasNoiseSimulation : std::false_type {};
 template <class Kernel>
 struct HasNoiseSimulation<Kernel, std::void_t<decltype(Kernel::kNoiseSimulation)>>
@@ -88,11 +104,14 @@ Status IncrementMeanOf(const char* id, const PreintegrationInput& in,
 
 }  // namespace detail
 
-/// A propagator whose propagate() is Kernel{}(in, out), in the native convention `left`.
+/// A propagator whose propagate() is Kernel{}(in, out), in the native convention
+/// Kernel::kNativeConvention (`left` when the kernel names none).
 template <class Kernel>
 class KernelPropagator : public Propagator {
  public:
-  const char* native_convention() const noexcept override { return "left"; }
+  const char* native_convention() const noexcept override {
+    return detail::NativeConventionOf<Kernel>();
+  }
   Status propagate(const PropagationInput& in, PropagationResult& out) const noexcept override {
     return detail::RunContained<Kernel>(id(), in, out);
   }
