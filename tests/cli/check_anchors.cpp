@@ -96,8 +96,6 @@ AnchorChecked RunCheck(const json& m, const std::string& name) {
   return c;
 }
 
-std::string Labels(const json& f) { return f["rows"].dump() + " x " + f["cols"].dump(); }
-
 // With the `orb_slam3` preintegrator registered, check has ORB-SLAM3's own scheme among its
 // references, and recognizes the original's numbers as that scheme's. (Before it was, check
 // explained them as `midpoint` with the state-bias cross terms found missing; that finding's

@@ -48,21 +48,7 @@ std::string CaseCsv(const json& c) {
 /// is the case's), the case's noise, and one check task of `meas_file`.
 json CasePipeline(const json& c, const std::string& csv_file, const std::string& meas_file) {
   return {{"noise", c["noise"]},
-          {"imu",
-           {{"format", "csv"},
-            {"path", csv_file},
-            {"delimiter", ";"},
-            {"header_rows", 1},
-            {"time_unit", "ms"},
-            {"time_origin", 0},
-            {"columns",
-             {{"t", "time_ms"},
-              {"wx", "wx"},
-              {"wy", "wy"},
-              {"wz", "wz"},
-              {"ax", "ax"},
-              {"ay", "ay"},
-              {"az", "az"}}}}},
+          {"imu", CsvImuFromTimeZero(csv_file, "ms", "time_ms", ";")},
           {"tasks",
            json::array(
                {{{"type", "check"}, {"name", "chk"}, {"measurements", {{"file", meas_file}}}}})}};

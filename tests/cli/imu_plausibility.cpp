@@ -16,6 +16,7 @@
 
 #include "../pipeline/pipeline_test_util.h"
 #include "euroc_slice.h"
+#include "gtsam_measurement.h"
 #include "imuconv_test.h"
 #include "number_text.h"
 
@@ -73,20 +74,7 @@ std::string Csv(const json& imu) {
 json Pipeline(const json& c, const std::string& csv) {
   const double t0 = c["imu"].front()[0].get<double>(), t1 = c["imu"].back()[0].get<double>();
   return {{"noise", c["noise"]},
-          {"imu",
-           {{"format", "csv"},
-            {"path", csv},
-            {"header_rows", 1},
-            {"time_unit", "s"},
-            {"time_origin", 0},
-            {"columns",
-             {{"t", "t"},
-              {"wx", "wx"},
-              {"wy", "wy"},
-              {"wz", "wz"},
-              {"ax", "ax"},
-              {"ay", "ay"},
-              {"az", "az"}}}}},
+          {"imu", CsvImuFromTimeZero(csv, "s", "t")},
           {"tasks",
            {{{"type", "propagate"},
              {"name", "p"},
@@ -157,19 +145,7 @@ TEST(ImuPlausibility, RunWarnsWithTheEvidenceAndStillRuns) {
 TEST(ImuPlausibility, CheckPutsTheWarningsInItsJson) {
   const TempDir tmp;
   const json c = ReadJson(DataPath("reference/cases/smooth-0.json"));
-  const json g = ReadJson(DataPath("reference/gtsam/smooth-0.gtsam.json"));
-  const json& s = g["zoh"]["manifold"];
-  const json meas = {{"measurements",
-                      {{{"t_start", c["imu"].front()[0]},
-                        {"t_end", c["imu"].back()[0]},
-                        {"dt", s["deltaT"]},
-                        {"bias_estimate", {{"bg", c["state_s"]["bg"]}, {"ba", c["state_s"]["ba"]}}},
-                        {"delta", {{"R", s["deltaR"]}, {"dp", s["deltaP"]}, {"dv", s["deltaV"]}}},
-                        {"J_bias", {{"matrix", s["J_bias"]}}},
-                        {"cov",
-                         {{"convention", "gtsam_manifold"},
-                          {"blocks", {"theta", "p", "v", "ba", "bg"}},
-                          {"matrix", s["cov15"]}}}}}}};
+  const json meas = {{"measurements", {GtsamMeasurement("smooth-0")}}};
   const std::string mf = tmp.write("meas.json", meas.dump());
   for (const Mistake m : kAll) {
     json bad = c;

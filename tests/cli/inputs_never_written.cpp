@@ -141,21 +141,7 @@ CheckFiles CheckInputs(const TempDir& tmp) {
   f.csv = tmp.write("smooth.csv", csv);
   const json p = {
       {"noise", c["noise"]},
-      {"imu",
-       {{"format", "csv"},
-        {"path", f.csv},
-        {"delimiter", ";"},
-        {"header_rows", 1},
-        {"time_unit", "s"},
-        {"time_origin", 0},
-        {"columns",
-         {{"t", "t"},
-          {"wx", "wx"},
-          {"wy", "wy"},
-          {"wz", "wz"},
-          {"ax", "ax"},
-          {"ay", "ay"},
-          {"az", "az"}}}}},
+      {"imu", CsvImuFromTimeZero(f.csv, "s", "t", ";")},
       {"tasks",
        json::array({{{"type", "check"}, {"name", "chk"}, {"measurements", {{"file", f.meas}}}}})}};
   f.pipeline = tmp.write("smooth.pipeline.json", p.dump(1));

@@ -109,20 +109,7 @@ std::string McCasePipeline(const TempDir& tmp, const json& c) {
   const std::string csv_path = tmp.write("imu.csv", csv);
   const json p = {
       {"noise", c["noise"]},
-      {"imu",
-       {{"format", "csv"},
-        {"path", csv_path},
-        {"header_rows", 1},
-        {"time_unit", "ms"},
-        {"time_origin", 0},
-        {"columns",
-         {{"t", "time_ms"},
-          {"wx", "wx"},
-          {"wy", "wy"},
-          {"wz", "wz"},
-          {"ax", "ax"},
-          {"ay", "ay"},
-          {"az", "az"}}}}},
+      {"imu", CsvImuFromTimeZero(csv_path, "ms", "time_ms")},
       // A pipeline has tasks; montecarlo runs none of them.
       {"tasks",
        json::array(
