@@ -37,8 +37,7 @@
 #include <thread>
 
 #include "imuconv/printable.h"
-#include "imuconv/registry.h"
-#include "imuconv/window.h"
+#include "plugin_exercise.h"
 
 namespace imuconv::cli {
 namespace {
@@ -82,75 +81,6 @@ const char* SignalName(int sig) {
   }
 }
 
-template <typename M>
-bool AllFinite(const Eigen::MatrixBase<M>& m) {
-  return m.allFinite();
-}
-
-// 10 ms of a slowly turning, slightly accelerating IMU at 200 Hz: small enough to be instant
-// for any integrator, not so special (all zero) that a broken one passes by luck.
-std::vector<ImuSample> TestSamples() {
-  std::vector<ImuSample> s(3);
-  for (int k = 0; k < 3; ++k) {
-    s[k].t = 0.005 * k;
-    s[k].gyro = Vec3(0.01, -0.02, 0.03 + 0.001 * k);
-    s[k].accel = Vec3(0.1, 0.2 - 0.01 * k, 9.81);
-  }
-  return s;
-}
-
-ImuNoise TestNoise() {
-  // gyro and accelerometer noise densities, then gyro and accelerometer random walks
-  return ImuNoise{1.7e-4, 2e-3, 1.9e-5, 3e-3};
-}
-
-// The child's work: everything that calls plugin code. Returns the "ok" description; throws
-// Error with what failed.
-std::string Exercise(const std::string& file) {
-  Registry reg;
-  reg.load_file(file);
-  const PluginInfo& p = reg.plugins().back();
-  std::string what =
-      std::string(KindName(p.kind)) + " " + Quoted(p.id) + " " + Printable(p.version);
-  const std::string who =
-      std::string(KindName(p.kind)) + " " + Quoted(p.id) + " in " + Quoted(file);
-  const auto samples = TestSamples();
-  SampleWindow w;
-  if (const Status st = MakeWindow(samples.data(), samples.size(), 0.0, 0.01, w); !st.ok())
-    throw Error("internal: the test window cannot be built: " + st.message());
-  if (p.kind == PluginKind::Propagator) {
-    PropagationInput in;
-    in.window = w;
-    in.noise = TestNoise();
-    in.cov_s = Mat15::Identity() * 1e-6;
-    in.x_s.v = Vec3(0.5, 0.0, 0.0);
-    PropagationResult out;
-    const Status st = reg.propagator(p.id)->propagate(in, out);
-    if (!st.ok())
-      throw Error(who + ": propagate() failed on a 10 ms test window: " + Printable(st.message()));
-    if (!AllFinite(out.x_e.R) || !AllFinite(out.x_e.p) || !AllFinite(out.x_e.v) ||
-        !AllFinite(out.x_e.bg) || !AllFinite(out.x_e.ba) || !AllFinite(out.Phi) ||
-        !AllFinite(out.cov))
-      throw Error(who + ": propagate() returned non-finite values on a 10 ms test window");
-    what += "; propagate() ran on a 10 ms test window";
-  } else if (p.kind == PluginKind::Preintegrator) {
-    PreintegrationInput in;
-    in.window = w;
-    in.noise = TestNoise();
-    Preintegrated out;
-    const Status st = reg.preintegrator(p.id)->integrate(in, out);
-    if (!st.ok())
-      throw Error(who + ": integrate() failed on a 10 ms test window: " + Printable(st.message()));
-    if (!std::isfinite(out.dt) || !AllFinite(out.delta.dR) || !AllFinite(out.delta.dp) ||
-        !AllFinite(out.delta.dv) || !AllFinite(out.cov) || !AllFinite(out.J_bias))
-      throw Error(who + ": integrate() returned non-finite values on a 10 ms test window");
-    what += "; integrate() ran on a 10 ms test window";
-  } else {
-    what += "; charts and Jacobians checked";
-  }
-  return what;
-}
-
 void WriteAll(int fd, const std::string& s) {
   std::size_t done = 0;
   while (done < s.size()) {
@@ -180,7 +110,7 @@ void WriteAll(int fd, const std::string& s) {
   ::dup2(stderr_fd, STDERR_FILENO);
   std::string report;
   try {
-    report = "O" + Exercise(file);
+    report = "O" + ExercisePlugin(file);
   } catch (const std::exception& e) {
     report = std::string("E") + e.what();
   } catch (...) {
