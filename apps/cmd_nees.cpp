@@ -13,9 +13,6 @@
 #include "imuconv/cli/exit_codes.h"
 #include "imuconv/pipeline/errors.h"
 #include "imuconv/pipeline/imu_reader.h"
-#include "imuconv/pipeline/json_io.h"
-#include "imuconv/pipeline/json_parse.h"
-#include "imuconv/pipeline/kalibr_yaml.h"
 #include "imuconv/printable.h"
 #include "imuconv/report/report_output.h"
 #include "judgment.h"
@@ -26,26 +23,6 @@
 #include "report_destination.h"
 
 namespace imuconv::cli {
-namespace {
-
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-// A Kalibr imu.yaml (by extension), else a JSON file holding a pipeline's "noise" object, or a
-// whole pipeline whose /noise is one.
-ImuNoise ReadNoise(const std::string& path) {
-  if (EndsWith(path, ".yaml") || EndsWith(path, ".yml"))
-    return pipeline::data::ReadKalibrImuYaml(path);
-  return pipeline::ReadJsonFileAs(path, [](const pipeline::Node& root) {
-    if (root.has("noise")) return pipeline::NoiseFromJson(root["noise"]);
-    return pipeline::NoiseFromJson(root);
-  });
-}
-
-}  // namespace
-
 int RunNeesCommand(const CommandContext& ctx, const NeesCommandOptions& o) {
   if (o.pipeline_path.empty() &&
       (o.imu_path.empty() || o.ground_truth_path.empty() || o.noise_path.empty()))
@@ -76,7 +53,7 @@ int RunNeesCommand(const CommandContext& ctx, const NeesCommandOptions& o) {
                                ? nees::ReadEurocInput(o.imu_path, o.ground_truth_path)
                                : nees::ReadPipelineInput(o.pipeline_path);
     if (!o.noise_path.empty())
-      options.noise = ReadNoise(o.noise_path);
+      options.noise = nees::ReadNoiseFile(o.noise_path);
     else if (in.noise)
       options.noise = *in.noise;
     else

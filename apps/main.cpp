@@ -61,6 +61,9 @@ int main(int argc, char** argv) {
   RegisterMontecarloCommand(app, ctx);
   RegisterNeesCommand(app, ctx);
   RegisterExperimentCommand(app, ctx);
+#ifdef IMUCONV_HAVE_OPTIMIZE
+  RegisterOptimizeCommand(app, ctx);
+#endif
   // One rule for every numeric option of every command (cli_common.cpp).
   RefuseNonFiniteNumbers(app);
 

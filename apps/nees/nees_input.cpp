@@ -1,10 +1,31 @@
 #include "nees_input.h"
 
 #include "imuconv/pipeline/errors.h"
+#include "imuconv/pipeline/json_io.h"
+#include "imuconv/pipeline/json_parse.h"
+#include "imuconv/pipeline/kalibr_yaml.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/pipeline/pipeline_data.h"
 
 namespace imuconv::nees {
+
+namespace {
+
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+ImuNoise ReadNoiseFile(const std::string& path) {
+  if (EndsWith(path, ".yaml") || EndsWith(path, ".yml"))
+    return pipeline::data::ReadKalibrImuYaml(path);
+  return pipeline::ReadJsonFileAs(path, [](const pipeline::Node& root) {
+    if (root.has("noise")) return pipeline::NoiseFromJson(root["noise"]);
+    return pipeline::NoiseFromJson(root);
+  });
+}
 
 Input ReadEurocInput(const std::string& imu_path, const std::string& gt_path) {
   Input in;

@@ -18,6 +18,12 @@ struct Input {
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
 };
 
+/// The four noise densities from --noise: a Kalibr imu.yaml (by extension, .yaml/.yml), else a
+/// JSON file holding a pipeline's "noise" object, or a whole pipeline whose /noise is one. The
+/// readers' errors name the file and the line or JSON pointer. (nees and optimize take --noise
+/// alike.)
+ImuNoise ReadNoiseFile(const std::string& path);
+
 /// EuRoC/ASL IMU and full-state ground truth (ReadEurocImu, ReadEurocGroundTruth).
 Input ReadEurocInput(const std::string& imu_path, const std::string& gt_path);
 

@@ -122,5 +122,7 @@ void RegisterCheckCommand(CLI::App& app, CommandContext& ctx);
 void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx);
 void RegisterNeesCommand(CLI::App& app, CommandContext& ctx);
 void RegisterExperimentCommand(CLI::App& app, CommandContext& ctx);
+/// Only with Ceres (IMUCONV_HAVE_OPTIMIZE).
+void RegisterOptimizeCommand(CLI::App& app, CommandContext& ctx);
 
 }  // namespace imuconv::cli

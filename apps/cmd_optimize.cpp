@@ -1,0 +1,188 @@
+// imuconv optimize (--imu IMU.csv --poses POSES.csv | --pipeline P.json) --noise NOISE
+// --keyframe-step S [--pose-sigma METRES,RADIANS] [--method M] [--convention C] [--json] [-o OUT]
+// [--report OUT.html]: every keyframe's state over a sequence from preintegration factors and
+// pose measurements, solved with Ceres, with each keyframe's marginal covariance (docs/optimize.md;
+// the logic is apps/optimize/).
+// Exit code: 0 converged, 1 the solve did not converge (said in the output), 2 unusable input
+// (the message names the file and line, the JSON pointer or the option), 3 internal error.
+#include "imuconv/cli/cmd_optimize.h"
+
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <utility>
+
+#include "imuconv/cli/exit_codes.h"
+#include "imuconv/pipeline/output_file.h"
+#include "imuconv/printable.h"
+#include "judgment.h"
+#include "nees_input.h"
+#include "optimize.h"
+#include "optimize_input.h"
+#include "optimize_output.h"
+#include "optimize_page.h"
+#include "report_destination.h"
+
+namespace imuconv::cli {
+
+int RunOptimizeCommand(const CommandContext& ctx, const OptimizeCommandOptions& o) {
+  if (o.pipeline_path.empty() && (o.imu_path.empty() || o.poses_path.empty()))
+    throw UsageError{"give --imu and --poses, or --pipeline P.json"};
+  if (!o.pose_sigma.empty() && o.pose_sigma.size() != 2)
+    throw UsageError{"--pose-sigma: give two numbers, METRES,RADIANS (e.g. 0.01,0.01)"};
+  if (o.residual != "gtsam" && o.residual != "forster")
+    throw UsageError{"--residual: gtsam or forster, not '" + Printable(o.residual) + "'"};
+  optimize::PageInputs inputs;
+  for (const auto& [role, path] : {std::pair<const char*, const std::string*>{"imu", &o.imu_path},
+                                   {"poses", &o.poses_path},
+                                   {"noise", &o.noise_path},
+                                   {"pipeline", &o.pipeline_path}})
+    if (!path->empty()) inputs.push_back({role, *path});
+  return Judge(o.as_json, [&] {
+    // Both destinations are examined before any work: a directory, an input's own name or the
+    // other output's fails now.
+    ReportDestination report(o.report_path);
+    std::optional<pipeline::OutputFile> out;
+    if (!o.output_path.empty()) {
+      out.emplace(o.output_path);
+      if (!o.report_path.empty()) {
+        report.RefuseIfSame(o.output_path, "the output (-o)");
+        std::error_code ea, eb;
+        const auto ca = std::filesystem::weakly_canonical(o.output_path, ea),
+                   cb = std::filesystem::weakly_canonical(o.report_path, eb);
+        if (!ea && !eb && ca == cb)
+          throw Error("-o and --report name the same file: " + Printable(o.output_path));
+      }
+    }
+    for (const auto& input : inputs) {
+      report.RefuseIfSame(input.second, "the " + input.first + " file");
+      if (out) out->refuse_if_same(input.second, "the " + input.first + " file");
+    }
+    Registry reg;
+    const std::vector<LoadIssue> issues = LoadRegistry(reg, ctx);
+    PrintLoadIssues(issues);
+    const std::string unknown =
+        UnknownConventionMessage(reg, PluginKind::StateConvention, o.convention, issues);
+    if (!unknown.empty()) throw Error("--convention: " + unknown);
+    const optimize::Input in = o.pipeline_path.empty()
+                                   ? optimize::ReadFileInput(o.imu_path, o.poses_path)
+                                   : optimize::ReadPipelineInput(o.pipeline_path);
+    optimize::Options options;
+    if (!o.noise_path.empty())
+      options.noise = nees::ReadNoiseFile(o.noise_path);
+    else if (in.noise)
+      options.noise = *in.noise;
+    else if (o.pipeline_path.empty())
+      throw UsageError{
+          "give --noise (a JSON noise object, a pipeline holding one, or a Kalibr "
+          "imu.yaml)"};
+    else
+      throw Error(o.pipeline_path + ": /noise: required key is missing (or give --noise)");
+    options.method = o.method;
+    options.convention = o.convention;
+    options.kind = o.residual == "forster" ? ResidualKind::Forster : ResidualKind::Gtsam;
+    options.keyframe_step = o.keyframe_step;
+    if (o.pose_sigma.size() == 2) {
+      options.pose_sigma_m = o.pose_sigma[0];
+      options.pose_sigma_rad = o.pose_sigma[1];
+    }
+    options.reintegrate_gyro = o.reintegrate_gyro;
+    options.reintegrate_accel = o.reintegrate_accel;
+    options.max_rounds = o.max_rounds;
+    options.gravity = in.gravity;
+    Judgment judgment;
+    judgment.warnings = in.warnings;
+    PrintWarnings(judgment.warnings);
+    const auto result = std::make_shared<const optimize::Result>(
+        optimize::RunOptimize(reg, in.imu, in.poses, options));
+    report.Write([&] { return optimize::OptimizePage(*result, inputs); }, ctx);
+    judgment.json = [result] { return optimize::ResultJson(*result); };
+    judgment.print_table = [result](std::ostream& s) { optimize::PrintTable(s, *result); };
+    judgment.exit_code = result->converged ? kExitOk : kExitInconsistent;
+    if (out) {
+      std::ostringstream text;
+      if (o.as_json)
+        text << WithWarnings(judgment.json(), judgment.warnings).dump(1) << "\n";
+      else
+        judgment.print_table(text);
+      out->refuse_if_loaded_object();
+      out->write(text.str());
+      std::cout.flush();
+      out->commit();
+      if (!ctx.quiet() && !out->is_stdout())
+        std::cerr << "wrote " << Printable(o.output_path) << "\n";
+      judgment.printed_elsewhere = true;
+    }
+    if (!result->converged)
+      PrintWarnings({"the solve did not converge (" + result->solver_message +
+                     "): the output holds where it stopped, not an optimum"});
+    return judgment;
+  });
+}
+
+void RegisterOptimizeCommand(CLI::App& app, CommandContext& ctx) {
+  auto* sub = app.add_subcommand(
+      "optimize",
+      "Estimate every keyframe's state (velocity and biases, and the poses) over a sequence "
+      "from preintegration factors and pose measurements, with Ceres");
+  const auto o = std::make_shared<OptimizeCommandOptions>();
+  auto* imu_opt = sub->add_option("--imu", o->imu_path,
+                                  "EuRoC/ASL IMU CSV (#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z)");
+  auto* poses_opt = sub->add_option(
+      "--poses", o->poses_path,
+      "The pose measurements: EuRoC/ASL ground truth (17 fields; its biases are then the "
+      "report's reference), EuRoC vicon0 (8 comma-separated fields) or a TUM trajectory (t x y z "
+      "qx qy qz qw), told apart by the first data row");
+  sub->add_option("--pipeline", o->pipeline_path,
+                  "Instead of --imu and --poses: a pipeline whose /imu, /ground_truth (the "
+                  "poses), /noise and /gravity are read as imuconv run reads them")
+      ->excludes(imu_opt)
+      ->excludes(poses_opt);
+  sub->add_option("--noise", o->noise_path,
+                  "The four noise densities: a JSON noise object (or a pipeline holding one), or a "
+                  "Kalibr imu.yaml (.yaml/.yml); with --pipeline, replaces its /noise");
+  sub->add_option("--keyframe-step", o->keyframe_step,
+                  "Seconds between keyframes (at least the IMU's sample period, at most the data's "
+                  "span)")
+      ->required();
+  sub->add_option("--pose-sigma", o->pose_sigma,
+                  "Standard deviations of the pose measurements, METRES,RADIANS (default "
+                  "0.01,0.01)")
+      ->delimiter(',');
+  sub->add_option("--method", o->method,
+                  "A propagator (preintegration by propagation) or preintegrator id (default "
+                  "manifold)");
+  sub->add_option("--convention", o->convention,
+                  "The state convention the solver steps in and the covariances are given in "
+                  "(default left); the optimum does not depend on it");
+  sub->add_option("--residual", o->residual,
+                  "The preintegration residual: gtsam (default) or forster");
+  sub->add_option("--reintegrate-gyro", o->reintegrate_gyro,
+                  "Re-integrate a factor when its start gyro bias moved more than this, rad/s "
+                  "(default 0.01, VINS-Fusion's)")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--reintegrate-accel", o->reintegrate_accel,
+                  "Re-integrate a factor when its start accelerometer bias moved more than this, "
+                  "m/s^2 (default 0.10, VINS-Fusion's)")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--max-rounds", o->max_rounds,
+                  "Solves at most: the first, and one after each re-integration (default 4)")
+      ->check(CLI::Range(1, 100));
+  sub->add_flag("--json", o->as_json,
+                "Print one JSON object (its keyframes the list \"keyframes\", docs/optimize.md) "
+                "instead of the table");
+  sub->add_option("-o,--output", o->output_path,
+                  "Write the table or JSON to this file (replaced atomically) instead of stdout")
+      ->type_name("OUT")
+      ->check(OutputPathCheck());
+  AddReportOption(*sub, o->report_path,
+                  "each estimated bias over time with its +-3 sigma band, against the ground "
+                  "truth's biases when the poses file has them, and the solver summary (replaced "
+                  "atomically)");
+  AddPluginDirOption(*sub, ctx);
+  SetCommandAction(*sub, ctx, [&ctx, o] { return RunOptimizeCommand(ctx, *o); });
+}
+
+}  // namespace imuconv::cli

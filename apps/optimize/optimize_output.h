@@ -1,0 +1,20 @@
+// What imuconv optimize prints: one JSON object (--json; its keyframes as the list `keyframes`,
+// docs/optimize.md) or the human table.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <ostream>
+
+#include "optimize.h"
+
+namespace imuconv::optimize {
+
+/// Each keyframe's t, p, q_wxyz, v, bg, ba and 15x15 covariance (null when it was not computed),
+/// the block labels of the covariance, the solver summary with its rounds, and the biases against
+/// the reference's when the poses file has them.
+nlohmann::json ResultJson(const Result& r);
+
+/// The summary and one row per keyframe (its biases with their 1-sigma).
+void PrintTable(std::ostream& out, const Result& r);
+
+}  // namespace imuconv::optimize
