@@ -15,14 +15,15 @@
 #include <utility>
 
 #include "imuconv/cli/exit_codes.h"
+#include "imuconv/optimize/optimize.h"
+#include "imuconv/optimize/optimize_input.h"
+#include "imuconv/optimize/optimize_output.h"
+#include "imuconv/optimize/optimize_page.h"
+#include "imuconv/optimize/pipeline_task.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/printable.h"
 #include "judgment.h"
 #include "nees_input.h"
-#include "optimize.h"
-#include "optimize_input.h"
-#include "optimize_output.h"
-#include "optimize_page.h"
 #include "report_destination.h"
 
 namespace imuconv::cli {
@@ -182,6 +183,8 @@ void RegisterOptimizeCommand(CLI::App& app, CommandContext& ctx) {
                   "truth's biases when the poses file has them, and the solver summary (replaced "
                   "atomically)");
   AddPluginDirOption(*sub, ctx);
+  // The pipeline's optimize tasks (`imuconv run`) are solved by this command's library.
+  optimize::RegisterPipelineTask();
   SetCommandAction(*sub, ctx, [&ctx, o] { return RunOptimizeCommand(ctx, *o); });
 }
 

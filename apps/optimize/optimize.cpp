@@ -1,6 +1,6 @@
 // The problem of imuconv optimize, its solves and re-integration rounds, and the marginal
 // covariances (optimize.h).
-#include "optimize.h"
+#include "imuconv/optimize/optimize.h"
 
 #include <ceres/ceres.h>
 

@@ -1,4 +1,4 @@
-#include "optimize_input.h"
+#include "imuconv/optimize/optimize_input.h"
 
 #include <sys/stat.h>
 

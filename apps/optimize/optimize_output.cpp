@@ -1,4 +1,4 @@
-#include "optimize_output.h"
+#include "imuconv/optimize/optimize_output.h"
 
 #include <Eigen/Geometry>
 #include <cmath>

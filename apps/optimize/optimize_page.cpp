@@ -1,4 +1,4 @@
-#include "optimize_page.h"
+#include "imuconv/optimize/optimize_page.h"
 
 #include <cmath>
 

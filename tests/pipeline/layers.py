@@ -50,6 +50,7 @@ PUBLIC = {
     "block_labels.h": "forms",       # a chart's navigation and bias labels
     "run_options.h": "tasks",        # what the tasks run with (threads, limits, step callback)
     "check_evaluator.h": "tasks",    # the check task's evaluator, registered from above
+    "optimize_evaluator.h": "tasks",  # the optimize task's solve, registered from above
     "pipeline.h": "run",             # Pipeline, Run, RunToText, RunToArrays
     "pipeline_data.h": "run",        # a loaded Pipeline's data, outside a run
     "shard_merge.h": "run",

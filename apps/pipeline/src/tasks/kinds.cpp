@@ -10,7 +10,8 @@
   KIND("convert", ParseConvert)                                       \
   KIND("residual", ParseResidual)                                     \
   KIND("bias_update", ParseBiasUpdate)                                \
-  KIND("check", ParseCheck)
+  KIND("check", ParseCheck)                                           \
+  KIND("optimize", ParseOptimize)
 
 namespace imuconv::pipeline {
 

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 
-#include "optimize.h"
+#include "imuconv/optimize/optimize.h"
 
 namespace imuconv::optimize {
 

@@ -6,8 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include "imuconv/optimize/optimize.h"
 #include "imuconv/report/html_document.h"
-#include "optimize.h"
 
 namespace imuconv::optimize {
 
