@@ -35,6 +35,11 @@ from ._imuconv import (  # noqa: F401
     write_measurements,
 )
 
+try:  # built only with Ceres (imuconv::ceres)
+    from ._imuconv import optimize  # noqa: F401
+except ImportError:  # pragma: no cover
+    pass
+
 try:
     from ._imuconv import __version__  # noqa: F401
 except ImportError:  # pragma: no cover

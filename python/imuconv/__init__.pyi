@@ -1,7 +1,7 @@
 # Type stubs of the imuconv module (python/src/*.cpp). Arrays are float64 NumPy arrays;
 # array arguments accept anything NumPy converts (lists included) of the stated shape.
 import os
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -140,3 +140,8 @@ def check(reg: Registry, measurements: Union[str, os.PathLike[str], Mapping[str,
 def write_measurements(path: Union[str, os.PathLike[str]], reg: Registry, measurements: MeasurementValues, *,
                        t_start: Optional[Union[float, Sequence[float]]] = ...,
                        conventions: Sequence[str] = ...) -> None: ...
+# Only when the module was built with Ceres (imuconv::ceres).
+def optimize(reg: Registry, samples: ArrayLike, poses: ArrayLike, *, noise: Noise, keyframe_step: float,
+             method: str = ..., convention: str = ..., pose_sigma: Tuple[float, float] = ...,
+             residual: str = ..., gravity: ArrayLike = ..., reintegrate_gyro: float = ...,
+             reintegrate_accel: float = ..., max_rounds: int = ...) -> Dict[str, Any]: ...

@@ -42,6 +42,8 @@ void BindRegistry(py::module_& m);
 void BindBridge(py::module_& m);
 void BindPipeline(py::module_& m);
 void BindMeasurements(py::module_& m);
+/// imuconv.optimize: only with Ceres (IMUCONV_HAVE_OPTIMIZE).
+void BindOptimize(py::module_& m);
 
 /// Noise densities from a mapping with exactly the four keys of a pipeline's "noise" form
 /// (gyro_noise_density, accel_noise_density, gyro_random_walk, accel_random_walk): a missing

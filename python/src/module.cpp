@@ -26,6 +26,9 @@ PYBIND11_MODULE(_imuconv, m) {
   imuconv::python::BindBridge(m);
   imuconv::python::BindPipeline(m);
   imuconv::python::BindMeasurements(m);
+#ifdef IMUCONV_HAVE_OPTIMIZE
+  imuconv::python::BindOptimize(m);
+#endif
 #ifdef IMUCONV_VERSION
   m.attr("__version__") = IMUCONV_VERSION;
 #endif
