@@ -111,6 +111,18 @@ TEST(OptimizeCommand, OutputFileTakesTheDocumentAndStdoutStaysEmpty) {
   EXPECT_FALSE(j["keyframes"].empty());
 }
 
+TEST(OptimizeCommand, ReportDrawsEachBiasAgainstTheGroundTruth) {
+  Slice s;
+  s.o.report_path = s.tmp.file("report.html");
+  const Output r = RunOptimize(s.o);
+  ASSERT_EQ(r.exit_code, imuconv::cli::kExitOk) << r.err;
+  const std::string page = ReadText(s.o.report_path);
+  for (const char* axis : {"bg.x", "bg.y", "bg.z", "ba.x", "ba.y", "ba.z"})
+    EXPECT_TRUE(Has(page, std::string(axis) + ": the estimate; the ground truth")) << axis;
+  EXPECT_TRUE(Has(page, "<svg"));
+  EXPECT_TRUE(Has(page, "estimate \u00b13 sigma"));
+}
+
 // Each case: what is wrong, and what the message must name.
 void ExpectRefused(const OptimizeCommandOptions& o, const std::string& named) {
   const Output r = RunOptimize(o);
