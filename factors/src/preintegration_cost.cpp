@@ -17,20 +17,26 @@ class PreintegrationCost final
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     try {
-      const Residual r =
-          factor_->Evaluate(FromStateBlock(parameters[0]), FromStateBlock(parameters[1]));
-      if (!r.r.allFinite()) return false;
+      // The bridge's residual in the left chart, whitened by the factor's fixed S (lower
+      // triangular); the residual's covariance and H_increment, which ComputeResidual also
+      // returns, are not needed here (PreintegrationFactor::Evaluate whitens them too).
+      const PreintegrationFactorOptions& o = factor_->options();
+      const Residual r = ComputeResidual(factor_->registry(), o.kind, factor_->measurement(),
+                                         FromStateBlock(parameters[0]),
+                                         FromStateBlock(parameters[1]), "left", o.gravity);
+      const auto S = factor_->sqrt_information().triangularView<Eigen::Lower>();
+      const Vec15 whitened = S * r.r;
+      if (!whitened.allFinite()) return false;
       Eigen::Map<Vec15> residuals_out(residuals);
-      residuals_out = r.r;
-      using Jacobian = Eigen::Matrix<double, 15, kStateBlockSize, Eigen::RowMajor>;
+      residuals_out = whitened;
       if (jacobians != nullptr) {
         if (jacobians[0] != nullptr) {
-          Eigen::Map<Jacobian> start_out(jacobians[0]);
-          start_out = r.H_start * LeftMinusJacobian(parameters[0]);
+          const Mat15 H = S * r.H_start;
+          LeftToAmbient(H, parameters[0], jacobians[0]);
         }
         if (jacobians[1] != nullptr) {
-          Eigen::Map<Jacobian> end_out(jacobians[1]);
-          end_out = r.H_end * LeftMinusJacobian(parameters[1]);
+          const Mat15 H = S * r.H_end;
+          LeftToAmbient(H, parameters[1], jacobians[1]);
         }
       }
       return true;

@@ -5,9 +5,16 @@
 
 #include <Eigen/Geometry>
 
+#include "imuconv/reference_charts.h"
 #include "imuconv/so3.h"
 
 namespace imuconv::ceres_factors {
+
+// The Jacobians below are written for the left chart's order [p, theta, v, bg, ba].
+static_assert(left_idx::p == 0 && left_idx::theta == 3 && left_idx::v == 6 && left_idx::bg == 9 &&
+              left_idx::ba == 12);
+static_assert(block_idx::p == 0 && block_idx::q == 3 && block_idx::v == 7 && block_idx::bg == 10 &&
+              block_idx::ba == 13);
 
 void ToStateBlock(const ImuState& x, double* block) {
   Eigen::Quaterniond q(x.R);
@@ -83,6 +90,21 @@ Eigen::Matrix<double, 16, 15, Eigen::RowMajor> LeftPlusJacobian(const double* bl
   P.block<3, 3>(block_idx::bg, 9).setIdentity();
   P.block<3, 3>(block_idx::ba, 12).setIdentity();
   return P;
+}
+
+void LeftToAmbient(const Eigen::Ref<const Eigen::MatrixXd>& H, const double* block,
+                   double* ambient) {
+  Vec3 u;
+  const double w = UnitW(block, u);
+  Eigen::Matrix<double, 3, 4> Mq;  // the rotation rows of M_left, its quaternion columns
+  Mq.col(0) = -2.0 * u;
+  Mq.rightCols<3>() = 2.0 * (w * Mat3::Identity() + so3::skew(u));
+  const Eigen::Index rows = H.rows();
+  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, kStateBlockSize, Eigen::RowMajor>> J(ambient,
+                                                                                        rows, 16);
+  J.leftCols<3>() = H.middleCols<3>(0);                     // p
+  J.middleCols<4>(block_idx::q) = H.middleCols<3>(3) * Mq;  // theta
+  J.rightCols<9>() = H.rightCols<9>();                      // v, bg, ba
 }
 
 }  // namespace imuconv::ceres_factors

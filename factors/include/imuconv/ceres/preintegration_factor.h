@@ -44,6 +44,7 @@ class IMUCONV_CERES_API PreintegrationFactor {
   /// covariance cov(r) = C C^T (so S is lower triangular). Whitened residual S r.
   const Mat15& sqrt_information() const { return sqrt_information_; }
   const PreintegrationFactorOptions& options() const { return options_; }
+  const Registry& registry() const { return *reg_; }
   double t_start() const { return t_s_; }
   double t_end() const { return t_e_; }
 

@@ -34,4 +34,10 @@ IMUCONV_CERES_API Eigen::Matrix<double, 15, 16, Eigen::RowMajor> LeftMinusJacobi
 IMUCONV_CERES_API Eigen::Matrix<double, 16, 15, Eigen::RowMajor> LeftPlusJacobian(
     const double* block);
 
+/// H M_left(x) for a Jacobian H with respect to the left chart (rows x 15): the ambient
+/// Jacobian (rows x 16, row-major) Ceres asks a cost for, without the 15x16 product (M_left is
+/// the identity but for its 3x4 quaternion block).
+IMUCONV_CERES_API void LeftToAmbient(const Eigen::Ref<const Eigen::MatrixXd>& H,
+                                     const double* block, double* ambient);
+
 }  // namespace imuconv::ceres_factors

@@ -1,0 +1,143 @@
+// imuconv-bench-ceres: one preintegration factor's evaluation (residual and the two 15x16
+// ambient Jacobians Ceres asks for) per keyframe pair, and its re-integration, for a native
+// preintegrator and for preintegration by propagation. Built only with imuconv::ceres; a program
+// of its own so that `imuconv bench`'s set stays the same with and without Ceres.
+#include <benchmark/benchmark.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "imuconv/bridge.h"
+#include "imuconv/ceres/preintegration_factor.h"
+#include "imuconv/ceres/state_block.h"
+#include "imuconv/printable.h"
+#include "imuconv/so3.h"
+
+namespace imuconv::bench_ceres {
+namespace {
+
+using namespace imuconv::ceres_factors;
+
+const Registry& Plugins() {
+  static Registry* reg = [] {
+    auto* r = new Registry();
+    for (const auto& i : r->load_search_path())
+      std::fprintf(stderr, "imuconv-bench-ceres: %s: %s\n", Printable(i.file).c_str(),
+                   Printable(i.message).c_str());
+    return r;
+  }();
+  return *reg;
+}
+
+// One keyframe pair 0.1 s apart at 200 Hz (imuconv optimize's default --keyframe-step on EuRoC),
+// smooth motion as bench/suite.cpp's.
+std::vector<ImuSample> KeyframeSamples() {
+  std::vector<ImuSample> v;
+  for (int k = 0; k <= 20; ++k) {
+    const double t = k / 200.0;
+    ImuSample z;
+    z.t = t;
+    z.gyro = Vec3(0.5 * std::sin(1.3 * t + 0.2), -0.4 * std::cos(0.7 * t),
+                  0.3 * std::sin(2.1 * t + 1.0));
+    z.accel = Vec3(1.5 * std::cos(0.9 * t), 2.0 * std::sin(1.7 * t + 0.3),
+                   9.81 + 0.8 * std::sin(0.5 * t));
+    v.push_back(z);
+  }
+  return v;
+}
+
+const ImuNoise kNoise{1.7e-4, 2.0e-3, 1.9e-5, 3.0e-3};
+const Vec3 kBiasGyro(1e-3, -2e-3, 5e-4), kBiasAccel(0.02, -0.01, 0.03);
+
+std::unique_ptr<PreintegrationFactor> MakeFactor(PluginKind kind, const char* id,
+                                                 ResidualKind residual) {
+  PreintegrationFactorOptions fo;
+  fo.kind = residual;
+  return std::make_unique<PreintegrationFactor>(
+      Plugins(), ResolvePreintegrationMethod(Plugins(), kind, id), KeyframeSamples(), 0.0, 0.1,
+      kNoise, kBiasGyro, kBiasAccel, fo);
+}
+
+void BM_CeresFactorEvaluate(benchmark::State& st, PluginKind kind, const char* id,
+                            ResidualKind residual, bool jacobians) {
+  std::unique_ptr<PreintegrationFactor> factor;
+  try {
+    factor = MakeFactor(kind, id, residual);
+  } catch (const std::exception& e) {
+    st.SkipWithError(e.what());
+    return;
+  }
+  std::unique_ptr<::ceres::CostFunction> cost(factor->MakeCostFunction());
+  // Two states near the factor's prediction, biases moved off the linearization point so that
+  // the first-order correction is computed.
+  ImuState xs;
+  xs.R = so3::Exp(Vec3(0.1, -0.2, 0.3));
+  xs.v = Vec3(0.5, -0.2, 0.1);
+  xs.bg = kBiasGyro + Vec3(1e-4, 0, 0);
+  xs.ba = kBiasAccel + Vec3(0, 1e-3, 0);
+  const ImuState xe = Predict(xs, factor->measurement().delta, 0.1, Vec3(0, 0, -9.81));
+  std::array<double, kStateBlockSize> bs, be;
+  ToStateBlock(xs, bs.data());
+  ToStateBlock(xe, be.data());
+  const double* blocks[] = {bs.data(), be.data()};
+  std::array<double, 15> r;
+  std::array<double, 15 * kStateBlockSize> j0, j1;
+  double* jac[] = {j0.data(), j1.data()};
+  for (auto _ : st) {
+    const bool ok = cost->Evaluate(blocks, r.data(), jacobians ? jac : nullptr);
+    benchmark::DoNotOptimize(ok);
+    benchmark::DoNotOptimize(r.data());
+    benchmark::ClobberMemory();
+  }
+  st.SetItemsProcessed(st.iterations());  // keyframe pairs
+}
+
+void BM_CeresFactorReintegrate(benchmark::State& st, PluginKind kind, const char* id) {
+  std::unique_ptr<PreintegrationFactor> factor;
+  try {
+    factor = MakeFactor(kind, id, ResidualKind::Gtsam);
+  } catch (const std::exception& e) {
+    st.SkipWithError(e.what());
+    return;
+  }
+  int k = 0;
+  for (auto _ : st) {
+    factor->Reintegrate(kBiasGyro + Vec3(1e-5 * (k & 1), 0, 0), kBiasAccel);
+    ++k;
+    benchmark::DoNotOptimize(factor->measurement().delta.dp.data());
+  }
+  st.SetItemsProcessed(st.iterations());
+}
+
+}  // namespace
+}  // namespace imuconv::bench_ceres
+
+int main(int argc, char** argv) {
+  using namespace imuconv;
+  using namespace imuconv::bench_ceres;
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  const struct {
+    PluginKind kind;
+    const char* id;
+  } methods[] = {{PluginKind::Preintegrator, "manifold"}, {PluginKind::Propagator, "rk4"}};
+  for (const auto& m : methods) {
+    for (const auto& [residual, name] :
+         {std::pair{ResidualKind::Gtsam, "gtsam"}, std::pair{ResidualKind::Forster, "forster"}})
+      benchmark::RegisterBenchmark(
+          (std::string("BM_CeresFactorEvaluate/") + m.id + "/" + name).c_str(),
+          BM_CeresFactorEvaluate, m.kind, m.id, residual, true);
+    benchmark::RegisterBenchmark(
+        (std::string("BM_CeresFactorEvaluate/") + m.id + "/gtsam/residual_only").c_str(),
+        BM_CeresFactorEvaluate, m.kind, m.id, ResidualKind::Gtsam, false);
+    benchmark::RegisterBenchmark((std::string("BM_CeresFactorReintegrate/") + m.id).c_str(),
+                                 BM_CeresFactorReintegrate, m.kind, m.id);
+  }
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

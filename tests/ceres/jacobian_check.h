@@ -1,0 +1,61 @@
+// The derivative check every cost of imuconv::ceres passes, along Ceres's own path: the cost's
+// ambient Jacobian times the manifold's PlusJacobian against central differences of the cost
+// through the manifold's Plus, block by block.
+#pragma once
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace imuconv::ceres_test {
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+/// The largest difference between the two, divided by the largest entry of the differences
+/// (at least 1), over every block. The step h = 1e-6 of the tangent: central differences err by
+/// O(h^2) times the third derivative and by the residual's round-off (1e-16 |r|) over h.
+inline double TangentJacobianError(const ::ceres::CostFunction& cost,
+                                   const std::vector<double*>& blocks,
+                                   const std::vector<const ::ceres::Manifold*>& manifolds) {
+  const int m = cost.num_residuals();
+  const std::vector<int32_t>& sizes = cost.parameter_block_sizes();
+  std::vector<RowMatrix> ambient(blocks.size());
+  std::vector<double*> jac(blocks.size());
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    ambient[b].resize(m, sizes[b]);
+    jac[b] = ambient[b].data();
+  }
+  Eigen::VectorXd r0(m);
+  if (!cost.Evaluate(blocks.data(), r0.data(), jac.data())) return 1e300;
+  double worst = 0.0;
+  const double h = 1e-6;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const ::ceres::Manifold& M = *manifolds[b];
+    RowMatrix P(M.AmbientSize(), M.TangentSize());
+    M.PlusJacobian(blocks[b], P.data());
+    const RowMatrix analytic = ambient[b] * P;
+    RowMatrix numeric(m, M.TangentSize());
+    std::vector<double> saved(blocks[b], blocks[b] + sizes[b]), moved(sizes[b]);
+    for (int i = 0; i < M.TangentSize(); ++i) {
+      Eigen::VectorXd d = Eigen::VectorXd::Zero(M.TangentSize()), rp(m), rm(m);
+      d[i] = h;
+      M.Plus(saved.data(), d.data(), moved.data());
+      std::copy(moved.begin(), moved.end(), blocks[b]);
+      cost.Evaluate(blocks.data(), rp.data(), nullptr);
+      d[i] = -h;
+      M.Plus(saved.data(), d.data(), moved.data());
+      std::copy(moved.begin(), moved.end(), blocks[b]);
+      cost.Evaluate(blocks.data(), rm.data(), nullptr);
+      numeric.col(i) = (rp - rm) / (2.0 * h);
+    }
+    std::copy(saved.begin(), saved.end(), blocks[b]);
+    const double scale = std::max(1.0, numeric.cwiseAbs().maxCoeff());
+    worst = std::max(worst, (analytic - numeric).cwiseAbs().maxCoeff() / scale);
+  }
+  return worst;
+}
+
+}  // namespace imuconv::ceres_test
