@@ -78,7 +78,9 @@ nlohmann::json ResultJson(const Result& r) {
                  {"factors", r.factors},
                  {"rounds", rounds},
                  {"pending_reintegration", r.pending_reintegration}};
-  j["covariance"] = {{"computed", r.covariance_ok}, {"message", r.covariance_message}};
+  j["covariance"] = {{"computed", r.covariance_ok},
+                     {"message", r.covariance_message},
+                     {"seconds", r.covariance_seconds}};
   nlohmann::json kfs = nlohmann::json::array();
   for (const Keyframe& k : r.keyframes) {
     nlohmann::json o = {{"t", k.t},        {"p", Vec(k.x.p)},   {"q_wxyz", Quaternion(k.x.R)},
@@ -119,7 +121,14 @@ void PrintTable(std::ostream& out, const Result& r) {
     out << "  " << r.pending_reintegration
         << " factors' biases still moved beyond the thresholds after the last solve "
            "(first-order corrected)\n";
-  if (!r.covariance_ok) out << "covariance: " << r.covariance_message << "\n";
+  if (!r.covariance_ok) {
+    out << "covariance: " << r.covariance_message << "\n";
+  } else {
+    std::snprintf(buf, sizeof buf,
+                  "covariance: each keyframe's 15x15 marginal in the %s chart, %.3f s\n",
+                  r.convention.c_str(), r.covariance_seconds);
+    out << buf;
+  }
   std::snprintf(buf, sizeof buf, "%10s %10s %10s %10s  %-32s %-32s\n", "t [s]", "p.x", "p.y", "p.z",
                 "bg [rad/s] (1 sigma)", "ba [m/s^2] (1 sigma)");
   out << buf;

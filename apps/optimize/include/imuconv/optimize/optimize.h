@@ -106,6 +106,7 @@ struct Result {
   std::string solver_message;  ///< Ceres's last message
   bool covariance_ok = false;  ///< every marginal computed (false: not asked, or rank deficient)
   std::string covariance_message;
+  double covariance_seconds = 0.0;  ///< wall time of ceres::Covariance's Compute and blocks
   bool has_reference_bias = false;
   BiasComparison bias;
 };
