@@ -130,13 +130,18 @@ Result RunOptimize(const Registry& reg, const pipeline::ImuData& imu,
   const double t_begin = std::max(imu.samples.front().t, poses.t.front());
   const double t_end = std::min(imu.samples.back().t, poses.t.back());
   const double span = t_end - t_begin;
+  if (!(span > 0))
+    throw Error("the IMU data (" + imu.source + ", " + Seconds(imu.samples.front().t) + " to " +
+                Seconds(imu.samples.back().t) + ") and the poses (" + poses.source + ", " +
+                Seconds(poses.t.front()) + " to " + Seconds(poses.t.back()) +
+                ", on the IMU's time axis) do not overlap");
   if (!std::isfinite(step) || !(step > 0))
     throw Error("--keyframe-step: " + Seconds(step) + " is not a positive duration");
   if (step < period)
     throw Error("--keyframe-step: " + Seconds(step) + " is shorter than the IMU's sample period (" +
                 Seconds(period) + ", the median in " + imu.source +
                 "): a factor needs at least one interval");
-  if (!(span > 0) || step > span + kTimeSlack)
+  if (step > span + kTimeSlack)
     throw Error("--keyframe-step: " + Seconds(step) + " is longer than the " + Seconds(span) +
                 " the IMU data (" + imu.source + ") and the poses (" + poses.source +
                 ") share: there would be fewer than two keyframes");

@@ -159,6 +159,15 @@ TEST(OptimizeCommand, KeyframeStepOutsideTheDataIsRefused) {
   ExpectRefused(s.o, "--keyframe-step");
 }
 
+TEST(OptimizeCommand, PosesThatMissTheImuDataAreRefused) {
+  Slice s;
+  // Two poses 10^6 s after the slice (whose 20 s start at the IMU's first stamp, 1403715293...).
+  std::ofstream(s.poses) << "#time(ns),px,py,pz,qw,qx,qy,qz,vx,vy,vz,bwx,bwy,bwz,bax,bay,baz\n"
+                            "1404715293262142976,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n"
+                            "1404715293312142976,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n";
+  ExpectRefused(s.o, "do not overlap");
+}
+
 TEST(OptimizeCommand, UnknownMethodAndConventionAreNamed) {
   Slice s;
   s.o.method = "rk5";
