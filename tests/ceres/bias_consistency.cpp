@@ -42,7 +42,7 @@ TEST(CeresBiasMonteCarlo, EstimatedBiasesWithinTheirCovarianceAsAGaussianPredict
                  Vec3(0.1, -0.05, 0.2), true, rng, g);
     const Measurements meas = DrawMeasurements(run, true, rng);
     SmallProblem sp;
-    BuildProblem(reg, "left", method, ResidualKind::Gtsam, run, meas, sp);
+    BuildProblem(reg, "left", method, PreintegrationFactorOptions{}, run, meas, sp);
     ::ceres::Solver::Options so = TightSolverOptions();
     so.function_tolerance = 1e-12;  // the errors compared are of the order of the noise
     ::ceres::Solver::Summary summary;

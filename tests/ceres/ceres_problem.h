@@ -9,6 +9,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "imuconv/bridge.h"
@@ -154,16 +155,17 @@ inline ImuState Perturbed(const ImuState& x, int k) {
   return y;
 }
 
+/// The factors are linearized at the prior's biases (what an estimator knows before the solve)
+/// unless `linearize_at` gives others ({bg, ba}).
 inline void BuildProblem(const Registry& reg, const std::string& convention,
-                         const PreintegrationMethod& method, ResidualKind kind,
-                         const SimulatedRun& run, const Measurements& meas, SmallProblem& out) {
+                         const PreintegrationMethod& method, const PreintegrationFactorOptions& fo,
+                         const SimulatedRun& run, const Measurements& meas, SmallProblem& out,
+                         const std::pair<Vec3, Vec3>* linearize_at = nullptr) {
   ::ceres::Problem::Options po;
   po.manifold_ownership = ::ceres::TAKE_OWNERSHIP;
   out.problem = std::make_unique<::ceres::Problem>(po);
   const std::size_t K = run.truth.size();
   out.blocks.resize(K);
-  PreintegrationFactorOptions fo;
-  fo.kind = kind;
   for (std::size_t k = 0; k < K; ++k) {
     ToStateBlock(Perturbed(run.truth[k], static_cast<int>(k)), out.blocks[k].data());
     out.problem->AddParameterBlock(out.blocks[k].data(), kStateBlockSize,
@@ -175,10 +177,10 @@ inline void BuildProblem(const Registry& reg, const std::string& convention,
   out.problem->AddResidualBlock(MakeStatePrior(reg, "left", meas.prior, PriorCovarianceLeft()),
                                 nullptr, out.blocks[0].data());
   for (std::size_t k = 0; k + 1 < K; ++k) {
-    // Linearized at the prior's biases (what an estimator knows before the solve).
     out.factors.push_back(std::make_unique<PreintegrationFactor>(
         reg, method, run.samples, run.keyframe_t[k], run.keyframe_t[k + 1], SimulatedNoise(),
-        meas.prior.bg, meas.prior.ba, fo));
+        linearize_at ? linearize_at->first : meas.prior.bg,
+        linearize_at ? linearize_at->second : meas.prior.ba, fo));
     out.problem->AddResidualBlock(out.factors.back()->MakeCostFunction(), nullptr,
                                   out.blocks[k].data(), out.blocks[k + 1].data());
   }

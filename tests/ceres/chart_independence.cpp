@@ -23,7 +23,9 @@ TEST(CeresChartIndependence, SameOptimumInEveryStateConvention) {
     std::string reference_id;
     for (const std::string& id : reg.ids(PluginKind::StateConvention)) {
       SmallProblem sp;
-      BuildProblem(reg, id, method, kind, run, meas, sp);
+      PreintegrationFactorOptions fo;
+      fo.kind = kind;
+      BuildProblem(reg, id, method, fo, run, meas, sp);
       ::ceres::Solver::Summary summary;
       ::ceres::Solve(TightSolverOptions(), sp.problem.get(), &summary);
       ASSERT_TRUE(summary.IsSolutionUsable()) << id << ": " << summary.BriefReport();

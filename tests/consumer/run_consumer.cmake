@@ -18,6 +18,16 @@ execute_process(COMMAND ${WORK}/build/consumer RESULT_VARIABLE rc)
 if(rc)
   message(FATAL_ERROR "consumer run failed")
 endif()
+# imuconv::ceres through the package, when it was installed with it.
+if(EXISTS ${WORK}/prefix/include/imuconv/ceres/state_manifold.h)
+  if(NOT EXISTS ${WORK}/build/consumer_ceres)
+    message(FATAL_ERROR "the package installed imuconv::ceres's headers but not its target")
+  endif()
+  execute_process(COMMAND ${WORK}/build/consumer_ceres RESULT_VARIABLE rc)
+  if(rc)
+    message(FATAL_ERROR "consumer_ceres run failed")
+  endif()
+endif()
 
 # The user's tool does not need Google Benchmark at run time (imuconv-bench does).
 execute_process(COMMAND readelf -d ${WORK}/prefix/bin/imuconv OUTPUT_VARIABLE dyn RESULT_VARIABLE rc)
