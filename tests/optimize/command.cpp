@@ -123,6 +123,59 @@ TEST(OptimizeCommand, ReportDrawsEachBiasAgainstTheGroundTruth) {
   EXPECT_TRUE(Has(page, "estimate \u00b13 sigma"));
 }
 
+// The slice's poses rewritten as a TUM trajectory and as EuRoC vicon0 rows (every digit kept):
+// the same poses, so the same estimate (to rounding); only the reference biases are gone, and
+// vicon0 warns
+// that its poses are the marker's.
+TEST(OptimizeCommand, TumAndVicon0PosesGiveTheSameEstimate) {
+  Slice s;
+  const Output euroc = RunOptimize(s.o);
+  ASSERT_EQ(euroc.exit_code, imuconv::cli::kExitOk) << euroc.err;
+  const json ref = json::parse(euroc.out);
+  std::ifstream in(s.poses);
+  std::ofstream tum(s.tmp.file("poses.tum")), vicon(s.tmp.file("vicon0.csv"));
+  vicon << "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],"
+           "q_RS_z []\n";
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> f;
+    std::stringstream fields(line);
+    for (std::string x; std::getline(fields, x, ',');) f.push_back(x);
+    ASSERT_EQ(f.size(), 17u);
+    // TUM: seconds with the nanoseconds' digits, then p and q as x y z w.
+    const std::string ns = f[0];
+    tum << ns.substr(0, ns.size() - 9) << "." << ns.substr(ns.size() - 9) << " " << f[1] << " "
+        << f[2] << " " << f[3] << " " << f[5] << " " << f[6] << " " << f[7] << " " << f[4] << "\n";
+    vicon << f[0] << "," << f[1] << "," << f[2] << "," << f[3] << "," << f[4] << "," << f[5] << ","
+          << f[6] << "," << f[7] << "\n";
+  }
+  tum.close();
+  vicon.close();
+  for (const std::string& file : {s.tmp.file("poses.tum"), s.tmp.file("vicon0.csv")}) {
+    s.o.poses_path = file;
+    const Output r = RunOptimize(s.o);
+    ASSERT_EQ(r.exit_code, imuconv::cli::kExitOk) << file << "\n" << r.err;
+    const json j = json::parse(r.out);
+    EXPECT_FALSE(j.contains("bias_vs_reference")) << file;
+    ASSERT_EQ(j["keyframes"].size(), ref["keyframes"].size()) << file;
+    // Not to the bit: the TUM reader's decimal seconds and each reader's quaternion
+    // normalisation round differently (1e-16), which the solve carries at that scale; 1e-9 is
+    // that and far below any difference of poses (the slice's noise is 1e-4 and more).
+    for (std::size_t k = 0; k < ref["keyframes"].size(); ++k) {
+      EXPECT_NEAR(j["keyframes"][k]["t"].get<double>(), ref["keyframes"][k]["t"].get<double>(),
+                  1e-9);
+      for (const char* key : {"p", "q_wxyz", "v", "bg", "ba"})
+        for (std::size_t a = 0; a < ref["keyframes"][k][key].size(); ++a)
+          EXPECT_NEAR(j["keyframes"][k][key][a].get<double>(),
+                      ref["keyframes"][k][key][a].get<double>(), 1e-9)
+              << file << " keyframe " << k << " " << key;
+    }
+    EXPECT_EQ(Has(r.err, "vicon0 poses are the Vicon marker's"), file == s.tmp.file("vicon0.csv"))
+        << r.err;
+  }
+}
+
 // Each case: what is wrong, and what the message must name.
 void ExpectRefused(const OptimizeCommandOptions& o, const std::string& named) {
   const Output r = RunOptimize(o);
@@ -185,6 +238,10 @@ TEST(OptimizeCommand, AnOutputNamingAnInputIsRefusedAndTheInputKept) {
   // the command's list of them).
   ExpectRefused(s.o, "is the same file as");
   EXPECT_EQ(ReadText(s.imu), before);
+  Slice o;
+  o.o.output_path = o.tmp.file("same.html");
+  o.o.report_path = o.tmp.file("same.html");
+  ExpectRefused(o.o, "-o and --report name the same file");
   Slice t;
   const std::string poses_before = ReadText(t.poses);
   t.o.report_path = t.poses;
