@@ -92,6 +92,7 @@ int RunOptimizeCommand(const CommandContext& ctx, const OptimizeCommandOptions& 
     options.reintegrate_gyro = o.reintegrate_gyro;
     options.reintegrate_accel = o.reintegrate_accel;
     options.max_rounds = o.max_rounds;
+    options.max_iterations = o.max_iterations;
     options.gravity = in.gravity;
     Judgment judgment;
     judgment.warnings = in.warnings;
@@ -171,6 +172,10 @@ void RegisterOptimizeCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--max-rounds", o->max_rounds,
                   "Solves at most: the first, and one after each re-integration (default 4)")
       ->check(CLI::Range(1, 100));
+  sub->add_option("--max-iterations", o->max_iterations,
+                  "Levenberg-Marquardt iterations per solve at most (default 100); a solve that "
+                  "stops on it has not converged, which the output says (exit 1)")
+      ->check(CLI::Range(1, 100000));
   sub->add_flag("--json", o->as_json,
                 "Print one JSON object (its keyframes the list \"keyframes\", docs/optimize.md) "
                 "instead of the table");

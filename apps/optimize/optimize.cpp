@@ -122,6 +122,7 @@ Result RunOptimize(const Registry& reg, const pipeline::ImuData& imu,
   if (!(options.reintegrate_gyro > 0) || !(options.reintegrate_accel > 0))
     throw Error("--reintegrate-gyro/--reintegrate-accel: thresholds must be positive");
   if (options.max_rounds < 1) throw Error("--max-rounds: at least one solve");
+  if (options.max_iterations < 1) throw Error("--max-iterations: at least one iteration");
   if (imu.samples.size() < 2 || poses.t.size() < 2)
     throw Error("fewer than two IMU samples or poses");
 

@@ -10,6 +10,7 @@
 
 #include "../cli/euroc_slice.h"
 #include "../pipeline/pipeline_test_util.h"
+#include "../support/imuconv_test.h"
 #include "imuconv/cli/cmd_optimize.h"
 #include "imuconv/cli/exit_codes.h"
 
@@ -174,6 +175,32 @@ TEST(OptimizeCommand, TumAndVicon0PosesGiveTheSameEstimate) {
     EXPECT_EQ(Has(r.err, "vicon0 poses are the Vicon marker's"), file == s.tmp.file("vicon0.csv"))
         << r.err;
   }
+}
+
+// A solve stopped before it converged is an answer of its own: exit 1, converged false, no
+// covariances, and a warning, never numbers passed off as an optimum.
+TEST(OptimizeCommand, ASolveThatDidNotConvergeSaysSo) {
+  Slice s;
+  s.o.max_iterations =
+      1;  // the first solve starts at cost ~1e6 (zero biases): one step is not enough
+  const Output r = RunOptimize(s.o);
+  EXPECT_EQ(r.exit_code, imuconv::cli::kExitInconsistent) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_FALSE(j["solver"]["converged"].get<bool>());
+  EXPECT_EQ(j["solver"]["termination"], "NO_CONVERGENCE");
+  EXPECT_FALSE(j["covariance"]["computed"].get<bool>());
+  EXPECT_TRUE(j["keyframes"][0]["cov"].is_null());
+  EXPECT_TRUE(Has(r.err, "the solve did not converge")) << r.err;
+}
+
+// Kalibr's imu.yaml with EuRoC's densities (tests/data/kalibr) is the JSON noise object.
+TEST(OptimizeCommand, KalibrNoiseIsTheJsonNoise) {
+  Slice s;
+  const Output json_noise = RunOptimize(s.o);
+  s.o.noise_path = DataPath("kalibr/euroc_imu.yaml");
+  const Output kalibr = RunOptimize(s.o);
+  ASSERT_EQ(kalibr.exit_code, imuconv::cli::kExitOk) << kalibr.err;
+  EXPECT_EQ(json::parse(kalibr.out)["keyframes"], json::parse(json_noise.out)["keyframes"]);
 }
 
 // Each case: what is wrong, and what the message must name.

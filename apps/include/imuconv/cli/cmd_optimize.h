@@ -23,6 +23,7 @@ struct OptimizeCommandOptions {
   double reintegrate_gyro = 0.01;   ///< --reintegrate-gyro, rad/s (VINS-Fusion's)
   double reintegrate_accel = 0.10;  ///< --reintegrate-accel, m/s^2 (VINS-Fusion's)
   int max_rounds = 4;               ///< --max-rounds: solves at most
+  int max_iterations = 100;         ///< --max-iterations: per solve
   bool as_json = false;             ///< --json
   std::string output_path;          ///< -o: the JSON or table goes there, not to stdout
   std::string report_path;          ///< --report OUT.html, or empty
