@@ -20,6 +20,7 @@ pipeline::json Evaluate(const Registry& reg, const pipeline::ImuData& imu,
   o.reintegrate_gyro = s.reintegrate_gyro;
   o.reintegrate_accel = s.reintegrate_accel;
   o.max_rounds = s.max_rounds;
+  o.max_iterations = s.max_iterations;
   o.noise = noise;
   o.gravity = gravity;
   return ResultJson(RunOptimize(reg, imu, poses, o));

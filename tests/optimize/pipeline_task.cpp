@@ -39,6 +39,21 @@ TEST(OptimizeTask, WritesWhatTheCommandPrints) {
   EXPECT_EQ(task["solver"]["final_cost"], cli["solver"]["final_cost"]);
 }
 
+TEST(OptimizeTask, ASolveThatDidNotConvergeSaysSoInTheDocument) {
+  TempDir tmp;
+  const std::string p = WritePipeline(tmp, json::array({{{"type", "optimize"},
+                                                         {"name", "opt"},
+                                                         {"keyframe_step", 2.0},
+                                                         {"max_iterations", 1}}}));
+  const CommandResult run = RunImuconv("run " + ShellQuote(p), tmp);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json out = json::parse(run.out);
+  const json& task = TaskOutput(out, "opt");
+  EXPECT_FALSE(task["solver"]["converged"].get<bool>());
+  EXPECT_FALSE(task["covariance"]["computed"].get<bool>());
+  EXPECT_NE(run.err.find("DID NOT CONVERGE"), std::string::npos) << run.err;
+}
+
 TEST(OptimizeTask, RefusesWhatItCannotUseAtItsPointer) {
   TempDir tmp;
   const std::string p = WritePipeline(tmp, json::array({{{"type", "optimize"},

@@ -3,7 +3,8 @@
 // (docs/optimize.md):
 //   {"type": "optimize", "name": N, "keyframe_step": S, "method"?: ID, "convention"?: ID,
 //    "residual"?: "gtsam"|"forster", "pose_sigma"?: [METRES, RADIANS],
-//    "reintegrate_gyro"?: RAD_PER_S, "reintegrate_accel"?: M_PER_S2, "max_rounds"?: N}
+//    "reintegrate_gyro"?: RAD_PER_S, "reintegrate_accel"?: M_PER_S2, "max_rounds"?: N,
+//    "max_iterations"?: N}
 // The task writes what `imuconv optimize --json` prints under its name and type.
 //
 // The solve is imuconv optimize's (apps/optimize, with Ceres), which links this library: it is
@@ -92,8 +93,8 @@ class OptimizeTask : public Task {
 
 std::unique_ptr<Task> ParseOptimize(const ParseContext& ctx, const Node& n) {
   n.expect_object({"type", "name", "description", "keyframe_step", "method", "convention",
-                   "residual", "pose_sigma", "reintegrate_gyro", "reintegrate_accel",
-                   "max_rounds"});
+                   "residual", "pose_sigma", "reintegrate_gyro", "reintegrate_accel", "max_rounds",
+                   "max_iterations"});
   auto p = std::make_unique<OptimizeTask>();
   RequireImu(ctx, n, "optimize");
   if (!ctx.has_gt)
@@ -137,6 +138,12 @@ std::unique_ptr<Task> ParseOptimize(const ParseContext& ctx, const Node& n) {
       s.max_rounds = static_cast<int>(*rounds);
     else
       n.checker().error(n.child_pointer("max_rounds"), "expected an integer in [1, 100]");
+  }
+  if (auto iterations = n.integer("max_iterations", false)) {
+    if (*iterations >= 1 && *iterations <= 100000)
+      s.max_iterations = static_cast<int>(*iterations);
+    else
+      n.checker().error(n.child_pointer("max_iterations"), "expected an integer in [1, 100000]");
   }
   return p;
 }

@@ -24,6 +24,7 @@ struct OptimizeSettings {
   double pose_sigma_m = 0.01, pose_sigma_rad = 0.01;
   double reintegrate_gyro = 0.01, reintegrate_accel = 0.10;
   int max_rounds = 4;
+  int max_iterations = 100;
 };
 
 /// Solves over every IMU sample and pose, returning the object `imuconv optimize --json` prints;
