@@ -71,6 +71,31 @@ TEST(OutputsAndInputs, AFileReadIsNeverReplacedByAnyName) {
   EXPECT_EQ(ReadText(tmp.file("out.json")), "fresh\n");
 }
 
+// Inode numbers are reused: once an input is deleted, a new file may get its number. A
+// long-lived process (the Python module) then met a refusal of an output that was never read,
+// naming a file that no longer existed. The birth time is part of a file's identity where the
+// file system records one (this machine's ext4 and tmpfs do); the reuse itself cannot be forced,
+// so the new file is stood in for by the input's identity with another birth time.
+TEST(OutputsAndInputs, ANewFileWithADeletedInputsInodeNumberIsNotThatInput) {
+  using imuconv::pipeline::FileIdentity;
+  using imuconv::pipeline::FindRegisteredInput;
+  TempDir tmp;
+  const std::string input = tmp.write("read.json", "{\"a\": 2}\n");
+  EXPECT_EQ(imuconv::pipeline::ParseJsonFile(input)["a"], 2);
+  const auto read = imuconv::pipeline::IdentityAt(AT_FDCWD, input, true);
+  ASSERT_TRUE(read.has_value());
+  ASSERT_TRUE(FindRegisteredInput(*read).has_value());
+  if (!read->has_birth) GTEST_SKIP() << "this file system records no birth time";
+  FileIdentity reused = *read;
+  reused.birth_nsec = (reused.birth_nsec + 1) % 1000000000u;
+  if (reused.birth_nsec == 0) ++reused.birth_sec;
+  EXPECT_FALSE(FindRegisteredInput(reused).has_value());
+  // A file system without birth times keeps the rule by device and inode alone: refused.
+  FileIdentity unknown = *read;
+  unknown.has_birth = false;
+  EXPECT_TRUE(FindRegisteredInput(unknown).has_value());
+}
+
 TEST(OutputsAndInputs, WrittenThroughOutputKeepsMemoryFlat) {
   // 128 MiB to /dev/null in 1 MiB pieces. Held in memory (the old OutputFile) the peak grows
   // by at least 128 MiB; spooled, by the 1 MiB piece, the 1 MiB copy buffer and the

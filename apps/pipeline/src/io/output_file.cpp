@@ -76,9 +76,8 @@ OutputFile::OutputFile(std::string path, std::optional<Confinement> within)
       fd_target_ = *n;
       target_ = path_;
       exists_ = true;
-      dev_ = fst.st_dev;
-      ino_ = fst.st_ino;
-      if (const auto in = FindRegisteredInput(dev_, ino_))
+      identity_ = IdentityOf(*n).value_or(FileIdentity{fst.st_dev, fst.st_ino});
+      if (const auto in = FindRegisteredInput(identity_))
         throw Error(shown + ": is the same file as " + in->role + " " + Printable(in->path) +
                     ": refusing to overwrite it; write the output elsewhere");
       return;
@@ -108,9 +107,8 @@ OutputFile::OutputFile(std::string path, std::optional<Confinement> within)
   if (within_) check_confined();
 
   if (exists_) {
-    dev_ = st.st_dev;
-    ino_ = st.st_ino;
-    if (const auto in = FindRegisteredInput(dev_, ino_))
+    identity_ = IdentityAt(AT_FDCWD, p, false).value_or(FileIdentity{st.st_dev, st.st_ino});
+    if (const auto in = FindRegisteredInput(identity_))
       throw Error(where + ": is the same file as " + in->role + " " + Printable(in->path) +
                   ": refusing to overwrite it; write the output elsewhere");
     if (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode)) {
@@ -229,7 +227,7 @@ void OutputFile::refuse_if_same(const std::string& other, const std::string& rol
   if (!exists_) return;
   struct stat st {};
   if (::stat(other.c_str(), &st) != 0) return;  // an input that is missing fails when it is read
-  if (st.st_dev == dev_ && st.st_ino == ino_)
+  if (st.st_dev == identity_.dev && st.st_ino == identity_.ino)
     throw Error(Printable(path_) + ": is the same file as " + role + " " + Printable(other) +
                 ": refusing to overwrite it; write the output elsewhere");
 }
@@ -253,14 +251,14 @@ void OutputFile::refuse_if_loaded_object() const {
   for (const auto& f : LoadedObjects()) refuse_if_same(f, "the loaded plugin or library");
 }
 
-void OutputFile::refuse_input(dev_t dev, ino_t ino) {
-  if (const auto in = FindRegisteredInput(dev, ino))
+void OutputFile::refuse_input(const FileIdentity& file) {
+  if (const auto in = FindRegisteredInput(file))
     fail("is the same file as " + in->role + " " + Printable(in->path) +
              ": refusing to overwrite it; write the output elsewhere",
          0);
   for (const auto& f : LoadedObjects()) {
     struct stat st {};
-    if (::stat(f.c_str(), &st) == 0 && st.st_dev == dev && st.st_ino == ino)
+    if (::stat(f.c_str(), &st) == 0 && st.st_dev == file.dev && st.st_ino == file.ino)
       fail("is the same file as the loaded plugin or library " + Printable(f) +
                ": refusing to overwrite it; write the output elsewhere",
            0);
@@ -379,10 +377,9 @@ void OutputFile::commit() {
       if (fd < 0) fail("cannot open it for writing", errno);
     }
     // The node written is the one examined, and still not an input (one read since counts).
-    struct stat st {};
-    if (::fstat(fd, &st) == 0) {
+    if (const auto written = IdentityOf(fd)) {
       try {
-        refuse_input(st.st_dev, st.st_ino);
+        refuse_input(*written);
       } catch (...) {
         if (fd != fd_target_) ::close(fd);
         throw;
@@ -408,7 +405,7 @@ void OutputFile::commit() {
                                      : KindOf(now.st_mode)) +
                " while the output was produced; it is left as it is",
            0);
-    refuse_input(now.st_dev, now.st_ino);
+    refuse_input(IdentityAt(dir_fd_, leaf, false).value_or(FileIdentity{now.st_dev, now.st_ino}));
   }
   // Keep the owner and group of a file we replace when we may (root: both; the owner: a group
   // of which they are a member), then its mode (after fchown, which clears set-id bits). The

@@ -36,6 +36,8 @@
 #include <string>
 #include <string_view>
 
+#include "imuconv/pipeline/input_registry.h"
+
 namespace imuconv::pipeline {
 
 class OutputFile {
@@ -94,7 +96,7 @@ class OutputFile {
   void create_spool();
   void check_confined() const;
   /// Throws (through fail()) when the file with this identity is an input or a loaded object.
-  void refuse_input(dev_t dev, ino_t ino);
+  void refuse_input(const FileIdentity& file);
   void keep_attributes();
   void discard() noexcept;
   [[noreturn]] void fail(const std::string& what, int err);
@@ -106,9 +108,8 @@ class OutputFile {
   int fd_target_ = -1;  ///< our descriptor N when the path names one
   bool exists_ = false;
   bool fifo_ = false;
-  dev_t dev_ = 0;
-  ino_t ino_ = 0;
-  mode_t perms_ = 0;  ///< the mode bits (07777) for the replaced file
+  FileIdentity identity_;  ///< the destination's, when it exists
+  mode_t perms_ = 0;       ///< the mode bits (07777) for the replaced file
   uid_t uid_ = 0;
   gid_t gid_ = 0;
   int fd_ = -1;    ///< the open temporary
