@@ -74,14 +74,47 @@ double FittedScale(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, const B
   return kk > 0.0 && std::isfinite(ku) ? ku / kk : 0.0;
 }
 
+/// Block B's max d as the numbers are (no finding undone).
+double MaxD(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, const Block& B) {
+  return Residual(K, U, S, B, 1.0, Same);
+}
+
+bool Beyond(double max_d, double tol) { return !(max_d <= tol); }
+
+/// The blocks of a Jacobian (three row blocks x two column blocks) and of a covariance (on and
+/// above the diagonal: the one below is the same numbers transposed, the user's covariance being
+/// symmetric, the measurement reader's check), labelled when labels are given.
+std::vector<Block> JacobianBlocks(const std::vector<std::string>* row_labels,
+                                  const std::vector<std::string>* col_labels) {
+  std::vector<Block> blocks;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 2; ++c)
+      blocks.push_back({3 * r, 3 * c, row_labels ? row_labels->at(r) : std::string(),
+                        col_labels ? col_labels->at(c) : std::string()});
+  return blocks;
+}
+std::vector<Block> CovarianceBlocks(const std::vector<std::string>& labels) {
+  std::vector<Block> blocks;
+  for (int a = 0; a < 5; ++a)
+    for (int b = a; b < 5; ++b) blocks.push_back({3 * a, 3 * b, labels.at(a), labels.at(b)});
+  return blocks;
+}
+
+int CountBeyond(MatrixView K, MatrixView U, const Eigen::MatrixXd& S,
+                const std::vector<Block>& blocks, double tol) {
+  int n = 0;
+  for (const Block& B : blocks) n += Beyond(MaxD(K, U, S, B), tol) ? 1 : 0;
+  return n;
+}
+
 BlockAnalysis Analyze(MatrixView K, MatrixView U, const Eigen::MatrixXd& S,
                       const std::vector<Block>& blocks, const std::string& matrix, double tol) {
   BlockAnalysis out;
   std::vector<double> before(blocks.size());
   std::vector<bool> open(blocks.size());
   for (std::size_t b = 0; b < blocks.size(); ++b) {
-    before[b] = Residual(K, U, S, blocks[b], 1.0, Same);
-    open[b] = !(before[b] <= tol);
+    before[b] = MaxD(K, U, S, blocks[b]);
+    open[b] = Beyond(before[b], tol);
     if (open[b]) {
       ++out.mismatched;
       out.mismatch_sum += before[b];
@@ -171,21 +204,23 @@ std::string Num3(double v) {
 BlockAnalysis AnalyzeJacobianBlocks(MatrixView K, MatrixView U,
                                     const std::vector<std::string>& row_labels,
                                     const std::vector<std::string>& col_labels, double tol) {
-  std::vector<Block> blocks;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 2; ++c)
-      blocks.push_back({3 * r, 3 * c, row_labels.at(r), col_labels.at(c)});
-  return Analyze(K, U, JacobianScales(K), blocks, "J_bias", tol);
+  return Analyze(K, U, JacobianScales(K), JacobianBlocks(&row_labels, &col_labels), "J_bias", tol);
 }
 
 BlockAnalysis AnalyzeCovarianceBlocks(MatrixView K, MatrixView U,
                                       const std::vector<std::string>& labels, double tol) {
-  // The blocks on and above the diagonal: the one below is the same numbers transposed (the
-  // user's covariance is symmetric, the measurement reader's check).
-  std::vector<Block> blocks;
-  for (int a = 0; a < 5; ++a)
-    for (int b = a; b < 5; ++b) blocks.push_back({3 * a, 3 * b, labels.at(a), labels.at(b)});
-  return Analyze(K, U, CovarianceScales(K), blocks, "cov", tol);
+  return Analyze(K, U, CovarianceScales(K), CovarianceBlocks(labels), "cov", tol);
+}
+
+int JacobianBlocksBeyond(MatrixView K, MatrixView U, double tol) {
+  return CountBeyond(K, U, JacobianScales(K), JacobianBlocks(nullptr, nullptr), tol);
+}
+
+int CovarianceBlocksBeyond(const ReorderedCovarianceDiffs::BlockMaxD& block_max_d, double tol) {
+  int n = 0;
+  for (std::size_t a = 0; a < 5; ++a)
+    for (std::size_t b = a; b < 5; ++b) n += Beyond(block_max_d[a][b], tol) ? 1 : 0;
+  return n;
 }
 
 std::string FactorWords(double factor, double dt) {

@@ -82,6 +82,7 @@ ReorderedCovarianceDiffs::ReorderedCovarianceDiffs(MatrixView ref, MatrixView us
   if (ref.rows() != ref.cols() || user.rows() != ref.rows() || user.cols() != ref.cols())
     throw std::logic_error("check: compared covariances differ in shape");
   largest_ = ref.diagonal().cwiseAbs().maxCoeff();
+  ref_finite_ = ref.allFinite();
   // K_ii K_jj of the reordered K is ref(a, a) ref(b, b) for its indices a, b: the same operands.
   for (Eigen::Index j = 0; j < ref.cols(); ++j)
     for (Eigen::Index i = 0; i < ref.rows(); ++i) {
@@ -89,6 +90,36 @@ ReorderedCovarianceDiffs::ReorderedCovarianceDiffs(MatrixView ref, MatrixView us
       rho_ref_(i, j) = Correlation(ref(i, j), ref(i, i), ref(j, j));
       rho_user_(i, j) = Correlation(user(i, j), user(i, i), user(j, j));
     }
+  if (ref.rows() != 15) return;
+  block_table_.assign(625, 0.0);
+  const Eigen::Index n = 15;
+  const double *r = ref_.data(), *u = user_.data(), *scale = scale_.data();
+  for (int a = 0; a < 5; ++a)
+    for (int b = 0; b < 5; ++b)
+      for (int pa = 0; pa < 5; ++pa)
+        for (int pb = 0; pb < 5; ++pb) {
+          double m = 0.0;
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+              const Eigen::Index ab = (3 * pa + i) + (3 * pb + j) * n;
+              m = std::max(m, NanToInf(CorrelationScaleValue(
+                                  r[ab], u[(3 * a + i) + (3 * b + j) * n], scale[ab], largest_)));
+            }
+          block_table_[static_cast<std::size_t>(((a * 5 + b) * 5 + pa) * 5 + pb)] = m;
+        }
+}
+
+ReorderedCovarianceDiffs::BlockMaxD ReorderedCovarianceDiffs::BlockMaxima(
+    const Eigen::Index* from) const {
+  if (block_table_.empty())
+    throw std::logic_error("check: block maxima of a covariance that is not 15x15");
+  BlockMaxD out;
+  for (int a = 0; a < 5; ++a)
+    for (int b = 0; b < 5; ++b)
+      out[static_cast<std::size_t>(a)][static_cast<std::size_t>(b)] =
+          block_table_[static_cast<std::size_t>(((a * 5 + b) * 5 + from[3 * a] / 3) * 5 +
+                                                from[3 * b] / 3)];
+  return out;
 }
 
 // The two loops below run 120 times per candidate and measurement: they index the column-major
