@@ -19,17 +19,23 @@ struct Block {
   std::string row, col;
 };
 
-/// The denominators of a part's difference, entry by entry, of the reference K.
-Eigen::MatrixXd JacobianScales(MatrixView K) {
+ColumnMajorEntries In(MatrixView m) { return ColumnMajorEntries(m); }
+
+/// The denominators of a part's difference, entry by entry, of the reference K: at most 15x15
+/// (the covariance; J_bias is 9x6), held without a heap allocation.
+using Scales = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 15, 15>;
+ColumnMajorEntries In(const Scales& s) { return ColumnMajorEntries(s.data(), s.outerStride()); }
+Scales JacobianScales(MatrixView K) {
   const double small = kBlockFloor * K.cwiseAbs().maxCoeff();
   return K.cwiseAbs().cwiseMax(small);
 }
-Eigen::MatrixXd CovarianceScales(MatrixView K) {
+Scales CovarianceScales(MatrixView K) {
   const double largest = K.diagonal().cwiseAbs().maxCoeff();
-  Eigen::MatrixXd S(K.rows(), K.cols());
+  const ColumnMajorEntries k = In(K);
+  Scales S(K.rows(), K.cols());
   for (Eigen::Index j = 0; j < K.cols(); ++j)
     for (Eigen::Index i = 0; i < K.rows(); ++i) {
-      const double s = std::sqrt(std::abs(K(i, i) * K(j, j)));
+      const double s = std::sqrt(std::abs(k(i, i) * k(j, j)));
       S(i, j) =
           s > 0.0 ? s : largest;  // a state no noise reaches: judged against the largest variance
     }
@@ -39,8 +45,8 @@ Eigen::MatrixXd CovarianceScales(MatrixView K) {
 /// max over block B of |f K(src) - U(i, j)| / (|f| S(src)); src(i, j) maps B's entry to K's.
 /// f = 0 (missing): |U(i, j)| / S(i, j). Not finite (a NaN) counts as infinite.
 template <typename Src>
-double Residual(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, const Block& B, double f,
-                Src src) {
+double Residual(const ColumnMajorEntries& K, const ColumnMajorEntries& U,
+                const ColumnMajorEntries& S, const Block& B, double f, Src src) {
   double worst = 0.0;
   for (Eigen::Index i = B.r0; i < B.r0 + 3; ++i)
     for (Eigen::Index j = B.c0; j < B.c0 + 3; ++j) {
@@ -62,7 +68,8 @@ std::pair<Eigen::Index, Eigen::Index> Same(Eigen::Index i, Eigen::Index j) { ret
 
 /// Least-squares f of U = f K over block B, each entry weighted by 1/S^2 (the metric's own
 /// weights); 0 when K's block is zero.
-double FittedScale(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, const Block& B) {
+double FittedScale(const ColumnMajorEntries& K, const ColumnMajorEntries& U,
+                   const ColumnMajorEntries& S, const Block& B) {
   double ku = 0.0, kk = 0.0;
   for (Eigen::Index i = B.r0; i < B.r0 + 3; ++i)
     for (Eigen::Index j = B.c0; j < B.c0 + 3; ++j) {
@@ -75,7 +82,8 @@ double FittedScale(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, const B
 }
 
 /// Block B's max d as the numbers are (no finding undone).
-double MaxD(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, const Block& B) {
+double MaxD(const ColumnMajorEntries& K, const ColumnMajorEntries& U, const ColumnMajorEntries& S,
+            const Block& B) {
   return Residual(K, U, S, B, 1.0, Same);
 }
 
@@ -100,15 +108,16 @@ std::vector<Block> CovarianceBlocks(const std::vector<std::string>& labels) {
   return blocks;
 }
 
-int CountBeyond(MatrixView K, MatrixView U, const Eigen::MatrixXd& S,
-                const std::vector<Block>& blocks, double tol) {
+int CountBeyond(MatrixView K, MatrixView U, const Scales& S, const std::vector<Block>& blocks,
+                double tol) {
   int n = 0;
-  for (const Block& B : blocks) n += Beyond(MaxD(K, U, S, B), tol) ? 1 : 0;
+  for (const Block& B : blocks) n += Beyond(MaxD(In(K), In(U), In(S), B), tol) ? 1 : 0;
   return n;
 }
 
-BlockAnalysis Analyze(MatrixView K, MatrixView U, const Eigen::MatrixXd& S,
+BlockAnalysis Analyze(MatrixView K_view, MatrixView U_view, const Scales& S_matrix,
                       const std::vector<Block>& blocks, const std::string& matrix, double tol) {
+  const ColumnMajorEntries K = In(K_view), U = In(U_view), S = In(S_matrix);
   BlockAnalysis out;
   std::vector<double> before(blocks.size());
   std::vector<bool> open(blocks.size());
@@ -145,7 +154,7 @@ BlockAnalysis Analyze(MatrixView K, MatrixView U, const Eigen::MatrixXd& S,
     };
     // Missing: exactly zero (terms never formed are never written as anything else; a block
     // merely far smaller than the reference is a scale, e.g. a density used as a variance).
-    if (U.block(B.r0, B.c0, 3, 3).isZero(0.0))
+    if (U_view.block(B.r0, B.c0, 3, 3).isZero(0.0))
       consider("missing", 0.0, Residual(K, U, S, B, 0.0, Same), b);
     consider("sign", -1.0, Residual(K, U, S, B, -1.0, Same), b);
     for (std::size_t c = b + 1; c < blocks.size(); ++c) {

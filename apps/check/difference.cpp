@@ -22,19 +22,15 @@ void Add(EntryDiff& out, double d) {
   out.mean += d;
 }
 
-/// Column-major entries read in place (the views' own operator() is a call per entry in the
-/// sanitized build's -O1, where the search spent most of its time in it).
-struct Entries {
-  const double* data;
-  Eigen::Index stride;
-  explicit Entries(MatrixView m) : data(m.data()), stride(m.outerStride()) {}
-  /// The second matrix of a comparison, which must have the first's shape (every caller
-  /// compares a candidate with the user's matrix of the same block layout).
-  Entries(MatrixView m, MatrixView shape_of) : Entries(m) {
+/// Entries read in place (difference.h); the second matrix of a comparison must have the
+/// first's shape (every caller compares a candidate with the user's matrix of the same block
+/// layout).
+struct Entries : ColumnMajorEntries {
+  explicit Entries(MatrixView m) : ColumnMajorEntries(m) {}
+  Entries(MatrixView m, MatrixView shape_of) : ColumnMajorEntries(m) {
     if (m.rows() != shape_of.rows() || m.cols() != shape_of.cols())
       throw std::logic_error("check: compared matrices differ in shape");
   }
-  double operator()(Eigen::Index i, Eigen::Index j) const { return data[i + j * stride]; }
 };
 
 // One entry of each difference: the summaries, the search and the entrywise matrices are

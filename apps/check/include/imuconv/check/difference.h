@@ -20,6 +20,16 @@ namespace imuconv::check {
 /// which matters in the search, which compares thousands of candidates per measurement.
 using MatrixView = const Eigen::Ref<const Eigen::MatrixXd>&;
 
+/// A matrix's column-major entries read in place: Eigen's operator() on a view is a call per
+/// entry in the sanitized build's -O1, where the search spent most of its time in it.
+struct ColumnMajorEntries {
+  const double* data;
+  Eigen::Index stride;
+  ColumnMajorEntries(const double* d, Eigen::Index outer_stride) : data(d), stride(outer_stride) {}
+  explicit ColumnMajorEntries(MatrixView m) : ColumnMajorEntries(m.data(), m.outerStride()) {}
+  double operator()(Eigen::Index i, Eigen::Index j) const { return data[i + j * stride]; }
+};
+
 struct EntryDiff {
   double max = 0.0, mean = 0.0;
 };
