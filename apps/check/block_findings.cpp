@@ -19,17 +19,23 @@ struct Block {
   std::string row, col;
 };
 
-/// The denominators of a part's difference, entry by entry, of the reference K.
-Eigen::MatrixXd JacobianScales(MatrixView K) {
+ColumnMajorEntries In(MatrixView m) { return ColumnMajorEntries(m); }
+
+/// The denominators of a part's difference, entry by entry, of the reference K: at most 15x15
+/// (the covariance; J_bias is 9x6), held without a heap allocation.
+using Scales = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 15, 15>;
+ColumnMajorEntries In(const Scales& s) { return ColumnMajorEntries(s.data(), s.outerStride()); }
+Scales JacobianScales(MatrixView K) {
   const double small = kBlockFloor * K.cwiseAbs().maxCoeff();
   return K.cwiseAbs().cwiseMax(small);
 }
-Eigen::MatrixXd CovarianceScales(MatrixView K) {
+Scales CovarianceScales(MatrixView K) {
   const double largest = K.diagonal().cwiseAbs().maxCoeff();
-  Eigen::MatrixXd S(K.rows(), K.cols());
+  const ColumnMajorEntries k = In(K);
+  Scales S(K.rows(), K.cols());
   for (Eigen::Index j = 0; j < K.cols(); ++j)
     for (Eigen::Index i = 0; i < K.rows(); ++i) {
-      const double s = std::sqrt(std::abs(K(i, i) * K(j, j)));
+      const double s = std::sqrt(std::abs(k(i, i) * k(j, j)));
       S(i, j) =
           s > 0.0 ? s : largest;  // a state no noise reaches: judged against the largest variance
     }
@@ -39,8 +45,8 @@ Eigen::MatrixXd CovarianceScales(MatrixView K) {
 /// max over block B of |f K(src) - U(i, j)| / (|f| S(src)); src(i, j) maps B's entry to K's.
 /// f = 0 (missing): |U(i, j)| / S(i, j). Not finite (a NaN) counts as infinite.
 template <typename Src>
-double Residual(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, const Block& B, double f,
-                Src src) {
+double Residual(const ColumnMajorEntries& K, const ColumnMajorEntries& U,
+                const ColumnMajorEntries& S, const Block& B, double f, Src src) {
   double worst = 0.0;
   for (Eigen::Index i = B.r0; i < B.r0 + 3; ++i)
     for (Eigen::Index j = B.c0; j < B.c0 + 3; ++j) {
@@ -62,7 +68,8 @@ std::pair<Eigen::Index, Eigen::Index> Same(Eigen::Index i, Eigen::Index j) { ret
 
 /// Least-squares f of U = f K over block B, each entry weighted by 1/S^2 (the metric's own
 /// weights); 0 when K's block is zero.
-double FittedScale(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, const Block& B) {
+double FittedScale(const ColumnMajorEntries& K, const ColumnMajorEntries& U,
+                   const ColumnMajorEntries& S, const Block& B) {
   double ku = 0.0, kk = 0.0;
   for (Eigen::Index i = B.r0; i < B.r0 + 3; ++i)
     for (Eigen::Index j = B.c0; j < B.c0 + 3; ++j) {
@@ -74,14 +81,49 @@ double FittedScale(MatrixView K, MatrixView U, const Eigen::MatrixXd& S, const B
   return kk > 0.0 && std::isfinite(ku) ? ku / kk : 0.0;
 }
 
-BlockAnalysis Analyze(MatrixView K, MatrixView U, const Eigen::MatrixXd& S,
+/// Block B's max d as the numbers are (no finding undone).
+double MaxD(const ColumnMajorEntries& K, const ColumnMajorEntries& U, const ColumnMajorEntries& S,
+            const Block& B) {
+  return Residual(K, U, S, B, 1.0, Same);
+}
+
+bool Beyond(double max_d, double tol) { return !(max_d <= tol); }
+
+/// The blocks of a Jacobian (three row blocks x two column blocks) and of a covariance (on and
+/// above the diagonal: the one below is the same numbers transposed, the user's covariance being
+/// symmetric, the measurement reader's check), labelled when labels are given.
+std::vector<Block> JacobianBlocks(const std::vector<std::string>* row_labels,
+                                  const std::vector<std::string>* col_labels) {
+  std::vector<Block> blocks;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 2; ++c)
+      blocks.push_back({3 * r, 3 * c, row_labels ? row_labels->at(r) : std::string(),
+                        col_labels ? col_labels->at(c) : std::string()});
+  return blocks;
+}
+std::vector<Block> CovarianceBlocks(const std::vector<std::string>& labels) {
+  std::vector<Block> blocks;
+  for (int a = 0; a < 5; ++a)
+    for (int b = a; b < 5; ++b) blocks.push_back({3 * a, 3 * b, labels.at(a), labels.at(b)});
+  return blocks;
+}
+
+int CountBeyond(MatrixView K, MatrixView U, const Scales& S, const std::vector<Block>& blocks,
+                double tol) {
+  int n = 0;
+  for (const Block& B : blocks) n += Beyond(MaxD(In(K), In(U), In(S), B), tol) ? 1 : 0;
+  return n;
+}
+
+BlockAnalysis Analyze(MatrixView K_view, MatrixView U_view, const Scales& S_matrix,
                       const std::vector<Block>& blocks, const std::string& matrix, double tol) {
+  const ColumnMajorEntries K = In(K_view), U = In(U_view), S = In(S_matrix);
   BlockAnalysis out;
   std::vector<double> before(blocks.size());
   std::vector<bool> open(blocks.size());
   for (std::size_t b = 0; b < blocks.size(); ++b) {
-    before[b] = Residual(K, U, S, blocks[b], 1.0, Same);
-    open[b] = !(before[b] <= tol);
+    before[b] = MaxD(K, U, S, blocks[b]);
+    open[b] = Beyond(before[b], tol);
     if (open[b]) {
       ++out.mismatched;
       out.mismatch_sum += before[b];
@@ -112,7 +154,7 @@ BlockAnalysis Analyze(MatrixView K, MatrixView U, const Eigen::MatrixXd& S,
     };
     // Missing: exactly zero (terms never formed are never written as anything else; a block
     // merely far smaller than the reference is a scale, e.g. a density used as a variance).
-    if (U.block(B.r0, B.c0, 3, 3).isZero(0.0))
+    if (U_view.block(B.r0, B.c0, 3, 3).isZero(0.0))
       consider("missing", 0.0, Residual(K, U, S, B, 0.0, Same), b);
     consider("sign", -1.0, Residual(K, U, S, B, -1.0, Same), b);
     for (std::size_t c = b + 1; c < blocks.size(); ++c) {
@@ -171,21 +213,23 @@ std::string Num3(double v) {
 BlockAnalysis AnalyzeJacobianBlocks(MatrixView K, MatrixView U,
                                     const std::vector<std::string>& row_labels,
                                     const std::vector<std::string>& col_labels, double tol) {
-  std::vector<Block> blocks;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 2; ++c)
-      blocks.push_back({3 * r, 3 * c, row_labels.at(r), col_labels.at(c)});
-  return Analyze(K, U, JacobianScales(K), blocks, "J_bias", tol);
+  return Analyze(K, U, JacobianScales(K), JacobianBlocks(&row_labels, &col_labels), "J_bias", tol);
 }
 
 BlockAnalysis AnalyzeCovarianceBlocks(MatrixView K, MatrixView U,
                                       const std::vector<std::string>& labels, double tol) {
-  // The blocks on and above the diagonal: the one below is the same numbers transposed (the
-  // user's covariance is symmetric, the measurement reader's check).
-  std::vector<Block> blocks;
-  for (int a = 0; a < 5; ++a)
-    for (int b = a; b < 5; ++b) blocks.push_back({3 * a, 3 * b, labels.at(a), labels.at(b)});
-  return Analyze(K, U, CovarianceScales(K), blocks, "cov", tol);
+  return Analyze(K, U, CovarianceScales(K), CovarianceBlocks(labels), "cov", tol);
+}
+
+int JacobianBlocksBeyond(MatrixView K, MatrixView U, double tol) {
+  return CountBeyond(K, U, JacobianScales(K), JacobianBlocks(nullptr, nullptr), tol);
+}
+
+int CovarianceBlocksBeyond(const ReorderedCovarianceDiffs::BlockMaxD& block_max_d, double tol) {
+  int n = 0;
+  for (std::size_t a = 0; a < 5; ++a)
+    for (std::size_t b = a; b < 5; ++b) n += Beyond(block_max_d[a][b], tol) ? 1 : 0;
+  return n;
 }
 
 std::string FactorWords(double factor, double dt) {

@@ -22,19 +22,15 @@ void Add(EntryDiff& out, double d) {
   out.mean += d;
 }
 
-/// Column-major entries read in place (the views' own operator() is a call per entry in the
-/// sanitized build's -O1, where the search spent most of its time in it).
-struct Entries {
-  const double* data;
-  Eigen::Index stride;
-  explicit Entries(MatrixView m) : data(m.data()), stride(m.outerStride()) {}
-  /// The second matrix of a comparison, which must have the first's shape (every caller
-  /// compares a candidate with the user's matrix of the same block layout).
-  Entries(MatrixView m, MatrixView shape_of) : Entries(m) {
+/// Entries read in place (difference.h); the second matrix of a comparison must have the
+/// first's shape (every caller compares a candidate with the user's matrix of the same block
+/// layout).
+struct Entries : ColumnMajorEntries {
+  explicit Entries(MatrixView m) : ColumnMajorEntries(m) {}
+  Entries(MatrixView m, MatrixView shape_of) : ColumnMajorEntries(m) {
     if (m.rows() != shape_of.rows() || m.cols() != shape_of.cols())
       throw std::logic_error("check: compared matrices differ in shape");
   }
-  double operator()(Eigen::Index i, Eigen::Index j) const { return data[i + j * stride]; }
 };
 
 // One entry of each difference: the summaries, the search and the entrywise matrices are
@@ -82,6 +78,7 @@ ReorderedCovarianceDiffs::ReorderedCovarianceDiffs(MatrixView ref, MatrixView us
   if (ref.rows() != ref.cols() || user.rows() != ref.rows() || user.cols() != ref.cols())
     throw std::logic_error("check: compared covariances differ in shape");
   largest_ = ref.diagonal().cwiseAbs().maxCoeff();
+  ref_finite_ = ref.allFinite();
   // K_ii K_jj of the reordered K is ref(a, a) ref(b, b) for its indices a, b: the same operands.
   for (Eigen::Index j = 0; j < ref.cols(); ++j)
     for (Eigen::Index i = 0; i < ref.rows(); ++i) {
@@ -89,6 +86,36 @@ ReorderedCovarianceDiffs::ReorderedCovarianceDiffs(MatrixView ref, MatrixView us
       rho_ref_(i, j) = Correlation(ref(i, j), ref(i, i), ref(j, j));
       rho_user_(i, j) = Correlation(user(i, j), user(i, i), user(j, j));
     }
+  if (ref.rows() != 15) return;
+  block_table_.assign(625, 0.0);
+  const Eigen::Index n = 15;
+  const double *r = ref_.data(), *u = user_.data(), *scale = scale_.data();
+  for (int a = 0; a < 5; ++a)
+    for (int b = 0; b < 5; ++b)
+      for (int pa = 0; pa < 5; ++pa)
+        for (int pb = 0; pb < 5; ++pb) {
+          double m = 0.0;
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+              const Eigen::Index ab = (3 * pa + i) + (3 * pb + j) * n;
+              m = std::max(m, NanToInf(CorrelationScaleValue(
+                                  r[ab], u[(3 * a + i) + (3 * b + j) * n], scale[ab], largest_)));
+            }
+          block_table_[static_cast<std::size_t>(((a * 5 + b) * 5 + pa) * 5 + pb)] = m;
+        }
+}
+
+ReorderedCovarianceDiffs::BlockMaxD ReorderedCovarianceDiffs::BlockMaxima(
+    const Eigen::Index* from) const {
+  if (block_table_.empty())
+    throw std::logic_error("check: block maxima of a covariance that is not 15x15");
+  BlockMaxD out;
+  for (int a = 0; a < 5; ++a)
+    for (int b = 0; b < 5; ++b)
+      out[static_cast<std::size_t>(a)][static_cast<std::size_t>(b)] =
+          block_table_[static_cast<std::size_t>(((a * 5 + b) * 5 + from[3 * a] / 3) * 5 +
+                                                from[3 * b] / 3)];
+  return out;
 }
 
 // The two loops below run 120 times per candidate and measurement: they index the column-major

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <tuple>
 
@@ -47,7 +48,6 @@ template <typename Choice>
 struct Scored {
   Choice choice;
   EntryDiff d;
-  double structure = 0.0;  // covariance only: CorrelationStructure
   BlockAnalysis blocks;
   std::vector<double> key;
 };
@@ -64,21 +64,51 @@ struct PartResult {
 using CovResult = PartResult<CovarianceChoice>;
 using JacResult = PartResult<JacobianChoice>;
 
-/// The best of `all` by key (the first of the tied ones) and the others tied with it.
+/// The best of `all` by key (the first of the tied ones) and the others tied with it. A
+/// candidate without a key was left unanalyzed because it cannot win (AnalyzeThoseThatCanWin)
+/// and takes no part.
 template <typename Choice>
 PartResult<Choice> Pick(const std::vector<Scored<Choice>>& all) {
   const Scored<Choice>* best = nullptr;
   for (const auto& x : all)
-    if (!best || CompareKeys(x.key, best->key) < 0) best = &x;
+    if (!x.key.empty() && (!best || CompareKeys(x.key, best->key) < 0)) best = &x;
   PartResult<Choice> out;
   out.d = best->d;
   out.blocks = best->blocks;
   out.choice = best->choice;
   for (const auto& x : all)
-    if (&x != best && CompareKeys(x.key, best->key) == 0 && !(x.choice == best->choice) &&
+    if (&x != best && !x.key.empty() && CompareKeys(x.key, best->key) == 0 &&
+        !(x.choice == best->choice) &&
         std::find(out.tied.begin(), out.tied.end(), x.choice) == out.tied.end())
       out.tied.push_back(x.choice);
   return out;
+}
+
+/// Calls `analyze(i)` (which sets candidate i's BlockKey and returns its first entry, the
+/// corrections counted) on exactly the candidates that can be the pick or tied with it, so the
+/// pick and its ties are those of analyzing every one; `beyond[i]` is candidate i's blocks
+/// beyond tolerance (block_findings.h), a lower bound of its corrections (each counts one or
+/// two).
+//
+// Why that is exact: the first key entry is a whole number, compared exactly (Compare's tie
+// tolerances are both below 1), so with m the least count over all candidates, a candidate
+// counting more than m compares greater than any counting m: it is never the final pick nor
+// tied with it, and Pick, which goes through the candidates in search order keeping the first
+// strictly smaller one, reaches the same pick through the candidates counting m alone.
+// Candidates are analyzed by increasing bound, and the least count found so far is at least
+// m, so every one whose bound exceeds it counts more than m. Those analyzed in vain (bound
+// below that count, count above m) are ranked by Pick as before, and lose as before.
+template <typename Analyze>
+void AnalyzeThoseThatCanWin(const std::vector<int>& beyond, Analyze analyze) {
+  std::vector<std::size_t> order(beyond.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return beyond[a] < beyond[b]; });
+  double least = std::numeric_limits<double>::infinity();
+  for (const std::size_t i : order) {
+    if (static_cast<double>(beyond[i]) > least) break;
+    least = std::min(least, analyze(i));
+  }
 }
 
 /// The key of a part when some candidate is within tolerance: max d, then mean d.
@@ -112,55 +142,119 @@ std::vector<const T*> Ordered(const std::vector<T>& all, const std::string& want
   return out;
 }
 
+/// One block order of one covariance candidate: the order as the candidate's row map (block b
+/// of the order is the candidate's block from[3b] / 3), its labels written out only for what
+/// is reported or analyzed; its mean d computed only where a comparison or the report needs it
+/// (its max is the block maxima's, difference.h).
+struct CovarianceOrder {
+  std::size_t candidate;
+  std::array<Eigen::Index, 15> from;
+  EntryDiff d;
+  bool mean_known = false;
+  int beyond = 0;  // blocks beyond tolerance (block_findings.h)
+  double structure = 0.0;
+  BlockAnalysis blocks;
+  std::vector<double> key;  // when no order of any candidate is within tolerance: BlockKey
+};
+
 CovResult BestCovariance(const SchemeCandidates& s, const Mat15& user, const Constraints& c,
                          const Constraints& prefer, double tol) {
-  std::vector<Scored<CovarianceChoice>> all;
-  std::vector<std::pair<const CovarianceCandidate*, std::array<Eigen::Index, 15>>> sources;
+  const std::vector<const CovarianceCandidate*> candidates =
+      Ordered(s.covariances, c.convention, prefer.convention, [](auto& x) { return x.convention; });
+  // Each candidate's differences from the user's numbers, tabled once for all its orders.
+  std::vector<ReorderedCovarianceDiffs> diffs;
+  diffs.reserve(candidates.size());
+  std::vector<CovarianceOrder> all;
   bool any_within = false;
-  for (const CovarianceCandidate* cand : Ordered(s.covariances, c.convention, prefer.convention,
-                                                 [](auto& x) { return x.convention; })) {
-    std::vector<std::vector<std::string>> orders;
+  const auto add = [&](std::size_t k, const std::array<Eigen::Index, 15>& from) {
+    CovarianceOrder x{k, from, {}, false, 0, 0.0, {}, {}};
+    const ReorderedCovarianceDiffs::BlockMaxD block_max_d = diffs[k].BlockMaxima(from.data());
+    for (const auto& row : block_max_d)
+      for (double m : row) x.d.max = std::max(x.d.max, m);
+    x.beyond = diffs[k].ReferenceFinite() ? CovarianceBlocksBeyond(block_max_d, tol) : 0;
+    any_within = any_within || x.d.max <= tol;
+    all.push_back(std::move(x));
+  };
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const CovarianceCandidate& cand = *candidates[k];
+    diffs.emplace_back(cand.cov, user);
     if (!c.blocks.empty()) {
-      orders.push_back(c.blocks);
-    } else {
-      if (!prefer.blocks.empty()) orders.push_back(prefer.blocks);
-      // Every ordering of the five blocks, the chart's own first (index order = its order).
-      std::array<int, 5> idx{0, 1, 2, 3, 4};
-      do {
-        std::vector<std::string> o;
-        for (int i : idx) o.push_back(cand->labels[i]);
-        if (prefer.blocks.empty() || o != prefer.blocks)
-          orders.push_back(std::move(o));  // not twice
-      } while (std::next_permutation(idx.begin(), idx.end()));
+      add(k, ReorderedIndices(cand, c.blocks));
+      continue;
     }
-    const ReorderedCovarianceDiffs diffs(cand->cov, user);
-    for (const auto& order : orders) {
-      const auto from = ReorderedIndices(*cand, order);
-      Scored<CovarianceChoice> x{{cand->convention, order},
-                                 diffs.CorrelationScale(from.data()),
-                                 diffs.CorrelationStructure(from.data()),
-                                 {},
-                                 {}};
-      any_within = any_within || x.d.max <= tol;
-      all.push_back(std::move(x));
-      sources.emplace_back(cand, from);
-    }
+    if (!prefer.blocks.empty()) add(k, ReorderedIndices(cand, prefer.blocks));
+    // Every ordering of the five blocks, the chart's own first (index order = its order), the
+    // preferred one not twice.
+    std::array<int, 5> idx{0, 1, 2, 3, 4};
+    do {
+      bool is_preferred = prefer.blocks.size() == 5;
+      for (std::size_t b = 0; b < 5 && is_preferred; ++b)
+        is_preferred = cand.labels[static_cast<std::size_t>(idx[b])] == prefer.blocks[b];
+      if (is_preferred) continue;
+      std::array<Eigen::Index, 15> from{};
+      for (int b = 0; b < 5; ++b)
+        for (int r = 0; r < 3; ++r) from[3 * b + r] = 3 * idx[static_cast<std::size_t>(b)] + r;
+      add(k, from);
+    } while (std::next_permutation(idx.begin(), idx.end()));
   }
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    auto& x = all[i];
-    if (any_within) {
-      x.key = WithinKey(x.d);
-    } else {
-      // What is wrong block by block (block_findings.h), under this candidate.
+  const auto with_mean = [&](CovarianceOrder& x) -> const EntryDiff& {
+    if (!x.mean_known) {
+      x.d = diffs[x.candidate].CorrelationScale(x.from.data());
+      x.mean_known = true;
+    }
+    return x.d;
+  };
+  const auto choice = [&](const CovarianceOrder& x) {
+    const CovarianceCandidate& cand = *candidates[x.candidate];
+    CovarianceChoice out{cand.convention, {}};
+    for (int b = 0; b < 5; ++b)
+      out.blocks.push_back(cand.labels[static_cast<std::size_t>(x.from[3 * b] / 3)]);
+    return out;
+  };
+  // The keys compared (Pick): WithinKey, whose first four entries are zero, so the max and then
+  // the mean; else BlockKey, for the analyzed orders only.
+  std::function<int(CovarianceOrder&, CovarianceOrder&)> compare;
+  std::function<bool(const CovarianceOrder&)> takes_part;
+  if (any_within) {
+    compare = [&](CovarianceOrder& a, CovarianceOrder& b) {
+      if (const int m = Compare(a.d.max, b.d.max); m != 0) return m;
+      return Compare(with_mean(a).mean, with_mean(b).mean);
+    };
+    takes_part = [](const CovarianceOrder&) { return true; };
+  } else {
+    // What is wrong block by block (block_findings.h), under each order that can win.
+    std::vector<int> beyond(all.size());
+    for (std::size_t i = 0; i < all.size(); ++i) beyond[i] = all[i].beyond;
+    AnalyzeThoseThatCanWin(beyond, [&](std::size_t i) {
+      CovarianceOrder& x = all[i];
+      const CovarianceCandidate& cand = *candidates[x.candidate];
       Mat15 K;
-      const auto& [cand, from] = sources[i];
       for (int b = 0; b < 15; ++b)
-        for (int a = 0; a < 15; ++a) K(a, b) = cand->cov(from[a], from[b]);
-      x.blocks = AnalyzeCovarianceBlocks(K, user, x.choice.blocks, tol);
-      x.key = BlockKey(x.blocks, x.structure, x.d);
-    }
+        for (int a = 0; a < 15; ++a) K(a, b) = cand.cov(x.from[a], x.from[b]);
+      x.structure = diffs[x.candidate].CorrelationStructure(x.from.data());
+      x.blocks = AnalyzeCovarianceBlocks(K, user, choice(x).blocks, tol);
+      x.key = BlockKey(x.blocks, x.structure, with_mean(x));
+      return x.key.front();
+    });
+    compare = [](CovarianceOrder& a, CovarianceOrder& b) { return CompareKeys(a.key, b.key); };
+    takes_part = [](const CovarianceOrder& x) { return !x.key.empty(); };
   }
-  return Pick(all);
+  // Pick's rule (the first of the smallest, then the others tied with it), on these orders.
+  CovarianceOrder* best = nullptr;
+  for (auto& x : all)
+    if (takes_part(x) && (!best || compare(x, *best) < 0)) best = &x;
+  CovResult out;
+  out.d = with_mean(*best);
+  out.blocks = best->blocks;
+  out.choice = choice(*best);
+  for (auto& x : all) {
+    if (&x == best || !takes_part(x) || compare(x, *best) != 0) continue;
+    CovarianceChoice other = choice(x);
+    if (!(other == out.choice) &&
+        std::find(out.tied.begin(), out.tied.end(), other) == out.tied.end())
+      out.tied.push_back(std::move(other));
+  }
+  return out;
 }
 
 JacResult BestJacobian(const SchemeCandidates& s, const Mat96& user, const Constraints& c,
@@ -180,24 +274,25 @@ JacResult BestJacobian(const SchemeCandidates& s, const Mat96& user, const Const
         if (c.J_bias_sign != 0 && sign != c.J_bias_sign) continue;
         arranged.push_back(Arranged(*cand, columns, sign));
         sources.push_back(cand);
-        Scored<JacobianChoice> x{{cand->chart, columns, sign},
-                                 RelativeAboveFloorDiff(arranged.back(), user),
-                                 0.0,
-                                 {},
-                                 {}};
+        Scored<JacobianChoice> x{
+            {cand->chart, columns, sign}, RelativeAboveFloorDiff(arranged.back(), user), {}, {}};
         any_within = any_within || x.d.max <= tol;
         all.push_back(std::move(x));
       }
     }
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    auto& x = all[i];
-    if (any_within) {
-      x.key = WithinKey(x.d);
-    } else {
-      x.blocks = AnalyzeJacobianBlocks(arranged[i], user, sources[i]->rows, x.choice.columns, tol);
-      x.key = BlockKey(x.blocks, 0.0, x.d);
-    }
+  if (any_within) {
+    for (auto& x : all) x.key = WithinKey(x.d);
+    return Pick(all);
   }
+  std::vector<int> beyond(all.size());
+  for (std::size_t i = 0; i < all.size(); ++i)
+    beyond[i] = JacobianBlocksBeyond(arranged[i], user, tol);
+  AnalyzeThoseThatCanWin(beyond, [&](std::size_t i) {
+    auto& x = all[i];
+    x.blocks = AnalyzeJacobianBlocks(arranged[i], user, sources[i]->rows, x.choice.columns, tol);
+    x.key = BlockKey(x.blocks, 0.0, x.d);
+    return x.key.front();
+  });
   return Pick(all);
 }
 

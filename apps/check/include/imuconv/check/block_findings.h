@@ -64,6 +64,18 @@ BlockAnalysis AnalyzeJacobianBlocks(MatrixView K, MatrixView U,
 BlockAnalysis AnalyzeCovarianceBlocks(MatrixView K, MatrixView U,
                                       const std::vector<std::string>& labels, double tol);
 
+/// The blocks beyond tolerance before any finding explains them: the `mismatched` of
+/// AnalyzeJacobianBlocks and AnalyzeCovarianceBlocks, without looking for findings. An
+/// analysis counts each such block once or twice (explain.h), so this bounds its count of
+/// corrections from below: what lets the search analyze only the candidates that can still win
+/// (explain.cpp). J_bias: computed by the analysis's own code. The covariance: from the search's
+/// block maxima (ReorderedCovarianceDiffs::BlockMaxima, difference.h), each block's max of the
+/// same per-entry d, |K_ij - U_ij| / sqrt|K_ii K_jj| (the largest variance where that is 0),
+/// so the same count when the reference is finite; the blocks on and above the diagonal, as
+/// the analysis takes them.
+int JacobianBlocksBeyond(MatrixView K, MatrixView U, double tol);
+int CovarianceBlocksBeyond(const ReorderedCovarianceDiffs::BlockMaxD& block_max_d, double tol);
+
 /// A factor in words when it is (to 1 %) a simple one: "2", "1/2", "4", "1/4", "1/dt", "dt",
 /// "1/dt^2", "dt^2" with `dt` the sample period; else its value to three digits.
 std::string FactorWords(double factor, double dt);

@@ -11,12 +11,24 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
+#include <vector>
 
 namespace imuconv::check {
 
 /// A matrix read in place: a fixed-size one (Mat15, Mat96, a vector) binds without a copy,
 /// which matters in the search, which compares thousands of candidates per measurement.
 using MatrixView = const Eigen::Ref<const Eigen::MatrixXd>&;
+
+/// A matrix's column-major entries read in place: Eigen's operator() on a view is a call per
+/// entry in the sanitized build's -O1, where the search spent most of its time in it.
+struct ColumnMajorEntries {
+  const double* data;
+  Eigen::Index stride;
+  ColumnMajorEntries(const double* d, Eigen::Index outer_stride) : data(d), stride(outer_stride) {}
+  explicit ColumnMajorEntries(MatrixView m) : ColumnMajorEntries(m.data(), m.outerStride()) {}
+  double operator()(Eigen::Index i, Eigen::Index j) const { return data[i + j * stride]; }
+};
 
 struct EntryDiff {
   double max = 0.0, mean = 0.0;
@@ -41,11 +53,28 @@ class ReorderedCovarianceDiffs {
   /// `from[i]`: the row and column of `ref` that row and column i of the reordering take
   /// (ref.rows() entries).
   EntryDiff CorrelationScale(const Eigen::Index* from) const;
+  /// The max of CorrelationScale's d over each 3x3 block of a 15x15 reordering: [a][b] is
+  /// the block of rows 3a..3a+2 and columns 3b..3b+2 (NaN counted as infinite).
+  using BlockMaxD = std::array<std::array<double, 5>, 5>;
+  /// For a 15x15 reordering that moves whole 3-blocks (`from` maps block b's three rows to
+  /// those of one block of `ref`, in order, as ReorderedIndices does): each block's max d,
+  /// from a table of each user block's max d against each reference block, made once (625
+  /// blocks of 9 entries, against 120 orders of 225 entries). A max does not depend on the
+  /// order its entries are taken in, so their max is CorrelationScale's to the bit; its mean,
+  /// a sum in entry order, is not given.
+  BlockMaxD BlockMaxima(const Eigen::Index* from) const;
+  /// Whether every entry of the reference is finite (a NaN makes its largest variance depend
+  /// on the order of the diagonal, so a reordered copy's may differ).
+  bool ReferenceFinite() const { return ref_finite_; }
   double CorrelationStructure(const Eigen::Index* from) const;
 
  private:
   Eigen::MatrixXd ref_, user_, scale_, rho_ref_, rho_user_;
   double largest_ = 0.0;
+  bool ref_finite_ = true;
+  /// [a][b][pa][pb]: the max d of the user's block (a, b) against the reference's (pa, pb);
+  /// empty unless 15x15.
+  std::vector<double> block_table_;
 };
 
 /// Relative difference above the floor 1e-4 x max|ref|.
