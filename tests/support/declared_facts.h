@@ -14,7 +14,14 @@
 #include <string>
 #include <vector>
 
+#include "imuconv/plugin_kind.h"
+
 namespace imuconv::test {
+
+/// The KIND argument of a declaration macro for a scheme's plugin kind.
+inline const char* SchemeKindName(PluginKind kind) {
+  return kind == PluginKind::Propagator ? "Propagator" : "Preintegrator";
+}
 
 /// Where a declaration was written, for the messages that name it.
 struct DeclarationSite {

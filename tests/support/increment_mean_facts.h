@@ -169,7 +169,9 @@ void CheckDeclaredIncrementMeans(const char* where) {
   }
   Declared::CheckEveryLoadedIdDeclared(
       Plugins().ids(kKind), where,
-      "IMUCONV_INCREMENT_MEAN(<Kind>, <id>, kProvided or kNotProvided)");
+      (std::string("IMUCONV_INCREMENT_MEAN(") + SchemeKindName(kKind) +
+       ", <id>, kProvided or kNotProvided)")
+          .c_str());
 }
 
 }  // namespace imuconv::test

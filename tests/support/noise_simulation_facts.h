@@ -13,6 +13,8 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "declared_facts.h"
 #include "imuconv/noise_simulation.h"
 #include "imuconv_test.h"
@@ -56,7 +58,9 @@ void CheckDeclaredNoiseSimulations(const char* where) {
   }
   Declared::CheckEveryLoadedIdDeclared(
       Plugins().ids(kKind), where,
-      "IMUCONV_NOISE_SIMULATION(<Kind>, <id>, <cells>, <reading>, <simulable>)");
+      (std::string("IMUCONV_NOISE_SIMULATION(") + SchemeKindName(kKind) +
+       ", <id>, <cells>, <reading>, <simulable>)")
+          .c_str());
 }
 
 }  // namespace imuconv::test
