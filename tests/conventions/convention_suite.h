@@ -15,7 +15,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <initializer_list>
 #include <map>
 #include <memory>
 #include <set>
@@ -24,6 +23,7 @@
 #include <utility>
 #include <vector>
 
+#include "declared_facts.h"
 #include "imuconv/numeric.h"
 #include "imuconv/plugin/convention.h"
 #include "imuconv/reference_charts.h"
@@ -302,17 +302,36 @@ void CheckNumericalComposition() {
     }
 }
 
-/// The built-in conventions of the kind are loaded with the block orders their documentation
-/// states, given as {id, "labels in order"}.
+/// The block order a convention's documentation states, "labels in order" (e.g. "p theta v bg
+/// ba"), declared in that convention's own test file with IMUCONV_CONVENTION_BLOCK_ORDER.
 template <typename K>
-void CheckBuiltInBlockOrders(std::initializer_list<std::pair<const char*, const char*>> expected) {
-  for (const auto& [id, order] : expected) {
-    ASSERT_TRUE(Plugins().has(K::kKind, id)) << id;
+struct BlockOrderOf {
+  using Facts = const char*;
+  static constexpr const char* kWhat = "block order";
+};
+/// The chart an increment convention states its bias Jacobians in (jacobian_convention()),
+/// declared in its own test file with IMUCONV_BIAS_JACOBIAN_CHART.
+struct BiasJacobianChart {
+  using Facts = const char*;
+  static constexpr const char* kWhat = "bias-Jacobian chart";
+};
+
+/// Every declared block order is the loaded plugin's (its labels and the registry's record of
+/// them), and every convention of the kind loaded from the built-in plugin directory has one.
+template <typename K>
+void CheckDeclaredBlockOrders(const char* where) {
+  using Declared = DeclaredFacts<BlockOrderOf<K>>;
+  Declared::CheckNoDuplicates();
+  for (const auto& [id, entry] : Declared::All()) {
+    SCOPED_TRACE("declared at " + Describe(entry.site));
+    ASSERT_TRUE(Plugins().has(K::kKind, id)) << id << " is declared but not loaded";
     std::string got;
     for (const std::string& label : Plugins().info(K::kKind, id).blocks)
       got += (got.empty() ? "" : " ") + label;
-    EXPECT_EQ(got, order) << id;
+    EXPECT_EQ(got, entry.facts) << id;
   }
+  Declared::CheckEveryLoadedIdDeclared(Plugins().ids(K::kKind), where,
+                                       "IMUCONV_CONVENTION_BLOCK_ORDER(<Kind>, <id>, \"...\")");
 }
 
 /// Every loaded convention of the kind has an instantiation of the suite named
@@ -420,6 +439,22 @@ void ExpectConversion(const char* from, const char* to, BlocksAt blocks) {
   }                                                                                         \
   static const auto* const SUITE##PrintWorst =                                              \
       ::testing::AddGlobalTestEnvironment(new ::imuconv::test::PrintWorstErrors)
+
+/// Declares the block order the convention ID (of KIND, StateKind or IncrementKind) documents,
+/// ORDER its labels in order ("p theta v bg ba"): one line in the convention's own test file,
+/// checked against the plugin by the kind's BuiltInsAndTheirBlockOrders (state/all.cpp,
+/// increment/all.cpp), which also fails for a loaded convention without the line.
+#define IMUCONV_CONVENTION_BLOCK_ORDER(KIND, ID, ORDER)                                          \
+  [[maybe_unused]] static const bool KIND##_##ID##_block_order_declared =                        \
+      ::imuconv::test::DeclaredFacts<::imuconv::test::BlockOrderOf<::imuconv::test::KIND>>::Add( \
+          #ID, ORDER, {__FILE__, __LINE__})
+
+/// Declares the chart the increment convention ID states its bias Jacobians in (CHART, an id
+/// string): one line in its own test file, checked by PreintConventions.BiasJacobianCharts.
+#define IMUCONV_BIAS_JACOBIAN_CHART(ID, CHART)                                 \
+  [[maybe_unused]] static const bool ID##_bias_jacobian_chart_declared =       \
+      ::imuconv::test::DeclaredFacts<::imuconv::test::BiasJacobianChart>::Add( \
+          #ID, CHART, {__FILE__, __LINE__})
 
 /// Runs the suite SUITE for the convention with id ID (an identifier-like id).
 #define IMUCONV_CONVENTION_SUITE(SUITE, ID) \

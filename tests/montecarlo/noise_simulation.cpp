@@ -1,9 +1,6 @@
-// What the built-in plugins say of their noise (noise_simulation(), core/include/imuconv/
-// noise_simulation.h), which imuconv montecarlo simulates without naming any method: the cells
-// and readings of docs/montecarlo.md's lists and table, which montecarlo kept by id until the
-// plugins carried them. The cells follow from each scheme's arithmetic (docs/noise.md): a held
-// sample's cell is the step it is held over, a scheme averaging a step's two ends or
-// interpolating between knots weighs each sample over half of each step beside it.
+// What imuconv montecarlo makes of a plugin's noise_simulation() (core/include/imuconv/
+// noise_simulation.h), which it simulates without naming any method: the model's name in the
+// output, the mismatch flag and the note, and a hostile plugin's values outside the enums.
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -17,46 +14,10 @@ namespace {
 
 using test::Plugins;
 
-NoiseSimulation Of(PluginKind kind, const char* id) {
-  return kind == PluginKind::Propagator ? Plugins().propagator(id)->noise_simulation()
-                                        : Plugins().preintegrator(id)->noise_simulation();
-}
-
-TEST(MontecarloNoiseSimulation, TheBuiltInPluginsSayTheirCellsAndReadings) {
-  constexpr PluginKind P = PluginKind::Propagator, N = PluginKind::Preintegrator;
-  const struct {
-    PluginKind kind;
-    const char* id;
-    SampleCells cells;
-    NoiseReading reading;
-    bool simulable;
-  } kExpected[] = {
-      {P, "euler", SampleCells::kForward, NoiseReading::kContinuous, true},
-      {P, "midpoint", SampleCells::kCentered, NoiseReading::kContinuous, true},
-      {P, "rk4", SampleCells::kCentered, NoiseReading::kContinuous, true},
-      {P, "openvins_discrete", SampleCells::kCentered, NoiseReading::kContinuous, true},
-      {P, "openvins_analytical", SampleCells::kCentered, NoiseReading::kContinuous, true},
-      {P, "openvins_rk4", SampleCells::kCentered, NoiseReading::kContinuous, true},
-      {P, "okvis2", SampleCells::kCentered, NoiseReading::kContinuous, true},
-      {P, "okvis2_step_local", SampleCells::kCentered, NoiseReading::kContinuous, true},
-      {N, "manifold", SampleCells::kForward, NoiseReading::kContinuous, true},
-      {N, "tangent", SampleCells::kForward, NoiseReading::kContinuous, true},
-      {N, "vins_fusion", SampleCells::kCentered, NoiseReading::kContinuous, true},
-      {N, "vins_fusion_as_configured", SampleCells::kCentered, NoiseReading::kContinuous, false},
-      {N, "basalt", SampleCells::kBackward, NoiseReading::kWalkInIncrementOnly, true},
-      {N, "basalt_forward_zoh", SampleCells::kForward, NoiseReading::kWalkInIncrementOnly, true},
-      {N, "basalt_as_configured", SampleCells::kBackward, NoiseReading::kPerSampleStd, true},
-      {N, "orb_slam3", SampleCells::kCentered, NoiseReading::kWalkInIncrementOnly, true},
-      {N, "okvis2", SampleCells::kCentered, NoiseReading::kContinuous, true},
-  };
-  for (const auto& e : kExpected) {
-    const NoiseSimulation sim = Of(e.kind, e.id);
-    EXPECT_EQ(sim.cells, e.cells) << e.id;
-    EXPECT_EQ(sim.reading, e.reading) << e.id;
-    EXPECT_EQ(sim.simulable, e.simulable) << e.id;
-    ASSERT_NE(sim.note, nullptr) << e.id;
-  }
-}
+// What each built-in plugin says of its noise (its cells, reading and whether it is simulable)
+// is declared in that system's own test file and checked there (tests/support/
+// noise_simulation_facts.h, run by tests/integrators/noise_simulation.cpp and
+// tests/preintegrators/noise_simulation.cpp); here, what montecarlo makes of it.
 
 // montecarlo's model follows the plugin: the reading's name in the output, the mismatch flag,
 // and the plugin's note (which says where its reading is documented).

@@ -8,9 +8,19 @@
 #include <limits>
 
 #include "imuconv_test.h"
+#include "increment_mean_facts.h"
+#include "noise_simulation_facts.h"
 #include "reference_cases.h"
 
 namespace {
+
+// What GTSAM's two schemes say of their noise (noise_simulation_facts.h; docs/montecarlo.md):
+// both hold each sample over the step it starts and read continuous densities.
+IMUCONV_NOISE_SIMULATION(Preintegrator, manifold, kForward, kContinuous, true);
+IMUCONV_NOISE_SIMULATION(Preintegrator, tangent, kForward, kContinuous, true);
+// Both give the mean alone (kernels/mean_only.h: the recursion with its covariance off).
+IMUCONV_INCREMENT_MEAN(Preintegrator, manifold, kProvided);
+IMUCONV_INCREMENT_MEAN(Preintegrator, tangent, kProvided);
 
 using namespace imuconv;
 using namespace imuconv::test;

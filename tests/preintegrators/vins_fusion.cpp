@@ -21,10 +21,21 @@
 
 #include "bias_blocks.h"
 #include "imuconv_test.h"
+#include "increment_mean_facts.h"
+#include "noise_simulation_facts.h"
 #include "reference_cases.h"
 #include "whitened.h"
 
 namespace {
+
+// What the two plugins say of their noise (noise_simulation_facts.h; docs/montecarlo.md): both
+// average a step's two ends (centered cells); `vins_fusion_as_configured` reads per-step standard
+// deviations with the two ends of a step independent, which no per-sample noise reproduces.
+IMUCONV_NOISE_SIMULATION(Preintegrator, vins_fusion, kCentered, kContinuous, true);
+IMUCONV_NOISE_SIMULATION(Preintegrator, vins_fusion_as_configured, kCentered, kContinuous, false);
+// Neither gives the mean alone: montecarlo's trials run the full preintegration.
+IMUCONV_INCREMENT_MEAN(Preintegrator, vins_fusion, kNotProvided);
+IMUCONV_INCREMENT_MEAN(Preintegrator, vins_fusion_as_configured, kNotProvided);
 
 using namespace imuconv;
 using namespace imuconv::test;

@@ -9,39 +9,33 @@ namespace {
 
 using imuconv::test::Plugins;
 
-// The seven built-in conventions and the reference, each in the block order it documents.
+// Each convention declares the block order it documents in its own test file
+// (IMUCONV_CONVENTION_BLOCK_ORDER, increment/<id>.cpp): the loaded plugins agree with every
+// declaration, and every increment convention loaded from the built-in plugin directory has one.
 TEST(PreintConventions, BuiltInsAndTheirBlockOrders) {
-  imuconv::test::CheckBuiltInBlockOrders<imuconv::test::IncrementKind>(
-      {{"preint_reference", "theta p v bg ba"},
-       {"gtsam_tangent", "theta p v ba bg"},
-       {"gtsam_manifold", "theta p v ba bg"},
-       {"gtsam_manifold_jacobian", "theta p v ba bg"},
-       {"forster", "theta p v bg ba"},
-       {"vins_fusion", "p theta v ba bg"},
-       {"basalt", "p theta v bg ba"},
-       {"orb_slam3", "theta v p bg ba"},
-       {"okvis2", "p theta v bg ba"}});
+  imuconv::test::CheckDeclaredBlockOrders<imuconv::test::IncrementKind>(
+      "its own test file, tests/conventions/increment/<id>.cpp");
 }
 
-// GTSAM's ManifoldPreintegration states its covariance in c (gtsam_manifold) and its bias
-// Jacobians in j (gtsam_manifold_jacobian); every other convention uses its own chart.
+// Each convention declares the chart of its bias Jacobians in its own test file
+// (IMUCONV_BIAS_JACOBIAN_CHART): the plugin and the registry's record of it say the same, and
+// every loaded increment convention has a declaration.
 TEST(PreintConventions, BiasJacobianCharts) {
-  const auto chart = [](const char* id) {
-    return std::string(Plugins().increment_convention(id)->jacobian_convention());
-  };
-  EXPECT_EQ(chart("gtsam_manifold"), "gtsam_manifold_jacobian");
-  EXPECT_EQ(chart("gtsam_manifold_jacobian"), "gtsam_manifold_jacobian");
-  EXPECT_EQ(chart("gtsam_tangent"), "gtsam_tangent");
-  EXPECT_EQ(chart("forster"), "forster");
-  EXPECT_EQ(chart("vins_fusion"), "vins_fusion");
-  EXPECT_EQ(chart("basalt"), "basalt");
-  EXPECT_EQ(chart("orb_slam3"), "orb_slam3");
-  EXPECT_EQ(chart("okvis2"), "okvis2");
-  EXPECT_EQ(chart("preint_reference"), "preint_reference");
-  EXPECT_EQ(Plugins()
-                .info(imuconv::PluginKind::IncrementConvention, "gtsam_manifold")
-                .jacobian_convention,
-            "gtsam_manifold_jacobian");
+  using Declared = imuconv::test::DeclaredFacts<imuconv::test::BiasJacobianChart>;
+  Declared::CheckNoDuplicates();
+  for (const auto& [id, entry] : Declared::All()) {
+    SCOPED_TRACE("declared at " + imuconv::test::Describe(entry.site));
+    ASSERT_TRUE(Plugins().has(imuconv::PluginKind::IncrementConvention, id))
+        << id << " is declared but not loaded";
+    EXPECT_EQ(std::string(Plugins().increment_convention(id)->jacobian_convention()), entry.facts)
+        << id;
+    EXPECT_EQ(Plugins().info(imuconv::PluginKind::IncrementConvention, id).jacobian_convention,
+              entry.facts)
+        << id;
+  }
+  Declared::CheckEveryLoadedIdDeclared(Plugins().ids(imuconv::PluginKind::IncrementConvention),
+                                       "its own test file, tests/conventions/increment/<id>.cpp",
+                                       "IMUCONV_BIAS_JACOBIAN_CHART(<id>, \"<chart>\")");
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include "../convention_suite.h"
 
 IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, basalt);
+IMUCONV_CONVENTION_BLOCK_ORDER(IncrementKind, basalt, "p theta v bg ba");
+IMUCONV_BIAS_JACOBIAN_CHART(basalt, "basalt");
 
 TEST(PreintStructure, BasaltRotatesTheRotationBlockByTheIncrement) {
   // Exp(dtheta) dR^ = dR^ Exp(dR^T dtheta): the reference's rotation error is dR^T times

@@ -3,6 +3,8 @@
 #include "../convention_suite.h"
 
 IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, forster);
+IMUCONV_CONVENTION_BLOCK_ORDER(IncrementKind, forster, "theta p v bg ba");
+IMUCONV_BIAS_JACOBIAN_CHART(forster, "forster");
 
 TEST(PreintStructure, ForsterIsMinusTheReference) {
   for (const PreintIncrement& x : IncrementKind::Points()) {

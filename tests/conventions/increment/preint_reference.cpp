@@ -2,3 +2,5 @@
 #include "../convention_suite.h"
 
 IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, preint_reference);
+IMUCONV_CONVENTION_BLOCK_ORDER(IncrementKind, preint_reference, "theta p v bg ba");
+IMUCONV_BIAS_JACOBIAN_CHART(preint_reference, "preint_reference");

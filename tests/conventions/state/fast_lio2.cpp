@@ -8,6 +8,7 @@
 #include "imuconv/kernels/fast_lio2.h"
 
 IMUCONV_CONVENTION_SUITE(StateConventionSuite, fast_lio2);
+IMUCONV_CONVENTION_BLOCK_ORDER(StateKind, fast_lio2, "p theta v bg ba");
 
 namespace {
 

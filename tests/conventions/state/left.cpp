@@ -2,3 +2,4 @@
 #include "../convention_suite.h"
 
 IMUCONV_CONVENTION_SUITE(StateConventionSuite, left);
+IMUCONV_CONVENTION_BLOCK_ORDER(StateKind, left, "p theta v bg ba");

@@ -2,6 +2,7 @@
 #include "../convention_suite.h"
 
 IMUCONV_CONVENTION_SUITE(StateConventionSuite, left_invariant_se23);
+IMUCONV_CONVENTION_BLOCK_ORDER(StateKind, left_invariant_se23, "theta v p bg ba");
 
 TEST(StateStructure, LeftToLeftInvariant) {
   // X^ Exp(xi) at first order: R^ phi, R^ nu, R^ rho.

@@ -50,6 +50,7 @@ Quat RandomJpl() {
 constexpr double kRotTol = 1e-14;
 
 IMUCONV_CONVENTION_SUITE(StateConventionSuite, openvins_jpl);
+IMUCONV_CONVENTION_BLOCK_ORDER(StateKind, openvins_jpl, "theta p v bg ba");
 
 TEST(StateStructure, LeftToOpenVinsJpl) {
   // JPL's left update of q_GtoI is a right update of R = R_GtoI^T (R^T dtheta_l to first
