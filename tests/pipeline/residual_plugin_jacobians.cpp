@@ -148,6 +148,14 @@ const FactorPerturb kSpeedBias = [](ImuState& x, const Eigen::VectorXd& d) {
   x.bg += d.segment<3>(3);
   x.ba += d.segment<3>(6);
 };
+const FactorPerturb kBodyPoseRight = [](ImuState& x, const Eigen::VectorXd& d) {
+  const Mat3 R = x.R;
+  x.R = R * so3::Exp(d.head<3>());
+  x.p += R * d.tail<3>();
+};
+const FactorPerturb kVelocity = [](ImuState& x, const Eigen::VectorXd& d) { x.v += d; };
+const FactorPerturb kGyroBias = [](ImuState& x, const Eigen::VectorXd& d) { x.bg += d; };
+const FactorPerturb kAccBias = [](ImuState& x, const Eigen::VectorXd& d) { x.ba += d; };
 
 TEST(ResidualPluginJacobians, Okvis2MinimalAndSpeedBiasJacobiansAreCentralDifferences) {
   const FactorSetup s = MakeFactorSetup("okvis2");
@@ -172,6 +180,33 @@ TEST(ResidualPluginJacobians, Okvis2MinimalAndSpeedBiasJacobiansAreCentralDiffer
     EXPECT_LE(e, tol) << b.jacobian << "\nanalytic\n"
                       << a.at(b.jacobian) << "\nnumeric\n"
                       << numeric;
+  }
+}
+
+TEST(ResidualPluginJacobians, OrbSlam3EdgeInertialJacobiansAreCentralDifferences) {
+  const FactorSetup s = MakeFactorSetup("orb_slam3");
+  const auto a = EvaluateFactor("orb_slam3", s, s.x_s, s.x_e);
+  ASSERT_GT(a.at("residual").norm(), 1e-3);
+  struct JacobianBlock {
+    const char* jacobian;
+    bool start;
+    int cols;
+    const FactorPerturb& perturb;
+    double h, tol;  // header: double columns, and the bias columns read in float
+  };
+  for (const JacobianBlock& b : {JacobianBlock{"J_pose1", true, 6, kBodyPoseRight, 1e-6, 1e-7},
+                                 JacobianBlock{"J_vel1", true, 3, kVelocity, 1e-6, 1e-7},
+                                 JacobianBlock{"J_gyro_bias1", true, 3, kGyroBias, 1e-2, 1e-3},
+                                 JacobianBlock{"J_acc_bias1", true, 3, kAccBias, 1e-2, 1e-3},
+                                 JacobianBlock{"J_pose2", false, 6, kBodyPoseRight, 1e-6, 1e-7},
+                                 JacobianBlock{"J_vel2", false, 3, kVelocity, 1e-6, 1e-7}}) {
+    const Eigen::MatrixXd numeric =
+        NumericJacobian("orb_slam3", s, "residual", b.start, b.cols, b.perturb, b.h);
+    const double e = JacobianRelativeError(a.at(b.jacobian), numeric);
+    std::printf("  orb_slam3 %-14s %.2g\n", b.jacobian, e);
+    EXPECT_LE(e, b.tol) << b.jacobian << "\nanalytic\n"
+                        << a.at(b.jacobian) << "\nnumeric\n"
+                        << numeric;
   }
 }
 
