@@ -46,6 +46,7 @@ int List(const CommandContext& ctx, bool as_json) {
         e["jacobian_convention"] = Printable(p.jacobian_convention);
       if (p.kind == PluginKind::StateConvention || p.kind == PluginKind::IncrementConvention)
         e["analytic_jacobians"] = p.analytic_jacobians;
+      if (p.kind == PluginKind::Residual) e["degrees_of_freedom"] = p.degrees_of_freedom;
       j["plugins"].push_back(e);
     }
     j["load_errors"] = nlohmann::json::array();
@@ -58,8 +59,7 @@ int List(const CommandContext& ctx, bool as_json) {
   }
   std::cout << "search path:\n";
   for (const auto& d : path) std::cout << "  " << Printable(d) << "\n";
-  for (PluginKind kind : {PluginKind::StateConvention, PluginKind::IncrementConvention,
-                          PluginKind::Propagator, PluginKind::Preintegrator}) {
+  for (PluginKind kind : kPluginKinds) {
     std::cout << "\n" << KindName(kind) << ":\n";
     bool any = false;
     for (const auto& p : reg.plugins()) {
@@ -73,6 +73,10 @@ int List(const CommandContext& ctx, bool as_json) {
         std::cout << std::setw(34)
                   << ("cov: " + Printable(p.native_convention) +
                       ", J: " + Printable(p.jacobian_convention));
+      else if (kind == PluginKind::Residual)
+        std::cout << std::setw(34)
+                  << ("increment: " + Printable(p.native_convention) +
+                      ", dof: " + std::to_string(p.degrees_of_freedom));
       else
         std::cout << std::setw(34) << JoinBlocks(p.blocks);
       std::cout << " " << Printable(p.file) << "\n";

@@ -7,6 +7,7 @@
 
 #include "imuconv/printable.h"
 #include "imuconv/registry.h"
+#include "imuconv/residual_factor.h"
 #include "imuconv/window.h"
 
 namespace imuconv::cli {
@@ -23,6 +24,52 @@ std::vector<ImuSample> TestSamples() {
   }
   return s;
 }
+
+/// A sink that keeps nothing and checks what a residual plugin writes: balanced groups,
+/// names, sizes and finite numbers (the pipeline's ResidualJsonSink checks the same as it
+/// writes).
+class CheckingSink final : public ResidualSink {
+ public:
+  void begin_group(const char* name) noexcept override {
+    named(name);
+    ++depth_;
+  }
+  void end_group() noexcept override {
+    if (depth_ == 0) fail("closed a group it had not opened");
+    if (depth_ > 0) --depth_;
+  }
+  void vector(const char* name, const double* v, int n) noexcept override { array(name, v, n, 1); }
+  void matrix(const char* name, const double* m, int rows, int cols) noexcept override {
+    array(name, m, rows, cols);
+  }
+  void mahalanobis_squared(double value) noexcept override {
+    if (!std::isfinite(value) || value < 0.0)
+      fail("gave a squared Mahalanobis distance < 0 or not finite");
+  }
+  std::string problem() const {
+    return depth_ != 0 && problem_.empty() ? "left a group open" : problem_;
+  }
+  std::size_t values() const { return values_; }
+
+ private:
+  void fail(const char* what) noexcept {
+    if (problem_.empty()) problem_ = what;
+  }
+  void named(const char* name) noexcept {
+    if (name == nullptr || name[0] == '\0') fail("gave a null or empty name");
+  }
+  void array(const char* name, const double* data, int rows, int cols) noexcept {
+    named(name);
+    if (rows < 1 || cols < 1 || static_cast<long long>(rows) * cols > (1 << 20) || data == nullptr)
+      return fail("gave an array of a size out of bounds or a null array");
+    for (long long k = 0; k < static_cast<long long>(rows) * cols; ++k)
+      if (!std::isfinite(data[k])) return fail("gave a value that is not finite");
+    values_ += static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols);
+  }
+  int depth_ = 0;
+  std::size_t values_ = 0;
+  std::string problem_;
+};
 
 ImuNoise TestNoise() {
   // gyro and accelerometer noise densities, then gyro and accelerometer random walks
@@ -70,6 +117,29 @@ std::string ExercisePlugin(const std::string& file) {
         !out.delta.dv.allFinite() || !out.cov.allFinite() || !out.J_bias.allFinite())
       throw Error(who + ": integrate() returned non-finite values on a 10 ms test window");
     what += "; integrate() ran on a 10 ms test window";
+  } else if (p.kind == PluginKind::Residual) {
+    // A 10 ms measurement in any chart: the identity increment with a small diagonal
+    // covariance and no bias sensitivity, between two states it nearly predicts.
+    Preintegrated m;
+    m.dt = 0.01;
+    m.cov = Mat15::Identity() * 1e-6;
+    m.convention = p.native_convention;
+    m.jacobian_convention = p.native_convention;
+    ImuState xs, xe;
+    xs.v = Vec3(0.5, 0.0, 0.0);
+    xe.p = Vec3(0.005, 0.0, 0.0);
+    xe.v = xs.v;
+    CheckingSink sink;
+    const Status st = reg.residual_factor(p.id)->evaluate(m, xs, xe, Vec3(0.0, 0.0, -9.81), sink);
+    if (!st.ok())
+      throw Error(who +
+                  ": evaluate() failed on a 10 ms test measurement: " + Printable(st.message()));
+    if (!sink.problem().empty())
+      throw Error(who + ": evaluate() on a 10 ms test measurement " + sink.problem());
+    if (sink.values() == 0)
+      throw Error(who + ": evaluate() wrote nothing on a 10 ms test measurement");
+    what += "; evaluate() ran on a 10 ms test measurement (" + std::to_string(sink.values()) +
+            " values)";
   } else {
     what += "; charts and Jacobians checked";
   }

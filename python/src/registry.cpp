@@ -30,12 +30,11 @@ py::dict InfoDict(const PluginInfo& p) {
 }
 
 PluginKind KindFromName(const std::string& name) {
-  for (PluginKind k : {PluginKind::StateConvention, PluginKind::IncrementConvention,
-                       PluginKind::Propagator, PluginKind::Preintegrator})
+  for (PluginKind k : kPluginKinds)
     if (name == KindName(k)) return k;
-  throw py::value_error(
-      "unknown plugin kind '" + name +
-      "' (expected state_convention, preint_convention, propagator or preintegrator)");
+  throw py::value_error("unknown plugin kind '" + name +
+                        "' (expected state_convention, preint_convention, propagator, "
+                        "preintegrator or residual)");
 }
 
 }  // namespace
@@ -70,8 +69,7 @@ void BindRegistry(py::module_& m) {
     // What is loaded, kind by kind, and whether anything failed: the first question about a
     // registry in an interactive session.
     std::string t = "Registry(";
-    for (const auto kind : {PluginKind::StateConvention, PluginKind::IncrementConvention,
-                            PluginKind::Propagator, PluginKind::Preintegrator}) {
+    for (const auto kind : kPluginKinds) {
       t += std::string(KindName(kind)) + "=" + Labels(r.ids(kind)) +
            ", ";  // as reg.ids(kind) names them
     }

@@ -226,7 +226,7 @@ void Registry::adopt(const std::string& path, const EntryPoints& e) {
                 ", g++ " + std::to_string(got.gnu_major) + " vs " + std::to_string(want.gnu_major) +
                 "): rebuild it with the same compiler and flags as imuconv");
   const int kind_value = static_cast<int>(d->kind);
-  if (kind_value < 1 || kind_value > 4)
+  if (kind_value < 1 || kind_value > static_cast<int>(PluginKind::Residual))
     throw Error(where + " declares an unknown plugin kind " + std::to_string(kind_value));
   if (const std::string why = detail::IdProblem(d->id); !why.empty())
     throw Error("plugin " + where + ": its descriptor's id " + why);
@@ -314,6 +314,30 @@ void Registry::adopt(const std::string& path, const EntryPoints& e) {
       info.native_convention = ref_id(obj->cov_convention(), "cov_convention()");
       info.jacobian_convention = ref_id(obj->jacobian_convention(), "jacobian_convention()");
       impl_->preintegrators.emplace(id, obj);
+      break;
+    }
+    case PluginKind::Residual: {
+      auto obj = wrap(static_cast<ResidualFactor*>(raw));
+      id_check(obj->id());
+      // "gtsam" and "forster" name the registry's generic residuals (bridge.h, ResidualKind),
+      // which the residual task and the Python module resolve before any plugin.
+      if (id == "gtsam" || id == "forster")
+        throw Error("plugin " + where + ": residual id " + Quoted(id) +
+                    " is taken by the registry's generic residual of that name (bridge.h); "
+                    "choose another id");
+      info.native_convention = ref_id(obj->increment_convention(), "increment_convention()");
+      const char* layout = obj->layout();
+      if (const std::string why = detail::TextProblem(layout); !why.empty())
+        throw Error("plugin " + where + " (" + Quoted(id) + "): layout() " + why +
+                    " (expected a UTF-8 description of its numbers)");
+      info.layout = layout;
+      // Bounded so that a chi-square quantile of it stays meaningful and cheap.
+      const int dof = obj->degrees_of_freedom();
+      if (dof < 1 || dof > 1000)
+        throw Error("plugin " + where + " (" + Quoted(id) + "): degrees_of_freedom() is " +
+                    std::to_string(dof) + " (expected 1 to 1000, the residual's dimension)");
+      info.degrees_of_freedom = dof;
+      impl_->residuals.emplace(id, obj);
       break;
     }
   }

@@ -62,6 +62,9 @@ std::shared_ptr<const Propagator> Registry::propagator(std::string_view id) cons
 std::shared_ptr<const Preintegrator> Registry::preintegrator(std::string_view id) const {
   return impl_->get(impl_->preintegrators, PluginKind::Preintegrator, id);
 }
+std::shared_ptr<const ResidualFactor> Registry::residual_factor(std::string_view id) const {
+  return impl_->get(impl_->residuals, PluginKind::Residual, id);
+}
 
 // ---- conversions by id (the work is in conversion.cpp) ------------------------------------
 

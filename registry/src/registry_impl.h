@@ -40,6 +40,7 @@ struct Registry::Impl {
   IdMap<IncrementConvention> increments;
   IdMap<Propagator> propagators;
   IdMap<Preintegrator> preintegrators;
+  IdMap<ResidualFactor> residuals;
   std::map<std::pair<dev_t, ino_t>, std::string> loaded_files;  // identity -> path it was loaded as
   std::size_t compiled_in_adopted = 0;  // entries of detail::CompiledInPlugins() adopted
 

@@ -156,7 +156,12 @@ TEST(PipelineConfig, BadIdsAreCheckedAgainstTheRegistry) {
   d["tasks"][0]["propagator"] = "manifold";  // a preintegrator, not a propagator
   d["tasks"][1]["conventions"] = {"gtsam_manifold", "gtsam_manfold"};
   d["tasks"][4]["first_order_charts"] = {"gtsam_navstate"};  // a state convention
+  d["tasks"][3]["kind"] = "vins_fussion";  // gtsam, forster or a residual plugin's id
   const auto is = Issues(d);
+  EXPECT_ISSUE(is, "/tasks/3/kind",
+               "unknown residual kind 'vins_fussion' (did you mean 'vins_fusion'?); known: gtsam, "
+               "forster, ");
+  EXPECT_ISSUE(is, "/tasks/3/kind", "basalt");
   EXPECT_ISSUE(is, "/tasks/0/state_convention",
                "unknown state convention 'lefty' (did you mean 'left'?); known: ");
   EXPECT_ISSUE(is, "/tasks/0/state_convention", "gtsam_navstate");
@@ -165,7 +170,7 @@ TEST(PipelineConfig, BadIdsAreCheckedAgainstTheRegistry) {
   EXPECT_ISSUE(is, "/tasks/1/conventions/1",
                "unknown increment (preintegration) convention 'gtsam_manfold'");
   EXPECT_ISSUE(is, "/tasks/4/first_order_charts/0", "('gtsam_navstate' is a state_convention)");
-  EXPECT_EQ(is.size(), 4u);
+  EXPECT_EQ(is.size(), 5u);
 }
 
 TEST(PipelineConfig, CovarianceChartMustMatchItsBlocks) {
@@ -229,13 +234,11 @@ TEST(PipelineConfig, GroundTruthAndImuAreNeededWhereUsed) {
 TEST(PipelineConfig, UnknownTaskTypeAndEnums) {
   json d = Base();
   d["tasks"][0]["type"] = "integrate";
-  d["tasks"][3]["kind"] = "ceres";
   d["imu"]["format"] = "inline";
   d["imu"]["time_unit"] = "h";
   const auto is = Issues(d);
   EXPECT_ISSUE(is, "/tasks/0/type",
                "unknown value 'integrate'; expected one of the task types 'propagate'");
-  EXPECT_ISSUE(is, "/tasks/3/kind", "unknown value 'ceres'; expected one of 'gtsam', 'forster'");
   EXPECT_ISSUE(is, "/imu/time_unit", "unknown value 'h'; expected one of 's', 'ms', 'us', 'ns'");
 }
 

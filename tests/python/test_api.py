@@ -32,12 +32,14 @@ def central_conversion(reg, a, b, x, h=1e-6):
 def test_plugins_are_listed(reg):
     plugins = reg.plugins()
     kinds = {p["kind"] for p in plugins}
-    assert kinds == {"state_convention", "preint_convention", "propagator", "preintegrator"}
+    assert kinds == {"state_convention", "preint_convention", "propagator", "preintegrator", "residual"}
     for p in plugins:
         assert set(p) >= {"id", "kind", "file", "version", "blocks"}
         if p["kind"] in ("state_convention", "preint_convention"):
             assert sorted(p["blocks"]) == ["ba", "bg", "p", "theta", "v"]
     assert {"euler", "rk4", "midpoint"} <= set(reg.ids("propagator"))
+    # the systems' own IMU factors (plugins/residuals/), by the kind's name
+    assert {"vins_fusion", "basalt", "okvis2", "orb_slam3"} <= set(reg.ids("residual"))
     assert reg.load_issues == []
 
 

@@ -10,6 +10,7 @@
 #include "imuconv/export.h"
 #include "imuconv/preintegrator.h"
 #include "imuconv/propagator.h"
+#include "imuconv/residual_factor.h"
 #include "imuconv/types.h"
 #include "imuconv/window.h"
 
@@ -18,7 +19,10 @@ namespace imuconv {
 /// Bumped whenever a base class, value type or the descriptor changes layout. 2: the two
 /// convention interfaces became Chart<Value> (order(), J_ref_this, J_this_ref,
 /// jacobian_convention()). 3: Propagator and Preintegrator gained the optional
-/// increment_mean() and noise_simulation() (increment_mean.h, noise_simulation.h).
+/// increment_mean() and noise_simulation() (increment_mean.h, noise_simulation.h). The kind
+/// Residual (residual_factor.h) came without a bump: it adds a base class and changes none,
+/// so every plugin of version 3 loads as before, and a host that predates the kind refuses a
+/// residual plugin by its unknown kind value.
 constexpr int kPluginAbiVersion = 3;
 
 enum class PluginKind : int {
@@ -26,7 +30,13 @@ enum class PluginKind : int {
   IncrementConvention = 2,  ///< IncrementConvention (Chart<PreintIncrement>)
   Propagator = 3,           ///< Propagator
   Preintegrator = 4,        ///< Preintegrator
+  Residual = 5,             ///< ResidualFactor (residual_factor.h)
 };
+
+/// Every kind, in the order listings show them.
+inline constexpr PluginKind kPluginKinds[] = {
+    PluginKind::StateConvention, PluginKind::IncrementConvention, PluginKind::Propagator,
+    PluginKind::Preintegrator, PluginKind::Residual};
 
 /// The kind's name in messages and outputs. An increment convention is "preint_convention"
 /// there: the name is part of the output format (plugins_used, `imuconv plugins`).
@@ -40,6 +50,8 @@ inline const char* KindName(PluginKind k) noexcept {
       return "propagator";
     case PluginKind::Preintegrator:
       return "preintegrator";
+    case PluginKind::Residual:
+      return "residual";
   }
   return "unknown";
 }
@@ -80,6 +92,10 @@ struct PluginBase<PluginKind::Propagator> {
 template <>
 struct PluginBase<PluginKind::Preintegrator> {
   using type = Preintegrator;
+};
+template <>
+struct PluginBase<PluginKind::Residual> {
+  using type = ResidualFactor;
 };
 
 namespace detail {

@@ -292,17 +292,22 @@ Status PreintegrateOkvis2(const std::vector<Okvis2Sample>& samples,
   out.bg_ref = bg;
   out.ba_ref = ba;
   out.P_delta = 0.5 * s.P + 0.5 * s.P.transpose();
+  Okvis2Information(out.P_delta, out.information);
+  return Status::Ok();
+}
 
+void Okvis2Information(const Mat15& P_delta, Mat15& information) {
   // OKVIS's pseudo-inverse: eigenvalues above eps * max(1, 15 * largest) inverted, the
   // others replaced by that floor's inverse (PseudoInverse::symmSqrtU; information = U^T U).
-  const Eigen::SelfAdjointEigenSolver<Mat15> eig(out.P_delta);
+  const Eigen::SelfAdjointEigenSolver<Mat15> eig(P_delta);
   const double eps = std::numeric_limits<double>::epsilon();
   const double floor = std::max(eps, eps * 15.0 * eig.eigenvalues().maxCoeff());
   const Eigen::Array<double, 15, 1> inverse =
       (eig.eigenvalues().array() > floor).select(eig.eigenvalues().array().inverse(), 1.0 / floor);
-  out.information =
-      eig.eigenvectors() * inverse.matrix().asDiagonal() * eig.eigenvectors().transpose();
-  return Status::Ok();
+  // Assigned, not returned: Eigen then evaluates the product through a temporary, as it did
+  // when this was inline in PreintegrateOkvis2 (returned, the product rounds differently in
+  // the last bit, and `refcase --anchor okvis2` outputs would change).
+  information = eig.eigenvectors() * inverse.matrix().asDiagonal() * eig.eigenvectors().transpose();
 }
 
 bool Okvis2RedoesPreintegration(const Okvis2Preintegration& pre, const Vec3& bg_0,

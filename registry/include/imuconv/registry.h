@@ -21,6 +21,7 @@
 #include "imuconv/plugin_kind.h"
 #include "imuconv/preintegrator.h"
 #include "imuconv/propagator.h"
+#include "imuconv/residual_factor.h"
 
 namespace imuconv {
 
@@ -38,10 +39,13 @@ struct PluginInfo {
   std::string summary;
   std::vector<std::string> blocks;  ///< block order, for conventions
   std::string native_convention;    ///< propagators: native state convention; preintegrators:
-                                    ///< covariance convention
+                                    ///< covariance convention; residuals: the increment
+                                    ///< convention the measurement is expressed in
   std::string jacobian_convention;  ///< preintegrators and increment conventions: the chart of the
                                     ///< bias Jacobian
   bool analytic_jacobians = false;  ///< conventions: analytic Jacobians given (and verified)
+  std::string layout;               ///< residuals: what their numbers are (ResidualFactor::layout)
+  int degrees_of_freedom = 0;       ///< residuals: of their squared Mahalanobis distance
 };
 
 /// A plugin file that was not loaded, and why. Every bad file on the search path becomes one
@@ -118,6 +122,7 @@ class IMUCONV_API Registry {
   std::shared_ptr<const IncrementConvention> increment_convention(std::string_view id) const;
   std::shared_ptr<const Propagator> propagator(std::string_view id) const;
   std::shared_ptr<const Preintegrator> preintegrator(std::string_view id) const;
+  std::shared_ptr<const ResidualFactor> residual_factor(std::string_view id) const;
 
   // ---- conversions between two conventions of one kind -------------------------------
   // Written once over the value type: Value is ImuState for state conventions and

@@ -110,15 +110,15 @@ void CheckPluginId(Checker& c, const Registry& reg, PluginKind kind, const std::
   const char* what = kind == PluginKind::StateConvention ? "state convention"
                      : kind == PluginKind::IncrementConvention
                          ? "increment (preintegration) convention"
-                     : kind == PluginKind::Propagator ? "propagator"
-                                                      : "preintegrator";
+                     : kind == PluginKind::Propagator    ? "propagator"
+                     : kind == PluginKind::Preintegrator ? "preintegrator"
+                                                         : "residual";
   std::string known;
   for (const auto& k : reg.ids(kind)) known += (known.empty() ? "" : ", ") + k;
   std::string msg = std::string("unknown ") + what + " " + Quoted(id) +
                     DidYouMean(id, reg.ids(kind)) + "; known: " + known;
   // A known id of another kind is a frequent slip: say so.
-  for (PluginKind k : {PluginKind::StateConvention, PluginKind::IncrementConvention,
-                       PluginKind::Propagator, PluginKind::Preintegrator})
+  for (PluginKind k : kPluginKinds)
     if (k != kind && reg.has(k, id)) msg += " (" + Quoted(id) + " is a " + KindName(k) + ")";
   c.error(pointer, msg);
 }

@@ -131,6 +131,12 @@ IMUCONV_API Status PreintegrateOkvis2(const std::vector<Okvis2Sample>& samples,
                                       Okvis2Preintegration& out,
                                       Okvis2Transition transition = Okvis2Transition::kAsOkvis);
 
+/// ImuError's information from its P_delta (symmetric): OKVIS's pseudo-inverse, eigenvalues
+/// at or below eps * max(1, 15 * largest) replaced by that floor (PseudoInverse::symmSqrtU,
+/// information = U^T U). PreintegrateOkvis2 fills Okvis2Preintegration::information with it;
+/// the `okvis2` residual plugin forms it from a measurement's covariance.
+IMUCONV_API void Okvis2Information(const Mat15& P_delta, Mat15& information);
+
 /// ImuError's residual and Jacobians before weighting (OKVIS multiplies all of them by the
 /// square root of `information`, whose rows' signs are an eigen-solver's choice).
 struct Okvis2ImuErrorTerms {
