@@ -215,6 +215,8 @@ int ExecuteRun(const CommandContext& ctx, const RunCommandOptions& o) {
   pipeline::RunOptions ro;
   std::vector<std::string> inconsistent;  // check tasks whose verdict is inconsistent
   ro.inconsistent_checks = &inconsistent;
+  std::vector<std::string> unconverged;  // optimize tasks whose solve did not converge
+  ro.unconverged_solves = &unconverged;
   ro.plugin_dirs = ctx.plugin_dirs();
   {
     std::vector<std::string> dirs = ro.plugin_dirs;
@@ -261,7 +263,12 @@ int ExecuteRun(const CommandContext& ctx, const RunCommandOptions& o) {
   for (const auto& name : inconsistent)
     std::cerr << "imuconv: check task '" << Printable(name)
               << "': inconsistent (see its \"measurements\" in the output)\n";
-  return inconsistent.empty() ? kExitOk : kExitInconsistent;
+  // A solve that stopped before converging is no answer: the run exits 1 as imuconv optimize
+  // does, also under -q, which hides the summary line that says so.
+  for (const auto& name : unconverged)
+    std::cerr << "imuconv: optimize task '" << Printable(name)
+              << "': the solve did not converge (see its \"solver\" in the output)\n";
+  return inconsistent.empty() && unconverged.empty() ? kExitOk : kExitInconsistent;
 }
 
 }  // namespace

@@ -83,9 +83,11 @@ class OptimizeTask : public Task {
       w.key(key);
       w.value(value);
     }
+    const bool converged = out["solver"]["converged"].get<bool>();
+    if (!converged && ctx.opt.unconverged_solves) ctx.opt.unconverged_solves->push_back(name);
     if (std::ostream* o = ctx.summary())
       *o << "optimize '" << name << "': " << out["keyframes"].size() << " keyframes, "
-         << (out["solver"]["converged"].get<bool>() ? "converged" : "DID NOT CONVERGE") << "\n";
+         << (converged ? "converged" : "DID NOT CONVERGE") << "\n";
   }
 };
 

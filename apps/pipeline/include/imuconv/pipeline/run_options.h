@@ -55,8 +55,11 @@ struct RunOptions {
   /// task runs; ConfigError beyond it). Results no later task names are written and dropped.
   std::size_t max_kept_bytes = std::size_t{1} << 30;
   /// When not null, receives the name of every check task whose verdict is "inconsistent"
-  /// (the document is complete all the same; imuconv run then exits 3).
+  /// (the document is complete all the same; imuconv run then exits 1).
   std::vector<std::string>* inconsistent_checks = nullptr;
+  /// When not null, receives the name of every optimize task whose solve did not converge (its
+  /// document says so, with no covariances; imuconv run then exits 1, as imuconv optimize does).
+  std::vector<std::string>* unconverged_solves = nullptr;
   /// Run one shard of the tasks (imuconv run --shard K/N; imuconv merge joins the shards).
   /// The tasks are cut into units, the shortest runs of consecutive tasks that no task's
   /// reference to an earlier one crosses, and shard `index` of `count` runs the contiguous
