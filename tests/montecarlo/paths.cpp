@@ -42,7 +42,8 @@ TEST(MontecarloPaths, MeanOnlyGivesTheFullPathsTrialsBitForBit) {
           {"midpoint", PluginKind::Propagator},
           {"rk4", PluginKind::Propagator},
           {"manifold", PluginKind::Preintegrator},
-          {"tangent", PluginKind::Preintegrator}}) {
+          {"tangent", PluginKind::Preintegrator},
+          {"vins_fusion", PluginKind::Preintegrator}}) {
       const Result mean = RunMethod(id, kind, in, true), full = RunMethod(id, kind, in, false);
       EXPECT_EQ(mean.trial_path, "mean_only") << id << " on " << case_id;
       EXPECT_EQ(full.trial_path, "full") << id;
@@ -61,7 +62,7 @@ TEST(MontecarloPaths, OtherMethodsRunTheFullPath) {
   const Input in = CaseInput("smooth-0", 1.0);
   for (const auto& [id, kind] :
        {std::pair<const char*, PluginKind>{"openvins_rk4", PluginKind::Propagator},
-        {"vins_fusion", PluginKind::Preintegrator},
+        {"okvis2", PluginKind::Preintegrator},
         {"basalt", PluginKind::Preintegrator}})
     EXPECT_EQ(RunMethod(id, kind, in, true).trial_path, "full") << id;
 }

@@ -146,19 +146,36 @@ Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mappi
   return Status::Ok();
 }
 
+namespace {
+/// The increment as both paths write it.
+PreintIncrement IncrementOf(const VinsFusionPreintegration& r) {
+  PreintIncrement delta;
+  delta.dR = r.delta_q.toRotationMatrix();
+  delta.dp = r.delta_p;
+  delta.dv = r.delta_v;
+  return delta;
+}
+}  // namespace
+
 Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mapping,
                            Preintegrated& out) {
   VinsFusionPreintegration r;
   if (Status s = IntegrateVinsFusion(in, mapping, r); !s.ok()) return s;
   out.dt = r.sum_dt;
-  out.delta = PreintIncrement{};
-  out.delta.dR = r.delta_q.toRotationMatrix();
-  out.delta.dp = r.delta_p;
-  out.delta.dv = r.delta_v;
+  out.delta = IncrementOf(r);
   out.bg_hat = in.bg;
   out.ba_hat = in.ba;
   out.cov = r.covariance;
   out.J_bias = r.jacobian.block<9, 6>(0, kBa);
+  return Status::Ok();
+}
+
+Status VinsFusionIncrementMean(const PreintegrationInput& in, PreintIncrement& delta) {
+  VinsFusionPreintegration r;
+  // The mapping is read only by the covariance's branch, which does not run here.
+  if (Status s = IntegrateVinsFusion(in, VinsNoiseMapping::kFromDensities, r, false); !s.ok())
+    return s;
+  delta = IncrementOf(r);
   return Status::Ok();
 }
 

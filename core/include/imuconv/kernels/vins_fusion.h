@@ -70,6 +70,12 @@ IMUCONV_API Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseM
 IMUCONV_API Status IntegrateVinsFusion(const PreintegrationInput& in, VinsNoiseMapping mapping,
                                        Preintegrated& out);
 
+/// The increment alone (increment_mean(), imuconv/increment_mean.h: what montecarlo's trials
+/// run): IntegrateVinsFusion without its Jacobian product and covariance. The mean's lines are
+/// the full path's own, outside its `jacobians` branch, so the increment is the full path's bit
+/// for bit; the noise mapping does not enter it.
+IMUCONV_API Status VinsFusionIncrementMean(const PreintegrationInput& in, PreintIncrement& delta);
+
 /// The scheme with one noise mapping as a preintegrator's kernel (plugin/kernel_plugin.h):
 /// its outputs are in the `vins_fusion` increment convention.
 template <VinsNoiseMapping kMapping>
@@ -78,6 +84,9 @@ struct VinsFusionScheme {
   static constexpr const char* kJacobianConvention = "vins_fusion";
   Status operator()(const PreintegrationInput& in, Preintegrated& out) const {
     return IntegrateVinsFusion(in, kMapping, out);
+  }
+  static Status Mean(const PreintegrationInput& in, PreintIncrement& delta) {
+    return VinsFusionIncrementMean(in, delta);
   }
 };
 
