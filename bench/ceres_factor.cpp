@@ -1,6 +1,8 @@
 // imuconv-bench-ceres: one preintegration factor's evaluation (residual and the two 15x16
 // ambient Jacobians Ceres asks for) per keyframe pair, and its re-integration, for a native
-// preintegrator and for preintegration by propagation. Built only with imuconv::ceres; a program
+// preintegrator and for preintegration by propagation; and imuconv optimize's whole solve on
+// EuRoC V1_01 (examples/data, the source tree's: IMUCONV_SOURCE_DIR), with and without the
+// marginal covariances. Built only with imuconv::ceres; a program
 // of its own so that `imuconv bench`'s set stays the same with and without Ceres.
 #include <benchmark/benchmark.h>
 
@@ -14,6 +16,8 @@
 #include "imuconv/bridge.h"
 #include "imuconv/ceres/preintegration_factor.h"
 #include "imuconv/ceres/state_block.h"
+#include "imuconv/optimize/optimize.h"
+#include "imuconv/optimize/optimize_input.h"
 #include "imuconv/printable.h"
 #include "imuconv/so3.h"
 
@@ -113,6 +117,33 @@ void BM_CeresFactorReintegrate(benchmark::State& st, PluginKind kind, const char
   st.SetItemsProcessed(st.iterations());
 }
 
+/// The whole of examples/data's V1_01 (1448 keyframes at 0.1 s, the vicon2gt poses as pose
+/// measurements), solved as `imuconv optimize --keyframe-step 0.1` does with the EuRoC
+/// datasheet's densities (examples/euroc_v1_01_full.json): reading the files is outside the
+/// timing, the re-integration rounds and (with `covariance`) the marginals inside it.
+void BM_OptimizeEurocV101(benchmark::State& st, bool covariance) {
+  const std::string dir = std::string(IMUCONV_SOURCE_DIR) + "/examples/data/";
+  optimize::Input in;
+  try {
+    in = optimize::ReadFileInput(dir + "V1_01_easy_imu0.csv",
+                                 dir + "V1_01_easy_groundtruth_vicon2gt.csv");
+  } catch (const std::exception& e) {
+    st.SkipWithError(e.what());
+    return;
+  }
+  optimize::Options o;
+  o.keyframe_step = 0.1;
+  o.noise = ImuNoise{1.6968e-4, 2.0e-3, 1.9393e-5, 3.0e-3};
+  o.covariance = covariance;
+  std::size_t keyframes = 0;
+  for (auto _ : st) {
+    const optimize::Result r = optimize::RunOptimize(Plugins(), in.imu, in.poses, o);
+    if (!r.converged) st.SkipWithError("the solve did not converge");
+    keyframes = r.keyframes.size();
+  }
+  st.counters["keyframes"] = static_cast<double>(keyframes);
+}
+
 }  // namespace
 }  // namespace imuconv::bench_ceres
 
@@ -137,6 +168,13 @@ int main(int argc, char** argv) {
     benchmark::RegisterBenchmark((std::string("BM_CeresFactorReintegrate/") + m.id).c_str(),
                                  BM_CeresFactorReintegrate, m.kind, m.id);
   }
+  for (const bool covariance : {false, true})
+    benchmark::RegisterBenchmark(
+        covariance ? "BM_OptimizeEurocV101/with_covariances" : "BM_OptimizeEurocV101/solve_only",
+        BM_OptimizeEurocV101, covariance)
+        ->Unit(benchmark::kSecond)
+        ->Iterations(1)
+        ->UseRealTime();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;
