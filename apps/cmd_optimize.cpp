@@ -7,7 +7,6 @@
 // (the message names the file and line, the JSON pointer or the option), 3 internal error.
 #include "imuconv/cli/cmd_optimize.h"
 
-#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -50,10 +49,7 @@ int RunOptimizeCommand(const CommandContext& ctx, const OptimizeCommandOptions& 
       out.emplace(o.output_path);
       if (!o.report_path.empty()) {
         report.RefuseIfSame(o.output_path, "the output (-o)");
-        std::error_code ea, eb;
-        const auto ca = std::filesystem::weakly_canonical(o.output_path, ea),
-                   cb = std::filesystem::weakly_canonical(o.report_path, eb);
-        if (!ea && !eb && ca == cb)
+        if (pipeline::SameDestination(o.output_path, o.report_path))
           throw Error("-o and --report name the same file: " + Printable(o.output_path));
       }
     }

@@ -64,16 +64,6 @@ std::string TrajectoryTask(const pipeline::Pipeline& p, const RunCommandOptions&
   return tasks.front();
 }
 
-/// Whether two outputs name one file: the same file when it exists (OutputFile's check), and
-/// also before it does, by the normalised absolute path (symbolic links resolved as far as
-/// they exist).
-bool SameDestination(const std::string& a, const std::string& b) {
-  std::error_code ea, eb;
-  const auto ca = std::filesystem::weakly_canonical(a, ea),
-             cb = std::filesystem::weakly_canonical(b, eb);
-  return !ea && !eb && ca == cb;
-}
-
 /// The shortest text that reads back as x (as the JSON output writes numbers).
 std::string Shortest(double x) {
   char buf[32];
@@ -199,7 +189,7 @@ int ExecuteRun(const CommandContext& ctx, const RunCommandOptions& o) {
     for (const auto& in : inputs)
       (*f)->refuse_if_same(in, in == p.file() ? "the pipeline" : "the input file");
     (*f)->refuse_if_same(out, "the output");
-    if (SameDestination(*path, out))
+    if (pipeline::SameDestination(*path, out))
       throw UsageError{std::string(what) + " names the same file as the output"};
     if ((*f)->is_stdout())
       throw UsageError{std::string(what) +
@@ -207,7 +197,8 @@ int ExecuteRun(const CommandContext& ctx, const RunCommandOptions& o) {
   }
   if (tum && errors) {
     errors->refuse_if_same(o.tum, "the --tum file");
-    if (SameDestination(o.tum, o.errors)) throw UsageError{"--tum and --errors name the same file"};
+    if (pipeline::SameDestination(o.tum, o.errors))
+      throw UsageError{"--tum and --errors name the same file"};
   }
   std::string tum_text, errors_text;
   if (errors)

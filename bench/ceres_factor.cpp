@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_plugins.h"
 #include "imuconv/bridge.h"
 #include "imuconv/ceres/preintegration_factor.h"
 #include "imuconv/ceres/state_block.h"
@@ -26,16 +27,7 @@ namespace {
 
 using namespace imuconv::ceres_factors;
 
-const Registry& Plugins() {
-  static Registry* reg = [] {
-    auto* r = new Registry();
-    for (const auto& i : r->load_search_path())
-      std::fprintf(stderr, "imuconv-bench-ceres: %s: %s\n", Printable(i.file).c_str(),
-                   Printable(i.message).c_str());
-    return r;
-  }();
-  return *reg;
-}
+const Registry& Plugins() { return bench::BenchPlugins("imuconv-bench-ceres"); }
 
 // One keyframe pair 0.1 s apart at 200 Hz (imuconv optimize's default --keyframe-step on EuRoC),
 // smooth motion as bench/suite.cpp's.

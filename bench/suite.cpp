@@ -1,5 +1,7 @@
 #include "suite.h"
 
+#include "bench_plugins.h"
+
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 
@@ -27,16 +29,7 @@
 namespace imuconv::bench {
 namespace {
 
-Registry& Plugins() {
-  static Registry* reg = [] {
-    auto* r = new Registry();
-    for (const auto& i : r->load_search_path())
-      std::fprintf(stderr, "imuconv bench: %s: %s\n", Printable(i.file).c_str(),
-                   Printable(i.message).c_str());
-    return r;
-  }();
-  return *reg;
-}
+Registry& Plugins() { return BenchPlugins("imuconv bench"); }
 
 // 10 s at 200 Hz of smooth motion (sums of sinusoids, as the reference `smooth` kind).
 const std::vector<ImuSample>& Samples() {

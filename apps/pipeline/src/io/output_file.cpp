@@ -223,6 +223,12 @@ void OutputFile::fail(const std::string& what, int err) {
               (err != 0 ? std::string(": ") + std::strerror(err) : std::string()));
 }
 
+bool SameDestination(const std::string& a, const std::string& b) {
+  std::error_code ea, eb;
+  const auto ca = fs::weakly_canonical(a, ea), cb = fs::weakly_canonical(b, eb);
+  return !ea && !eb && ca == cb;
+}
+
 void OutputFile::refuse_if_same(const std::string& other, const std::string& role) const {
   if (!exists_) return;
   struct stat st {};

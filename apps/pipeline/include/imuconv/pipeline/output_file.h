@@ -126,6 +126,12 @@ using AtomicFile = OutputFile;
 /// device or FIFO). On any failure nothing is left behind and Error is thrown.
 void WriteFileAtomically(const std::string& path, const std::string& text);
 
+/// Whether two output paths name one file: before either exists, by the normalised absolute
+/// path (symbolic links resolved as far as they exist). For a command with two outputs (run's
+/// --tum and --errors, optimize's -o and --report); an existing file is also caught by
+/// OutputFile's own identity check.
+bool SameDestination(const std::string& a, const std::string& b);
+
 /// Installs handlers for SIGINT, SIGTERM, SIGHUP and SIGPIPE (each one not ignored) that remove
 /// every live temporary of this process and then die of the same signal, by its default
 /// action, so the exit status is the signal's. Call once, early, from the program's main.
