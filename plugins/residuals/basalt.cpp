@@ -49,6 +49,22 @@ struct BasaltFactor {
       "state0 = x_s "
       "with curr_bg/ba = x_s's biases, state1 = x_e; the measurement expressed in basalt";
   static constexpr int kDegreesOfFreedom = 9;
+  // As a cost (residual_cost_spec.h): 9 rows, no bias-walk rows (Basalt weights the bias
+  // random walk in a separate term), whitened by a square root of the measurement's
+  // covariance inverse (get_cov_inv). applyInc moves p + dp, Exp(dtheta) R, v + dv and the
+  // biases additively: the chart of `left`; the end state's biases do not enter.
+  static constexpr ResidualCostSpec kCostSpec{"residual",
+                                              "left",
+                                              ResidualWeighting::MeasurementCovariance,
+                                              nullptr,
+                                              {{"d_res_d_state0", 0, Block::p},
+                                               {"d_res_d_state0", 3, Block::theta},
+                                               {"d_res_d_state0", 6, Block::v},
+                                               {"d_res_d_bg", 0, Block::bg},
+                                               {"d_res_d_ba", 0, Block::ba}},
+                                              {{"d_res_d_state1", 0, Block::p},
+                                               {"d_res_d_state1", 3, Block::theta},
+                                               {"d_res_d_state1", 6, Block::v}}};
 
   Status operator()(const Preintegrated& m, const ImuState& x_s, const ImuState& x_e,
                     const Vec3& gravity, ResidualSink& sink) const {

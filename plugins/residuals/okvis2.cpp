@@ -68,6 +68,24 @@ struct Okvis2Factor {
       "(q_1's sign making the rotation error's w >= 0); the measurement expressed in okvis2, "
       "gravity (0, 0, -g)";
   static constexpr int kDegreesOfFreedom = 15;
+  // As a cost (residual_cost_spec.h): the raw residual whitened by a square root of the
+  // information (OKVIS's own has eigen-solver row signs; the cost does not depend on which
+  // root). The minimal pose Jacobians (r + dr, Exp(dalpha) C) and the additive speed-and-bias
+  // ones are in the chart of the `okvis2` state convention, [r, alpha | v, bg, ba].
+  static constexpr ResidualCostSpec kCostSpec{"raw/residual",
+                                              "okvis2",
+                                              ResidualWeighting::Information,
+                                              "information",
+                                              {{"raw/jacobian_pose_0_minimal", 0, Block::p},
+                                               {"raw/jacobian_pose_0_minimal", 3, Block::theta},
+                                               {"raw/jacobian_speedbias_0", 0, Block::v},
+                                               {"raw/jacobian_speedbias_0", 3, Block::bg},
+                                               {"raw/jacobian_speedbias_0", 6, Block::ba}},
+                                              {{"raw/jacobian_pose_1_minimal", 0, Block::p},
+                                               {"raw/jacobian_pose_1_minimal", 3, Block::theta},
+                                               {"raw/jacobian_speedbias_1", 0, Block::v},
+                                               {"raw/jacobian_speedbias_1", 3, Block::bg},
+                                               {"raw/jacobian_speedbias_1", 6, Block::ba}}};
 
   Status operator()(const Preintegrated& m, const ImuState& x_s, const ImuState& x_e,
                     const Vec3& gravity, ResidualSink& sink) const {

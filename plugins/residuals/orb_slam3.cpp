@@ -63,6 +63,21 @@ struct OrbSlam3Factor {
       "x_s, pose 2 = x_e; the measurement expressed in orb_slam3 and read in float; g = (0, 0, "
       "-9.81f) (IMU::GRAVITY_VALUE)";
   static constexpr int kDegreesOfFreedom = 9;
+  // As a cost (residual_cost_spec.h): 9 rows, no bias-walk rows (EdgeGyroRW and EdgeAccRW are
+  // separate edges in ORB-SLAM3), whitened by a square root of the information. VertexPose
+  // moves R Exp(dtheta), t + R dt, and velocity and biases additively: the chart of `forster`
+  // (R Exp(dtheta), p + R dp, v + dv, b + db); the end state's biases do not enter.
+  static constexpr ResidualCostSpec kCostSpec{
+      "residual",
+      "forster",
+      ResidualWeighting::Information,
+      "information",
+      {{"J_pose1", 0, Block::theta},
+       {"J_pose1", 3, Block::p},
+       {"J_vel1", 0, Block::v},
+       {"J_gyro_bias1", 0, Block::bg},
+       {"J_acc_bias1", 0, Block::ba}},
+      {{"J_pose2", 0, Block::theta}, {"J_pose2", 3, Block::p}, {"J_vel2", 0, Block::v}}};
 
   Status operator()(const Preintegrated& m, const ImuState& x_s, const ImuState& x_e,
                     const Vec3& gravity, ResidualSink& sink) const {

@@ -67,6 +67,25 @@ struct VinsFusionFactor {
       "estimate), j = x_e; "
       "the measurement expressed in vins_fusion, G = -gravity";
   static constexpr int kDegreesOfFreedom = 15;
+  // As a cost (residual_cost_spec.h): the raw residual whitened by IMUFactor's own sqrt_info.
+  // PoseLocalParameterization moves a pose by p + dp (world) and q (x) [1, dtheta/2]
+  // normalized, which is R Exp(dtheta) to first order, and the speed-bias block additively:
+  // to first order the chart of `fast_lio2` (pos + dp, R Exp(drot), vel + dv, b + db), whose
+  // blocks VINS's columns hold in its order [p, theta | v, ba, bg].
+  static constexpr ResidualCostSpec kCostSpec{"raw/residual",
+                                              "fast_lio2",
+                                              ResidualWeighting::SqrtInformation,
+                                              "sqrt_info",
+                                              {{"raw/jacobian_pose_i", 0, Block::p},
+                                               {"raw/jacobian_pose_i", 3, Block::theta},
+                                               {"raw/jacobian_speedbias_i", 0, Block::v},
+                                               {"raw/jacobian_speedbias_i", 3, Block::ba},
+                                               {"raw/jacobian_speedbias_i", 6, Block::bg}},
+                                              {{"raw/jacobian_pose_j", 0, Block::p},
+                                               {"raw/jacobian_pose_j", 3, Block::theta},
+                                               {"raw/jacobian_speedbias_j", 0, Block::v},
+                                               {"raw/jacobian_speedbias_j", 3, Block::ba},
+                                               {"raw/jacobian_speedbias_j", 6, Block::bg}}};
 
   Status operator()(const Preintegrated& m, const ImuState& x_s, const ImuState& x_e,
                     const Vec3& gravity, ResidualSink& sink) const {

@@ -22,8 +22,10 @@ namespace imuconv {
 /// increment_mean() and noise_simulation() (increment_mean.h, noise_simulation.h). The kind
 /// Residual (residual_factor.h) came without a bump: it adds a base class and changes none,
 /// so every plugin of version 3 loads as before, and a host that predates the kind refuses a
-/// residual plugin by its unknown kind value.
-constexpr int kPluginAbiVersion = 3;
+/// residual plugin by its unknown kind value. 4: ResidualFactor gained cost_spec()
+/// (residual_cost_spec.h), a new virtual function: a residual plugin of version 3 has a shorter
+/// vtable, so every plugin of version 3 is refused by its version.
+constexpr int kPluginAbiVersion = 4;
 
 enum class PluginKind : int {
   StateConvention = 1,      ///< StateConvention (Chart<ImuState>)

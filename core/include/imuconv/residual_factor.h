@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "imuconv/preintegrated.h"
+#include "imuconv/residual_cost_spec.h"
 #include "imuconv/status.h"
 #include "imuconv/types.h"
 
@@ -62,6 +63,9 @@ class ResidualFactor {
   /// frame, e.g. (0, 0, -9.81)): writes its named values to `sink`.
   virtual Status evaluate(const Preintegrated& m, const ImuState& x_s, const ImuState& x_e,
                           const Vec3& gravity, ResidualSink& sink) const noexcept = 0;
+  /// How evaluate()'s outputs form a least-squares cost (residual_cost_spec.h), or nullptr for a
+  /// factor that declares none (ABI version 4). The object lives as long as the plugin.
+  virtual const ResidualCostSpec* cost_spec() const noexcept { return nullptr; }
 };
 
 /// A fixed-size Eigen vector to the sink (plugin side).

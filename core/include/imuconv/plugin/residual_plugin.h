@@ -13,15 +13,25 @@
 //   };
 //   IMUCONV_PLUGIN(Residual, imuconv::plugin::KernelResidual<MyFactor>, "my_system", "1.0.0",
 //                  "one line summary")
-// The id comes from the IMUCONV_PLUGIN line.
+// The id comes from the IMUCONV_PLUGIN line. A struct that also declares
+//     static constexpr imuconv::ResidualCostSpec kCostSpec{...};
+// (residual_cost_spec.h) gives it as cost_spec(), so that its factor can be a Ceres cost.
 #pragma once
 
 #include <exception>
 #include <string>
+#include <type_traits>
 
 #include "imuconv/residual_factor.h"
 
 namespace imuconv::plugin {
+
+namespace detail {
+template <class Kernel, class = void>
+struct HasCostSpec : std::false_type {};
+template <class Kernel>
+struct HasCostSpec<Kernel, std::void_t<decltype(&Kernel::kCostSpec)>> : std::true_type {};
+}  // namespace detail
 
 template <class Kernel>
 class KernelResidual : public ResidualFactor {
@@ -31,6 +41,12 @@ class KernelResidual : public ResidualFactor {
   }
   const char* layout() const noexcept override { return Kernel::kLayout; }
   int degrees_of_freedom() const noexcept override { return Kernel::kDegreesOfFreedom; }
+  const ResidualCostSpec* cost_spec() const noexcept override {
+    if constexpr (detail::HasCostSpec<Kernel>::value)
+      return &Kernel::kCostSpec;
+    else
+      return nullptr;
+  }
   /// Runs the kernel so that no exception crosses the plugin boundary (kernels report bad
   /// input by Status; only std::bad_alloc while building a message can be thrown here).
   Status evaluate(const Preintegrated& m, const ImuState& x_s, const ImuState& x_e,
