@@ -1,0 +1,89 @@
+// A residual plugin's cost declaration (residual_cost_spec.h) checked and resolved once, and
+// the ResidualSink that keeps, of everything the plugin writes, the outputs the declaration
+// names: the residual, the weighting matrix and the Jacobians' columns. The plugin is
+// untrusted: every string is bounded, every value checked, every problem a message naming the
+// plugin and the output.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "imuconv/registry.h"
+#include "imuconv/residual_factor.h"
+
+namespace imuconv::ceres_factors::detail {
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+/// Three Jacobian columns: output `output` (an index into NativeOutputs::names), columns
+/// [first_column, first_column + 3), at `offset` of the state convention's tangent.
+struct JacobianColumns {
+  int output = -1;
+  int first_column = 0;
+  int offset = 0;
+};
+
+/// The declaration, checked: the outputs to keep (the residual first, then the weighting matrix
+/// if any, then the Jacobian matrices, each once) and where each Jacobian block goes.
+struct NativeOutputs {
+  std::string id;                ///< the plugin's id, for messages
+  int n = 0;                     ///< the residual's dimension
+  std::string state_convention;  ///< the convention the Jacobian columns are in
+  ResidualWeighting weighting = ResidualWeighting::SqrtInformation;
+  std::vector<std::string> names;  ///< [0] residual, [1] weighting matrix (if named), matrices
+  /// Per output: the columns it must have at least (1 for the residual, a vector).
+  std::vector<int> min_cols;
+  int weighting_output = -1;  ///< index of the weighting matrix in names, or -1
+  std::vector<JacobianColumns> start, end;
+};
+
+/// Checks `factor`'s cost_spec() (non-null, bounded strings, known convention and weighting,
+/// each tangent block at most once per state) against `reg`. Throws imuconv::Error naming the
+/// plugin.
+NativeOutputs ResolveNativeOutputs(const Registry& reg, const ResidualFactor& factor);
+
+/// What one evaluation wrote, of the declared outputs.
+struct NativeValues {
+  std::vector<RowMatrix> values;  ///< by NativeOutputs::names (a vector as one column)
+  std::vector<bool> written;
+};
+
+/// Keeps the declared outputs; the first problem (a null name, an output written twice, a size
+/// other than declared, a non-finite number) is recorded and what follows is ignored.
+class NativeOutputSink final : public ResidualSink {
+ public:
+  NativeOutputSink(const NativeOutputs& outputs, NativeValues& into);
+  void begin_group(const char* name) noexcept override;
+  void end_group() noexcept override;
+  void vector(const char* name, const double* values, int size) noexcept override;
+  void matrix(const char* name, const double* row_major, int rows, int cols) noexcept override;
+  void mahalanobis_squared(double) noexcept override {}
+  /// The first problem, or "" (then every declared output was also checked to be written).
+  std::string Finish() const;
+
+ private:
+  /// The declared output at the open group's `name`, or -1.
+  int Find(const char* name);
+  void Keep(const char* name, const double* data, int rows, int cols, bool is_vector) noexcept;
+  const NativeOutputs& outputs_;
+  NativeValues& into_;
+  std::string path_;                 ///< the open groups, each followed by '/'
+  std::vector<std::size_t> groups_;  ///< path_'s length before each open group
+  std::string problem_;
+};
+
+/// Runs the plugin on (m, x_s, x_e) and reads its declared outputs; "" or the problem (its
+/// Status message, or the sink's), prefixed by nothing: the caller names the plugin.
+std::string EvaluateNative(const ResidualFactor& factor, const NativeOutputs& outputs,
+                           const Preintegrated& m, const ImuState& x_s, const ImuState& x_e,
+                           const Vec3& gravity, NativeValues& values) noexcept;
+
+/// The residual's Jacobian by one state, in the declared convention's tangent order (n x 15):
+/// the declared columns at their blocks' offsets, zero elsewhere.
+void AssembleJacobian(const NativeOutputs& outputs, const NativeValues& values,
+                      const std::vector<JacobianColumns>& blocks, Eigen::MatrixXd& H);
+
+}  // namespace imuconv::ceres_factors::detail
