@@ -1,6 +1,7 @@
 // imuconv-bench-ceres: one preintegration factor's evaluation (residual and the two 15x16
 // ambient Jacobians Ceres asks for) per keyframe pair, and its re-integration, for a native
-// preintegrator and for preintegration by propagation; and imuconv optimize's whole solve on
+// preintegrator and for preintegration by propagation; the same evaluation of each residual
+// plugin's own cost (NativeResidualFactor: n x 16 Jacobians); and imuconv optimize's whole solve on
 // EuRoC V1_01 (examples/data, the source tree's: IMUCONV_SOURCE_DIR), with and without the
 // marginal covariances. Built only with imuconv::ceres; a program
 // of its own so that `imuconv bench`'s set stays the same with and without Ceres.
@@ -15,6 +16,7 @@
 
 #include "bench_plugins.h"
 #include "imuconv/bridge.h"
+#include "imuconv/ceres/native_residual_factor.h"
 #include "imuconv/ceres/preintegration_factor.h"
 #include "imuconv/ceres/state_block.h"
 #include "imuconv/optimize/optimize.h"
@@ -109,6 +111,44 @@ void BM_CeresFactorReintegrate(benchmark::State& st, PluginKind kind, const char
   st.SetItemsProcessed(st.iterations());
 }
 
+/// A residual plugin's own cost (NativeResidualFactor) on the `manifold` measurement of the same
+/// keyframe pair, at the same two states as BM_CeresFactorEvaluate: the residual and both n x 16
+/// ambient Jacobians.
+void BM_NativeResidualEvaluate(benchmark::State& st, const std::string& id) {
+  std::unique_ptr<NativeResidualFactor> factor;
+  try {
+    factor = std::make_unique<NativeResidualFactor>(
+        Plugins(), id,
+        ResolvePreintegrationMethod(Plugins(), PluginKind::Preintegrator, "manifold"),
+        KeyframeSamples(), 0.0, 0.1, kNoise, kBiasGyro, kBiasAccel);
+  } catch (const std::exception& e) {
+    st.SkipWithError(e.what());
+    return;
+  }
+  std::unique_ptr<::ceres::CostFunction> cost(factor->MakeCostFunction());
+  ImuState xs;
+  xs.R = so3::Exp(Vec3(0.1, -0.2, 0.3));
+  xs.v = Vec3(0.5, -0.2, 0.1);
+  xs.bg = kBiasGyro + Vec3(1e-4, 0, 0);
+  xs.ba = kBiasAccel + Vec3(0, 1e-3, 0);
+  const ImuState xe =
+      Predict(xs, factor->preintegration().measurement().delta, 0.1, Vec3(0, 0, -9.81));
+  std::array<double, kStateBlockSize> bs, be;
+  ToStateBlock(xs, bs.data());
+  ToStateBlock(xe, be.data());
+  const double* blocks[] = {bs.data(), be.data()};
+  const int n = cost->num_residuals();
+  std::vector<double> r(n), j0(n * kStateBlockSize), j1(n * kStateBlockSize);
+  double* jac[] = {j0.data(), j1.data()};
+  for (auto _ : st) {
+    const bool ok = cost->Evaluate(blocks, r.data(), jac);
+    benchmark::DoNotOptimize(ok);
+    benchmark::DoNotOptimize(r.data());
+    benchmark::ClobberMemory();
+  }
+  st.SetItemsProcessed(st.iterations());  // keyframe pairs
+}
+
 /// The whole of examples/data's V1_01 (1448 keyframes at 0.1 s, the vicon2gt poses as pose
 /// measurements), solved as `imuconv optimize --keyframe-step 0.1` does with the EuRoC
 /// datasheet's densities (examples/euroc_v1_01_full.json): reading the files is outside the
@@ -160,6 +200,9 @@ int main(int argc, char** argv) {
     benchmark::RegisterBenchmark((std::string("BM_CeresFactorReintegrate/") + m.id).c_str(),
                                  BM_CeresFactorReintegrate, m.kind, m.id);
   }
+  for (const std::string& id : Plugins().ids(PluginKind::Residual))
+    benchmark::RegisterBenchmark(("BM_NativeResidualEvaluate/manifold/" + id).c_str(),
+                                 BM_NativeResidualEvaluate, id);
   for (const bool covariance : {false, true})
     benchmark::RegisterBenchmark(
         covariance ? "BM_OptimizeEurocV101/with_covariances" : "BM_OptimizeEurocV101/solve_only",
