@@ -343,8 +343,8 @@ void RegisterAll() {
     if (kernels::IsaAvailable(isa))
       benchmark::RegisterBenchmark((std::string("BM_Rk4Instance/") + kernels::IsaName(isa)).c_str(),
                                    BM_Rk4Instance, isa);
-  for (const char* id :
-       {"euler", "midpoint", "rk4", "openvins_discrete", "openvins_rk4", "openvins_analytical"})
+  for (const char* id : {"euler", "midpoint", "rk4", "openvins_discrete", "openvins_rk4",
+                         "openvins_analytical", "fast_lio2_as_configured"})
     benchmark::RegisterBenchmark((std::string("BM_Propagate/") + id).c_str(), BM_Propagate, id);
   benchmark::RegisterBenchmark("BM_PreintegrateByPropagation/rk4", BM_PreintegrateByPropagation,
                                "rk4");

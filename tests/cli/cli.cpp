@@ -295,6 +295,7 @@ TEST(Cli, BenchRunsTheWholeSet) {
                                  "BM_Propagate/openvins_discrete",
                                  "BM_Propagate/openvins_rk4",
                                  "BM_Propagate/openvins_analytical",
+                                 "BM_Propagate/fast_lio2_as_configured",
                                  "BM_PreintegrateByPropagation/rk4",
                                  "BM_Conversion/left/gtsam_navstate",
                                  "BM_PluginOverhead/rk4/manual_time"};

@@ -104,19 +104,63 @@ Status CheckStart(const FastLio2Parameters& params, const FastLio2State& start, 
   return Status::Ok();
 }
 
+/// F M for a step's transition F (FastLio2StepJacobians) and any M, from F's nonzero blocks
+/// only. F is the identity but for the rows of pos (its vel column), rot (rot, bg), vel (rot,
+/// ba, grav) and grav (grav); every other row of F M is M's own row, exactly, as in the dense
+/// product (1 times an entry plus exact zeros). FAST-LIO's own step is the dense 23x23 product
+/// F_x1 * cov * F_x1^T; summing only the nonzero terms gives its numbers to rounding (the terms
+/// left out are zeros) at about a tenth of the arithmetic: the hot loop's block sparsity. The
+/// 3x23 products are coefficient-based (lazyProduct): at these sizes Eigen would otherwise
+/// route them through its blocked general product. `out` must not be M.
+void LeftMultiplyByTransition(const Mat23& F, const Mat23& M, Mat23& out) {
+  constexpr int pos = kFastLio2Pos, rot = kFastLio2Rot, vel = kFastLio2Vel, bg = kFastLio2Bg,
+                ba = kFastLio2Ba, grav = kFastLio2Grav;
+  out = M;
+  out.middleRows<3>(pos).noalias() += F.block<3, 3>(pos, vel).lazyProduct(M.middleRows<3>(vel));
+  out.middleRows<3>(rot).noalias() = F.block<3, 3>(rot, rot).lazyProduct(M.middleRows<3>(rot)) +
+                                     F.block<3, 3>(rot, bg).lazyProduct(M.middleRows<3>(bg));
+  out.middleRows<3>(vel).noalias() += F.block<3, 3>(vel, rot).lazyProduct(M.middleRows<3>(rot)) +
+                                      F.block<3, 3>(vel, ba).lazyProduct(M.middleRows<3>(ba)) +
+                                      F.block<3, 2>(vel, grav).lazyProduct(M.middleRows<2>(grav));
+  out.middleRows<2>(grav).noalias() = F.block<2, 2>(grav, grav).lazyProduct(M.middleRows<2>(grav));
+}
+
+/// F M F^T, as (F (F M)^T)^T: the same products as the dense (F M) F^T, term for term, without
+/// assuming M symmetric.
+void CongruenceByTransition(const Mat23& F, Mat23& M) {
+  Mat23 FM, FMFt_transposed;
+  LeftMultiplyByTransition(F, M, FM);
+  const Mat23 FM_transposed = FM.transpose();
+  LeftMultiplyByTransition(F, FM_transposed, FMFt_transposed);
+  M = FMFt_transposed.transpose();
+}
+
+/// dt G diag(q) dt G^T for FastLio2StepJacobians' dt G, whose noise columns each reach one
+/// block of rows (ng: rot, na: vel, nbg: bg, nba: ba): block diagonal, each block the dense
+/// product's own terms.
+Mat23 StepNoise(const Eigen::Matrix<double, 23, 12>& dt_G, const double q_diag[4]) {
+  Mat23 noise = Mat23::Zero();
+  const int rows[4] = {kFastLio2Rot, kFastLio2Vel, kFastLio2Bg, kFastLio2Ba};
+  for (int b = 0; b < 4; ++b) {
+    const Mat3 G = dt_G.block<3, 3>(rows[b], 3 * b);
+    noise.block<3, 3>(rows[b], rows[b]).noalias() = (G * q_diag[b]).lazyProduct(G.transpose());
+  }
+  return noise;
+}
+
 /// One predict of the covariances and the transition product (F computed once for all).
 void PredictCovariances(const FastLio2State& x, const FastLio2Input& in, double dt,
                         double q_diag[4], FastLio2Transition transition, FastLio2Propagation& out) {
   Mat23 F;
   Mat23x12 dt_G;
   FastLio2StepJacobians(x, in, dt, transition, F, dt_G);
-  Eigen::Matrix<double, 12, 1> q;
-  q << Vec3::Constant(q_diag[0]), Vec3::Constant(q_diag[1]), Vec3::Constant(q_diag[2]),
-      Vec3::Constant(q_diag[3]);
-  const Mat23 noise = dt_G * q.asDiagonal() * dt_G.transpose();
-  out.covariance = F * out.covariance * F.transpose() + noise;
-  out.Qd_summed = F * out.Qd_summed * F.transpose() + noise;
-  out.Phi_summed = F * out.Phi_summed;
+  const Mat23 noise = StepNoise(dt_G, q_diag);
+  CongruenceByTransition(F, out.covariance);
+  out.covariance += noise;
+  CongruenceByTransition(F, out.Qd_summed);
+  out.Qd_summed += noise;
+  const Mat23 Phi = out.Phi_summed;
+  LeftMultiplyByTransition(F, Phi, out.Phi_summed);
 }
 
 }  // namespace
