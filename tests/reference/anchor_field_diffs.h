@@ -19,8 +19,8 @@ namespace imuconv::test {
 
 /// An anchor's quaternion [w, x, y, z].
 inline Eigen::Quaterniond JsonQuaternionWxyz(const nlohmann::json& q) {
-  return Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
-                            q[3].get<double>());
+  return Eigen::Quaterniond(q.at(0).get<double>(), q.at(1).get<double>(), q.at(2).get<double>(),
+                            q.at(3).get<double>());
 }
 
 /// A quaternion as the anchors write it, [w, x, y, z].

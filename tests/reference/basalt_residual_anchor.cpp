@@ -40,11 +40,10 @@ BasaltPoseVelState PoseVel(const nlohmann::json& s) {
   return x;
 }
 
-class BasaltResidualAnchor : public ::testing::TestWithParam<const char*> {
+class BasaltResidualAnchor : public AnchorCaseTest {
  protected:
+  BasaltResidualAnchor() : AnchorCaseTest("basalt") {}
   void SetUp() override {
-    anchor_ = ReadJson(DataPath(std::string("reference/anchors/basalt/") + GetParam() + ".json"));
-    case_ = LoadCase(GetParam());
     const nlohmann::json& in = anchor_.at("inputs");
     variances_.accel = JsonVec3(in.at("accel_cov"));
     variances_.gyro = JsonVec3(in.at("gyro_cov"));
@@ -61,8 +60,6 @@ class BasaltResidualAnchor : public ::testing::TestWithParam<const char*> {
             .ok());
     return m;
   }
-  nlohmann::json anchor_;
-  ImuCase case_;
   BasaltSampleVariances variances_;
   Vec3 g_;
 };

@@ -65,8 +65,7 @@ Mat15 FastLio2ToLeft(const Mat3& R) {
 class FastLio2Plugins : public ::testing::TestWithParam<const char*> {
  protected:
   void SetUp() override {
-    anchor_ =
-        ReadJson(DataPath(std::string("reference/anchors/fast-lio2/") + GetParam() + ".json"));
+    anchor_ = AnchorJson("fast-lio2", GetParam());
     case_ = CaseJson(GetParam());
     samples_ = CaseSamples(case_);
     ASSERT_TRUE(MakeWindow(samples_.data(), samples_.size(), samples_.front().t, samples_.back().t,
