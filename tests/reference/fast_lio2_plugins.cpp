@@ -73,10 +73,7 @@ class FastLio2Plugins : public ::testing::TestWithParam<const char*> {
                     .ok());
     const nlohmann::json& st = case_.at("state_s");
     const nlohmann::json& q = st.at("q_wxyz");
-    in_.x_s.R = Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
-                                   q[3].get<double>())
-                    .normalized()
-                    .toRotationMatrix();
+    in_.x_s.R = JsonQuaternionWxyz(q).normalized().toRotationMatrix();
     in_.x_s.p = JsonVec3(st.at("p"));
     in_.x_s.v = JsonVec3(st.at("v"));
     in_.x_s.bg = JsonVec3(st.at("bg"));

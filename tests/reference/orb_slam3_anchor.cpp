@@ -113,9 +113,7 @@ TEST_P(OrbSlam3Anchor, PreintegrationAndPredictionAreOrbSlam3Own) {
   const nlohmann::json& st = case_.at("state_s");
   const nlohmann::json& q = st.at("q_wxyz");
   OrbSlam3Pose<double> start;
-  start.R = Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
-                               q[3].get<double>())
-                .toRotationMatrix();
+  start.R = JsonQuaternionWxyz(q).toRotationMatrix();
   start.p = JsonVec3(st.at("p"));
   start.v = JsonVec3(st.at("v"));
   OrbSlam3Pose<float> start_float;
