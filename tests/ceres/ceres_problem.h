@@ -216,6 +216,24 @@ inline std::vector<ImuState> StatesOfBlocks(
   return states;
 }
 
+/// What the chart-independence tests solve in every state convention: a noisy run of six
+/// keyframes 0.2 s apart at the typical biases, its measurements drawn after it from the same
+/// generator (seed 20261127), and the `manifold` preintegrator for its factors.
+struct ChartIndependenceData {
+  SimulatedRun run;
+  Measurements meas;
+  PreintegrationMethod method;
+};
+
+inline ChartIndependenceData MakeChartIndependenceData(const Registry& reg) {
+  std::mt19937 rng(20261127);
+  ChartIndependenceData d;
+  d.run = SimulateAtTypicalBiases(6, 0.2, 200.0, true, rng);
+  d.meas = DrawMeasurements(d.run, true, rng);
+  d.method = ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, "manifold");
+  return d;
+}
+
 /// The factors are linearized at the prior's biases (what an estimator knows before the solve)
 /// unless `linearize_at` gives others ({bg, ba}).
 inline void BuildProblem(const Registry& reg, const std::string& convention,

@@ -11,11 +11,7 @@ namespace {
 
 TEST(CeresChartIndependence, SameOptimumInEveryStateConvention) {
   const Registry& reg = test::Plugins();
-  std::mt19937 rng(20261127);
-  const SimulatedRun run = SimulateAtTypicalBiases(6, 0.2, 200.0, true, rng);
-  const Measurements meas = DrawMeasurements(run, true, rng);
-  const PreintegrationMethod method =
-      ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, "manifold");
+  const auto [run, meas, method] = MakeChartIndependenceData(reg);
   for (ResidualKind kind : {ResidualKind::Gtsam, ResidualKind::Forster}) {
     std::vector<ImuState> reference;  // the optimum with the `left` manifold
     std::string reference_id;

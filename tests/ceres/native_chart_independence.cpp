@@ -12,11 +12,7 @@ namespace {
 
 TEST(NativeResidualChartIndependence, SameOptimumInEveryStateConventionForEveryResidualPlugin) {
   const Registry& reg = test::Plugins();
-  std::mt19937 rng(20261127);
-  const SimulatedRun run = SimulateAtTypicalBiases(6, 0.2, 200.0, true, rng);
-  const Measurements meas = DrawMeasurements(run, true, rng);
-  const PreintegrationMethod method =
-      ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, "manifold");
+  const auto [run, meas, method] = MakeChartIndependenceData(reg);
   for (const std::string& id : reg.ids(PluginKind::Residual)) {
     std::vector<ImuState> reference;
     std::string reference_id;
