@@ -220,4 +220,13 @@ std::string UnknownConventionMessage(const Registry& reg, PluginKind kind, const
   return msg;
 }
 
+void LoadRegistryWithStateConvention(Registry& reg, const CommandContext& ctx,
+                                     const std::string& state_convention) {
+  const std::vector<LoadIssue> issues = LoadRegistry(reg, ctx);
+  PrintLoadIssues(issues);
+  const std::string unknown =
+      UnknownConventionMessage(reg, PluginKind::StateConvention, state_convention, issues);
+  if (!unknown.empty()) throw Error("--convention: " + unknown);
+}
+
 }  // namespace imuconv::cli

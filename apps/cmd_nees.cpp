@@ -28,22 +28,16 @@ int RunNeesCommand(const CommandContext& ctx, const NeesCommandOptions& o) {
       (o.imu_path.empty() || o.ground_truth_path.empty() || o.noise_path.empty()))
     throw UsageError{"give --imu, --ground-truth and --noise, or --pipeline P.json"};
   // Each input as the report page names it, (role, path), for those given.
-  report::Inputs inputs;
-  for (const auto& [role, path] : {std::pair<const char*, const std::string*>{"imu", &o.imu_path},
-                                   {"ground truth", &o.ground_truth_path},
-                                   {"noise", &o.noise_path},
-                                   {"pipeline", &o.pipeline_path}})
-    if (!path->empty()) inputs.push_back({role, *path});
+  const report::Inputs inputs = GivenInputs({{"imu", &o.imu_path},
+                                             {"ground truth", &o.ground_truth_path},
+                                             {"noise", &o.noise_path},
+                                             {"pipeline", &o.pipeline_path}});
   return Judge(o.as_json, [&] {
     // The report's destination is examined before any work (a directory or an input fails now).
     ReportDestination report(o.report_path);
     for (const auto& input : inputs) report.RefuseIfSame(input.second, "the input file");
     Registry reg;
-    const std::vector<LoadIssue> issues = LoadRegistry(reg, ctx);
-    PrintLoadIssues(issues);
-    const std::string unknown =
-        UnknownConventionMessage(reg, PluginKind::StateConvention, o.convention, issues);
-    if (!unknown.empty()) throw Error("--convention: " + unknown);
+    LoadRegistryWithStateConvention(reg, ctx, o.convention);
     nees::Options options;
     options.method = o.method;
     options.convention = o.convention;

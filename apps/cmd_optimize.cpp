@@ -34,12 +34,10 @@ int RunOptimizeCommand(const CommandContext& ctx, const OptimizeCommandOptions& 
     throw UsageError{"--pose-sigma: give two numbers, METRES,RADIANS (e.g. 0.01,0.01)"};
   if (o.residual != "gtsam" && o.residual != "forster")
     throw UsageError{"--residual: gtsam or forster, not '" + Printable(o.residual) + "'"};
-  optimize::PageInputs inputs;
-  for (const auto& [role, path] : {std::pair<const char*, const std::string*>{"imu", &o.imu_path},
-                                   {"poses", &o.poses_path},
-                                   {"noise", &o.noise_path},
-                                   {"pipeline", &o.pipeline_path}})
-    if (!path->empty()) inputs.push_back({role, *path});
+  const optimize::PageInputs inputs = GivenInputs({{"imu", &o.imu_path},
+                                                   {"poses", &o.poses_path},
+                                                   {"noise", &o.noise_path},
+                                                   {"pipeline", &o.pipeline_path}});
   return Judge(o.as_json, [&] {
     // Both destinations are examined before any work: a directory, an input's own name or the
     // other output's fails now.
@@ -58,11 +56,7 @@ int RunOptimizeCommand(const CommandContext& ctx, const OptimizeCommandOptions& 
       if (out) out->refuse_if_same(input.second, "the " + input.first + " file");
     }
     Registry reg;
-    const std::vector<LoadIssue> issues = LoadRegistry(reg, ctx);
-    PrintLoadIssues(issues);
-    const std::string unknown =
-        UnknownConventionMessage(reg, PluginKind::StateConvention, o.convention, issues);
-    if (!unknown.empty()) throw Error("--convention: " + unknown);
+    LoadRegistryWithStateConvention(reg, ctx, o.convention);
     const optimize::Input in = o.pipeline_path.empty()
                                    ? optimize::ReadFileInput(o.imu_path, o.poses_path)
                                    : optimize::ReadPipelineInput(o.pipeline_path);

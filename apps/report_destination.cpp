@@ -37,4 +37,12 @@ void ReportDestination::Announce(const CommandContext& ctx) const {
   if (written_ && !ctx.quiet()) std::cerr << "wrote " << Printable(out_->path()) << "\n";
 }
 
+std::vector<std::pair<std::string, std::string>> GivenInputs(
+    std::initializer_list<std::pair<const char*, const std::string*>> options) {
+  std::vector<std::pair<std::string, std::string>> inputs;
+  for (const auto& [role, path] : options)
+    if (!path->empty()) inputs.emplace_back(role, *path);
+  return inputs;
+}
+
 }  // namespace imuconv::cli

@@ -6,8 +6,11 @@
 #pragma once
 
 #include <functional>
+#include <initializer_list>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "imuconv/cli/commands.h"
 #include "imuconv/report/html_document.h"
@@ -18,6 +21,11 @@ namespace imuconv::cli {
 /// Adds --report OUT.html to a command, its value checked by OutputPathCheck; its help is
 /// "Also write a self-contained HTML report: " and then `contents`.
 CLI::Option* AddReportOption(CLI::App& sub, std::string& path, const std::string& contents);
+
+/// The inputs a report page lists, (role, path), for each of `options` whose path was given
+/// (is not empty), in their order.
+std::vector<std::pair<std::string, std::string>> GivenInputs(
+    std::initializer_list<std::pair<const char*, const std::string*>> options);
 
 class ReportDestination {
  public:

@@ -23,6 +23,7 @@
 #include "imuconv/optimize/optimize_input.h"
 #include "imuconv/printable.h"
 #include "imuconv/so3.h"
+#include "synthetic_motion.h"
 
 namespace imuconv::bench_ceres {
 namespace {
@@ -32,18 +33,12 @@ using namespace imuconv::ceres_factors;
 const Registry& Plugins() { return bench::BenchPlugins("imuconv-bench-ceres"); }
 
 // One keyframe pair 0.1 s apart at 200 Hz (imuconv optimize's default --keyframe-step on EuRoC),
-// smooth motion as bench/suite.cpp's.
+// the smooth motion of synthetic_motion.h, as bench/suite.cpp integrates it.
 std::vector<ImuSample> KeyframeSamples() {
   std::vector<ImuSample> v;
   for (int k = 0; k <= 20; ++k) {
     const double t = k / 200.0;
-    ImuSample z;
-    z.t = t;
-    z.gyro = Vec3(0.5 * std::sin(1.3 * t + 0.2), -0.4 * std::cos(0.7 * t),
-                  0.3 * std::sin(2.1 * t + 1.0));
-    z.accel = Vec3(1.5 * std::cos(0.9 * t), 2.0 * std::sin(1.7 * t + 0.3),
-                   9.81 + 0.8 * std::sin(0.5 * t));
-    v.push_back(z);
+    v.push_back(bench::SyntheticSample(t, t));
   }
   return v;
 }
@@ -60,6 +55,26 @@ std::unique_ptr<PreintegrationFactor> MakeFactor(PluginKind kind, const char* id
       kNoise, kBiasGyro, kBiasAccel, fo);
 }
 
+/// The two state blocks every evaluation here is timed at: a start state and the end state
+/// predicted from it by the keyframe pair's increment `delta` (0.1 s), the start biases moved
+/// off the linearization point so that the first-order correction is computed.
+struct StateBlocks {
+  std::array<double, kStateBlockSize> start, end;
+};
+
+StateBlocks StatesNearPrediction(const PreintIncrement& delta) {
+  ImuState xs;
+  xs.R = so3::Exp(Vec3(0.1, -0.2, 0.3));
+  xs.v = Vec3(0.5, -0.2, 0.1);
+  xs.bg = kBiasGyro + Vec3(1e-4, 0, 0);
+  xs.ba = kBiasAccel + Vec3(0, 1e-3, 0);
+  const ImuState xe = Predict(xs, delta, 0.1, Vec3(0, 0, -9.81));
+  StateBlocks b;
+  ToStateBlock(xs, b.start.data());
+  ToStateBlock(xe, b.end.data());
+  return b;
+}
+
 void BM_CeresFactorEvaluate(benchmark::State& st, PluginKind kind, const char* id,
                             ResidualKind residual, bool jacobians) {
   std::unique_ptr<PreintegrationFactor> factor;
@@ -70,18 +85,8 @@ void BM_CeresFactorEvaluate(benchmark::State& st, PluginKind kind, const char* i
     return;
   }
   std::unique_ptr<::ceres::CostFunction> cost(factor->MakeCostFunction());
-  // Two states near the factor's prediction, biases moved off the linearization point so that
-  // the first-order correction is computed.
-  ImuState xs;
-  xs.R = so3::Exp(Vec3(0.1, -0.2, 0.3));
-  xs.v = Vec3(0.5, -0.2, 0.1);
-  xs.bg = kBiasGyro + Vec3(1e-4, 0, 0);
-  xs.ba = kBiasAccel + Vec3(0, 1e-3, 0);
-  const ImuState xe = Predict(xs, factor->measurement().delta, 0.1, Vec3(0, 0, -9.81));
-  std::array<double, kStateBlockSize> bs, be;
-  ToStateBlock(xs, bs.data());
-  ToStateBlock(xe, be.data());
-  const double* blocks[] = {bs.data(), be.data()};
+  const StateBlocks states = StatesNearPrediction(factor->measurement().delta);
+  const double* blocks[] = {states.start.data(), states.end.data()};
   std::array<double, 15> r;
   std::array<double, 15 * kStateBlockSize> j0, j1;
   double* jac[] = {j0.data(), j1.data()};
@@ -126,17 +131,8 @@ void BM_NativeResidualEvaluate(benchmark::State& st, const std::string& id) {
     return;
   }
   std::unique_ptr<::ceres::CostFunction> cost(factor->MakeCostFunction());
-  ImuState xs;
-  xs.R = so3::Exp(Vec3(0.1, -0.2, 0.3));
-  xs.v = Vec3(0.5, -0.2, 0.1);
-  xs.bg = kBiasGyro + Vec3(1e-4, 0, 0);
-  xs.ba = kBiasAccel + Vec3(0, 1e-3, 0);
-  const ImuState xe =
-      Predict(xs, factor->preintegration().measurement().delta, 0.1, Vec3(0, 0, -9.81));
-  std::array<double, kStateBlockSize> bs, be;
-  ToStateBlock(xs, bs.data());
-  ToStateBlock(xe, be.data());
-  const double* blocks[] = {bs.data(), be.data()};
+  const StateBlocks states = StatesNearPrediction(factor->preintegration().measurement().delta);
+  const double* blocks[] = {states.start.data(), states.end.data()};
   const int n = cost->num_residuals();
   std::vector<double> r(n), j0(n * kStateBlockSize), j1(n * kStateBlockSize);
   double* jac[] = {j0.data(), j1.data()};

@@ -1,6 +1,7 @@
 #include "suite.h"
 
 #include "bench_plugins.h"
+#include "synthetic_motion.h"
 
 #include <benchmark/benchmark.h>
 #include <unistd.h>
@@ -37,13 +38,7 @@ const std::vector<ImuSample>& Samples() {
     std::vector<ImuSample> v;
     for (int k = 0; k <= 2000; ++k) {
       const double t = k / 200.0;
-      ImuSample z;
-      z.t = 100.0 + t;
-      z.gyro = Vec3(0.5 * std::sin(1.3 * t + 0.2), -0.4 * std::cos(0.7 * t),
-                    0.3 * std::sin(2.1 * t + 1.0));
-      z.accel = Vec3(1.5 * std::cos(0.9 * t), 2.0 * std::sin(1.7 * t + 0.3),
-                     9.81 + 0.8 * std::sin(0.5 * t));
-      v.push_back(z);
+      v.push_back(SyntheticSample(t, 100.0 + t));
     }
     return v;
   }();

@@ -25,7 +25,6 @@ double BinomialUpperTail(int n, double p, int m) {
 
 TEST(CeresBiasMonteCarlo, EstimatedBiasesWithinTheirCovarianceAsAGaussianPredicts) {
   const Registry& reg = test::Plugins();
-  const Vec3 g(0.0, 0.0, -9.81);
   const PreintegrationMethod method =
       ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, "manifold");
   const BlockLabels left = reg.state_convention("left")->labels();
@@ -37,9 +36,7 @@ TEST(CeresBiasMonteCarlo, EstimatedBiasesWithinTheirCovarianceAsAGaussianPredict
   int outside_3_sigma = 0;
   double sum_z2 = 0.0, sum_nees = 0.0;
   for (int run_index = 0; run_index < kRuns; ++run_index) {
-    const SimulatedRun run =
-        Simulate(kKeyframes, 0.2, 200.0, SimulatedNoise(), Vec3(0.01, -0.02, 0.015),
-                 Vec3(0.1, -0.05, 0.2), true, rng, g);
+    const SimulatedRun run = SimulateAtTypicalBiases(kKeyframes, 0.2, 200.0, true, rng);
     const Measurements meas = DrawMeasurements(run, true, rng);
     SmallProblem sp;
     BuildProblem(reg, "left", method, PreintegrationFactorOptions{}, run, meas, sp);

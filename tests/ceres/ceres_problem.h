@@ -96,6 +96,34 @@ inline SimulatedRun Simulate(int keyframes, double keyframe_step, double rate_hz
   return run;
 }
 
+/// Gravity in the world frame of the simulated runs (z up), m/s^2.
+inline const Vec3 kSimulatedGravity(0.0, 0.0, -9.81);
+
+/// Simulate() with the start biases most tests use (a consumer IMU's order: 0.01 to 0.02 rad/s,
+/// 0.05 to 0.2 m/s^2) and kSimulatedGravity.
+inline SimulatedRun SimulateAtTypicalBiases(int keyframes, double keyframe_step, double rate_hz,
+                                            bool noisy, std::mt19937& rng) {
+  return Simulate(keyframes, keyframe_step, rate_hz, SimulatedNoise(), Vec3(0.01, -0.02, 0.015),
+                  Vec3(0.1, -0.05, 0.2), noisy, rng, kSimulatedGravity);
+}
+
+/// A simulated run and the preintegration method of the factors a test builds on it.
+struct RunWithMethod {
+  SimulatedRun run;
+  PreintegrationMethod method;
+};
+
+/// Two keyframes 0.2 s apart at 200 Hz, without noise, bias walk or bias, and the `manifold`
+/// preintegrator: the plain run on which the hostile-input tests vary one thing at a time.
+inline RunWithMethod NoiseFreeZeroBiasRun(const Registry& reg) {
+  std::mt19937 rng(3);
+  RunWithMethod d;
+  d.run = Simulate(2, 0.2, 200.0, SimulatedNoise(), Vec3::Zero(), Vec3::Zero(), false, rng,
+                   kSimulatedGravity);
+  d.method = ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, "manifold");
+  return d;
+}
+
 /// Pose measurement noise of the simulated runs.
 inline constexpr double kSigmaPos = 0.005;  // m
 inline constexpr double kSigmaRot = 0.002;  // rad
@@ -155,28 +183,65 @@ inline ImuState Perturbed(const ImuState& x, int k) {
   return y;
 }
 
+/// What every small problem holds besides its IMU factors: a block per keyframe in `blocks`,
+/// started at Perturbed(truth) and parameterized by a StateManifold of `convention`, the
+/// keyframe's pose measurement, and the prior on the first keyframe. The problem owns the
+/// manifolds; `blocks` must outlive it.
+inline std::unique_ptr<::ceres::Problem> NewProblemOfPosesAndPrior(
+    const Registry& reg, const std::string& convention, const SimulatedRun& run,
+    const Measurements& meas, std::vector<std::array<double, kStateBlockSize>>& blocks) {
+  ::ceres::Problem::Options po;
+  po.manifold_ownership = ::ceres::TAKE_OWNERSHIP;
+  auto problem = std::make_unique<::ceres::Problem>(po);
+  const std::size_t K = run.truth.size();
+  blocks.resize(K);
+  for (std::size_t k = 0; k < K; ++k) {
+    ToStateBlock(Perturbed(run.truth[k], static_cast<int>(k)), blocks[k].data());
+    problem->AddParameterBlock(blocks[k].data(), kStateBlockSize,
+                               new StateManifold(reg, convention));
+    problem->AddResidualBlock(MakePoseMeasurement(meas.R[k], meas.p[k], kSigmaPos, kSigmaRot),
+                              nullptr, blocks[k].data());
+  }
+  // The prior in the chart it was drawn in (left), whatever the manifold's convention.
+  problem->AddResidualBlock(MakeStatePrior(reg, "left", meas.prior, PriorCovarianceLeft()), nullptr,
+                            blocks[0].data());
+  return problem;
+}
+
+/// The states a problem's blocks hold (after a solve: its optimum).
+inline std::vector<ImuState> StatesOfBlocks(
+    const std::vector<std::array<double, kStateBlockSize>>& blocks) {
+  std::vector<ImuState> states;
+  for (const auto& b : blocks) states.push_back(FromStateBlock(b.data()));
+  return states;
+}
+
+/// What the chart-independence tests solve in every state convention: a noisy run of six
+/// keyframes 0.2 s apart at the typical biases, its measurements drawn after it from the same
+/// generator (seed 20261127), and the `manifold` preintegrator for its factors.
+struct ChartIndependenceData {
+  SimulatedRun run;
+  Measurements meas;
+  PreintegrationMethod method;
+};
+
+inline ChartIndependenceData MakeChartIndependenceData(const Registry& reg) {
+  std::mt19937 rng(20261127);
+  ChartIndependenceData d;
+  d.run = SimulateAtTypicalBiases(6, 0.2, 200.0, true, rng);
+  d.meas = DrawMeasurements(d.run, true, rng);
+  d.method = ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, "manifold");
+  return d;
+}
+
 /// The factors are linearized at the prior's biases (what an estimator knows before the solve)
 /// unless `linearize_at` gives others ({bg, ba}).
 inline void BuildProblem(const Registry& reg, const std::string& convention,
                          const PreintegrationMethod& method, const PreintegrationFactorOptions& fo,
                          const SimulatedRun& run, const Measurements& meas, SmallProblem& out,
                          const std::pair<Vec3, Vec3>* linearize_at = nullptr) {
-  ::ceres::Problem::Options po;
-  po.manifold_ownership = ::ceres::TAKE_OWNERSHIP;
-  out.problem = std::make_unique<::ceres::Problem>(po);
-  const std::size_t K = run.truth.size();
-  out.blocks.resize(K);
-  for (std::size_t k = 0; k < K; ++k) {
-    ToStateBlock(Perturbed(run.truth[k], static_cast<int>(k)), out.blocks[k].data());
-    out.problem->AddParameterBlock(out.blocks[k].data(), kStateBlockSize,
-                                   new StateManifold(reg, convention));
-    out.problem->AddResidualBlock(MakePoseMeasurement(meas.R[k], meas.p[k], kSigmaPos, kSigmaRot),
-                                  nullptr, out.blocks[k].data());
-  }
-  // The prior in the chart it was drawn in (left), whatever the manifold's convention.
-  out.problem->AddResidualBlock(MakeStatePrior(reg, "left", meas.prior, PriorCovarianceLeft()),
-                                nullptr, out.blocks[0].data());
-  for (std::size_t k = 0; k + 1 < K; ++k) {
+  out.problem = NewProblemOfPosesAndPrior(reg, convention, run, meas, out.blocks);
+  for (std::size_t k = 0; k + 1 < run.truth.size(); ++k) {
     out.factors.push_back(std::make_unique<PreintegrationFactor>(
         reg, method, run.samples, run.keyframe_t[k], run.keyframe_t[k + 1], SimulatedNoise(),
         linearize_at ? linearize_at->first : meas.prior.bg,

@@ -11,13 +11,7 @@ namespace {
 
 TEST(CeresChartIndependence, SameOptimumInEveryStateConvention) {
   const Registry& reg = test::Plugins();
-  std::mt19937 rng(20261127);
-  const Vec3 g(0.0, 0.0, -9.81);
-  const SimulatedRun run = Simulate(6, 0.2, 200.0, SimulatedNoise(), Vec3(0.01, -0.02, 0.015),
-                                    Vec3(0.1, -0.05, 0.2), true, rng, g);
-  const Measurements meas = DrawMeasurements(run, true, rng);
-  const PreintegrationMethod method =
-      ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, "manifold");
+  const auto [run, meas, method] = MakeChartIndependenceData(reg);
   for (ResidualKind kind : {ResidualKind::Gtsam, ResidualKind::Forster}) {
     std::vector<ImuState> reference;  // the optimum with the `left` manifold
     std::string reference_id;
@@ -31,8 +25,7 @@ TEST(CeresChartIndependence, SameOptimumInEveryStateConvention) {
       ASSERT_TRUE(summary.IsSolutionUsable()) << id << ": " << summary.BriefReport();
       ASSERT_EQ(summary.termination_type, ::ceres::CONVERGENCE)
           << id << ": " << summary.BriefReport();
-      std::vector<ImuState> optimum;
-      for (const auto& b : sp.blocks) optimum.push_back(FromStateBlock(b.data()));
+      const std::vector<ImuState> optimum = StatesOfBlocks(sp.blocks);
       if (reference.empty()) {
         reference = optimum;
         reference_id = id;

@@ -27,9 +27,7 @@ void StatesAround(const SimulatedRun& run, ImuState& x_s, ImuState& x_e) {
 TEST(CeresCostJacobians, PreintegrationFactorInEveryConventionAndResidualKind) {
   const Registry& reg = test::Plugins();
   std::mt19937 rng(11);
-  const Vec3 g(0.0, 0.0, -9.81);
-  const SimulatedRun run = Simulate(3, 0.2, 200.0, SimulatedNoise(), Vec3(0.01, -0.02, 0.015),
-                                    Vec3(0.1, -0.05, 0.2), true, rng, g);
+  const SimulatedRun run = SimulateAtTypicalBiases(3, 0.2, 200.0, true, rng);
   for (const auto& [kind_id, kind] : {std::pair{PluginKind::Preintegrator, "manifold"},
                                       std::pair{PluginKind::Propagator, "rk4"}}) {
     const PreintegrationMethod method = ResolvePreintegrationMethod(reg, kind_id, kind);

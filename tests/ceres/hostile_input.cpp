@@ -31,21 +31,7 @@ std::string ErrorOf(F&& f) {
   return "";
 }
 
-struct HostileData {
-  SimulatedRun run;
-  PreintegrationMethod method;
-};
-
-HostileData Data() {
-  std::mt19937 rng(3);
-  HostileData d;
-  d.run = Simulate(2, 0.2, 200.0, SimulatedNoise(), Vec3::Zero(), Vec3::Zero(), false, rng,
-                   Vec3(0.0, 0.0, -9.81));
-  d.method = ResolvePreintegrationMethod(test::Plugins(), PluginKind::Preintegrator, "manifold");
-  return d;
-}
-
-std::string FactorError(const HostileData& d, std::vector<ImuSample> samples, double t_s,
+std::string FactorError(const RunWithMethod& d, std::vector<ImuSample> samples, double t_s,
                         double t_e, const ImuNoise& noise = SimulatedNoise(),
                         const PreintegrationFactorOptions& fo = {},
                         const PreintegrationMethod* method = nullptr) {
@@ -56,7 +42,7 @@ std::string FactorError(const HostileData& d, std::vector<ImuSample> samples, do
 }
 
 TEST(CeresHostileInput, PreintegrationFactorRefusesBadSamplesIntervalsAndNoise) {
-  const HostileData d = Data();
+  const RunWithMethod d = NoiseFreeZeroBiasRun(test::Plugins());
   EXPECT_EQ(FactorError(d, d.run.samples, 0.0, 0.2), "");
 
   std::vector<ImuSample> s = d.run.samples;
@@ -95,7 +81,7 @@ TEST(CeresHostileInput, PreintegrationFactorRefusesBadSamplesIntervalsAndNoise) 
 }
 
 TEST(CeresHostileInput, ReintegrateAtANonFiniteBiasKeepsTheMeasurement) {
-  const HostileData d = Data();
+  const RunWithMethod d = NoiseFreeZeroBiasRun(test::Plugins());
   PreintegrationFactor f(test::Plugins(), d.method, d.run.samples, 0.0, 0.2, SimulatedNoise(),
                          Vec3::Zero(), Vec3::Zero());
   const Preintegrated before = f.measurement();
@@ -105,7 +91,7 @@ TEST(CeresHostileInput, ReintegrateAtANonFiniteBiasKeepsTheMeasurement) {
 }
 
 TEST(CeresHostileInput, CostsAtANonFiniteStateReportFailureToCeres) {
-  const HostileData d = Data();
+  const RunWithMethod d = NoiseFreeZeroBiasRun(test::Plugins());
   const PreintegrationFactor f(test::Plugins(), d.method, d.run.samples, 0.0, 0.2, SimulatedNoise(),
                                Vec3::Zero(), Vec3::Zero());
   std::unique_ptr<::ceres::CostFunction> cost(f.MakeCostFunction());

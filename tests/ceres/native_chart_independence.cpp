@@ -12,13 +12,7 @@ namespace {
 
 TEST(NativeResidualChartIndependence, SameOptimumInEveryStateConventionForEveryResidualPlugin) {
   const Registry& reg = test::Plugins();
-  std::mt19937 rng(20261127);
-  const Vec3 g(0.0, 0.0, -9.81);
-  const SimulatedRun run = Simulate(6, 0.2, 200.0, SimulatedNoise(), Vec3(0.01, -0.02, 0.015),
-                                    Vec3(0.1, -0.05, 0.2), true, rng, g);
-  const Measurements meas = DrawMeasurements(run, true, rng);
-  const PreintegrationMethod method =
-      ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, "manifold");
+  const auto [run, meas, method] = MakeChartIndependenceData(reg);
   for (const std::string& id : reg.ids(PluginKind::Residual)) {
     std::vector<ImuState> reference;
     std::string reference_id;
@@ -31,8 +25,7 @@ TEST(NativeResidualChartIndependence, SameOptimumInEveryStateConventionForEveryR
           << id << ", " << conv << ": " << summary.BriefReport();
       ASSERT_EQ(summary.termination_type, ::ceres::CONVERGENCE)
           << id << ", " << conv << ": " << summary.BriefReport();
-      std::vector<ImuState> optimum;
-      for (const auto& b : np.blocks) optimum.push_back(FromStateBlock(b.data()));
+      const std::vector<ImuState> optimum = StatesOfBlocks(np.blocks);
       if (reference.empty()) {
         reference = optimum;
         reference_id = conv;

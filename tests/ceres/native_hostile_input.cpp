@@ -46,22 +46,8 @@ class ToyResidual final : public ResidualFactor {
   const ResidualCostSpec* cost_spec() const noexcept override { return declares ? &spec : nullptr; }
 };
 
-struct HostileNativeData {
-  SimulatedRun run;
-  PreintegrationMethod method;
-};
-
-HostileNativeData NativeData() {
-  std::mt19937 rng(3);
-  HostileNativeData d;
-  d.run = Simulate(2, 0.2, 200.0, SimulatedNoise(), Vec3::Zero(), Vec3::Zero(), false, rng,
-                   Vec3(0.0, 0.0, -9.81));
-  d.method = ResolvePreintegrationMethod(test::Plugins(), PluginKind::Preintegrator, "manifold");
-  return d;
-}
-
 // The message of the Error that building the factor throws ("" if none).
-std::string ToyError(const HostileNativeData& d, const ToyResidual& toy) {
+std::string ToyError(const RunWithMethod& d, const ToyResidual& toy) {
   try {
     NativeResidualFactor f(test::Plugins(), std::make_shared<ToyResidual>(toy), d.method,
                            d.run.samples, 0.0, 0.2, SimulatedNoise(), Vec3::Zero(), Vec3::Zero());
@@ -79,7 +65,7 @@ std::string ToyError(const HostileNativeData& d, const ToyResidual& toy) {
 }
 
 TEST(NativeResidualHostileInput, UnknownIdIsAnErrorListingTheKnownOnes) {
-  const HostileNativeData d = NativeData();
+  const RunWithMethod d = NoiseFreeZeroBiasRun(test::Plugins());
   std::string message;
   try {
     NativeResidualFactor f(test::Plugins(), "vins_fusoin", d.method, d.run.samples, 0.0, 0.2,
@@ -92,7 +78,7 @@ TEST(NativeResidualHostileInput, UnknownIdIsAnErrorListingTheKnownOnes) {
 }
 
 TEST(NativeResidualHostileInput, BrokenDeclarationsAndOutputsAreErrorsNamingTheFactor) {
-  const HostileNativeData d = NativeData();
+  const RunWithMethod d = NoiseFreeZeroBiasRun(test::Plugins());
   const std::string who = "native residual factor 'toy'";
   ToyResidual toy;
   EXPECT_EQ(ToyError(d, toy), "");  // the healthy toy builds
@@ -143,7 +129,7 @@ TEST(NativeResidualHostileInput, BrokenDeclarationsAndOutputsAreErrorsNamingTheF
 TEST(NativeResidualHostileInput, AThirdPartyFactorIsACostWithExactJacobians) {
   // Nothing of the toy is known to imuconv::ceres but its declaration: its cost is W (p_e - p_s)
   // with Jacobians through the left chart, checked as cost_jacobians.cpp checks the others.
-  const HostileNativeData d = NativeData();
+  const RunWithMethod d = NoiseFreeZeroBiasRun(test::Plugins());
   const NativeResidualFactor f(test::Plugins(), std::make_shared<ToyResidual>(), d.method,
                                d.run.samples, 0.0, 0.2, SimulatedNoise(), Vec3::Zero(),
                                Vec3::Zero());
@@ -159,7 +145,7 @@ TEST(NativeResidualHostileInput, AThirdPartyFactorIsACostWithExactJacobians) {
 }
 
 TEST(NativeResidualHostileInput, PluginErrorsAndNonFiniteStates) {
-  const HostileNativeData d = NativeData();
+  const RunWithMethod d = NoiseFreeZeroBiasRun(test::Plugins());
   const Registry& reg = test::Plugins();
   // The plugin's own Status: ORB-SLAM3's EdgeInertial has gravity (0, 0, -9.81) only.
   PreintegrationFactorOptions fo;

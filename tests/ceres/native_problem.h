@@ -1,6 +1,7 @@
 // What the tests of NativeResidualFactor share: the residual plugins of the build, a factor of
-// each on the simulated run of ceres_problem.h, a sink that keeps what a plugin writes, and the
-// small problem of ceres_problem.h with native factors in place of the registry's residuals.
+// each on the simulated run of ceres_problem.h (test::KeepingResidualSink keeps what a plugin
+// writes), and the small problem of ceres_problem.h with native factors in place of the
+// registry's residuals.
 #pragma once
 
 #include <ceres/ceres.h>
@@ -13,34 +14,9 @@
 #include "ceres_problem.h"
 #include "imuconv/ceres/native_residual_factor.h"
 #include "imuconv/residual_factor.h"
+#include "keeping_residual_sink.h"
 
 namespace imuconv::ceres_test {
-
-/// Keeps every value a plugin writes, by its path ("raw/residual"), and its squared distance.
-class KeepingSink final : public ResidualSink {
- public:
-  std::map<std::string, Eigen::MatrixXd> values;
-  double mahalanobis = -1.0;
-  void begin_group(const char* name) noexcept override { prefix_.push_back(name); }
-  void end_group() noexcept override { prefix_.pop_back(); }
-  void vector(const char* name, const double* v, int n) noexcept override {
-    values[path(name)] = Eigen::Map<const Eigen::VectorXd>(v, n);
-  }
-  void matrix(const char* name, const double* m, int rows, int cols) noexcept override {
-    values[path(name)] =
-        Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-            m, rows, cols);
-  }
-  void mahalanobis_squared(double d) noexcept override { mahalanobis = d; }
-
- private:
-  std::string path(const char* name) const {
-    std::string p;
-    for (const auto& g : prefix_) p += g + "/";
-    return p + name;
-  }
-  std::vector<std::string> prefix_;
-};
 
 /// The residual plugins whose system holds its preintegration in float and reads the start
 /// biases in float (ORB-SLAM3, plugins/residuals/orb_slam3.cpp): their residual is a function of
@@ -89,21 +65,8 @@ inline void BuildNativeProblem(const Registry& reg, const std::string& conventio
                                const std::string& id, const PreintegrationMethod& method,
                                const SimulatedRun& run, const Measurements& meas,
                                NativeProblem& out) {
-  ::ceres::Problem::Options po;
-  po.manifold_ownership = ::ceres::TAKE_OWNERSHIP;
-  out.problem = std::make_unique<::ceres::Problem>(po);
-  const std::size_t K = run.truth.size();
-  out.blocks.resize(K);
-  for (std::size_t k = 0; k < K; ++k) {
-    ToStateBlock(Perturbed(run.truth[k], static_cast<int>(k)), out.blocks[k].data());
-    out.problem->AddParameterBlock(out.blocks[k].data(), kStateBlockSize,
-                                   new StateManifold(reg, convention));
-    out.problem->AddResidualBlock(MakePoseMeasurement(meas.R[k], meas.p[k], kSigmaPos, kSigmaRot),
-                                  nullptr, out.blocks[k].data());
-  }
-  out.problem->AddResidualBlock(MakeStatePrior(reg, "left", meas.prior, PriorCovarianceLeft()),
-                                nullptr, out.blocks[0].data());
-  for (std::size_t k = 0; k + 1 < K; ++k) {
+  out.problem = NewProblemOfPosesAndPrior(reg, convention, run, meas, out.blocks);
+  for (std::size_t k = 0; k + 1 < run.truth.size(); ++k) {
     out.factors.push_back(std::make_unique<NativeResidualFactor>(
         reg, id, method, run.samples, run.keyframe_t[k], run.keyframe_t[k + 1], SimulatedNoise(),
         meas.prior.bg, meas.prior.ba));

@@ -31,9 +31,7 @@ TEST(NativeResidualCostJacobians, EveryResidualPluginInEveryStateConvention) {
   const std::vector<std::string> residuals = reg.ids(PluginKind::Residual);
   ASSERT_FALSE(residuals.empty()) << "no residual plugin in the build's plugin directory";
   std::mt19937 rng(11);
-  const Vec3 g(0.0, 0.0, -9.81);
-  const SimulatedRun run = Simulate(3, 0.2, 200.0, SimulatedNoise(), Vec3(0.01, -0.02, 0.015),
-                                    Vec3(0.1, -0.05, 0.2), true, rng, g);
+  const SimulatedRun run = SimulateAtTypicalBiases(3, 0.2, 200.0, true, rng);
   const PreintegrationMethod method =
       ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, "manifold");
   for (const std::string& id : residuals) {

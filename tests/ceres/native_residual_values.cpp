@@ -17,16 +17,12 @@
 namespace imuconv::ceres_test {
 namespace {
 
-struct NativeValuesSetup {
-  SimulatedRun run;
-  PreintegrationMethod method;
-};
+using NativeValuesSetup = RunWithMethod;
 
 NativeValuesSetup MakeNativeValuesSetup() {
   std::mt19937 rng(5);
   NativeValuesSetup s;
-  s.run = Simulate(3, 0.2, 200.0, SimulatedNoise(), Vec3(0.01, -0.02, 0.015), Vec3(0.1, -0.05, 0.2),
-                   true, rng, Vec3(0.0, 0.0, -9.81));
+  s.run = SimulateAtTypicalBiases(3, 0.2, 200.0, true, rng);
   s.method = ResolvePreintegrationMethod(test::Plugins(), PluginKind::Preintegrator, "manifold");
   return s;
 }
@@ -34,7 +30,6 @@ NativeValuesSetup MakeNativeValuesSetup() {
 TEST(NativeResidualCostValues, ResidualIsThePluginsOwnAndItsSquareTheSystemsDistance) {
   const Registry& reg = test::Plugins();
   const NativeValuesSetup s = MakeNativeValuesSetup();
-  const Vec3 g(0.0, 0.0, -9.81);
   const double t_s = s.run.keyframe_t[1], t_e = s.run.keyframe_t[2];
   const Vec3 bg = s.run.truth[1].bg, ba = s.run.truth[1].ba;
   // The plugin's input built here, independently of the factor: the measurement preintegrated
@@ -51,8 +46,8 @@ TEST(NativeResidualCostValues, ResidualIsThePluginsOwnAndItsSquareTheSystemsDist
     const std::shared_ptr<const ResidualFactor> plugin = reg.residual_factor(id);
     const Preintegrated expressed =
         Express(reg, m, reg.info(PluginKind::Residual, id).native_convention);
-    KeepingSink sink;
-    ASSERT_TRUE(plugin->evaluate(expressed, x_s, x_e, g, sink).ok()) << id;
+    test::KeepingResidualSink sink;
+    ASSERT_TRUE(plugin->evaluate(expressed, x_s, x_e, kSimulatedGravity, sink).ok()) << id;
     const Eigen::VectorXd own = sink.values.at(plugin->cost_spec()->residual);
 
     const NativeResidualFactor::Evaluation e = factor.Evaluate(x_s, x_e);

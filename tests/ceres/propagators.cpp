@@ -19,16 +19,14 @@ struct Difference {
 Difference Between(const char* a, PluginKind ka, const char* b, PluginKind kb, double rate_hz) {
   const Registry& reg = test::Plugins();
   std::mt19937 rng(1);
-  const Vec3 g(0.0, 0.0, -9.81);
-  const SimulatedRun run = Simulate(2, 0.5, rate_hz, SimulatedNoise(), Vec3(0.01, -0.02, 0.015),
-                                    Vec3(0.1, -0.05, 0.2), false, rng, g);
+  const SimulatedRun run = SimulateAtTypicalBiases(2, 0.5, rate_hz, false, rng);
   Residual r[2];
   int i = 0;
   for (const auto& [kind, id] : {std::pair{ka, a}, std::pair{kb, b}}) {
     const PreintegrationFactor f(reg, ResolvePreintegrationMethod(reg, kind, id), run.samples, 0.0,
                                  0.5, SimulatedNoise(), run.truth[0].bg, run.truth[0].ba);
     r[i++] = ComputeResidual(reg, ResidualKind::Gtsam, f.measurement(), run.truth[0], run.truth[1],
-                             "left", g);
+                             "left", kSimulatedGravity);
   }
   Difference d;
   d.residual = (r[0].r - r[1].r).cwiseAbs().maxCoeff();
@@ -45,14 +43,12 @@ TEST(CeresPropagators, ThePreintegratorOfTheSimulationLeavesNoResidual) {
   // steps of O(10) numbers (1e-13), not a discretization error (1e-4 and more).
   const Registry& reg = test::Plugins();
   std::mt19937 rng(1);
-  const Vec3 g(0.0, 0.0, -9.81);
-  const SimulatedRun run = Simulate(2, 0.5, 200.0, SimulatedNoise(), Vec3(0.01, -0.02, 0.015),
-                                    Vec3(0.1, -0.05, 0.2), false, rng, g);
+  const SimulatedRun run = SimulateAtTypicalBiases(2, 0.5, 200.0, false, rng);
   const PreintegrationFactor f(
       reg, ResolvePreintegrationMethod(reg, PluginKind::Preintegrator, "manifold"), run.samples,
       0.0, 0.5, SimulatedNoise(), run.truth[0].bg, run.truth[0].ba);
   const Residual r = ComputeResidual(reg, ResidualKind::Gtsam, f.measurement(), run.truth[0],
-                                     run.truth[1], "left", g);
+                                     run.truth[1], "left", kSimulatedGravity);
   EXPECT_LT(r.r.cwiseAbs().maxCoeff(), 1e-11);
 }
 

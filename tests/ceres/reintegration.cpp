@@ -10,16 +10,12 @@
 namespace imuconv::ceres_test {
 namespace {
 
-struct ReintegrationData {
-  SimulatedRun run;
-  PreintegrationMethod method;
-};
+using ReintegrationData = RunWithMethod;
 
 ReintegrationData MakeData(const char* method_id, PluginKind kind) {
   std::mt19937 rng(99);
   ReintegrationData d;
-  d.run = Simulate(2, 0.5, 200.0, SimulatedNoise(), Vec3(0.01, -0.02, 0.015), Vec3(0.1, -0.05, 0.2),
-                   true, rng, Vec3(0.0, 0.0, -9.81));
+  d.run = SimulateAtTypicalBiases(2, 0.5, 200.0, true, rng);
   d.method = ResolvePreintegrationMethod(test::Plugins(), kind, method_id);
   return d;
 }
@@ -94,7 +90,6 @@ TEST(CeresReintegration, ReintegrateIfMovedRespectsTheThresholds) {
 double CorrectionError(const Registry& reg, const ReintegrationData& d, const Vec3& bg0,
                        const Vec3& ba0, double s) {
   const Vec3 ug(0.5, -0.3, 0.8), ua(3.0, 2.0, -4.0);  // rad/s and m/s^2 per unit step
-  const Vec3 g(0.0, 0.0, -9.81);
   SampleWindow window;
   EXPECT_TRUE(MakeWindow(d.run.samples.data(), d.run.samples.size(), 0.0, 0.5, window));
   const Preintegrated at_b0 = Preintegrate(reg, d.method, window, bg0, ba0, SimulatedNoise());
@@ -104,8 +99,10 @@ double CorrectionError(const Registry& reg, const ReintegrationData& d, const Ve
   x_s.bg = bg0 + s * ug;
   x_s.ba = ba0 + s * ua;
   const ImuState x_e = d.run.truth[1];
-  const Vec15 r1 = ComputeResidual(reg, ResidualKind::Gtsam, at_b0, x_s, x_e, "left", g).r;
-  const Vec15 r2 = ComputeResidual(reg, ResidualKind::Gtsam, at_b, x_s, x_e, "left", g).r;
+  const Vec15 r1 =
+      ComputeResidual(reg, ResidualKind::Gtsam, at_b0, x_s, x_e, "left", kSimulatedGravity).r;
+  const Vec15 r2 =
+      ComputeResidual(reg, ResidualKind::Gtsam, at_b, x_s, x_e, "left", kSimulatedGravity).r;
   return (r1 - r2).head<9>().norm();
 }
 

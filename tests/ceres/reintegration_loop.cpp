@@ -24,11 +24,10 @@ double WorstBiasError(const SmallProblem& sp, const SimulatedRun& run) {
 TEST(CeresReintegrationLoop, ReintegratingAtTheEstimatesRemovesTheFirstOrderError) {
   const Registry& reg = test::Plugins();
   std::mt19937 rng(5);
-  const Vec3 g(0.0, 0.0, -9.81);
   // Biases 5-10 times a consumer IMU's, so that the first-order correction from zero is visibly
   // off (its error is O(|b|^2), about 1e-4 here).
   const SimulatedRun run = Simulate(6, 0.2, 200.0, SimulatedNoise(), Vec3(0.05, -0.04, 0.06),
-                                    Vec3(0.3, -0.4, 0.5), false, rng, g);
+                                    Vec3(0.3, -0.4, 0.5), false, rng, kSimulatedGravity);
   const Measurements meas = DrawMeasurements(run, false, rng);  // exact: the truth is the optimum
   // Factors linearized at zero bias; thresholds of 1e-6 (rad/s and m/s^2), far below the first
   // solve's bias error, so every factor re-integrates at first, and then only while its start

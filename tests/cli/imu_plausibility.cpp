@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "../pipeline/inline_pipeline.h"
 #include "../pipeline/pipeline_test_util.h"
 #include "euroc_slice.h"
 #include "gtsam_measurement.h"
@@ -80,13 +81,7 @@ json Pipeline(const json& c, const std::string& csv) {
              {"name", "p"},
              {"propagator", "rk4"},
              {"state_convention", "left"},
-             {"start",
-              {{"state",
-                {{"p", {0, 0, 0}},
-                 {"q_wxyz", {1, 0, 0, 0}},
-                 {"v", {0, 0, 0}},
-                 {"bg", {0, 0, 0}},
-                 {"ba", {0, 0, 0}}}}}},
+             {"start", {{"state", RestAtOriginWithZeroBiases()}}},
              {"interval", {{"t_start", t0}, {"t_end", t1}}}}}}};
 }
 

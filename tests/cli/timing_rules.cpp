@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <string>
 
+#include "../pipeline/inline_pipeline.h"
 #include "../pipeline/pipeline_test_util.h"
 #include "imuconv_test.h"
 #include "number_text.h"
@@ -95,13 +96,7 @@ class Chain : public ::testing::Test {
                      {{{"type", "propagate_by_preintegration"},
                        {"name", "chained"},
                        {"measurements", {{"file", meas}}},
-                       {"start",
-                        {{"state",
-                          {{"p", {0, 0, 0}},
-                           {"q_wxyz", {1, 0, 0, 0}},
-                           {"v", {0, 0, 0}},
-                           {"bg", {0, 0, 0}},
-                           {"ba", {0, 0, 0}}}}}},
+                       {"start", {{"state", RestAtOriginWithZeroBiases()}}},
                        {"chain", true}}}}};
     return RunImuconv("run " + ShellQuote(tmp.write(tag + ".json", p.dump())) + " -o " +
                           ShellQuote(tmp.file(tag + ".out.json")),

@@ -402,6 +402,26 @@ void ExpectConversion(const char* from, const char* to, BlocksAt blocks) {
       std::conditional_t<std::is_invocable_v<BlocksAt, const ImuState&>, StateKind, IncrementKind>;
   ExpectConversionByBlocks<Kind>(from, to, blocks);
 }
+
+/// The increment convention `id` perturbs every block as preint_reference does (right rotation
+/// error, plus signs throughout), in an order of its own: both conversions are permutations.
+inline void ExpectReferenceReordered(const char* id) {
+  const auto none = [](const PreintIncrement&) -> BlockEntries { return {}; };
+  ExpectConversion(id, "preint_reference", none);
+  ExpectConversion("preint_reference", id, none);
+}
+
+/// The increment convention `id` takes a left rotation error, Exp(dtheta) dR^ = dR^ Exp(dR^T
+/// dtheta), and perturbs every other block as preint_reference does: the reference's rotation
+/// error is dR^T times its own, and its own dR times the reference's.
+inline void ExpectReferenceWithLeftRotation(const char* id) {
+  ExpectConversion(id, "preint_reference", [](const PreintIncrement& x) -> BlockEntries {
+    return {{"theta", x.dR.transpose()}};
+  });
+  ExpectConversion("preint_reference", id, [](const PreintIncrement& x) -> BlockEntries {
+    return {{"theta", x.dR}};
+  });
+}
 }  // namespace imuconv::test::conventions
 
 /// Declares the suite class SUITE (in a header every convention's test file includes).

@@ -20,6 +20,7 @@
 #include "imuconv_test.h"
 #include "increment_mean_facts.h"
 #include "integrator_cases.h"
+#include "json_quaternion.h"
 #include "noise_simulation_facts.h"
 #include "scale_aware.h"
 
@@ -70,9 +71,7 @@ FastLio2Scan LoadScan(const std::string& id) {
           .ok());
   const nlohmann::json& st = c.at("state_s");
   const nlohmann::json& q = st.at("q_wxyz");
-  s.start.rot = Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
-                                   q[3].get<double>())
-                    .normalized();
+  s.start.rot = JsonQuaternionWxyz(q).normalized();
   s.start.pos = JsonVec3(st.at("p"));
   s.start.vel = JsonVec3(st.at("v"));
   s.start.bg = JsonVec3(st.at("bg"));

@@ -18,6 +18,7 @@
 #include "imuconv/so3.h"
 #include "imuconv_test.h"
 #include "integrator_cases.h"
+#include "json_quaternion.h"
 #include "reference_case.h"
 #include "scale_aware.h"
 
@@ -52,8 +53,7 @@ Okvis2Case LoadOkvis2Case(const std::string& id) {
   }
   const nlohmann::json& st = c.json.at("state_s");
   const nlohmann::json& q = st.at("q_wxyz");
-  c.start.q = Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
-                                 q[3].get<double>());
+  c.start.q = JsonQuaternionWxyz(q);
   c.start.r = JsonVec3(st.at("p"));
   c.start.v = JsonVec3(st.at("v"));
   c.start.bg = JsonVec3(st.at("bg"));

@@ -22,6 +22,7 @@
 #include "imuconv/kernels/orb_slam3.h"
 #include "imuconv/so3.h"
 #include "imuconv_test.h"
+#include "json_quaternion.h"
 #include "reference_case.h"
 #include "scale_aware.h"
 
@@ -48,9 +49,7 @@ Edge MakeEdge(const std::string& id, bool new_bias) {
   e.pre = PreintegrateOrbSlam3(steps, OrbSlam3CalibFromDensities(noise, 200.0),
                                {bg.cast<float>(), ba.cast<float>()});
   const nlohmann::json& q = st.at("q_wxyz");
-  e.s1.R = Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
-                              q[3].get<double>())
-               .toRotationMatrix();
+  e.s1.R = JsonQuaternionWxyz(q).toRotationMatrix();
   e.s1.p = JsonVec3(st.at("p"));
   e.s1.v = JsonVec3(st.at("v"));
   e.s2 = PredictOrbSlam3(e.pre, e.s1);

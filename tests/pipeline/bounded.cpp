@@ -15,6 +15,7 @@
 #include "../../apps/pipeline/src/tasks/task.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
+#include "inline_pipeline.h"
 #include "pipeline_test_util.h"
 
 namespace {
@@ -25,13 +26,8 @@ using nlohmann::json;
 const char* kBoundedFile = "mem/bounded.json";
 
 json Doc(const json& tasks) {
-  json samples = json::array();
-  for (int k = 0; k <= 100; ++k) samples.push_back({0.01 * k, 0.01, -0.02, 0.03, 0.1, 0.2, 9.8});
-  return {{"noise",
-           {{"gyro_noise_density", 1e-4},
-            {"accel_noise_density", 1e-3},
-            {"gyro_random_walk", 1e-5},
-            {"accel_random_walk", 1e-4}}},
+  const json samples = test::ConstantSamples(100, 0.01, {0.01, -0.02, 0.03, 0.1, 0.2, 9.8});
+  return {{"noise", test::TacticalNoiseDensities()},
           {"imu", {{"format", "inline"}, {"samples", samples}}},
           {"omit", {"Phi", "cov", "J_bias", "R", "reference"}},
           // Keyframes of 1 ms over 100 Hz samples are the point here (many cheap intervals).

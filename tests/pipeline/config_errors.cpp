@@ -5,6 +5,7 @@
 
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
+#include "inline_pipeline.h"
 #include "issue_at.h"
 #include "pipeline_test_util.h"
 
@@ -18,14 +19,9 @@ const char* kConfigFile = "mem/pipeline.json";
 
 /// A valid pipeline: 0.1 s of inline samples at 100 Hz and one task of each kind.
 json Base() {
-  json samples = json::array();
-  for (int k = 0; k <= 10; ++k) samples.push_back({0.01 * k, 0.1, -0.2, 0.3, 0.5, 0.1, 9.8});
-  const json state = {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {1, 0, 0}}};
-  return {{"noise",
-           {{"gyro_noise_density", 1e-4},
-            {"accel_noise_density", 1e-3},
-            {"gyro_random_walk", 1e-5},
-            {"accel_random_walk", 1e-4}}},
+  const json samples = test::ConstantSamples(10, 0.01, {0.1, -0.2, 0.3, 0.5, 0.1, 9.8});
+  const json state = test::UnitSpeedStartState();
+  return {{"noise", test::TacticalNoiseDensities()},
           {"imu", {{"format", "inline"}, {"samples", samples}}},
           {"tasks",
            {{{"type", "propagate"},

@@ -6,6 +6,7 @@
 
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
+#include "inline_pipeline.h"
 #include "pipeline_test_util.h"
 
 namespace {
@@ -14,15 +15,7 @@ using imuconv::test::TempDir;
 using nlohmann::json;
 
 json WithKalibr(const std::string& file) {
-  json samples = json::array();
-  for (int k = 0; k <= 20; ++k) samples.push_back({0.005 * k, 0.1, -0.2, 0.3, 0.5, 0.1, 9.8});
-  return {{"noise", {{"kalibr", file}}},
-          {"imu", {{"format", "inline"}, {"samples", samples}}},
-          {"tasks",
-           {{{"type", "preintegrate"},
-             {"name", "pre"},
-             {"method", {{"preintegrator", "manifold"}}},
-             {"keyframes", {0.0, 0.1}}}}}};
+  return imuconv::test::OnePreintegrationWithNoise({{"kalibr", file}});
 }
 
 /// The issues' text of loading a pipeline whose noise is `yaml` ("" if it loads).

@@ -8,6 +8,7 @@
 
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
+#include "inline_pipeline.h"
 #include "pipeline_test_util.h"
 
 namespace {
@@ -17,17 +18,7 @@ using imuconv::test::TempDir;
 using nlohmann::json;
 
 /// 0.1 s of inline samples and one preintegration whose covariance depends on every density.
-json WithNoise(const json& noise) {
-  json samples = json::array();
-  for (int k = 0; k <= 20; ++k) samples.push_back({0.005 * k, 0.1, -0.2, 0.3, 0.5, 0.1, 9.8});
-  return {{"noise", noise},
-          {"imu", {{"format", "inline"}, {"samples", samples}}},
-          {"tasks",
-           {{{"type", "preintegrate"},
-             {"name", "pre"},
-             {"method", {{"preintegrator", "manifold"}}},
-             {"keyframes", {0.0, 0.1}}}}}};
-}
+json WithNoise(const json& noise) { return imuconv::test::OnePreintegrationWithNoise(noise); }
 
 json RunIn(const std::string& dir, const json& doc) {
   const Pipeline p = Pipeline::FromJson(doc, dir + "/pipeline.json", dir);

@@ -131,16 +131,22 @@ std::vector<json> Comparisons(const TempDir& tmp, const json& pipeline, const st
   return out;
 }
 
-TEST(PoseGroundTruth, TumAndVicon0GiveTheFullStateErrorsExactly) {
-  TempDir tmp;
-  const auto rows = ReadFullGroundTruth();
-  ASSERT_GT(rows.size(), 40u);
-  const auto full = Comparisons(
+/// The comparisons of the pipeline over `rows` against the full-state ground truth file they
+/// were read from (the reference the pose formats are compared with).
+std::vector<json> FullStateComparisons(const TempDir& tmp, const std::vector<GtRow>& rows) {
+  return Comparisons(
       tmp,
       Pipeline(rows,
                {{"format", "euroc"},
                 {"path", SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv")}}),
       "full");
+}
+
+TEST(PoseGroundTruth, TumAndVicon0GiveTheFullStateErrorsExactly) {
+  TempDir tmp;
+  const auto rows = ReadFullGroundTruth();
+  ASSERT_GT(rows.size(), 40u);
+  const auto full = FullStateComparisons(tmp, rows);
   const auto tum = Comparisons(
       tmp, Pipeline(rows, {{"format", "tum"}, {"path", tmp.write("gt.tum", Tum(rows))}}), "tum");
   const auto vicon = Comparisons(
@@ -177,12 +183,7 @@ TEST(PoseGroundTruth, SensorPosesAreMappedToTheBodyByT_BS) {
   for (int i = 0; i < 3; ++i) T.push_back({R_BS(i, 0), R_BS(i, 1), R_BS(i, 2), p_BS[i]});
   T.push_back({0, 0, 0, 1});
   const std::string file = tmp.write("vicon0.csv", Vicon0(rows, R_BS, p_BS));
-  const auto full = Comparisons(
-      tmp,
-      Pipeline(rows,
-               {{"format", "euroc"},
-                {"path", SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv")}}),
-      "full");
+  const auto full = FullStateComparisons(tmp, rows);
   const auto mapped = Comparisons(
       tmp, Pipeline(rows, {{"format", "euroc_pose"}, {"path", file}, {"T_BS", T}}), "mapped");
   const auto unmapped =

@@ -35,36 +35,12 @@
 #include "imuconv/residual_factor.h"
 #include "imuconv/so3.h"
 #include "imuconv_test.h"
+#include "keeping_residual_sink.h"
 #include "reference_case.h"
 
 namespace {
 using namespace imuconv;
 using namespace imuconv::test;
-
-/// Keeps every value a plugin writes, by its path ("raw/residual").
-class CapturingResidualSink final : public ResidualSink {
- public:
-  std::map<std::string, Eigen::MatrixXd> values;
-  void begin_group(const char* name) noexcept override { prefix_.push_back(name); }
-  void end_group() noexcept override { prefix_.pop_back(); }
-  void vector(const char* name, const double* v, int n) noexcept override {
-    values[path(name)] = Eigen::Map<const Eigen::VectorXd>(v, n);
-  }
-  void matrix(const char* name, const double* m, int rows, int cols) noexcept override {
-    values[path(name)] =
-        Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-            m, rows, cols);
-  }
-  void mahalanobis_squared(double) noexcept override {}
-
- private:
-  std::string path(const char* name) const {
-    std::string p;
-    for (const auto& g : prefix_) p += g + "/";
-    return p + name;
-  }
-  std::vector<std::string> prefix_;
-};
 
 struct FactorSetup {
   Preintegrated m;
@@ -107,7 +83,7 @@ FactorSetup MakeFactorSetup(const std::string& preintegrator) {
 
 std::map<std::string, Eigen::MatrixXd> EvaluateFactor(const std::string& id, const FactorSetup& s,
                                                       const ImuState& x_s, const ImuState& x_e) {
-  CapturingResidualSink sink;
+  KeepingResidualSink sink;
   const Status st = Plugins().residual_factor(id)->evaluate(s.m, x_s, x_e, s.gravity, sink);
   EXPECT_TRUE(st.ok()) << st.message();
   return sink.values;

@@ -11,6 +11,7 @@
 #include "../../apps/pipeline/src/forms/input_checks.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
+#include "inline_pipeline.h"
 #include "issue_at.h"
 #include "pipeline_test_util.h"
 
@@ -22,12 +23,7 @@ using nlohmann::json;
 
 const char* kValidationFile = "mem/validation.json";
 
-json Noise() {
-  return {{"gyro_noise_density", 1e-4},
-          {"accel_noise_density", 1e-3},
-          {"gyro_random_walk", 1e-5},
-          {"accel_random_walk", 1e-4}};
-}
+json Noise() { return test::TacticalNoiseDensities(); }
 json RestState() { return {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {0, 0, 0}}}; }
 
 /// Inline samples at rest, 100 Hz from 0 to `seconds`.

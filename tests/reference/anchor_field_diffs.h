@@ -13,15 +13,10 @@
 
 #include "anchors.h"
 #include "imuconv_test.h"
+#include "json_quaternion.h"
 #include "scale_aware.h"
 
 namespace imuconv::test {
-
-/// An anchor's quaternion [w, x, y, z].
-inline Eigen::Quaterniond JsonQuaternionWxyz(const nlohmann::json& q) {
-  return Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
-                            q[3].get<double>());
-}
 
 /// A quaternion as the anchors write it, [w, x, y, z].
 inline Eigen::Vector4d Wxyz(const Eigen::Quaterniond& q) { return {q.w(), q.x(), q.y(), q.z()}; }

@@ -68,11 +68,10 @@ void ExpectCovarianceAndJacobians(const nlohmann::json& f, const BasaltPreintegr
       << label << ": d_state_d_bg at (" << s_bg.row << "," << s_bg.col << ")";
 }
 
-class BasaltAnchor : public ::testing::TestWithParam<const char*> {
+class BasaltAnchor : public AnchorCaseTest {
  protected:
+  BasaltAnchor() : AnchorCaseTest("basalt") {}
   void SetUp() override {
-    anchor_ = ReadJson(DataPath(std::string("reference/anchors/basalt/") + GetParam() + ".json"));
-    case_ = LoadCase(GetParam());
     const nlohmann::json& in = anchor_.at("inputs");
     ASSERT_EQ(JsonVec3(in.at("bias_accel_lin")), case_.x_s.ba);
     ASSERT_EQ(JsonVec3(in.at("bias_gyro_lin")), case_.x_s.bg);
@@ -85,8 +84,6 @@ class BasaltAnchor : public ::testing::TestWithParam<const char*> {
                 case_.noise.accel_noise_density * case_.noise.accel_noise_density * rate,
                 1e-15 * variances_.accel.x());
   }
-  nlohmann::json anchor_;
-  ImuCase case_;
   BasaltSampleVariances variances_;
 };
 

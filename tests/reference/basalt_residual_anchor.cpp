@@ -40,11 +40,10 @@ BasaltPoseVelState PoseVel(const nlohmann::json& s) {
   return x;
 }
 
-class BasaltResidualAnchor : public ::testing::TestWithParam<const char*> {
+class BasaltResidualAnchor : public AnchorCaseTest {
  protected:
+  BasaltResidualAnchor() : AnchorCaseTest("basalt") {}
   void SetUp() override {
-    anchor_ = ReadJson(DataPath(std::string("reference/anchors/basalt/") + GetParam() + ".json"));
-    case_ = LoadCase(GetParam());
     const nlohmann::json& in = anchor_.at("inputs");
     variances_.accel = JsonVec3(in.at("accel_cov"));
     variances_.gyro = JsonVec3(in.at("gyro_cov"));
@@ -61,34 +60,51 @@ class BasaltResidualAnchor : public ::testing::TestWithParam<const char*> {
             .ok());
     return m;
   }
-  nlohmann::json anchor_;
-  ImuCase case_;
+  /// One evaluation the anchor's "factor" records: a feeding's measurement and two states, at
+  /// the linearization biases (`lin`) or the changed ones, and imuconv's residual there.
+  struct FactorPoint {
+    const ResidualFeeding& feed;
+    bool lin;
+    const nlohmann::json& factor;
+    const BasaltMeasurement& m;
+    BasaltPoseVelState x0, x1;
+    Vec3 bg, ba;
+    BasaltResidual r;
+  };
+  /// Calls check(point) for each feeding, at the linearization biases and then the new ones.
+  template <typename Check>
+  void ForEachFactorPoint(Check check) const {
+    for (const ResidualFeeding& feed : kResidualFeedings) {
+      const nlohmann::json& f = anchor_.at(feed.key).at("factor");
+      const BasaltMeasurement m = Measure(feed.feeding);
+      const BasaltPoseVelState x0 = PoseVel(f.at("state0")), x1 = PoseVel(f.at("state1"));
+      for (const bool lin : {true, false}) {
+        const Vec3 bg = JsonVec3(f.at(lin ? "curr_bg" : "curr_bg_new")),
+                   ba = JsonVec3(f.at(lin ? "curr_ba" : "curr_ba_new"));
+        check(
+            FactorPoint{feed, lin, f, m, x0, x1, bg, ba, BasaltResidualOf(m, x0, g_, x1, bg, ba)});
+      }
+    }
+  }
   BasaltSampleVariances variances_;
   Vec3 g_;
 };
 
 TEST_P(BasaltResidualAnchor, ResidualAndJacobiansAreBasaltOwn) {
-  for (const ResidualFeeding& feed : kResidualFeedings) {
-    const nlohmann::json& f = anchor_.at(feed.key).at("factor");
-    const BasaltMeasurement m = Measure(feed.feeding);
-    const BasaltPoseVelState x0 = PoseVel(f.at("state0")), x1 = PoseVel(f.at("state1"));
-    for (const char* at : {"at_lin_bias", "at_new_bias"}) {
-      const bool lin = std::string(at) == "at_lin_bias";
-      const Vec3 bg = JsonVec3(f.at(lin ? "curr_bg" : "curr_bg_new")),
-                 ba = JsonVec3(f.at(lin ? "curr_ba" : "curr_ba_new"));
-      const BasaltResidual r = BasaltResidualOf(m, x0, g_, x1, bg, ba);
-      const nlohmann::json& a = f.at(at);
-      const double d_r = MaxEntryDiff(JsonMatrix(a.at("residual")), r.residual);
-      const double d_0 = MaxEntryDiff(JsonMatrix(a.at("d_res_d_state0")), r.d_res_d_state0);
-      const double d_1 = MaxEntryDiff(JsonMatrix(a.at("d_res_d_state1")), r.d_res_d_state1);
-      const double d_bg = MaxEntryDiff(JsonMatrix(a.at("d_res_d_bg")), r.d_res_d_bg);
-      const double d_ba = MaxEntryDiff(JsonMatrix(a.at("d_res_d_ba")), r.d_res_d_ba);
-      const std::string label = std::string(GetParam()) + " " + feed.key + " " + at;
-      std::printf("  %-36s residual %.2g d_state0 %.2g d_state1 %.2g d_bg %.2g d_ba %.2g\n",
-                  label.c_str(), d_r, d_0, d_1, d_bg, d_ba);
-      for (const double d : {d_r, d_0, d_1, d_bg, d_ba}) EXPECT_LE(d, kAnchorMetricTol) << label;
-    }
-  }
+  ForEachFactorPoint([&](const FactorPoint& p) {
+    const char* at = p.lin ? "at_lin_bias" : "at_new_bias";
+    const BasaltResidual& r = p.r;
+    const nlohmann::json& a = p.factor.at(at);
+    const double d_r = MaxEntryDiff(JsonMatrix(a.at("residual")), r.residual);
+    const double d_0 = MaxEntryDiff(JsonMatrix(a.at("d_res_d_state0")), r.d_res_d_state0);
+    const double d_1 = MaxEntryDiff(JsonMatrix(a.at("d_res_d_state1")), r.d_res_d_state1);
+    const double d_bg = MaxEntryDiff(JsonMatrix(a.at("d_res_d_bg")), r.d_res_d_bg);
+    const double d_ba = MaxEntryDiff(JsonMatrix(a.at("d_res_d_ba")), r.d_res_d_ba);
+    const std::string label = std::string(GetParam()) + " " + p.feed.key + " " + at;
+    std::printf("  %-36s residual %.2g d_state0 %.2g d_state1 %.2g d_bg %.2g d_ba %.2g\n",
+                label.c_str(), d_r, d_0, d_1, d_bg, d_ba);
+    for (const double d : {d_r, d_0, d_1, d_bg, d_ba}) EXPECT_LE(d, kAnchorMetricTol) << label;
+  });
 }
 
 TEST_P(BasaltResidualAnchor, FirstOrderBiasCorrectionIsBasaltOwn) {
@@ -153,36 +169,32 @@ Numeric NumericJacobians(const BasaltMeasurement& m, const BasaltPoseVelState& x
 // factor put back the block is held to the FD bound, so the approximation is exactly the
 // one named; upstream's own block is printed beside it.
 TEST_P(BasaltResidualAnchor, JacobiansAreCentralDifferencesThroughApplyInc) {
-  for (const ResidualFeeding& feed : kResidualFeedings) {
-    const nlohmann::json& f = anchor_.at(feed.key).at("factor");
-    const BasaltMeasurement m = Measure(feed.feeding);
-    const BasaltPoseVelState x0 = PoseVel(f.at("state0")), x1 = PoseVel(f.at("state1"));
-    for (const bool lin : {true, false}) {
-      const Vec3 bg = JsonVec3(f.at(lin ? "curr_bg" : "curr_bg_new")),
-                 ba = JsonVec3(f.at(lin ? "curr_ba" : "curr_ba_new"));
-      const BasaltResidual r = BasaltResidualOf(m, x0, g_, x1, bg, ba);
-      const Numeric n = NumericJacobians(m, x0, g_, x1, bg, ba);
-      Mat93 d_bg = r.d_res_d_bg;
-      const Vec3 phi = m.pre.d_state_d_bg.middleRows<3>(3) * (bg - m.bias_gyro_lin);
-      const Vec3 r_theta = r.residual.segment<3>(3);
-      const double upstream_bg = (n.d_bg - d_bg).cwiseAbs().maxCoeff();
-      d_bg.middleRows<3>(3) =
-          so3::JlInv(r_theta) * so3::Jl(phi) * m.pre.d_state_d_bg.middleRows<3>(3);
-      const double worst = std::max({(n.d_state0 - r.d_res_d_state0).cwiseAbs().maxCoeff(),
-                                     (n.d_state1 - r.d_res_d_state1).cwiseAbs().maxCoeff(),
-                                     (n.d_ba - r.d_res_d_ba).cwiseAbs().maxCoeff(),
-                                     (n.d_bg - d_bg).cwiseAbs().maxCoeff()});
-      std::printf(
-          "  %-13s %-11s %s: FD %.2g abs | upstream's d_res_d_bg %.2g abs (|phi| = %.2g, max "
-          "|d_res_d_bg| %.2g)\n",
-          GetParam(), feed.key, lin ? "lin bias" : "new bias", worst, upstream_bg, phi.norm(),
-          r.d_res_d_bg.cwiseAbs().maxCoeff());
-      EXPECT_LE(worst, kBasaltFdTol);
-      if (lin) {
-        EXPECT_LE(upstream_bg, kBasaltFdTol);  // phi = 0: upstream's block is the derivative
-      }
+  ForEachFactorPoint([&](const FactorPoint& p) {
+    const BasaltMeasurement& m = p.m;
+    const BasaltResidual& r = p.r;
+    const bool lin = p.lin;
+    const Vec3& bg = p.bg;
+    const Numeric n = NumericJacobians(m, p.x0, g_, p.x1, bg, p.ba);
+    Mat93 d_bg = r.d_res_d_bg;
+    const Vec3 phi = m.pre.d_state_d_bg.middleRows<3>(3) * (bg - m.bias_gyro_lin);
+    const Vec3 r_theta = r.residual.segment<3>(3);
+    const double upstream_bg = (n.d_bg - d_bg).cwiseAbs().maxCoeff();
+    d_bg.middleRows<3>(3) =
+        so3::JlInv(r_theta) * so3::Jl(phi) * m.pre.d_state_d_bg.middleRows<3>(3);
+    const double worst = std::max({(n.d_state0 - r.d_res_d_state0).cwiseAbs().maxCoeff(),
+                                   (n.d_state1 - r.d_res_d_state1).cwiseAbs().maxCoeff(),
+                                   (n.d_ba - r.d_res_d_ba).cwiseAbs().maxCoeff(),
+                                   (n.d_bg - d_bg).cwiseAbs().maxCoeff()});
+    std::printf(
+        "  %-13s %-11s %s: FD %.2g abs | upstream's d_res_d_bg %.2g abs (|phi| = %.2g, max "
+        "|d_res_d_bg| %.2g)\n",
+        GetParam(), p.feed.key, lin ? "lin bias" : "new bias", worst, upstream_bg, phi.norm(),
+        r.d_res_d_bg.cwiseAbs().maxCoeff());
+    EXPECT_LE(worst, kBasaltFdTol);
+    if (lin) {
+      EXPECT_LE(upstream_bg, kBasaltFdTol);  // phi = 0: upstream's block is the derivative
     }
-  }
+  });
 }
 
 INSTANTIATE_TEST_SUITE_P(Reference, BasaltResidualAnchor, ::testing::ValuesIn(kReferenceCaseIds),

@@ -24,6 +24,7 @@
 #include "anchors.h"
 #include "imuconv/kernels/fast_lio2.h"
 #include "imuconv_test.h"
+#include "reference_case.h"
 #include "scale_aware.h"
 
 namespace {
@@ -35,9 +36,8 @@ using namespace imuconv::test;  // DataPath, JsonMatrix, MaxEntryDiff, the ancho
 class FastLio2Anchor : public ::testing::TestWithParam<const char*> {
  protected:
   void SetUp() override {
-    anchor_ =
-        ReadJson(DataPath(std::string("reference/anchors/fast-lio2/") + GetParam() + ".json"));
-    case_ = ReadJson(DataPath(std::string("reference/cases/") + GetParam() + ".json"));
+    anchor_ = AnchorJson("fast-lio2", GetParam());
+    case_ = CaseJson(GetParam());
     const nlohmann::json& in = anchor_.at("inputs");
     samples_ = CaseSamples(case_);
     ASSERT_EQ(in.at("n_samples").get<std::size_t>(), samples_.size());

@@ -65,8 +65,7 @@ Mat15 FastLio2ToLeft(const Mat3& R) {
 class FastLio2Plugins : public ::testing::TestWithParam<const char*> {
  protected:
   void SetUp() override {
-    anchor_ =
-        ReadJson(DataPath(std::string("reference/anchors/fast-lio2/") + GetParam() + ".json"));
+    anchor_ = AnchorJson("fast-lio2", GetParam());
     case_ = CaseJson(GetParam());
     samples_ = CaseSamples(case_);
     ASSERT_TRUE(MakeWindow(samples_.data(), samples_.size(), samples_.front().t, samples_.back().t,
@@ -74,10 +73,7 @@ class FastLio2Plugins : public ::testing::TestWithParam<const char*> {
                     .ok());
     const nlohmann::json& st = case_.at("state_s");
     const nlohmann::json& q = st.at("q_wxyz");
-    in_.x_s.R = Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
-                                   q[3].get<double>())
-                    .normalized()
-                    .toRotationMatrix();
+    in_.x_s.R = JsonQuaternionWxyz(q).normalized().toRotationMatrix();
     in_.x_s.p = JsonVec3(st.at("p"));
     in_.x_s.v = JsonVec3(st.at("v"));
     in_.x_s.bg = JsonVec3(st.at("bg"));

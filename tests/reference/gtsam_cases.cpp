@@ -17,6 +17,7 @@
 
 #include "imuconv_test.h"
 #include "refcase.h"
+#include "reference_case.h"
 #include "scale_aware.h"
 
 namespace {
@@ -226,8 +227,7 @@ TEST(GtsamMid, Rk4BiasJacobianAndCovarianceWithinPaperFigure1OnSmoothCases) {
     std::map<std::string, Stat> stats;
     for (const char* id : {"smooth-0", "smooth-1", "smooth-2", "smooth-3"}) {
       const json ref = ReadJson(DataPath(std::string("reference/gtsam/") + id + ".gtsam.json"));
-      const json est = imuconv::refcase::Run(
-          Plugins(), ReadJson(DataPath(std::string("reference/cases/") + id + ".json")));
+      const json est = imuconv::refcase::Run(Plugins(), CaseJson(id));
       for (const char* f : {"J_bias", "cov15", "cov9"})
         Compare(ref["mid"][variant][f], est["mid"][variant][f], f, stats, f);
     }

@@ -25,6 +25,7 @@
 #include "anchors.h"
 #include "imuconv/kernels/okvis2.h"
 #include "imuconv_test.h"
+#include "reference_case.h"
 #include "scale_aware.h"
 
 namespace {
@@ -50,9 +51,8 @@ std::int64_t JsonOkvisTime(const nlohmann::json& t) {
 class Okvis2Anchor : public ::testing::TestWithParam<const char*> {
  protected:
   void SetUp() override {
-    anchor_ = ReadJson(DataPath(std::string("reference/anchors/okvis2/") + GetParam() + ".json"));
-    const nlohmann::json case_json =
-        ReadJson(DataPath(std::string("reference/cases/") + GetParam() + ".json"));
+    anchor_ = AnchorJson("okvis2", GetParam());
+    const nlohmann::json case_json = CaseJson(GetParam());
     const nlohmann::json& in = anchor_.at("inputs");
     // The anchor ran with the case's densities as OKVIS's sigma_*_c.
     const nlohmann::json& noise = case_json.at("noise");

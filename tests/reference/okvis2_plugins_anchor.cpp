@@ -41,11 +41,10 @@ Mat96 AnchorBiasJacobian(const nlohmann::json& pre) {
   return J;
 }
 
-class Okvis2PluginsAnchor : public ::testing::TestWithParam<const char*> {
+class Okvis2PluginsAnchor : public AnchorCaseTest {
  protected:
+  Okvis2PluginsAnchor() : AnchorCaseTest("okvis2") {}
   void SetUp() override {
-    anchor_ = ReadJson(DataPath(std::string("reference/anchors/okvis2/") + GetParam() + ".json"));
-    case_ = LoadCase(GetParam());
     // The anchor ran with the case's densities as sigma_*_c and gravity (0, 0, -9.81).
     const nlohmann::json& in = anchor_.at("inputs");
     ASSERT_EQ(in.at("sigma_g_c").get<double>(), case_.noise.gyro_noise_density);
@@ -54,8 +53,6 @@ class Okvis2PluginsAnchor : public ::testing::TestWithParam<const char*> {
     ASSERT_EQ(in.at("sigma_aw_c").get<double>(), case_.noise.accel_random_walk);
     ASSERT_EQ(Vec3(0.0, 0.0, -in.at("g").get<double>()), case_.gravity);
   }
-  nlohmann::json anchor_;
-  ImuCase case_;
 };
 
 TEST_P(Okvis2PluginsAnchor, PropagatorIsOkvisPropagation) {

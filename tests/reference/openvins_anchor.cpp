@@ -56,7 +56,7 @@ class OpenVinsMethodAnchor : public ::testing::TestWithParam<std::tuple<Method, 
 TEST_P(OpenVinsMethodAnchor, PropagationIsOpenVinsOwn) {
   const Method method = std::get<0>(GetParam());
   const std::string id = std::get<1>(GetParam());
-  const nlohmann::json anchor = ReadJson(DataPath("reference/anchors/openvins/" + id + ".json"));
+  const nlohmann::json anchor = AnchorJson("openvins", id);
   const nlohmann::json& in_json = anchor.at("inputs");
   const nlohmann::json& ov = anchor.at(method.key);
   const ImuCase c = LoadCase(id);
@@ -155,7 +155,7 @@ TEST_P(OpenVinsAnchor, PreintegrationByItsPropagationIsGtsamManifoldOnMidInput) 
 // wrong conversion block gives O(1) on the correlation scale.
 TEST_P(OpenVinsAnchor, OpenVinsCovarianceInGtsamNavState) {
   const std::string id = GetParam();
-  const nlohmann::json anchor = ReadJson(DataPath("reference/anchors/openvins/" + id + ".json"));
+  const nlohmann::json anchor = AnchorJson("openvins", id);
   const nlohmann::json& in_json = anchor.at("inputs");
   const nlohmann::json& ov = anchor.at("discrete");
   const ImuCase c = LoadCase(id);

@@ -25,8 +25,10 @@
 #include <Eigen/Eigenvalues>
 
 #include "anchor_field_diffs.h"
+#include "anchors.h"
 #include "imuconv/kernels/orb_slam3.h"
 #include "imuconv_test.h"
+#include "orb_slam3_float.h"
 #include "reference_case.h"
 #include "scale_aware.h"
 
@@ -35,21 +37,6 @@ namespace {
 using namespace imuconv;
 using namespace imuconv::kernels;
 using namespace imuconv::test;
-
-constexpr double kFloatTol = 1e-4;
-
-// Where the original's float arithmetic is reproduced operation for operation: x86-64, where
-// it was built (SSE2, no fused multiply-adds) and where every float result here is equal bit
-// for bit. On aarch64, Eigen's NEON packet math fuses multiply-adds itself (vfmaq), whatever
-// the compiler is told, so every product rounds differently; an entry far below its matrix's
-// largest then differs relatively by more than 1e-4 (3.7e-3 measured, JPa of aggressive-1, an
-// entry 1e-3 of the largest) and the float fields are judged relative to their largest
-// entry there (measured on aarch64 under qemu: see the commit).
-#if defined(__x86_64__)
-constexpr bool kSameFloatArithmetic = true;
-#else
-constexpr bool kSameFloatArithmetic = false;
-#endif
 
 OrbSlam3Pose<double> JsonPose(const nlohmann::json& s) {
   OrbSlam3Pose<double> x;
@@ -67,25 +54,25 @@ void ExpectPreintegrated(const nlohmann::json& j, const OrbSlam3Preintegrated& p
                          AnchorFieldDiffs& w) {
   EXPECT_EQ(static_cast<float>(j.at("dT").get<double>()), p.dT);  // the same float additions
   EXPECT_NEAR(j.at("dT").get<double>(), p.dT, 1e-6);
-  w.Float("dR", JsonMatrix(j.at("dR")), p.dR.cast<double>(), kSameFloatArithmetic);
-  w.Float("dV", JsonMatrix(j.at("dV")), p.dV.cast<double>(), kSameFloatArithmetic);
-  w.Float("dP", JsonMatrix(j.at("dP")), p.dP.cast<double>(), kSameFloatArithmetic);
-  w.Float("JRg", JsonMatrix(j.at("JRg")), p.JRg.cast<double>(), kSameFloatArithmetic);
-  w.Float("JVg", JsonMatrix(j.at("JVg")), p.JVg.cast<double>(), kSameFloatArithmetic);
-  w.Float("JVa", JsonMatrix(j.at("JVa")), p.JVa.cast<double>(), kSameFloatArithmetic);
-  w.Float("JPg", JsonMatrix(j.at("JPg")), p.JPg.cast<double>(), kSameFloatArithmetic);
-  w.Float("JPa", JsonMatrix(j.at("JPa")), p.JPa.cast<double>(), kSameFloatArithmetic);
-  w.Float("avgA", JsonMatrix(j.at("avgA")), p.avgA.cast<double>(), kSameFloatArithmetic);
-  w.Float("avgW", JsonMatrix(j.at("avgW")), p.avgW.cast<double>(), kSameFloatArithmetic);
-  w.Float("C", JsonMatrix(j.at("C").at("matrix")), p.C.cast<double>(), kSameFloatArithmetic);
+  w.Float("dR", JsonMatrix(j.at("dR")), p.dR.cast<double>(), kOrbSlam3SameFloatArithmetic);
+  w.Float("dV", JsonMatrix(j.at("dV")), p.dV.cast<double>(), kOrbSlam3SameFloatArithmetic);
+  w.Float("dP", JsonMatrix(j.at("dP")), p.dP.cast<double>(), kOrbSlam3SameFloatArithmetic);
+  w.Float("JRg", JsonMatrix(j.at("JRg")), p.JRg.cast<double>(), kOrbSlam3SameFloatArithmetic);
+  w.Float("JVg", JsonMatrix(j.at("JVg")), p.JVg.cast<double>(), kOrbSlam3SameFloatArithmetic);
+  w.Float("JVa", JsonMatrix(j.at("JVa")), p.JVa.cast<double>(), kOrbSlam3SameFloatArithmetic);
+  w.Float("JPg", JsonMatrix(j.at("JPg")), p.JPg.cast<double>(), kOrbSlam3SameFloatArithmetic);
+  w.Float("JPa", JsonMatrix(j.at("JPa")), p.JPa.cast<double>(), kOrbSlam3SameFloatArithmetic);
+  w.Float("avgA", JsonMatrix(j.at("avgA")), p.avgA.cast<double>(), kOrbSlam3SameFloatArithmetic);
+  w.Float("avgW", JsonMatrix(j.at("avgW")), p.avgW.cast<double>(), kOrbSlam3SameFloatArithmetic);
+  w.Float("C", JsonMatrix(j.at("C").at("matrix")), p.C.cast<double>(),
+          kOrbSlam3SameFloatArithmetic);
 }
 
 class OrbSlam3Anchor : public ::testing::TestWithParam<const char*> {
  protected:
   void SetUp() override {
-    anchor_ =
-        ReadJson(DataPath(std::string("reference/anchors/orb-slam3/") + GetParam() + ".json"));
-    case_ = ReadJson(DataPath(std::string("reference/cases/") + GetParam() + ".json"));
+    anchor_ = AnchorJson("orb-slam3", GetParam());
+    case_ = CaseJson(GetParam());
     const nlohmann::json& in = anchor_.at("inputs");
     const ImuNoise noise = CaseNoise(case_);
     ASSERT_EQ(in.at("IMU.NoiseGyro").get<double>(), noise.gyro_noise_density);
@@ -120,15 +107,13 @@ class OrbSlam3Anchor : public ::testing::TestWithParam<const char*> {
 
 TEST_P(OrbSlam3Anchor, PreintegrationAndPredictionAreOrbSlam3Own) {
   const OrbSlam3Preintegrated pre = PreintegrateOrbSlam3(steps_, calib_, bias_);
-  AnchorFieldDiffs w(std::string(GetParam()) + " preintegration", kFloatTol);
+  AnchorFieldDiffs w(std::string(GetParam()) + " preintegration", kOrbSlam3FloatTol);
   ExpectPreintegrated(anchor_.at("preintegration"), pre, w);
 
   const nlohmann::json& st = case_.at("state_s");
   const nlohmann::json& q = st.at("q_wxyz");
   OrbSlam3Pose<double> start;
-  start.R = Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
-                               q[3].get<double>())
-                .toRotationMatrix();
+  start.R = JsonQuaternionWxyz(q).toRotationMatrix();
   start.p = JsonVec3(st.at("p"));
   start.v = JsonVec3(st.at("v"));
   OrbSlam3Pose<float> start_float;
@@ -137,14 +122,17 @@ TEST_P(OrbSlam3Anchor, PreintegrationAndPredictionAreOrbSlam3Own) {
   start_float.v = start.v.cast<float>();
   const OrbSlam3Pose<float> tracked = PredictOrbSlam3Tracking(pre, start_float);
   const nlohmann::json& tj = anchor_.at("predict_tracking_float");
-  w.Float("tracking R", JsonMatrix(tj.at("R")), tracked.R.cast<double>(), kSameFloatArithmetic);
-  w.Float("tracking p", JsonMatrix(tj.at("p")), tracked.p.cast<double>(), kSameFloatArithmetic);
-  w.Float("tracking v", JsonMatrix(tj.at("v")), tracked.v.cast<double>(), kSameFloatArithmetic);
+  w.Float("tracking R", JsonMatrix(tj.at("R")), tracked.R.cast<double>(),
+          kOrbSlam3SameFloatArithmetic);
+  w.Float("tracking p", JsonMatrix(tj.at("p")), tracked.p.cast<double>(),
+          kOrbSlam3SameFloatArithmetic);
+  w.Float("tracking v", JsonMatrix(tj.at("v")), tracked.v.cast<double>(),
+          kOrbSlam3SameFloatArithmetic);
   const OrbSlam3Pose<double> predicted = PredictOrbSlam3(pre, start);
   const nlohmann::json& pj = anchor_.at("predict");
-  w.Float("predict R", JsonMatrix(pj.at("R")), predicted.R, kSameFloatArithmetic);
-  w.Float("predict p", JsonMatrix(pj.at("p")), predicted.p, kSameFloatArithmetic);
-  w.Float("predict v", JsonMatrix(pj.at("v")), predicted.v, kSameFloatArithmetic);
+  w.Float("predict R", JsonMatrix(pj.at("R")), predicted.R, kOrbSlam3SameFloatArithmetic);
+  w.Float("predict p", JsonMatrix(pj.at("p")), predicted.p, kOrbSlam3SameFloatArithmetic);
+  w.Float("predict v", JsonMatrix(pj.at("v")), predicted.v, kOrbSlam3SameFloatArithmetic);
   w.Print();
 }
 
@@ -154,23 +142,23 @@ TEST_P(OrbSlam3Anchor, BiasUpdateAndReintegrationAreOrbSlam3Own) {
   const OrbSlam3Bias b_new = JsonFloatBias(bc.at("bias_new_float"));
   ASSERT_EQ(b_new.bg, JsonVec3(bc.at("bg_new")).cast<float>());
   ASSERT_EQ(b_new.ba, JsonVec3(bc.at("ba_new")).cast<float>());
-  AnchorFieldDiffs w(std::string(GetParam()) + " bias update", kFloatTol);
+  AnchorFieldDiffs w(std::string(GetParam()) + " bias update", kOrbSlam3FloatTol);
   const nlohmann::json& fo = bc.at("first_order");
   Eigen::Matrix<float, 6, 1> db;
   db << b_new.bg - pre.b.bg, b_new.ba - pre.b.ba;
-  w.Float("db", JsonMatrix(fo.at("db")), db.cast<double>(), kSameFloatArithmetic);
+  w.Float("db", JsonMatrix(fo.at("db")), db.cast<double>(), kOrbSlam3SameFloatArithmetic);
   w.Float("first-order dR", JsonMatrix(fo.at("dR")),
-          OrbSlam3DeltaRotation(pre, b_new).cast<double>(), kSameFloatArithmetic);
+          OrbSlam3DeltaRotation(pre, b_new).cast<double>(), kOrbSlam3SameFloatArithmetic);
   w.Float("first-order dV", JsonMatrix(fo.at("dV")),
-          OrbSlam3DeltaVelocity(pre, b_new).cast<double>(), kSameFloatArithmetic);
+          OrbSlam3DeltaVelocity(pre, b_new).cast<double>(), kOrbSlam3SameFloatArithmetic);
   w.Float("first-order dP", JsonMatrix(fo.at("dP")),
-          OrbSlam3DeltaPosition(pre, b_new).cast<double>(), kSameFloatArithmetic);
+          OrbSlam3DeltaPosition(pre, b_new).cast<double>(), kOrbSlam3SameFloatArithmetic);
   ExpectPreintegrated(bc.at("reintegrated"), PreintegrateOrbSlam3(pre.steps, calib_, b_new), w);
   w.Print();
 }
 
 TEST_P(OrbSlam3Anchor, EdgeInertialIsOrbSlam3Own) {
-  if (!kSameFloatArithmetic) {
+  if (!kOrbSlam3SameFloatArithmetic) {
     // EdgeInertial computes in double from the float deltas. Where the float rounding is not
     // the original's, those deltas differ by about 1e-5 of their size (the two tests above
     // check that), and the residual, a difference of terms as large as the deltas (|dP| up to
@@ -183,7 +171,7 @@ TEST_P(OrbSlam3Anchor, EdgeInertialIsOrbSlam3Own) {
   const nlohmann::json& ej = anchor_.at("edge_inertial");
   EXPECT_EQ(static_cast<float>(ej.at("dt").get<double>()), pre.dT);
   const OrbSlam3Pose<double> s1 = JsonPose(ej.at("state_i")), s2 = JsonPose(ej.at("state_j"));
-  AnchorFieldDiffs w(std::string(GetParam()) + " EdgeInertial", kFloatTol);
+  AnchorFieldDiffs w(std::string(GetParam()) + " EdgeInertial", kOrbSlam3FloatTol);
   const Mat9 info = OrbSlam3EdgeInformation(pre);
   w.Metric("information", JsonMatrix(ej.at("information")), info);
   struct At {

@@ -22,18 +22,12 @@
 #include "imuconv/bridge.h"
 #include "imuconv/status.h"
 #include "imuconv_test.h"
+#include "orb_slam3_float.h"
 
 namespace {
 
 using namespace imuconv;
 using namespace imuconv::test;
-
-constexpr double kPluginFloatTol = 1e-4;
-#if defined(__x86_64__)
-constexpr bool kPluginSameFloatArithmetic = true;
-#else
-constexpr bool kPluginSameFloatArithmetic = false;
-#endif
 
 /// A 9x6 bias Jacobian from the anchor's five blocks, rows [theta; v; p], columns [bg, ba].
 Mat96 OrbAnchorBiasJacobian(const nlohmann::json& p) {
@@ -66,10 +60,10 @@ void ExpectOrbPluginIsAnchor(const nlohmann::json& a, const Preintegrated& m,
   ASSERT_EQ(orb.jacobian_convention, "orb_slam3");
   EXPECT_EQ(static_cast<float>(a.at("dT").get<double>()), static_cast<float>(orb.dt)) << label;
   EXPECT_NEAR(a.at("dT").get<double>(), orb.dt, 1e-6) << label;
-  AnchorFieldDiffs w(label, kPluginFloatTol);
-  w.Float("dR", JsonMatrix(a.at("dR")), orb.delta.dR, kPluginSameFloatArithmetic);
-  w.Float("dV", JsonMatrix(a.at("dV")), orb.delta.dv, kPluginSameFloatArithmetic);
-  w.Float("dP", JsonMatrix(a.at("dP")), orb.delta.dp, kPluginSameFloatArithmetic);
+  AnchorFieldDiffs w(label, kOrbSlam3FloatTol);
+  w.Float("dR", JsonMatrix(a.at("dR")), orb.delta.dR, kOrbSlam3SameFloatArithmetic);
+  w.Float("dV", JsonMatrix(a.at("dV")), orb.delta.dv, kOrbSlam3SameFloatArithmetic);
+  w.Float("dP", JsonMatrix(a.at("dP")), orb.delta.dp, kOrbSlam3SameFloatArithmetic);
   // ORB-SLAM3's C is not exactly symmetric: A C A^T + B N B^T in float rounds (i, j) and
   // (j, i) differently, up to 1.5e-5 of an entry (aggressive-0, reintegrated: an entry of
   // 1.6e-4). The registry symmetrizes every covariance it converts (bridge.cpp), so the plugin
@@ -77,8 +71,8 @@ void ExpectOrbPluginIsAnchor(const nlohmann::json& a, const Preintegrated& m,
   const Mat15 C_orb = JsonMatrix(a.at("C").at("matrix"));
   const Mat15 C = 0.5 * (C_orb + C_orb.transpose());
   const Mat96 J = OrbAnchorBiasJacobian(a);
-  w.Float("C", C, orb.cov, kPluginSameFloatArithmetic);
-  w.Float("J_bias", J, orb.J_bias, kPluginSameFloatArithmetic);
+  w.Float("C", C, orb.cov, kOrbSlam3SameFloatArithmetic);
+  w.Float("J_bias", J, orb.J_bias, kOrbSlam3SameFloatArithmetic);
 
   // The same numbers in the reference charts: C and the Jacobian's rows permuted.
   const Preintegrated ref = Express(Plugins(), m, "preint_reference");
@@ -86,21 +80,17 @@ void ExpectOrbPluginIsAnchor(const nlohmann::json& a, const Preintegrated& m,
   const Mat15 C_ref = P * C * P.transpose();
   Mat96 J_ref;
   J_ref << J.middleRows<3>(0), J.middleRows<3>(6), J.middleRows<3>(3);  // [theta; p; v]
-  w.Float("C in preint_reference", C_ref, ref.cov, kPluginSameFloatArithmetic);
-  w.Float("J_bias in preint_reference", J_ref, ref.J_bias, kPluginSameFloatArithmetic);
+  w.Float("C in preint_reference", C_ref, ref.cov, kOrbSlam3SameFloatArithmetic);
+  w.Float("J_bias in preint_reference", J_ref, ref.J_bias, kOrbSlam3SameFloatArithmetic);
   w.Print();
 }
 
-class OrbSlam3Plugin : public ::testing::TestWithParam<const char*> {
+class OrbSlam3Plugin : public AnchorCaseTest {
  protected:
+  OrbSlam3Plugin() : AnchorCaseTest("orb-slam3") {}
   void SetUp() override {
-    anchor_ =
-        ReadJson(DataPath(std::string("reference/anchors/orb-slam3/") + GetParam() + ".json"));
-    case_ = LoadCase(GetParam());
     ASSERT_EQ(anchor_.at("inputs").at("IMU.Frequency").get<double>(), 200.0);
   }
-  nlohmann::json anchor_;
-  ImuCase case_;
 };
 
 TEST_P(OrbSlam3Plugin, PreintegrationIsOrbSlam3Own) {

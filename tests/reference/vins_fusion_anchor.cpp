@@ -66,12 +66,10 @@ double CrossBlockDiff(const Mat15& ref, const Mat15& est) {
   return worst;
 }
 
-class VinsFusionAnchor : public ::testing::TestWithParam<const char*> {
+class VinsFusionAnchor : public AnchorCaseTest {
  protected:
+  VinsFusionAnchor() : AnchorCaseTest("vins-fusion") {}
   void SetUp() override {
-    anchor_ =
-        ReadJson(DataPath(std::string("reference/anchors/vins-fusion/") + GetParam() + ".json"));
-    case_ = LoadCase(GetParam());
     // The anchor ran with the case's densities as ACC_N, GYR_N, ACC_W, GYR_W and its start
     // biases as the linearization point: what kAsConfigured reads from ImuNoise.
     const nlohmann::json& in = anchor_.at("inputs");
@@ -83,8 +81,6 @@ class VinsFusionAnchor : public ::testing::TestWithParam<const char*> {
     ASSERT_EQ(JsonVec3(in.at("linearized_bg")), case_.x_s.bg);
     ASSERT_EQ(in.at("n_push_back").get<std::size_t>() + 1, case_.samples.size());
   }
-  nlohmann::json anchor_;
-  ImuCase case_;
 };
 
 TEST_P(VinsFusionAnchor, IntegrationBaseIsVinsFusionOwn) {

@@ -16,10 +16,12 @@
 #include <cstdio>
 #include <string>
 
+#include "anchor_field_diffs.h"
 #include "anchors.h"
 #include "imuconv/kernels/vins_fusion.h"
 #include "imuconv/kernels/vins_fusion_residual.h"
 #include "imuconv_test.h"
+#include "reference_case.h"
 
 namespace {
 
@@ -29,15 +31,10 @@ using namespace imuconv::test;  // DataPath, JsonMatrix, MaxEntryDiff, the ancho
 
 constexpr double kWhitenedTol = 1e-5;
 
-Eigen::Quaterniond QuaternionWxyz(const nlohmann::json& q) {
-  return Eigen::Quaterniond(q.at(0).get<double>(), q.at(1).get<double>(), q.at(2).get<double>(),
-                            q.at(3).get<double>());
-}
-
 VinsFusionFactorState FactorState(const nlohmann::json& s) {
   VinsFusionFactorState x;
   x.P = JsonVec3(s.at("P"));
-  x.Q = QuaternionWxyz(s.at("Q_wxyz"));
+  x.Q = JsonQuaternionWxyz(s.at("Q_wxyz"));
   x.V = JsonVec3(s.at("V"));
   x.Ba = JsonVec3(s.at("Ba"));
   x.Bg = JsonVec3(s.at("Bg"));
@@ -67,8 +64,7 @@ void ExpectFactorOutput(const nlohmann::json& j, const VinsFusionFactorOutput& o
 class VinsFusionResidualAnchor : public ::testing::TestWithParam<const char*> {
  protected:
   void SetUp() override {
-    anchor_ =
-        ReadJson(DataPath(std::string("reference/anchors/vins-fusion/") + GetParam() + ".json"));
+    anchor_ = AnchorJson("vins-fusion", GetParam());
     case_ = LoadCase(GetParam());
     // As in vins_fusion_anchor.cpp: the case's densities as ACC_N..GYR_W, its start biases
     // as the linearization point, G = -gravity.
@@ -120,8 +116,7 @@ TEST_P(VinsFusionResidualAnchor, FactorAtANewBiasIsVinsFusionOwn) {
   const nlohmann::json& fo = bc.at("first_order");
   const Vec3 ba_new = JsonVec3(bc.at("Ba_new")), bg_new = JsonVec3(bc.at("Bg_new"));
   // The README's construction: the case's start bias plus its bias_delta.
-  const nlohmann::json delta =
-      ReadJson(DataPath(std::string("reference/cases/") + GetParam() + ".json")).at("bias_delta");
+  const nlohmann::json delta = CaseJson(GetParam()).at("bias_delta");
   ASSERT_EQ(ba_new, Vec3(case_.x_s.ba + JsonVec3(delta.at("ba"))));
   ASSERT_EQ(bg_new, Vec3(case_.x_s.bg + JsonVec3(delta.at("bg"))));
   const VinsFusionCorrectedDelta c = VinsFusionCorrect(m_, ba_new, bg_new);

@@ -10,6 +10,8 @@
 #include <string>
 #include <string_view>
 
+#include "imuconv/utf8.h"
+
 namespace imuconv {
 
 inline std::string Printable(std::string_view s) {
@@ -50,27 +52,13 @@ inline std::string Printable(std::string_view s) {
       default:
         break;
     }
-    // A well-formed UTF-8 sequence (no overlong forms, no surrogates, at most U+10FFFF) is
-    // kept; C1 control characters (U+0080..U+009F) are escaped like C0 ones.
-    std::size_t len = 0;
-    if (c >= 0xc2 && c <= 0xdf)
-      len = 2;
-    else if (c >= 0xe0 && c <= 0xef)
-      len = 3;
-    else if (c >= 0xf0 && c <= 0xf4)
-      len = 4;
-    bool ok = len > 0 && i + len <= s.size();
-    for (std::size_t k = 1; ok && k < len; ++k)
-      ok = (static_cast<unsigned char>(s[i + k]) & 0xc0) == 0x80;
-    if (ok) {
-      const auto c1 = static_cast<unsigned char>(s[i + 1]);
-      if (c == 0xe0 && c1 < 0xa0) ok = false;   // overlong
-      if (c == 0xed && c1 >= 0xa0) ok = false;  // surrogate
-      if (c == 0xf0 && c1 < 0x90) ok = false;   // overlong
-      if (c == 0xf4 && c1 >= 0x90) ok = false;  // above U+10FFFF
-      if (c == 0xc2 && c1 < 0xa0) ok = false;   // C1 control
-    }
-    if (!ok) {
+    // A well-formed UTF-8 sequence of two bytes or more (utf8.h: no overlong forms, no
+    // surrogates, at most U+10FFFF) is kept; C1 control characters (U+0080..U+009F, C2 80..9F)
+    // are escaped like C0 ones, and so is every other byte (a control byte below 0x80 is a
+    // sequence of one).
+    const std::size_t len = Utf8SequenceLength(s, i);
+    const bool c1_control = len == 2 && c == 0xc2 && static_cast<unsigned char>(s[i + 1]) < 0xa0;
+    if (len < 2 || c1_control) {
       escape(c);
       ++i;
       continue;

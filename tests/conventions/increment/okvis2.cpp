@@ -9,12 +9,7 @@ IMUCONV_BIAS_JACOBIAN_CHART(okvis2, "okvis2");
 TEST(PreintStructure, Okvis2RotatesTheRotationBlockByTheIncrement) {
   // Exp(dalpha) Delta_C^ = Delta_C^ Exp(Delta_C^T dalpha): the reference's rotation error is
   // Delta_C^T times OKVIS's; p, v and the biases are the reference's, reordered.
-  ExpectConversion("okvis2", "preint_reference", [](const PreintIncrement& x) -> BlockEntries {
-    return {{"theta", x.dR.transpose()}};
-  });
-  ExpectConversion("preint_reference", "okvis2", [](const PreintIncrement& x) -> BlockEntries {
-    return {{"theta", x.dR}};
-  });
+  ExpectReferenceWithLeftRotation("okvis2");
 }
 
 TEST(PreintStructure, Okvis2IsBasaltsDeltaState) {

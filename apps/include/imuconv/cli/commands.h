@@ -111,6 +111,12 @@ void PrintLabelledMatrix(std::ostream& out, const Mat15& m,
                                                    const std::string& id,
                                                    const std::vector<LoadIssue>& load_issues);
 
+/// Loads the registry as LoadRegistry does, prints its load issues, and throws Error
+/// "--convention: <UnknownConventionMessage>" when `state_convention` is not a state convention
+/// it holds: the start of the commands that work in a state convention the user names.
+void LoadRegistryWithStateConvention(Registry& reg, const CommandContext& ctx,
+                                     const std::string& state_convention);
+
 void RegisterPluginsCommand(CLI::App& app, CommandContext& ctx);
 void RegisterConversionCommand(CLI::App& app, CommandContext& ctx);
 void RegisterConvertCommand(CLI::App& app, CommandContext& ctx);

@@ -158,6 +158,27 @@ std::optional<Node> MeasurementArray(const Node& root, std::optional<std::int64_
   return ms;
 }
 
+/// Reads a measurements document: the envelope (MeasurementArray), then `read(c, e, i,
+/// file_origin)` for each element e (at position i) that is an object of the known keys,
+/// keeping what it returns (nullopt: nothing, its errors reported on c); then throws every
+/// error found, each with `file` and its JSON pointer.
+template <typename T, typename ReadOne>
+std::vector<T> ReadEachMeasurement(const json& doc, const std::string& file, ReadOne read) {
+  Checker c(file);
+  const Node root(doc, "", c);
+  std::vector<T> out;
+  std::optional<std::int64_t> file_origin;
+  const auto ms = MeasurementArray(root, file_origin);
+  if (!ms) c.throw_if_errors();
+  for (std::size_t i = 0; i < ms->size(); ++i) {
+    const Node e = (*ms)[i];
+    if (!e.expect_object(kMeasurementKeys)) continue;
+    if (std::optional<T> v = read(c, e, i, file_origin)) out.push_back(std::move(*v));
+  }
+  c.throw_if_errors();
+  return out;
+}
+
 /// The fields whose meaning does not depend on a chart: times, index, dt, bias estimate and
 /// increment.
 void ReadChartFreeFields(const Node& e, std::size_t i, std::optional<std::int64_t> file_origin,
@@ -283,59 +304,54 @@ void ReadDeclaredJBias(const Node& n, const Registry& reg, DeclaredMeasurement& 
 std::vector<MeasRecord> ReadMeasurementDocument(const json& doc, const std::string& file,
                                                 const Registry& reg,
                                                 std::optional<std::int64_t> origin_ns) {
-  Checker c(file);
-  const Node root(doc, "", c);
-  std::vector<MeasRecord> out;
-  std::optional<std::int64_t> file_origin;
-  const auto ms = MeasurementArray(root, file_origin);
-  if (!ms) c.throw_if_errors();
-  for (std::size_t i = 0; i < ms->size(); ++i) {
-    const Node e = (*ms)[i];
-    if (!e.expect_object(kMeasurementKeys)) continue;
-    const std::size_t before = c.count();
-    MeasRecord r;
-    r.pointer = e.pointer();
-    Preintegrated in;
-    ReadChartFreeFields(e, i, file_origin, origin_ns, r, in);
-    const NumberPrecision precision = ReadPrecision(e);
-    std::string cov_conv;
-    if (auto cn = e.get("cov", true)) {
-      if (cn->expect_object({"convention", "blocks", "matrix"})) {
-        if (auto cv = cn->string("convention", true)) {
-          CheckPluginId(c, reg, PluginKind::IncrementConvention, *cv,
-                        cn->child_pointer("convention"));
-          if (reg.has(PluginKind::IncrementConvention, *cv)) cov_conv = *cv;
+  return ReadEachMeasurement<MeasRecord>(
+      doc, file,
+      [&](Checker& c, const Node& e, std::size_t i,
+          std::optional<std::int64_t> file_origin) -> std::optional<MeasRecord> {
+        const std::size_t before = c.count();
+        MeasRecord r;
+        r.pointer = e.pointer();
+        Preintegrated in;
+        ReadChartFreeFields(e, i, file_origin, origin_ns, r, in);
+        const NumberPrecision precision = ReadPrecision(e);
+        std::string cov_conv;
+        if (auto cn = e.get("cov", true)) {
+          if (cn->expect_object({"convention", "blocks", "matrix"})) {
+            if (auto cv = cn->string("convention", true)) {
+              CheckPluginId(c, reg, PluginKind::IncrementConvention, *cv,
+                            cn->child_pointer("convention"));
+              if (reg.has(PluginKind::IncrementConvention, *cv)) cov_conv = *cv;
+            }
+            if (auto mn = cn->get("matrix", true))
+              if (auto m = mn->matrix(15, 15)) {
+                in.cov = *m;
+                CheckCovarianceInput(c, mn->pointer(), in.cov, CovarianceTolerance(precision));
+              }
+            if (auto bn = cn->get("blocks", false))
+              if (auto b = bn->string_list(); b && !cov_conv.empty()) {
+                const auto expect = Blocks(reg, PluginKind::IncrementConvention, cov_conv);
+                if (*b != expect)
+                  bn->fail("blocks [" + Printable(Join(*b)) +
+                           "] do not match the block order of '" + cov_conv + "': [" +
+                           Join(expect) + "]");
+              }
+          }
         }
-        if (auto mn = cn->get("matrix", true))
-          if (auto m = mn->matrix(15, 15)) {
-            in.cov = *m;
-            CheckCovarianceInput(c, mn->pointer(), in.cov, CovarianceTolerance(precision));
-          }
-        if (auto bn = cn->get("blocks", false))
-          if (auto b = bn->string_list(); b && !cov_conv.empty()) {
-            const auto expect = Blocks(reg, PluginKind::IncrementConvention, cov_conv);
-            if (*b != expect)
-              bn->fail("blocks [" + Printable(Join(*b)) + "] do not match the block order of '" +
-                       cov_conv + "': [" + Join(expect) + "]");
-          }
-      }
-    }
-    in.convention = cov_conv;
-    if (auto jn = e.get("J_bias", true)) ReadJBias(*jn, reg, cov_conv, in);
-    if (c.count() != before) continue;
-    r.convention = in.convention;
-    r.jacobian_convention = in.jacobian_convention;
-    try {
-      r.m = FromConvention(reg, in);
-    } catch (const std::exception& ex) {
-      e.fail(std::string("cannot bring the measurement into the reference chart: ") + ex.what());
-      continue;
-    }
-    CheckDtAgainstTimes(e, r, in.dt);
-    out.push_back(std::move(r));
-  }
-  c.throw_if_errors();
-  return out;
+        in.convention = cov_conv;
+        if (auto jn = e.get("J_bias", true)) ReadJBias(*jn, reg, cov_conv, in);
+        if (c.count() != before) return std::nullopt;
+        r.convention = in.convention;
+        r.jacobian_convention = in.jacobian_convention;
+        try {
+          r.m = FromConvention(reg, in);
+        } catch (const std::exception& ex) {
+          e.fail(std::string("cannot bring the measurement into the reference chart: ") +
+                 ex.what());
+          return std::nullopt;
+        }
+        CheckDtAgainstTimes(e, r, in.dt);
+        return r;
+      });
 }
 
 std::optional<double> DtDifference(const DeclaredMeasurement& m) {
@@ -353,34 +369,27 @@ std::vector<DeclaredMeasurement> ReadDeclaredMeasurementFile(
 std::vector<DeclaredMeasurement> ReadDeclaredMeasurementDocument(
     const json& doc, const std::string& path, const Registry& reg,
     std::optional<std::int64_t> origin_ns) {
-  Checker c(path);
-  const Node root(doc, "", c);
-  std::vector<DeclaredMeasurement> out;
-  std::optional<std::int64_t> file_origin;
-  const auto ms = MeasurementArray(root, file_origin);
-  if (!ms) c.throw_if_errors();
-  for (std::size_t i = 0; i < ms->size(); ++i) {
-    const Node e = (*ms)[i];
-    if (!e.expect_object(kMeasurementKeys)) continue;
-    const std::size_t before = c.count();
-    MeasRecord r;
-    DeclaredMeasurement d;
-    d.pointer = e.pointer();
-    // No pipeline origin: times stay on the file's own axis, in seconds as written (the file's
-    // own time_origin_ns then shifts nothing, as in ReadMeasurementFile without an origin).
-    ReadChartFreeFields(e, i, origin_ns ? file_origin : std::nullopt, origin_ns, r, d.in);
-    d.precision = ReadPrecision(e);
-    if (auto cn = e.get("cov", true)) ReadDeclaredCov(*cn, reg, d);
-    if (auto jn = e.get("J_bias", true)) ReadDeclaredJBias(*jn, reg, d);
-    // dt is not compared with t_end - t_start here: a dt that differs is what check reports
-    // (DtDifference), not a reason to refuse the numbers (a float32 sum of the steps differs).
-    if (c.count() != before) continue;
-    d.t_s = r.t_s;
-    d.t_e = r.t_e;
-    out.push_back(std::move(d));
-  }
-  c.throw_if_errors();
-  return out;
+  return ReadEachMeasurement<DeclaredMeasurement>(
+      doc, path,
+      [&](Checker& c, const Node& e, std::size_t i,
+          std::optional<std::int64_t> file_origin) -> std::optional<DeclaredMeasurement> {
+        const std::size_t before = c.count();
+        MeasRecord r;
+        DeclaredMeasurement d;
+        d.pointer = e.pointer();
+        // No pipeline origin: times stay on the file's own axis, in seconds as written (the file's
+        // own time_origin_ns then shifts nothing, as in ReadMeasurementFile without an origin).
+        ReadChartFreeFields(e, i, origin_ns ? file_origin : std::nullopt, origin_ns, r, d.in);
+        d.precision = ReadPrecision(e);
+        if (auto cn = e.get("cov", true)) ReadDeclaredCov(*cn, reg, d);
+        if (auto jn = e.get("J_bias", true)) ReadDeclaredJBias(*jn, reg, d);
+        // dt is not compared with t_end - t_start here: a dt that differs is what check reports
+        // (DtDifference), not a reason to refuse the numbers (a float32 sum of the steps differs).
+        if (c.count() != before) return std::nullopt;
+        d.t_s = r.t_s;
+        d.t_e = r.t_e;
+        return d;
+      });
 }
 
 std::vector<MeasRecord> ReadMeasurementFile(const std::string& path, const Registry& reg,

@@ -1,0 +1,60 @@
+// Pieces of the small inline pipelines that the pipeline tests write by hand: the noise block,
+// samples of constant motion, a one-task pipeline, and start states.
+#pragma once
+
+#include <array>
+#include <nlohmann/json.hpp>
+
+namespace imuconv::test {
+
+/// A pipeline's "noise": densities of a tactical-grade IMU. The tests that use it check what a
+/// pipeline accepts and writes, not the covariances, so any valid densities would do.
+inline nlohmann::json TacticalNoiseDensities() {
+  return {{"gyro_noise_density", 1e-4},
+          {"accel_noise_density", 1e-3},
+          {"gyro_random_walk", 1e-5},
+          {"accel_random_walk", 1e-4}};
+}
+
+/// Inline samples k = 0 .. last, one every `step` seconds from t = 0, all with the same
+/// [wx, wy, wz, ax, ay, az].
+inline nlohmann::json ConstantSamples(int last, double step,
+                                      const std::array<double, 6>& gyro_accel) {
+  nlohmann::json samples = nlohmann::json::array();
+  for (int k = 0; k <= last; ++k) {
+    nlohmann::json s = {step * k};
+    for (double x : gyro_accel) s.push_back(x);
+    samples.push_back(s);
+  }
+  return samples;
+}
+
+/// A pipeline of 0.1 s of inline samples at 200 Hz and one `manifold` preintegration over it
+/// (keyframes 0 and 0.1 s), whose covariance depends on every density of `noise`.
+inline nlohmann::json OnePreintegrationWithNoise(const nlohmann::json& noise) {
+  return {{"noise", noise},
+          {"imu",
+           {{"format", "inline"},
+            {"samples", ConstantSamples(20, 0.005, {0.1, -0.2, 0.3, 0.5, 0.1, 9.8})}}},
+          {"tasks",
+           {{{"type", "preintegrate"},
+             {"name", "pre"},
+             {"method", {{"preintegrator", "manifold"}}},
+             {"keyframes", {0.0, 0.1}}}}}};
+}
+
+/// A start state at the origin, unrotated, moving at 1 m/s along x.
+inline nlohmann::json UnitSpeedStartState() {
+  return {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {1, 0, 0}}};
+}
+
+/// A start state at rest at the origin, unrotated, with zero biases (all five stated).
+inline nlohmann::json RestAtOriginWithZeroBiases() {
+  return {{"p", {0, 0, 0}},
+          {"q_wxyz", {1, 0, 0, 0}},
+          {"v", {0, 0, 0}},
+          {"bg", {0, 0, 0}},
+          {"ba", {0, 0, 0}}};
+}
+
+}  // namespace imuconv::test
