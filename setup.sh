@@ -6,7 +6,7 @@
 #   --sanitizers  also installs clang and its sanitizer and libFuzzer runtimes and configures
 #                 ./build-san: the whole suite under AddressSanitizer and
 #                 UndefinedBehaviorSanitizer, plus the libFuzzer targets (tests/fuzz), which
-#                 ctest runs for IMUCONV_FUZZ_SECONDS each (60 by default).
+#                 ctest runs for IMUCONV_FUZZ_SECONDS each (30 by default).
 #   --aarch64     also installs the aarch64 cross compiler and qemu-user and configures
 #                 ./build-aarch64: the library, plugins and the tests of what depends on the
 #                 instruction set cross-compiled for 64-bit ARM (GoogleTest built from
