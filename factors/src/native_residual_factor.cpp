@@ -3,7 +3,6 @@
 // Jacobian columns carried to the left chart, its declared weighting fixed per measurement.
 #include "imuconv/ceres/native_residual_factor.h"
 
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <cstring>
 #include <limits>
@@ -12,6 +11,7 @@
 #include "imuconv/bridge.h"
 #include "imuconv/prediction.h"
 #include "native_residual_outputs.h"
+#include "sqrt_information.h"
 
 namespace imuconv::ceres_factors {
 
@@ -76,14 +76,15 @@ Eigen::MatrixXd SqrtOfInformation(const Eigen::MatrixXd& information) {
   return root.asDiagonal() * es.eigenvectors().transpose();
 }
 
-// S with S^T S = C^-1: S = L^-1, C = L L^T (lower Cholesky factor), as PreintegrationFactor's.
+// S with S^T S = C^-1 (sqrt_information.h), as PreintegrationFactor's. An S that overflows is
+// the caller's "not a finite matrix", as any weighting's.
 Eigen::MatrixXd SqrtOfCovarianceInverse(const Eigen::MatrixXd& C) {
-  const Eigen::LLT<Eigen::MatrixXd> llt(C);
-  if (!C.allFinite() || llt.info() != Eigen::Success)
+  Eigen::MatrixXd S;
+  if (detail::InverseCholeskyFactor(C, S) == detail::SqrtInformationStatus::kNotPositiveDefinite)
     throw Error("the measurement's covariance (its leading " + std::to_string(C.rows()) + "x" +
                 std::to_string(C.cols()) +
                 " block) is not positive definite (are all four noise densities positive?)");
-  return llt.matrixL().solve(Eigen::MatrixXd::Identity(C.rows(), C.cols()));
+  return S;
 }
 
 }  // namespace

@@ -3,7 +3,8 @@
 // reference state chart `left`); this file adds only the fixed whitening and re-integration.
 #include "imuconv/ceres/preintegration_factor.h"
 
-#include <Eigen/Cholesky>
+#include "sqrt_information.h"
+
 #include <cmath>
 #include <sstream>
 #include <utility>
@@ -91,14 +92,13 @@ void PreintegrationFactor::Reintegrate(const Vec3& bg, const Vec3& ba) {
   const ImuState x_e = Predict(x_s, m.delta, m.dt, options_.gravity);
   const Residual at_prediction =
       ComputeResidual(*reg_, options_.kind, m, x_s, x_e, "left", options_.gravity);
-  const Eigen::LLT<Mat15> llt(at_prediction.cov);
-  if (llt.info() != Eigen::Success || !at_prediction.cov.allFinite())
+  Mat15 S;
+  const detail::SqrtInformationStatus status = detail::InverseCholeskyFactor(at_prediction.cov, S);
+  if (status == detail::SqrtInformationStatus::kNotPositiveDefinite)
     throw Error("preintegration factor: the residual covariance over [" + std::to_string(t_s_) +
                 ", " + std::to_string(t_e_) +
                 "] s is not positive definite (are all four noise densities positive?)");
-  // S = C^{-1} with cov = C C^T: S^T S = C^-T C^-1 = cov^{-1}.
-  Mat15 S = llt.matrixL().solve(Mat15::Identity());
-  if (!S.allFinite())
+  if (status == detail::SqrtInformationStatus::kNearSingular)
     throw Error("preintegration factor: the residual covariance is too close to singular");
   measurement_ = std::move(m);
   sqrt_information_ = S;

@@ -1,7 +1,6 @@
 // A prior on one state in a named convention's chart: r = S local_C(x_prior, x).
 #include <ceres/sized_cost_function.h>
 
-#include <Eigen/Cholesky>
 #include <memory>
 #include <string>
 
@@ -9,6 +8,7 @@
 #include "imuconv/ceres/state_block.h"
 #include "imuconv/numeric.h"
 #include "imuconv/reference_charts.h"
+#include "sqrt_information.h"
 
 namespace imuconv::ceres_factors {
 
@@ -69,11 +69,13 @@ bool IsRotation(const Mat3& R) {
     throw Error("state prior: the prior state is not finite or its R is not a rotation");
   const std::string problem = CovarianceProblem(cov);
   if (!problem.empty()) throw Error("state prior: the covariance: " + problem);
-  const Eigen::LLT<Mat15> llt(0.5 * (cov + cov.transpose()));
-  if (llt.info() != Eigen::Success)
+  Mat15 S;  // S^T S = cov^{-1}
+  const detail::SqrtInformationStatus status =
+      detail::InverseCholeskyFactor(Mat15(0.5 * (cov + cov.transpose())), S);
+  if (status == detail::SqrtInformationStatus::kNotPositiveDefinite)
     throw Error("state prior: the covariance is not positive definite");
-  const Mat15 S = llt.matrixL().solve(Mat15::Identity());  // S^T S = cov^{-1}
-  if (!S.allFinite()) throw Error("state prior: the covariance is too close to singular");
+  if (status == detail::SqrtInformationStatus::kNearSingular)
+    throw Error("state prior: the covariance is too close to singular");
   ImuState x = x_prior;
   Eigen::Quaterniond q(x.R);
   x.R = q.normalized().toRotationMatrix();
