@@ -3,10 +3,12 @@
 #include "plugin_exercise.h"
 
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include "imuconv/printable.h"
 #include "imuconv/registry.h"
+#include "imuconv/residual_cost_outputs.h"
 #include "imuconv/residual_factor.h"
 #include "imuconv/window.h"
 
@@ -76,6 +78,46 @@ ImuNoise TestNoise() {
   return ImuNoise{1.7e-4, 2e-3, 1.9e-5, 3e-3};
 }
 
+// A residual plugin's cost declaration (residual_cost_spec.h), which otherwise only building
+// its Ceres factor reads: resolved against the built-in plugins (the file's own registry holds
+// that file alone), then evaluate() run again through the sink that keeps what the declaration
+// names, so that a declared output evaluate() never writes, or writes at another size, is found
+// here and not in a user's optimization. A declaration in a state convention that is not built
+// in (the user's own) cannot be checked here; that is said, not passed over.
+std::string CheckCostDeclaration(const ResidualFactor& factor, const std::string& who,
+                                 const Preintegrated& m, const ImuState& x_s, const ImuState& x_e,
+                                 const Vec3& gravity) {
+  const ResidualCostSpec* spec = factor.cost_spec();
+  if (spec == nullptr) return "it declares no Ceres cost (cost_spec() is null)";
+  Registry builtins;
+  if (Registry::has_compiled_in())
+    builtins.load_compiled_in();
+  else
+    (void)builtins.load_directory(Registry::default_plugin_dir());  // a failure shows below
+  std::string chart;  // read bounded: the plugin is untrusted (ResolveResidualCost says why)
+  if (spec->state_convention != nullptr)
+    chart.assign(spec->state_convention, strnlen(spec->state_convention, 257));
+  if (!chart.empty() && chart.size() <= 256 && !builtins.has(PluginKind::StateConvention, chart))
+    return "its cost declaration is in state convention " + Quoted(chart) +
+           ", which is not built in: it is checked where a factor is built with a registry "
+           "that has it";
+  ResidualCostOutputs outputs;
+  try {
+    outputs = ResolveResidualCost(builtins, factor);
+  } catch (const Error& e) {
+    throw Error(who + ": its cost declaration is broken: " + e.what());
+  }
+  ResidualOutputValues values;
+  const std::string problem = EvaluateResidualCost(factor, outputs, m, x_s, x_e, gravity, values);
+  if (!problem.empty())
+    throw Error(who +
+                ": evaluate() on a 10 ms test measurement does not write what its cost "
+                "declaration names: " +
+                problem);
+  return "its cost declaration (" + std::to_string(outputs.n) + " rows, Jacobians in " +
+         Quoted(chart) + ") matches what evaluate() writes";
+}
+
 }  // namespace
 
 std::string ExercisePlugin(const std::string& file) {
@@ -129,8 +171,10 @@ std::string ExercisePlugin(const std::string& file) {
     xs.v = Vec3(0.5, 0.0, 0.0);
     xe.p = Vec3(0.005, 0.0, 0.0);
     xe.v = xs.v;
+    const Vec3 gravity(0.0, 0.0, -9.81);
+    const std::shared_ptr<const ResidualFactor> factor = reg.residual_factor(p.id);
     CheckingSink sink;
-    const Status st = reg.residual_factor(p.id)->evaluate(m, xs, xe, Vec3(0.0, 0.0, -9.81), sink);
+    const Status st = factor->evaluate(m, xs, xe, gravity, sink);
     if (!st.ok())
       throw Error(who +
                   ": evaluate() failed on a 10 ms test measurement: " + Printable(st.message()));
@@ -139,7 +183,7 @@ std::string ExercisePlugin(const std::string& file) {
     if (sink.values() == 0)
       throw Error(who + ": evaluate() wrote nothing on a 10 ms test measurement");
     what += "; evaluate() ran on a 10 ms test measurement (" + std::to_string(sink.values()) +
-            " values)";
+            " values); " + CheckCostDeclaration(*factor, who, m, xs, xe, gravity);
   } else {
     what += "; charts and Jacobians checked";
   }

@@ -10,7 +10,7 @@
 
 #include "imuconv/bridge.h"
 #include "imuconv/prediction.h"
-#include "native_residual_outputs.h"
+#include "imuconv/residual_cost_outputs.h"
 #include "sqrt_information.h"
 
 namespace imuconv::ceres_factors {
@@ -18,7 +18,7 @@ namespace imuconv::ceres_factors {
 struct NativeResidualFactor::Native {
   std::shared_ptr<const ResidualFactor> factor;
   std::string increment_convention;
-  detail::NativeOutputs outputs;
+  ResidualCostOutputs outputs;
   Preintegrated expressed;  ///< the measurement in increment_convention
   Eigen::MatrixXd S;        ///< n x n
   bool usable = false;      ///< false after a re-integration whose whitening failed
@@ -115,7 +115,7 @@ NativeResidualFactor::NativeResidualFactor(const Registry& reg,
     const char* conv = native_->factor->increment_convention();
     if (conv == nullptr) throw Error("its increment_convention() is null");
     native_->increment_convention.assign(conv, strnlen(conv, 256));
-    native_->outputs = detail::ResolveNativeOutputs(reg, *native_->factor);
+    native_->outputs = ResolveResidualCost(reg, *native_->factor);
     ReadWhitening();
   } catch (const Error& e) {
     throw Error(Prefix(id_) + e.what());
@@ -147,9 +147,9 @@ void NativeResidualFactor::ReadWhitening() {
   x_s.bg = m.bg_hat;
   x_s.ba = m.ba_hat;
   const ImuState x_e = Predict(x_s, m.delta, m.dt, gravity);
-  detail::NativeValues values;
+  ResidualOutputValues values;
   const std::string problem =
-      detail::EvaluateNative(*nv.factor, nv.outputs, expressed, x_s, x_e, gravity, values);
+      EvaluateResidualCost(*nv.factor, nv.outputs, expressed, x_s, x_e, gravity, values);
   if (!problem.empty())
     throw Error("at the measurement's prediction over [" +
                 std::to_string(preintegration_.t_start()) + ", " +
@@ -187,9 +187,9 @@ std::string NativeResidualFactor::EvaluateOrSay(const ImuState& x_s, const ImuSt
                                                 bool jacobians, Evaluation& out) const {
   const Native& nv = *native_;
   if (!nv.usable) return "its last re-integration failed; the factor is not usable";
-  detail::NativeValues values;
-  const std::string problem = detail::EvaluateNative(*nv.factor, nv.outputs, nv.expressed, x_s, x_e,
-                                                     preintegration_.options().gravity, values);
+  ResidualOutputValues values;
+  const std::string problem = EvaluateResidualCost(*nv.factor, nv.outputs, nv.expressed, x_s, x_e,
+                                                   preintegration_.options().gravity, values);
   if (!problem.empty()) return problem;
   out.residual = values.values[0].col(0);
   out.whitened = nv.S * out.residual;
@@ -199,9 +199,9 @@ std::string NativeResidualFactor::EvaluateOrSay(const ImuState& x_s, const ImuSt
   const Registry& reg = preintegration_.registry();
   const std::string& C = nv.outputs.state_convention;
   Eigen::MatrixXd H;
-  detail::AssembleJacobian(nv.outputs, values, nv.outputs.start, H);
+  AssembleResidualJacobian(nv.outputs, values, nv.outputs.start, H);
   out.H_start = nv.S * (H * reg.from_reference<ImuState>(C, x_s));
-  detail::AssembleJacobian(nv.outputs, values, nv.outputs.end, H);
+  AssembleResidualJacobian(nv.outputs, values, nv.outputs.end, H);
   out.H_end = nv.S * (H * reg.from_reference<ImuState>(C, x_e));
   if (!out.H_start.allFinite() || !out.H_end.allFinite())
     return "its Jacobians in the left chart are not finite";

@@ -512,7 +512,37 @@ TEST(HostilePluginsCli, CheckOfTheBuiltInPluginsPasses) {
   for (const auto& e : fs::directory_iterator(Registry::default_plugin_dir()))
     files += e.path().extension() == ".so";
   ASSERT_EQ(j["checked"].size(), files);
-  for (const auto& c : j["checked"]) EXPECT_EQ(c["result"], "ok") << c.dump();
+  std::size_t costs = 0;
+  for (const auto& c : j["checked"]) {
+    EXPECT_EQ(c["result"], "ok") << c.dump();
+    costs += Has(c["message"].get<std::string>(), "matches what evaluate() writes");
+  }
+  // Every built-in residual plugin declares its Ceres cost, and each declaration was read
+  // against what its evaluate() wrote.
+  std::size_t residual_files = 0;
+  for (const auto& e : fs::directory_iterator(Registry::default_plugin_dir()))
+    residual_files += e.path().filename().string().rfind("imuconv_plugin_residual_", 0) == 0;
+  EXPECT_GT(residual_files, 0u);
+  EXPECT_EQ(costs, residual_files) << r.out;
+}
+
+// A residual plugin's cost declaration (residual_cost_spec.h) is what its Ceres factor is built
+// from. --check reads it against what evaluate() writes, so that a broken one is found here and
+// not in a user's optimization; one in a chart of the user's own is said to be unchecked.
+TEST(HostilePluginsCli, CheckReadsAResidualsCostDeclaration) {
+  TempDir tmp;
+  const CommandResult r = RunCli("plugins --check " + ShellQuote(Fixture("cost")), tmp);
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  const std::string unwritten = LineWith(r.out, "imuconv_plugin_residual_cost_unwritten.so");
+  EXPECT_TRUE(Has(unwritten, "does not write what its cost declaration names")) << r.out;
+  EXPECT_TRUE(Has(unwritten, "J_never_written")) << r.out;
+  const std::string twice = LineWith(r.out, "imuconv_plugin_residual_cost_block_twice.so");
+  EXPECT_TRUE(Has(twice, "its cost declaration is broken")) << r.out;
+  EXPECT_TRUE(Has(twice, "start state's block 'p' twice")) << r.out;
+  const std::string own = LineWith(r.out, "imuconv_plugin_residual_cost_own_chart.so");
+  EXPECT_TRUE(Has(own, ": ok (residual 'toy_cost_own_chart'")) << r.out;
+  EXPECT_TRUE(Has(own, "state convention 'toy_chart', which is not built in")) << r.out;
+  EXPECT_TRUE(Has(r.out, "2 of 3 plugin file(s) failed the check")) << r.out;
 }
 
 TEST(HostilePluginsCli, CheckOfAMissingOrEmptyDirectoryFails) {

@@ -1,5 +1,5 @@
 // The cost declaration of a residual plugin, checked, and the sink that reads what it names.
-#include "native_residual_outputs.h"
+#include "imuconv/residual_cost_outputs.h"
 
 #include <algorithm>
 #include <cstring>
@@ -7,7 +7,7 @@
 
 #include "imuconv/block_order.h"
 
-namespace imuconv::ceres_factors::detail {
+namespace imuconv {
 
 namespace {
 
@@ -29,8 +29,8 @@ constexpr int kMaxColumns = 1000;
 
 }  // namespace
 
-NativeOutputs ResolveNativeOutputs(const Registry& reg, const ResidualFactor& factor) {
-  NativeOutputs o;
+ResidualCostOutputs ResolveResidualCost(const Registry& reg, const ResidualFactor& factor) {
+  ResidualCostOutputs o;
   if (!BoundedString(factor.id(), o.id)) o.id = "?";
   const std::string where = "residual plugin '" + o.id + "'";
   const ResidualCostSpec* spec = factor.cost_spec();
@@ -87,7 +87,7 @@ NativeOutputs ResolveNativeOutputs(const Registry& reg, const ResidualFactor& fa
   }
   const BlockOrder order = reg.state_convention(o.state_convention)->order();
   const auto resolve = [&](const ResidualJacobianColumns* cols, const char* state,
-                           std::vector<JacobianColumns>& out) {
+                           std::vector<ResidualJacobianPlacement>& out) {
     bool seen[kBlockCount] = {};
     for (int k = 0; k < kResidualJacobianBlocks; ++k) {
       const ResidualJacobianColumns& c = cols[k];
@@ -105,7 +105,7 @@ NativeOutputs ResolveNativeOutputs(const Registry& reg, const ResidualFactor& fa
         throw Error(where + ": cost_spec()'s " + state + " block '" + block +
                     "' starts at column " + std::to_string(c.first_column) + " (expected 0 to " +
                     std::to_string(kMaxColumns - 3) + ")");
-      JacobianColumns j;
+      ResidualJacobianPlacement j;
       j.output = add_output(c.matrix, c.first_column + 3, "Jacobian matrix");
       if (j.output == 0)
         throw Error(where + ": cost_spec() names the residual as a Jacobian matrix");
@@ -122,13 +122,14 @@ NativeOutputs ResolveNativeOutputs(const Registry& reg, const ResidualFactor& fa
   return o;
 }
 
-NativeOutputSink::NativeOutputSink(const NativeOutputs& outputs, NativeValues& into)
+ResidualCostOutputSink::ResidualCostOutputSink(const ResidualCostOutputs& outputs,
+                                               ResidualOutputValues& into)
     : outputs_(outputs), into_(into) {
   into_.values.resize(outputs_.names.size());
   into_.written.assign(outputs_.names.size(), false);
 }
 
-void NativeOutputSink::begin_group(const char* name) noexcept {
+void ResidualCostOutputSink::begin_group(const char* name) noexcept {
   if (!problem_.empty()) return;
   try {
     std::string s;
@@ -144,7 +145,7 @@ void NativeOutputSink::begin_group(const char* name) noexcept {
   }
 }
 
-void NativeOutputSink::end_group() noexcept {
+void ResidualCostOutputSink::end_group() noexcept {
   if (!problem_.empty()) return;
   if (groups_.empty()) {
     problem_ = "end_group() without an open group";
@@ -154,7 +155,7 @@ void NativeOutputSink::end_group() noexcept {
   groups_.pop_back();
 }
 
-int NativeOutputSink::Find(const char* name) {
+int ResidualCostOutputSink::Find(const char* name) {
   const std::size_t n = strnlen(name, kMaxNameLength + 1);
   for (std::size_t k = 0; k < outputs_.names.size(); ++k) {
     const std::string& want = outputs_.names[k];
@@ -165,8 +166,8 @@ int NativeOutputSink::Find(const char* name) {
   return -1;
 }
 
-void NativeOutputSink::Keep(const char* name, const double* data, int rows, int cols,
-                            bool is_vector) noexcept {
+void ResidualCostOutputSink::Keep(const char* name, const double* data, int rows, int cols,
+                                  bool is_vector) noexcept {
   if (!problem_.empty()) return;
   try {
     if (name == nullptr) {
@@ -197,8 +198,8 @@ void NativeOutputSink::Keep(const char* name, const double* data, int rows, int 
       problem_ = "'" + what + "' has no numbers (null)";
       return;
     }
-    RowMatrix& v = into_.values[k];
-    v = Eigen::Map<const RowMatrix>(data, rows, cols);
+    RowMajorMatrixXd& v = into_.values[k];
+    v = Eigen::Map<const RowMajorMatrixXd>(data, rows, cols);
     if (!v.allFinite()) {
       problem_ = "'" + what + "' is not finite";
       return;
@@ -209,16 +210,16 @@ void NativeOutputSink::Keep(const char* name, const double* data, int rows, int 
   }
 }
 
-void NativeOutputSink::vector(const char* name, const double* values, int size) noexcept {
+void ResidualCostOutputSink::vector(const char* name, const double* values, int size) noexcept {
   Keep(name, values, size, 1, true);
 }
 
-void NativeOutputSink::matrix(const char* name, const double* row_major, int rows,
-                              int cols) noexcept {
+void ResidualCostOutputSink::matrix(const char* name, const double* row_major, int rows,
+                                    int cols) noexcept {
   Keep(name, row_major, rows, cols, false);
 }
 
-std::string NativeOutputSink::Finish() const {
+std::string ResidualCostOutputSink::Finish() const {
   if (!problem_.empty()) return problem_;
   for (std::size_t k = 0; k < outputs_.names.size(); ++k)
     if (!into_.written[k])
@@ -229,11 +230,11 @@ std::string NativeOutputSink::Finish() const {
   return "";
 }
 
-std::string EvaluateNative(const ResidualFactor& factor, const NativeOutputs& outputs,
-                           const Preintegrated& m, const ImuState& x_s, const ImuState& x_e,
-                           const Vec3& gravity, NativeValues& values) noexcept {
+std::string EvaluateResidualCost(const ResidualFactor& factor, const ResidualCostOutputs& outputs,
+                                 const Preintegrated& m, const ImuState& x_s, const ImuState& x_e,
+                                 const Vec3& gravity, ResidualOutputValues& values) noexcept {
   try {
-    NativeOutputSink sink(outputs, values);
+    ResidualCostOutputSink sink(outputs, values);
     const Status st = factor.evaluate(m, x_s, x_e, gravity, sink);
     if (!st.ok()) return st.message();
     return sink.Finish();
@@ -242,11 +243,13 @@ std::string EvaluateNative(const ResidualFactor& factor, const NativeOutputs& ou
   }
 }
 
-void AssembleJacobian(const NativeOutputs& outputs, const NativeValues& values,
-                      const std::vector<JacobianColumns>& blocks, Eigen::MatrixXd& H) {
+void AssembleResidualJacobian(const ResidualCostOutputs& outputs,
+                              const ResidualOutputValues& values,
+                              const std::vector<ResidualJacobianPlacement>& blocks,
+                              Eigen::MatrixXd& H) {
   H.setZero(outputs.n, 15);
-  for (const JacobianColumns& b : blocks)
+  for (const ResidualJacobianPlacement& b : blocks)
     H.middleCols<3>(b.offset) = values.values[b.output].middleCols<3>(b.first_column);
 }
 
-}  // namespace imuconv::ceres_factors::detail
+}  // namespace imuconv

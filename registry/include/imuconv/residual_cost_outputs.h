@@ -2,7 +2,9 @@
 // the ResidualSink that keeps, of everything the plugin writes, the outputs the declaration
 // names: the residual, the weighting matrix and the Jacobians' columns. The plugin is
 // untrusted: every string is bounded, every value checked, every problem a message naming the
-// plugin and the output.
+// plugin and the output. In the registry, not in imuconv::ceres, because two places need it and
+// only one has Ceres: NativeResidualFactor builds its cost from it, and `imuconv plugins
+// --check` checks a residual plugin's declaration against what its evaluate() writes.
 #pragma once
 
 #include <array>
@@ -14,13 +16,13 @@
 #include "imuconv/registry.h"
 #include "imuconv/residual_factor.h"
 
-namespace imuconv::ceres_factors::detail {
+namespace imuconv {
 
-using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using RowMajorMatrixXd = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-/// Three Jacobian columns: output `output` (an index into NativeOutputs::names), columns
+/// Three Jacobian columns: output `output` (an index into ResidualCostOutputs::names), columns
 /// [first_column, first_column + 3), at `offset` of the state convention's tangent.
-struct JacobianColumns {
+struct ResidualJacobianPlacement {
   int output = -1;
   int first_column = 0;
   int offset = 0;
@@ -28,7 +30,7 @@ struct JacobianColumns {
 
 /// The declaration, checked: the outputs to keep (the residual first, then the weighting matrix
 /// if any, then the Jacobian matrices, each once) and where each Jacobian block goes.
-struct NativeOutputs {
+struct ResidualCostOutputs {
   std::string id;                ///< the plugin's id, for messages
   int n = 0;                     ///< the residual's dimension
   std::string state_convention;  ///< the convention the Jacobian columns are in
@@ -37,25 +39,26 @@ struct NativeOutputs {
   /// Per output: the columns it must have at least (1 for the residual, a vector).
   std::vector<int> min_cols;
   int weighting_output = -1;  ///< index of the weighting matrix in names, or -1
-  std::vector<JacobianColumns> start, end;
+  std::vector<ResidualJacobianPlacement> start, end;
 };
 
 /// Checks `factor`'s cost_spec() (non-null, bounded strings, known convention and weighting,
 /// each tangent block at most once per state) against `reg`. Throws imuconv::Error naming the
 /// plugin.
-NativeOutputs ResolveNativeOutputs(const Registry& reg, const ResidualFactor& factor);
+IMUCONV_API ResidualCostOutputs ResolveResidualCost(const Registry& reg,
+                                                    const ResidualFactor& factor);
 
 /// What one evaluation wrote, of the declared outputs.
-struct NativeValues {
-  std::vector<RowMatrix> values;  ///< by NativeOutputs::names (a vector as one column)
+struct ResidualOutputValues {
+  std::vector<RowMajorMatrixXd> values;  ///< by ResidualCostOutputs::names (a vector as one column)
   std::vector<bool> written;
 };
 
 /// Keeps the declared outputs; the first problem (a null name, an output written twice, a size
 /// other than declared, a non-finite number) is recorded and what follows is ignored.
-class NativeOutputSink final : public ResidualSink {
+class IMUCONV_API ResidualCostOutputSink final : public ResidualSink {
  public:
-  NativeOutputSink(const NativeOutputs& outputs, NativeValues& into);
+  ResidualCostOutputSink(const ResidualCostOutputs& outputs, ResidualOutputValues& into);
   void begin_group(const char* name) noexcept override;
   void end_group() noexcept override;
   void vector(const char* name, const double* values, int size) noexcept override;
@@ -68,8 +71,8 @@ class NativeOutputSink final : public ResidualSink {
   /// The declared output at the open group's `name`, or -1.
   int Find(const char* name);
   void Keep(const char* name, const double* data, int rows, int cols, bool is_vector) noexcept;
-  const NativeOutputs& outputs_;
-  NativeValues& into_;
+  const ResidualCostOutputs& outputs_;
+  ResidualOutputValues& into_;
   std::string path_;                 ///< the open groups, each followed by '/'
   std::vector<std::size_t> groups_;  ///< path_'s length before each open group
   std::string problem_;
@@ -77,13 +80,17 @@ class NativeOutputSink final : public ResidualSink {
 
 /// Runs the plugin on (m, x_s, x_e) and reads its declared outputs; "" or the problem (its
 /// Status message, or the sink's), prefixed by nothing: the caller names the plugin.
-std::string EvaluateNative(const ResidualFactor& factor, const NativeOutputs& outputs,
-                           const Preintegrated& m, const ImuState& x_s, const ImuState& x_e,
-                           const Vec3& gravity, NativeValues& values) noexcept;
+IMUCONV_API std::string EvaluateResidualCost(const ResidualFactor& factor,
+                                             const ResidualCostOutputs& outputs,
+                                             const Preintegrated& m, const ImuState& x_s,
+                                             const ImuState& x_e, const Vec3& gravity,
+                                             ResidualOutputValues& values) noexcept;
 
 /// The residual's Jacobian by one state, in the declared convention's tangent order (n x 15):
 /// the declared columns at their blocks' offsets, zero elsewhere.
-void AssembleJacobian(const NativeOutputs& outputs, const NativeValues& values,
-                      const std::vector<JacobianColumns>& blocks, Eigen::MatrixXd& H);
+IMUCONV_API void AssembleResidualJacobian(const ResidualCostOutputs& outputs,
+                                          const ResidualOutputValues& values,
+                                          const std::vector<ResidualJacobianPlacement>& blocks,
+                                          Eigen::MatrixXd& H);
 
-}  // namespace imuconv::ceres_factors::detail
+}  // namespace imuconv
