@@ -44,12 +44,16 @@ CLI::Validator OutputPathCheck() {
       "", "OUTPUT");
 }
 
-void AddPluginDirOption(CLI::App& sub, CommandContext& ctx) {
-  sub.add_option("--plugin-dir", ctx.plugin_dirs_sub,
+void AddPluginSearchDirOption(CLI::App& app, std::vector<std::string>& dirs) {
+  app.add_option("--plugin-dir", dirs,
                  "Extra plugin directory, searched before IMUCONV_PLUGIN_PATH and the built-in one "
                  "(repeatable)")
       ->type_name("DIR")
       ->allow_extra_args(false);
+}
+
+void AddPluginDirOption(CLI::App& sub, CommandContext& ctx) {
+  AddPluginSearchDirOption(sub, ctx.plugin_dirs_sub);
   sub.add_flag("--allow-plugin-override", ctx.allow_plugin_override,
                "Let a plugin earlier on the search path replace one with the same id (a warning "
                "names both files); "

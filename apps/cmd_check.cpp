@@ -52,8 +52,7 @@ int RunCheckCommand(const CommandContext& ctx, const CheckCommandOptions& o) {
                                              {from_case ? "case" : "pipeline", samples_path}});
         },
         ctx);
-    judgment.json = [result] { return check::ReportJson(*result); };
-    judgment.print_table = [result](std::ostream& out) { check::PrintTable(out, *result); };
+    judgment.SetResult(result, check::ReportJson, check::PrintTable);
     judgment.exit_code =
         result->verdict == check::Verdict::consistent ? kExitOk : kExitInconsistent;
     return judgment;

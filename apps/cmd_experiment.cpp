@@ -87,8 +87,7 @@ int RunExperimentCommand(const CommandContext& ctx, const ExperimentCommandOptio
     // "wrote" comes after the summary (below), the last line a person reads.
     report->Write([&] { return experiment::ExperimentPage(*result); }, ctx, /*announce=*/false);
     Judgment judgment;
-    judgment.json = [result] { return experiment::ResultJson(*result); };
-    judgment.print_table = [result](std::ostream& out) { experiment::PrintSummary(out, *result); };
+    judgment.SetResult(result, experiment::ResultJson, experiment::PrintSummary);
     judgment.exit_code = kExitOk;  // no verdict: the differences are the answer
     return judgment;
   });

@@ -187,8 +187,7 @@ class ProgressBar {
 
 Judgment Concluded(const std::shared_ptr<const montecarlo::Result>& result) {
   Judgment judgment;
-  judgment.json = [result] { return montecarlo::ReportJson(*result); };
-  judgment.print_table = [result](std::ostream& out) { montecarlo::PrintSummary(out, *result); };
+  judgment.SetResult(result, montecarlo::ReportJson, montecarlo::PrintSummary);
   judgment.exit_code =
       result->verdict == montecarlo::Verdict::consistent ? kExitOk : kExitInconsistent;
   return judgment;

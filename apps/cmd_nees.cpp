@@ -59,8 +59,7 @@ int RunNeesCommand(const CommandContext& ctx, const NeesCommandOptions& o) {
     const auto result =
         std::make_shared<const nees::Result>(nees::RunNees(reg, in.imu, in.gt, options));
     report.Write([&] { return report::NeesPage(*result, inputs); }, ctx);
-    judgment.json = [result] { return nees::ReportJson(*result); };
-    judgment.print_table = [result](std::ostream& out) { nees::PrintSummary(out, *result); };
+    judgment.SetResult(result, nees::ReportJson, nees::PrintSummary);
     judgment.exit_code = kExitOk;  // no verdict: the factor is the answer
     return judgment;
   });

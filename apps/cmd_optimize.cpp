@@ -90,8 +90,7 @@ int RunOptimizeCommand(const CommandContext& ctx, const OptimizeCommandOptions& 
     const auto result = std::make_shared<const optimize::Result>(
         optimize::RunOptimize(reg, in.imu, in.poses, options));
     report.Write([&] { return optimize::OptimizePage(*result, inputs); }, ctx);
-    judgment.json = [result] { return optimize::ResultJson(*result); };
-    judgment.print_table = [result](std::ostream& s) { optimize::PrintTable(s, *result); };
+    judgment.SetResult(result, optimize::ResultJson, optimize::PrintTable);
     judgment.exit_code = result->converged ? kExitOk : kExitInconsistent;
     if (out) {
       std::ostringstream text;

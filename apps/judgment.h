@@ -7,6 +7,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
@@ -24,6 +25,15 @@ struct Judgment {
   int exit_code = 0;                  ///< exit_codes.h: kExitOk or kExitInconsistent
   /// A judgment whose output is a file already written (a montecarlo shard): nothing to print.
   bool printed_elsewhere = false;
+
+  /// The --json object and the table of `result`, made by its command's two printers when the
+  /// judgment is printed, after the work: both hold the result.
+  template <typename Result>
+  void SetResult(std::shared_ptr<const Result> result, nlohmann::json (*result_json)(const Result&),
+                 void (*print_result)(std::ostream&, const Result&)) {
+    json = [result, result_json] { return result_json(*result); };
+    print_table = [result, print_result](std::ostream& out) { print_result(out, *result); };
+  }
 };
 
 /// Runs `work` and prints what it concluded on std::cout (--json: `as_json`); returns the exit

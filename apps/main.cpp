@@ -33,11 +33,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("imuconv ") + IMUCONV_VERSION + " (plugin ABI " +
                                         std::to_string(imuconv::kPluginAbiVersion) + ")");
   CommandContext ctx;
-  app.add_option("--plugin-dir", ctx.plugin_dirs_main,
-                 "Extra plugin directory, searched before IMUCONV_PLUGIN_PATH and the built-in one "
-                 "(repeatable)")
-      ->type_name("DIR")
-      ->allow_extra_args(false);
+  AddPluginSearchDirOption(app, ctx.plugin_dirs_main);
   app.add_flag("--allow-plugin-override", ctx.allow_plugin_override,
                "Two plugins with one id: use the one earlier on the search path (a warning) "
                "instead of failing");

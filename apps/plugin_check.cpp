@@ -120,6 +120,20 @@ void WriteAll(int fd, const std::string& s) {
   ::_exit(0);  // no destructors, no atexit handlers: nothing of the parent's state is flushed twice
 }
 
+// Appends n bytes to `into`, keeping at most `cap` bytes of it: its first (a report: what the
+// child says first is what matters) or, with keep_tail, its last (stderr: the last lines say why
+// it died). What a plugin writes can be anything, of any length.
+void AppendBounded(std::string& into, const char* data, std::size_t n, std::size_t cap,
+                   bool keep_tail) {
+  into.append(data, n);
+  if (into.size() > cap) {
+    if (keep_tail)
+      into.erase(0, into.size() - cap);
+    else
+      into.resize(cap);
+  }
+}
+
 // Appends what fd has to `into` (at most `cap` bytes kept: the first for the report, the last
 // for stderr). Returns false at end of file or on an error.
 bool Drain(int fd, std::string& into, std::size_t cap, bool keep_tail) {
@@ -127,13 +141,7 @@ bool Drain(int fd, std::string& into, std::size_t cap, bool keep_tail) {
   const ssize_t n = ::read(fd, buf, sizeof buf);
   if (n < 0) return errno == EINTR || errno == EAGAIN;
   if (n == 0) return false;
-  into.append(buf, static_cast<std::size_t>(n));
-  if (into.size() > cap) {
-    if (keep_tail)
-      into.erase(0, into.size() - cap);
-    else
-      into.resize(cap);
-  }
+  AppendBounded(into, buf, static_cast<std::size_t>(n), cap, keep_tail);
   return true;
 }
 
@@ -180,13 +188,7 @@ void DrainAvailable(int fd, std::string& into, std::size_t cap, bool keep_tail) 
     const ssize_t n = ::read(fd, buf, sizeof buf);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) return;
-    into.append(buf, static_cast<std::size_t>(n));
-    if (into.size() > cap) {
-      if (keep_tail)
-        into.erase(0, into.size() - cap);
-      else
-        into.resize(cap);
-    }
+    AppendBounded(into, buf, static_cast<std::size_t>(n), cap, keep_tail);
   }
 }
 

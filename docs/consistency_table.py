@@ -22,8 +22,6 @@ def load(folder, method, case):
 
 
 def cell(r):
-    if r is None:
-        return "n/a"
     mark = "ok" if r["verdict"] == "consistent" else "**X**"
     return f"{mark} {r['nees_mean']:.1f}"
 
@@ -35,26 +33,25 @@ def worst_block(r):
     return f"{b['block']} {b['variance_ratio']:.2f}"
 
 
-def main(folder):
-    head = "| system | method | " + " | ".join(CASES) + " |"
-    rule = "|---|---|" + "---|" * len(CASES)
-    print("NEES mean over the trials (15 when consistent) and the verdict (ok, or **X** when "
-          "inconsistent at the verdict's 1 % false-alarm rate):\n")
-    print(head)
-    print(rule)
-    for system, methods in SYSTEMS:
-        for m in methods:
-            print(f"| {system} | `{m}` | " +
-                  " | ".join(cell(load(folder, m, c)) for c in CASES) + " |")
-    print("\nThe block furthest off and its variance ratio (sampled / predicted; below 1 the "
-          "method predicts too much variance there, above 1 too little):\n")
-    print(head)
-    print(rule)
+def print_table(folder, intro, describe):
+    """One row per method, one column per case: describe(result), or n/a where the case's
+    output is missing or empty."""
+    print(intro)
+    print("| system | method | " + " | ".join(CASES) + " |")
+    print("|---|---|" + "---|" * len(CASES))
     for system, methods in SYSTEMS:
         for m in methods:
             rs = [load(folder, m, c) for c in CASES]
             print(f"| {system} | `{m}` | " +
-                  " | ".join(worst_block(r) if r else "n/a" for r in rs) + " |")
+                  " | ".join(describe(r) if r else "n/a" for r in rs) + " |")
+
+
+def main(folder):
+    print_table(folder, "NEES mean over the trials (15 when consistent) and the verdict (ok, or "
+                "**X** when inconsistent at the verdict's 1 % false-alarm rate):\n", cell)
+    print_table(folder, "\nThe block furthest off and its variance ratio (sampled / predicted; "
+                "below 1 the method predicts too much variance there, above 1 too little):\n",
+                worst_block)
 
 
 if __name__ == "__main__":

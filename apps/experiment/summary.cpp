@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <string>
 
+#include "imuconv/pipeline/json_io.h"
+
 namespace imuconv::experiment {
 
 std::string Sci(double x) {
@@ -14,16 +16,6 @@ std::string Sci(double x) {
 namespace {
 
 std::string Input(const Options& o) { return o.input == PreintegratorInput::mid ? "mid" : "zoh"; }
-
-nlohmann::json Rows(const Eigen::MatrixXd& m) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (Eigen::Index i = 0; i < m.rows(); ++i) {
-    nlohmann::json row = nlohmann::json::array();
-    for (Eigen::Index j = 0; j < m.cols(); ++j) row.push_back(m(i, j));
-    rows.push_back(row);
-  }
-  return rows;
-}
 
 void PrintTable(std::ostream& out, const Result& r, const std::string& experiment) {
   char line[200];
@@ -116,13 +108,14 @@ nlohmann::json ResultJson(const Result& r) {
     x["chart"] = c.chart;
     x["row_blocks"] = c.row_blocks;
     x["col_blocks"] = c.col_blocks;
-    x["note_d"] = {
-        {"mean", c.note_mean}, {"max", c.note_max}, {"mean_matrix", Rows(c.mean_note_d)}};
+    x["note_d"] = {{"mean", c.note_mean},
+                   {"max", c.note_max},
+                   {"mean_matrix", pipeline::MatrixToJson(c.mean_note_d)}};
     x["scaled_d"] = {{"metric", c.scaled_metric},
                      {"mean", c.scaled_mean},
                      {"max", c.scaled_max},
                      {"worst_trial", c.worst_trial},
-                     {"mean_matrix", Rows(c.mean_scaled_d)}};
+                     {"mean_matrix", pipeline::MatrixToJson(c.mean_scaled_d)}};
     cmps.push_back(x);
   }
   j["comparisons"] = cmps;

@@ -7,17 +7,10 @@
 
 #include "imuconv/so3.h"
 #include "imuconv/window.h"
+#include "normal.h"
 
 namespace imuconv::experiment {
 namespace {
-
-/// SplitMix64's finaliser: unrelated seeds from (seed, index).
-std::uint64_t Mix(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
 
 /// Uniforms from mt19937_64's top 53 bits and normals by Box-Muller: the standard library's
 /// distributions are implementation-defined, these are not (only libm's log, sin, cos).
@@ -62,7 +55,8 @@ struct AxisSignal {
 }  // namespace
 
 Trial MakeTrial(std::uint64_t seed, std::uint64_t index, const TrialSpec& spec) {
-  Random rng(Mix(Mix(seed) + index));
+  // SplitMix64 (montecarlo/normal.h, the same finaliser): unrelated seeds from (seed, index).
+  Random rng(montecarlo::SplitMix64(montecarlo::SplitMix64(seed) + index));
   Trial trial;
   std::vector<AxisSignal> gyro, accel;
   for (int a = 0; a < 3; ++a) gyro.emplace_back(rng, 1.0, 2.0, 0.05);
@@ -108,15 +102,6 @@ Trial MakeTrial(std::uint64_t seed, std::uint64_t index, const TrialSpec& spec) 
   trial.cov_s_left = sd.asDiagonal() * C * sd.asDiagonal();
   trial.cov_s_left = 0.5 * (trial.cov_s_left + trial.cov_s_left.transpose()).eval();
   return trial;
-}
-
-std::vector<ImuSample> MidSampleInput(const std::vector<ImuSample>& samples) {
-  std::vector<ImuSample> out(samples);
-  for (std::size_t k = 0; k + 1 < samples.size(); ++k) {
-    out[k].gyro = 0.5 * (samples[k].gyro + samples[k + 1].gyro);
-    out[k].accel = 0.5 * (samples[k].accel + samples[k + 1].accel);
-  }
-  return out;
 }
 
 std::vector<ImuSample> Subdivide(const std::vector<ImuSample>& samples, int factor) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "imuconv/types.h"
+#include "refcase.h"
 
 namespace imuconv::experiment {
 
@@ -33,10 +34,9 @@ struct Trial {
 /// so a spec with a higher rate samples the same motion more densely.
 Trial MakeTrial(std::uint64_t seed, std::uint64_t index, const TrialSpec& spec);
 
-/// GTSAM's `mid` input (tests/data/reference/FORMAT.md): the mean of knots k and k+1, held by
-/// a zero-order-hold scheme over [t_k, t_k+1], at the same times. The last knot keeps its
-/// value; a zero-order hold never uses it.
-std::vector<ImuSample> MidSampleInput(const std::vector<ImuSample>& samples);
+/// GTSAM's `mid` input, as the reference cases feed it (refcase.h): the experiment's
+/// preintegrators see the samples the cases' mid.* results are made from.
+using refcase::MidSampleInput;
 
 /// The same piecewise-linear signal with `factor` - 1 linearly interpolated knots inserted in
 /// every step: an integrator that interpolates linearly (rk4) sees the same input with a step

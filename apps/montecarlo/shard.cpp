@@ -17,6 +17,7 @@
 #include "imuconv/pipeline/file_digest.h"
 #include "imuconv/pipeline/input_registry.h"
 #include "imuconv/pipeline/json_parse.h"
+#include "imuconv/pipeline/shard_merge.h"
 #include "imuconv/printable.h"
 
 #ifndef IMUCONV_VERSION
@@ -396,17 +397,11 @@ Result MergeShards(const std::vector<std::string>& files, std::string& case_path
                   Printable(h.file));
     by_index[h.index] = &h;
   }
-  const std::size_t n_missing = static_cast<std::size_t>(a.count) - by_index.size();
-  std::string missing;
-  for (int k = 0, listed = 0; k < a.count && listed < 20 && n_missing > 0; ++k)
-    if (!by_index.count(k)) {
-      missing += (missing.empty() ? "" : ", ") + std::to_string(k);
-      ++listed;
-    }
-  if (n_missing)
-    throw Error("missing " + std::to_string(n_missing) + " of the " + std::to_string(a.count) +
-                " shards (index " + missing + (n_missing > 20 ? ", ..." : "") +
-                "); every shard K/N of the run is needed");
+  if (const std::string missing = pipeline::MissingShards(
+          static_cast<std::uint64_t>(a.count), by_index.size(),
+          [&](std::uint64_t k) { return by_index.count(static_cast<int>(k)) > 0; });
+      !missing.empty())
+    throw Error(missing + "; every shard K/N of the run is needed");
   Result result;
   try {
     result = ResultFromRunJson(a.run);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "imuconv/pipeline/json_io.h"
 #include "split_factors.h"
 
 namespace imuconv::nees {
@@ -12,16 +13,6 @@ namespace {
 // A factor or statistic that may be undefined (NaN): JSON null.
 nlohmann::json NumberOrNull(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
-
-nlohmann::json Rows(const Mat9& m) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (int i = 0; i < 9; ++i) {
-    nlohmann::json row = nlohmann::json::array();
-    for (int j = 0; j < 9; ++j) row.push_back(m(i, j));
-    rows.push_back(std::move(row));
-  }
-  return rows;
 }
 
 nlohmann::json Vector(const Vec9& v) { return std::vector<double>(v.data(), v.data() + 9); }
@@ -54,8 +45,8 @@ nlohmann::json ReportJson(const Result& r) {
       error.push_back(Vector(w.error[i]));
       sigma.push_back(Vector(w.sigma[i]));
     }
-    for (const Mat9& m : w.cov_gyro) cov_gyro.push_back(Rows(m));
-    for (const Mat9& m : w.cov_accel) cov_accel.push_back(Rows(m));
+    for (const Mat9& m : w.cov_gyro) cov_gyro.push_back(pipeline::MatrixToJson(m));
+    for (const Mat9& m : w.cov_accel) cov_accel.push_back(pipeline::MatrixToJson(m));
     windows.push_back({{"length", w.length},
                        {"stride", w.stride},
                        {"count", w.nees.size()},

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <numeric>
 
+#include "imuconv/pipeline/json_io.h"
+
 namespace imuconv::optimize {
 
 namespace {
@@ -16,16 +18,6 @@ nlohmann::json Quaternion(const Mat3& R) {
   q.normalize();
   if (q.w() < 0) q.coeffs() *= -1.0;  // w >= 0, as the CLI's other q_wxyz columns
   return {q.w(), q.x(), q.y(), q.z()};
-}
-
-nlohmann::json Matrix(const Mat15& m) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (int i = 0; i < 15; ++i) {
-    nlohmann::json row = nlohmann::json::array();
-    for (int j = 0; j < 15; ++j) row.push_back(m(i, j));
-    rows.push_back(std::move(row));
-  }
-  return rows;
 }
 
 int TotalIterations(const Result& r) {
@@ -85,7 +77,7 @@ nlohmann::json ResultJson(const Result& r) {
   for (const Keyframe& k : r.keyframes) {
     nlohmann::json o = {{"t", k.t},        {"p", Vec(k.x.p)},   {"q_wxyz", Quaternion(k.x.R)},
                         {"v", Vec(k.x.v)}, {"bg", Vec(k.x.bg)}, {"ba", Vec(k.x.ba)}};
-    o["cov"] = r.covariance_ok ? Matrix(k.cov) : nlohmann::json(nullptr);
+    o["cov"] = r.covariance_ok ? pipeline::MatrixToJson(k.cov) : nlohmann::json(nullptr);
     if (k.has_reference_bias) {
       o["reference_bg"] = Vec(k.ref_bg);
       o["reference_ba"] = Vec(k.ref_ba);

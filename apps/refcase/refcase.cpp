@@ -10,6 +10,7 @@
 
 #include "imuconv/bridge.h"
 #include "imuconv/numeric.h"
+#include "imuconv/pipeline/json_io.h"
 #include "imuconv/pipeline/timing.h"
 #include "imuconv/printable.h"
 #include "imuconv/so3.h"
@@ -125,15 +126,16 @@ void CheckCovariance(const Mat15& C, const std::string& ptr) {
 
 }  // namespace
 
-json ToJson(const Eigen::MatrixXd& m) {
-  json rows = json::array();
-  for (Eigen::Index i = 0; i < m.rows(); ++i) {
-    json row = json::array();
-    for (Eigen::Index k = 0; k < m.cols(); ++k) row.push_back(m(i, k));
-    rows.push_back(row);
+std::vector<ImuSample> MidSampleInput(const std::vector<ImuSample>& samples) {
+  std::vector<ImuSample> out(samples);
+  for (std::size_t k = 0; k + 1 < samples.size(); ++k) {
+    out[k].gyro = 0.5 * (samples[k].gyro + samples[k + 1].gyro);
+    out[k].accel = 0.5 * (samples[k].accel + samples[k + 1].accel);
   }
-  return rows;
+  return out;
 }
+
+json ToJson(const Eigen::MatrixXd& m) { return pipeline::MatrixToJson(m); }
 
 json ToJsonVec(const Eigen::VectorXd& v) {
   json a = json::array();
@@ -291,17 +293,6 @@ void CheckResults(const json& j, const std::string& ptr) {
 
 namespace {
 
-// GTSAM's `mid` input: the mean of samples k and k+1 held over [t_k, t_k+1]. For the native
-// zero-order-hold scheme this is fed as a new sample sequence with the same timestamps.
-std::vector<ImuSample> MidSamples(const std::vector<ImuSample>& s) {
-  std::vector<ImuSample> out(s);
-  for (std::size_t k = 0; k + 1 < s.size(); ++k) {
-    out[k].gyro = 0.5 * (s[k].gyro + s[k + 1].gyro);
-    out[k].accel = 0.5 * (s[k].accel + s[k + 1].accel);
-  }
-  return out;
-}
-
 struct Method {
   std::string propagator;     // preintegration by propagation with this propagator, or
   std::string preintegrator;  // a native preintegrator
@@ -420,7 +411,7 @@ json PropagationBlock(const Registry& reg, const Case& k, const std::string& pro
 json Run(const Registry& reg, const json& case_json) {
   const Case k = ParseCase(case_json, CaseKeys::all_required);  // every missing key named at once
   SampleWindow zoh, mid_zoh;
-  const std::vector<ImuSample> mid = MidSamples(k.samples);
+  const std::vector<ImuSample> mid = MidSampleInput(k.samples);
   const double t_s = k.samples.front().t, t_e = k.samples.back().t;
   Status st = MakeWindow(k.samples.data(), k.samples.size(), t_s, t_e, zoh);
   if (!st.ok()) throw Error("/imu: " + st.message());

@@ -52,6 +52,12 @@ Case ParseCase(const nlohmann::json& case_json, CaseKeys keys,
 /// output pointer under `ptr`.
 void CheckResults(const nlohmann::json& out, const std::string& ptr);
 
+/// GTSAM's `mid` input (tests/data/reference/FORMAT.md): the mean of knots k and k+1, held by
+/// a zero-order-hold scheme over [t_k, t_k+1], at the same times, fed as a new sample sequence.
+/// The last knot keeps its value; a zero-order hold never uses it. The cases' mid.* results and
+/// imuconv experiment's --input mid are both made from it.
+std::vector<ImuSample> MidSampleInput(const std::vector<ImuSample>& samples);
+
 /// A matrix as an array of rows, a vector as an array.
 nlohmann::json ToJson(const Eigen::MatrixXd& m);
 nlohmann::json ToJsonVec(const Eigen::VectorXd& v);

@@ -52,6 +52,10 @@ void SetCommandAction(CLI::App& sub, CommandContext& ctx, std::function<int()> r
 /// standard output: `-o "$OUT"` with OUT unset must not write somewhere the user did not say.
 CLI::Validator OutputPathCheck();
 
+/// The repeatable --plugin-dir DIR option, into `dirs`: before the subcommand (main.cpp,
+/// CommandContext::plugin_dirs_main) and after it (AddPluginDirOption, plugin_dirs_sub) alike.
+void AddPluginSearchDirOption(CLI::App& app, std::vector<std::string>& dirs);
+
 /// Adds the repeatable --plugin-dir option and the --allow-plugin-override flag to a subcommand.
 void AddPluginDirOption(CLI::App& sub, CommandContext& ctx);
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "../io/message_text.h"
 #include "imuconv/printable.h"
 
 namespace imuconv::pipeline {
@@ -32,12 +33,6 @@ double Median(std::vector<double>& v) {
   double m = *mid;
   if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), mid));
   return m;
-}
-
-std::string PlausibilityNum(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", x);
-  return buf;
 }
 
 }  // namespace
@@ -74,23 +69,23 @@ std::vector<std::string> ImuPlausibilityWarnings(const std::vector<ImuSample>& s
   if (swapped) {
     out.push_back(
         where + "the gyro and accelerometer columns look swapped: median |gyro| " +
-        PlausibilityNum(m.median_gyro) +
+        Num(m.median_gyro, 4) +
         " (gravity's magnitude; angular rates in rad/s stay well below it) and median |accel| " +
-        PlausibilityNum(m.median_accel) + " (expected near 9.81 m/s^2, gravity)" + over +
+        Num(m.median_accel, 4) + " (expected near 9.81 m/s^2, gravity)" + over +
         "; check the column order (wx, wy, wz, ax, ay, az)");
     return out;  // the unit checks below would read the swapped columns
   }
   if (near(m.median_accel, kNearOneLow, kNearOneHigh))
     out.push_back(where + "the accelerometer looks like it is in g, not m/s^2: median |accel| " +
-                  PlausibilityNum(m.median_accel) + over +
+                  Num(m.median_accel, 4) + over +
                   " (gravity alone is 9.81 m/s^2, 1 g); multiply it by 9.80665");
   if (m.median_gyro > kImplausibleMedianGyro) {
     std::string s = where + "the gyro looks like it is in deg/s, not rad/s: median |gyro| " +
-                    PlausibilityNum(m.median_gyro) + over + " (" +
-                    PlausibilityNum(m.median_gyro * kDegPerRad) + " deg/s if it were rad/s; " +
-                    PlausibilityNum(m.median_gyro / kDegPerRad) + " rad/s if it is deg/s)";
+                    Num(m.median_gyro, 4) + over + " (" + Num(m.median_gyro * kDegPerRad, 4) +
+                    " deg/s if it were rad/s; " + Num(m.median_gyro / kDegPerRad, 4) +
+                    " rad/s if it is deg/s)";
     if (m.beyond_gyro_range > 0)
-      s += ", and " + PlausibilityNum(100.0 * m.beyond_gyro_range) +
+      s += ", and " + Num(100.0 * m.beyond_gyro_range, 4) +
            "% of the samples exceed 34.9 rad/s, the +-2000 deg/s full scale of common MEMS gyros";
     out.push_back(s + "; multiply it by pi/180 = 0.0174533");
   }

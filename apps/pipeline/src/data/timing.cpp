@@ -3,67 +3,51 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include "../io/message_text.h"
 
 namespace imuconv::pipeline {
 
-std::int64_t NanosPerUnit(TimeUnit u) {
-  switch (u) {
-    case TimeUnit::s:
-      return 1000000000;
-    case TimeUnit::ms:
-      return 1000000;
-    case TimeUnit::us:
-      return 1000;
-    case TimeUnit::ns:
-      return 1;
-  }
-  return 1;
+namespace {
+
+// The four time units, one row each: what NanosPerUnit, TimeUnitName, ParseTimeUnit and the
+// rate message's long name read, so that a unit's numbers and names are written once.
+struct TimeUnitRow {
+  TimeUnit unit;
+  std::int64_t nanos;     // nanoseconds per unit
+  const char* name;       // as in a pipeline's "time_unit"
+  const char* long_name;  // in messages
+};
+constexpr TimeUnitRow kTimeUnits[] = {
+    {TimeUnit::s, 1000000000, "s", "seconds"},
+    {TimeUnit::ms, 1000000, "ms", "milliseconds"},
+    {TimeUnit::us, 1000, "us", "microseconds"},
+    {TimeUnit::ns, 1, "ns", "nanoseconds"},
+};
+
+// Every TimeUnit has its row (the enum is closed; a value cast from outside it is a broken
+// invariant, reported as such instead of read past the table).
+const TimeUnitRow& RowOf(TimeUnit u) {
+  for (const TimeUnitRow& row : kTimeUnits)
+    if (row.unit == u) return row;
+  throw std::logic_error("TimeUnit " + std::to_string(static_cast<int>(u)) + " has no row");
 }
 
-const char* TimeUnitName(TimeUnit u) {
-  switch (u) {
-    case TimeUnit::s:
-      return "s";
-    case TimeUnit::ms:
-      return "ms";
-    case TimeUnit::us:
-      return "us";
-    case TimeUnit::ns:
-      return "ns";
-  }
-  return "?";
-}
+}  // namespace
+
+std::int64_t NanosPerUnit(TimeUnit u) { return RowOf(u).nanos; }
+
+const char* TimeUnitName(TimeUnit u) { return RowOf(u).name; }
 
 std::optional<TimeUnit> ParseTimeUnit(const std::string& s) {
-  if (s == "s") return TimeUnit::s;
-  if (s == "ms") return TimeUnit::ms;
-  if (s == "us") return TimeUnit::us;
-  if (s == "ns") return TimeUnit::ns;
+  for (const TimeUnitRow& row : kTimeUnits)
+    if (s == row.name) return row.unit;
   return std::nullopt;
 }
 
 namespace {
-
-// 6 significant digits, as %g: 0.005, 5e+06.
-std::string TimingNum(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", x);
-  return buf;
-}
-
-const char* LongName(TimeUnit u) {
-  switch (u) {
-    case TimeUnit::s:
-      return "seconds";
-    case TimeUnit::ms:
-      return "milliseconds";
-    case TimeUnit::us:
-      return "microseconds";
-    case TimeUnit::ns:
-      return "nanoseconds";
-  }
-  return "?";
-}
 
 std::string GapAdvice(TimeSource source) {
   switch (source) {
@@ -88,7 +72,8 @@ std::optional<TimeUnit> LikelyUnit(double period_s, TimeUnit declared) {
   const double in_units = period_s * 1e9 / static_cast<double>(NanosPerUnit(declared));
   std::optional<TimeUnit> best;
   double best_distance = 0.0;
-  for (TimeUnit u : {TimeUnit::s, TimeUnit::ms, TimeUnit::us, TimeUnit::ns}) {
+  for (const TimeUnitRow& row : kTimeUnits) {
+    const TimeUnit u = row.unit;
     if (u == declared) continue;
     const double rate = 1e9 / (in_units * static_cast<double>(NanosPerUnit(u)));
     if (!PlausibleRate(rate)) continue;
@@ -102,8 +87,8 @@ std::optional<TimeUnit> LikelyUnit(double period_s, TimeUnit declared) {
 }
 
 std::string RateMessage(double period, TimeUnit declared, TimeSource source) {
-  std::string m = "the median period is " + TimingNum(period) + " s (rate " +
-                  TimingNum(1.0 / period) + " Hz); ";
+  std::string m =
+      "the median period is " + Num(period) + " s (rate " + Num(1.0 / period) + " Hz); ";
   const auto likely = LikelyUnit(period, declared);
   const std::string range =
       " (" + std::string(source == TimeSource::ground_truth ? "a ground-truth" : "an IMU") +
@@ -114,7 +99,7 @@ std::string RateMessage(double period, TimeUnit declared, TimeSource source) {
     if (source == TimeSource::imu_array) m += " (the samples' t must be in seconds)";
     return m + range;
   }
-  m += std::string("the timestamps look like ") + LongName(*likely);
+  m += std::string("the timestamps look like ") + RowOf(*likely).long_name;
   switch (source) {
     case TimeSource::imu:
       m += std::string(": set time_unit to \"") + TimeUnitName(*likely) + "\"";
@@ -170,10 +155,9 @@ std::optional<TimingIssue> FindTimingIssue(const std::vector<double>& t, double 
     const bool gt = source == TimeSource::ground_truth;
     return TimingIssue{TimingIssue::Kind::gap,
                        i,
-                       "gap of " + TimingNum(gap) + " s before this " + (gt ? "row" : "sample") +
-                           " (the median period is " + TimingNum(median) + " s; limit " +
-                           TimingNum(factor) + " x median = " + TimingNum(limit) + " s); " +
-                           GapAdvice(source),
+                       "gap of " + Num(gap) + " s before this " + (gt ? "row" : "sample") +
+                           " (the median period is " + Num(median) + " s; limit " + Num(factor) +
+                           " x median = " + Num(limit) + " s); " + GapAdvice(source),
                        median,
                        gap,
                        limit};

@@ -27,6 +27,14 @@ json MixedMatrixToJson(const Eigen::MatrixXd& m, const std::string& row_conventi
           {"matrix", MatrixToJson(m)}};
 }
 
+void WriteChartKeys(JsonWriter& w, const std::string& convention,
+                    const std::vector<std::string>& blocks) {
+  w.key("convention");
+  w.string(convention);
+  w.key("blocks");
+  w.string_list(blocks);
+}
+
 void WriteMixedCharts(JsonWriter& w, const std::string& row_convention,
                       const std::vector<std::string>& row_blocks, const std::string& col_convention,
                       const std::vector<std::string>& col_blocks) {
@@ -36,10 +44,7 @@ void WriteMixedCharts(JsonWriter& w, const std::string& row_convention,
         {"cols", &col_convention, &col_blocks}}) {
     w.key(k);
     w.begin_object();
-    w.key("convention");
-    w.string(*c);
-    w.key("blocks");
-    w.string_list(*b);
+    WriteChartKeys(w, *c, *b);
     w.end_object();
   }
 }

@@ -14,15 +14,17 @@
 
 namespace imuconv::pipeline {
 
+/// The "convention" and "blocks" keys that name a chart, inside the object the caller opened:
+/// every chart-matrix form above writes its chart(s) through this.
+void WriteChartKeys(JsonWriter& w, const std::string& convention,
+                    const std::vector<std::string>& blocks);
+
 /// {"convention", "blocks", "matrix"}.
 template <typename M>
 void WriteChart(JsonWriter& w, const M& m, const std::string& convention,
                 const std::vector<std::string>& blocks) {
   w.begin_object();
-  w.key("convention");
-  w.string(convention);
-  w.key("blocks");
-  w.string_list(blocks);
+  WriteChartKeys(w, convention, blocks);
   w.key("matrix");
   w.matrix(m);
   w.end_object();
@@ -33,10 +35,7 @@ template <typename V>
 void WriteChartVector(JsonWriter& w, const V& v, const std::string& convention,
                       const std::vector<std::string>& blocks) {
   w.begin_object();
-  w.key("convention");
-  w.string(convention);
-  w.key("blocks");
-  w.string_list(blocks);
+  WriteChartKeys(w, convention, blocks);
   w.key("vector");
   w.vector(v);
   w.end_object();

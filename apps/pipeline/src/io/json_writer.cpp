@@ -16,6 +16,18 @@ namespace imuconv::pipeline {
 
 namespace {
 
+// An integer as its value event (Form::kEvents, tagged `tag`) or as its decimal text: what
+// integer() and unsigned_integer() write, for their two types.
+template <typename Int>
+void AppendInteger(std::string& out, bool events, char tag, Int v) {
+  if (events) {
+    detail::PutEventScalar(out, tag, v);
+    return;
+  }
+  char buf[24];  // 20 digits and a sign at the most
+  out.append(buf, static_cast<std::size_t>(std::to_chars(buf, buf + sizeof buf, v).ptr - buf));
+}
+
 constexpr char kSpaces[] =
     "                                                                ";  // 64
 
@@ -246,22 +258,12 @@ void JsonWriter::number(double v) {
 
 void JsonWriter::integer(std::int64_t v) {
   before_value();
-  if (events_) {
-    detail::PutEventScalar(out_, 'i', v);
-    return;
-  }
-  char buf[24];
-  out_.append(buf, static_cast<std::size_t>(std::to_chars(buf, buf + sizeof buf, v).ptr - buf));
+  AppendInteger(out_, events_, 'i', v);
 }
 
 void JsonWriter::unsigned_integer(std::uint64_t v) {
   before_value();
-  if (events_) {
-    detail::PutEventScalar(out_, 'u', v);
-    return;
-  }
-  char buf[24];
-  out_.append(buf, static_cast<std::size_t>(std::to_chars(buf, buf + sizeof buf, v).ptr - buf));
+  AppendInteger(out_, events_, 'u', v);
 }
 
 void JsonWriter::boolean(bool b) {
@@ -294,6 +296,15 @@ void JsonWriter::null() {
 
 void JsonWriter::numbers(const double* v, std::size_t n) {
   before_value();
+  // The array one number() at a time, inside its own one-line frame: what the fast paths below
+  // fall back to, so that a non-finite element is named or nulled as number() does it.
+  const auto by_element = [&] {
+    stack_.push_back(Frame{false, true, 0, {}});
+    out_.push_back('[');
+    for (std::size_t i = 0; i < n; ++i) number(v[i]);
+    out_.push_back(']');
+    stack_.pop_back();
+  };
   if (events_) {
     bool finite = true;
     for (std::size_t i = 0; i < n; ++i) finite = finite && std::isfinite(v[i]);
@@ -303,21 +314,13 @@ void JsonWriter::numbers(const double* v, std::size_t n) {
       return;
     }
     // As the text does: the pointer of the first non-finite element, or null in its place.
-    stack_.push_back(Frame{false, true, 0, {}});
-    out_.push_back('[');
-    for (std::size_t i = 0; i < n; ++i) number(v[i]);
-    out_.push_back(']');
-    stack_.pop_back();
+    by_element();
     return;
   }
   // One formatting pass into a local buffer, one append.
   char buf[32 * 28 + 4];
   if (n > 32) {
-    stack_.push_back(Frame{false, true, 0, {}});
-    out_.push_back('[');
-    for (std::size_t i = 0; i < n; ++i) number(v[i]);
-    out_.push_back(']');
-    stack_.pop_back();
+    by_element();
     return;
   }
   char* p = buf;

@@ -331,17 +331,10 @@ std::vector<const ShardHead*> CheckShards(const std::vector<ShardHead>& heads) {
                        Printable(h.file));
     by_index[h.index] = &h;
   }
-  const std::uint64_t n_missing = a.count - by_index.size();
-  std::string missing;
-  for (std::uint64_t k = 0, listed = 0; k < a.count && listed < 20 && n_missing > 0; ++k)
-    if (!by_index.count(k)) {
-      missing += (missing.empty() ? "" : ", ") + std::to_string(k);
-      ++listed;
-    }
-  if (n_missing)
-    throw ShardError("missing " + std::to_string(n_missing) + " of the " + std::to_string(a.count) +
-                     " shards (index " + missing + (n_missing > 20 ? ", ..." : "") +
-                     "); every shard K/N of the run is needed (N is /shard/count of " +
+  if (const std::string missing = MissingShards(
+          a.count, by_index.size(), [&](std::uint64_t k) { return by_index.count(k) > 0; });
+      !missing.empty())
+    throw ShardError(missing + "; every shard K/N of the run is needed (N is /shard/count of " +
                      Printable(a.file) + ")");
   std::vector<const ShardHead*> ordered;
   for (const auto& [index, h] : by_index) ordered.push_back(h);
@@ -396,6 +389,20 @@ void ReadElementsAndDigest(ShardReader& r, const ShardHead& h, const ShardLayout
 }
 
 }  // namespace
+
+std::string MissingShards(std::uint64_t count, std::uint64_t given,
+                          const std::function<bool(std::uint64_t)>& is_given) {
+  const std::uint64_t n_missing = count - given;
+  std::string missing;
+  for (std::uint64_t k = 0, listed = 0; k < count && listed < 20 && n_missing > 0; ++k)
+    if (!is_given(k)) {
+      missing += (missing.empty() ? "" : ", ") + std::to_string(k);
+      ++listed;
+    }
+  if (!n_missing) return "";
+  return "missing " + std::to_string(n_missing) + " of the " + std::to_string(count) +
+         " shards (index " + missing + (n_missing > 20 ? ", ..." : "") + ")";
+}
 
 RunShards CheckRunShards(const std::vector<std::string>& files) {
   if (files.empty()) throw ShardError("no shard given");

@@ -42,6 +42,14 @@ struct RunShards {
 /// each shard's head and "shard" member (bounded), never its elements. Throws ShardError.
 RunShards CheckRunShards(const std::vector<std::string>& files);
 
+/// The shards of a run split `count` ways that are not among the `given` ones (`is_given`
+/// says which index is), for the message that refuses them: "missing M of the N shards (index
+/// i, j, ...)", the first 20 indices listed (a split a million ways must not make a message of
+/// megabytes); "" when none is missing. imuconv run's shards and imuconv montecarlo's are
+/// refused in these words.
+[[nodiscard]] std::string MissingShards(std::uint64_t count, std::uint64_t given,
+                                        const std::function<bool(std::uint64_t)>& is_given);
+
 /// Writes the whole run's document, byte for byte what `imuconv run P.json` writes, through
 /// `write`, reading each shard again (and refusing, with ShardError, one that changed since it
 /// was checked: the caller's output must then be discarded). Returns the number of task elements.
