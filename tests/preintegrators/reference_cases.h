@@ -10,6 +10,7 @@
 #include "imuconv/preintegrator.h"
 #include "imuconv/window.h"
 #include "imuconv_test.h"
+#include "reference_case.h"
 
 namespace imuconv::test {
 
@@ -76,10 +77,6 @@ inline ReferenceCase LoadReferenceCase(const std::string& id) {
   c.bg = JsonVec3(j.at("state_s").at("bg"));
   c.ba = JsonVec3(j.at("state_s").at("ba"));
   return c;
-}
-
-inline nlohmann::json LoadGtsamReference(const std::string& id) {
-  return ReadJson(DataPath("reference/gtsam/" + id + ".gtsam.json"));
 }
 
 /// The worst entrywise difference seen for one field, with where it was.

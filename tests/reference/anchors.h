@@ -17,6 +17,7 @@
 
 #include "../integrators/integrator_cases.h"
 #include "imuconv/preintegrator.h"
+#include "reference_case.h"
 
 namespace imuconv::test {
 
