@@ -31,6 +31,7 @@
 #include "imuconv/increment_mean.h"
 #include "imuconv/window.h"
 #include "imuconv_test.h"
+#include "preintegration_input.h"
 #include "reference_case.h"
 
 namespace imuconv::test {
@@ -48,11 +49,7 @@ namespace increment_mean_facts {
 template <PluginKind kKind>
 Status PluginMean(const std::string& id, const SampleWindow& w, const Vec3& bg, const Vec3& ba,
                   const ImuNoise& noise, PreintIncrement& mean) {
-  PreintegrationInput in;
-  in.bg = bg;
-  in.ba = ba;
-  in.noise = noise;
-  in.window = w;
+  const PreintegrationInput in = PreintegrationInputOf(w, bg, ba, noise);
   if constexpr (kKind == PluginKind::Propagator)
     return Plugins().propagator(id)->increment_mean(in, mean);
   else
