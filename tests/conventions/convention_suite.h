@@ -320,18 +320,14 @@ struct BiasJacobianChart {
 /// them), and every convention of the kind loaded from the built-in plugin directory has one.
 template <typename K>
 void CheckDeclaredBlockOrders(const char* where) {
-  using Declared = DeclaredFacts<BlockOrderOf<K>>;
-  Declared::CheckNoDuplicates();
-  for (const auto& [id, entry] : Declared::All()) {
-    SCOPED_TRACE("declared at " + Describe(entry.site));
-    ASSERT_TRUE(Plugins().has(K::kKind, id)) << id << " is declared but not loaded";
-    std::string got;
-    for (const std::string& label : Plugins().info(K::kKind, id).blocks)
-      got += (got.empty() ? "" : " ") + label;
-    EXPECT_EQ(got, entry.facts) << id;
-  }
-  Declared::CheckEveryLoadedIdDeclared(Plugins().ids(K::kKind), where,
-                                       "IMUCONV_CONVENTION_BLOCK_ORDER(<Kind>, <id>, \"...\")");
+  DeclaredFacts<BlockOrderOf<K>>::CheckAll(
+      Plugins(), K::kKind, where, "IMUCONV_CONVENTION_BLOCK_ORDER(<Kind>, <id>, \"...\")",
+      [](const std::string& id, const char* order) {
+        std::string got;
+        for (const std::string& label : Plugins().info(K::kKind, id).blocks)
+          got += (got.empty() ? "" : " ") + label;
+        EXPECT_EQ(got, order) << id;
+      });
 }
 
 /// Every loaded convention of the kind has an instantiation of the suite named
