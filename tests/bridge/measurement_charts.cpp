@@ -9,6 +9,7 @@
 #include "imuconv/bridge.h"
 #include "imuconv/reference_charts.h"
 #include "imuconv_test.h"
+#include "preintegration_input.h"
 #include "scale_aware.h"
 #include "synthetic.h"
 
@@ -52,6 +53,10 @@ struct ChartScenario {
     d << 0.02, -0.01, 0.03, 0.05, -0.02, 0.01, 0.03, 0.02, -0.04, 1e-3, -2e-3, 5e-4, 0.01, -0.02,
         0.03;
     LeftRetract(Predict(x_s, m.delta, m.dt, g), d, x_e);
+  }
+  /// What `m` is the preintegration of: the window at the bias estimate, with the test noise.
+  PreintegrationInput Input() const {
+    return test::PreintegrationInputOf(w, bg, ba, test::TestNoise());
   }
 };
 
@@ -137,11 +142,7 @@ TEST(MeasurementCharts, AnUnknownChartIsAnErrorNamingIt) {
 // the reference charts would be a wrong answer given in silence.
 TEST(MeasurementCharts, AMeasurementWhoseChartsAreNotStatedIsRefused) {
   const ChartScenario s;
-  PreintegrationInput in;
-  in.bg = s.bg;
-  in.ba = s.ba;
-  in.noise = test::TestNoise();
-  in.window = s.w;
+  const PreintegrationInput in = s.Input();
   Preintegrated raw;
   ASSERT_TRUE(Plugins().preintegrator("manifold")->integrate(in, raw).ok());
   EXPECT_TRUE(raw.convention.empty());
@@ -172,11 +173,7 @@ TEST(MeasurementCharts, ANativePreintegratorLeavesTheLabelsAlone) {
   const ChartScenario s;
   for (const char* id : {"manifold", "tangent", "vins_fusion", "basalt"}) {
     SCOPED_TRACE(id);
-    PreintegrationInput in;
-    in.bg = s.bg;
-    in.ba = s.ba;
-    in.noise = test::TestNoise();
-    in.window = s.w;
+    const PreintegrationInput in = s.Input();
     Preintegrated out;
     out.convention = "label set before the call";
     out.jacobian_convention = "another label set before the call";

@@ -21,6 +21,15 @@ inline std::string Fnv1a64Hex(const std::string& bytes) {
   return buf;
 }
 
+/// The forger's edit: the first `key` in `text` replaced by `value`. False, and `text`
+/// unchanged, where `text` has no `key` (the test then forges nothing and must say so).
+inline bool ReplaceFirst(std::string& text, const std::string& key, const std::string& value) {
+  const std::size_t at = text.find(key);
+  if (at == std::string::npos) return false;
+  text.replace(at, key.size(), value);
+  return true;
+}
+
 /// A shard of `imuconv run --shard K/N` with its last member "shard_fnv1a_64" rewritten to the
 /// hash of everything before ",\n  \"shard_fnv1a_64\"" (the bracket closing "tasks" included).
 /// Returns "" when the text has no such member.

@@ -124,10 +124,7 @@ TEST(ShardIntegrity, AResealedShardWhoseTaskCountIsWrongIsRefused) {
   SmallBatch b;
   const std::string s0 = b.shard(0), s1 = b.shard(1);
   std::string text = ReadText(s1);
-  const std::string key = "\"end_task\": 2";
-  const std::size_t at = text.find(key);
-  ASSERT_NE(at, std::string::npos);
-  text.replace(at, key.size(), "\"end_task\": 3");
+  ASSERT_TRUE(ReplaceFirst(text, "\"end_task\": 2", "\"end_task\": 3"));
   b.tmp.write("forged.json", ResealRunShard(text));
   b.refused({s0, b.tmp.file("forged.json")}, "forged.json", "expected task 2's element here");
 }
@@ -138,10 +135,7 @@ TEST(ShardIntegrity, AShardMemberThatIsNotJsonIsNamedWithoutTheLibrarysWords) {
   SmallBatch b;
   const std::string s0 = b.shard(0);
   std::string text = ReadText(s0);
-  const std::string key = "\"index\": 0";
-  const std::size_t at = text.find(key);
-  ASSERT_NE(at, std::string::npos);
-  text.replace(at, key.size(), "\"index\": 00");
+  ASSERT_TRUE(ReplaceFirst(text, "\"index\": 0", "\"index\": 00"));
   b.tmp.write("zero.json", ResealRunShard(text));
   b.refused({b.tmp.file("zero.json")}, "zero.json",
             "its \"shard\" member is not JSON as imuconv writes it");
@@ -154,10 +148,7 @@ TEST(ShardIntegrity, CountsAreCheckedAgainstTheFileBeforeAnythingIsAllocated) {
     SCOPED_TRACE("300,000,000 shards");
     // The old merge sized a table by this count first: 2.4 GB of pointers for a 10 KB file.
     std::string text = ReadText(s0);
-    const std::string key = "\"count\": 3";
-    const std::size_t at = text.find(key);
-    ASSERT_NE(at, std::string::npos);
-    text.replace(at, key.size(), "\"count\": 300000000");
+    ASSERT_TRUE(ReplaceFirst(text, "\"count\": 3", "\"count\": 300000000"));
     b.tmp.write("many.json", ResealRunShard(text));
     rusage before{};
     getrusage(RUSAGE_CHILDREN, &before);
@@ -176,9 +167,7 @@ TEST(ShardIntegrity, CountsAreCheckedAgainstTheFileBeforeAnythingIsAllocated) {
     for (const auto& [key, value] :
          {std::pair<std::string, std::string>{"\"end_task\": 1", "\"end_task\": 300000000"},
           {"\"tasks\": 3", "\"tasks\": 300000000"}}) {
-      const std::size_t at = text.find(key);
-      ASSERT_NE(at, std::string::npos) << key;
-      text.replace(at, key.size(), value);
+      ASSERT_TRUE(ReplaceFirst(text, key, value)) << key;
     }
     b.tmp.write("long.json", ResealRunShard(text));
     b.refused({b.tmp.file("long.json")}, "long.json",

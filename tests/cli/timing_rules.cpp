@@ -44,14 +44,7 @@ json CsvImu(const std::string& path, const std::string& unit) {
           {"path", path},
           {"header_rows", 1},
           {"time_unit", unit},
-          {"columns",
-           {{"t", "t"},
-            {"wx", "wx"},
-            {"wy", "wy"},
-            {"wz", "wz"},
-            {"ax", "ax"},
-            {"ay", "ay"},
-            {"az", "az"}}}};
+          {"columns", CsvColumnsNamedByChannel("t")}};
 }
 
 json Preintegrate(const std::string& name, const json& keyframes) {

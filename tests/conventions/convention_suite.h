@@ -101,14 +101,15 @@ struct ChartKind {
   static constexpr const char* kReference = ReferenceChart<V>::id;
   static void RefRetract(const V& x, const Vec15& d, V& y) { ReferenceChart<V>::retract(x, d, y); }
   static void RefLocal(const V& x, const V& y, Vec15& d) { ReferenceChart<V>::local(x, y, d); }
+  /// The registry's Jacobian between the conventions `a` and `b` of the kind at `x`.
+  static Mat15 Conversion(const std::string& a, const std::string& b, const V& x) {
+    return Plugins().conversion(a, b, x);
+  }
 };
 
 struct StateKind : ChartKind<ImuState> {
   static constexpr PluginKind kKind = PluginKind::StateConvention;
   static auto Get(const std::string& id) { return Plugins().state_convention(id); }
-  static Mat15 Conversion(const std::string& a, const std::string& b, const Value& x) {
-    return Plugins().conversion(a, b, x);
-  }
   static const std::vector<Value>& Points() { return FixedPoints<TestStates>(); }
   static double Distance(const Value& a, const Value& b) {
     return MaxAbs(a.R - b.R, a.p - b.p, a.v - b.v, a.ba - b.ba, a.bg - b.bg);
@@ -118,9 +119,6 @@ struct StateKind : ChartKind<ImuState> {
 struct IncrementKind : ChartKind<PreintIncrement> {
   static constexpr PluginKind kKind = PluginKind::IncrementConvention;
   static auto Get(const std::string& id) { return Plugins().increment_convention(id); }
-  static Mat15 Conversion(const std::string& a, const std::string& b, const Value& x) {
-    return Plugins().conversion(a, b, x);
-  }
   static const std::vector<Value>& Points() { return FixedPoints<TestIncrements>(); }
   static double Distance(const Value& a, const Value& b) {
     return MaxAbs(a.dR - b.dR, a.dp - b.dp, a.dv - b.dv, a.dba - b.dba, a.dbg - b.dbg);
@@ -252,32 +250,42 @@ void CheckJacobiansInverse(const std::string& id) {
   }
 }
 
-/// Every ordered pair (A, B) of loaded conventions of the kind, A = B included.
-template <typename K>
-void CheckAllPairs() {
-  const std::vector<std::string> ids = Plugins().ids(K::kKind);
-  ASSERT_GE(ids.size(), 2u);
+/// Runs `check(a, b, ca, cb, x)` for every ordered pair (a, b) of the conventions `ids` of the
+/// kind, a = b included (ca, cb: their charts), at every fixed point x of the kind, with the
+/// pair and the point in the trace of what it reports.
+template <typename K, typename Check>
+void ForEachPairAtEachPoint(const std::vector<std::string>& ids, Check check) {
   const auto& xs = K::Points();
   for (const auto& a : ids)
     for (const auto& b : ids) {
       const auto ca = K::Get(a), cb = K::Get(b);
       for (std::size_t k = 0; k < xs.size(); ++k) {
         SCOPED_TRACE(a + " -> " + b + " at point " + std::to_string(k));
-        const auto& x = xs[k];
-        const Mat15 Jab = K::Conversion(a, b, x), Jba = K::Conversion(b, a, x);
-        const double einv = RelErr(Jab * Jba, Mat15::Identity());
-        Record("pair J_AB J_BA - I", einv);
-        EXPECT_LE(einv, kPairInverseTol);
-        // Directly through the two plugins' charts, not through the registry.
-        const Map15 f = ChartMap<K>(*ca, *cb, x);
-        const double ec = RelErr(Jab, CentralJacobian(f, kCentralStep));
-        Record("pair J_AB vs central h=1e-6", ec);
-        EXPECT_LE(ec, kCentralTol);
-        const double er = RelErr(Jab, RiddersJacobian(f));
-        Record("pair J_AB vs Ridders", er);
-        EXPECT_LE(er, kRiddersTol);
+        check(a, b, *ca, *cb, xs[k]);
       }
     }
+}
+
+/// Every ordered pair (A, B) of loaded conventions of the kind, A = B included.
+template <typename K>
+void CheckAllPairs() {
+  const std::vector<std::string> ids = Plugins().ids(K::kKind);
+  ASSERT_GE(ids.size(), 2u);
+  ForEachPairAtEachPoint<K>(ids, [](const std::string& a, const std::string& b, const auto& ca,
+                                    const auto& cb, const typename K::Value& x) {
+    const Mat15 Jab = K::Conversion(a, b, x), Jba = K::Conversion(b, a, x);
+    const double einv = RelErr(Jab * Jba, Mat15::Identity());
+    Record("pair J_AB J_BA - I", einv);
+    EXPECT_LE(einv, kPairInverseTol);
+    // Directly through the two plugins' charts, not through the registry.
+    const Map15 f = ChartMap<K>(ca, cb, x);
+    const double ec = RelErr(Jab, CentralJacobian(f, kCentralStep));
+    Record("pair J_AB vs central h=1e-6", ec);
+    EXPECT_LE(ec, kCentralTol);
+    const double er = RelErr(Jab, RiddersJacobian(f));
+    Record("pair J_AB vs Ridders", er);
+    EXPECT_LE(er, kRiddersTol);
+  });
 }
 
 /// The registry's fallback for a plugin without analytic Jacobians is Ridders' differences of
@@ -285,21 +293,15 @@ void CheckAllPairs() {
 /// analytic conversion (and so would a registry that had to fall back).
 template <typename K>
 void CheckNumericalComposition() {
-  const std::vector<std::string> ids = Plugins().ids(K::kKind);
-  const auto& xs = K::Points();
-  for (const auto& a : ids)
-    for (const auto& b : ids) {
-      const auto ca = K::Get(a), cb = K::Get(b);
-      for (std::size_t k = 0; k < xs.size(); ++k) {
-        SCOPED_TRACE(a + " -> " + b + " at point " + std::to_string(k));
-        const auto& x = xs[k];
-        const Mat15 numeric = RiddersJacobian(FromReferenceMap<K>(*cb, x)) *
-                              RiddersJacobian(ToReferenceMap<K>(*ca, x));
+  ForEachPairAtEachPoint<K>(
+      Plugins().ids(K::kKind), [](const std::string& a, const std::string& b, const auto& ca,
+                                  const auto& cb, const typename K::Value& x) {
+        const Mat15 numeric =
+            RiddersJacobian(FromReferenceMap<K>(cb, x)) * RiddersJacobian(ToReferenceMap<K>(ca, x));
         const double e = RelErr(numeric, K::Conversion(a, b, x));
         Record("Ridders-composed vs registry conversion", e);
         EXPECT_LE(e, kRiddersTol);
-      }
-    }
+      });
 }
 
 /// The block order a convention's documentation states, "labels in order" (e.g. "p theta v bg
@@ -320,18 +322,14 @@ struct BiasJacobianChart {
 /// them), and every convention of the kind loaded from the built-in plugin directory has one.
 template <typename K>
 void CheckDeclaredBlockOrders(const char* where) {
-  using Declared = DeclaredFacts<BlockOrderOf<K>>;
-  Declared::CheckNoDuplicates();
-  for (const auto& [id, entry] : Declared::All()) {
-    SCOPED_TRACE("declared at " + Describe(entry.site));
-    ASSERT_TRUE(Plugins().has(K::kKind, id)) << id << " is declared but not loaded";
-    std::string got;
-    for (const std::string& label : Plugins().info(K::kKind, id).blocks)
-      got += (got.empty() ? "" : " ") + label;
-    EXPECT_EQ(got, entry.facts) << id;
-  }
-  Declared::CheckEveryLoadedIdDeclared(Plugins().ids(K::kKind), where,
-                                       "IMUCONV_CONVENTION_BLOCK_ORDER(<Kind>, <id>, \"...\")");
+  DeclaredFacts<BlockOrderOf<K>>::CheckAll(
+      Plugins(), K::kKind, where, "IMUCONV_CONVENTION_BLOCK_ORDER(<Kind>, <id>, \"...\")",
+      [](const std::string& id, const char* order) {
+        std::string got;
+        for (const std::string& label : Plugins().info(K::kKind, id).blocks)
+          got += (got.empty() ? "" : " ") + label;
+        EXPECT_EQ(got, order) << id;
+      });
 }
 
 /// Every loaded convention of the kind has an instantiation of the suite named

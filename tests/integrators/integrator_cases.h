@@ -126,4 +126,20 @@ inline ImuNoise McNoise(const ImuNoise& from_case) {
   return n;
 }
 
+/// The Monte Carlo tests' knots: 1 s = 200 steps of `c` (smooth-0 in both), aligned with its
+/// samples (samples 200 to 400).
+inline std::vector<ImuSample> McKnots(const ImuCase& c) {
+  return {c.samples.begin() + 200, c.samples.begin() + 401};
+}
+
+/// The nominal propagation a Monte Carlo test samples around: from `c`'s start state over all of
+/// `knots` (the window points into it), with McNoise and `c`'s gravity; cov_s is left as it is.
+inline Status SetMcNominalInput(const ImuCase& c, const std::vector<ImuSample>& knots,
+                                PropagationInput& in) {
+  in.x_s = c.x_s;
+  in.noise = McNoise(c.noise);
+  in.gravity = c.gravity;
+  return MakeWindow(knots.data(), knots.size(), knots.front().t, knots.back().t, in.window);
+}
+
 }  // namespace imuconv::test

@@ -92,17 +92,12 @@ class IntegratorMonteCarlo : public ::testing::TestWithParam<McCase> {};
 TEST_P(IntegratorMonteCarlo, WhitenedCovarianceIsIdentity) {
   const McCase mc = GetParam();
   const ImuCase c = LoadCase("smooth-0");
-  // 1 s = 200 steps of smooth-0, aligned with the samples.
-  const std::vector<ImuSample> knots(c.samples.begin() + 200, c.samples.begin() + 401);
+  const std::vector<ImuSample> knots = McKnots(c);
   const std::size_t K = knots.size() - 1;
 
   PropagationInput in;
-  in.x_s = c.x_s;
+  ASSERT_TRUE(SetMcNominalInput(c, knots, in).ok());
   in.cov_s = mc.start_uncertainty ? StartCovariance() : Mat15::Zero();
-  in.noise = McNoise(c.noise);
-  in.gravity = c.gravity;
-  ASSERT_TRUE(
-      MakeWindow(knots.data(), knots.size(), knots.front().t, knots.back().t, in.window).ok());
   PropagationResult nominal;
   RunKernel(mc.integrator, in, nominal);
 

@@ -202,15 +202,10 @@ class OpenVinsQdMonteCarlo : public ::testing::TestWithParam<Method> {};
 TEST_P(OpenVinsQdMonteCarlo, WhitenedNoiseCovarianceIsIdentity) {
   const Method method = GetParam();
   const ImuCase c = LoadCase("smooth-0");
-  // 1 s = 200 intervals of smooth-0, aligned with the samples.
-  const std::vector<ImuSample> knots(c.samples.begin() + 200, c.samples.begin() + 401);
+  const std::vector<ImuSample> knots = McKnots(c);
   const std::size_t K = knots.size() - 1;
   PropagationInput in;
-  in.x_s = c.x_s;
-  in.noise = McNoise(c.noise);
-  in.gravity = c.gravity;
-  ASSERT_TRUE(
-      MakeWindow(knots.data(), knots.size(), knots.front().t, knots.back().t, in.window).ok());
+  ASSERT_TRUE(SetMcNominalInput(c, knots, in).ok());
   const PropagationResult nominal = Plugins().propagate(method.plugin, "openvins_jpl", in);
 
   std::mt19937_64 rng(2024 + static_cast<int>(method.mean));

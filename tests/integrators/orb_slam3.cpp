@@ -74,32 +74,25 @@ TEST_P(OrbSlam3EdgeDerivatives, JacobiansAreTheResidualsDerivatives) {
     Vec3 bg = e.bg1, ba = e.ba1;
     Vec3 d = Vec3::Zero();
     d(k % 3) = h;
-    switch (k / 3) {
-      case 0:
-        s1.R = s1.R * so3::Exp(d);
-        break;
-      case 1:
-        s1.p += s1.R * d;
-        break;
-      case 2:
-        s1.v += d;
-        break;
-      case 3:
-        bg += d;
-        break;
-      case 4:
-        ba += d;
-        break;
-      case 5:
-        s2.R = s2.R * so3::Exp(d);
-        break;
-      case 6:
-        s2.p += s2.R * d;
-        break;
-      default:
-        s2.v += d;
-        break;
-    }
+    // Block `b` of a pose's [dtheta, dt, v], the same chart for pose 1 and pose 2: rotation
+    // R Exp(dtheta), position p + R dt, velocity v + dv.
+    auto perturb_pose = [&d](OrbSlam3Pose<double>& s, int b) {
+      if (b == 0)
+        s.R = s.R * so3::Exp(d);
+      else if (b == 1)
+        s.p += s.R * d;
+      else
+        s.v += d;
+    };
+    const int block = k / 3;
+    if (block < 3)
+      perturb_pose(s1, block);
+    else if (block == 3)
+      bg += d;
+    else if (block == 4)
+      ba += d;
+    else
+      perturb_pose(s2, block - 5);
     return EvaluateOrbSlam3EdgeInertial(e.pre, s1, bg, ba, s2).residual;
   };
   Eigen::Matrix<double, 9, 24> analytic;

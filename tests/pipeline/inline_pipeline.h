@@ -4,6 +4,7 @@
 
 #include <array>
 #include <nlohmann/json.hpp>
+#include <string>
 
 namespace imuconv::test {
 
@@ -29,13 +30,33 @@ inline nlohmann::json ConstantSamples(int last, double step,
   return samples;
 }
 
+/// The [wx, wy, wz, ax, ay, az] of the small pipelines' constant motion: turning about all
+/// three axes, accelerating, gravity along z.
+constexpr std::array<double, 6> kConstantMotion = {0.1, -0.2, 0.3, 0.5, 0.1, 9.8};
+
+/// A pipeline of 0.1 s of inline samples of constant motion at 100 Hz, with the tactical
+/// densities, running `tasks` (the tests give it their own).
+inline nlohmann::json TenthSecondAt100HzRunning(const nlohmann::json& tasks) {
+  return {{"noise", TacticalNoiseDensities()},
+          {"imu", {{"format", "inline"}, {"samples", ConstantSamples(10, 0.01, kConstantMotion)}}},
+          {"tasks", tasks}};
+}
+
+/// A `propagate` task named `name`: rk4 from `state` over [0, 0.1] s.
+inline nlohmann::json Rk4PropagationOverTenthSecond(const std::string& name,
+                                                    const nlohmann::json& state) {
+  return {{"type", "propagate"},
+          {"name", name},
+          {"propagator", "rk4"},
+          {"start", {{"state", state}}},
+          {"interval", {{"t_start", 0.0}, {"t_end", 0.1}}}};
+}
+
 /// A pipeline of 0.1 s of inline samples at 200 Hz and one `manifold` preintegration over it
 /// (keyframes 0 and 0.1 s), whose covariance depends on every density of `noise`.
 inline nlohmann::json OnePreintegrationWithNoise(const nlohmann::json& noise) {
   return {{"noise", noise},
-          {"imu",
-           {{"format", "inline"},
-            {"samples", ConstantSamples(20, 0.005, {0.1, -0.2, 0.3, 0.5, 0.1, 9.8})}}},
+          {"imu", {{"format", "inline"}, {"samples", ConstantSamples(20, 0.005, kConstantMotion)}}},
           {"tasks",
            {{{"type", "preintegrate"},
              {"name", "pre"},

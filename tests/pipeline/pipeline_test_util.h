@@ -96,25 +96,22 @@ inline CommandResult RunImuconv(const std::string& args, const TempDir& tmp) {
   return r;
 }
 
+/// A CSV IMU's "columns" map: time in the column named `time_column`, each channel in the
+/// column of its own name (wx, wy, wz, ax, ay, az).
+inline nlohmann::json CsvColumnsNamedByChannel(const std::string& time_column) {
+  return {{"t", time_column}, {"wx", "wx"}, {"wy", "wy"}, {"wz", "wz"},
+          {"ax", "ax"},       {"ay", "ay"}, {"az", "az"}};
+}
+
 /// The `imu` of a pipeline reading a generic CSV: one header row, times in `time_unit` with origin
 /// 0 in the column `time_column`, the channels in columns named wx, wy, wz, ax, ay, az (in any
 /// order), separated by `delimiter` (the reader's default, ",", is not written).
 inline nlohmann::json CsvImuFromTimeZero(const std::string& path, const std::string& time_unit,
                                          const std::string& time_column,
                                          const std::string& delimiter = ",") {
-  nlohmann::json imu = {{"format", "csv"},
-                        {"path", path},
-                        {"header_rows", 1},
-                        {"time_unit", time_unit},
-                        {"time_origin", 0},
-                        {"columns",
-                         {{"t", time_column},
-                          {"wx", "wx"},
-                          {"wy", "wy"},
-                          {"wz", "wz"},
-                          {"ax", "ax"},
-                          {"ay", "ay"},
-                          {"az", "az"}}}};
+  nlohmann::json imu = {{"format", "csv"},  {"path", path},
+                        {"header_rows", 1}, {"time_unit", time_unit},
+                        {"time_origin", 0}, {"columns", CsvColumnsNamedByChannel(time_column)}};
   if (delimiter != ",") imu["delimiter"] = delimiter;
   return imu;
 }

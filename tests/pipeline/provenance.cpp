@@ -17,22 +17,14 @@ using nlohmann::json;
 const char* kProvenanceFile = "mem/provenance.json";
 
 json Doc() {
-  const json samples = test::ConstantSamples(10, 0.01, {0.1, -0.2, 0.3, 0.5, 0.1, 9.8});
-  const json state = test::UnitSpeedStartState();
-  return {{"noise", test::TacticalNoiseDensities()},
-          {"imu", {{"format", "inline"}, {"samples", samples}}},
-          {"tasks",
-           {{{"type", "propagate"},
-             {"name", "prop"},
-             {"propagator", "rk4"},
-             {"state_convention", "gtsam_navstate"},
-             {"start", {{"state", state}}},
-             {"interval", {{"t_start", 0.0}, {"t_end", 0.1}}}},
-            {{"type", "preintegrate"},
-             {"name", "pre"},
-             {"method", {{"preintegrator", "tangent"}}},
-             {"conventions", {"gtsam_manifold"}},
-             {"keyframes", {0.0, 0.1}}}}}};
+  json prop = test::Rk4PropagationOverTenthSecond("prop", test::UnitSpeedStartState());
+  prop["state_convention"] = "gtsam_navstate";
+  return test::TenthSecondAt100HzRunning({prop,
+                                          {{"type", "preintegrate"},
+                                           {"name", "pre"},
+                                           {"method", {{"preintegrator", "tangent"}}},
+                                           {"conventions", {"gtsam_manifold"}},
+                                           {"keyframes", {0.0, 0.1}}}});
 }
 
 /// "kind/id" -> the entry of the output's "plugins".

@@ -15,6 +15,16 @@ const std::string kFullEurocHeader =
     "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
     "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n";
 
+/// The file `name` of `tmp`, holding `content`, is refused by `read(path)` with a message
+/// that names the file and the line: it holds `path + at_line` (":<line>: <what>").
+template <class Read>
+void ExpectRefusedAt(TempDir& tmp, const std::string& name, const std::string& content, Read read,
+                     const std::string& at_line) {
+  const std::string f = tmp.write(name, content);
+  const std::string msg = MessageOf<ReadError>([&] { read(f); });
+  EXPECT_NE(msg.find(f + at_line), std::string::npos) << msg;
+}
+
 std::string EurocSlice() { return SourcePath("examples/data/V1_01_easy_imu0_slice.csv"); }
 std::string GtSlice() {
   return SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv");
@@ -195,51 +205,36 @@ TEST(CsvReader, SpecificErrors) {
   named.columns = {std::string("t"),  std::string("gx"), std::string("gy"), std::string("gz"),
                    std::string("ax"), std::string("ay"), std::string("az")};
   const std::string hdr = "t,gx,gy,gz,ax,ay,az\n";
+  const auto read_named = [&](const std::string& f) { ReadCsvImu(f, named); };
 
-  std::string f = tmp.write("a.csv", "t,gyro_x,gy,gz,ax,ay,az\n0,0,0,0,0,0,0\n");
-  std::string msg = MessageOf<ReadError>([&] { ReadCsvImu(f, named); });
-  EXPECT_NE(
-      msg.find(f + ":1: no column named 'gx' (for 'wx') in the header; columns: 't', 'gyro_x'"),
-      std::string::npos)
-      << msg;
+  ExpectRefusedAt(tmp, "a.csv", "t,gyro_x,gy,gz,ax,ay,az\n0,0,0,0,0,0,0\n", read_named,
+                  ":1: no column named 'gx' (for 'wx') in the header; columns: 't', 'gyro_x'");
 
   CsvFormat no_header = named;
   no_header.header_rows = 0;
-  f = tmp.write("b.csv", "0,0,0,0,0,0,0\n");
-  msg = MessageOf<ReadError>([&] { ReadCsvImu(f, no_header); });
+  std::string f = tmp.write("b.csv", "0,0,0,0,0,0,0\n");
+  std::string msg = MessageOf<ReadError>([&] { ReadCsvImu(f, no_header); });
   EXPECT_NE(msg.find("column 't' is given by the name 't' but the format has no header row"),
             std::string::npos)
       << msg;
 
   CsvFormat wide;
   wide.columns = {0, 1, 2, 3, 4, 5, 9};
-  f = tmp.write("c.csv", "0,0,0,0,0,0,0\n");
-  msg = MessageOf<ReadError>([&] { ReadCsvImu(f, wide); });
-  EXPECT_NE(msg.find(f + ":1: expected at least 10 fields separated by ','"), std::string::npos)
-      << msg;
+  ExpectRefusedAt(
+      tmp, "c.csv", "0,0,0,0,0,0,0\n", [&](const std::string& f) { ReadCsvImu(f, wide); },
+      ":1: expected at least 10 fields separated by ','");
 
-  f = tmp.write("d.csv", hdr + "0,0,0,0,0,0,0\n0.1,0,0,0,0,0\n");
-  msg = MessageOf<ReadError>([&] { ReadCsvImu(f, named); });
-  EXPECT_NE(msg.find(f + ":3: expected 7 fields separated by ',', found 6"), std::string::npos)
-      << msg;
+  ExpectRefusedAt(tmp, "d.csv", hdr + "0,0,0,0,0,0,0\n0.1,0,0,0,0,0\n", read_named,
+                  ":3: expected 7 fields separated by ',', found 6");
 
-  f = tmp.write("e.csv", hdr + "0,0,0,0,0,0,0\n0.1,0,0,0,0,0,0\n0.1,0,0,0,0,0,0\n");
-  msg = MessageOf<ReadError>([&] { ReadCsvImu(f, named); });
-  EXPECT_NE(msg.find(f + ":4: timestamp 0.1 is not after the previous sample's (line 3)"),
-            std::string::npos)
-      << msg;
+  ExpectRefusedAt(tmp, "e.csv", hdr + "0,0,0,0,0,0,0\n0.1,0,0,0,0,0,0\n0.1,0,0,0,0,0,0\n",
+                  read_named, ":4: timestamp 0.1 is not after the previous sample's (line 3)");
 
-  f = tmp.write("f.csv", hdr + "0,0,0,0,0,0,0\n0.1x,0,0,0,0,0,0\n");
-  msg = MessageOf<ReadError>([&] { ReadCsvImu(f, named); });
-  EXPECT_NE(msg.find(f + ":3: column 0 (t, 't'): expected a timestamp in s, found '0.1x'"),
-            std::string::npos)
-      << msg;
+  ExpectRefusedAt(tmp, "f.csv", hdr + "0,0,0,0,0,0,0\n0.1x,0,0,0,0,0,0\n", read_named,
+                  ":3: column 0 (t, 't'): expected a timestamp in s, found '0.1x'");
 
-  f = tmp.write("g.csv", hdr + "0,0,0,0,0,NaN,0\n");
-  msg = MessageOf<ReadError>([&] { ReadCsvImu(f, named); });
-  EXPECT_NE(msg.find(f + ":2: column 5 (ay, 'ay'): expected a finite number, found 'NaN'"),
-            std::string::npos)
-      << msg;
+  ExpectRefusedAt(tmp, "g.csv", hdr + "0,0,0,0,0,NaN,0\n", read_named,
+                  ":2: column 5 (ay, 'ay'): expected a finite number, found 'NaN'");
 
   f = tmp.write("h.csv", "");
   CsvFormat two_headers = named;
@@ -306,26 +301,18 @@ TEST(GroundTruthReader, SpecificErrors) {
   TempDir tmp;
   const TimeOrigin o{TimeValue{0, 0.0}, TimeUnit::ns};
   const std::string hdr = "#time(ns),px,py,pz,qw,qx,qy,qz,vx,vy,vz,bwx,bwy,bwz,bax,bay,baz\n";
-  std::string f = tmp.write("a.csv", hdr + "1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0\n");
-  std::string msg = MessageOf<ReadError>([&] { ReadEurocGroundTruth(f, o); });
-  EXPECT_NE(msg.find(f + ":2: expected 17 fields"), std::string::npos) << msg;
-  f = tmp.write("b.csv", hdr + "1000,0,0,0,0.9,0,0,0,0,0,0,0,0,0,0,0,0\n");
-  msg = MessageOf<ReadError>([&] { ReadEurocGroundTruth(f, o); });
-  EXPECT_NE(msg.find(f + ":2: quaternion (q_w, q_x, q_y, q_z) has norm 0.9"), std::string::npos)
-      << msg;
-  f = tmp.write(
-      "c.csv",
-      hdr + "1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n");
-  msg = MessageOf<ReadError>([&] { ReadEurocGroundTruth(f, o); });
-  EXPECT_NE(msg.find(f + ":3: timestamp 1000 is not after the previous sample's (line 2)"),
-            std::string::npos)
-      << msg;
-  f = tmp.write("d.csv", hdr + "1000,0,0,0,1,0,0,0,0,0,x,0,0,0,0,0,0\n");
-  msg = MessageOf<ReadError>([&] { ReadEurocGroundTruth(f, o); });
-  EXPECT_NE(msg.find(f + ":2: column 10 (v_z): expected a finite number, found 'x'"),
-            std::string::npos)
-      << msg;
-  f = tmp.write("e.csv", hdr + "1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n");
+  const auto read = [&](const std::string& f) { ReadEurocGroundTruth(f, o); };
+  ExpectRefusedAt(tmp, "a.csv", hdr + "1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0\n", read,
+                  ":2: expected 17 fields");
+  ExpectRefusedAt(tmp, "b.csv", hdr + "1000,0,0,0,0.9,0,0,0,0,0,0,0,0,0,0,0,0\n", read,
+                  ":2: quaternion (q_w, q_x, q_y, q_z) has norm 0.9");
+  ExpectRefusedAt(
+      tmp, "c.csv",
+      hdr + "1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n", read,
+      ":3: timestamp 1000 is not after the previous sample's (line 2)");
+  ExpectRefusedAt(tmp, "d.csv", hdr + "1000,0,0,0,1,0,0,0,0,0,x,0,0,0,0,0,0\n", read,
+                  ":2: column 10 (v_z): expected a finite number, found 'x'");
+  std::string f = tmp.write("e.csv", hdr + "1000,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0\n");
   const TimeOrigin late{TimeValue{5000, 0.0},
                         TimeUnit::ns};  // rows before the origin are fine: t < 0
   EXPECT_EQ(ReadEurocGroundTruth(f, late).t.at(0), -4e-6);

@@ -30,44 +30,52 @@ constexpr double kTol = 1e-8;
 // where the extrapolation converges.
 constexpr double kH0 = 0.01;
 
-Mat96 ManifoldNumeric(const PreintegrationInput& in0) {
-  k::ManifoldIncrement x0;
+/// Ridders' differences, in the bias estimate (columns [ba, bg]), of the increment that
+/// `integrate(in, out, &increment)` re-integrates, each read in its scheme's own chart by
+/// `chart_error(x0, x)` (the 9-vector [theta, p, v] of x against the unperturbed x0).
+template <class Increment, class Integrate, class ChartError>
+Mat96 NumericBiasJacobian(const PreintegrationInput& in0, Integrate integrate,
+                          ChartError chart_error) {
+  Increment x0;
   Preintegrated out;
-  EXPECT_TRUE(k::IntegrateManifold<false>(in0, out, &x0).ok());
+  EXPECT_TRUE(integrate(in0, out, &x0).ok());
   const Mat15 J = RiddersJacobian(
       [&](const Vec15& d, Vec15& y) {
         PreintegrationInput in = in0;
         in.ba += d.segment<3>(0);
         in.bg += d.segment<3>(3);
-        k::ManifoldIncrement x;
+        Increment x;
         Preintegrated o;
-        (void)k::IntegrateManifold<false>(in, o, &x);
+        (void)integrate(in, o, &x);
         y.setZero();
-        y.segment<3>(0) = so3::Log(x0.dR.transpose() * x.dR);
-        y.segment<3>(3) = x.dp - x0.dp;
-        y.segment<3>(6) = x.dv - x0.dv;
+        y.head<9>() = chart_error(x0, x);
       },
       kH0);
   return J.topLeftCorner<9, 6>();
 }
 
-Mat96 TangentNumeric(const PreintegrationInput& in0) {
-  k::TangentIncrement x0;
-  Preintegrated out;
-  EXPECT_TRUE(k::IntegrateTangent<false>(in0, out, &x0).ok());
-  const Mat15 J = RiddersJacobian(
-      [&](const Vec15& d, Vec15& y) {
-        PreintegrationInput in = in0;
-        in.ba += d.segment<3>(0);
-        in.bg += d.segment<3>(3);
-        k::TangentIncrement x;
-        Preintegrated o;
-        (void)k::IntegrateTangent<false>(in, o, &x);
-        y.setZero();
-        y.head<9>() = x.xi - x0.xi;
+Mat96 ManifoldNumeric(const PreintegrationInput& in0) {
+  return NumericBiasJacobian<k::ManifoldIncrement>(
+      in0,
+      [](const PreintegrationInput& in, Preintegrated& out, k::ManifoldIncrement* x) {
+        return k::IntegrateManifold<false>(in, out, x);
       },
-      kH0);
-  return J.topLeftCorner<9, 6>();
+      [](const k::ManifoldIncrement& x0, const k::ManifoldIncrement& x) {
+        Vec9 e;
+        e << so3::Log(x0.dR.transpose() * x.dR), x.dp - x0.dp, x.dv - x0.dv;
+        return e;
+      });
+}
+
+Mat96 TangentNumeric(const PreintegrationInput& in0) {
+  return NumericBiasJacobian<k::TangentIncrement>(
+      in0,
+      [](const PreintegrationInput& in, Preintegrated& out, k::TangentIncrement* x) {
+        return k::IntegrateTangent<false>(in, out, x);
+      },
+      [](const k::TangentIncrement& x0, const k::TangentIncrement& x) -> Vec9 {
+        return x.xi - x0.xi;
+      });
 }
 
 void CheckAgainstReintegration(const std::string& scheme) {

@@ -161,7 +161,7 @@ void RunScheme(const std::string& scheme, const std::string& slot,
   for (const std::string& id : ReferenceCaseIds()) {
     const ReferenceCase zoh = LoadReferenceCase(id);
     const ReferenceCase rc = slot == "mid" ? zoh.Averaged() : zoh;
-    const nlohmann::json ref = LoadGtsamReference(id).at(slot).at(scheme);
+    const nlohmann::json ref = GtsamReferenceJson(id).at(slot).at(scheme);
     CompareCase(pre, rc, ref, id + " " + slot + " " + scheme, report);
   }
   std::printf("[ worst d ] %s %s%s over %zu cases:\n", scheme.c_str(), slot.c_str(), isa_name,
@@ -210,7 +210,7 @@ INSTANTIATE_TEST_SUITE_P(GtsamReference, KernelInstances,
 // correlation rho moves by 2|rho|).
 TEST(ScaleAwareCheck, CatchesAFlippedBiasBlockThatTheEntrywiseMetricPasses) {
   const Eigen::MatrixXd ref =
-      JsonMatrix(LoadGtsamReference("smooth-0").at("zoh").at("manifold").at("cov15"));
+      JsonMatrix(GtsamReferenceJson("smooth-0").at("zoh").at("manifold").at("cov15"));
   ASSERT_EQ(ref.rows(), 15);
   Eigen::MatrixXd flipped = ref;
   flipped.block<3, 3>(0, 12) *=

@@ -10,6 +10,8 @@
 #include "imuconv/preintegrator.h"
 #include "imuconv/window.h"
 #include "imuconv_test.h"
+#include "preintegration_input.h"
+#include "reference_case.h"
 
 namespace imuconv::test {
 
@@ -42,12 +44,7 @@ struct ReferenceCase {
   /// The window is filled directly (knots = the samples, t_s = first, t_e = last) because
   /// MakeWindow is not exported from imuconv_core.
   PreintegrationInput Input() const {
-    PreintegrationInput in;
-    in.bg = bg;
-    in.ba = ba;
-    in.noise = noise;
-    in.window = WindowOver(samples);
-    return in;
+    return PreintegrationInputOf(WindowOver(samples), bg, ba, noise);
   }
 
   /// The reference `mid` input: sample k replaced by the mean of samples k and k+1, same
@@ -76,10 +73,6 @@ inline ReferenceCase LoadReferenceCase(const std::string& id) {
   c.bg = JsonVec3(j.at("state_s").at("bg"));
   c.ba = JsonVec3(j.at("state_s").at("ba"));
   return c;
-}
-
-inline nlohmann::json LoadGtsamReference(const std::string& id) {
-  return ReadJson(DataPath("reference/gtsam/" + id + ".gtsam.json"));
 }
 
 /// The worst entrywise difference seen for one field, with where it was.

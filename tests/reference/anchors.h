@@ -17,6 +17,8 @@
 
 #include "../integrators/integrator_cases.h"
 #include "imuconv/preintegrator.h"
+#include "preintegration_input.h"
+#include "reference_case.h"
 
 namespace imuconv::test {
 
@@ -44,12 +46,8 @@ class AnchorCaseTest : public ::testing::TestWithParam<const char*> {
 /// The preintegration anchors' input: the whole case from its first sample to its last, at
 /// the bias estimate given (the case's start biases, or a changed one).
 inline PreintegrationInput AnchorInput(const ImuCase& c, const Vec3& bg, const Vec3& ba) {
-  PreintegrationInput in;
-  in.window = MakeInput(c, c.samples.front().t, c.samples.back().t).window;
-  in.bg = bg;
-  in.ba = ba;
-  in.noise = c.noise;
-  return in;
+  return PreintegrationInputOf(MakeInput(c, c.samples.front().t, c.samples.back().t).window, bg, ba,
+                               c.noise);
 }
 
 }  // namespace imuconv::test

@@ -191,10 +191,7 @@ TEST_P(BasaltAnchor, AsConfiguredNoiseIsBasaltOwnOnEveryCase) {
 // the increment and the bias random walk, which GTSAM's cov15 carries. What is left after the
 // conversion is that.
 TEST_P(BasaltAnchor, BasaltInGtsamConvention) {
-  const nlohmann::json g =
-      ReadJson(DataPath(std::string("reference/gtsam/") + GetParam() + ".gtsam.json"))
-          .at("zoh")
-          .at("manifold");
+  const nlohmann::json g = GtsamReferenceJson(GetParam()).at("zoh").at("manifold");
   const PreintegrationInput in = AnchorInput(case_, case_.x_s.bg, case_.x_s.ba);
   const imuconv::Preintegrated m = imuconv::PreintegrateNative(Plugins(), "basalt_forward_zoh",
                                                                in.window, in.bg, in.ba, in.noise);

@@ -37,6 +37,7 @@
 #include "imuconv/so3.h"
 #include "imuconv/window.h"
 #include "imuconv_test.h"
+#include "preintegration_input.h"
 #include "reference_case.h"
 #include "scale_aware.h"
 
@@ -268,11 +269,8 @@ TEST_P(FastLio2Plugins, IncrementMeanIsPreintegrationByPropagationBitForBit) {
       ResolvePreintegrationMethod(Plugins(), PluginKind::Propagator, "fast_lio2");
   const Preintegrated full =
       Preintegrate(Plugins(), method, in_.window, in_.x_s.bg, in_.x_s.ba, CaseNoise(case_));
-  PreintegrationInput in;
-  in.window = in_.window;
-  in.bg = in_.x_s.bg;
-  in.ba = in_.x_s.ba;
-  in.noise = CaseNoise(case_);
+  const PreintegrationInput in =
+      PreintegrationInputOf(in_.window, in_.x_s.bg, in_.x_s.ba, CaseNoise(case_));
   PreintIncrement mean;
   ASSERT_TRUE(FastLio2IncrementMean(in, mean).ok());
   EXPECT_EQ(mean.dR, full.delta.dR);

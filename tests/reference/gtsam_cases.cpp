@@ -71,9 +71,7 @@ class GtsamCase : public ::testing::TestWithParam<const char*> {
                .first;
     return it->second;
   }
-  static json Reference(const std::string& id) {
-    return ReadJson(DataPath("reference/gtsam/" + id + ".gtsam.json"));
-  }
+  static json Reference(const std::string& id) { return GtsamReferenceJson(id); }
 };
 
 void ExpectMaxBelow(const std::map<std::string, Stat>& stats, double tol, const std::string& what) {
@@ -226,7 +224,7 @@ TEST(GtsamMid, Rk4BiasJacobianAndCovarianceWithinPaperFigure1OnSmoothCases) {
   for (const char* variant : {"manifold", "tangent"}) {
     std::map<std::string, Stat> stats;
     for (const char* id : {"smooth-0", "smooth-1", "smooth-2", "smooth-3"}) {
-      const json ref = ReadJson(DataPath(std::string("reference/gtsam/") + id + ".gtsam.json"));
+      const json ref = GtsamReferenceJson(id);
       const json est = imuconv::refcase::Run(Plugins(), CaseJson(id));
       for (const char* f : {"J_bias", "cov15", "cov9"})
         Compare(ref["mid"][variant][f], est["mid"][variant][f], f, stats, f);

@@ -53,6 +53,16 @@ class Okvis2PluginsAnchor : public AnchorCaseTest {
     ASSERT_EQ(in.at("sigma_aw_c").get<double>(), case_.noise.accel_random_walk);
     ASSERT_EQ(Vec3(0.0, 0.0, -in.at("g").get<double>()), case_.gravity);
   }
+
+  /// `o`'s increment and covariance, in OKVIS's chart and order, against ImuError's
+  /// preintegration `pre` (Delta_R, acc_doubleintegral, acc_integral, P_delta).
+  static void CompareIncrementAndCovariance(const nlohmann::json& pre, const Preintegrated& o,
+                                            AnchorFieldDiffs& w) {
+    w.Metric("Delta_R", JsonMatrix(pre.at("Delta_R")), o.delta.dR);
+    w.Metric("acc_doubleintegral", JsonMatrix(pre.at("acc_doubleintegral")), o.delta.dp);
+    w.Metric("acc_integral", JsonMatrix(pre.at("acc_integral")), o.delta.dv);
+    w.Covariance("P_delta", JsonMatrix(pre.at("P_delta").at("matrix")), o.cov);
+  }
 };
 
 TEST_P(Okvis2PluginsAnchor, PropagatorIsOkvisPropagation) {
@@ -90,10 +100,7 @@ TEST_P(Okvis2PluginsAnchor, PreintegratorIsImuErrorPreintegration) {
   ASSERT_EQ(o.jacobian_convention, "okvis2");
   const nlohmann::json& pre = anchor_.at("imu_error").at("preintegration");
   AnchorFieldDiffs w(std::string(GetParam()) + " okvis2 preintegrator");
-  w.Metric("Delta_R", JsonMatrix(pre.at("Delta_R")), o.delta.dR);
-  w.Metric("acc_doubleintegral", JsonMatrix(pre.at("acc_doubleintegral")), o.delta.dp);
-  w.Metric("acc_integral", JsonMatrix(pre.at("acc_integral")), o.delta.dv);
-  w.Covariance("P_delta", JsonMatrix(pre.at("P_delta").at("matrix")), o.cov);
+  CompareIncrementAndCovariance(pre, o, w);
   w.Jacobian("J_bias", AnchorBiasJacobian(pre), o.J_bias);
   w.Print();
   EXPECT_EQ(o.dt, anchor_.at("inputs").at("Delta_t").get<double>());
@@ -115,10 +122,7 @@ TEST_P(Okvis2PluginsAnchor, PreintegrationByOkvisPropagation) {
               "okvis2");
   const nlohmann::json& pre = anchor_.at("imu_error").at("preintegration");
   AnchorFieldDiffs w(std::string(GetParam()) + " by okvis2 propagation");
-  w.Metric("Delta_R", JsonMatrix(pre.at("Delta_R")), o.delta.dR);
-  w.Metric("acc_doubleintegral", JsonMatrix(pre.at("acc_doubleintegral")), o.delta.dp);
-  w.Metric("acc_integral", JsonMatrix(pre.at("acc_integral")), o.delta.dv);
-  w.Covariance("P_delta", JsonMatrix(pre.at("P_delta").at("matrix")), o.cov);
+  CompareIncrementAndCovariance(pre, o, w);
   const Mat96 J = AnchorBiasJacobian(pre);
   w.Jacobian("J_bias p rows", J.topRows<3>(), o.J_bias.topRows<3>());
   w.Jacobian("J_bias v rows", J.bottomRows<3>(), o.J_bias.bottomRows<3>());

@@ -121,8 +121,7 @@ class OpenVinsAnchor : public ::testing::TestWithParam<const char*> {};
 // (J_bias on smooth-3), 9.8e-13 scaled.
 TEST_P(OpenVinsAnchor, PreintegrationByItsPropagationIsGtsamManifoldOnMidInput) {
   const std::string id = GetParam();
-  const nlohmann::json g =
-      ReadJson(DataPath("reference/gtsam/" + id + ".gtsam.json")).at("mid").at("manifold");
+  const nlohmann::json g = GtsamReferenceJson(id).at("mid").at("manifold");
   const ImuCase c = LoadCase(id);
   const PropagationInput in = MakeInput(c, c.samples.front().t, c.samples.back().t);
   const imuconv::Preintegrated m = imuconv::PreintegrateByPropagation(

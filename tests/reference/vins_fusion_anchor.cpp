@@ -131,10 +131,7 @@ TEST_P(VinsFusionAnchor, PluginThroughTheRegistryIsVinsFusionOwn) {
 // the first-order F (I - [w]x dt, not orthogonal) and drops Jr in its dtheta/dbg block. What
 // is left after the conversion is that difference.
 TEST_P(VinsFusionAnchor, VinsFusionAndGtsamInEachOthersConvention) {
-  const nlohmann::json g =
-      ReadJson(DataPath(std::string("reference/gtsam/") + GetParam() + ".gtsam.json"))
-          .at("mid")
-          .at("manifold");
+  const nlohmann::json g = GtsamReferenceJson(GetParam()).at("mid").at("manifold");
   const PreintegrationInput in = AnchorInput(case_, case_.x_s.bg, case_.x_s.ba);
   const imuconv::Preintegrated m =
       imuconv::PreintegrateNative(Plugins(), "vins_fusion", in.window, in.bg, in.ba, in.noise);

@@ -36,9 +36,7 @@ using imuconv::test::ProcessesMentioning;
 using imuconv::test::ShellQuote;
 using imuconv::test::TempDir;
 
-std::string Fixture(const std::string& rel) {
-  return std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/" + rel;
-}
+std::string Fixture(const std::string& rel) { return imuconv::test::FixturePlugin(rel); }
 std::string BuiltIn(const std::string& name) { return imuconv::test::BuiltInPlugin(name); }
 
 // A control byte in a message means a name or id was echoed raw.

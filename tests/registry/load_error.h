@@ -16,6 +16,11 @@ inline std::string LoadErrorOf(Registry& r, const std::string& path) {
   return "";
 }
 
+/// A plugin the test fixtures build (tests/fixtures/CMakeLists.txt), by its path there.
+inline std::string FixturePlugin(const std::string& rel) {
+  return std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/" + rel;
+}
+
 /// A file in the built-in plugin directory.
 inline std::string BuiltInPlugin(const std::string& name) {
   return Registry::default_plugin_dir() + "/" + name;

@@ -53,16 +53,15 @@ TEST(Loading, SharedLibraryThatIsNotAPlugin) {
 
 TEST(Loading, WrongAbiVersion) {
   Registry r;
-  const std::string msg = imuconv::test::LoadErrorOf(
-      r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_wrong_abi.so");
+  const std::string msg =
+      imuconv::test::LoadErrorOf(r, imuconv::test::FixturePlugin("imuconv_plugin_wrong_abi.so"));
   EXPECT_NE(msg.find("ABI version 999"), std::string::npos) << msg;
 }
 
 TEST(Loading, DuplicateIdNamesBothFiles) {
   Registry r;
   r.load_file(PluginFile("imuconv_plugin_state_left.so"));
-  const std::string dup =
-      std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_duplicate_left.so";
+  const std::string dup = imuconv::test::FixturePlugin("imuconv_plugin_duplicate_left.so");
   const std::string msg = imuconv::test::LoadErrorOf(r, dup);
   EXPECT_NE(msg.find("duplicate"), std::string::npos) << msg;
   EXPECT_NE(msg.find("imuconv_plugin_state_left.so"), std::string::npos) << msg;
@@ -71,15 +70,15 @@ TEST(Loading, DuplicateIdNamesBothFiles) {
 
 TEST(Loading, WrongAnalyticJacobianIsRefused) {
   Registry r;
-  const std::string msg = imuconv::test::LoadErrorOf(
-      r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_bad_jacobian.so");
+  const std::string msg =
+      imuconv::test::LoadErrorOf(r, imuconv::test::FixturePlugin("imuconv_plugin_bad_jacobian.so"));
   EXPECT_NE(msg.find("analytic J_ref_this differs"), std::string::npos) << msg;
 }
 
 TEST(Loading, BlockOrderThatIsNoPermutationIsRefused) {
   Registry r;
-  const std::string msg = imuconv::test::LoadErrorOf(
-      r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_bad_order.so");
+  const std::string msg =
+      imuconv::test::LoadErrorOf(r, imuconv::test::FixturePlugin("imuconv_plugin_bad_order.so"));
   EXPECT_NE(msg.find("state convention 'bad_order'"), std::string::npos) << msg;
   EXPECT_NE(
       msg.find(
@@ -91,10 +90,8 @@ TEST(Loading, BlockOrderThatIsNoPermutationIsRefused) {
 TEST(Loading, RegistryStaysUsableAfterFailures) {
   Registry r;
   imuconv::test::LoadErrorOf(r, "/nonexistent.so");
-  imuconv::test::LoadErrorOf(
-      r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_wrong_abi.so");
-  imuconv::test::LoadErrorOf(
-      r, std::string(IMUCONV_BINARY_DIR) + "/tests/fixtures/imuconv_plugin_bad_jacobian.so");
+  imuconv::test::LoadErrorOf(r, imuconv::test::FixturePlugin("imuconv_plugin_wrong_abi.so"));
+  imuconv::test::LoadErrorOf(r, imuconv::test::FixturePlugin("imuconv_plugin_bad_jacobian.so"));
   r.load_file(PluginFile("imuconv_plugin_state_left.so"));
   imuconv::ImuState x;
   EXPECT_TRUE(r.conversion("left", "left", x).isIdentity());

@@ -8,6 +8,7 @@
 #include "../bridge/synthetic.h"
 #include "imuconv/bridge.h"
 #include "imuconv_test.h"
+#include "preintegration_input.h"
 
 namespace {
 
@@ -76,11 +77,7 @@ TEST(PreintegrationMethod, PreintegratorMatchesFromConvention) {
     EXPECT_STREQ(m.jacobian_convention->id(), m.preintegrator->jacobian_convention()) << id;
 
     const SampleWindow w = Window(0.5);
-    PreintegrationInput in;
-    in.bg = kBg;
-    in.ba = kBa;
-    in.noise = test::TestNoise();
-    in.window = w;
+    const PreintegrationInput in = test::PreintegrationInputOf(w, kBg, kBa, test::TestNoise());
     Preintegrated native;
     ASSERT_TRUE(m.preintegrator->integrate(in, native).ok());
     native.convention = m.preintegrator->cov_convention();

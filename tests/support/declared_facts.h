@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "imuconv/plugin_kind.h"
+#include "imuconv/registry.h"
 
 namespace imuconv::test {
 
@@ -55,6 +56,22 @@ class DeclaredFacts {
     for (const std::string& d : Duplicates())
       ADD_FAILURE() << Tag::kWhat << " declared twice: " << d;
   }
+  /// The shared test of the fact: no id declared twice; for each declaration, the plugin `id`
+  /// of `kind` is loaded in `registry` (else the check stops there) and `check_one(id, facts)`,
+  /// which states the fact's own expectations, holds; and every plugin of `kind` the registry
+  /// loaded has a declaration (`where` and `line` as CheckEveryLoadedIdDeclared takes them).
+  template <typename CheckOne>
+  static void CheckAll(const Registry& registry, PluginKind kind, const char* where,
+                       const std::string& line, CheckOne check_one) {
+    CheckNoDuplicates();
+    for (const auto& [id, entry] : All()) {
+      SCOPED_TRACE("declared at " + Describe(entry.site));
+      ASSERT_TRUE(registry.has(kind, id)) << id << " is declared but not loaded";
+      check_one(id, entry.facts);
+    }
+    CheckEveryLoadedIdDeclared(registry.ids(kind), where, line.c_str());
+  }
+
   /// Every id in `loaded` (the registry's plugins of the kind) has a declaration; `where` says
   /// in which file a system's declaration belongs and `line` how it reads, "<id>" in either
   /// standing for the plugin's id.

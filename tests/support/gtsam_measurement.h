@@ -18,7 +18,7 @@ namespace imuconv::test {
 inline nlohmann::json GtsamMeasurement(const std::string& id, Eigen::MatrixXd* J = nullptr,
                                        Eigen::MatrixXd* cov = nullptr) {
   const nlohmann::json c = CaseJson(id);
-  const nlohmann::json g = ReadJson(DataPath("reference/gtsam/" + id + ".gtsam.json"));
+  const nlohmann::json g = GtsamReferenceJson(id);
   const nlohmann::json& s = g["zoh"]["manifold"];
   if (J) *J = JsonMatrix(s["J_bias"]);
   if (cov) *cov = JsonMatrix(s["cov15"]);

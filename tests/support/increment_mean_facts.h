@@ -31,6 +31,7 @@
 #include "imuconv/increment_mean.h"
 #include "imuconv/window.h"
 #include "imuconv_test.h"
+#include "preintegration_input.h"
 #include "reference_case.h"
 
 namespace imuconv::test {
@@ -48,11 +49,7 @@ namespace increment_mean_facts {
 template <PluginKind kKind>
 Status PluginMean(const std::string& id, const SampleWindow& w, const Vec3& bg, const Vec3& ba,
                   const ImuNoise& noise, PreintIncrement& mean) {
-  PreintegrationInput in;
-  in.bg = bg;
-  in.ba = ba;
-  in.noise = noise;
-  in.window = w;
+  const PreintegrationInput in = PreintegrationInputOf(w, bg, ba, noise);
   if constexpr (kKind == PluginKind::Propagator)
     return Plugins().propagator(id)->increment_mean(in, mean);
   else
@@ -155,23 +152,18 @@ void ExpectSaysNotProvided(const std::string& id) {
 template <PluginKind kKind>
 void CheckDeclaredIncrementMeans(const char* where) {
   static_assert(kKind == PluginKind::Propagator || kKind == PluginKind::Preintegrator);
-  using Declared = DeclaredFacts<IncrementMeanOf<kKind>>;
-  Declared::CheckNoDuplicates();
-  for (const auto& [id, entry] : Declared::All()) {
-    SCOPED_TRACE("declared at " + Describe(entry.site));
-    ASSERT_TRUE(Plugins().has(kKind, id)) << id << " is declared but not loaded";
-    if (entry.facts == IncrementMeanGiven::kProvided) {
-      increment_mean_facts::ExpectSameAsTheFullPath<kKind>(id);
-      increment_mean_facts::ExpectRefusesWhatTheFullPathRefuses<kKind>(id);
-    } else {
-      increment_mean_facts::ExpectSaysNotProvided<kKind>(id);
-    }
-  }
-  Declared::CheckEveryLoadedIdDeclared(
-      Plugins().ids(kKind), where,
-      (std::string("IMUCONV_INCREMENT_MEAN(") + SchemeKindName(kKind) +
-       ", <id>, kProvided or kNotProvided)")
-          .c_str());
+  DeclaredFacts<IncrementMeanOf<kKind>>::CheckAll(
+      Plugins(), kKind, where,
+      std::string("IMUCONV_INCREMENT_MEAN(") + SchemeKindName(kKind) +
+          ", <id>, kProvided or kNotProvided)",
+      [](const std::string& id, IncrementMeanGiven given) {
+        if (given == IncrementMeanGiven::kProvided) {
+          increment_mean_facts::ExpectSameAsTheFullPath<kKind>(id);
+          increment_mean_facts::ExpectRefusesWhatTheFullPathRefuses<kKind>(id);
+        } else {
+          increment_mean_facts::ExpectSaysNotProvided<kKind>(id);
+        }
+      });
 }
 
 }  // namespace imuconv::test

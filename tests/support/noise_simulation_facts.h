@@ -45,22 +45,17 @@ NoiseSimulation NoiseSimulationOfPlugin(const std::string& id) {
 template <PluginKind kKind>
 void CheckDeclaredNoiseSimulations(const char* where) {
   static_assert(kKind == PluginKind::Propagator || kKind == PluginKind::Preintegrator);
-  using Declared = DeclaredFacts<NoiseSimulationOf<kKind>>;
-  Declared::CheckNoDuplicates();
-  for (const auto& [id, entry] : Declared::All()) {
-    SCOPED_TRACE("declared at " + Describe(entry.site));
-    ASSERT_TRUE(Plugins().has(kKind, id)) << id << " is declared but not loaded";
-    const NoiseSimulation sim = NoiseSimulationOfPlugin<kKind>(id);
-    EXPECT_EQ(sim.cells, entry.facts.cells) << id;
-    EXPECT_EQ(sim.reading, entry.facts.reading) << id;
-    EXPECT_EQ(sim.simulable, entry.facts.simulable) << id;
-    ASSERT_NE(sim.note, nullptr) << id;
-  }
-  Declared::CheckEveryLoadedIdDeclared(
-      Plugins().ids(kKind), where,
-      (std::string("IMUCONV_NOISE_SIMULATION(") + SchemeKindName(kKind) +
-       ", <id>, <cells>, <reading>, <simulable>)")
-          .c_str());
+  DeclaredFacts<NoiseSimulationOf<kKind>>::CheckAll(
+      Plugins(), kKind, where,
+      std::string("IMUCONV_NOISE_SIMULATION(") + SchemeKindName(kKind) +
+          ", <id>, <cells>, <reading>, <simulable>)",
+      [](const std::string& id, const NoiseSimulationFacts& facts) {
+        const NoiseSimulation sim = NoiseSimulationOfPlugin<kKind>(id);
+        EXPECT_EQ(sim.cells, facts.cells) << id;
+        EXPECT_EQ(sim.reading, facts.reading) << id;
+        EXPECT_EQ(sim.simulable, facts.simulable) << id;
+        ASSERT_NE(sim.note, nullptr) << id;
+      });
 }
 
 }  // namespace imuconv::test

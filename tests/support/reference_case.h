@@ -14,6 +14,12 @@ inline nlohmann::json CaseJson(const std::string& id) {
   return ReadJson(DataPath("reference/cases/" + id + ".json"));
 }
 
+/// GTSAM's outputs for the case (tests/data/reference/gtsam/<id>.gtsam.json): each hold of the
+/// samples ("zoh", "mid") and scheme ("manifold", "tangent") under its own key.
+inline nlohmann::json GtsamReferenceJson(const std::string& id) {
+  return ReadJson(DataPath("reference/gtsam/" + id + ".gtsam.json"));
+}
+
 /// The case's "noise": the continuous densities and random walks its samples were drawn with.
 inline ImuNoise CaseNoise(const nlohmann::json& c) {
   const nlohmann::json& n = c.at("noise");

@@ -21,21 +21,17 @@ TEST(PreintConventions, BuiltInsAndTheirBlockOrders) {
 // (IMUCONV_BIAS_JACOBIAN_CHART): the plugin and the registry's record of it say the same, and
 // every loaded increment convention has a declaration.
 TEST(PreintConventions, BiasJacobianCharts) {
-  using Declared = imuconv::test::DeclaredFacts<imuconv::test::BiasJacobianChart>;
-  Declared::CheckNoDuplicates();
-  for (const auto& [id, entry] : Declared::All()) {
-    SCOPED_TRACE("declared at " + imuconv::test::Describe(entry.site));
-    ASSERT_TRUE(Plugins().has(imuconv::PluginKind::IncrementConvention, id))
-        << id << " is declared but not loaded";
-    EXPECT_EQ(std::string(Plugins().increment_convention(id)->jacobian_convention()), entry.facts)
-        << id;
-    EXPECT_EQ(Plugins().info(imuconv::PluginKind::IncrementConvention, id).jacobian_convention,
-              entry.facts)
-        << id;
-  }
-  Declared::CheckEveryLoadedIdDeclared(Plugins().ids(imuconv::PluginKind::IncrementConvention),
-                                       "its own test file, tests/conventions/increment/<id>.cpp",
-                                       "IMUCONV_BIAS_JACOBIAN_CHART(<id>, \"<chart>\")");
+  imuconv::test::DeclaredFacts<imuconv::test::BiasJacobianChart>::CheckAll(
+      Plugins(), imuconv::PluginKind::IncrementConvention,
+      "its own test file, tests/conventions/increment/<id>.cpp",
+      "IMUCONV_BIAS_JACOBIAN_CHART(<id>, \"<chart>\")",
+      [](const std::string& id, const char* chart) {
+        EXPECT_EQ(std::string(Plugins().increment_convention(id)->jacobian_convention()), chart)
+            << id;
+        EXPECT_EQ(Plugins().info(imuconv::PluginKind::IncrementConvention, id).jacobian_convention,
+                  chart)
+            << id;
+      });
 }
 
 }  // namespace
