@@ -11,6 +11,10 @@
 //   };
 //   IMUCONV_PLUGIN(Propagator, imuconv::plugin::KernelPropagator<Euler>, "euler", "1.0.0", "...")
 //
+// A kernel that is a template instance of the core (kernels/fast_lio2.h, okvis2_scheme.h, ...)
+// is registered in one line, written in place: IMUCONV_KERNEL_PROPAGATOR or
+// IMUCONV_KERNEL_PREINTEGRATOR (plugin/kernel_registration.h).
+//
 // The optional capabilities are given once here, from what the kernel struct declares:
 //   static Status Mean(const PreintegrationInput&, PreintIncrement&)   the increment alone
 //     (increment_mean(), increment_mean.h): where the kernel has a mean-only function
