@@ -24,26 +24,10 @@ constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::
 constexpr std::array kBodyFrame{Block::p, Block::v};  // the reference's blocks rotated by Delta R^T
 
 class GtsamManifold
-    : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::IncrementChart<kOrder, -1>,
+    : public imuconv::plugin::RightRotationChart<imuconv::plugin::IncrementChart<kOrder, -1>,
                                                  kBodyFrame> {
  public:
   const char* jacobian_convention() const noexcept override { return "gtsam_manifold_jacobian"; }
-
-  void retract(const PreintIncrement& x, const Vec15& d,
-               PreintIncrement& y) const noexcept override {
-    y.dR = x.dR * so3::Exp(d.segment<3>(theta));
-    y.dp = x.dp + x.dR * d.segment<3>(p);
-    y.dv = x.dv + x.dR * d.segment<3>(v);
-    RetractBiases(x, d, y);
-  }
-
-  void local(const PreintIncrement& x, const PreintIncrement& y, Vec15& d) const noexcept override {
-    const Mat3 Rt = x.dR.transpose();
-    d.segment<3>(theta) = so3::Log(Rt * y.dR);
-    d.segment<3>(p) = Rt * (y.dp - x.dp);
-    d.segment<3>(v) = Rt * (y.dv - x.dv);
-    LocalBiases(x, y, d);
-  }
 };
 
 }  // namespace

@@ -12,14 +12,10 @@
 // core/include/imuconv/kernels/okvis2.h (okvis2_scheme.h converts); it agrees with OKVIS's own
 // numbers on the ten reference cases (tests/reference/okvis2_plugins_anchor.cpp).
 #include "imuconv/kernels/okvis2_scheme.h"
-#include "imuconv/plugin/kernel_plugin.h"
-#include "imuconv/plugin_abi.h"
+#include "imuconv/plugin/kernel_registration.h"
 
-namespace {
-using Scheme =
-    imuconv::kernels::Okvis2PreintegrationScheme<imuconv::kernels::Okvis2Transition::kAsOkvis>;
-}  // namespace
-
-IMUCONV_PLUGIN(Preintegrator, imuconv::plugin::KernelPreintegrator<Scheme>, "okvis2", "1.0.0",
-               "OKVIS2 ImuError::redoPreintegration (trapezoid), P_delta from its F_delta as "
-               "coded; okvis2 chart")
+IMUCONV_KERNEL_PREINTEGRATOR(
+    "okvis2", "1.0.0",
+    "OKVIS2 ImuError::redoPreintegration (trapezoid), P_delta from its F_delta as "
+    "coded; okvis2 chart",
+    imuconv::kernels::Okvis2PreintegrationScheme<imuconv::kernels::Okvis2Transition::kAsOkvis>)

@@ -24,17 +24,11 @@
 // FAST-LIO's own end state, covariance and transition on the ten reference cases to 1e-8
 // (tests/reference/fast_lio2_plugins.cpp).
 #include "imuconv/kernels/fast_lio2.h"
-#include "imuconv/plugin/kernel_plugin.h"
-#include "imuconv/plugin_abi.h"
+#include "imuconv/plugin/kernel_registration.h"
 
-namespace {
-
-using FastLio2 = imuconv::plugin::KernelPropagator<
+IMUCONV_KERNEL_PROPAGATOR(
+    "fast_lio2", "1.0.0",
+    "FAST-LIO2 ImuProcess + IKFoM predict as built (identity rotation block of F, "
+    "scalar_type(1/2) = 0); densities as Q = sigma^2 f; native fast_lio2",
     imuconv::kernels::FastLio2Propagator<imuconv::kernels::FastLio2Transition::kAsFastLio,
-                                         imuconv::kernels::FastLio2NoiseReading::kDensities>>;
-
-}  // namespace
-
-IMUCONV_PLUGIN(Propagator, FastLio2, "fast_lio2", "1.0.0",
-               "FAST-LIO2 ImuProcess + IKFoM predict as built (identity rotation block of F, "
-               "scalar_type(1/2) = 0); densities as Q = sigma^2 f; native fast_lio2")
+                                         imuconv::kernels::FastLio2NoiseReading::kDensities>)

@@ -8,17 +8,11 @@
 // the four values of a FAST-LIO configuration file to get that run's covariance. They are
 // the densities' sigma^2 f (what `fast_lio2` forms) only when they were chosen so.
 #include "imuconv/kernels/fast_lio2.h"
-#include "imuconv/plugin/kernel_plugin.h"
-#include "imuconv/plugin_abi.h"
+#include "imuconv/plugin/kernel_registration.h"
 
-namespace {
-
-using FastLio2AsConfigured = imuconv::plugin::KernelPropagator<
+IMUCONV_KERNEL_PROPAGATOR(
+    "fast_lio2_as_configured", "1.0.0",
+    "FAST-LIO2 propagation as built; noise numbers used as its gyr_cov, acc_cov, "
+    "b_gyr_cov, b_acc_cov (per-sample variances)",
     imuconv::kernels::FastLio2Propagator<imuconv::kernels::FastLio2Transition::kAsFastLio,
-                                         imuconv::kernels::FastLio2NoiseReading::kAsConfigured>>;
-
-}  // namespace
-
-IMUCONV_PLUGIN(Propagator, FastLio2AsConfigured, "fast_lio2_as_configured", "1.0.0",
-               "FAST-LIO2 propagation as built; noise numbers used as its gyr_cov, acc_cov, "
-               "b_gyr_cov, b_acc_cov (per-sample variances)")
+                                         imuconv::kernels::FastLio2NoiseReading::kAsConfigured>)

@@ -8,17 +8,11 @@
 // the transition differ. The variant exists to measure what the quirk does to a user
 // (docs/fast-lio2.md); FAST-LIO's own numbers are `fast_lio2`'s.
 #include "imuconv/kernels/fast_lio2.h"
-#include "imuconv/plugin/kernel_plugin.h"
-#include "imuconv/plugin_abi.h"
+#include "imuconv/plugin/kernel_registration.h"
 
-namespace {
-
-using FastLio2ExactRotation = imuconv::plugin::KernelPropagator<
+IMUCONV_KERNEL_PROPAGATOR(
+    "fast_lio2_exact_rotation", "1.0.0",
+    "FAST-LIO2 propagation with the rotation block of F Exp(-w dt), the half-angle "
+    "IKFoM meant; densities as Q = sigma^2 f; native fast_lio2",
     imuconv::kernels::FastLio2Propagator<imuconv::kernels::FastLio2Transition::kExactRotation,
-                                         imuconv::kernels::FastLio2NoiseReading::kDensities>>;
-
-}  // namespace
-
-IMUCONV_PLUGIN(Propagator, FastLio2ExactRotation, "fast_lio2_exact_rotation", "1.0.0",
-               "FAST-LIO2 propagation with the rotation block of F Exp(-w dt), the half-angle "
-               "IKFoM meant; densities as Q = sigma^2 f; native fast_lio2")
+                                         imuconv::kernels::FastLio2NoiseReading::kDensities>)

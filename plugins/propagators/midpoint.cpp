@@ -2,22 +2,13 @@
 // reference "mid" input), otherwise the Euler step: the exact Jacobian of the discrete step
 // as transition matrix and discrete noise; native convention `left`.
 // The kernel is core/include/imuconv/kernels/euler.h.
-#include "imuconv/kernels/euler.h"
 #include "imuconv/kernels/mean_only.h"
 #include "imuconv/plugin/kernel_plugin.h"
 #include "imuconv/plugin_abi.h"
 
 namespace {
 
-struct Midpoint {
-  imuconv::Status operator()(const imuconv::PropagationInput& in,
-                             imuconv::PropagationResult& out) const {
-    return imuconv::kernels::PropagateHeld<imuconv::kernels::Hold::Midpoint>(in, out);
-  }
-  static imuconv::Status Mean(const imuconv::PreintegrationInput& in,
-                              imuconv::PreintIncrement& delta) {
-    return imuconv::kernels::HeldIncrementMean<imuconv::kernels::Hold::Midpoint>(in, delta);
-  }
+struct Midpoint : imuconv::kernels::HeldPropagation<imuconv::kernels::Hold::Midpoint> {
   // Averages the two ends of each step: each sample's cell is half of each step beside it.
   static constexpr imuconv::NoiseSimulation kNoiseSimulation{imuconv::SampleCells::kCentered};
 };

@@ -12,17 +12,11 @@
 // It agrees with OKVIS's own numbers on the ten reference cases
 // (tests/reference/okvis2_plugins_anchor.cpp).
 #include "imuconv/kernels/okvis2_scheme.h"
-#include "imuconv/plugin/kernel_plugin.h"
-#include "imuconv/plugin_abi.h"
-
-namespace {
+#include "imuconv/plugin/kernel_registration.h"
 
 // Centered cells, continuous densities (kernels/okvis2_scheme.h); no mean-only integration.
-using Okvis2Propagator = imuconv::plugin::KernelPropagator<
-    imuconv::kernels::Okvis2PropagationScheme<imuconv::kernels::Okvis2Transition::kAsOkvis>>;
-
-}  // namespace
-
-IMUCONV_PLUGIN(Propagator, Okvis2Propagator, "okvis2", "1.0.0",
-               "OKVIS2 ImuError::propagation (trapezoid, exact rotation) with its F_delta "
-               "covariance as coded (whole-interval blocks); native okvis2")
+IMUCONV_KERNEL_PROPAGATOR(
+    "okvis2", "1.0.0",
+    "OKVIS2 ImuError::propagation (trapezoid, exact rotation) with its F_delta "
+    "covariance as coded (whole-interval blocks); native okvis2",
+    imuconv::kernels::Okvis2PropagationScheme<imuconv::kernels::Okvis2Transition::kAsOkvis>)

@@ -7,17 +7,10 @@
 // covariance is OpenVINS discrete's to the position noise term, tests/integrators/okvis2.cpp).
 // Same densities, same end state and Jacobian as `okvis2`; native convention `okvis2`.
 #include "imuconv/kernels/okvis2_scheme.h"
-#include "imuconv/plugin/kernel_plugin.h"
-#include "imuconv/plugin_abi.h"
+#include "imuconv/plugin/kernel_registration.h"
 
-namespace {
-
-// Centered cells, continuous densities (kernels/okvis2_scheme.h); no mean-only integration.
-using Okvis2StepLocalPropagator = imuconv::plugin::KernelPropagator<
-    imuconv::kernels::Okvis2PropagationScheme<imuconv::kernels::Okvis2Transition::kOkvisStepLocal>>;
-
-}  // namespace
-
-IMUCONV_PLUGIN(Propagator, Okvis2StepLocalPropagator, "okvis2_step_local", "1.0.0",
-               "OKVIS2 ImuError::propagation with step-local F_delta blocks (the exact "
-               "transition of its step); native okvis2")
+IMUCONV_KERNEL_PROPAGATOR(
+    "okvis2_step_local", "1.0.0",
+    "OKVIS2 ImuError::propagation with step-local F_delta blocks (the exact "
+    "transition of its step); native okvis2",
+    imuconv::kernels::Okvis2PropagationScheme<imuconv::kernels::Okvis2Transition::kOkvisStepLocal>)

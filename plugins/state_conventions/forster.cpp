@@ -15,26 +15,11 @@ namespace {
 using namespace imuconv::plugin::prelude;
 
 constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::bg, Block::ba};
-constexpr std::array kBodyFrame{Block::theta, Block::p};  // left's blocks rotated by R^T
+// left's blocks rotated by R^T: p body-frame, v not
+constexpr std::array kBodyFrame{Block::theta, Block::p};
 
-class Forster
-    : public imuconv::plugin::RotatedBlocksChart<imuconv::plugin::StateChart<kOrder>, kBodyFrame> {
- public:
-  void retract(const ImuState& x, const Vec15& d, ImuState& y) const noexcept override {
-    y.R = x.R * so3::Exp(d.segment<3>(theta));
-    y.p = x.p + x.R * d.segment<3>(p);
-    y.v = x.v + d.segment<3>(v);
-    RetractBiases(x, d, y);
-  }
-
-  void local(const ImuState& x, const ImuState& y, Vec15& d) const noexcept override {
-    const Mat3 Rt = x.R.transpose();
-    d.segment<3>(theta) = so3::Log(Rt * y.R);
-    d.segment<3>(p) = Rt * (y.p - x.p);
-    d.segment<3>(v) = y.v - x.v;
-    LocalBiases(x, y, d);
-  }
-};
+using Forster =
+    imuconv::plugin::RightRotationChart<imuconv::plugin::StateChart<kOrder>, kBodyFrame>;
 
 }  // namespace
 

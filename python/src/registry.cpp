@@ -15,6 +15,22 @@
 namespace imuconv::python {
 namespace {
 
+// A chart's retract and local as the module gives them, for a state and an increment
+// convention alike: d read as a (15,) array named "d", the perturbation returned as one.
+template <class Value>
+Value ChartRetract(const Chart<Value>& chart, const Value& x, py::handle d) {
+  const Vec15 dx = ToFixed<15, 1>(d, "d");
+  Value y;
+  chart.retract(x, dx, y);
+  return y;
+}
+template <class Value>
+py::array ChartLocal(const Chart<Value>& chart, const Value& x, const Value& y) {
+  Vec15 d;
+  chart.local(x, y, d);
+  return ToArray(d);
+}
+
 py::dict InfoDict(const PluginInfo& p) {
   py::dict d;
   d["id"] = p.id;
@@ -163,21 +179,14 @@ void BindRegistry(py::module_& m) {
   reg.def(
       "retract",
       [](const LoadedRegistry& r, const std::string& convention, const ImuState& x, py::handle d) {
-        const Vec15 dx = ToFixed<15, 1>(d, "d");
-        ImuState y;
-        r.state_convention(convention)->retract(x, dx, y);
-        return y;
+        return ChartRetract(*r.state_convention(convention), x, d);
       },
       py::arg("convention"), py::arg("x"), py::arg("d"),
       "The state convention's chart: x perturbed by d (15,).");
   reg.def(
       "local",
       [](const LoadedRegistry& r, const std::string& convention, const ImuState& x,
-         const ImuState& y) {
-        Vec15 d;
-        r.state_convention(convention)->local(x, y, d);
-        return ToArray(d);
-      },
+         const ImuState& y) { return ChartLocal(*r.state_convention(convention), x, y); },
       py::arg("convention"), py::arg("x"), py::arg("y"),
       "The state convention's chart: d with retract(x, d) = y.");
 
@@ -191,20 +200,13 @@ void BindRegistry(py::module_& m) {
   reg.def(
       "increment_retract",
       [](const LoadedRegistry& r, const std::string& convention, const PreintIncrement& x,
-         py::handle d) {
-        const Vec15 dx = ToFixed<15, 1>(d, "d");
-        PreintIncrement y;
-        r.increment_convention(convention)->retract(x, dx, y);
-        return y;
-      },
+         py::handle d) { return ChartRetract(*r.increment_convention(convention), x, d); },
       py::arg("convention"), py::arg("delta"), py::arg("d"));
   reg.def(
       "increment_local",
       [](const LoadedRegistry& r, const std::string& convention, const PreintIncrement& x,
          const PreintIncrement& y) {
-        Vec15 d;
-        r.increment_convention(convention)->local(x, y, d);
-        return ToArray(d);
+        return ChartLocal(*r.increment_convention(convention), x, y);
       },
       py::arg("convention"), py::arg("delta"), py::arg("other"));
   reg.def(

@@ -278,10 +278,16 @@ void Registry::adopt(const std::string& path, const EntryPoints& e) {
     return got;
   };
 
-  // A convention of either kind: checked against its reference chart, then kept.
-  auto adopt_chart = [&](auto* typed, const char* what) {
+  // Any object: owned with the plugin's destroy(), then its id checked against the
+  // descriptor's.
+  auto adopt = [&](auto* typed) {
     auto obj = wrap(typed);
     id_check(obj->id());
+    return obj;
+  };
+  // A convention of either kind: checked against its reference chart, then kept.
+  auto adopt_chart = [&](auto* typed, const char* what) {
+    auto obj = adopt(typed);
     bool analytic = false;
     const std::string err = detail::CheckConvention(*obj, &analytic);
     if (!err.empty())
@@ -302,23 +308,20 @@ void Registry::adopt(const std::string& path, const EntryPoints& e) {
       break;
     }
     case PluginKind::Propagator: {
-      auto obj = wrap(static_cast<Propagator*>(raw));
-      id_check(obj->id());
+      auto obj = adopt(static_cast<Propagator*>(raw));
       info.native_convention = ref_id(obj->native_convention(), "native_convention()");
       impl_->propagators.emplace(id, obj);
       break;
     }
     case PluginKind::Preintegrator: {
-      auto obj = wrap(static_cast<Preintegrator*>(raw));
-      id_check(obj->id());
+      auto obj = adopt(static_cast<Preintegrator*>(raw));
       info.native_convention = ref_id(obj->cov_convention(), "cov_convention()");
       info.jacobian_convention = ref_id(obj->jacobian_convention(), "jacobian_convention()");
       impl_->preintegrators.emplace(id, obj);
       break;
     }
     case PluginKind::Residual: {
-      auto obj = wrap(static_cast<ResidualFactor*>(raw));
-      id_check(obj->id());
+      auto obj = adopt(static_cast<ResidualFactor*>(raw));
       // "gtsam" and "forster" name the registry's generic residuals (bridge.h, ResidualKind),
       // which the residual task and the Python module resolve before any plugin.
       if (id == "gtsam" || id == "forster")

@@ -8,7 +8,10 @@
 #pragma once
 
 #include <array>
+#include <iterator>
 #include <string_view>
+
+#include "imuconv/enum_name.h"
 
 namespace imuconv {
 
@@ -17,21 +20,14 @@ enum class Block : unsigned char { p, theta, v, bg, ba };
 
 constexpr int kBlockCount = 5;
 
+namespace detail {
+inline constexpr const char* kBlockNames[] = {"p", "theta", "v", "bg", "ba"};  // Block's order
+static_assert(std::size(kBlockNames) == kBlockCount, "a name per block");
+}  // namespace detail
+
 /// "p", "theta", "v", "bg", "ba"; nullptr for a value outside the enum (a hostile plugin).
 constexpr const char* BlockName(Block b) noexcept {
-  switch (b) {
-    case Block::p:
-      return "p";
-    case Block::theta:
-      return "theta";
-    case Block::v:
-      return "v";
-    case Block::bg:
-      return "bg";
-    case Block::ba:
-      return "ba";
-  }
-  return nullptr;
+  return EnumName(b, Block::p, detail::kBlockNames, nullptr);
 }
 
 /// Labels of the five 3-blocks in a convention's order, e.g. {"theta","p","v","ba","bg"}.

@@ -4,9 +4,11 @@
 // exporting side is plugin_abi.h, target imuconv::plugin_abi).
 #pragma once
 
+#include <iterator>
 #include <vector>
 
 #include "imuconv/chart.h"
+#include "imuconv/enum_name.h"
 #include "imuconv/export.h"
 #include "imuconv/preintegrator.h"
 #include "imuconv/propagator.h"
@@ -41,21 +43,13 @@ inline constexpr PluginKind kPluginKinds[] = {
     PluginKind::Preintegrator, PluginKind::Residual};
 
 /// The kind's name in messages and outputs. An increment convention is "preint_convention"
-/// there: the name is part of the output format (plugins_used, `imuconv plugins`).
+/// there: the name is part of the output format (plugins_used, `imuconv plugins`). "unknown"
+/// for a value that is no kind (a hostile plugin's descriptor).
 inline const char* KindName(PluginKind k) noexcept {
-  switch (k) {
-    case PluginKind::StateConvention:
-      return "state_convention";
-    case PluginKind::IncrementConvention:
-      return "preint_convention";
-    case PluginKind::Propagator:
-      return "propagator";
-    case PluginKind::Preintegrator:
-      return "preintegrator";
-    case PluginKind::Residual:
-      return "residual";
-  }
-  return "unknown";
+  static constexpr const char* kNames[] = {"state_convention", "preint_convention", "propagator",
+                                           "preintegrator", "residual"};  // from kind 1 on
+  static_assert(std::size(kNames) == std::size(kPluginKinds), "a name per kind");
+  return EnumName(k, PluginKind::StateConvention, kNames, "unknown");
 }
 
 /// Layout facts both sides must agree on before any object crosses the boundary.

@@ -42,10 +42,37 @@ inline void HeldEndState(const PropagationInput& in, ImuState& x_e) {
                                x_e);  // as IntegrateHeldByPreintegration composes it
 }
 
-inline void EndStateAsIncrement(const ImuState& x_e, PreintIncrement& delta) {
+/// Preintegration by propagation's increment (the paper, section 3.1): the bridge's start
+/// (identity, zero gravity) checked as a propagation's input, then `end_state(in, x_e)`
+/// propagated from it; the end state is the increment (dR, dp, dv; bias entries left zero).
+template <class EndState>
+inline Status IncrementByPropagation(const PreintegrationInput& pin, EndState end_state,
+                                     PreintIncrement& delta) {
+  delta = PreintIncrement();
+  const PropagationInput in = PreintegrationByPropagationStart(pin.window, pin.bg, pin.ba,
+                                                               pin.noise);  // the bridge's start
+  Status st = CheckPropagationInput(in);
+  if (!st.ok()) return st;
+  ImuState x_e;
+  end_state(in, x_e);
   delta.dR = x_e.R;
   delta.dp = x_e.p;
   delta.dv = x_e.v;
+  return st;
+}
+
+/// A native preintegrator's increment (dR, dp, dv; its bias entries left zero): `run` is the
+/// scheme's recursion with its covariance switched off, writing a Preintegrated.
+template <class RunWithoutCovariance>
+inline Status IncrementWithoutCovariance(RunWithoutCovariance run, PreintIncrement& delta) {
+  delta = PreintIncrement();
+  Preintegrated out;
+  const Status st = run(out);
+  if (!st.ok()) return st;
+  delta.dR = out.delta.dR;
+  delta.dp = out.delta.dp;
+  delta.dv = out.delta.dv;
+  return st;
 }
 
 }  // namespace mean_only_detail
@@ -59,51 +86,44 @@ inline void EndStateAsIncrement(const ImuState& x_e, PreintIncrement& delta) {
 /// euler (Hold::Euler) and midpoint (Hold::Midpoint): PropagateHeld's end state.
 template <Hold kHold>
 inline Status HeldIncrementMean(const PreintegrationInput& pin, PreintIncrement& delta) {
-  delta = PreintIncrement();
-  const PropagationInput in = PreintegrationByPropagationStart(pin.window, pin.bg, pin.ba,
-                                                               pin.noise);  // the bridge's start
-  Status st = CheckPropagationInput(in);
-  if (!st.ok()) return st;
-  ImuState x_e;
-  mean_only_detail::HeldEndState<kHold>(in, x_e);
-  mean_only_detail::EndStateAsIncrement(x_e, delta);
-  return st;
+  return mean_only_detail::IncrementByPropagation(pin, mean_only_detail::HeldEndState<kHold>,
+                                                  delta);
 }
+
+/// euler and midpoint as a propagator plugin's kernel (plugin/kernel_plugin.h): PropagateHeld,
+/// with HeldIncrementMean as its mean alone. Its noise simulation is the default (forward
+/// cells); a hold whose samples stand for other cells says so on a struct derived from it.
+template <Hold kHold>
+struct HeldPropagation {
+  Status operator()(const PropagationInput& in, PropagationResult& out) const {
+    return PropagateHeld<kHold>(in, out);
+  }
+  static Status Mean(const PreintegrationInput& in, PreintIncrement& delta) {
+    return HeldIncrementMean<kHold>(in, delta);
+  }
+};
 
 /// rk4 with `steps` steps per knot interval: PropagateRk4's end state (its state-only mode).
 inline Status Rk4IncrementMean(const PreintegrationInput& pin, int steps, PreintIncrement& delta) {
-  delta = PreintIncrement();
-  const PropagationInput in = PreintegrationByPropagationStart(pin.window, pin.bg, pin.ba,
-                                                               pin.noise);  // the bridge's start
-  Status st = CheckPropagationInput(in);
-  if (!st.ok()) return st;
-  PropagationResult r;
-  IntegrateRk4Window(in, r, Outputs::State, steps, Isa::kAuto);
-  mean_only_detail::EndStateAsIncrement(r.x_e, delta);
-  return st;
+  return mean_only_detail::IncrementByPropagation(
+      pin,
+      [steps](const PropagationInput& in, ImuState& x_e) {
+        PropagationResult r;
+        IntegrateRk4Window(in, r, Outputs::State, steps, Isa::kAuto);
+        x_e = r.x_e;
+      },
+      delta);
 }
 
 /// manifold and tangent: IntegrateManifold<false> / IntegrateTangent<false>'s increment, the
 /// recursion with its covariance switched off.
 inline Status ManifoldIncrementMean(const PreintegrationInput& in, PreintIncrement& delta) {
-  delta = PreintIncrement();
-  Preintegrated out;
-  const Status st = IntegrateManifold<false>(in, out);
-  if (!st.ok()) return st;
-  delta.dR = out.delta.dR;
-  delta.dp = out.delta.dp;
-  delta.dv = out.delta.dv;
-  return st;
+  return mean_only_detail::IncrementWithoutCovariance(
+      [&in](Preintegrated& out) { return IntegrateManifold<false>(in, out); }, delta);
 }
 inline Status TangentIncrementMean(const PreintegrationInput& in, PreintIncrement& delta) {
-  delta = PreintIncrement();
-  Preintegrated out;
-  const Status st = IntegrateTangent<false>(in, out);
-  if (!st.ok()) return st;
-  delta.dR = out.delta.dR;
-  delta.dp = out.delta.dp;
-  delta.dv = out.delta.dv;
-  return st;
+  return mean_only_detail::IncrementWithoutCovariance(
+      [&in](Preintegrated& out) { return IntegrateTangent<false>(in, out); }, delta);
 }
 
 }  // namespace imuconv::kernels

@@ -15,6 +15,7 @@
 // set and chosen at run time from the CPU, lives in the library (core/src/kernels/).
 #pragma once
 
+#include "imuconv/enum_name.h"
 #include "imuconv/export.h"
 #include "imuconv/preintegrator.h"
 #include "imuconv/status.h"
@@ -104,19 +105,9 @@ IMUCONV_API Isa BestIsa();
 /// "auto", "baseline", "avx2", "avx512", "portable" (benchmark names; the shard files of run and
 /// montecarlo, which record BestIsa(), never "portable").
 inline const char* IsaName(Isa isa) {
-  switch (isa) {
-    case Isa::kBaseline:
-      return "baseline";
-    case Isa::kAvx2:
-      return "avx2";
-    case Isa::kAvx512:
-      return "avx512";
-    case Isa::kPortable:
-      return "portable";
-    case Isa::kAuto:
-      break;
-  }
-  return "auto";
+  static constexpr const char* kNames[] = {"auto", "baseline", "avx2", "avx512",
+                                           "portable"};  // from kAuto on
+  return EnumName(isa, Isa::kAuto, kNames, "auto");
 }
 
 /// Checks what the drivers rely on: at least two knots, finite data, strictly increasing

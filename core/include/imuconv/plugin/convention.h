@@ -15,11 +15,14 @@
 // blocks states only which, and writes retract and local alone:
 //   constexpr std::array kBodyFrame{Block::theta, Block::p};
 //   class MyChart : public RotatedBlocksChart<StateChart<kOrder>, kBodyFrame> { retract, local };
+// One whose rotation is perturbed on the right and whose p, v are body-frame where listed and
+// additive where not is all in that list: `using MyChart = RightRotationChart<..., kBodyFrame>`.
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <initializer_list>
+#include <type_traits>
 #include <utility>
 
 #include "imuconv/chart.h"
@@ -198,6 +201,8 @@ class LeftPerturbedIncrementChart : public IncrementChart<Order, BiasSign> {
 /// The rotation a chart's body frame is that of: the state's R, or the increment's Delta R.
 inline const Mat3& RotationOf(const ImuState& x) noexcept { return x.R; }
 inline const Mat3& RotationOf(const PreintIncrement& x) noexcept { return x.dR; }
+inline Mat3& RotationOf(ImuState& x) noexcept { return x.R; }
+inline Mat3& RotationOf(PreintIncrement& x) noexcept { return x.dR; }
 
 /// A chart (Chart, a StateChart or IncrementChart) whose blocks `Rotated` are the reference
 /// chart's seen in the frame of the estimate's rotation (d_b = R^T d_ref_b, at least to first
@@ -212,6 +217,81 @@ class RotatedBlocksChart : public ChartBase {
   }
   bool J_this_ref(const Value& x, Mat15& J) const noexcept override {
     return ChartBase::ThisRefRotated(J, RotationOf(x), Rotated);
+  }
+};
+
+/// The translation block B (p or v) of a state (p, v) or an increment (dp, dv), const or not.
+template <Block B, class Value>
+auto& TranslationOf(Value& x) noexcept {
+  static_assert(B == Block::p || B == Block::v, "a translation block");
+  if constexpr (std::is_same_v<std::remove_const_t<Value>, ImuState>) {
+    if constexpr (B == Block::p)
+      return x.p;
+    else
+      return x.v;
+  } else {
+    if constexpr (B == Block::p)
+      return x.dp;
+    else
+      return x.dv;
+  }
+}
+
+/// Whether `blocks` names `b`.
+template <std::size_t N>
+constexpr bool Contains(const std::array<Block, N>& blocks, Block b) noexcept {
+  for (const Block c : blocks)
+    if (c == b) return true;
+  return false;
+}
+
+/// A chart with the rotation perturbed on the right, R = R^ Exp(dtheta), each translation
+/// block t (p, v) in the body frame of the estimate, t = t^ + R^ dt, when it is one of
+/// `Rotated` and additive, t = t^ + dt, when it is not, and the biases of ChartBase: Forster's
+/// state, gtsam::NavState's, GTSAM ManifoldPreintegration's increment. One list gives retract,
+/// local and (RotatedBlocksChart) the Jacobians. Against `left` a right rotation error is the
+/// left one seen in the body frame, against `preint_reference` it is that chart's own: theta is
+/// in `Rotated` for a state chart and only there (checked).
+template <class ChartBase, const auto& Rotated>
+class RightRotationChart : public RotatedBlocksChart<ChartBase, Rotated> {
+  using Value = typename ChartBase::value_type;
+  static_assert(Contains(Rotated, Block::theta) == std::is_same_v<Value, ImuState>,
+                "theta is a body-frame block against `left`, the reference's own against "
+                "`preint_reference`");
+
+ public:
+  void retract(const Value& x, const Vec15& d, Value& y) const noexcept override {
+    RotationOf(y) = RotationOf(x) * so3::Exp(d.template segment<3>(ChartBase::theta));
+    Translate<Block::p>(x, d, y);
+    Translate<Block::v>(x, d, y);
+    ChartBase::RetractBiases(x, d, y);
+  }
+  void local(const Value& x, const Value& y, Vec15& d) const noexcept override {
+    const Mat3 Rt = RotationOf(x).transpose();
+    d.template segment<3>(ChartBase::theta) = so3::Log(Rt * RotationOf(y));
+    Difference<Block::p>(Rt, x, y, d);
+    Difference<Block::v>(Rt, x, y, d);
+    ChartBase::LocalBiases(x, y, d);
+  }
+
+ private:
+  static constexpr int OffsetOf(Block b) noexcept {
+    return b == Block::p ? ChartBase::p : ChartBase::v;
+  }
+  template <Block B>
+  static void Translate(const Value& x, const Vec15& d, Value& y) noexcept {
+    if constexpr (Contains(Rotated, B))
+      TranslationOf<B>(y) =
+          TranslationOf<B>(x) + RotationOf(x) * d.template segment<3>(OffsetOf(B));
+    else
+      TranslationOf<B>(y) = TranslationOf<B>(x) + d.template segment<3>(OffsetOf(B));
+  }
+  template <Block B>
+  static void Difference(const Mat3& Rt, const Value& x, const Value& y, Vec15& d) noexcept {
+    if constexpr (Contains(Rotated, B))
+      d.template segment<3>(OffsetOf(B)) = Rt * (TranslationOf<B>(y) - TranslationOf<B>(x));
+    else
+      d.template segment<3>(OffsetOf(B)) = TranslationOf<B>(y) - TranslationOf<B>(x);
   }
 };
 

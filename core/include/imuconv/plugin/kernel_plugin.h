@@ -11,6 +11,10 @@
 //   };
 //   IMUCONV_PLUGIN(Propagator, imuconv::plugin::KernelPropagator<Euler>, "euler", "1.0.0", "...")
 //
+// A kernel that is a template instance of the core (kernels/fast_lio2.h, okvis2_scheme.h, ...)
+// is registered in one line, written in place: IMUCONV_KERNEL_PROPAGATOR or
+// IMUCONV_KERNEL_PREINTEGRATOR (plugin/kernel_registration.h).
+//
 // The optional capabilities are given once here, from what the kernel struct declares:
 //   static Status Mean(const PreintegrationInput&, PreintIncrement&)   the increment alone
 //     (increment_mean(), increment_mean.h): where the kernel has a mean-only function
@@ -52,38 +56,34 @@ Status MeanContained(const char* id, const PreintegrationInput& in,
   }
 }
 
-template <class Kernel, class = void>
-struct HasMean : std::false_type {};
-template <class Kernel>
-struct HasMean<Kernel, std::void_t<decltype(Kernel::Mean(std::declval<const PreintegrationInput&>(),
-                                                         std::declval<PreintIncrement&>()))>>
-    : std::true_type {};
+/// Whether the kernel struct declares Member<Kernel> (the detection idiom): each optional
+/// capability below is one such member, used where it is there and defaulted where not.
+template <template <class> class Member, class Kernel, class = void>
+struct Declares : std::false_type {};
+template <template <class> class Member, class Kernel>
+struct Declares<Member, Kernel, std::void_t<Member<Kernel>>> : std::true_type {};
 
-template <class Kernel, class = void>
-struct HasNativeConvention : std::false_type {};
 template <class Kernel>
-struct HasNativeConvention<Kernel, std::void_t<decltype(Kernel::kNativeConvention)>>
-    : std::true_type {};
+using MeanMember = decltype(Kernel::Mean(std::declval<const PreintegrationInput&>(),
+                                         std::declval<PreintIncrement&>()));
+template <class Kernel>
+using NativeConventionMember = decltype(Kernel::kNativeConvention);
+template <class Kernel>
+using NoiseSimulationMember = decltype(Kernel::kNoiseSimulation);
 
 /// The kernel's native state convention: Kernel::kNativeConvention where it says one, `left`
 /// (the convention of the core's own propagation kernels) where it does not.
 template <class Kernel>
 constexpr const char* NativeConventionOf() noexcept {
-  if constexpr (HasNativeConvention<Kernel>::value)
+  if constexpr (Declares<NativeConventionMember, Kernel>::value)
     return Kernel::kNativeConvention;
   else
     return "left";
 }
 
-template <class Kernel, class = void>
-struct HasNoiseSimulation : std::false_type {};
-template <class Kernel>
-struct HasNoiseSimulation<Kernel, std::void_t<decltype(Kernel::kNoiseSimulation)>>
-    : std::true_type {};
-
 template <class Kernel>
 NoiseSimulation NoiseSimulationOf() noexcept {
-  if constexpr (HasNoiseSimulation<Kernel>::value)
+  if constexpr (Declares<NoiseSimulationMember, Kernel>::value)
     return Kernel::kNoiseSimulation;
   else
     return NoiseSimulation();
@@ -92,7 +92,7 @@ NoiseSimulation NoiseSimulationOf() noexcept {
 template <class Kernel>
 Status IncrementMeanOf(const char* id, const PreintegrationInput& in,
                        PreintIncrement& delta) noexcept {
-  if constexpr (HasMean<Kernel>::value) {
+  if constexpr (Declares<MeanMember, Kernel>::value) {
     return MeanContained<Kernel>(id, in, delta);
   } else {
     (void)id;
@@ -102,44 +102,43 @@ Status IncrementMeanOf(const char* id, const PreintegrationInput& in,
   }
 }
 
+/// A propagator's or a preintegrator's (Base's) optional capabilities, increment_mean() and
+/// noise_simulation(), from what Kernel declares: written once for both kinds. It adds no
+/// virtual function, so Base's layout (the plugin ABI) is that of the kind.
+template <class Kernel, class Base>
+class KernelCapabilities : public Base {
+ public:
+  Status increment_mean(const PreintegrationInput& in,
+                        PreintIncrement& delta) const noexcept override {
+    return IncrementMeanOf<Kernel>(this->id(), in, delta);
+  }
+  NoiseSimulation noise_simulation() const noexcept override { return NoiseSimulationOf<Kernel>(); }
+};
+
 }  // namespace detail
 
 /// A propagator whose propagate() is Kernel{}(in, out), in the native convention
 /// Kernel::kNativeConvention (`left` when the kernel names none).
 template <class Kernel>
-class KernelPropagator : public Propagator {
+class KernelPropagator : public detail::KernelCapabilities<Kernel, Propagator> {
  public:
   const char* native_convention() const noexcept override {
     return detail::NativeConventionOf<Kernel>();
   }
   Status propagate(const PropagationInput& in, PropagationResult& out) const noexcept override {
-    return detail::RunContained<Kernel>(id(), in, out);
-  }
-  Status increment_mean(const PreintegrationInput& in,
-                        PreintIncrement& delta) const noexcept override {
-    return detail::IncrementMeanOf<Kernel>(id(), in, delta);
-  }
-  NoiseSimulation noise_simulation() const noexcept override {
-    return detail::NoiseSimulationOf<Kernel>();
+    return detail::RunContained<Kernel>(this->id(), in, out);
   }
 };
 
 /// A preintegrator whose integrate() is Kernel{}(in, out), with its covariance in
 /// Kernel::kCovConvention and its bias Jacobian in Kernel::kJacobianConvention.
 template <class Kernel>
-class KernelPreintegrator : public Preintegrator {
+class KernelPreintegrator : public detail::KernelCapabilities<Kernel, Preintegrator> {
  public:
   const char* cov_convention() const noexcept override { return Kernel::kCovConvention; }
   const char* jacobian_convention() const noexcept override { return Kernel::kJacobianConvention; }
   Status integrate(const PreintegrationInput& in, Preintegrated& out) const noexcept override {
-    return detail::RunContained<Kernel>(id(), in, out);
-  }
-  Status increment_mean(const PreintegrationInput& in,
-                        PreintIncrement& delta) const noexcept override {
-    return detail::IncrementMeanOf<Kernel>(id(), in, delta);
-  }
-  NoiseSimulation noise_simulation() const noexcept override {
-    return detail::NoiseSimulationOf<Kernel>();
+    return detail::RunContained<Kernel>(this->id(), in, out);
   }
 };
 
