@@ -10,7 +10,7 @@
 
 #include "imuconv/bridge.h"
 #include "imuconv/numeric.h"
-#include "imuconv/pipeline/json_io.h"
+#include "imuconv/pipeline/matrix_rows.h"
 #include "imuconv/pipeline/timing.h"
 #include "imuconv/printable.h"
 #include "imuconv/so3.h"

@@ -35,6 +35,7 @@ PUBLIC = {
     "json_check.h": "io",            # Node and Checker
     "json_parse.h": "io",            # ParseJsonFile, ParseJsonText, ReadJsonFileAs
     "json_writer.h": "io",
+    "matrix_rows.h": "io",           # a matrix as JSON rows (header-only: refcase writes with it)
     "output_file.h": "io",
     "result_arrays.h": "io",         # the NPZ arrays of an output document
     "standard_descriptors.h": "io",

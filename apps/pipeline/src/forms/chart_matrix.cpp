@@ -8,16 +8,6 @@
 
 namespace imuconv::pipeline {
 
-json MatrixToJson(const Eigen::MatrixXd& m) {
-  json rows = json::array();
-  for (Eigen::Index i = 0; i < m.rows(); ++i) {
-    json r = json::array();
-    for (Eigen::Index k = 0; k < m.cols(); ++k) r.push_back(m(i, k));
-    rows.push_back(std::move(r));
-  }
-  return rows;
-}
-
 json MixedMatrixToJson(const Eigen::MatrixXd& m, const std::string& row_convention,
                        const std::vector<std::string>& row_blocks,
                        const std::string& col_convention,

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "imuconv/pipeline/json_check.h"
+#include "imuconv/pipeline/matrix_rows.h"  // MatrixToJson
 #include "imuconv/pipeline/output_file.h"  // OutputFile, WriteFileAtomically (they lived here)
 #include "imuconv/registry.h"
 #include "imuconv/types.h"
@@ -22,7 +23,6 @@
 namespace imuconv::pipeline {
 
 json Vec3ToJson(const Vec3& v);
-json MatrixToJson(const Eigen::MatrixXd& m);
 json StateToJson(const ImuState& x);
 json NoiseToJson(const ImuNoise& n);
 /// {"rows": {...}, "cols": {...}, "matrix": m}.
