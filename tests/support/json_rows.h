@@ -1,20 +1,12 @@
-// A matrix as JSON rows [[...], ...], the layout of every matrix in imuconv's documents: the
-// inverse of JsonMatrix (imuconv_test.h), for tests that write a changed matrix into an input.
+// A matrix as JSON rows [[...], ...], the layout of every matrix in imuconv's documents, for
+// tests that write a changed matrix into an input: the outputs' own writer (matrix_rows.h), the
+// inverse of JsonMatrix (imuconv_test.h).
 #pragma once
 
-#include <Eigen/Core>
-#include <nlohmann/json.hpp>
+#include "imuconv/pipeline/matrix_rows.h"
 
 namespace imuconv::test {
 
-inline nlohmann::json JsonRows(const Eigen::MatrixXd& m) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (Eigen::Index i = 0; i < m.rows(); ++i) {
-    nlohmann::json r = nlohmann::json::array();
-    for (Eigen::Index k = 0; k < m.cols(); ++k) r.push_back(m(i, k));
-    rows.push_back(r);
-  }
-  return rows;
-}
+inline nlohmann::json JsonRows(const Eigen::MatrixXd& m) { return pipeline::MatrixToJson(m); }
 
 }  // namespace imuconv::test
