@@ -3,7 +3,6 @@
 #include "plugin_exercise.h"
 
 #include <cmath>
-#include <cstring>
 #include <vector>
 
 #include "imuconv/printable.h"
@@ -94,10 +93,9 @@ std::string CheckCostDeclaration(const ResidualFactor& factor, const std::string
     builtins.load_compiled_in();
   else
     (void)builtins.load_directory(Registry::default_plugin_dir());  // a failure shows below
-  std::string chart;  // read bounded: the plugin is untrusted (ResolveResidualCost says why)
-  if (spec->state_convention != nullptr)
-    chart.assign(spec->state_convention, strnlen(spec->state_convention, 257));
-  if (!chart.empty() && chart.size() <= 256 && !builtins.has(PluginKind::StateConvention, chart))
+  std::string chart;  // a broken name is ResolveResidualCost's to report
+  if (ReadCostName(spec->state_convention, chart) &&
+      !builtins.has(PluginKind::StateConvention, chart))
     return "its cost declaration is in state convention " + Quoted(chart) +
            ", which is not built in: it is checked where a factor is built with a registry "
            "that has it";

@@ -76,12 +76,7 @@ PropagationInput Input() {
 }
 
 PreintegrationInput PreintInput() {
-  PreintegrationInput in;
-  in.bg = kBiasGyro;
-  in.ba = kBiasAccel;
-  in.noise = Noise();
-  in.window = Window();
-  return in;
+  return PreintegrationInputOf(Window(), kBiasGyro, kBiasAccel, Noise());
 }
 
 // A failing call ends the benchmark with its message (Google Benchmark reports

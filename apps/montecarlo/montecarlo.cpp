@@ -86,11 +86,7 @@ Preintegrated PreintegrateAll(const Registry& reg, const PreintegrationMethod& m
 /// (increment_mean.h): "not provided" by a plugin without it.
 Status IncrementMean(const PreintegrationMethod& method, const SampleWindow& window,
                      const Input& input, PreintIncrement& delta) {
-  PreintegrationInput in;
-  in.bg = input.bg;
-  in.ba = input.ba;
-  in.noise = input.noise;
-  in.window = window;
+  const PreintegrationInput in = PreintegrationInputOf(window, input.bg, input.ba, input.noise);
   if (method.kind == PluginKind::Preintegrator && method.preintegrator)
     return method.preintegrator->increment_mean(in, delta);
   if (method.kind == PluginKind::Propagator && method.propagator)

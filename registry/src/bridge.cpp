@@ -180,13 +180,9 @@ Preintegrated FromResolved(const IncrementConvention& cov, const IncrementConven
 
 Preintegrated Native(const PreintegrationMethod& method, const SampleWindow& window, const Vec3& bg,
                      const Vec3& ba, const ImuNoise& noise) {
-  PreintegrationInput in;
-  in.bg = bg;
-  in.ba = ba;
-  in.noise = noise;
-  in.window = window;
   Preintegrated native;
-  const Status st = method.preintegrator->integrate(in, native);
+  const Status st =
+      method.preintegrator->integrate(PreintegrationInputOf(window, bg, ba, noise), native);
   if (!st.ok()) throw Error("preintegrator " + Quoted(method.id) + ": " + Printable(st.message()));
   // The plugin wrote the numbers only (preintegrated.h); its charts are the ones it declares.
   native.convention = method.cov_convention->id();

@@ -11,27 +11,23 @@ namespace imuconv {
 
 namespace {
 
-// Output names and convention ids are short; a longer string (or one without its terminating
-// NUL within this bound) is a broken declaration, not something to read on.
-constexpr std::size_t kMaxNameLength = 256;
-
-bool BoundedString(const char* s, std::string& out) {
-  if (s == nullptr) return false;
-  const std::size_t n = strnlen(s, kMaxNameLength + 1);
-  if (n == 0 || n > kMaxNameLength) return false;
-  out.assign(s, n);
-  return true;
-}
-
 // Largest column count a plugin may declare a Jacobian with (the registry bounds the
 // residual's dimension by 1000 the same way).
 constexpr int kMaxColumns = 1000;
 
 }  // namespace
 
+bool ReadCostName(const char* s, std::string& out) {
+  if (s == nullptr) return false;
+  const std::size_t n = strnlen(s, kMaxCostNameLength + 1);
+  if (n == 0 || n > kMaxCostNameLength) return false;
+  out.assign(s, n);
+  return true;
+}
+
 ResidualCostOutputs ResolveResidualCost(const Registry& reg, const ResidualFactor& factor) {
   ResidualCostOutputs o;
-  if (!BoundedString(factor.id(), o.id)) o.id = "?";
+  if (!ReadCostName(factor.id(), o.id)) o.id = "?";
   const std::string where = "residual plugin '" + o.id + "'";
   const ResidualCostSpec* spec = factor.cost_spec();
   if (spec == nullptr)
@@ -44,7 +40,7 @@ ResidualCostOutputs ResolveResidualCost(const Registry& reg, const ResidualFacto
                 " (expected 1 to 1000, the residual's dimension)");
   const auto add_output = [&](const char* name, int min_cols, const char* what) {
     std::string s;
-    if (!BoundedString(name, s))
+    if (!ReadCostName(name, s))
       throw Error(where + ": cost_spec()'s " + what +
                   " is not a name (null, empty or longer than 256 bytes)");
     for (std::size_t k = 0; k < o.names.size(); ++k)
@@ -57,7 +53,7 @@ ResidualCostOutputs ResolveResidualCost(const Registry& reg, const ResidualFacto
     return static_cast<int>(o.names.size() - 1);
   };
   add_output(spec->residual, 1, "residual");
-  if (!BoundedString(spec->state_convention, o.state_convention))
+  if (!ReadCostName(spec->state_convention, o.state_convention))
     throw Error(where + ": cost_spec()'s state_convention is not an id");
   if (!reg.has(PluginKind::StateConvention, o.state_convention)) {
     try {
@@ -133,7 +129,7 @@ void ResidualCostOutputSink::begin_group(const char* name) noexcept {
   if (!problem_.empty()) return;
   try {
     std::string s;
-    if (!BoundedString(name, s)) {
+    if (!ReadCostName(name, s)) {
       problem_ = "a group without a name (null, empty or too long)";
       return;
     }
@@ -156,7 +152,7 @@ void ResidualCostOutputSink::end_group() noexcept {
 }
 
 int ResidualCostOutputSink::Find(const char* name) {
-  const std::size_t n = strnlen(name, kMaxNameLength + 1);
+  const std::size_t n = strnlen(name, kMaxCostNameLength + 1);
   for (std::size_t k = 0; k < outputs_.names.size(); ++k) {
     const std::string& want = outputs_.names[k];
     if (want.size() == path_.size() + n && want.compare(0, path_.size(), path_) == 0 &&

@@ -7,9 +7,9 @@
 #include <cstddef>
 
 #include "imuconv/bridge.h"
+#include "imuconv/preintegrator.h"
 #include "imuconv/reference_charts.h"
 #include "imuconv_test.h"
-#include "preintegration_input.h"
 #include "scale_aware.h"
 #include "synthetic.h"
 
@@ -55,9 +55,7 @@ struct ChartScenario {
     LeftRetract(Predict(x_s, m.delta, m.dt, g), d, x_e);
   }
   /// What `m` is the preintegration of: the window at the bias estimate, with the test noise.
-  PreintegrationInput Input() const {
-    return test::PreintegrationInputOf(w, bg, ba, test::TestNoise());
-  }
+  PreintegrationInput Input() const { return PreintegrationInputOf(w, bg, ba, test::TestNoise()); }
 };
 
 double MaxRelative(const Eigen::MatrixXd& ref, const Eigen::MatrixXd& est) {

@@ -10,7 +10,6 @@
 #include "imuconv/preintegrator.h"
 #include "imuconv/window.h"
 #include "imuconv_test.h"
-#include "preintegration_input.h"
 #include "reference_case.h"
 
 namespace imuconv::test {

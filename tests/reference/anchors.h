@@ -17,7 +17,6 @@
 
 #include "../integrators/integrator_cases.h"
 #include "imuconv/preintegrator.h"
-#include "preintegration_input.h"
 #include "reference_case.h"
 
 namespace imuconv::test {

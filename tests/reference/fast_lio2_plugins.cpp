@@ -34,10 +34,10 @@
 #include "anchors.h"
 #include "imuconv/bridge.h"
 #include "imuconv/kernels/fast_lio2.h"
+#include "imuconv/preintegrator.h"
 #include "imuconv/so3.h"
 #include "imuconv/window.h"
 #include "imuconv_test.h"
-#include "preintegration_input.h"
 #include "reference_case.h"
 #include "scale_aware.h"
 

@@ -7,8 +7,8 @@
 
 #include "../bridge/synthetic.h"
 #include "imuconv/bridge.h"
+#include "imuconv/preintegrator.h"
 #include "imuconv_test.h"
-#include "preintegration_input.h"
 
 namespace {
 
@@ -77,7 +77,7 @@ TEST(PreintegrationMethod, PreintegratorMatchesFromConvention) {
     EXPECT_STREQ(m.jacobian_convention->id(), m.preintegrator->jacobian_convention()) << id;
 
     const SampleWindow w = Window(0.5);
-    const PreintegrationInput in = test::PreintegrationInputOf(w, kBg, kBa, test::TestNoise());
+    const PreintegrationInput in = PreintegrationInputOf(w, kBg, kBa, test::TestNoise());
     Preintegrated native;
     ASSERT_TRUE(m.preintegrator->integrate(in, native).ok());
     native.convention = m.preintegrator->cov_convention();

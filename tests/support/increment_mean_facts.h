@@ -29,9 +29,9 @@
 #include "declared_facts.h"
 #include "imuconv/bridge.h"
 #include "imuconv/increment_mean.h"
+#include "imuconv/preintegrator.h"
 #include "imuconv/window.h"
 #include "imuconv_test.h"
-#include "preintegration_input.h"
 #include "reference_case.h"
 
 namespace imuconv::test {

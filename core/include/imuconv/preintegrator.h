@@ -22,6 +22,18 @@ struct PreintegrationInput {
   SampleWindow window;
 };
 
+/// `window` at the bias estimate (bg, ba), with `noise`: all four fields given, none left at
+/// its default unnoticed. The window references its samples: they must outlive the input.
+inline PreintegrationInput PreintegrationInputOf(const SampleWindow& window, const Vec3& bg,
+                                                 const Vec3& ba, const ImuNoise& noise) {
+  PreintegrationInput in;
+  in.bg = bg;
+  in.ba = ba;
+  in.noise = noise;
+  in.window = window;
+  return in;
+}
+
 class Preintegrator {
  public:
   virtual ~Preintegrator() = default;

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,14 @@
 #include "imuconv/residual_factor.h"
 
 namespace imuconv {
+
+/// Output names and convention ids of a cost declaration are short; a longer string (or one
+/// without its terminating NUL within this bound) is a broken declaration, not one to read on.
+inline constexpr std::size_t kMaxCostNameLength = 256;
+
+/// `s` read as a name of a cost declaration into `out`: false for null, empty, or longer than
+/// kMaxCostNameLength (nothing past that bound is read).
+IMUCONV_API bool ReadCostName(const char* s, std::string& out);
 
 using RowMajorMatrixXd = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -27,12 +29,21 @@ constexpr TimeUnitRow kTimeUnits[] = {
     {TimeUnit::ns, 1, "ns", "nanoseconds"},
 };
 
-// Every TimeUnit has its row (the enum is closed; a value cast from outside it is a broken
-// invariant, reported as such instead of read past the table).
+constexpr bool RowsInEnumOrder() {
+  for (std::size_t i = 0; i < std::size(kTimeUnits); ++i)
+    if (static_cast<std::size_t>(kTimeUnits[i].unit) != i) return false;
+  return true;
+}
+static_assert(RowsInEnumOrder(), "kTimeUnits lists the units in TimeUnit's order");
+
+// A unit's row, by index as the switches it replaces were (NanosPerUnit runs per sample, in
+// RowLoop::relative). The enum is closed: a value cast from outside it is a broken invariant,
+// reported as such instead of read past the table.
 const TimeUnitRow& RowOf(TimeUnit u) {
-  for (const TimeUnitRow& row : kTimeUnits)
-    if (row.unit == u) return row;
-  throw std::logic_error("TimeUnit " + std::to_string(static_cast<int>(u)) + " has no row");
+  const auto i = static_cast<std::size_t>(u);
+  if (i >= std::size(kTimeUnits))
+    throw std::logic_error("TimeUnit " + std::to_string(static_cast<int>(u)) + " has no row");
+  return kTimeUnits[i];
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 // rule is stated in imuconv/pipeline/result_arrays.h.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <deque>
@@ -100,12 +101,50 @@ struct NumericKey : Occurrences {
   std::vector<std::vector<std::size_t>> shapes;  ///< the distinct shapes of its values
   std::vector<std::uint32_t> shape_of;           ///< per value
   std::vector<std::size_t> offset;               ///< per value, into data / integers
+
+  /// The numbers of the value just recorded, of `shape`: `reals`, or `integers` when !real.
+  /// A key is int64 until its first real; then its integers so far become reals, each by
+  /// to_real (which refuses one that is not exact in a double).
+  template <class ToReal>
+  void Append(const std::vector<std::size_t>& shape, const std::vector<double>& reals,
+              const std::vector<std::int64_t>& values, bool real, const ToReal& to_real) {
+    if (real && type == NdArray::Type::kInt64) {
+      data.reserve(integers.size() + reals.size());
+      for (std::int64_t i : integers) data.push_back(to_real(i));
+      integers = {};
+      type = NdArray::Type::kFloat64;
+    }
+    const auto s = std::find(shapes.begin(), shapes.end(), shape);
+    shape_of.push_back(static_cast<std::uint32_t>(s - shapes.begin()));
+    if (s == shapes.end()) shapes.push_back(shape);
+    if (type == NdArray::Type::kFloat64) {
+      offset.push_back(data.size());
+      if (real)
+        data.insert(data.end(), reals.begin(), reals.end());
+      else
+        for (std::int64_t i : values) data.push_back(to_real(i));
+    } else {
+      offset.push_back(integers.size());
+      integers.insert(integers.end(), values.begin(), values.end());
+    }
+  }
 };
 struct ValueKey : Occurrences {
   ojson first;
   ValueBuffer first_buffer;  ///< the events `first` was built from, when it was a buffered array
   bool first_from_buffer = false;
   std::vector<std::pair<std::size_t, ojson>> other;  ///< values that differ from the first
+
+  /// The value just recorded (count includes it): the first is kept, a later one only where
+  /// it differs from the first. Returns whether it became the first.
+  bool Keep(ojson v) {
+    if (count == 1) {
+      first = std::move(v);
+      return true;
+    }
+    if (v != first) other.emplace_back(count - 1, std::move(v));
+    return false;
+  }
 };
 
 }  // namespace imuconv::pipeline::detail

@@ -397,34 +397,13 @@ class Collector {
                   const std::vector<double>& reals, const std::vector<std::int64_t>& integers,
                   bool real) {
     Record(k, d);
-    if (real && k.type == NdArray::Type::kInt64) {  // the key's integers so far become reals
-      k.data.reserve(k.integers.size() + reals.size());
-      for (std::int64_t i : k.integers) k.data.push_back(ExactDouble(i, d));
-      k.integers = {};
-      k.type = NdArray::Type::kFloat64;
-    }
-    const auto s = std::find(k.shapes.begin(), k.shapes.end(), shape);
-    k.shape_of.push_back(static_cast<std::uint32_t>(s - k.shapes.begin()));
-    if (s == k.shapes.end()) k.shapes.push_back(shape);
-    if (k.type == NdArray::Type::kFloat64) {
-      k.offset.push_back(k.data.size());
-      if (real)
-        k.data.insert(k.data.end(), reals.begin(), reals.end());
-      else
-        for (std::int64_t i : integers) k.data.push_back(ExactDouble(i, d));
-    } else {
-      k.offset.push_back(k.integers.size());
-      k.integers.insert(k.integers.end(), integers.begin(), integers.end());
-    }
+    k.Append(shape, reals, integers, real, [&](std::int64_t i) { return ExactDouble(i, d); });
   }
 
   void EmitValue(const Destination& d, ojson v) {
     ValueKey& k = ValueKeyOf(d);
     Record(k, d);
-    if (k.count == 1)
-      k.first = std::move(v);
-    else if (v != k.first)
-      k.other.emplace_back(k.count - 1, std::move(v));
+    k.Keep(std::move(v));
   }
   /// EmitValue of the buffered array (not a rectangular array of numbers: a list of labels, say).
   /// The same list recurs once per element of an array of objects: when its events are those of
@@ -438,12 +417,9 @@ class Collector {
     }
     ojson v = buf_.ToJson();
     Record(k, d);
-    if (k.count == 1) {
-      k.first = std::move(v);
+    if (k.Keep(std::move(v))) {
       k.first_buffer = buf_;
       k.first_from_buffer = true;
-    } else if (v != k.first) {
-      k.other.emplace_back(k.count - 1, std::move(v));
     }
   }
   ValueKey& ValueKeyOf(const Destination& d) {

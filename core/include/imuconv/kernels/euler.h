@@ -191,12 +191,7 @@ namespace held_detail {
 /// The preintegration kernel's input for a held propagation: the window at the start state's
 /// biases.
 inline PreintegrationInput StartFrameInput(const PropagationInput& in) {
-  PreintegrationInput pin;
-  pin.bg = in.x_s.bg;
-  pin.ba = in.x_s.ba;
-  pin.noise = in.noise;
-  pin.window = in.window;
-  return pin;
+  return PreintegrationInputOf(in.window, in.x_s.bg, in.x_s.ba, in.noise);
 }
 
 /// The end state from the start state and the start-frame increment (paper, eq.
