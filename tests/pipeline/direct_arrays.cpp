@@ -127,6 +127,26 @@ void WriteEveryKind(JsonWriter& w) {
   w.key("empty");
   w.begin_object();
   w.end_object();
+  // Matrices, which the events carry whole with their shape: of every edge shape, and one with
+  // a NaN (written row by row, as null in the text).
+  w.key("no_rows");
+  w.matrix(Eigen::MatrixXd(0, 3));
+  w.key("empty_rows");
+  w.matrix(Eigen::MatrixXd(2, 0));
+  w.key("one_by_one");
+  w.matrix(Eigen::Matrix<double, 1, 1>::Constant(-0.25));
+  Eigen::MatrixXd wide(3, 40);  // rows longer than one formatting buffer
+  for (Eigen::Index i = 0; i < wide.size(); ++i) wide(i) = 1.0 / (1.0 + static_cast<double>(i));
+  w.key("wide");
+  w.matrix(wide);
+  Eigen::Matrix2d with_nan_m = Eigen::Matrix2d::Identity();
+  with_nan_m(1, 0) = std::nan("");
+  w.key("matrix_with_nan");
+  w.matrix(with_nan_m);
+  w.key("empty_vector");
+  w.vector(Eigen::VectorXd(0));
+  w.key("long_vector");
+  w.vector(wide.row(1).transpose());
   w.key("tasks");
   w.begin_array();
   for (int t = 0; t < 2; ++t) {
@@ -167,6 +187,26 @@ TEST(DirectArrays, EventsCarryEveryKindOfValueAsTheTextDoes) {
   pipeline::detail::EventCollector bytes("doc");
   for (char c : events) bytes.feed(std::string_view(&c, 1));
   ExpectSameArrays(bytes.finish(), from_text, "events byte by byte");
+}
+
+// A matrix's events are its shape and its numbers, one record: the collector takes the shape as
+// written instead of reading it off nested arrays.
+TEST(DirectArrays, AMatrixIsOneRecordWithItsShape) {
+  std::string events;
+  JsonWriter w(events, 0, {}, JsonWriter::NonFinite::Throw, JsonWriter::Form::kEvents);
+  Eigen::Matrix<double, 15, 15> m;
+  for (Eigen::Index i = 0; i < m.size(); ++i) m(i) = static_cast<double>(i);
+  w.matrix(m);
+  ASSERT_EQ(events.size(), 1u + 8 + 8 + 8 * 225);
+  EXPECT_EQ(events[0], 'm');
+  std::uint64_t rows = 0, cols = 0;
+  double m01 = 0;
+  std::memcpy(&rows, events.data() + 1, 8);
+  std::memcpy(&cols, events.data() + 9, 8);
+  std::memcpy(&m01, events.data() + 17 + 8, 8);  // row-major: the second number is (0, 1)
+  EXPECT_EQ(rows, 15u);
+  EXPECT_EQ(cols, 15u);
+  EXPECT_EQ(m01, m(0, 1));
 }
 
 TEST(DirectArrays, NonFiniteFailsWithTheTextsMessage) {

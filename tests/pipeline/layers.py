@@ -77,7 +77,7 @@ GATHERING = {
     # The NPZ output: the arrays (result_arrays.cpp) and the archive (result_npz.cpp); the
     # collector is defined in the one file that uses it.
     "include/imuconv/pipeline/result_arrays.h": {"src/io/result_npz.cpp"},
-    "src/io/sax_collector.h": {"src/io/result_arrays.cpp"},
+    "src/io/array_collector.h": {"src/io/result_arrays.cpp"},
 }
 
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)

@@ -349,6 +349,17 @@ void JsonWriter::numbers(const double* v, std::size_t n) {
   out_.append(buf, static_cast<std::size_t>(p - buf));
 }
 
+bool JsonWriter::whole_matrix(const double* v, std::size_t rows, std::size_t cols) {
+  for (std::size_t i = 0; i < rows * cols; ++i)
+    if (!std::isfinite(v[i])) return false;
+  before_value();
+  detail::PutEventScalar<std::uint64_t>(out_, 'm', rows);
+  const std::uint64_t c = cols;
+  detail::PutEventBytes(out_, &c, sizeof c);
+  detail::PutEventBytes(out_, v, 8 * rows * cols);
+  return true;
+}
+
 void JsonWriter::string_list(const std::vector<std::string>& v) {
   begin_line_array();
   for (const auto& s : v) string(s);

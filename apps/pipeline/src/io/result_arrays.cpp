@@ -1,7 +1,8 @@
 // The output document's numbers as N-d arrays: the end of the collection (Collector::Finish:
 // which keys fill their grid, the sidecar) and the two ways in, the document's text
-// (CollectResultArrays) and the writer's value events (EventCollector, result_collector.cpp).
-// The collector itself is sax_collector.h; the rule is stated in imuconv/pipeline/result_arrays.h.
+// (CollectResultArrays, parsed here) and the writer's value events (EventCollector,
+// result_collector.cpp). The collector itself is array_collector.h; the rule is stated in
+// imuconv/pipeline/result_arrays.h.
 #include "imuconv/pipeline/result_arrays.h"
 
 #include <cstdio>
@@ -10,7 +11,7 @@
 #include <unordered_set>
 
 #include "file_streambuf.h"
-#include "sax_collector.h"
+#include "array_collector.h"
 
 namespace imuconv::pipeline {
 namespace detail {
@@ -87,20 +88,45 @@ ResultArrays Collector::Finish() {
 
 }  // namespace detail
 
-using detail::Collector;
+namespace {
+
+/// The parsed text's values into the collector (nlohmann::json's SAX interface), one by one:
+/// every array element by element, its shape read off it when it closes.
+struct TextValues {
+  detail::Collector& c;
+  bool null() { return c.null(), true; }
+  bool boolean(bool b) { return c.boolean(b), true; }
+  bool number_integer(std::int64_t i) { return c.integer(i), true; }
+  bool number_unsigned(std::uint64_t u) { return c.unsigned_integer(u), true; }
+  bool number_float(double v, const std::string&) { return c.real(v), true; }
+  bool string(std::string& s) { return c.string(s), true; }
+  bool binary(nlohmann::json::binary_t&) { c.refuse("binary values are not JSON text"); }
+  bool start_object(std::size_t) { return c.begin_object(), true; }
+  bool key(std::string& k) { return c.key(k), true; }
+  bool end_object() { return c.end_object(), true; }
+  bool start_array(std::size_t) { return c.begin_array(), true; }
+  bool end_array() { return c.end_array(), true; }
+  bool parse_error(std::size_t position, const std::string&, const nlohmann::json::exception& e) {
+    c.not_json(position, e.what());
+  }
+};
+
+}  // namespace
 
 ResultArrays CollectResultArrays(std::FILE* text, const std::string& what) {
   detail::FileReader reader(text);
   std::istream in(&reader);
-  Collector c(what);
-  nlohmann::json::sax_parse(in, &c);
+  detail::Collector c(what);
+  TextValues values{c};
+  nlohmann::json::sax_parse(in, &values);
   if (std::ferror(text)) throw Error(what + ": reading the text back failed");
   return c.Finish();
 }
 
 ResultArrays CollectResultArrays(std::string_view text, const std::string& what) {
-  Collector c(what);
-  nlohmann::json::sax_parse(text.begin(), text.end(), &c);
+  detail::Collector c(what);
+  TextValues values{c};
+  nlohmann::json::sax_parse(text.begin(), text.end(), &values);
   return c.Finish();
 }
 

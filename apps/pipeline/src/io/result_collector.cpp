@@ -5,7 +5,7 @@
 
 #include <stdexcept>
 
-#include "sax_collector.h"
+#include "array_collector.h"
 #include "value_events.h"
 
 namespace imuconv::pipeline::detail {

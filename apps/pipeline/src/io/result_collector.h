@@ -11,7 +11,7 @@
 
 namespace imuconv::pipeline::detail {
 
-class Collector;  // sax_collector.h
+class Collector;  // array_collector.h
 
 class EventCollector {
  public:

@@ -1,4 +1,4 @@
-// What the result-array collector (sax_collector.h) keeps of the output document while it
+// What the result-array collector (array_collector.h) keeps of the output document while it
 // reads it: the frames it is in, where each key's values go (the key with the indices of
 // arrays of objects removed, the pointer with them kept), and per key the occurrences and values
 // that decide at the end whether they fill one N-d array. Internal to imuconv_pipeline; the
@@ -15,7 +15,6 @@
 #include <vector>
 
 #include "imuconv/pipeline/result_arrays.h"
-#include "value_buffer.h"
 
 namespace imuconv::pipeline::detail {
 
@@ -102,14 +101,14 @@ struct NumericKey : Occurrences {
   std::vector<std::uint32_t> shape_of;           ///< per value
   std::vector<std::size_t> offset;               ///< per value, into data / integers
 
-  /// The numbers of the value just recorded, of `shape`: `reals`, or `integers` when !real.
+  /// The n numbers of the value just recorded, of `shape`: `reals`, or `values` when !real.
   /// A key is int64 until its first real; then its integers so far become reals, each by
   /// to_real (which refuses one that is not exact in a double).
   template <class ToReal>
-  void Append(const std::vector<std::size_t>& shape, const std::vector<double>& reals,
-              const std::vector<std::int64_t>& values, bool real, const ToReal& to_real) {
+  void Append(const std::vector<std::size_t>& shape, const double* reals,
+              const std::int64_t* values, std::size_t n, bool real, const ToReal& to_real) {
     if (real && type == NdArray::Type::kInt64) {
-      data.reserve(integers.size() + reals.size());
+      data.reserve(integers.size() + n);
       for (std::int64_t i : integers) data.push_back(to_real(i));
       integers = {};
       type = NdArray::Type::kFloat64;
@@ -120,30 +119,26 @@ struct NumericKey : Occurrences {
     if (type == NdArray::Type::kFloat64) {
       offset.push_back(data.size());
       if (real)
-        data.insert(data.end(), reals.begin(), reals.end());
+        data.insert(data.end(), reals, reals + n);
       else
-        for (std::int64_t i : values) data.push_back(to_real(i));
+        for (std::size_t i = 0; i < n; ++i) data.push_back(to_real(values[i]));
     } else {
       offset.push_back(integers.size());
-      integers.insert(integers.end(), values.begin(), values.end());
+      for (std::size_t i = 0; i < n; ++i) integers.push_back(values[i]);  // (few: indices, counts)
     }
   }
 };
 struct ValueKey : Occurrences {
   ojson first;
-  ValueBuffer first_buffer;  ///< the events `first` was built from, when it was a buffered array
-  bool first_from_buffer = false;
   std::vector<std::pair<std::size_t, ojson>> other;  ///< values that differ from the first
 
   /// The value just recorded (count includes it): the first is kept, a later one only where
-  /// it differs from the first. Returns whether it became the first.
-  bool Keep(ojson v) {
-    if (count == 1) {
+  /// it differs from the first.
+  void Keep(ojson v) {
+    if (count == 1)
       first = std::move(v);
-      return true;
-    }
-    if (v != first) other.emplace_back(count - 1, std::move(v));
-    return false;
+    else if (v != first)
+      other.emplace_back(count - 1, std::move(v));
   }
 };
 

@@ -1,13 +1,15 @@
 // The value events JsonWriter writes in Form::kEvents: the calls a document is written with, as
-// compact binary records, so that the result-array collector (sax_collector.h) receives the
-// output's values (each number the double itself) without text in between. In-process only
-// (native byte order); internal to imuconv_pipeline.
+// compact binary records, so that the result-array collector (array_collector.h) receives the
+// output's values typed (each number the double itself, each vector and matrix whole with its
+// shape) without text in between. In-process only (native byte order); internal to
+// imuconv_pipeline.
 //
 // A record is one byte, then its payload:
 //   '{' '}' '[' ']'          an object or array opens or closes
 //   'k' LEN BYTES            a member name;  's' LEN BYTES  a string (LEN: 8 bytes)
 //   'd' DOUBLE  'i' INT64  'u' UINT64  't' 'f' 'n'   a number, true, false, null
-//   'v' N DOUBLE*N           a one-line array of N finite numbers (a vector, a matrix row)
+//   'v' N DOUBLE*N           a vector: a one-line array of N finite numbers
+//   'm' R C DOUBLE*(R*C)     a matrix: R rows of C finite numbers, row by row
 // A writer only ever hands whole records to the output's sink, but the replay does not rely on
 // it: it consumes the whole records of a piece and leaves the rest for the next.
 #pragma once
@@ -18,12 +20,11 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
-#include <type_traits>
-#include <utility>
+#include <vector>
 
 namespace imuconv::pipeline::detail {
 
-static_assert(sizeof(double) == 8, "a 'd' or 'v' record holds 8-byte doubles");
+static_assert(sizeof(double) == 8, "a 'd', 'v' or 'm' record holds 8-byte doubles");
 
 inline void PutEventBytes(std::string& out, const void* p, std::size_t n) {
   out.append(static_cast<const char*>(p), n);
@@ -42,106 +43,95 @@ inline void PutEventString(std::string& out, char tag, std::string_view s) {
   out.append(s.data(), s.size());
 }
 
-/// Whether `Sax` takes a 'v' record's numbers at once: `number_row(bytes, n)` for the n doubles
-/// between its start_array(n) and end_array(), the same as n calls of number_float.
-template <typename Sax, typename = void>
-struct TakesNumberRows : std::false_type {};
-template <typename Sax>
-struct TakesNumberRows<Sax, std::void_t<decltype(std::declval<Sax&>().number_row(
-                                static_cast<const char*>(nullptr), std::size_t{0}))>>
-    : std::true_type {};
-
-/// Calls `sax` (nlohmann::json's SAX interface) for each whole record at the start of `events`;
-/// returns the bytes consumed. A 'v' record is start_array, its numbers, end_array.
-template <typename Sax>
-std::size_t ReplayEvents(std::string_view events, Sax& sax) {
+/// Calls `values` (the result-array collector, array_collector.h) for each whole record at the
+/// start of `events`; returns the bytes consumed.
+template <typename Values>
+std::size_t ReplayEvents(std::string_view events, Values& values) {
   const char* const begin = events.data();
   const char* p = begin;
   const char* const end = begin + events.size();
-  auto has = [&](std::size_t n) { return static_cast<std::size_t>(end - p) >= n; };
+  const auto left = [&] { return static_cast<std::size_t>(end - p); };
   auto read = [&](auto& v) {
     std::memcpy(&v, p, sizeof v);
     p += sizeof v;
   };
-  std::string text;
+  std::vector<std::size_t> shape;
   while (p < end) {
     const char* const record = p;
+    const auto cut = [&] { return static_cast<std::size_t>(record - begin); };
     const char tag = *p++;
     switch (tag) {
       case '{':
-        sax.start_object(std::size_t(-1));
+        values.begin_object();
         break;
       case '}':
-        sax.end_object();
+        values.end_object();
         break;
       case '[':
-        sax.start_array(std::size_t(-1));
+        values.begin_array();
         break;
       case ']':
-        sax.end_array();
+        values.end_array();
         break;
       case 't':
-        sax.boolean(true);
+        values.boolean(true);
         break;
       case 'f':
-        sax.boolean(false);
+        values.boolean(false);
         break;
       case 'n':
-        sax.null();
+        values.null();
         break;
       case 'd': {
-        if (!has(8)) return static_cast<std::size_t>(record - begin);
+        if (left() < 8) return cut();
         double v;
         read(v);
-        sax.number_float(v, text);
+        values.real(v);
         break;
       }
       case 'i': {
-        if (!has(8)) return static_cast<std::size_t>(record - begin);
+        if (left() < 8) return cut();
         std::int64_t v;
         read(v);
-        sax.number_integer(v);
+        values.integer(v);
         break;
       }
       case 'u': {
-        if (!has(8)) return static_cast<std::size_t>(record - begin);
+        if (left() < 8) return cut();
         std::uint64_t v;
         read(v);
-        sax.number_unsigned(v);
+        values.unsigned_integer(v);
         break;
       }
       case 'k':
       case 's': {
         std::uint64_t n;
-        if (!has(8)) return static_cast<std::size_t>(record - begin);
+        if (left() < 8) return cut();
         read(n);
-        if (!has(n)) return static_cast<std::size_t>(record - begin);
-        text.assign(p, n);
+        if (left() < n) return cut();
+        const std::string_view text(p, static_cast<std::size_t>(n));
         p += n;
         if (tag == 'k')
-          sax.key(text);
+          values.key(text);
         else
-          sax.string(text);
+          values.string(text);
         break;
       }
-      case 'v': {
-        std::uint64_t n;
-        if (!has(8)) return static_cast<std::size_t>(record - begin);
-        read(n);
-        if (!has(8 * n)) return static_cast<std::size_t>(record - begin);
-        sax.start_array(n);
-        if constexpr (TakesNumberRows<Sax>::value) {
-          sax.number_row(p, static_cast<std::size_t>(n));
-          p += 8 * n;
-          sax.end_array();
-          break;
+      case 'v':
+      case 'm': {
+        const int rank = tag == 'v' ? 1 : 2;
+        if (left() < 8u * rank) return cut();
+        shape.resize(static_cast<std::size_t>(rank));
+        std::uint64_t count = 1;
+        for (std::size_t& e : shape) {
+          std::uint64_t d;
+          read(d);
+          e = static_cast<std::size_t>(d);
+          count *= d;
         }
-        for (std::uint64_t i = 0; i < n; ++i) {
-          double v;
-          read(v);
-          sax.number_float(v, text);
-        }
-        sax.end_array();
+        if (left() / 8 < count) return cut();
+        values.reals(p, shape);
+        p += 8 * count;
         break;
       }
       default:

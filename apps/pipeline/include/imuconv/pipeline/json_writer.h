@@ -13,10 +13,10 @@
 // produces exactly the text the parent writer would have produced; the parent writes the
 // separators (element_separator) and counts the elements (skip_elements).
 //
-// Form::kEvents writes the same calls as a compact binary record of values instead of text
+// Form::kEvents writes the same calls as compact binary records of typed values instead of text
 // (src/io/value_events.h; in-process only): what `imuconv run -o OUT.npz` collects its arrays
-// from, without formatting numbers as text and parsing them back. Splicing works the same way
-// (element_separator is then empty).
+// from, without formatting numbers as text and parsing them back, each vector and matrix whole
+// with its shape. Splicing works the same way (element_separator is then empty).
 #pragma once
 
 #include <Eigen/Core>
@@ -71,24 +71,33 @@ class JsonWriter {
   template <typename Derived>
   void vector(const Eigen::DenseBase<Derived>& v) {
     double buf[32];
-    if (v.size() <= 32) {
-      for (Eigen::Index i = 0; i < v.size(); ++i) buf[i] = v.derived().coeff(i);
-      numbers(buf, static_cast<std::size_t>(v.size()));
-      return;
+    double* p = buf;
+    if (v.size() > 32) {
+      scratch_.resize(static_cast<std::size_t>(v.size()));
+      p = scratch_.data();
     }
-    begin_line_array();
-    for (Eigen::Index i = 0; i < v.size(); ++i) number(v.derived().coeff(i));
-    end_array();
+    for (Eigen::Index i = 0; i < v.size(); ++i) p[i] = v.derived().coeff(i);
+    numbers(p, static_cast<std::size_t>(v.size()));
   }
-  /// A matrix as an array of rows (row-major), each row on one line.
+  /// A matrix as an array of rows (row-major), each row on one line. As value events, one
+  /// record with its shape (when its numbers are finite; else row by row, as the text).
   template <typename Derived>
   void matrix(const Eigen::DenseBase<Derived>& m) {
+    const auto rows = static_cast<std::size_t>(m.rows()), cols = static_cast<std::size_t>(m.cols());
+    if (events_) {
+      scratch_.resize(rows * cols);
+      for (std::size_t i = 0; i < rows; ++i)
+        for (std::size_t k = 0; k < cols; ++k)
+          scratch_[i * cols + k] = m.derived().coeff(static_cast<Eigen::Index>(i),
+                                                     static_cast<Eigen::Index>(k));
+      if (whole_matrix(scratch_.data(), rows, cols)) return;
+    }
     begin_array();
     double row[32];
     for (Eigen::Index i = 0; i < m.rows(); ++i) {
       if (m.cols() <= 32) {
         for (Eigen::Index k = 0; k < m.cols(); ++k) row[k] = m.derived().coeff(i, k);
-        numbers(row, static_cast<std::size_t>(m.cols()));
+        numbers(row, cols);
       } else {
         begin_line_array();
         for (Eigen::Index k = 0; k < m.cols(); ++k) number(m.derived().coeff(i, k));
@@ -127,6 +136,8 @@ class JsonWriter {
   void open(bool object, bool one_line, char c);
   void close(char c);
   void append_number(double v);
+  /// Form::kEvents: the matrix (row-major) as one 'm' record, if its numbers are all finite.
+  bool whole_matrix(const double* v, std::size_t rows, std::size_t cols);
   [[noreturn]] void non_finite() const;
   /// A string or key that is not well-formed UTF-8 (byte `at` of `s`), at output `where`.
   [[noreturn]] void not_utf8(std::string_view s, std::size_t at, const std::string& where) const;
@@ -140,6 +151,7 @@ class JsonWriter {
   Form form_;
   bool events_;  // form_ == Form::kEvents
   std::vector<Frame> stack_;
+  std::vector<double> scratch_;  // a long vector's or a matrix's numbers, gathered
 };
 
 }  // namespace imuconv::pipeline

@@ -1,15 +1,21 @@
 // The result-array collector (internal to imuconv_pipeline): the output document's numbers as
-// N-d arrays, read as a stream of JSON events (nlohmann::json's SAX interface), keeping only
-// the numbers (8 bytes each) and the sidecar's values. The rule is stated in
-// imuconv/pipeline/result_arrays.h; the end of the collection (which keys fill a grid, the
-// sidecar) is Collector::Finish in result_arrays.cpp.
+// N-d arrays, read as the typed values a document is written with, keeping only the numbers
+// (8 bytes each) and the sidecar's values. The rule is stated in imuconv/pipeline/result_arrays.h;
+// the end of the collection (which keys fill a grid, the sidecar) is Collector::Finish in
+// result_arrays.cpp.
+//
+// Two inputs call it: the writer's value records (value_events.h, for RunToArrays), where a
+// vector or a matrix arrives whole with its shape (`reals`), and the document's text parsed
+// (CollectResultArrays, result_arrays.cpp), where every array arrives element by element.
 //
 // How it streams: objects and arrays of objects are frames; a value's key is its frame's key
-// and the member name. An array that is not an array of objects (a vector, a matrix, a list of
-// block labels) is buffered as events until it closes, then replayed: into an N-d array when
-// it is a rectangular array of numbers, else into a JSON value for the sidecar. The indices of
-// the enclosing arrays of objects are kept per value, so that the end can tell whether a key's
-// values fill their grid (one N-d array) or not (one array per value, named by its pointer).
+// and the member name. A vector or matrix given with its shape goes straight to its key. Any
+// other array that is not an array of objects (a list of block labels; in the text, every
+// vector and matrix) is built as a JSON value until it closes: it is then an N-d array when it
+// is a rectangular array of numbers (the shape read off it), else a value for the sidecar.
+// The indices of the enclosing arrays of objects are kept per value, so that the end can tell
+// whether a key's values fill their grid (one N-d array) or not (one array per value, named by
+// its pointer).
 #pragma once
 
 #include <algorithm>
@@ -18,6 +24,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -26,7 +33,6 @@
 #include "imuconv/printable.h"
 #include "imuconv/registry.h"
 #include "result_keys.h"
-#include "value_buffer.h"
 
 namespace imuconv::pipeline::detail {
 
@@ -34,85 +40,89 @@ class Collector {
  public:
   explicit Collector(std::string what) : what_(std::move(what)) {}
 
-  // ---- nlohmann::json's SAX interface ----
-  bool null() {
-    if (Buffered()) return Add(ValueBuffer::kNull);
+  // ---- the document's values, in order ----
+  void null() {
+    if (Built()) return Add(nullptr);
     EmitValue(Here("null"), nullptr);
-    return true;
   }
-  bool boolean(bool b) {
-    if (Buffered()) return Add(b ? ValueBuffer::kTrue : ValueBuffer::kFalse);
+  void boolean(bool b) {
+    if (Built()) return Add(b);
     EmitValue(Here("a boolean"), b);
-    return true;
   }
-  bool number_integer(std::int64_t i) {
-    if (Buffered()) {
-      buf_.ints.push_back(i);
-      return Add(ValueBuffer::kInt);
-    }
-    EmitNumbers(Here("a number"), {}, {}, {i}, false);
-    return true;
+  void integer(std::int64_t i) {
+    if (Built()) return Add(i);
+    EmitNumbers(Here("a number"), nullptr, &i, 1, false);
   }
-  bool number_unsigned(std::uint64_t u) {
+  void unsigned_integer(std::uint64_t u) {
     if (u <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
-      return number_integer(static_cast<std::int64_t>(u));
-    if (Buffered()) {
-      buf_.big.push_back(u);
-      return Add(ValueBuffer::kBigUInt);
-    }
+      return integer(static_cast<std::int64_t>(u));
+    if (Built()) return Add(u);  // beyond int64: a sidecar value, never an array
     EmitValue(Here("a number"), u);
-    return true;
   }
-  bool number_float(double v, const std::string&) {
-    if (Buffered()) {
-      buf_.floats.push_back(v);
-      return Add(ValueBuffer::kFloat);
+  void real(double v) {
+    if (Built()) return Add(v);
+    EmitNumbers(Here("a number"), &v, nullptr, 1, true);
+  }
+  /// A vector (`shape` {n}) or a matrix ({rows, cols}, row-major) of reals, whole: the doubles
+  /// at `bytes` (native byte order, unaligned), as many as the shape's product. The same value
+  /// as the nested arrays of real() it stands for.
+  void reals(const char* bytes, const std::vector<std::size_t>& shape) {
+    std::size_t n = 1;
+    for (std::size_t e : shape) n *= e;
+    if (n > 0 && !Built()) {  // nearly every vector and matrix of the output
+      whole_.resize(n);
+      std::memcpy(whole_.data(), bytes, n * sizeof(double));
+      EmitNumbers(Here("an array"), whole_.data(), nullptr, n, true, &shape);
+      return;
     }
-    EmitNumbers(Here("a number"), {}, {v}, {}, true);
-    return true;
-  }
-  /// `n` doubles (native byte order, unaligned) read as n number_float events, all at once: a
-  /// one-line array of the writer's value events (value_events.h), always buffered.
-  void number_row(const char* bytes, std::size_t n) {
-    if (n == 0) return;
-    Buffered();  // opens the buffer when this is the first element of the array
-    buf_.events.insert(buf_.events.end(), n, ValueBuffer::kFloat);
-    const std::size_t at = buf_.floats.size();
-    buf_.floats.resize(at + n);
-    std::memcpy(buf_.floats.data() + at, bytes, n * sizeof(double));
-  }
-  bool string(std::string& s) {
-    if (Buffered()) {
-      buf_.strings.push_back(s);
-      return Add(ValueBuffer::kString);
+    // Inside an array being built, or empty (no numbers: a sidecar value): as the text has it.
+    auto element = [&](std::size_t i) {
+      double v;
+      std::memcpy(&v, bytes + i * sizeof(double), sizeof v);
+      real(v);
+    };
+    begin_array();
+    if (shape.size() == 1) {
+      for (std::size_t i = 0; i < shape[0]; ++i) element(i);
+    } else {
+      for (std::size_t r = 0; r < shape[0]; ++r) {
+        begin_array();
+        for (std::size_t c = 0; c < shape[1]; ++c) element(r * shape[1] + c);
+        end_array();
+      }
     }
+    end_array();
+  }
+  void string(std::string_view s) {
+    if (Built()) return Add(std::string(s));
     if (!frames_.empty() && frames_.back().task && !frames_.back().named) {
       // A task's name (its first member, checked in key()) names its frame.
       Frame& task = frames_.back();
       task.named = true;
-      task.key = task.pointer = "tasks/" + Escape(s);
+      task.key = task.pointer = "tasks/" + Escape(std::string(s));
       task.key_id = FrameKeyId(task.key);
       task.member =
           &Slot(task.key_id, task.member->name, 0);  // "name", now under the task's own key
-      if (!task_names_.insert(s).second)
-        Fail(task.pointer, "a second task named '" + Printable(s) + "'");
+      if (!task_names_.emplace(s).second)
+        Fail(task.pointer, "a second task named '" + Printable(std::string(s)) + "'");
     }
-    EmitValue(Here("a string"), s);
-    return true;
+    // Most strings repeat their key's first value (a convention, a chart, per interval): such
+    // a one is recorded without making a JSON value of it to compare.
+    const Destination d = Here("a string");
+    ValueKey& k = ValueKeyOf(d);
+    Record(k, d);
+    if (k.count == 1 || !k.first.is_string() || k.first.get_ref<const std::string&>() != s)
+      k.Keep(std::string(s));
   }
-  bool binary(nlohmann::json::binary_t&) { Fail("", "binary values are not JSON text"); }
-  bool start_object(std::size_t) {
+  void begin_object() {
     CheckDepth();
-    if (buffer_depth_ > 0) {
-      ++buffer_depth_;
-      return Add(ValueBuffer::kBeginObject);
-    }
+    if (!open_.empty()) return Open(ojson::object());
     if (pending_array_) StartArrayOfObjects();
     if (frames_.empty()) {
       if (done_) Fail("", "text after the document");
       frames_.push_back(Frame{});
       frames_.back().key_id = FrameKeyId(frames_.back().key);
-      return true;
+      return;
     }
     Frame& f = frames_.back();
     Frame child;
@@ -136,26 +146,22 @@ class Collector {
       child.pointer = PointerOf(d);
     }
     frames_.push_back(std::move(child));
-    return true;
   }
-  bool key(std::string& k) {
-    if (buffer_depth_ > 0) {
-      buf_.strings.push_back(k);
-      return Add(ValueBuffer::kKey);
+  void key(std::string_view name) {
+    if (!open_.empty()) {
+      member_.assign(name.data(), name.size());
+      return;
     }
+    const std::string k(name);
     Frame& f = frames_.back();
     if (f.task && !f.named && k != "name")
       Fail(f.pointer,
            "expected the task's \"name\" as its first member, found \"" + Printable(k) + "\"");
     f.member = &Slot(f.key_id, k, f.count);
     ++f.count;
-    return true;
   }
-  bool end_object() {
-    if (buffer_depth_ > 0) {
-      --buffer_depth_;
-      return Add(ValueBuffer::kEndObject);
-    }
+  void end_object() {
+    if (!open_.empty()) return Close();
     Frame f = std::move(frames_.back());
     frames_.pop_back();
     if (f.task && !f.named) Fail(f.pointer, "a task without a \"name\"");
@@ -169,33 +175,23 @@ class Collector {
       done_ = true;
     else if (frames_.back().aoo)
       ++frames_.back().count;
-    return true;
   }
-  bool start_array(std::size_t) {
+  void begin_array() {
     CheckDepth();
-    if (buffer_depth_ > 0) {
-      ++buffer_depth_;
-      return Add(ValueBuffer::kBeginArray);
-    }
-    if (pending_array_) {
-      StartBuffer();
-      ++buffer_depth_;
-      return Add(ValueBuffer::kBeginArray);
+    if (!open_.empty()) return Open(ojson::array());
+    if (pending_array_) {  // an array's first element is an array: the outer one is built
+      StartBuilding();
+      return Open(ojson::array());
     }
     array_dest_ = Here("an array");
     pending_array_ = true;  // an array of objects or a value: its first element tells
-    return true;
   }
-  bool end_array() {
-    if (buffer_depth_ > 0) {
-      Add(ValueBuffer::kEndArray);
-      if (--buffer_depth_ == 0) FlushBuffer();
-      return true;
-    }
+  void end_array() {
+    if (!open_.empty()) return Close();
     if (pending_array_) {
       pending_array_ = false;
       EmitValue(array_dest_, ojson::array());
-      return true;
+      return;
     }
     const Frame a = std::move(frames_.back());
     frames_.pop_back();
@@ -206,11 +202,12 @@ class Collector {
       else if (info.length != a.count)
         info.ragged = true;
     }
-    return true;
   }
-  bool parse_error(std::size_t position, const std::string&, const nlohmann::json::exception& e) {
-    Fail("", "not a JSON document (byte " + std::to_string(position) + "): " + e.what());
+  /// The text could not be parsed (CollectResultArrays).
+  [[noreturn]] void not_json(std::size_t position, const std::string& why) const {
+    Fail("", "not a JSON document (byte " + std::to_string(position) + "): " + why);
   }
+  [[noreturn]] void refuse(const std::string& why) const { Fail("", why); }
 
   ResultArrays Finish();
 
@@ -229,29 +226,41 @@ class Collector {
   /// written recursively, and a hostile text must not exhaust the stack.
   void CheckDepth() const {
     const std::size_t depth =
-        frames_.size() + static_cast<std::size_t>(buffer_depth_) + (pending_array_ ? 1 : 0);
+        frames_.size() + open_.size() + (pending_array_ ? 1 : 0);
     if (depth >= kMaxDepth)
       Fail(frames_.empty() ? std::string() : frames_.back().pointer,
            "nested deeper than " + std::to_string(kMaxDepth) + " levels");
   }
 
-  bool Add(ValueBuffer::Event e) {
-    buf_.events.push_back(e);
-    return true;
-  }
-  /// Whether the current value goes into the buffer (it is inside, or is the first element
-  /// of, an array that is not an array of objects).
-  bool Buffered() {
-    if (buffer_depth_ > 0) return true;
+  /// Whether the current value goes into the array being built (it is inside one, or is the
+  /// first element, not an object, of an array just opened).
+  bool Built() {
+    if (!open_.empty()) return true;
     if (!pending_array_) return false;
-    StartBuffer();
+    StartBuilding();
     return true;
   }
-  void StartBuffer() {
+  void StartBuilding() {
     pending_array_ = false;
-    buf_.clear();
-    buf_.events.push_back(ValueBuffer::kBeginArray);
-    buffer_depth_ = 1;
+    built_ = ojson::array();
+    open_.push_back(&built_);
+  }
+  /// A value of the array being built: an element, or a member of an object in it.
+  ojson* Place(ojson v) {
+    ojson& parent = *open_.back();
+    if (parent.is_array()) {
+      parent.push_back(std::move(v));
+      return &parent.back();
+    }
+    ojson& m = parent[member_];
+    m = std::move(v);
+    return &m;
+  }
+  void Add(ojson v) { Place(std::move(v)); }
+  void Open(ojson container) { open_.push_back(Place(std::move(container))); }
+  void Close() {
+    open_.pop_back();
+    if (open_.empty()) FlushBuilt();
   }
   void StartArrayOfObjects() {
     pending_array_ = false;
@@ -273,7 +282,7 @@ class Collector {
     }
     frames_.push_back(std::move(a));
   }
-  /// The destination of a value that is not in a buffer: the current object's member.
+  /// The destination of a value that is not in an array being built: the current object's member.
   Destination Here(const char* found) const {
     if (frames_.empty()) Fail("", std::string("expected an object at the top, found ") + found);
     const Frame& f = frames_.back();
@@ -287,7 +296,7 @@ class Collector {
     return {f.member, {}, {}};
   }
   /// A destination's key and pointer. A slot's pointer is the innermost frame's member: it is
-  /// asked for only while that frame is still the innermost one (a buffered array opens no frame).
+  /// asked for only while that frame is still the innermost one (an array being built opens no frame).
   const std::string& KeyOf(const Destination& d) const { return d.slot ? d.slot->key : d.key; }
   std::string PointerOf(const Destination& d) const {
     return d.slot ? Join(frames_.back().pointer, d.slot->escaped) : d.pointer;
@@ -319,32 +328,72 @@ class Collector {
     return fk.members.back();
   }
 
-  void FlushBuffer() {
-    std::vector<std::size_t>& shape =
-        shape_;  // reused: one array per vector or matrix of the output
-    if (!buf_.Rectangular(shape)) {
-      EmitBufferedValue(array_dest_);
+  /// The array just built: an N-d array when it is a rectangular array of numbers (numbers at
+  /// one depth only, every array at a depth of one length, at least one number), else a value
+  /// for the sidecar.
+  void FlushBuilt() {
+    std::vector<std::size_t>& shape = shape_;
+    shape.clear();
+    reals_.clear();
+    integers_.clear();
+    bool real = false, mixed = false;
+    if (!Rectangular(built_, shape, real, mixed)) {
+      EmitValue(array_dest_, std::move(built_));
       return;
     }
-    if (buf_.floats.empty()) {
-      EmitNumbers(array_dest_, shape, {}, buf_.ints, false);
-      return;
+    if (!real)
+      return EmitNumbers(array_dest_, nullptr, integers_.data(), integers_.size(), false, &shape);
+    if (mixed) {  // reals and integers, in the order of the document: each integer as a real
+      reals_.clear();
+      Leaves(built_, [&](const ojson& v) {
+        reals_.push_back(v.is_number_float() ? v.get<double>()
+                                             : ExactDouble(v.get<std::int64_t>(), array_dest_));
+      });
     }
-    if (buf_.ints.empty()) {  // reals only (nearly every array): the buffer's own
-      EmitNumbers(array_dest_, shape, buf_.floats, {}, true);
-      return;
+    EmitNumbers(array_dest_, reals_.data(), nullptr, reals_.size(), true, &shape);
+  }
+  /// Whether `v` is a rectangular array of numbers; its lengths into `shape` and its numbers
+  /// into reals_ and integers_ (by type), whether there are reals and whether they mix with
+  /// integers into `real` and `mixed`.
+  bool Rectangular(const ojson& v, std::vector<std::size_t>& shape, bool& real, bool& mixed) {
+    std::size_t leaf_depth = 0;  // where the numbers are, once one is met
+    return Rectangular(v, 0, shape, leaf_depth, real, mixed) && leaf_depth != 0 &&
+           leaf_depth == shape.size();
+  }
+  bool Rectangular(const ojson& v, std::size_t depth, std::vector<std::size_t>& shape,
+                   std::size_t& leaf_depth, bool& real, bool& mixed) {
+    if (v.is_array()) {
+      if (depth < shape.size()) {
+        if (shape[depth] != v.size()) return false;
+      } else if (leaf_depth == 0 || depth < leaf_depth) {
+        shape.push_back(v.size());  // the first array at this depth
+      } else {
+        return false;  // an array where others have numbers
+      }
+      for (const ojson& e : v)
+        if (!Rectangular(e, depth + 1, shape, leaf_depth, real, mixed)) return false;
+      return true;
     }
-    // Reals, and integers too when there are any (in the order of the text).
-    std::vector<double> v;
-    v.reserve(buf_.floats.size() + buf_.ints.size());
-    std::size_t i_int = 0, i_float = 0;
-    for (ValueBuffer::Event e : buf_.events) {
-      if (e == ValueBuffer::kFloat)
-        v.push_back(buf_.floats[i_float++]);
-      else if (e == ValueBuffer::kInt)
-        v.push_back(ExactDouble(buf_.ints[i_int++], array_dest_));
+    const bool is_int = v.type() == ojson::value_t::number_integer;
+    if (!is_int && !v.is_number_float()) return false;
+    if (leaf_depth == 0)
+      leaf_depth = depth;
+    else if (leaf_depth != depth)
+      return false;
+    if (is_int) {
+      integers_.push_back(v.get<std::int64_t>());
+      mixed = mixed || real;
+    } else {
+      reals_.push_back(v.get<double>());
+      mixed = mixed || !integers_.empty();
+      real = true;
     }
-    EmitNumbers(array_dest_, shape, std::move(v), {}, true);
+    return true;
+  }
+  template <class F>
+  static void Leaves(const ojson& v, const F& f) {
+    if (!v.is_array()) return f(v);
+    for (const ojson& e : v) Leaves(e, f);
   }
 
   double ExactDouble(std::int64_t i, const Destination& d) const {
@@ -372,10 +421,11 @@ class Collector {
     ++o.count;
   }
 
-  void EmitNumbers(const Destination& d, const std::vector<std::size_t>& shape,
-                   const std::vector<double>& reals, const std::vector<std::int64_t>& integers,
-                   bool real) {
-    if (shape.empty() && levels_.empty()) {  // a number alone, in no array of objects
+  /// The n numbers of a value at `d`, of `shape` (none: a number alone): `reals`, or
+  /// `integers` when !real.
+  void EmitNumbers(const Destination& d, const double* reals, const std::int64_t* integers,
+                   std::size_t n, bool real, const std::vector<std::size_t>* shape = nullptr) {
+    if (shape == nullptr && levels_.empty()) {  // a number alone, in no array of objects
       EmitValue(d, real ? ojson(reals[0]) : ojson(integers[0]));
       return;
     }
@@ -386,41 +436,24 @@ class Collector {
         numeric_.back().key = KeyOf(d);
         numeric_.back().type = real ? NdArray::Type::kFloat64 : NdArray::Type::kInt64;
       }
-      if (d.slot == nullptr)
-        return AddNumbers(numeric_[it->second], d, shape, reals, integers, real);
-      d.slot->numeric = static_cast<int>(it->second);
+      if (d.slot != nullptr) d.slot->numeric = static_cast<int>(it->second);
+      return AddNumbers(numeric_[it->second], d, reals, integers, n, real, shape);
     }
-    AddNumbers(numeric_[static_cast<std::size_t>(d.slot->numeric)], d, shape, reals, integers,
-               real);
+    AddNumbers(numeric_[static_cast<std::size_t>(d.slot->numeric)], d, reals, integers, n, real,
+               shape);
   }
-  void AddNumbers(NumericKey& k, const Destination& d, const std::vector<std::size_t>& shape,
-                  const std::vector<double>& reals, const std::vector<std::int64_t>& integers,
-                  bool real) {
+  void AddNumbers(NumericKey& k, const Destination& d, const double* reals,
+                  const std::int64_t* integers, std::size_t n, bool real,
+                  const std::vector<std::size_t>* shape) {
     Record(k, d);
-    k.Append(shape, reals, integers, real, [&](std::int64_t i) { return ExactDouble(i, d); });
+    k.Append(shape ? *shape : no_shape_, reals, integers, n, real,
+             [&](std::int64_t i) { return ExactDouble(i, d); });
   }
 
   void EmitValue(const Destination& d, ojson v) {
     ValueKey& k = ValueKeyOf(d);
     Record(k, d);
     k.Keep(std::move(v));
-  }
-  /// EmitValue of the buffered array (not a rectangular array of numbers: a list of labels, say).
-  /// The same list recurs once per element of an array of objects: when its events are those of
-  /// the key's first value, so is its JSON value (equal numbers compared as JSON compares them),
-  /// and it is neither built nor compared. Otherwise it is built and compared as EmitValue does.
-  void EmitBufferedValue(const Destination& d) {
-    ValueKey& k = ValueKeyOf(d);
-    if (k.count > 0 && k.first_from_buffer && buf_.SameEvents(k.first_buffer)) {
-      Record(k, d);
-      return;
-    }
-    ojson v = buf_.ToJson();
-    Record(k, d);
-    if (k.Keep(std::move(v))) {
-      k.first_buffer = buf_;
-      k.first_from_buffer = true;
-    }
   }
   ValueKey& ValueKeyOf(const Destination& d) {
     std::size_t id;
@@ -466,10 +499,13 @@ class Collector {
   std::vector<Frame> frames_;
   bool done_ = false;
   bool pending_array_ = false;
-  int buffer_depth_ = 0;
   Destination array_dest_;
-  ValueBuffer buf_;
-  std::vector<std::size_t> shape_;   ///< FlushBuffer's
+  ojson built_;                ///< the array being built (an array that is not of objects)
+  std::vector<ojson*> open_;   ///< its open arrays and objects, innermost last
+  std::string member_;         ///< the member of an object in it that comes next
+  std::vector<std::size_t> shape_, no_shape_;  ///< FlushBuilt's shape; a number's (none)
+  std::vector<double> reals_, whole_;          ///< FlushBuilt's numbers; reals()'s
+  std::vector<std::int64_t> integers_;
   std::deque<FrameKey> frame_keys_;  ///< every frame key met, and its members
   std::unordered_map<std::string, int> frame_key_ids_;
   std::vector<std::uint32_t> index_;  ///< indices of the enclosing arrays of objects
