@@ -20,16 +20,6 @@ nlohmann::json Quaternion(const Mat3& R) {
   return {q.w(), q.x(), q.y(), q.z()};
 }
 
-int TotalIterations(const Result& r) {
-  return std::accumulate(r.rounds.begin(), r.rounds.end(), 0,
-                         [](int s, const Round& rd) { return s + rd.iterations; });
-}
-
-double TotalSeconds(const Result& r) {
-  return std::accumulate(r.rounds.begin(), r.rounds.end(), 0.0,
-                         [](double s, const Round& rd) { return s + rd.seconds; });
-}
-
 // The 1-sigma of axis `a` of block `label` (NaN without covariance).
 double Sigma(const Result& r, const Keyframe& k, const char* label, int a) {
   if (!r.covariance_ok) return std::nan("");
@@ -40,6 +30,28 @@ double Sigma(const Result& r, const Keyframe& k, const char* label, int a) {
 }
 
 }  // namespace
+
+int TotalIterations(const Result& r) {
+  return std::accumulate(r.rounds.begin(), r.rounds.end(), 0,
+                         [](int s, const Round& rd) { return s + rd.iterations; });
+}
+
+double TotalSeconds(const Result& r) {
+  return std::accumulate(r.rounds.begin(), r.rounds.end(), 0.0,
+                         [](double s, const Round& rd) { return s + rd.seconds; });
+}
+
+nlohmann::json RoundsJson(const Result& r) {
+  nlohmann::json rounds = nlohmann::json::array();
+  for (const Round& rd : r.rounds)
+    rounds.push_back({{"iterations", rd.iterations},
+                      {"initial_cost", rd.initial_cost},
+                      {"final_cost", rd.final_cost},
+                      {"termination", rd.termination},
+                      {"seconds", rd.seconds},
+                      {"reintegrated", rd.reintegrated}});
+  return rounds;
+}
 
 nlohmann::json ResultJson(const Result& r) {
   nlohmann::json j;
@@ -52,14 +64,6 @@ nlohmann::json ResultJson(const Result& r) {
                 {"gyro_random_walk", r.noise.gyro_random_walk},
                 {"accel_random_walk", r.noise.accel_random_walk}};
   j["blocks"] = r.labels;
-  nlohmann::json rounds = nlohmann::json::array();
-  for (const Round& rd : r.rounds)
-    rounds.push_back({{"iterations", rd.iterations},
-                      {"initial_cost", rd.initial_cost},
-                      {"final_cost", rd.final_cost},
-                      {"termination", rd.termination},
-                      {"seconds", rd.seconds},
-                      {"reintegrated", rd.reintegrated}});
   j["solver"] = {{"converged", r.converged},
                  {"termination", r.rounds.empty() ? "" : r.rounds.back().termination},
                  {"message", r.solver_message},
@@ -68,7 +72,7 @@ nlohmann::json ResultJson(const Result& r) {
                  {"final_cost", r.rounds.empty() ? 0.0 : r.rounds.back().final_cost},
                  {"seconds", TotalSeconds(r)},
                  {"factors", r.factors},
-                 {"rounds", rounds},
+                 {"rounds", RoundsJson(r)},
                  {"pending_reintegration", r.pending_reintegration}};
   j["covariance"] = {{"computed", r.covariance_ok},
                      {"message", r.covariance_message},

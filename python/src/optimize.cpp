@@ -10,6 +10,7 @@
 #include "arrays.h"
 #include "bindings.h"
 #include "imuconv/optimize/optimize.h"
+#include "imuconv/optimize/optimize_output.h"
 #include "imuconv/optimize/pipeline_task.h"
 
 namespace imuconv::python {
@@ -129,26 +130,14 @@ void BindOptimize(py::module_& m) {
         }
         out["blocks"] = res.labels;
         out["converged"] = res.converged;
-        py::list rounds;
-        int iterations = 0;
-        double seconds = 0.0;
-        for (const optimize::Round& rd : res.rounds) {
-          py::dict d;
-          d["iterations"] = rd.iterations;
-          d["initial_cost"] = rd.initial_cost;
-          d["final_cost"] = rd.final_cost;
-          d["termination"] = rd.termination;
-          d["seconds"] = rd.seconds;
-          d["reintegrated"] = rd.reintegrated;
-          rounds.append(d);
-          iterations += rd.iterations;
-          seconds += rd.seconds;
-        }
         py::dict solver;
-        solver["iterations"] = iterations;
-        solver["seconds"] = seconds;
+        solver["iterations"] = optimize::TotalIterations(res);
+        solver["seconds"] = optimize::TotalSeconds(res);
         solver["message"] = res.solver_message;
-        solver["rounds"] = rounds;
+        // The rounds as imuconv optimize --json lists them (a JSON document goes to Python
+        // through the json module, as check's report does).
+        solver["rounds"] =
+            py::module_::import("json").attr("loads")(optimize::RoundsJson(res).dump());
         solver["pending_reintegration"] = res.pending_reintegration;
         solver["covariance_message"] = res.covariance_message;
         out["solver"] = solver;

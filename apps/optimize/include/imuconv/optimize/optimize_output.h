@@ -14,6 +14,13 @@ namespace imuconv::optimize {
 /// the reference's when the poses file has them.
 nlohmann::json ResultJson(const Result& r);
 
+/// The solver summary's rounds, one object per solve (iterations, initial_cost, final_cost,
+/// termination, seconds, reintegrated): the --json output's solver.rounds, and imuconv.optimize's.
+nlohmann::json RoundsJson(const Result& r);
+/// The rounds' iterations and seconds added up (solver.iterations and solver.seconds).
+int TotalIterations(const Result& r);
+double TotalSeconds(const Result& r);
+
 /// The summary and one row per keyframe (its biases with their 1-sigma).
 void PrintTable(std::ostream& out, const Result& r);
 
