@@ -18,6 +18,7 @@
 #include <set>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include "../pipeline/pipeline_test_util.h"
 #include "gtsam_measurement.h"
@@ -403,6 +404,13 @@ TEST_F(Check, UnusableInputExitsWithTwoNamingFileAndPointer) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "missing.json")) << r.err;
 
+  // check on the measurements `ms`, written to the file `name`, against smooth-0.
+  const auto check_written = [&](const std::string& name, const std::vector<json>& ms) {
+    return RunImuconv("check " + ShellQuote(tmp.write(name, json{{"measurements", ms}}.dump())) +
+                          " --case " + case_path,
+                      tmp);
+  };
+
   json m = GtsamMeasurement("smooth-0");
   r = RunImuconv("check " + ShellQuote(tmp.write("ok.json", json{{"measurements", {m}}}.dump())) +
                      " --case " + ShellQuote(tmp.file("no-case.json")),
@@ -421,28 +429,19 @@ TEST_F(Check, UnusableInputExitsWithTwoNamingFileAndPointer) {
 
   json bad = m;
   bad["cov"]["matrix"].erase(bad["cov"]["matrix"].begin());  // 14 rows
-  r = RunImuconv("check " +
-                     ShellQuote(tmp.write("bad.json", json{{"measurements", {bad}}}.dump())) +
-                     " --case " + case_path,
-                 tmp);
+  r = check_written("bad.json", {bad});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "bad.json") && Has(r.err, "/measurements/0/cov/matrix")) << r.err;
 
   json typo = m;
   typo["cov"]["convention"] = "gtsam_manifolds";
-  r = RunImuconv("check " +
-                     ShellQuote(tmp.write("typo.json", json{{"measurements", {typo}}}.dump())) +
-                     " --case " + case_path,
-                 tmp);
+  r = check_written("typo.json", {typo});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "/measurements/0/cov/convention")) << r.err;
 
   json blocks = m;
   blocks["cov"]["blocks"] = {"theta", "p", "v", "ba", "ba"};
-  r = RunImuconv("check " +
-                     ShellQuote(tmp.write("blocks.json", json{{"measurements", {blocks}}}.dump())) +
-                     " --case " + case_path,
-                 tmp);
+  r = check_written("blocks.json", {blocks});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "/measurements/0/cov/blocks") && Has(r.err, "not an ordering")) << r.err;
 
@@ -450,10 +449,7 @@ TEST_F(Check, UnusableInputExitsWithTwoNamingFileAndPointer) {
   json late = m;
   late["t_start"] = m["t_start"].get<double>() + 100.0;
   late["t_end"] = m["t_end"].get<double>() + 100.0;
-  r = RunImuconv("check " +
-                     ShellQuote(tmp.write("late.json", json{{"measurements", {m, late}}}.dump())) +
-                     " --case " + case_path,
-                 tmp);
+  r = check_written("late.json", {m, late});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "late.json") && Has(r.err, "/measurements/1") &&
               Has(r.err, "not inside the case's samples"))

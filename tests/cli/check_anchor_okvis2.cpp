@@ -8,12 +8,8 @@
 #include <string>
 
 #include "check_anchor.h"
-#include "json_rows.h"
-#include "reference_case.h"
 
 namespace {
-using namespace imuconv;
-using namespace imuconv::test;
 using namespace imuconv::test::check_anchor;
 using nlohmann::json;
 
@@ -24,25 +20,17 @@ using nlohmann::json;
 /// dp/dbg = dp_db_g, dp/dba = -C_doubleintegral, dalpha/dbg = -dalpha_db_g (Dq =
 /// exp(-dalpha_db_g dbg) Delta q), dv/dbg = dv_db_g, dv/dba = -C_integral. Nothing declared.
 json Okvis2Measurement() {
-  const json c = CaseJson(kAnchorCase);
-  const json a =
-      ReadJson(DataPath(std::string("reference/anchors/okvis2/") + kAnchorCase + ".json"));
+  const json a = AnchorJson("okvis2", kAnchorCase);
   const json& p = a["imu_error"]["preintegration"];
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(9, 6);
-  J.block<3, 3>(0, 0) = JsonMatrix(p["dp_db_g"]);
-  J.block<3, 3>(0, 3) = -JsonMatrix(p["C_doubleintegral"]);
-  J.block<3, 3>(3, 0) = -JsonMatrix(p["dalpha_db_g"]);
-  J.block<3, 3>(6, 0) = JsonMatrix(p["dv_db_g"]);
-  J.block<3, 3>(6, 3) = -JsonMatrix(p["C_integral"]);
-  return {
-      {"t_start", c["imu"].front()[0]},
-      {"t_end", c["imu"].back()[0]},
-      {"dt", a["inputs"]["Delta_t"]},
-      {"bias_estimate",
-       {{"bg", a["inputs"]["state_start"]["bg"]}, {"ba", a["inputs"]["state_start"]["ba"]}}},
-      {"delta", {{"R", p["Delta_R"]}, {"dp", p["acc_doubleintegral"]}, {"dv", p["acc_integral"]}}},
-      {"J_bias", {{"convention", "unknown"}, {"matrix", JsonRows(J)}}},
-      {"cov", {{"convention", "unknown"}, {"matrix", p["P_delta"]["matrix"]}}}};
+  const json& start = a["inputs"]["state_start"];
+  const Eigen::MatrixXd J = BiasJacobianOf(p, {{0, 0, +1, "dp_db_g"},
+                                               {0, 1, -1, "C_doubleintegral"},
+                                               {1, 0, -1, "dalpha_db_g"},
+                                               {2, 0, +1, "dv_db_g"},
+                                               {2, 1, -1, "C_integral"}});
+  return UndeclaredMeasurement({a["inputs"]["Delta_t"], start["bg"], start["ba"], p["Delta_R"],
+                                p["acc_doubleintegral"], p["acc_integral"], J,
+                                p["P_delta"]["matrix"]});
 }
 
 TEST(CheckAnchors, Okvis2IsExplainedByItsOwnScheme) {

@@ -8,12 +8,8 @@
 #include <string>
 
 #include "check_anchor.h"
-#include "json_rows.h"
-#include "reference_case.h"
 
 namespace {
-using namespace imuconv;
-using namespace imuconv::test;
 using namespace imuconv::test::check_anchor;
 using nlohmann::json;
 
@@ -24,25 +20,16 @@ using nlohmann::json;
 /// float sum of the steps dT; the bias estimate ORB linearized at (rounded to float). No
 /// chart, order or precision is declared.
 json OrbSlam3Measurement() {
-  const json c = CaseJson(kAnchorCase);
-  const json a =
-      ReadJson(DataPath(std::string("reference/anchors/orb-slam3/") + kAnchorCase + ".json"));
+  const json a = AnchorJson("orb-slam3", kAnchorCase);
   const json& p = a["preintegration"];
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(9, 6);
-  J.block<3, 3>(0, 0) = JsonMatrix(p["JRg"]);
-  J.block<3, 3>(3, 0) = JsonMatrix(p["JPg"]);
-  J.block<3, 3>(3, 3) = JsonMatrix(p["JPa"]);
-  J.block<3, 3>(6, 0) = JsonMatrix(p["JVg"]);
-  J.block<3, 3>(6, 3) = JsonMatrix(p["JVa"]);
-  return {
-      {"t_start", c["imu"].front()[0]},
-      {"t_end", c["imu"].back()[0]},
-      {"dt", p["dT"]},
-      {"bias_estimate",
-       {{"bg", a["inputs"]["bias_lin_float"]["bg"]}, {"ba", a["inputs"]["bias_lin_float"]["ba"]}}},
-      {"delta", {{"R", p["dR"]}, {"dp", p["dP"]}, {"dv", p["dV"]}}},
-      {"J_bias", {{"convention", "unknown"}, {"matrix", JsonRows(J)}}},
-      {"cov", {{"convention", "unknown"}, {"matrix", p["C"]["matrix"]}}}};
+  const json& bias = a["inputs"]["bias_lin_float"];
+  const Eigen::MatrixXd J = BiasJacobianOf(p, {{0, 0, +1, "JRg"},
+                                               {1, 0, +1, "JPg"},
+                                               {1, 1, +1, "JPa"},
+                                               {2, 0, +1, "JVg"},
+                                               {2, 1, +1, "JVa"}});
+  return UndeclaredMeasurement(
+      {p["dT"], bias["bg"], bias["ba"], p["dR"], p["dP"], p["dV"], J, p["C"]["matrix"]});
 }
 
 // With the `orb_slam3` preintegrator registered, check has ORB-SLAM3's own scheme among its

@@ -64,6 +64,11 @@ class CheckBlocks : public ::testing::Test {
     ExpectFollowsSchema(Tmp(), "schemas/check_output.schema.json", json::array({out}), name);
     return out["measurements"][0];
   }
+  /// Run on the measurement `m` with its J_bias replaced by `J`.
+  static json RunWithJacobian(json m, const Eigen::MatrixXd& J, const std::string& name) {
+    m["J_bias"]["matrix"] = JsonRows(J);
+    return Run(m, name);
+  }
   static std::string Findings(const json& m) {
     std::string s;
     for (const auto& f : m["findings"]) s += f.get<std::string>() + "\n";
@@ -84,8 +89,7 @@ TEST_F(CheckBlocks, OneNegatedBlockKeepsTheDeclaredChartAndNamesTheBlock) {
   Eigen::MatrixXd J, cov;
   json m = GtsamMeasurement(kBlocksCase, &J, &cov);
   J.block<3, 3>(kTheta, kColBg) *= -1.0;
-  m["J_bias"]["matrix"] = JsonRows(J);
-  const json r = Run(m, "negated-block");
+  const json r = RunWithJacobian(m, J, "negated-block");
   ASSERT_TRUE(r.contains("best")) << r.dump(1);
   EXPECT_EQ(r["best"]["J_bias_sign"], 1) << Findings(r);
   EXPECT_EQ(r["best"]["jacobian_convention"], r["declared"]["jacobian_convention"]);
@@ -109,8 +113,7 @@ TEST_F(CheckBlocks, JacobianBlockScaledByOneOverDtIsNamed) {
   json m = GtsamMeasurement(kBlocksCase, &J, &cov);
   const double dt = SamplePeriod();
   J.block<3, 3>(kP, kColBa) /= dt;
-  m["J_bias"]["matrix"] = JsonRows(J);
-  const json r = Run(m, "scaled-jacobian-block");
+  const json r = RunWithJacobian(m, J, "scaled-jacobian-block");
   ASSERT_EQ(r["block_findings"].size(), 1u) << r["block_findings"].dump(1) << Findings(r);
   const json& f = r["block_findings"][0];
   EXPECT_EQ(f["matrix"], "J_bias");
@@ -127,8 +130,7 @@ TEST_F(CheckBlocks, SwappedJacobianBlocksAreNamed) {
   const Eigen::Matrix3d a = J.block<3, 3>(kP, kColBa), b = J.block<3, 3>(kP, kColBg);
   J.block<3, 3>(kP, kColBa) = b;
   J.block<3, 3>(kP, kColBg) = a;
-  m["J_bias"]["matrix"] = JsonRows(J);
-  const json r = Run(m, "swapped-jacobian-blocks");
+  const json r = RunWithJacobian(m, J, "swapped-jacobian-blocks");
   EXPECT_EQ(r["best"]["J_bias_columns"], json({"ba", "bg"})) << Findings(r);
   ASSERT_EQ(r["block_findings"].size(), 1u) << r["block_findings"].dump(1) << Findings(r);
   const json& f = r["block_findings"][0];
@@ -145,8 +147,7 @@ TEST_F(CheckBlocks, TransposedJacobianBlockIsNamed) {
   // The block must not be symmetric, or its transpose would be the same numbers.
   ASSERT_GT((t - t.transpose()).cwiseAbs().maxCoeff(), 0.1 * t.cwiseAbs().maxCoeff());
   J.block<3, 3>(kV, kColBg) = t;
-  m["J_bias"]["matrix"] = JsonRows(J);
-  const json r = Run(m, "transposed-jacobian-block");
+  const json r = RunWithJacobian(m, J, "transposed-jacobian-block");
   ASSERT_EQ(r["block_findings"].size(), 1u) << r["block_findings"].dump(1) << Findings(r);
   const json& f = r["block_findings"][0];
   EXPECT_EQ(f["kind"], "transpose");

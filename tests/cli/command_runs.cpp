@@ -63,6 +63,14 @@ Captured Capture(Run run) {
   return c;
 }
 
+// The program, run with `args`, exits with the code and prints on stdout what the command run
+// in-process (`run`) did.
+void ExpectTheProgramDoesTheSame(const Captured& run, const std::string& args, const TempDir& tmp) {
+  const CommandResult program = RunImuconv(args, tmp);
+  EXPECT_EQ(program.exit_code, run.exit_code);
+  EXPECT_EQ(program.out, run.out);
+}
+
 TEST(CommandRuns, CheckRunsWithoutTheCommandLineAsTheProgramDoes) {
   TempDir tmp;
   imuconv::cli::CheckCommandOptions o;
@@ -80,12 +88,11 @@ TEST(CommandRuns, CheckRunsWithoutTheCommandLineAsTheProgramDoes) {
   EXPECT_TRUE(std::filesystem::is_regular_file(o.report_path));
   EXPECT_TRUE(Has(run.err, "wrote " + o.report_path)) << run.err;
 
-  const CommandResult program =
-      RunImuconv("check " + ShellQuote(kMeasurements) + " --case " + ShellQuote(kCasePath) +
-                     " --json --report " + ShellQuote(tmp.file("program.html")),
-                 tmp);
-  EXPECT_EQ(program.exit_code, run.exit_code);
-  EXPECT_EQ(program.out, run.out);
+  ExpectTheProgramDoesTheSame(run,
+                              "check " + ShellQuote(kMeasurements) + " --case " +
+                                  ShellQuote(kCasePath) + " --json --report " +
+                                  ShellQuote(tmp.file("program.html")),
+                              tmp);
 }
 
 TEST(CommandRuns, CheckFailuresAreExitCodesAndMessages) {
@@ -133,12 +140,11 @@ TEST(CommandRuns, MontecarloRunsWithoutTheCommandLineAsTheProgramDoes) {
   EXPECT_EQ(j.at("seed"), 1);
   EXPECT_EQ(j.at("verdict") == "consistent", run.exit_code == 0);
 
-  const CommandResult program =
-      RunImuconv("montecarlo --case " + ShellQuote(kCasePath) +
-                     " --method euler --trials 20 --seed 1 --duration 0.2 --threads 1 --json",
-                 tmp);
-  EXPECT_EQ(program.exit_code, run.exit_code);
-  EXPECT_EQ(program.out, run.out);
+  ExpectTheProgramDoesTheSame(
+      run,
+      "montecarlo --case " + ShellQuote(kCasePath) +
+          " --method euler --trials 20 --seed 1 --duration 0.2 --threads 1 --json",
+      tmp);
 }
 
 TEST(CommandRuns, MontecarloShardsMergeToTheWholeRun) {
@@ -217,12 +223,11 @@ TEST(CommandRuns, NeesRunsWithoutTheCommandLineAsTheProgramDoes) {
   EXPECT_EQ(j.at("convention"), "left");  // the option's default, as the flag's
   EXPECT_EQ(j.at("windows").size(), 2u);  // one entry per window length
 
-  const CommandResult program =
-      RunImuconv("nees --imu " + ShellQuote(kImu) + " --ground-truth " + ShellQuote(kGroundTruth) +
-                     " --noise " + ShellQuote(noise) + " --windows 0.5,1 --method rk4 --json",
-                 tmp);
-  EXPECT_EQ(program.exit_code, run.exit_code);
-  EXPECT_EQ(program.out, run.out);
+  ExpectTheProgramDoesTheSame(run,
+                              "nees --imu " + ShellQuote(kImu) + " --ground-truth " +
+                                  ShellQuote(kGroundTruth) + " --noise " + ShellQuote(noise) +
+                                  " --windows 0.5,1 --method rk4 --json",
+                              tmp);
 
   o.convention = "no_such_convention";
   const Captured unknown = Capture([&] { return RunNeesCommand(ctx, o); });
@@ -249,10 +254,8 @@ TEST(CommandRuns, ExperimentRunsWithoutTheCommandLineAsTheProgramDoes) {
   EXPECT_EQ(j.at("trials"), 2);
   EXPECT_EQ(j.at("seed"), 1);
 
-  const CommandResult program =
-      RunImuconv("experiment both --seed 1 --trials 2 --duration 0.1 --threads 1 --json", tmp);
-  EXPECT_EQ(program.exit_code, run.exit_code);
-  EXPECT_EQ(program.out, run.out);
+  ExpectTheProgramDoesTheSame(
+      run, "experiment both --seed 1 --trials 2 --duration 0.1 --threads 1 --json", tmp);
 
   o.propagator = "no_such_propagator";
   const Captured unknown = Capture([&] { return RunExperimentCommand(ctx, o); });

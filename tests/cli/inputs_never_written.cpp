@@ -46,6 +46,34 @@ std::vector<std::string> Temporaries(const std::string& dir) {
   return t;
 }
 
+/// The files under a test's directory as they were when it was constructed: after the refused
+/// commands, none may have changed and no temporary may be left behind.
+class Unchanged {
+ public:
+  explicit Unchanged(const TempDir& tmp) : tmp_(tmp), before_(Snapshot(tmp.path())) {}
+  void Expect() const {
+    EXPECT_TRUE(Snapshot(tmp_.path()) == before_) << "an input changed";
+    EXPECT_TRUE(Temporaries(tmp_.path()).empty());
+  }
+
+ private:
+  const TempDir& tmp_;
+  std::map<std::string, std::string> before_;
+};
+
+/// A symbolic link at `link` (relative to tmp; its directory made) to `target`; its path.
+std::string LinkIn(const TempDir& tmp, const std::string& link, const std::string& target) {
+  fs::create_directories(fs::path(tmp.file(link)).parent_path());
+  fs::create_symlink(target, tmp.file(link));
+  return tmp.file(link);
+}
+
+/// The imuconv command line `command` with --report `report`.
+CommandResult WithReport(const std::string& command, const std::string& report,
+                         const TempDir& tmp) {
+  return RunImuconv(command + " --report " + ShellQuote(report), tmp);
+}
+
 /// Runs `command` (a shell command line; the binary is $IMUCONV) in `dir`, with the
 /// redirections it gives itself; stderr to dir/.err unless the command says otherwise.
 CommandResult Shell(const std::string& command, const TempDir& tmp) {
@@ -88,20 +116,19 @@ Euroc CopyEuroc(const TempDir& tmp) {
 TEST(InputsNeverWritten, NeesReportNamingAFileThePipelineNamesIsRefused) {
   TempDir tmp;
   const Euroc e = CopyEuroc(tmp);
-  fs::create_directories(tmp.file("elsewhere"));
-  fs::create_symlink(e.kalibr,
-                     tmp.file("elsewhere/report.html"));  // another directory, another name
-  const auto before = Snapshot(tmp.path());
+  // another directory, another name
+  const std::string elsewhere = LinkIn(tmp, "elsewhere/report.html", e.kalibr);
+  const Unchanged inputs(tmp);
   const std::string nees =
       "-q nees --pipeline " + ShellQuote(e.pipeline) + " --windows 0.5 --method rk4";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {e.imu, e.imu},
       {e.gt, e.gt},
       {e.kalibr, e.kalibr},
-      {tmp.file("elsewhere/report.html"), e.kalibr},
+      {elsewhere, e.kalibr},
   };
   for (const auto& [report, input] : cases) {
-    const CommandResult r = RunImuconv(nees + " --report " + ShellQuote(report), tmp);
+    const CommandResult r = WithReport(nees, report, tmp);
     EXPECT_EQ(r.exit_code, 2) << report << "\n" << r.err;  // nees: 2 = no result
     EXPECT_TRUE(Has(r.err, "is the same file as the input file")) << r.err;
     EXPECT_TRUE(Has(r.err, fs::path(input).filename().string() + ": refusing to overwrite it"))
@@ -114,11 +141,9 @@ TEST(InputsNeverWritten, NeesReportNamingAFileThePipelineNamesIsRefused) {
                                 tmp);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "/dev/fd/3: is the same file as the input file")) << r.err;
-  EXPECT_TRUE(Snapshot(tmp.path()) == before) << "an input changed";
-  EXPECT_TRUE(Temporaries(tmp.path()).empty());
+  inputs.Expect();
   // Sanity: the same command writes a report elsewhere.
-  const CommandResult ok =
-      RunImuconv(nees + " --report " + ShellQuote(tmp.file("report.html")), tmp);
+  const CommandResult ok = WithReport(nees, tmp.file("report.html"), tmp);
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
   EXPECT_TRUE(Has(ReadText(tmp.file("report.html")), "<html")) << "a report was written";
 }
@@ -151,21 +176,19 @@ CheckFiles CheckInputs(const TempDir& tmp) {
 TEST(InputsNeverWritten, CheckReportNamingThePipelinesSamplesIsRefused) {
   TempDir tmp;
   const CheckFiles f = CheckInputs(tmp);
-  fs::create_directories(tmp.file("links"));
-  fs::create_symlink(f.csv, tmp.file("links/samples.html"));
-  const auto before = Snapshot(tmp.path());
+  const std::string link = LinkIn(tmp, "links/samples.html", f.csv);
+  const Unchanged inputs(tmp);
   const std::string check =
       "-q check " + ShellQuote(f.meas) + " --pipeline " + ShellQuote(f.pipeline);
-  for (const std::string& report : {f.csv, tmp.file("links/samples.html")}) {
-    const CommandResult r = RunImuconv(check + " --report " + ShellQuote(report), tmp);
+  for (const std::string& report : {f.csv, link}) {
+    const CommandResult r = WithReport(check, report, tmp);
     EXPECT_EQ(r.exit_code, 2) << report << "\n" << r.err;  // check: 2 = nothing could be checked
     EXPECT_TRUE(
         Has(r.err, "is the same file as the input file " + f.csv + ": refusing to overwrite it"))
         << r.err;
   }
-  EXPECT_TRUE(Snapshot(tmp.path()) == before) << "an input changed";
-  EXPECT_TRUE(Temporaries(tmp.path()).empty());
-  const CommandResult ok = RunImuconv(check + " --report " + ShellQuote(tmp.file("r.html")), tmp);
+  inputs.Expect();
+  const CommandResult ok = WithReport(check, tmp.file("r.html"), tmp);
   EXPECT_EQ(ok.exit_code, 0) << ok.err;  // GTSAM's own numbers are consistent
   EXPECT_TRUE(fs::exists(tmp.file("r.html")));
 }
@@ -208,8 +231,8 @@ TEST(InputsNeverWritten, PipelineOutputKeyCannotLeaveThroughALink) {
   EXPECT_FALSE(fs::exists(tmp.file("outside/new.json")));
   EXPECT_TRUE(Temporaries(tmp.path()).empty());
   // A link that stays inside is followed (and stays a link).
+  LinkIn(tmp, "inner/latest.json", tmp.file("inner/results/real.json"));
   fs::create_directories(tmp.file("inner/results"));
-  fs::create_symlink(tmp.file("inner/results/real.json"), tmp.file("inner/latest.json"));
   doc["output"] = "latest.json";
   const std::string p = tmp.write("inner/p.json", doc.dump());
   const CommandResult r = RunImuconv("run " + ShellQuote(p) + " -q", tmp);

@@ -34,6 +34,11 @@ CommandResult Montecarlo(const std::string& args, const TempDir& tmp) {
   return RunImuconv("montecarlo " + args, tmp);
 }
 
+/// montecarlo on the reference case `id` (tests/data/reference/cases/), with `args` after it.
+CommandResult MontecarloOnCase(const std::string& id, const std::string& args, const TempDir& tmp) {
+  return Montecarlo("--case " + CasePath(id) + " " + args, tmp);
+}
+
 // ---- the bounds, against printed chi-square tables (any statistics text, e.g. Abramowitz and
 // Stegun table 26.8) ----
 TEST(MontecarloBounds, ChiSquareQuantilesMatchTables) {
@@ -111,9 +116,8 @@ class MontecarloConsistent : public ::testing::TestWithParam<ConsistentCase> {};
 TEST_P(MontecarloConsistent, Consistent) {
   const auto& p = GetParam();
   TempDir tmp;
-  const CommandResult r = Montecarlo("--case " + CasePath(p.case_id) + " --method " + p.method +
-                                         " --trials 300 --seed 20261125 --duration 5 --json",
-                                     tmp);
+  const CommandResult r = MontecarloOnCase(
+      p.case_id, "--method " + p.method + " --trials 300 --seed 20261125 --duration 5 --json", tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   EXPECT_EQ(r.err, "");  // no progress bar when stderr is a file (nor with --json)
   const json j = json::parse(r.out);
@@ -171,10 +175,9 @@ INSTANTIATE_TEST_SUITE_P(ReferenceCases, MontecarloConsistent,
 // and the covariance is brought there by the registry's conversion; the blocks follow its order.
 TEST(Montecarlo, ScoredInAnotherConvention) {
   TempDir tmp;
-  const CommandResult r = Montecarlo(
-      "--case " + CasePath("aggressive-0") +
-          " --method rk4 --convention vins_fusion --trials 300 --seed 3 --duration 5 --json",
-      tmp);
+  const CommandResult r = MontecarloOnCase(
+      "aggressive-0",
+      "--method rk4 --convention vins_fusion --trials 300 --seed 3 --duration 5 --json", tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   const json j = json::parse(r.out);
   EXPECT_EQ(j["convention"], "vins_fusion");
@@ -189,9 +192,8 @@ TEST(Montecarlo, ScaledNoiseIsInconsistent) {
   TempDir tmp;
   for (const auto& [scale, direction] :
        {std::pair<std::string, std::string>{"2", "too small"}, {"0.8", "too large"}}) {
-    const CommandResult r = Montecarlo(
-        "--case " + CasePath("smooth-0") +
-            " --method rk4 --trials 300 --seed 4 --duration 5 --json --noise-scale " + scale,
+    const CommandResult r = MontecarloOnCase(
+        "smooth-0", "--method rk4 --trials 300 --seed 4 --duration 5 --json --noise-scale " + scale,
         tmp);
     ASSERT_EQ(r.exit_code, 1) << scale << r.err << r.out;
     const json j = json::parse(r.out);
@@ -211,10 +213,9 @@ TEST(Montecarlo, ScaledNoiseIsInconsistent) {
 // declared in the output and in the reasons.
 TEST(Montecarlo, NoiseReadingMismatchIsDeclared) {
   TempDir tmp;
-  const CommandResult r =
-      Montecarlo("--case " + CasePath("smooth-0") +
-                     " --method vins_fusion_as_configured --trials 64 --seed 1 --duration 2 --json",
-                 tmp);
+  const CommandResult r = MontecarloOnCase(
+      "smooth-0", "--method vins_fusion_as_configured --trials 64 --seed 1 --duration 2 --json",
+      tmp);
   ASSERT_EQ(r.exit_code, 1) << r.err << r.out;
   const json j = json::parse(r.out);
   EXPECT_FALSE(j["noise_model"]["matches_prediction"].get<bool>());
@@ -224,10 +225,8 @@ TEST(Montecarlo, NoiseReadingMismatchIsDeclared) {
   // the trial path are chosen from the method before any trial runs, so the fewest trials the
   // command takes (16) over the first 0.1 s show them as well as more (64 over 2 s took about
   // 80 times the integration steps, a few seconds under ASan, for the same two fields).
-  const CommandResult b =
-      Montecarlo("--case " + CasePath("smooth-0") +
-                     " --method basalt --trials 16 --seed 1 --duration 0.1 --json",
-                 tmp);
+  const CommandResult b = MontecarloOnCase(
+      "smooth-0", "--method basalt --trials 16 --seed 1 --duration 0.1 --json", tmp);
   ASSERT_NE(b.exit_code, 2) << b.err;
   EXPECT_EQ(json::parse(b.out)["noise_model"]["simulated"], "basalt");
   EXPECT_EQ(json::parse(b.out)["trial_path"], "full");  // no mean-only kernel: the plugin per trial
@@ -237,10 +236,8 @@ TEST(Montecarlo, NoiseReadingMismatchIsDeclared) {
   // The reading is each sample's, so jitter-0's first second (200 unequal steps) shows it as
   // well as five, at a fifth of the full-path trials (measured: NEES 15.12 over 1 s, 15.56 over
   // 5 s, both consistent).
-  const CommandResult ac =
-      Montecarlo("--case " + CasePath("jitter-0") +
-                     " --method basalt_as_configured --trials 300 --seed 2 --duration 1 --json",
-                 tmp);
+  const CommandResult ac = MontecarloOnCase(
+      "jitter-0", "--method basalt_as_configured --trials 300 --seed 2 --duration 1 --json", tmp);
   ASSERT_EQ(ac.exit_code, 0) << ac.err << ac.out;
   const json jac = json::parse(ac.out);
   EXPECT_EQ(jac["noise_model"]["simulated"], "basalt_per_sample");

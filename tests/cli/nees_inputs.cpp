@@ -138,12 +138,17 @@ TEST(NeesPipelineInput, HostilePipelinesAreRefusedByName) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "--pipeline P.json")) << r.err;
 
+  // nees on the pipeline `doc`, written to the file `name`.
+  const auto nees_on = [&](const std::string& name, const json& doc) {
+    return RunImuconv("nees --pipeline " + ShellQuote(tmp.write(name, doc.dump())) + common, tmp);
+  };
+
   // No ground truth; pose-only ground truth; no noise and no --noise.
   json q = p;
   q.erase("ground_truth");
   q["tasks"][0]["start"] = {
       {"state", {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {0, 0, 0}}}}};
-  r = RunImuconv("nees --pipeline " + ShellQuote(tmp.write("no_gt.json", q.dump())) + common, tmp);
+  r = nees_on("no_gt.json", q);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "no_gt.json") && Has(r.err, "/ground_truth") &&
               Has(r.err, "required key is missing"))
@@ -151,22 +156,21 @@ TEST(NeesPipelineInput, HostilePipelinesAreRefusedByName) {
   q = p;
   q["ground_truth"] = {{"format", "euroc_pose"},
                        {"path", DataPath("pipeline_cases/files/vicon0.csv")}};
-  r = RunImuconv("nees --pipeline " + ShellQuote(tmp.write("poses.json", q.dump())) + common, tmp);
+  r = nees_on("poses.json", q);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "poses.json") && Has(r.err, "/ground_truth/format") &&
               Has(r.err, "full state"))
       << r.err;
   q = p;
   q.erase("noise");
-  r = RunImuconv("nees --pipeline " + ShellQuote(tmp.write("no_noise.json", q.dump())) + common,
-                 tmp);
+  r = nees_on("no_noise.json", q);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "no_noise.json") && Has(r.err, "/noise")) << r.err;
 
   // A time unit that makes the microsecond stamps seconds: the pipeline's timing check.
   q = p;
   q["imu"]["time_unit"] = "s";
-  r = RunImuconv("nees --pipeline " + ShellQuote(tmp.write("unit.json", q.dump())) + common, tmp);
+  r = nees_on("unit.json", q);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "imu_generic.csv")) << r.err;
   EXPECT_TRUE(r.out.empty());

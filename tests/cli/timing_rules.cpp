@@ -23,10 +23,7 @@ namespace {
 using namespace imuconv::test;
 using nlohmann::json;
 
-const json kNoise = {{"gyro_noise_density", 1.7e-4},
-                     {"accel_noise_density", 2.0e-3},
-                     {"gyro_random_walk", 1.9e-5},
-                     {"accel_random_walk", 3.0e-3}};
+const json kNoise = NoiseDensities(1.7e-4, 2.0e-3, 1.9e-5, 3.0e-3);
 
 /// `n` samples at `rate` Hz, the time column written as k x stamp_step (the stamps' own
 /// unit; the pipeline declares one), header t,wx,wy,wz,ax,ay,az.

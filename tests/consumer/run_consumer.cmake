@@ -1,32 +1,18 @@
 # Installs imuconv into a scratch prefix, then configures, builds and runs tests/consumer/project
 # against the installed package (the fmt-style consumer test).
+include(${CMAKE_CURRENT_LIST_DIR}/run_step.cmake)
 file(REMOVE_RECURSE ${WORK})
-execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD} --prefix ${WORK}/prefix RESULT_VARIABLE rc OUTPUT_QUIET)
-if(rc)
-  message(FATAL_ERROR "install failed")
-endif()
-execute_process(COMMAND ${CMAKE_COMMAND} -S ${SRC} -B ${WORK}/build -DCMAKE_BUILD_TYPE=Release
-                        -DCMAKE_PREFIX_PATH=${WORK}/prefix RESULT_VARIABLE rc)
-if(rc)
-  message(FATAL_ERROR "consumer configure failed")
-endif()
-execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK}/build RESULT_VARIABLE rc)
-if(rc)
-  message(FATAL_ERROR "consumer build failed")
-endif()
-execute_process(COMMAND ${WORK}/build/consumer RESULT_VARIABLE rc)
-if(rc)
-  message(FATAL_ERROR "consumer run failed")
-endif()
+run_step("install" ${CMAKE_COMMAND} --install ${BUILD} --prefix ${WORK}/prefix)
+run_step("consumer configure" ${CMAKE_COMMAND} -S ${SRC} -B ${WORK}/build -DCMAKE_BUILD_TYPE=Release
+         -DCMAKE_PREFIX_PATH=${WORK}/prefix)
+run_step("consumer build" ${CMAKE_COMMAND} --build ${WORK}/build)
+run_step("consumer run" ${WORK}/build/consumer)
 # imuconv::ceres through the package, when it was installed with it.
 if(EXISTS ${WORK}/prefix/include/imuconv/ceres/state_manifold.h)
   if(NOT EXISTS ${WORK}/build/consumer_ceres)
     message(FATAL_ERROR "the package installed imuconv::ceres's headers but not its target")
   endif()
-  execute_process(COMMAND ${WORK}/build/consumer_ceres RESULT_VARIABLE rc)
-  if(rc)
-    message(FATAL_ERROR "consumer_ceres run failed")
-  endif()
+  run_step("consumer_ceres run" ${WORK}/build/consumer_ceres)
 endif()
 
 # The user's tool does not need Google Benchmark at run time (imuconv-bench does).
@@ -48,35 +34,25 @@ if(NOT n_pc EQUAL 1)
   message(FATAL_ERROR "expected one installed imuconv.pc, found: ${pc_files}")
 endif()
 get_filename_component(pc_dir ${pc_files} DIRECTORY)
-execute_process(COMMAND ${CMAKE_COMMAND} -E env PKG_CONFIG_PATH=${pc_dir} pkg-config --cflags --libs imuconv
-                OUTPUT_VARIABLE pc_flags OUTPUT_STRIP_TRAILING_WHITESPACE RESULT_VARIABLE rc)
-if(rc)
-  message(FATAL_ERROR "pkg-config --cflags --libs imuconv failed")
-endif()
+run_step("pkg-config --cflags --libs imuconv"
+         ${CMAKE_COMMAND} -E env PKG_CONFIG_PATH=${pc_dir} pkg-config --cflags --libs imuconv)
+string(STRIP "${out}" pc_flags)
 separate_arguments(pc_flags UNIX_COMMAND "${pc_flags}")
-execute_process(COMMAND c++ ${SRC}/../pkgconfig_main.cpp ${pc_flags} -o ${WORK}/pc_consumer RESULT_VARIABLE rc)
-if(rc)
-  message(FATAL_ERROR "compiling with pkg-config's flags failed: ${pc_flags}")
-endif()
-execute_process(COMMAND ${CMAKE_COMMAND} -E env LD_LIBRARY_PATH=${pc_dir}/.. ${WORK}/pc_consumer RESULT_VARIABLE rc)
-if(rc)
-  message(FATAL_ERROR "the pkg-config consumer failed")
-endif()
+run_step("compiling with pkg-config's flags (${pc_flags})"
+         c++ ${SRC}/../pkgconfig_main.cpp ${pc_flags} -o ${WORK}/pc_consumer)
+run_step("the pkg-config consumer" ${CMAKE_COMMAND} -E env LD_LIBRARY_PATH=${pc_dir}/.. ${WORK}/pc_consumer)
 
 # The installed Python module (when built): it imports from the prefix alone and its Registry
 # loads the installed plugins, not the build tree's.
 if(PYTHON)
-  execute_process(COMMAND ${CMAKE_COMMAND} -E env PYTHONPATH=${WORK}/prefix/${PYTHON_DIR} IMUCONV_PLUGIN_PATH=
-                          ${PYTHON} -c "import imuconv, os, sys
+  run_step("the installed Python module"
+           ${CMAKE_COMMAND} -E env PYTHONPATH=${WORK}/prefix/${PYTHON_DIR} IMUCONV_PLUGIN_PATH=
+           ${PYTHON} -c "import imuconv, os, sys
 r = imuconv.Registry()
 files = {p['file'] for p in r.plugins() if p['file'] != 'built-in'}
 assert imuconv.__file__.startswith(sys.argv[1]), imuconv.__file__
 assert files and all(f.startswith(sys.argv[1]) for f in files), files
 assert 'euler' in r.ids('propagator'), r.ids('propagator')
-print('installed module:', imuconv.__file__, len(files), 'plugins')" ${WORK}/prefix
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(rc)
-    message(FATAL_ERROR "the installed Python module failed:\n${out}\n${err}")
-  endif()
+print('installed module:', imuconv.__file__, len(files), 'plugins')" ${WORK}/prefix)
   message(STATUS "${out}")
 endif()

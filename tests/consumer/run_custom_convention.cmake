@@ -8,12 +8,10 @@
 #      names the user's plugin files and writes covariances in the user's convention;
 #   4. the installed Python module's Registry loads and converts with them (when built).
 file(REMOVE_RECURSE ${WORK})
+include(${CMAKE_CURRENT_LIST_DIR}/run_step.cmake)
+# Every step with the example's plugins on the plugin path.
 function(run what)
-  execute_process(COMMAND ${CMAKE_COMMAND} -E env IMUCONV_PLUGIN_PATH=${WORK}/build/plugins ${ARGN}
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(rc)
-    message(FATAL_ERROR "${what} failed (${rc}):\n${out}\n${err}")
-  endif()
+  run_step("${what}" ${CMAKE_COMMAND} -E env IMUCONV_PLUGIN_PATH=${WORK}/build/plugins ${ARGN})
   set(out "${out}" PARENT_SCOPE)
 endfunction()
 

@@ -15,6 +15,7 @@
 #include "imuconv/pipeline/measurement.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
+#include "inline_pipeline.h"
 #include "pipeline_test_util.h"
 
 namespace {
@@ -52,11 +53,7 @@ json MatrixOfQ() {
 
 /// Path 1: a convert task's "increment", as the task writes it back.
 json ViaConvertTask(const json& increment) {
-  const json doc = {{"noise",
-                     {{"gyro_noise_density", 1e-3},
-                      {"accel_noise_density", 1e-2},
-                      {"gyro_random_walk", 1e-5},
-                      {"accel_random_walk", 1e-4}}},
+  const json doc = {{"noise", test::NoiseDensities(1e-3, 1e-2, 1e-5, 1e-4)},
                     {"tasks",
                      {{{"type", "convert"},
                        {"name", "c"},

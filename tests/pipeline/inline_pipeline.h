@@ -8,14 +8,19 @@
 
 namespace imuconv::test {
 
+/// A pipeline's "noise" object (schemas/pipeline.schema.json; docs/noise.md): the white-noise
+/// densities of the gyroscope and the accelerometer and their bias random walks.
+inline nlohmann::json NoiseDensities(double gyro_noise_density, double accel_noise_density,
+                                     double gyro_random_walk, double accel_random_walk) {
+  return {{"gyro_noise_density", gyro_noise_density},
+          {"accel_noise_density", accel_noise_density},
+          {"gyro_random_walk", gyro_random_walk},
+          {"accel_random_walk", accel_random_walk}};
+}
+
 /// A pipeline's "noise": densities of a tactical-grade IMU. The tests that use it check what a
 /// pipeline accepts and writes, not the covariances, so any valid densities would do.
-inline nlohmann::json TacticalNoiseDensities() {
-  return {{"gyro_noise_density", 1e-4},
-          {"accel_noise_density", 1e-3},
-          {"gyro_random_walk", 1e-5},
-          {"accel_random_walk", 1e-4}};
-}
+inline nlohmann::json TacticalNoiseDensities() { return NoiseDensities(1e-4, 1e-3, 1e-5, 1e-4); }
 
 /// Inline samples k = 0 .. last, one every `step` seconds from t = 0, all with the same
 /// [wx, wy, wz, ax, ay, az].

@@ -11,7 +11,6 @@ here again from the parsed document (a second implementation, independent of the
 
 Needs NumPy: run with Debian's /usr/bin/python3 (python3-numpy).
 """
-import argparse
 import copy
 import glob
 import json
@@ -21,6 +20,8 @@ import subprocess
 import sys
 
 import numpy as np
+
+from run_args import parse_run_args
 
 INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
 
@@ -217,12 +218,7 @@ def irregular_pipeline(source_dir, work):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--source-dir", required=True)
-    ap.add_argument("--binary", required=True)
-    ap.add_argument("--work-dir", required=True)
-    a = ap.parse_args()
-    os.makedirs(a.work_dir, exist_ok=True)
+    a = parse_run_args()
     env = dict(os.environ)
     env.pop("IMUCONV_PLUGIN_PATH", None)
     # The examples (the whole EuRoC file aside: 34 MB) and the irregular pipeline must run; an

@@ -27,6 +27,7 @@
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
 #include "pipeline_test_util.h"
+#include "residual_over_case.h"
 
 namespace {
 using namespace imuconv;
@@ -64,36 +65,15 @@ json RunCase(const std::string& id) {
   auto basalt_state = [&](const json& x) {
     return StateJson(JsonVec3(x.at("p")), Wxyz(x.at("q_wxyz")), JsonVec3(x.at("v")), bg, ba);
   };
-  json doc = {{"noise", c.at("noise")},
-              {"gravity", c.at("gravity")},
-              {"imu", {{"format", "inline"}, {"samples", c.at("imu")}}},
-              {"tasks",
-               {{{"type", "preintegrate"},
-                 {"name", "vins_pre"},
-                 {"method", {{"preintegrator", "vins_fusion_as_configured"}}},
-                 {"bias", {{"bg", s.at("bg")}, {"ba", s.at("ba")}}},
-                 {"keyframes", {t0, t1}}},
-                {{"type", "preintegrate"},
-                 {"name", "basalt_pre"},
-                 {"method", {{"preintegrator", "basalt_forward_zoh"}}},
-                 {"bias", {{"bg", s.at("bg")}, {"ba", s.at("ba")}}},
-                 {"keyframes", {t0, t1}}},
-                {{"type", "residual"},
-                 {"name", "vins_task"},
-                 {"kind", "vins_fusion"},
-                 {"measurements", "vins_pre"},
-                 {"start", vins_state(vins.at("state_i"))},
-                 {"end", vins_state(vins.at("state_j"))}},
-                {{"type", "residual"},
-                 {"name", "basalt_task"},
-                 {"kind", "basalt"},
-                 {"measurements", "basalt_pre"},
-                 {"start", basalt_state(basalt.at("state0"))},
-                 {"end", basalt_state(basalt.at("state1"))}}}}};
-  const pipeline::Pipeline p = pipeline::Pipeline::FromJson(doc, id + " (in memory)", ".");
-  pipeline::RunOptions o;
-  o.threads = 1;
-  return pipeline::Run(p, Plugins(), o);
+  return RunOverCase(
+      c,
+      {PreintegrateTask("vins_pre", "vins_fusion_as_configured", s, t0, t1),
+       PreintegrateTask("basalt_pre", "basalt_forward_zoh", s, t0, t1),
+       ResidualTask("vins_task", "vins_fusion", "vins_pre", vins_state(vins.at("state_i")),
+                    vins_state(vins.at("state_j"))),
+       ResidualTask("basalt_task", "basalt", "basalt_pre", basalt_state(basalt.at("state0")),
+                    basalt_state(basalt.at("state1")))},
+      id + " (in memory)");
 }
 
 double Worst(const json& ref, const json& est, const std::initializer_list<const char*> keys) {

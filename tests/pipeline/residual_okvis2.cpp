@@ -33,19 +33,14 @@
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
 #include "pipeline_test_util.h"
+#include "residual_over_case.h"
 
 namespace {
 using namespace imuconv;
 using namespace imuconv::test;
 using nlohmann::json;
 
-json Okvis2StateJson(const json& x) {
-  return {{"p", x.at("r")},
-          {"q_wxyz", x.at("q_wxyz")},
-          {"v", x.at("v")},
-          {"bg", x.at("bg")},
-          {"ba", x.at("ba")}};
-}
+json Okvis2StateJson(const json& x) { return AnchorStateJson(x, "r"); }
 
 json RunOkvis2Case(const std::string& id, const json& ie) {
   const json c = ReadJson(DataPath("reference/cases/" + id + ".json"));
@@ -53,30 +48,16 @@ json RunOkvis2Case(const std::string& id, const json& ie) {
   const json& s0 = ie.at("state_0");
   const json& s0_new = ie.at("state_0_new_bias");
   auto pre = [&](const char* name, const json& s) {
-    return json{{"type", "preintegrate"},
-                {"name", name},
-                {"method", {{"preintegrator", "okvis2"}}},
-                {"bias", {{"bg", s.at("bg")}, {"ba", s.at("ba")}}},
-                {"keyframes", {t0, t1}}};
+    return PreintegrateTask(name, "okvis2", s, t0, t1);
   };
   auto residual = [&](const char* name, const char* meas, const json& start) {
-    return json{{"type", "residual"},
-                {"name", name},
-                {"kind", "okvis2"},
-                {"measurements", meas},
-                {"start", Okvis2StateJson(start)},
-                {"end", Okvis2StateJson(ie.at("state_1"))}};
+    return ResidualTask(name, "okvis2", meas, Okvis2StateJson(start),
+                        Okvis2StateJson(ie.at("state_1")));
   };
-  json doc = {{"noise", c.at("noise")},
-              {"gravity", c.at("gravity")},
-              {"imu", {{"format", "inline"}, {"samples", c.at("imu")}}},
-              {"tasks",
-               {pre("pre_lin", s0), pre("pre_new", s0_new), residual("at_lin", "pre_lin", s0),
-                residual("at_new", "pre_lin", s0_new), residual("repro", "pre_new", s0_new)}}};
-  const pipeline::Pipeline p = pipeline::Pipeline::FromJson(doc, id + " (in memory)", ".");
-  pipeline::RunOptions o;
-  o.threads = 1;
-  return pipeline::Run(p, Plugins(), o);
+  return RunOverCase(c,
+                     {pre("pre_lin", s0), pre("pre_new", s0_new), residual("at_lin", "pre_lin", s0),
+                      residual("at_new", "pre_lin", s0_new), residual("repro", "pre_new", s0_new)},
+                     id + " (in memory)");
 }
 
 class ResidualOkvis2 : public ::testing::TestWithParam<const char*> {};

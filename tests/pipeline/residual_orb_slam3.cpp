@@ -25,6 +25,7 @@
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
 #include "pipeline_test_util.h"
+#include "residual_over_case.h"
 
 namespace {
 using namespace imuconv;
@@ -32,14 +33,6 @@ using namespace imuconv::test;
 using nlohmann::json;
 
 constexpr double kOrbFloatTol = 1e-4;
-
-json OrbStateJson(const json& x) {
-  return {{"p", x.at("p")},
-          {"q_wxyz", x.at("q_wxyz")},
-          {"v", x.at("v")},
-          {"bg", x.at("bg")},
-          {"ba", x.at("ba")}};
-}
 
 class ResidualOrbSlam3 : public ::testing::TestWithParam<const char*> {};
 
@@ -55,25 +48,14 @@ TEST_P(ResidualOrbSlam3, KindOrbSlam3WritesEdgeInertialAsOrbSlam3Does) {
   const double t0 = c.at("imu").front().at(0), t1 = c.at("imu").back().at(0);
   const json& si = ej.at("state_i");
   auto residual = [&](const char* name, const json& start) {
-    return json{{"type", "residual"},           {"name", name},
-                {"kind", "orb_slam3"},          {"measurements", "pre"},
-                {"start", OrbStateJson(start)}, {"end", OrbStateJson(ej.at("state_j"))}};
+    return ResidualTask(name, "orb_slam3", "pre", AnchorStateJson(start),
+                        AnchorStateJson(ej.at("state_j")));
   };
-  const json doc = {{"noise", c.at("noise")},
-                    {"gravity", c.at("gravity")},
-                    {"imu", {{"format", "inline"}, {"samples", c.at("imu")}}},
-                    {"tasks",
-                     {{{"type", "preintegrate"},
-                       {"name", "pre"},
-                       {"method", {{"preintegrator", "orb_slam3"}}},
-                       {"bias", {{"bg", si.at("bg")}, {"ba", si.at("ba")}}},
-                       {"keyframes", {t0, t1}}},
-                      residual("at_lin", si),
-                      residual("at_new", ej.at("state_i_new_bias"))}}};
-  const pipeline::Pipeline p = pipeline::Pipeline::FromJson(doc, id + " (in memory)", ".");
-  pipeline::RunOptions o;
-  o.threads = 1;
-  const json out = pipeline::Run(p, Plugins(), o);
+  const json out =
+      RunOverCase(c,
+                  {PreintegrateTask("pre", "orb_slam3", si, t0, t1), residual("at_lin", si),
+                   residual("at_new", ej.at("state_i_new_bias"))},
+                  id + " (in memory)");
   // The measurement's dT is ORB-SLAM3's float sum of its float steps.
   EXPECT_EQ(
       static_cast<float>(TaskOutput(out, "pre").at("measurements").at(0).at("dt").get<double>()),

@@ -8,6 +8,7 @@
 
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv_test.h"
+#include "inline_pipeline.h"
 #include "pipeline_test_util.h"
 
 namespace {
@@ -15,10 +16,7 @@ using namespace imuconv;
 using namespace imuconv::pipeline;
 using nlohmann::json;
 
-const json kNoise = {{"gyro_noise_density", 1.7e-4},
-                     {"accel_noise_density", 2e-3},
-                     {"gyro_random_walk", 2e-5},
-                     {"accel_random_walk", 3e-3}};
+const json kNoise = test::NoiseDensities(1.7e-4, 2e-3, 2e-5, 3e-3);
 
 json Tasks() {
   return {{{"type", "preintegrate"},

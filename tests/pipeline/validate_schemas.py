@@ -12,7 +12,6 @@ python3-jsonschema (Draft202012Validator):
     them by design (what a schema cannot know: plugin ids, times against the data, ...).
 Exit code 0 when everything passes; each failure is printed with the file and the JSON path.
 """
-import argparse
 import glob
 import json
 import os
@@ -21,6 +20,8 @@ import sys
 
 import jsonschema
 from jsonschema import Draft202012Validator
+
+from run_args import parse_run_args
 
 
 def load(path):
@@ -73,13 +74,8 @@ def run_pipeline(binary, path, out, cwd=None):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--source-dir", required=True)
-    ap.add_argument("--binary", required=True)
-    ap.add_argument("--work-dir", required=True)
-    args = ap.parse_args()
+    args = parse_run_args()
     src = os.path.abspath(args.source_dir)
-    os.makedirs(args.work_dir, exist_ok=True)
     v = make_validators(os.path.join(src, "schemas"))
     for name in ("pipeline.schema.json", "output.schema.json", "measurements.schema.json", "state.schema.json"):
         if name not in v:

@@ -24,12 +24,6 @@ namespace imuconv::test {
 constexpr double kAnchorMetricTol = 1e-8;
 constexpr double kAnchorScaledTol = 1e-9;
 
-/// The anchor file of `system` (its folder under tests/data/reference/anchors: "basalt",
-/// "orb-slam3", ...) for the reference case `case_id`.
-inline nlohmann::json AnchorJson(const std::string& system, const std::string& case_id) {
-  return ReadJson(DataPath("reference/anchors/" + system + "/" + case_id + ".json"));
-}
-
 /// The fixture of a test over the reference cases (its parameter: a case id) against one
 /// system's anchors: the case and that system's anchor file for it, both read when the test is
 /// constructed (a missing or unreadable file fails the test there).
@@ -40,6 +34,16 @@ class AnchorCaseTest : public ::testing::TestWithParam<const char*> {
       : anchor_(AnchorJson(system, GetParam())), case_(LoadCase(GetParam())) {}
   nlohmann::json anchor_;
   ImuCase case_;
+};
+
+/// The same with the case as its JSON document (for the tests that take its samples and noise
+/// from the document, as the anchors' inputs were written).
+class AnchorCaseJsonTest : public ::testing::TestWithParam<const char*> {
+ protected:
+  /// `system`: the anchors' folder, as AnchorJson takes it.
+  explicit AnchorCaseJsonTest(const char* system)
+      : anchor_(AnchorJson(system, GetParam())), case_(CaseJson(GetParam())) {}
+  nlohmann::json anchor_, case_;
 };
 
 /// The preintegration anchors' input: the whole case from its first sample to its last, at

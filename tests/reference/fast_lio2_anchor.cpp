@@ -33,11 +33,10 @@ using namespace imuconv;
 using namespace imuconv::kernels;
 using namespace imuconv::test;  // DataPath, JsonMatrix, MaxEntryDiff, the anchors' bounds
 
-class FastLio2Anchor : public ::testing::TestWithParam<const char*> {
+class FastLio2Anchor : public AnchorCaseJsonTest {
  protected:
+  FastLio2Anchor() : AnchorCaseJsonTest("fast-lio2") {}
   void SetUp() override {
-    anchor_ = AnchorJson("fast-lio2", GetParam());
-    case_ = CaseJson(GetParam());
     const nlohmann::json& in = anchor_.at("inputs");
     samples_ = CaseSamples(case_);
     ASSERT_EQ(in.at("n_samples").get<std::size_t>(), samples_.size());
@@ -154,7 +153,6 @@ class FastLio2Anchor : public ::testing::TestWithParam<const char*> {
     EXPECT_EQ(exact.end.rot.coeffs(), out.end.rot.coeffs());  // the quirk is in the covariance only
   }
 
-  nlohmann::json anchor_, case_;
   FastLio2Parameters params_;
   std::vector<ImuSample> samples_;
   double last_scan_end_ = 0.0, scan_end_ = 0.0;

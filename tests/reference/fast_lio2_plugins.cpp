@@ -63,11 +63,10 @@ Mat15 FastLio2ToLeft(const Mat3& R) {
   return J;
 }
 
-class FastLio2Plugins : public ::testing::TestWithParam<const char*> {
+class FastLio2Plugins : public AnchorCaseJsonTest {
  protected:
+  FastLio2Plugins() : AnchorCaseJsonTest("fast-lio2") {}
   void SetUp() override {
-    anchor_ = AnchorJson("fast-lio2", GetParam());
-    case_ = CaseJson(GetParam());
     samples_ = CaseSamples(case_);
     ASSERT_TRUE(MakeWindow(samples_.data(), samples_.size(), samples_.front().t, samples_.back().t,
                            in_.window)
@@ -132,7 +131,6 @@ class FastLio2Plugins : public ::testing::TestWithParam<const char*> {
     w.Print();
   }
 
-  nlohmann::json anchor_, case_;
   std::vector<ImuSample> samples_;
   PropagationInput in_;
   Vec3 gravity_ = Vec3::Zero();

@@ -68,11 +68,10 @@ void ExpectPreintegrated(const nlohmann::json& j, const OrbSlam3Preintegrated& p
           kOrbSlam3SameFloatArithmetic);
 }
 
-class OrbSlam3Anchor : public ::testing::TestWithParam<const char*> {
+class OrbSlam3Anchor : public AnchorCaseJsonTest {
  protected:
+  OrbSlam3Anchor() : AnchorCaseJsonTest("orb-slam3") {}
   void SetUp() override {
-    anchor_ = AnchorJson("orb-slam3", GetParam());
-    case_ = CaseJson(GetParam());
     const nlohmann::json& in = anchor_.at("inputs");
     const ImuNoise noise = CaseNoise(case_);
     ASSERT_EQ(in.at("IMU.NoiseGyro").get<double>(), noise.gyro_noise_density);
@@ -99,7 +98,6 @@ class OrbSlam3Anchor : public ::testing::TestWithParam<const char*> {
     ASSERT_EQ(in.at("n_integrate").get<std::size_t>(), steps_.size());
   }
 
-  nlohmann::json anchor_, case_;
   OrbSlam3Calib calib_;
   OrbSlam3Bias bias_;
   std::vector<OrbSlam3Step> steps_;

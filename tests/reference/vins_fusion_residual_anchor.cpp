@@ -61,11 +61,10 @@ void ExpectFactorOutput(const nlohmann::json& j, const VinsFusionFactorOutput& o
   EXPECT_LE(d_sbj, tol) << label << " jacobian_speedbias_j";
 }
 
-class VinsFusionResidualAnchor : public ::testing::TestWithParam<const char*> {
+class VinsFusionResidualAnchor : public AnchorCaseTest {
  protected:
+  VinsFusionResidualAnchor() : AnchorCaseTest("vins-fusion") {}
   void SetUp() override {
-    anchor_ = AnchorJson("vins-fusion", GetParam());
-    case_ = LoadCase(GetParam());
     // As in vins_fusion_anchor.cpp: the case's densities as ACC_N..GYR_W, its start biases
     // as the linearization point, G = -gravity.
     m_.linearized_ba = case_.x_s.ba;
@@ -76,8 +75,6 @@ class VinsFusionResidualAnchor : public ::testing::TestWithParam<const char*> {
                                     VinsNoiseMapping::kAsConfigured, m_.pre)
                     .ok());
   }
-  nlohmann::json anchor_;
-  ImuCase case_;
   VinsFusionMeasurement m_;
 };
 

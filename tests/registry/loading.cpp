@@ -17,6 +17,12 @@ using imuconv::Registry;
 
 std::string PluginFile(const std::string& name) { return imuconv::test::BuiltInPlugin(name); }
 
+/// The error of loading the test fixture plugin `fixture` into a registry of its own.
+std::string FixtureLoadError(const std::string& fixture) {
+  Registry r;
+  return imuconv::test::LoadErrorOf(r, imuconv::test::FixturePlugin(fixture));
+}
+
 TEST(Loading, BuiltPluginsLoad) {
   Registry r;
   const auto issues = r.load_directory(Registry::default_plugin_dir());
@@ -52,9 +58,7 @@ TEST(Loading, SharedLibraryThatIsNotAPlugin) {
 }
 
 TEST(Loading, WrongAbiVersion) {
-  Registry r;
-  const std::string msg =
-      imuconv::test::LoadErrorOf(r, imuconv::test::FixturePlugin("imuconv_plugin_wrong_abi.so"));
+  const std::string msg = FixtureLoadError("imuconv_plugin_wrong_abi.so");
   EXPECT_NE(msg.find("ABI version 999"), std::string::npos) << msg;
 }
 
@@ -69,16 +73,12 @@ TEST(Loading, DuplicateIdNamesBothFiles) {
 }
 
 TEST(Loading, WrongAnalyticJacobianIsRefused) {
-  Registry r;
-  const std::string msg =
-      imuconv::test::LoadErrorOf(r, imuconv::test::FixturePlugin("imuconv_plugin_bad_jacobian.so"));
+  const std::string msg = FixtureLoadError("imuconv_plugin_bad_jacobian.so");
   EXPECT_NE(msg.find("analytic J_ref_this differs"), std::string::npos) << msg;
 }
 
 TEST(Loading, BlockOrderThatIsNoPermutationIsRefused) {
-  Registry r;
-  const std::string msg =
-      imuconv::test::LoadErrorOf(r, imuconv::test::FixturePlugin("imuconv_plugin_bad_order.so"));
+  const std::string msg = FixtureLoadError("imuconv_plugin_bad_order.so");
   EXPECT_NE(msg.find("state convention 'bad_order'"), std::string::npos) << msg;
   EXPECT_NE(
       msg.find(

@@ -33,6 +33,7 @@
 #include "imuconv/window.h"
 #include "imuconv_test.h"
 #include "reference_case.h"
+#include "scheme_facts.h"
 
 namespace imuconv::test {
 
@@ -49,11 +50,7 @@ namespace increment_mean_facts {
 template <PluginKind kKind>
 Status PluginMean(const std::string& id, const SampleWindow& w, const Vec3& bg, const Vec3& ba,
                   const ImuNoise& noise, PreintIncrement& mean) {
-  const PreintegrationInput in = PreintegrationInputOf(w, bg, ba, noise);
-  if constexpr (kKind == PluginKind::Propagator)
-    return Plugins().propagator(id)->increment_mean(in, mean);
-  else
-    return Plugins().preintegrator(id)->increment_mean(in, mean);
+  return SchemePlugin<kKind>(id)->increment_mean(PreintegrationInputOf(w, bg, ba, noise), mean);
 }
 
 /// Bitwise equality of two matrices (EXPECT_EQ on Eigen compares values, which would let
@@ -151,11 +148,8 @@ void ExpectSaysNotProvided(const std::string& id) {
 /// built-in plugin directory has one (`where` says in which files they belong).
 template <PluginKind kKind>
 void CheckDeclaredIncrementMeans(const char* where) {
-  static_assert(kKind == PluginKind::Propagator || kKind == PluginKind::Preintegrator);
-  DeclaredFacts<IncrementMeanOf<kKind>>::CheckAll(
-      Plugins(), kKind, where,
-      std::string("IMUCONV_INCREMENT_MEAN(") + SchemeKindName(kKind) +
-          ", <id>, kProvided or kNotProvided)",
+  CheckSchemeDeclarations<IncrementMeanOf, kKind>(
+      where, "IMUCONV_INCREMENT_MEAN", "kProvided or kNotProvided",
       [](const std::string& id, IncrementMeanGiven given) {
         if (given == IncrementMeanGiven::kProvided) {
           increment_mean_facts::ExpectSameAsTheFullPath<kKind>(id);

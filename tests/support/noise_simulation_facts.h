@@ -18,6 +18,7 @@
 #include "declared_facts.h"
 #include "imuconv/noise_simulation.h"
 #include "imuconv_test.h"
+#include "scheme_facts.h"
 
 namespace imuconv::test {
 
@@ -35,22 +36,11 @@ struct NoiseSimulationOf {
 };
 
 template <PluginKind kKind>
-NoiseSimulation NoiseSimulationOfPlugin(const std::string& id) {
-  if constexpr (kKind == PluginKind::Propagator)
-    return Plugins().propagator(id)->noise_simulation();
-  else
-    return Plugins().preintegrator(id)->noise_simulation();
-}
-
-template <PluginKind kKind>
 void CheckDeclaredNoiseSimulations(const char* where) {
-  static_assert(kKind == PluginKind::Propagator || kKind == PluginKind::Preintegrator);
-  DeclaredFacts<NoiseSimulationOf<kKind>>::CheckAll(
-      Plugins(), kKind, where,
-      std::string("IMUCONV_NOISE_SIMULATION(") + SchemeKindName(kKind) +
-          ", <id>, <cells>, <reading>, <simulable>)",
+  CheckSchemeDeclarations<NoiseSimulationOf, kKind>(
+      where, "IMUCONV_NOISE_SIMULATION", "<cells>, <reading>, <simulable>",
       [](const std::string& id, const NoiseSimulationFacts& facts) {
-        const NoiseSimulation sim = NoiseSimulationOfPlugin<kKind>(id);
+        const NoiseSimulation sim = SchemePlugin<kKind>(id)->noise_simulation();
         EXPECT_EQ(sim.cells, facts.cells) << id;
         EXPECT_EQ(sim.reading, facts.reading) << id;
         EXPECT_EQ(sim.simulable, facts.simulable) << id;

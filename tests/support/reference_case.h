@@ -1,5 +1,6 @@
 // A reference case of tests/data/reference/cases (the samples, noise and start state GTSAM was
-// run on, tests/data/README.md): its JSON document by id and its noise densities.
+// run on, tests/data/README.md): its JSON document by id, its noise densities, and what GTSAM
+// and the other systems (tests/data/reference/anchors) computed on it.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -18,6 +19,12 @@ inline nlohmann::json CaseJson(const std::string& id) {
 /// samples ("zoh", "mid") and scheme ("manifold", "tangent") under its own key.
 inline nlohmann::json GtsamReferenceJson(const std::string& id) {
   return ReadJson(DataPath("reference/gtsam/" + id + ".gtsam.json"));
+}
+
+/// Another system's outputs for the case: the anchor file of `system` (its folder under
+/// tests/data/reference/anchors: "basalt", "orb-slam3", ...) for the reference case `case_id`.
+inline nlohmann::json AnchorJson(const std::string& system, const std::string& case_id) {
+  return ReadJson(DataPath("reference/anchors/" + system + "/" + case_id + ".json"));
 }
 
 /// The case's "noise": the continuous densities and random walks its samples were drawn with.
