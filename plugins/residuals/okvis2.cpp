@@ -44,16 +44,6 @@ kernels::Okvis2Preintegration Okvis2PreintegrationOf(const Preintegrated& m) {
   return p;
 }
 
-kernels::Okvis2State Okvis2StateOf(const ImuState& x) {
-  kernels::Okvis2State s;
-  s.r = x.p;
-  s.q = Eigen::Quaterniond(x.R);
-  s.v = x.v;
-  s.bg = x.bg;
-  s.ba = x.ba;
-  return s;
-}
-
 struct Okvis2Factor {
   static constexpr const char* kIncrementConvention = "okvis2";
   static constexpr const char* kLayout =
@@ -96,7 +86,7 @@ struct Okvis2Factor {
     kernels::Okvis2ImuParameters params;
     params.g = -gravity.z();
     const kernels::Okvis2Preintegration pre = Okvis2PreintegrationOf(m);
-    kernels::Okvis2State s0 = Okvis2StateOf(x_s), s1 = Okvis2StateOf(x_e);
+    kernels::Okvis2State s0 = kernels::Okvis2StateOf(x_s), s1 = kernels::Okvis2StateOf(x_e);
     // A state here is a rotation matrix, a quaternion only up to sign; OKVIS's Jacobians
     // w.r.t. the quaternion's coefficients and its rotation residual 2 vec(Dq q_1^-1 q_0)
     // change sign with it. q_0 is taken with w >= 0 and q_1 so that the rotation error is

@@ -4,7 +4,9 @@
 // exporting side is plugin_abi.h, target imuconv::plugin_abi).
 #pragma once
 
+#include <cstddef>
 #include <iterator>
+#include <tuple>
 #include <vector>
 
 #include "imuconv/chart.h"
@@ -70,28 +72,14 @@ struct PluginDescriptor {
   const char* summary;
 };
 
-/// The base class a plugin of kind K derives from.
+/// The base class a plugin of kind K derives from: the kinds' base classes in kind order,
+/// from kind 1 on (as KindName's names).
+using PluginBases =
+    std::tuple<StateConvention, IncrementConvention, Propagator, Preintegrator, ResidualFactor>;
+static_assert(std::tuple_size_v<PluginBases> == std::size(kPluginKinds), "a base class per kind");
 template <PluginKind K>
-struct PluginBase;
-template <>
-struct PluginBase<PluginKind::StateConvention> {
-  using type = StateConvention;
-};
-template <>
-struct PluginBase<PluginKind::IncrementConvention> {
-  using type = IncrementConvention;
-};
-template <>
-struct PluginBase<PluginKind::Propagator> {
-  using type = Propagator;
-};
-template <>
-struct PluginBase<PluginKind::Preintegrator> {
-  using type = Preintegrator;
-};
-template <>
-struct PluginBase<PluginKind::Residual> {
-  using type = ResidualFactor;
+struct PluginBase {
+  using type = std::tuple_element_t<static_cast<std::size_t>(K) - 1, PluginBases>;
 };
 
 namespace detail {

@@ -9,22 +9,10 @@
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 #define IMUCONV_KERNEL_TARGET __attribute__((target("avx2,fma")))
-#include "instances.h"
-#include "interval.h"
-#if IMUCONV_RK4_PER_INSTANCE
-#define IMUCONV_RK4_TARGET IMUCONV_KERNEL_TARGET
-#include "rk4_window.h"
-#endif
+#include "instance_x86.h"
 
 namespace imuconv::kernels::detail {
 
-extern const Instance kAvx2Instance = {&RunManifoldInstance<simd::d4x2>,
-                                       &RunTangentInstance<simd::d4x2>,
-#if IMUCONV_RK4_PER_INSTANCE
-                                       &Rk4Window};
-#else
-                                       &Rk4DefaultTarget};  // kernel_config.h: Clang compiles rk4
-                                                            // once
-#endif
+extern const Instance kAvx2Instance = X86Instance<simd::d4x2>();
 
 }  // namespace imuconv::kernels::detail

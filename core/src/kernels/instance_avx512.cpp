@@ -9,22 +9,10 @@
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 #define IMUCONV_KERNEL_TARGET __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")))
-#include "instances.h"
-#include "interval.h"
-#if IMUCONV_RK4_PER_INSTANCE
-#define IMUCONV_RK4_TARGET IMUCONV_KERNEL_TARGET
-#include "rk4_window.h"
-#endif
+#include "instance_x86.h"
 
 namespace imuconv::kernels::detail {
 
-extern const Instance kAvx512Instance = {&RunManifoldInstance<simd::d8>,
-                                         &RunTangentInstance<simd::d8>,
-#if IMUCONV_RK4_PER_INSTANCE
-                                         &Rk4Window};
-#else
-                                         &Rk4DefaultTarget};  // kernel_config.h: Clang compiles rk4
-                                                              // once
-#endif
+extern const Instance kAvx512Instance = X86Instance<simd::d8>();
 
 }  // namespace imuconv::kernels::detail

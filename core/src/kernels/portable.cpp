@@ -228,12 +228,23 @@ void Run(const PreintegrationInput& in, StepFn step, BiasJacobians& H, CombinedC
   }
 }
 
-template <bool kCovariance, Hold kHold = Hold::Euler, typename StepFn>
+template <bool kCovariance, Hold kHold, typename StepFn>
 void RunAndAssemble(const PreintegrationInput& in, StepFn step, Mat96& J_inc_bias,
                     CombinedCovariance& cov) {
   BiasJacobians H;
   Run<kCovariance, kHold>(in, step, H, cov);
   J_inc_bias = H.Assemble();
+}
+
+/// RunAndAssemble with the covariance or without, as asked at run time: `cov` is left
+/// untouched without it.
+template <Hold kHold = Hold::Euler, typename StepFn>
+void RunAndAssemble(const PreintegrationInput& in, bool covariance, StepFn step, Mat96& J_inc_bias,
+                    CombinedCovariance& cov) {
+  if (covariance)
+    RunAndAssemble<true, kHold>(in, step, J_inc_bias, cov);
+  else
+    RunAndAssemble<false, kHold>(in, step, J_inc_bias, cov);
 }
 
 }  // namespace
@@ -244,9 +255,8 @@ void ManifoldPortable(const PreintegrationInput& in, bool covariance, ManifoldIn
     ManifoldStepRightChart(a, w, dt, inc, J);
   };
   CombinedCovariance c;
-  if (!covariance) return RunAndAssemble<false>(in, step, J_inc_bias, c);
-  RunAndAssemble<true>(in, step, J_inc_bias, c);
-  cov = ManifoldCovarianceInNavStateChart(inc.dR, c);
+  RunAndAssemble(in, covariance, step, J_inc_bias, c);
+  if (covariance) cov = ManifoldCovarianceInNavStateChart(inc.dR, c);
 }
 
 void TangentPortable(const PreintegrationInput& in, bool covariance, TangentIncrement& inc,
@@ -255,9 +265,8 @@ void TangentPortable(const PreintegrationInput& in, bool covariance, TangentIncr
     TangentStep(a, w, dt, inc, J);
   };
   CombinedCovariance c;
-  if (!covariance) return RunAndAssemble<false>(in, step, J_inc_bias, c);
-  RunAndAssemble<true>(in, step, J_inc_bias, c);
-  cov = c.Assemble();
+  RunAndAssemble(in, covariance, step, J_inc_bias, c);
+  if (covariance) cov = c.Assemble();
 }
 
 void ManifoldStartFramePortable(const PreintegrationInput& in, Hold hold, bool covariance,
@@ -267,17 +276,10 @@ void ManifoldStartFramePortable(const PreintegrationInput& in, Hold hold, bool c
     ManifoldStep(a, w, dt, inc, J);
   };
   CombinedCovariance c;
-  if (hold == Hold::Euler) {
-    if (covariance)
-      RunAndAssemble<true, Hold::Euler>(in, step, out.J_inc_bias, c);
-    else
-      RunAndAssemble<false, Hold::Euler>(in, step, out.J_inc_bias, c);
-  } else {
-    if (covariance)
-      RunAndAssemble<true, Hold::Midpoint>(in, step, out.J_inc_bias, c);
-    else
-      RunAndAssemble<false, Hold::Midpoint>(in, step, out.J_inc_bias, c);
-  }
+  if (hold == Hold::Euler)
+    RunAndAssemble<Hold::Euler>(in, covariance, step, out.J_inc_bias, c);
+  else
+    RunAndAssemble<Hold::Midpoint>(in, covariance, step, out.J_inc_bias, c);
   if (covariance) out.cov = c.Assemble();
 }
 

@@ -84,6 +84,17 @@ struct Okvis2State {
   Vec3 ba = Vec3::Zero();
 };
 
+/// `x` as OKVIS's state: the same position, rotation (as a quaternion), velocity and biases.
+inline Okvis2State Okvis2StateOf(const ImuState& x) {
+  Okvis2State s;
+  s.r = x.p;
+  s.q = Eigen::Quaterniond(x.R);
+  s.v = x.v;
+  s.bg = x.bg;
+  s.ba = x.ba;
+  return s;
+}
+
 /// Which transition the covariance uses.
 enum class Okvis2Transition {
   kAsOkvis,         ///< upstream's F_delta, whole-interval sums in three blocks (see above)

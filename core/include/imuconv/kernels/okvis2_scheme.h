@@ -73,14 +73,8 @@ struct Okvis2PropagationScheme {
   Status operator()(const PropagationInput& in, PropagationResult& out) const {
     std::vector<Okvis2Sample> samples;
     if (Status st = Okvis2SamplesOf(in.window, samples); !st.ok()) return st;
-    Okvis2State start;
-    start.r = in.x_s.p;
-    start.q = Eigen::Quaterniond(in.x_s.R);
-    start.v = in.x_s.v;
-    start.bg = in.x_s.bg;
-    start.ba = in.x_s.ba;
     Okvis2Propagation prop;
-    if (Status st = PropagateOkvis2(samples, Okvis2ParametersOf(in.noise), start,
+    if (Status st = PropagateOkvis2(samples, Okvis2ParametersOf(in.noise), Okvis2StateOf(in.x_s),
                                     samples.front().t_ns, samples.back().t_ns, prop, kTransition);
         !st.ok())
       return st;

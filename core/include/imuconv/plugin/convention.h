@@ -136,67 +136,63 @@ class IncrementChart : public ConventionChart<PreintIncrement, Order, BiasSign> 
   }
 };
 
-/// An increment chart with the reference's perturbations, Delta R = Delta R^ Exp(dtheta) and
-/// additive dp, dv, in another block order and bias sign: its Jacobians to and from the
-/// reference are the permutation with that sign, both ways. Declared with a `using` (a
-/// template's comma cannot stand in the IMUCONV_PLUGIN line).
-template <const BlockOrder& Order, int BiasSign>
-class RightPerturbedIncrementChart : public IncrementChart<Order, BiasSign> {
-  using Base = IncrementChart<Order, BiasSign>;
-
- public:
-  void retract(const PreintIncrement& x, const Vec15& d,
-               PreintIncrement& y) const noexcept override {
-    y.dR = x.dR * so3::Exp(d.template segment<3>(Base::theta));
-    y.dp = x.dp + d.template segment<3>(Base::p);
-    y.dv = x.dv + d.template segment<3>(Base::v);
-    Base::RetractBiases(x, d, y);
-  }
-  void local(const PreintIncrement& x, const PreintIncrement& y, Vec15& d) const noexcept override {
-    d.template segment<3>(Base::theta) = so3::Log(x.dR.transpose() * y.dR);
-    d.template segment<3>(Base::p) = y.dp - x.dp;
-    d.template segment<3>(Base::v) = y.dv - x.dv;
-    Base::LocalBiases(x, y, d);
-  }
-  bool J_ref_this(const PreintIncrement&, Mat15& J) const noexcept override {
-    return Base::RefThis(J, {});
-  }
-  bool J_this_ref(const PreintIncrement&, Mat15& J) const noexcept override {
-    return Base::ThisRef(J, {});
-  }
+/// Which side of the estimate an increment chart's rotation error multiplies.
+enum class RotationErrorSide {
+  kRight,  ///< Delta R = Delta R^ Exp(dtheta): the reference's perturbation
+  kLeft,   ///< Delta R = Exp(dtheta) Delta R^, in the interval's start frame
 };
 
-/// An increment chart with the rotation error on the left, Delta R = Exp(dtheta) Delta R^ (in
-/// the interval's start frame), and additive dp, dv, in a block order and bias sign: against
-/// the reference, Exp(dtheta) Delta R^ = Delta R^ Exp(Delta R^T dtheta), so dtheta_ref =
-/// Delta R^T dtheta and dtheta = Delta R^ dtheta_ref, the other blocks a permutation. Basalt's
-/// delta state and OKVIS2's P_delta are this chart (each plugin names it after its system).
-/// Declared with a `using`, as RightPerturbedIncrementChart.
-template <const BlockOrder& Order, int BiasSign>
-class LeftPerturbedIncrementChart : public IncrementChart<Order, BiasSign> {
+/// An increment chart with additive dp, dv, the rotation error on `Side`, in a block order and
+/// bias sign. On the right (the reference's perturbations) its Jacobians to and from the
+/// reference are the permutation with that sign, both ways. On the left, against the
+/// reference, Exp(dtheta) Delta R^ = Delta R^ Exp(Delta R^T dtheta), so dtheta_ref =
+/// Delta R^T dtheta and dtheta = Delta R^ dtheta_ref, the other blocks a permutation (Basalt's
+/// delta state and OKVIS2's P_delta are that chart; each plugin names it after its system).
+/// Declared with a `using` of RightPerturbedIncrementChart or LeftPerturbedIncrementChart (a
+/// template's comma cannot stand in the IMUCONV_PLUGIN line).
+template <const BlockOrder& Order, int BiasSign, RotationErrorSide Side>
+class PerturbedIncrementChart : public IncrementChart<Order, BiasSign> {
   using Base = IncrementChart<Order, BiasSign>;
+  static constexpr bool kLeft = Side == RotationErrorSide::kLeft;
 
  public:
   void retract(const PreintIncrement& x, const Vec15& d,
                PreintIncrement& y) const noexcept override {
-    y.dR = so3::Exp(d.template segment<3>(Base::theta)) * x.dR;
+    if constexpr (kLeft)
+      y.dR = so3::Exp(d.template segment<3>(Base::theta)) * x.dR;
+    else
+      y.dR = x.dR * so3::Exp(d.template segment<3>(Base::theta));
     y.dp = x.dp + d.template segment<3>(Base::p);
     y.dv = x.dv + d.template segment<3>(Base::v);
     Base::RetractBiases(x, d, y);
   }
   void local(const PreintIncrement& x, const PreintIncrement& y, Vec15& d) const noexcept override {
-    d.template segment<3>(Base::theta) = so3::Log(y.dR * x.dR.transpose());
+    if constexpr (kLeft)
+      d.template segment<3>(Base::theta) = so3::Log(y.dR * x.dR.transpose());
+    else
+      d.template segment<3>(Base::theta) = so3::Log(x.dR.transpose() * y.dR);
     d.template segment<3>(Base::p) = y.dp - x.dp;
     d.template segment<3>(Base::v) = y.dv - x.dv;
     Base::LocalBiases(x, y, d);
   }
   bool J_ref_this(const PreintIncrement& x, Mat15& J) const noexcept override {
-    return Base::RefThis(J, {{Block::theta, x.dR.transpose()}});
+    if constexpr (kLeft) return Base::RefThis(J, {{Block::theta, x.dR.transpose()}});
+    (void)x;
+    return Base::RefThis(J, {});
   }
   bool J_this_ref(const PreintIncrement& x, Mat15& J) const noexcept override {
-    return Base::ThisRef(J, {{Block::theta, x.dR}});
+    if constexpr (kLeft) return Base::ThisRef(J, {{Block::theta, x.dR}});
+    (void)x;
+    return Base::ThisRef(J, {});
   }
 };
+
+template <const BlockOrder& Order, int BiasSign>
+using RightPerturbedIncrementChart =
+    PerturbedIncrementChart<Order, BiasSign, RotationErrorSide::kRight>;
+template <const BlockOrder& Order, int BiasSign>
+using LeftPerturbedIncrementChart =
+    PerturbedIncrementChart<Order, BiasSign, RotationErrorSide::kLeft>;
 
 /// The rotation a chart's body frame is that of: the state's R, or the increment's Delta R.
 inline const Mat3& RotationOf(const ImuState& x) noexcept { return x.R; }
