@@ -225,8 +225,7 @@ class Collector {
   /// Nesting is bounded (an output document is a few levels deep): JSON values are copied and
   /// written recursively, and a hostile text must not exhaust the stack.
   void CheckDepth() const {
-    const std::size_t depth =
-        frames_.size() + open_.size() + (pending_array_ ? 1 : 0);
+    const std::size_t depth = frames_.size() + open_.size() + (pending_array_ ? 1 : 0);
     if (depth >= kMaxDepth)
       Fail(frames_.empty() ? std::string() : frames_.back().pointer,
            "nested deeper than " + std::to_string(kMaxDepth) + " levels");
@@ -296,7 +295,8 @@ class Collector {
     return {f.member, {}, {}};
   }
   /// A destination's key and pointer. A slot's pointer is the innermost frame's member: it is
-  /// asked for only while that frame is still the innermost one (an array being built opens no frame).
+  /// asked for only while that frame is still the innermost one (an array being built opens no
+  /// frame).
   const std::string& KeyOf(const Destination& d) const { return d.slot ? d.slot->key : d.key; }
   std::string PointerOf(const Destination& d) const {
     return d.slot ? Join(frames_.back().pointer, d.slot->escaped) : d.pointer;
@@ -500,9 +500,9 @@ class Collector {
   bool done_ = false;
   bool pending_array_ = false;
   Destination array_dest_;
-  ojson built_;                ///< the array being built (an array that is not of objects)
-  std::vector<ojson*> open_;   ///< its open arrays and objects, innermost last
-  std::string member_;         ///< the member of an object in it that comes next
+  ojson built_;               ///< the array being built (an array that is not of objects)
+  std::vector<ojson*> open_;  ///< its open arrays and objects, innermost last
+  std::string member_;        ///< the member of an object in it that comes next
   std::vector<std::size_t> shape_, no_shape_;  ///< FlushBuilt's shape; a number's (none)
   std::vector<double> reals_, whole_;          ///< FlushBuilt's numbers; reals()'s
   std::vector<std::int64_t> integers_;

@@ -10,8 +10,8 @@
 #include <nlohmann/json.hpp>
 #include <unordered_set>
 
-#include "file_streambuf.h"
 #include "array_collector.h"
+#include "file_streambuf.h"
 
 namespace imuconv::pipeline {
 namespace detail {

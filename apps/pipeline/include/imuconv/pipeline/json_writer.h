@@ -88,8 +88,8 @@ class JsonWriter {
       scratch_.resize(rows * cols);
       for (std::size_t i = 0; i < rows; ++i)
         for (std::size_t k = 0; k < cols; ++k)
-          scratch_[i * cols + k] = m.derived().coeff(static_cast<Eigen::Index>(i),
-                                                     static_cast<Eigen::Index>(k));
+          scratch_[i * cols + k] =
+              m.derived().coeff(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k));
       if (whole_matrix(scratch_.data(), rows, cols)) return;
     }
     begin_array();
