@@ -14,10 +14,8 @@ namespace {
 nlohmann::json Vec(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
 nlohmann::json Quaternion(const Mat3& R) {
-  Eigen::Quaterniond q(R);
-  q.normalize();
-  if (q.w() < 0) q.coeffs() *= -1.0;  // w >= 0, as the CLI's other q_wxyz columns
-  return {q.w(), q.x(), q.y(), q.z()};
+  const Eigen::Vector4d q = UnitQuaternionWxyz(R);
+  return {q[0], q[1], q[2], q[3]};
 }
 
 // The 1-sigma of axis `a` of block `label` (NaN without covariance).
@@ -152,6 +150,13 @@ void PrintTable(std::ostream& out, const Result& r) {
                   r.bias.within_3sigma_ba.z());
     out << buf;
   }
+}
+
+Eigen::Vector4d UnitQuaternionWxyz(const Mat3& R) {
+  Eigen::Quaterniond q(R);
+  q.normalize();
+  if (q.w() < 0) q.coeffs() *= -1.0;  // w >= 0, as the CLI's other q_wxyz columns
+  return {q.w(), q.x(), q.y(), q.z()};
 }
 
 }  // namespace imuconv::optimize

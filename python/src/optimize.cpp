@@ -110,9 +110,7 @@ void BindOptimize(py::module_& m) {
         out["t"] = t;
         out["p"] = Rows<3>(ks, [](const optimize::Keyframe& k) -> Vec3 { return k.x.p; });
         out["q_wxyz"] = Rows<4>(ks, [](const optimize::Keyframe& k) -> Eigen::Vector4d {
-          Eigen::Quaterniond q(k.x.R);
-          if (q.w() < 0) q.coeffs() *= -1.0;
-          return {q.w(), q.x(), q.y(), q.z()};
+          return optimize::UnitQuaternionWxyz(k.x.R);
         });
         out["v"] = Rows<3>(ks, [](const optimize::Keyframe& k) -> Vec3 { return k.x.v; });
         out["bg"] = Rows<3>(ks, [](const optimize::Keyframe& k) -> Vec3 { return k.x.bg; });

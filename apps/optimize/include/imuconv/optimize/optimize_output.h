@@ -21,6 +21,10 @@ nlohmann::json RoundsJson(const Result& r);
 int TotalIterations(const Result& r);
 double TotalSeconds(const Result& r);
 
+/// A keyframe's attitude as the output's q_wxyz: the unit quaternion of R with w >= 0 (the
+/// --json output's keyframes and imuconv.optimize's rows, so that the two give the same bits).
+Eigen::Vector4d UnitQuaternionWxyz(const Mat3& R);
+
 /// The summary and one row per keyframe (its biases with their 1-sigma).
 void PrintTable(std::ostream& out, const Result& r);
 
