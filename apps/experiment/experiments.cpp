@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <exception>
-#include <string_view>
 #include <thread>
 
 #include "imuconv/bridge.h"
@@ -132,11 +131,9 @@ std::vector<Pair> RunTrial(const Registry& reg, const Methods& m, const std::vec
   PropagationResult propagated;
   PropagationResult by_preintegration[2];
   if (o.prop_by_preint) {
-    // The propagation is in left, where the trial's start covariance is given and the
-    // comparisons are made.
-    static_assert(std::string_view(kStateChart) == "left");
-    propagated = refcase::PropagateFromLeftStart(reg, o.propagator, t.x_s, t.cov_s_left, t.noise,
-                                                 t.gravity, w_prop);
+    // In kStateChart (left), where the trial's start covariance is given.
+    propagated =
+        reg.propagate(o.propagator, kStateChart, {t.x_s, t.cov_s_left, t.noise, t.gravity, w_prop});
     for (int s = 0; s < 2; ++s)
       by_preintegration[s] =
           PropagateByPreintegration(reg, native[s], t.x_s, t.cov_s_left, kStateChart, t.gravity);

@@ -126,19 +126,6 @@ void CheckCovariance(const Mat15& C, const std::string& ptr) {
 
 }  // namespace
 
-PropagationResult PropagateFromLeftStart(const Registry& reg, const std::string& propagator,
-                                         const ImuState& x_s, const Mat15& cov_s_left,
-                                         const ImuNoise& noise, const Vec3& gravity,
-                                         const SampleWindow& window) {
-  PropagationInput in;
-  in.x_s = x_s;
-  in.cov_s = cov_s_left;
-  in.noise = noise;
-  in.gravity = gravity;
-  in.window = window;
-  return reg.propagate(propagator, "left", in);
-}
-
 std::vector<ImuSample> MidSampleInput(const std::vector<ImuSample>& samples) {
   std::vector<ImuSample> out(samples);
   for (std::size_t k = 0; k + 1 < samples.size(); ++k) {
@@ -406,7 +393,7 @@ json Slot(const Registry& reg, const Case& k, const Method& method, const Sample
 json PropagationBlock(const Registry& reg, const Case& k, const std::string& propagator,
                       const SampleWindow& w) {
   const PropagationResult r =
-      PropagateFromLeftStart(reg, propagator, k.x_s, k.cov_s_left, k.noise, k.gravity, w);
+      reg.propagate(propagator, "left", {k.x_s, k.cov_s_left, k.noise, k.gravity, w});
   return {{"convention", "left"},
           {"blocks", {"p", "theta", "v", "bg", "ba"}},
           {"state_e", FullStateJson(r.x_e)},

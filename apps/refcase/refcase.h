@@ -58,14 +58,6 @@ void CheckResults(const nlohmann::json& out, const std::string& ptr);
 /// imuconv experiment's --input mid are both made from it.
 std::vector<ImuSample> MidSampleInput(const std::vector<ImuSample>& samples);
 
-/// Propagates `window` with `propagator` in the `left` convention from the start state x_s,
-/// whose covariance cov_s_left is given in that chart: a case's "propagation" blocks, and the
-/// reference side of imuconv experiment's propagation by preintegration (the note, section 3.2).
-PropagationResult PropagateFromLeftStart(const Registry& reg, const std::string& propagator,
-                                         const ImuState& x_s, const Mat15& cov_s_left,
-                                         const ImuNoise& noise, const Vec3& gravity,
-                                         const SampleWindow& window);
-
 /// A matrix as an array of rows, a vector as an array.
 nlohmann::json ToJson(const Eigen::MatrixXd& m);
 nlohmann::json ToJsonVec(const Eigen::VectorXd& v);

@@ -11,8 +11,9 @@
 // How it streams: objects and arrays of objects are frames; a value's key is its frame's key
 // and the member name. A vector or matrix given with its shape goes straight to its key. Any
 // other array that is not an array of objects (a list of block labels; in the text, every
-// vector and matrix) is built as a JSON value until it closes: it is then an N-d array when it
-// is a rectangular array of numbers (the shape read off it), else a value for the sidecar.
+// vector and matrix) is built as a JSON value until it closes (built_array.h): it is then an
+// N-d array when it is a rectangular array of numbers (the shape read off it), else a value for
+// the sidecar.
 // The indices of the enclosing arrays of objects are kept per value, so that the end can tell
 // whether a key's values fill their grid (one N-d array) or not (one array per value, named by
 // its pointer).
@@ -29,6 +30,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "built_array.h"
 #include "imuconv/pipeline/result_arrays.h"
 #include "imuconv/printable.h"
 #include "imuconv/registry.h"
@@ -42,25 +44,25 @@ class Collector {
 
   // ---- the document's values, in order ----
   void null() {
-    if (Built()) return Add(nullptr);
+    if (Built()) return built_.add(nullptr);
     EmitValue(Here("null"), nullptr);
   }
   void boolean(bool b) {
-    if (Built()) return Add(b);
+    if (Built()) return built_.add(b);
     EmitValue(Here("a boolean"), b);
   }
   void integer(std::int64_t i) {
-    if (Built()) return Add(i);
+    if (Built()) return built_.add(i);
     EmitNumbers(Here("a number"), nullptr, &i, 1, false);
   }
   void unsigned_integer(std::uint64_t u) {
     if (u <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
       return integer(static_cast<std::int64_t>(u));
-    if (Built()) return Add(u);  // beyond int64: a sidecar value, never an array
+    if (Built()) return built_.add(u);  // beyond int64: a sidecar value, never an array
     EmitValue(Here("a number"), u);
   }
   void real(double v) {
-    if (Built()) return Add(v);
+    if (Built()) return built_.add(v);
     EmitNumbers(Here("a number"), &v, nullptr, 1, true);
   }
   /// A vector (`shape` {n}) or a matrix ({rows, cols}, row-major) of reals, whole: the doubles
@@ -70,9 +72,7 @@ class Collector {
     std::size_t n = 1;
     for (std::size_t e : shape) n *= e;
     if (n > 0 && !Built()) {  // nearly every vector and matrix of the output
-      whole_.resize(n);
-      std::memcpy(whole_.data(), bytes, n * sizeof(double));
-      EmitNumbers(Here("an array"), whole_.data(), nullptr, n, true, &shape);
+      EmitNumbers(Here("an array"), bytes, nullptr, n, true, &shape);
       return;
     }
     // Inside an array being built, or empty (no numbers: a sidecar value): as the text has it.
@@ -94,7 +94,7 @@ class Collector {
     end_array();
   }
   void string(std::string_view s) {
-    if (Built()) return Add(std::string(s));
+    if (Built()) return built_.add(std::string(s));
     if (!frames_.empty() && frames_.back().task && !frames_.back().named) {
       // A task's name (its first member, checked in key()) names its frame.
       Frame& task = frames_.back();
@@ -116,7 +116,7 @@ class Collector {
   }
   void begin_object() {
     CheckDepth();
-    if (!open_.empty()) return Open(ojson::object());
+    if (built_.building()) return built_.open(ojson::object());
     if (pending_array_) StartArrayOfObjects();
     if (frames_.empty()) {
       if (done_) Fail("", "text after the document");
@@ -148,10 +148,7 @@ class Collector {
     frames_.push_back(std::move(child));
   }
   void key(std::string_view name) {
-    if (!open_.empty()) {
-      member_.assign(name.data(), name.size());
-      return;
-    }
+    if (built_.building()) return built_.key(name);
     const std::string k(name);
     Frame& f = frames_.back();
     if (f.task && !f.named && k != "name")
@@ -161,7 +158,7 @@ class Collector {
     ++f.count;
   }
   void end_object() {
-    if (!open_.empty()) return Close();
+    if (built_.building()) return CloseBuilt();
     Frame f = std::move(frames_.back());
     frames_.pop_back();
     if (f.task && !f.named) Fail(f.pointer, "a task without a \"name\"");
@@ -178,16 +175,16 @@ class Collector {
   }
   void begin_array() {
     CheckDepth();
-    if (!open_.empty()) return Open(ojson::array());
+    if (built_.building()) return built_.open(ojson::array());
     if (pending_array_) {  // an array's first element is an array: the outer one is built
       StartBuilding();
-      return Open(ojson::array());
+      return built_.open(ojson::array());
     }
     array_dest_ = Here("an array");
     pending_array_ = true;  // an array of objects or a value: its first element tells
   }
   void end_array() {
-    if (!open_.empty()) return Close();
+    if (built_.building()) return CloseBuilt();
     if (pending_array_) {
       pending_array_ = false;
       EmitValue(array_dest_, ojson::array());
@@ -225,7 +222,7 @@ class Collector {
   /// Nesting is bounded (an output document is a few levels deep): JSON values are copied and
   /// written recursively, and a hostile text must not exhaust the stack.
   void CheckDepth() const {
-    const std::size_t depth = frames_.size() + open_.size() + (pending_array_ ? 1 : 0);
+    const std::size_t depth = frames_.size() + built_.depth() + (pending_array_ ? 1 : 0);
     if (depth >= kMaxDepth)
       Fail(frames_.empty() ? std::string() : frames_.back().pointer,
            "nested deeper than " + std::to_string(kMaxDepth) + " levels");
@@ -234,32 +231,17 @@ class Collector {
   /// Whether the current value goes into the array being built (it is inside one, or is the
   /// first element, not an object, of an array just opened).
   bool Built() {
-    if (!open_.empty()) return true;
+    if (built_.building()) return true;
     if (!pending_array_) return false;
     StartBuilding();
     return true;
   }
   void StartBuilding() {
     pending_array_ = false;
-    built_ = ojson::array();
-    open_.push_back(&built_);
+    built_.start();
   }
-  /// A value of the array being built: an element, or a member of an object in it.
-  ojson* Place(ojson v) {
-    ojson& parent = *open_.back();
-    if (parent.is_array()) {
-      parent.push_back(std::move(v));
-      return &parent.back();
-    }
-    ojson& m = parent[member_];
-    m = std::move(v);
-    return &m;
-  }
-  void Add(ojson v) { Place(std::move(v)); }
-  void Open(ojson container) { open_.push_back(Place(std::move(container))); }
-  void Close() {
-    open_.pop_back();
-    if (open_.empty()) FlushBuilt();
+  void CloseBuilt() {
+    if (built_.close()) FlushBuilt();
   }
   void StartArrayOfObjects() {
     pending_array_ = false;
@@ -328,72 +310,22 @@ class Collector {
     return fk.members.back();
   }
 
-  /// The array just built: an N-d array when it is a rectangular array of numbers (numbers at
-  /// one depth only, every array at a depth of one length, at least one number), else a value
-  /// for the sidecar.
+  /// The array just built (built_array.h): an N-d array when it is a rectangular array of
+  /// numbers, else a value for the sidecar.
   void FlushBuilt() {
-    std::vector<std::size_t>& shape = shape_;
-    shape.clear();
-    reals_.clear();
-    integers_.clear();
-    bool real = false, mixed = false;
-    if (!Rectangular(built_, shape, real, mixed)) {
-      EmitValue(array_dest_, std::move(built_));
-      return;
-    }
-    if (!real)
-      return EmitNumbers(array_dest_, nullptr, integers_.data(), integers_.size(), false, &shape);
-    if (mixed) {  // reals and integers, in the order of the document: each integer as a real
-      reals_.clear();
-      Leaves(built_, [&](const ojson& v) {
-        reals_.push_back(v.is_number_float() ? v.get<double>()
-                                             : ExactDouble(v.get<std::int64_t>(), array_dest_));
+    BuiltArray::Numbers& n = numbers_;
+    if (!built_.rectangular(n)) return EmitValue(array_dest_, built_.take());
+    if (!n.real)
+      return EmitNumbers(array_dest_, nullptr, n.integers.data(), n.integers.size(), false,
+                         &n.shape);
+    if (n.mixed) {  // reals and integers, in the order of the document: each integer as a real
+      n.reals.clear();
+      built_.each_number([&](const ojson& v) {
+        n.reals.push_back(v.is_number_float() ? v.get<double>()
+                                              : ExactDouble(v.get<std::int64_t>(), array_dest_));
       });
     }
-    EmitNumbers(array_dest_, reals_.data(), nullptr, reals_.size(), true, &shape);
-  }
-  /// Whether `v` is a rectangular array of numbers; its lengths into `shape` and its numbers
-  /// into reals_ and integers_ (by type), whether there are reals and whether they mix with
-  /// integers into `real` and `mixed`.
-  bool Rectangular(const ojson& v, std::vector<std::size_t>& shape, bool& real, bool& mixed) {
-    std::size_t leaf_depth = 0;  // where the numbers are, once one is met
-    return Rectangular(v, 0, shape, leaf_depth, real, mixed) && leaf_depth != 0 &&
-           leaf_depth == shape.size();
-  }
-  bool Rectangular(const ojson& v, std::size_t depth, std::vector<std::size_t>& shape,
-                   std::size_t& leaf_depth, bool& real, bool& mixed) {
-    if (v.is_array()) {
-      if (depth < shape.size()) {
-        if (shape[depth] != v.size()) return false;
-      } else if (leaf_depth == 0 || depth < leaf_depth) {
-        shape.push_back(v.size());  // the first array at this depth
-      } else {
-        return false;  // an array where others have numbers
-      }
-      for (const ojson& e : v)
-        if (!Rectangular(e, depth + 1, shape, leaf_depth, real, mixed)) return false;
-      return true;
-    }
-    const bool is_int = v.type() == ojson::value_t::number_integer;
-    if (!is_int && !v.is_number_float()) return false;
-    if (leaf_depth == 0)
-      leaf_depth = depth;
-    else if (leaf_depth != depth)
-      return false;
-    if (is_int) {
-      integers_.push_back(v.get<std::int64_t>());
-      mixed = mixed || real;
-    } else {
-      reals_.push_back(v.get<double>());
-      mixed = mixed || !integers_.empty();
-      real = true;
-    }
-    return true;
-  }
-  template <class F>
-  static void Leaves(const ojson& v, const F& f) {
-    if (!v.is_array()) return f(v);
-    for (const ojson& e : v) Leaves(e, f);
+    EmitNumbers(array_dest_, n.reals.data(), nullptr, n.reals.size(), true, &n.shape);
   }
 
   double ExactDouble(std::int64_t i, const Destination& d) const {
@@ -421,12 +353,15 @@ class Collector {
     ++o.count;
   }
 
-  /// The n numbers of a value at `d`, of `shape` (none: a number alone): `reals`, or
-  /// `integers` when !real.
-  void EmitNumbers(const Destination& d, const double* reals, const std::int64_t* integers,
+  /// The n numbers of a value at `d`, of `shape` (none: a number alone): the doubles at
+  /// `reals` (native byte order, possibly unaligned: a value record's own bytes), or `integers`
+  /// when !real.
+  void EmitNumbers(const Destination& d, const void* reals, const std::int64_t* integers,
                    std::size_t n, bool real, const std::vector<std::size_t>* shape = nullptr) {
     if (shape == nullptr && levels_.empty()) {  // a number alone, in no array of objects
-      EmitValue(d, real ? ojson(reals[0]) : ojson(integers[0]));
+      double v = 0.0;
+      if (real) std::memcpy(&v, reals, sizeof v);
+      EmitValue(d, real ? ojson(v) : ojson(integers[0]));
       return;
     }
     if (d.slot == nullptr || d.slot->numeric < 0) {
@@ -442,7 +377,7 @@ class Collector {
     AddNumbers(numeric_[static_cast<std::size_t>(d.slot->numeric)], d, reals, integers, n, real,
                shape);
   }
-  void AddNumbers(NumericKey& k, const Destination& d, const double* reals,
+  void AddNumbers(NumericKey& k, const Destination& d, const void* reals,
                   const std::int64_t* integers, std::size_t n, bool real,
                   const std::vector<std::size_t>* shape) {
     Record(k, d);
@@ -500,13 +435,10 @@ class Collector {
   bool done_ = false;
   bool pending_array_ = false;
   Destination array_dest_;
-  ojson built_;               ///< the array being built (an array that is not of objects)
-  std::vector<ojson*> open_;  ///< its open arrays and objects, innermost last
-  std::string member_;        ///< the member of an object in it that comes next
-  std::vector<std::size_t> shape_, no_shape_;  ///< FlushBuilt's shape; a number's (none)
-  std::vector<double> reals_, whole_;          ///< FlushBuilt's numbers; reals()'s
-  std::vector<std::int64_t> integers_;
-  std::deque<FrameKey> frame_keys_;  ///< every frame key met, and its members
+  BuiltArray built_;                   ///< an array that is not of objects, while it is read
+  BuiltArray::Numbers numbers_;        ///< FlushBuilt's (reused)
+  std::vector<std::size_t> no_shape_;  ///< a number's shape (none)
+  std::deque<FrameKey> frame_keys_;    ///< every frame key met, and its members
   std::unordered_map<std::string, int> frame_key_ids_;
   std::vector<std::uint32_t> index_;  ///< indices of the enclosing arrays of objects
   std::vector<int> levels_;           ///< and their entries in aoos_

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <deque>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -101,12 +102,13 @@ struct NumericKey : Occurrences {
   std::vector<std::uint32_t> shape_of;           ///< per value
   std::vector<std::size_t> offset;               ///< per value, into data / integers
 
-  /// The n numbers of the value just recorded, of `shape`: `reals`, or `values` when !real.
+  /// The n numbers of the value just recorded, of `shape`: the doubles at `reals` (possibly
+  /// unaligned), or `values` when !real.
   /// A key is int64 until its first real; then its integers so far become reals, each by
   /// to_real (which refuses one that is not exact in a double).
   template <class ToReal>
-  void Append(const std::vector<std::size_t>& shape, const double* reals,
-              const std::int64_t* values, std::size_t n, bool real, const ToReal& to_real) {
+  void Append(const std::vector<std::size_t>& shape, const void* reals, const std::int64_t* values,
+              std::size_t n, bool real, const ToReal& to_real) {
     if (real && type == NdArray::Type::kInt64) {
       data.reserve(integers.size() + n);
       for (std::int64_t i : integers) data.push_back(to_real(i));
@@ -118,10 +120,12 @@ struct NumericKey : Occurrences {
     if (s == shapes.end()) shapes.push_back(shape);
     if (type == NdArray::Type::kFloat64) {
       offset.push_back(data.size());
-      if (real)
-        data.insert(data.end(), reals, reals + n);
-      else
+      if (real) {
+        data.resize(data.size() + n);
+        std::memcpy(data.data() + data.size() - n, reals, n * sizeof(double));
+      } else {
         for (std::size_t i = 0; i < n; ++i) data.push_back(to_real(values[i]));
+      }
     } else {
       offset.push_back(integers.size());
       for (std::size_t i = 0; i < n; ++i) integers.push_back(values[i]);  // (few: indices, counts)
