@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <random>
 #include <sstream>
+#include <tuple>
 #include <vector>
 
 #include "imuconv/numeric.h"
@@ -27,44 +28,54 @@ std::string FormatMax(double v) {
   return o.str();
 }
 
+// The five parts of a value, rotation first: R, p, v, bg, ba of a state; dR, dp, dv, dbg, dba
+// of an increment.
+auto PartsOf(ImuState& x) { return std::tie(x.R, x.p, x.v, x.bg, x.ba); }
+auto PartsOf(PreintIncrement& x) { return std::tie(x.dR, x.dp, x.dv, x.dbg, x.dba); }
+
+// Where the load-time checks evaluate a chart: the identity, a tiny value (each part given) and
+// a random one (each part's scale given, drawn in the parts' order from a fixed seed).
+struct CheckPointSpec {
+  Vec3 tiny_rotation, tiny_p, tiny_v, tiny_bg, tiny_ba;
+  unsigned seed;
+  double rotation, p, v, bg, ba;
+};
+
+template <class Value>
+std::vector<Value> CheckPointsFrom(const CheckPointSpec& spec) {
+  std::vector<Value> xs(3);
+  PartsOf(xs[1]) = std::make_tuple(so3::Exp(spec.tiny_rotation), spec.tiny_p, spec.tiny_v,
+                                   spec.tiny_bg, spec.tiny_ba);
+  std::mt19937 rng(spec.seed);
+  std::normal_distribution<double> n(0.0, 1.0);
+  auto rv = [&](double s) { return Vec3(s * n(rng), s * n(rng), s * n(rng)); };
+  auto [R, p, v, bg, ba] = PartsOf(xs[2]);
+  // One statement per part: the draws keep the parts' order.
+  R = so3::Exp(rv(spec.rotation));
+  p = rv(spec.p);
+  v = rv(spec.v);
+  bg = rv(spec.bg);
+  ba = rv(spec.ba);
+  return xs;
+}
+
 template <class Value>
 std::vector<Value> CheckPoints();
 
-// Sample points for the load-time checks: identity, tiny and random (fixed seed).
 template <>
 std::vector<ImuState> CheckPoints<ImuState>() {
-  std::vector<ImuState> xs(3);
-  xs[1].R = so3::Exp(Vec3(1e-7, -2e-7, 3e-7));
-  xs[1].p = Vec3(1e-6, 2e-6, -1e-6);
-  xs[1].v = Vec3(-1e-6, 1e-6, 2e-6);
-  xs[1].bg = Vec3(1e-7, 0, -1e-7);
-  xs[1].ba = Vec3(0, 1e-6, 1e-6);
-  std::mt19937 rng(12345);
-  std::normal_distribution<double> n(0.0, 1.0);
-  auto rv = [&](double s) { return Vec3(s * n(rng), s * n(rng), s * n(rng)); };
-  xs[2].R = so3::Exp(rv(1.0));
-  xs[2].p = rv(10.0);
-  xs[2].v = rv(2.0);
-  xs[2].bg = rv(0.01);
-  xs[2].ba = rv(0.1);
-  return xs;
+  return CheckPointsFrom<ImuState>(
+      {/* tiny R, p, v, bg, ba */ Vec3(1e-7, -2e-7, 3e-7), Vec3(1e-6, 2e-6, -1e-6),
+       Vec3(-1e-6, 1e-6, 2e-6), Vec3(1e-7, 0, -1e-7), Vec3(0, 1e-6, 1e-6),
+       /* seed */ 12345, /* random scales R, p, v, bg, ba */ 1.0, 10.0, 2.0, 0.01, 0.1});
 }
 
 template <>
 std::vector<PreintIncrement> CheckPoints<PreintIncrement>() {
-  std::vector<PreintIncrement> xs(3);
-  xs[1].dR = so3::Exp(Vec3(1e-7, -2e-7, 3e-7));
-  xs[1].dp = Vec3(1e-6, 2e-6, -1e-6);
-  xs[1].dv = Vec3(-1e-6, 1e-6, 2e-6);
-  std::mt19937 rng(54321);
-  std::normal_distribution<double> n(0.0, 1.0);
-  auto rv = [&](double s) { return Vec3(s * n(rng), s * n(rng), s * n(rng)); };
-  xs[2].dR = so3::Exp(rv(0.7));
-  xs[2].dp = rv(10.0);
-  xs[2].dv = rv(3.0);
-  xs[2].dbg = rv(1e-3);
-  xs[2].dba = rv(1e-2);
-  return xs;
+  return CheckPointsFrom<PreintIncrement>(
+      {/* tiny dR, dp, dv, dbg, dba */ Vec3(1e-7, -2e-7, 3e-7), Vec3(1e-6, 2e-6, -1e-6),
+       Vec3(-1e-6, 1e-6, 2e-6), Vec3::Zero(), Vec3::Zero(),
+       /* seed */ 54321, /* random scales dR, dp, dv, dbg, dba */ 0.7, 10.0, 3.0, 1e-3, 1e-2});
 }
 
 std::vector<Vec15> CheckDeltas() {
