@@ -56,8 +56,8 @@ std::size_t ReplayEvents(std::string_view events, Values& values) {
     std::memcpy(&v, p, sizeof v);
     p += sizeof v;
   };
-  // One 8-byte number of type T ('d', 'i', 'u', a length, a dimension); nullopt when the piece
-  // ends before it (the record is then left for the next piece).
+  // The next number, of v's type (8 bytes: a 'd', 'i' or 'u' payload, a length); nullopt when
+  // the piece ends before it (the record is then left for the next piece).
   auto take = [&](auto v) -> std::optional<decltype(v)> {
     if (left() < sizeof v) return std::nullopt;
     read(v);
