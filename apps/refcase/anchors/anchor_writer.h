@@ -43,6 +43,13 @@ inline nlohmann::json Wxyz(const Eigen::Quaterniond& q) {
   return nlohmann::json::array({q.w(), q.x(), q.y(), q.z()});
 }
 
+/// The case's start rotation from its quaternion as written (Case::q_s_wxyz: sign kept, not
+/// normalised), the way the systems' frames hold it; a system whose constructor normalises
+/// (Sophus, MTK's SO3) calls .normalized() on it.
+inline Eigen::Quaterniond StartQuaternion(const Case& k) {
+  return Eigen::Quaterniond(k.q_s_wxyz[0], k.q_s_wxyz[1], k.q_s_wxyz[2], k.q_s_wxyz[3]);
+}
+
 /// The rotation Exp(dtheta) as a quaternion with w >= 0.
 inline Eigen::Quaterniond QuaternionExp(const Vec3& dtheta) {
   const Eigen::Vector4d q = so3::ToQuaternionWxyz(so3::Exp(dtheta));

@@ -125,8 +125,7 @@ json Basalt(const Registry&, const Case& k) {
   s0.x.R = k.x_s.R;
   s0.x.p = k.x_s.p;
   s0.x.v = k.x_s.v;
-  s0.q =
-      Eigen::Quaterniond(k.q_s_wxyz[0], k.q_s_wxyz[1], k.q_s_wxyz[2], k.q_s_wxyz[3]).normalized();
+  s0.q = StartQuaternion(k).normalized();
   s0.t_ns = std::llround(k.samples.front().t * 1e9);  // Basalt's integer nanoseconds
   json out;
   out["native"] = BasaltFeedingJson(k, BasaltFeeding::kNative, variances, s0);

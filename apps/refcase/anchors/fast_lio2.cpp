@@ -84,8 +84,7 @@ json FastLio2(const Registry&, const Case& k) {
   FastLio2State start;
   start.pos = k.x_s.p;
   // SO3's constructor from the case's quaternion normalizes it
-  start.rot =
-      Eigen::Quaterniond(k.q_s_wxyz[0], k.q_s_wxyz[1], k.q_s_wxyz[2], k.q_s_wxyz[3]).normalized();
+  start.rot = StartQuaternion(k).normalized();
   start.vel = k.x_s.v;
   start.bg = k.x_s.bg;
   start.ba = k.x_s.ba;

@@ -127,7 +127,7 @@ json Okvis2(const Registry&, const Case& k) {
 
   Okvis2State s0;
   s0.r = k.x_s.p;
-  s0.q = Eigen::Quaterniond(k.q_s_wxyz[0], k.q_s_wxyz[1], k.q_s_wxyz[2], k.q_s_wxyz[3]);
+  s0.q = StartQuaternion(k);
   s0.v = k.x_s.v;
   s0.bg = k.x_s.bg;
   s0.ba = k.x_s.ba;

@@ -79,8 +79,7 @@ json OrbSlam3Fields(const Registry&, const Case& k) {
 
   // The start state from the case's quaternion as written (ORB-SLAM3's frames hold it so).
   OrbSlam3Pose<double> s1;
-  s1.R = Eigen::Quaterniond(k.q_s_wxyz[0], k.q_s_wxyz[1], k.q_s_wxyz[2], k.q_s_wxyz[3])
-             .toRotationMatrix();
+  s1.R = StartQuaternion(k).toRotationMatrix();
   s1.p = k.x_s.p;
   s1.v = k.x_s.v;
   OrbSlam3Pose<float> s1_float;

@@ -50,7 +50,7 @@ json VinsFusion(const Registry&, const Case& k) {
 
   VinsFusionFactorState i;
   i.P = k.x_s.p;
-  i.Q = Eigen::Quaterniond(k.q_s_wxyz[0], k.q_s_wxyz[1], k.q_s_wxyz[2], k.q_s_wxyz[3]);
+  i.Q = StartQuaternion(k);
   i.V = k.x_s.v;
   i.Ba = k.x_s.ba;
   i.Bg = k.x_s.bg;

@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -55,6 +56,13 @@ std::size_t ReplayEvents(std::string_view events, Values& values) {
     std::memcpy(&v, p, sizeof v);
     p += sizeof v;
   };
+  // The next number, of v's type (8 bytes: a 'd', 'i' or 'u' payload, a length); nullopt when
+  // the piece ends before it (the record is then left for the next piece).
+  auto take = [&](auto v) -> std::optional<decltype(v)> {
+    if (left() < sizeof v) return std::nullopt;
+    read(v);
+    return v;
+  };
   std::vector<std::size_t> shape;
   while (p < end) {
     const char* const record = p;
@@ -83,34 +91,29 @@ std::size_t ReplayEvents(std::string_view events, Values& values) {
         values.null();
         break;
       case 'd': {
-        if (left() < 8) return cut();
-        double v;
-        read(v);
-        values.real(v);
+        const auto v = take(double{});
+        if (!v) return cut();
+        values.real(*v);
         break;
       }
       case 'i': {
-        if (left() < 8) return cut();
-        std::int64_t v;
-        read(v);
-        values.integer(v);
+        const auto v = take(std::int64_t{});
+        if (!v) return cut();
+        values.integer(*v);
         break;
       }
       case 'u': {
-        if (left() < 8) return cut();
-        std::uint64_t v;
-        read(v);
-        values.unsigned_integer(v);
+        const auto v = take(std::uint64_t{});
+        if (!v) return cut();
+        values.unsigned_integer(*v);
         break;
       }
       case 'k':
       case 's': {
-        std::uint64_t n;
-        if (left() < 8) return cut();
-        read(n);
-        if (left() < n) return cut();
-        const std::string_view text(p, static_cast<std::size_t>(n));
-        p += n;
+        const auto n = take(std::uint64_t{});
+        if (!n || left() < *n) return cut();
+        const std::string_view text(p, static_cast<std::size_t>(*n));
+        p += *n;
         if (tag == 'k')
           values.key(text);
         else
