@@ -1,6 +1,7 @@
 // imuconv conversion --from A --to B --state STATE.json [--json]: the 15x15 Jacobian
 // d dx_B / d dx_A of a state-convention change at a state, with block labels.
 #include <iostream>
+#include <memory>
 
 #include "imuconv/cli/commands.h"
 #include "imuconv/cli/exit_codes.h"
@@ -49,20 +50,20 @@ void RegisterConversionCommand(CLI::App& app, CommandContext& ctx) {
   auto* sub = app.add_subcommand(
       "conversion",
       "Print the 15x15 Jacobian d dx_B / d dx_A between two state conventions at a state");
-  static ConversionOptions o;
-  sub->add_option("--from", o.from, "State convention id A (e.g. left)")
+  const auto o = std::make_shared<ConversionOptions>();
+  sub->add_option("--from", o->from, "State convention id A (e.g. left)")
       ->required()
       ->type_name("A");
-  sub->add_option("--to", o.to, "State convention id B (e.g. gtsam_navstate)")
+  sub->add_option("--to", o->to, "State convention id B (e.g. gtsam_navstate)")
       ->required()
       ->type_name("B");
-  sub->add_option("--state", o.state, "State file: {\"p\", \"q_wxyz\", \"v\", \"bg\", \"ba\"}")
+  sub->add_option("--state", o->state, "State file: {\"p\", \"q_wxyz\", \"v\", \"bg\", \"ba\"}")
       ->required()
       ->type_name("STATE.json");
-  sub->add_flag("--json", o.as_json,
+  sub->add_flag("--json", o->as_json,
                 "Print JSON (the matrix with its row and column conventions and blocks)");
   AddPluginDirOption(*sub, ctx);
-  sub->callback([&ctx] { ctx.exit_code = ExecuteConversion(ctx, o); });
+  sub->callback([&ctx, o] { ctx.exit_code = ExecuteConversion(ctx, *o); });
 }
 
 }  // namespace imuconv::cli

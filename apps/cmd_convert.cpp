@@ -11,6 +11,7 @@
 // "convention", that must be A (and A may then be left out), and its "blocks" must be A's.
 #include <Eigen/Geometry>
 #include <iostream>
+#include <memory>
 #include <optional>
 
 #include "imuconv/cli/commands.h"
@@ -167,32 +168,32 @@ void RegisterConvertCommand(CLI::App& app, CommandContext& ctx) {
                                  "Convert a covariance, a transition matrix or a conversion "
                                  "Jacobian between two conventions at a state "
                                  "or an increment (no pipeline file)");
-  static ConvertOptions o;
-  sub->add_option("--what", o.what, "What to convert")
+  const auto o = std::make_shared<ConvertOptions>();
+  sub->add_option("--what", o->what, "What to convert")
       ->required()
       ->check(CLI::IsMember(
           {"covariance", "transition", "jacobian", "increment_covariance", "increment_jacobian"}));
-  sub->add_option("--from", o.from,
+  sub->add_option("--from", o->from,
                   "Convention the matrix is in (may be left out when the matrix file declares it)")
       ->type_name("A");
-  sub->add_option("--to", o.to, "Convention to express it in")->required()->type_name("B");
+  sub->add_option("--to", o->to, "Convention to express it in")->required()->type_name("B");
   sub->add_option(
-         "--state", o.state,
+         "--state", o->state,
          "State file {\"p\", \"q_wxyz\", \"v\", \"bg\", \"ba\"}: the estimate the chart is at")
       ->type_name("S.json");
-  sub->add_option("--state-end", o.state_end, "End state of a transition matrix")
+  sub->add_option("--state-end", o->state_end, "End state of a transition matrix")
       ->type_name("E.json");
-  sub->add_option("--increment", o.increment,
+  sub->add_option("--increment", o->increment,
                   "Increment file {\"q_wxyz\" or \"R\", \"dp\", \"dv\", \"dbg\", \"dba\"}")
       ->type_name("D.json");
-  sub->add_option("--matrix", o.matrix,
+  sub->add_option("--matrix", o->matrix,
                   "15x15 matrix file: an array of rows, {\"diagonal\"}, {\"sigma\"} or "
                   "{\"convention\", \"blocks\", \"matrix\"}")
       ->type_name("M.json");
-  sub->add_flag("--json", o.as_json,
+  sub->add_flag("--json", o->as_json,
                 "Print JSON: the input and the result, each with its convention and blocks");
   AddPluginDirOption(*sub, ctx);
-  SetCommandAction(*sub, ctx, [&ctx] { return ExecuteConvert(ctx, o); });
+  SetCommandAction(*sub, ctx, [&ctx, o] { return ExecuteConvert(ctx, *o); });
 }
 
 }  // namespace imuconv::cli

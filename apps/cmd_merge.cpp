@@ -14,6 +14,7 @@
 // shard is pointed to imuconv montecarlo --merge.
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -69,15 +70,15 @@ void RegisterMergeCommand(CLI::App& app, CommandContext& ctx) {
                                  "nothing written: a missing or duplicate shard, a "
                                  "truncated one, shards of another split, pipeline, imuconv "
                                  "version, plugins or input data (examples/batch/)");
-  static MergeOptions o;
-  sub->add_option("-o,--output", o.output,
+  const auto o = std::make_shared<MergeOptions>();
+  sub->add_option("-o,--output", o->output,
                   "Output file (replaced atomically, as imuconv run writes it; '-' is stdout); "
                   "never one of the shards")
       ->required()
       ->type_name("OUT.json")
       ->check(OutputPathCheck());
-  sub->add_option("shards", o.shards, "The shard outputs")->required()->type_name("SHARD.json");
-  SetCommandAction(*sub, ctx, [&ctx] { return Merge(ctx, o); });
+  sub->add_option("shards", o->shards, "The shard outputs")->required()->type_name("SHARD.json");
+  SetCommandAction(*sub, ctx, [&ctx, o] { return Merge(ctx, *o); });
 }
 
 }  // namespace imuconv::cli

@@ -5,6 +5,7 @@
 // already built with Quoted), so a file name with a newline cannot fake a line of output.
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "imuconv/cli/commands.h"
@@ -158,20 +159,21 @@ void RegisterPluginsCommand(CLI::App& app, CommandContext& ctx) {
                                  "and load errors; or, with --check DIR, load "
                                  "and exercise each plugin file of DIR in a child process and "
                                  "report which ones fail, crash or hang");
-  static PluginsOptions o;
-  sub->add_flag("--json", o.as_json, "Print JSON instead of a table");
-  sub->add_option("--check", o.check_dirs,
+  const auto o = std::make_shared<PluginsOptions>();
+  sub->add_flag("--json", o->as_json, "Print JSON instead of a table");
+  sub->add_option("--check", o->check_dirs,
                   "Check every imuconv_plugin_*.so in DIR, each in its own child process "
                   "(repeatable); exit status 1 "
                   "if any fails. The search path is not loaded")
       ->type_name("DIR")
       ->allow_extra_args(false);
-  sub->add_option("--check-timeout", o.check_timeout,
+  sub->add_option("--check-timeout", o->check_timeout,
                   "Seconds each plugin file may take under --check (default 20)")
       ->type_name("SECONDS")
       ->check(CLI::Range(0.1, 3600.0));
   AddPluginDirOption(*sub, ctx);
-  sub->callback([&ctx] { ctx.exit_code = o.check_dirs.empty() ? List(ctx, o.as_json) : Check(o); });
+  sub->callback(
+      [&ctx, o] { ctx.exit_code = o->check_dirs.empty() ? List(ctx, o->as_json) : Check(*o); });
 }
 
 }  // namespace imuconv::cli

@@ -273,16 +273,16 @@ void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
                                  "arrays (docs/interop.md); the summary goes to stdout (stderr "
                                  "when the result does). A failing run writes "
                                  "nothing.");
-  static RunCommandOptions o;
-  sub->add_option("pipeline", o.pipeline, "Pipeline file")->required()->type_name("PIPELINE.json");
-  sub->add_option("-o,--output", o.output,
+  const auto o = std::make_shared<RunCommandOptions>();
+  sub->add_option("pipeline", o->pipeline, "Pipeline file")->required()->type_name("PIPELINE.json");
+  sub->add_option("-o,--output", o->output,
                   "Output file: a regular file is replaced atomically (keeping its permissions; a "
                   "symbolic link is "
                   "followed to it); a device or FIFO is written through; '-' is stdout. Never one "
                   "of the inputs")
       ->type_name("OUT.json|OUT.npz")
       ->check(OutputPathCheck());
-  sub->add_option("--format", o.format,
+  sub->add_option("--format", o->format,
                   "json (the default) or npz: every array of the result in one NumPy .npz "
                   "(uncompressed; keys are "
                   "the JSON pointers with the indices of arrays of objects removed, values stacked "
@@ -291,34 +291,34 @@ void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
                   "*.npz means npz. "
                   "npz needs -o (or the pipeline's \"output\") and is never written to a terminal")
       ->type_name("FORMAT");
-  sub->add_flag("-q,--quiet", o.quiet, "Do not print the summary");
+  sub->add_flag("-q,--quiet", o->quiet, "Do not print the summary");
   sub->add_option(
-         "--tum", o.tum,
+         "--tum", o->tum,
          "Also write a propagate_by_preintegration task's predicted end states as a TUM trajectory "
          "(t x y z qx qy qz qw; t absolute seconds when the data's time origin is known), as evo "
          "reads it")
       ->type_name("TRAJ.txt")
       ->check(OutputPathCheck());
   sub->add_option(
-         "--errors", o.errors,
+         "--errors", o->errors,
          "Also write that task's per-step errors against the ground truth as CSV "
          "(k, t_end, t_end_abs_ns, position_error_m, rotation_error_deg, velocity_error_mps)")
       ->type_name("ERRORS.csv")
       ->check(OutputPathCheck());
-  sub->add_option("--trajectory-task", o.trajectory_task,
+  sub->add_option("--trajectory-task", o->trajectory_task,
                   "The propagate_by_preintegration task --tum and --errors write (needed when "
                   "there are several)")
       ->type_name("NAME");
-  sub->add_flag("--table", o.every_row,
+  sub->add_flag("--table", o->every_row,
                 "Print every row of a step table (by default one of more than 50 steps shows its "
                 "totals and worst steps)");
-  sub->add_option("-j,--threads", o.threads,
+  sub->add_option("-j,--threads", o->threads,
                   "Threads for independent intervals (0 = every core, the default; 1 = serial). "
                   "The output is the "
                   "same, byte for byte, for any number")
       ->type_name("N");
   sub->add_option(
-         "--shard", o.shard,
+         "--shard", o->shard,
          "Run shard K of N (0 <= K < N): a contiguous block of the tasks (never splitting a task "
          "from an "
          "earlier one it names), written as the whole run's document with a first member \"shard\" "
@@ -327,7 +327,7 @@ void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
          "(examples/batch/)")
       ->type_name("K/N");
   AddPluginDirOption(*sub, ctx);
-  SetCommandAction(*sub, ctx, [&ctx] { return ExecuteRun(ctx, o); });
+  SetCommandAction(*sub, ctx, [&ctx, o] { return ExecuteRun(ctx, *o); });
 }
 
 }  // namespace imuconv::cli
