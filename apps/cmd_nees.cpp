@@ -46,12 +46,7 @@ int RunNeesCommand(const CommandContext& ctx, const NeesCommandOptions& o) {
     const nees::Input in = o.pipeline_path.empty()
                                ? nees::ReadEurocInput(o.imu_path, o.ground_truth_path)
                                : nees::ReadPipelineInput(o.pipeline_path);
-    if (!o.noise_path.empty())
-      options.noise = nees::ReadNoiseFile(o.noise_path);
-    else if (in.noise)
-      options.noise = *in.noise;
-    else
-      throw Error(o.pipeline_path + ": /noise: required key is missing (or give --noise)");
+    options.noise = nees::NoiseGivenOrInPipeline(o.noise_path, in.noise, o.pipeline_path);
     options.gravity = in.gravity;
     Judgment judgment;
     judgment.warnings = in.imu.warnings;  // suspected units or column order of the samples

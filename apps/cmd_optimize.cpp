@@ -30,6 +30,9 @@ namespace imuconv::cli {
 int RunOptimizeCommand(const CommandContext& ctx, const OptimizeCommandOptions& o) {
   if (o.pipeline_path.empty() && (o.imu_path.empty() || o.poses_path.empty()))
     throw UsageError{"give --imu and --poses, or --pipeline P.json"};
+  if (o.pipeline_path.empty() && o.noise_path.empty())
+    throw UsageError{
+        "give --noise (a JSON noise object, a pipeline holding one, or a Kalibr imu.yaml)"};
   if (!o.pose_sigma.empty() && o.pose_sigma.size() != 2)
     throw UsageError{"--pose-sigma: give two numbers, METRES,RADIANS (e.g. 0.01,0.01)"};
   if (o.residual != "gtsam" && o.residual != "forster")
@@ -61,16 +64,7 @@ int RunOptimizeCommand(const CommandContext& ctx, const OptimizeCommandOptions& 
                                    ? optimize::ReadFileInput(o.imu_path, o.poses_path)
                                    : optimize::ReadPipelineInput(o.pipeline_path);
     optimize::Options options;
-    if (!o.noise_path.empty())
-      options.noise = nees::ReadNoiseFile(o.noise_path);
-    else if (in.noise)
-      options.noise = *in.noise;
-    else if (o.pipeline_path.empty())
-      throw UsageError{
-          "give --noise (a JSON noise object, a pipeline holding one, or a Kalibr "
-          "imu.yaml)"};
-    else
-      throw Error(o.pipeline_path + ": /noise: required key is missing (or give --noise)");
+    options.noise = nees::NoiseGivenOrInPipeline(o.noise_path, in.noise, o.pipeline_path);
     options.method = o.method;
     options.convention = o.convention;
     options.kind = o.residual == "forster" ? ResidualKind::Forster : ResidualKind::Gtsam;

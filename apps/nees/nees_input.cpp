@@ -6,6 +6,8 @@
 #include "imuconv/pipeline/kalibr_yaml.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/pipeline/pipeline_data.h"
+#include "imuconv/printable.h"
+#include "imuconv/registry.h"
 
 namespace imuconv::nees {
 
@@ -25,6 +27,14 @@ ImuNoise ReadNoiseFile(const std::string& path) {
     if (root.has("noise")) return pipeline::NoiseFromJson(root["noise"]);
     return pipeline::NoiseFromJson(root);
   });
+}
+
+ImuNoise NoiseGivenOrInPipeline(const std::string& noise_path,
+                                const std::optional<ImuNoise>& pipeline_noise,
+                                const std::string& pipeline_path) {
+  if (!noise_path.empty()) return ReadNoiseFile(noise_path);
+  if (pipeline_noise) return *pipeline_noise;
+  throw Error(Printable(pipeline_path) + ": /noise: required key is missing (or give --noise)");
 }
 
 Input ReadEurocInput(const std::string& imu_path, const std::string& gt_path) {

@@ -24,6 +24,14 @@ struct Input {
 /// alike.)
 ImuNoise ReadNoiseFile(const std::string& path);
 
+/// The noise densities nees and optimize use: --noise's file when given (ReadNoiseFile), else
+/// the pipeline's /noise (`pipeline_noise`). Throws imuconv::Error naming the pipeline and
+/// /noise when it has none. Each command refuses a call with neither --noise nor --pipeline as
+/// a usage error before it reads anything.
+ImuNoise NoiseGivenOrInPipeline(const std::string& noise_path,
+                                const std::optional<ImuNoise>& pipeline_noise,
+                                const std::string& pipeline_path);
+
 /// EuRoC/ASL IMU and full-state ground truth (ReadEurocImu, ReadEurocGroundTruth).
 Input ReadEurocInput(const std::string& imu_path, const std::string& gt_path);
 
