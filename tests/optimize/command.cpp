@@ -223,6 +223,20 @@ TEST(OptimizeCommand, MissingInputFilesAreNamed) {
   ExpectRefused(u.o, "absent_noise.json");
 }
 
+// Without --pipeline there is no /noise to fall back on: the call is refused as a usage error
+// before any file is read (an absent IMU file is not what it reports).
+TEST(OptimizeCommand, NoNoiseAndNoPipelineIsAUsageErrorBeforeAnyFileIsRead) {
+  Slice s;
+  s.o.noise_path.clear();
+  s.o.imu_path = s.tmp.file("absent_imu.csv");
+  try {
+    (void)RunOptimize(s.o);
+    ADD_FAILURE() << "no UsageError";
+  } catch (const imuconv::cli::UsageError& e) {
+    EXPECT_TRUE(Has(e.message, "give --noise")) << e.message;
+  }
+}
+
 TEST(OptimizeCommand, BadPoseColumnsNameTheFileAndLine) {
   Slice s;
   std::ofstream(s.poses) << "#time(ns),px,py,pz,qw,qx\n1403715293262142976,1,2,3,1,0\n";
