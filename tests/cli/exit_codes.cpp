@@ -86,54 +86,49 @@ TEST(ExitCodes, AMissingBenchProgramIsAnInternalError) {
   EXPECT_TRUE(Has(ReadText(tmp.file("err")), "imuconv-bench")) << ReadText(tmp.file("err"));
 }
 
+/// imuconv `args` is refused as bad input (exit 2) with a message holding `says`; the result,
+/// for what else a test asserts of it.
+CommandResult ExpectRefusedSaying(const std::string& args, const std::string& says,
+                                  const TempDir& tmp) {
+  CommandResult r = RunImuconv(args, tmp);
+  EXPECT_EQ(r.exit_code, 2) << args;
+  EXPECT_TRUE(Has(r.err, says)) << r.err;
+  return r;
+}
+
 TEST(DidYouMean, ASubcommandTypoNamesTheNearest) {
   const TempDir tmp;
-  CommandResult r = RunImuconv("chek a.json --case b.json", tmp);
-  EXPECT_EQ(r.exit_code, 2);
   // CLI11 alone said only "A subcommand is required".
-  EXPECT_TRUE(
-      Has(r.err, "unknown subcommand 'chek' (did you mean 'check'?); the subcommands are: "))
-      << r.err;
-  r = RunImuconv("-q montecarol --case x.json", tmp);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "unknown subcommand 'montecarol' (did you mean 'montecarlo'?)")) << r.err;
+  ExpectRefusedSaying(
+      "chek a.json --case b.json",
+      "unknown subcommand 'chek' (did you mean 'check'?); the subcommands are: ", tmp);
+  ExpectRefusedSaying("-q montecarol --case x.json",
+                      "unknown subcommand 'montecarol' (did you mean 'montecarlo'?)", tmp);
   // Nothing close: the list, no guess.
-  r = RunImuconv("frobnicate", tmp);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "unknown subcommand 'frobnicate'; the subcommands are: plugins, "))
-      << r.err;
+  ExpectRefusedSaying("frobnicate",
+                      "unknown subcommand 'frobnicate'; the subcommands are: plugins, ", tmp);
   // The values of a main option are not taken for the subcommand.
-  r = RunImuconv("--plugin-dir " + ShellQuote(tmp.path()) + " chek", tmp);
+  const CommandResult r = RunImuconv("--plugin-dir " + ShellQuote(tmp.path()) + " chek", tmp);
   EXPECT_TRUE(Has(r.err, "unknown subcommand 'chek' (did you mean 'check'?)")) << r.err;
-  r = RunImuconv("--quite run p.json", tmp);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(
-      Has(r.err, "unknown option '--quite' (did you mean '--quiet'?) before the subcommand"))
-      << r.err;
+  ExpectRefusedSaying("--quite run p.json",
+                      "unknown option '--quite' (did you mean '--quiet'?) before the subcommand",
+                      tmp);
 }
 
 TEST(DidYouMean, AFlagTypoNamesTheNearestFlagOfThatSubcommand) {
   const TempDir tmp;
   const std::string smooth = ShellQuote(DataPath("reference/cases/smooth-0.json"));
-  CommandResult r =
-      RunImuconv("montecarlo --case " + smooth + " --method euler --trails 100 --seed 1", tmp);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(
-      Has(r.err, "unknown option '--trails' for 'imuconv montecarlo' (did you mean '--trials'?)"))
-      << r.err;
-  r = RunImuconv("nees --pipeline p.json --window 1 --method rk4", tmp);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(
-      Has(r.err, "unknown option '--window' for 'imuconv nees' (did you mean '--windows'?)"))
-      << r.err;
-  r = RunImuconv("check m.json --case c.json --jsno", tmp);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "(did you mean '--json'?)")) << r.err;
+  ExpectRefusedSaying(
+      "montecarlo --case " + smooth + " --method euler --trails 100 --seed 1",
+      "unknown option '--trails' for 'imuconv montecarlo' (did you mean '--trials'?)", tmp);
+  ExpectRefusedSaying("nees --pipeline p.json --window 1 --method rk4",
+                      "unknown option '--window' for 'imuconv nees' (did you mean '--windows'?)",
+                      tmp);
+  ExpectRefusedSaying("check m.json --case c.json --jsno", "(did you mean '--json'?)", tmp);
   // A hidden option is accepted but never suggested; a negative number is a value, not a flag.
-  r = RunImuconv(
-      "montecarlo --case " + smooth + " --method euler --trials 100 --seed 1 --noise-scal 2", tmp);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "unknown option '--noise-scal' for 'imuconv montecarlo'")) << r.err;
+  CommandResult r = ExpectRefusedSaying(
+      "montecarlo --case " + smooth + " --method euler --trials 100 --seed 1 --noise-scal 2",
+      "unknown option '--noise-scal' for 'imuconv montecarlo'", tmp);
   EXPECT_FALSE(Has(r.err, "did you mean '--noise-scale'")) << r.err;
   // Every flag known: the parser's own message (here a value out of range), no guess.
   r = RunImuconv("experiment both --trials -5", tmp);
@@ -146,18 +141,15 @@ TEST(DidYouMean, APluginIdTypoNamesTheNearestId) {
   const TempDir tmp;
   const std::string state = ShellQuote(SourcePath("examples/hover.state.json"));
   // On the command line (convert's own check of the id) ...
-  CommandResult r =
-      RunImuconv("convert --what jacobian --from left --to gtsam_NavState --state " + state, tmp);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(
-      r.err, "unknown state convention 'gtsam_NavState' (did you mean 'gtsam_navstate'?); known: "))
-      << r.err;
+  ExpectRefusedSaying(
+      "convert --what jacobian --from left --to gtsam_NavState --state " + state,
+      "unknown state convention 'gtsam_NavState' (did you mean 'gtsam_navstate'?); known: ", tmp);
   // ... and in a pipeline (the pipeline's id checks, by JSON pointer): examples/inline_basics.json
   // with its first task's propagator mistyped.
   json p = ReadJson(SourcePath("examples/inline_basics.json"));
   ASSERT_EQ(p["tasks"][0]["propagator"], "rk4");
   p["tasks"][0]["propagator"] = "RK4";
-  r = RunImuconv(
+  const CommandResult r = RunImuconv(
       "run " + ShellQuote(tmp.write("p.json", p.dump())) + " -o " + ShellQuote(tmp.file("o.json")),
       tmp);
   EXPECT_EQ(r.exit_code, 2);

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <initializer_list>
 #include <string>
 
 #include "../pipeline/pipeline_test_util.h"
@@ -142,30 +143,29 @@ TEST(NeesPipelineInput, HostilePipelinesAreRefusedByName) {
   const auto nees_on = [&](const std::string& name, const json& doc) {
     return RunImuconv("nees --pipeline " + ShellQuote(tmp.write(name, doc.dump())) + common, tmp);
   };
+  // ... is refused (exit 2), its message naming the file and saying each of `says`.
+  const auto expect_refused = [&](const std::string& name, const json& doc,
+                                  std::initializer_list<const char*> says) {
+    const CommandResult refused = nees_on(name, doc);
+    EXPECT_EQ(refused.exit_code, 2) << name;
+    bool says_all = Has(refused.err, name);
+    for (const char* s : says) says_all = says_all && Has(refused.err, s);
+    EXPECT_TRUE(says_all) << refused.err;
+  };
 
   // No ground truth; pose-only ground truth; no noise and no --noise.
   json q = p;
   q.erase("ground_truth");
   q["tasks"][0]["start"] = {
       {"state", {{"p", {0, 0, 0}}, {"q_wxyz", {1, 0, 0, 0}}, {"v", {0, 0, 0}}}}};
-  r = nees_on("no_gt.json", q);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "no_gt.json") && Has(r.err, "/ground_truth") &&
-              Has(r.err, "required key is missing"))
-      << r.err;
+  expect_refused("no_gt.json", q, {"/ground_truth", "required key is missing"});
   q = p;
   q["ground_truth"] = {{"format", "euroc_pose"},
                        {"path", DataPath("pipeline_cases/files/vicon0.csv")}};
-  r = nees_on("poses.json", q);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "poses.json") && Has(r.err, "/ground_truth/format") &&
-              Has(r.err, "full state"))
-      << r.err;
+  expect_refused("poses.json", q, {"/ground_truth/format", "full state"});
   q = p;
   q.erase("noise");
-  r = nees_on("no_noise.json", q);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "no_noise.json") && Has(r.err, "/noise")) << r.err;
+  expect_refused("no_noise.json", q, {"/noise"});
 
   // A time unit that makes the microsecond stamps seconds: the pipeline's timing check.
   q = p;

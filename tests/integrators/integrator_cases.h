@@ -132,14 +132,24 @@ inline std::vector<ImuSample> McKnots(const ImuCase& c) {
   return {c.samples.begin() + 200, c.samples.begin() + 401};
 }
 
-/// The nominal propagation a Monte Carlo test samples around: from `c`'s start state over all of
-/// `knots` (the window points into it), with McNoise and `c`'s gravity; cov_s is left as it is.
-inline Status SetMcNominalInput(const ImuCase& c, const std::vector<ImuSample>& knots,
-                                PropagationInput& in) {
-  in.x_s = c.x_s;
-  in.noise = McNoise(c.noise);
-  in.gravity = c.gravity;
-  return MakeWindow(knots.data(), knots.size(), knots.front().t, knots.back().t, in.window);
-}
+/// The fixture of a Monte Carlo test (parameter P) and the nominal propagation it samples
+/// around, in_: from smooth-0's start state over all of McKnots, knots_ (in_'s window points
+/// into them, so the fixture keeps them for the whole test), with McNoise and smooth-0's
+/// gravity; in_.cov_s is zero.
+template <class P>
+class McNominalTest : public ::testing::TestWithParam<P> {
+ protected:
+  void SetUp() override {
+    in_.x_s = case_.x_s;
+    in_.noise = McNoise(case_.noise);
+    in_.gravity = case_.gravity;
+    ASSERT_TRUE(
+        MakeWindow(knots_.data(), knots_.size(), knots_.front().t, knots_.back().t, in_.window)
+            .ok());
+  }
+  const ImuCase case_ = LoadCase("smooth-0");
+  const std::vector<ImuSample> knots_ = McKnots(case_);
+  PropagationInput in_;
+};
 
 }  // namespace imuconv::test

@@ -87,48 +87,43 @@ struct McCase {
   bool start_uncertainty;  // false: cov_s = 0, only the process noise is tested
 };
 
-class IntegratorMonteCarlo : public ::testing::TestWithParam<McCase> {};
+class IntegratorMonteCarlo : public McNominalTest<McCase> {};
 
 TEST_P(IntegratorMonteCarlo, WhitenedCovarianceIsIdentity) {
   const McCase mc = GetParam();
-  const ImuCase c = LoadCase("smooth-0");
-  const std::vector<ImuSample> knots = McKnots(c);
-  const std::size_t K = knots.size() - 1;
-
-  PropagationInput in;
-  ASSERT_TRUE(SetMcNominalInput(c, knots, in).ok());
-  in.cov_s = mc.start_uncertainty ? StartCovariance() : Mat15::Zero();
+  const std::size_t K = knots_.size() - 1;
+  in_.cov_s = mc.start_uncertainty ? StartCovariance() : Mat15::Zero();
   PropagationResult nominal;
-  RunKernel(mc.integrator, in, nominal);
+  RunKernel(mc.integrator, in_, nominal);
 
-  const Mat15 L_s = mc.start_uncertainty ? Mat15(in.cov_s.llt().matrixL()) : Mat15::Zero();
+  const Mat15 L_s = mc.start_uncertainty ? Mat15(in_.cov_s.llt().matrixL()) : Mat15::Zero();
   std::mt19937_64 rng(1000 + static_cast<int>(mc.integrator) * 10 + mc.start_uncertainty);
   std::normal_distribution<double> normal(0.0, 1.0);
   auto normal3 = [&](double sd) {
     return Vec3(sd * normal(rng), sd * normal(rng), sd * normal(rng));
   };
 
-  std::vector<ImuSample> noisy(knots);
+  std::vector<ImuSample> noisy(knots_);
   std::vector<Vec15> errors;
   errors.reserve(kRuns);
-  PropagationInput truth = in;
+  PropagationInput truth = in_;
   truth.cov_s.setZero();
   ASSERT_TRUE(
-      MakeWindow(noisy.data(), noisy.size(), knots.front().t, knots.back().t, truth.window).ok());
+      MakeWindow(noisy.data(), noisy.size(), knots_.front().t, knots_.back().t, truth.window).ok());
   for (int run = 0; run < kRuns; ++run) {
     Vec15 z;
     for (int i = 0; i < 15; ++i) z[i] = normal(rng);
-    LeftRetract(in.x_s, L_s * z, truth.x_s);
+    LeftRetract(in_.x_s, L_s * z, truth.x_s);
     Vec3 bg = truth.x_s.bg, ba = truth.x_s.ba;
     for (std::size_t k = 0; k <= K; ++k) {
-      const double dt = knots[std::min(k + 1, K)].t - knots[std::min(k + 1, K) - 1].t;
-      noisy[k].gyro = knots[k].gyro - normal3(in.noise.gyro_noise_density / std::sqrt(dt)) -
+      const double dt = knots_[std::min(k + 1, K)].t - knots_[std::min(k + 1, K) - 1].t;
+      noisy[k].gyro = knots_[k].gyro - normal3(in_.noise.gyro_noise_density / std::sqrt(dt)) -
                       (bg - truth.x_s.bg);
-      noisy[k].accel = knots[k].accel - normal3(in.noise.accel_noise_density / std::sqrt(dt)) -
+      noisy[k].accel = knots_[k].accel - normal3(in_.noise.accel_noise_density / std::sqrt(dt)) -
                        (ba - truth.x_s.ba);
       if (k < K) {
-        bg += normal3(in.noise.gyro_random_walk * std::sqrt(dt));
-        ba += normal3(in.noise.accel_random_walk * std::sqrt(dt));
+        bg += normal3(in_.noise.gyro_random_walk * std::sqrt(dt));
+        ba += normal3(in_.noise.accel_random_walk * std::sqrt(dt));
       }
     }
     // MakeWindow copied the first and last knots; refresh them from the noisy samples.
@@ -156,7 +151,7 @@ TEST_P(IntegratorMonteCarlo, WhitenedCovarianceIsIdentity) {
 
   // Power: the same samples against the covariance predicted with noise densities 0.8x too small
   // (variances 0.64x) must be rejected, or the test above could not see a wrong noise model.
-  PropagationInput wrong = in;
+  PropagationInput wrong = in_;
   for (double* d : {&wrong.noise.gyro_noise_density, &wrong.noise.accel_noise_density,
                     &wrong.noise.gyro_random_walk, &wrong.noise.accel_random_walk})
     *d *= 0.8;

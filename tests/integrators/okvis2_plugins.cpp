@@ -59,14 +59,8 @@ TEST(Okvis2Plugins, InterpolatedEndsAreOkvisOwnInterpolation) {
     ASSERT_TRUE(Okvis2TimeFromSeconds(t_e, t1).ok());
     Okvis2ImuParameters params = Okvis2ParametersOf(c.noise);
     params.g = -c.gravity.z();
-    Okvis2State start;
-    start.r = c.x_s.p;
-    start.q = Eigen::Quaterniond(c.x_s.R);
-    start.v = c.x_s.v;
-    start.bg = c.x_s.bg;
-    start.ba = c.x_s.ba;
     Okvis2Propagation okvis;
-    ASSERT_TRUE(PropagateOkvis2(raw, params, start, t0, t1, okvis,
+    ASSERT_TRUE(PropagateOkvis2(raw, params, Okvis2StateOf(c.x_s), t0, t1, okvis,
                                 std::string(id) == "okvis2" ? Okvis2Transition::kAsOkvis
                                                             : Okvis2Transition::kOkvisStepLocal)
                     .ok());

@@ -197,36 +197,32 @@ INSTANTIATE_TEST_SUITE_P(
 // 4000, limits 0.112 / 0.079 / 15 +- 0.43): rk4 max|W_ii - 1| 0.055, max|W_ij| 0.043, NEES
 // 15.10; analytical 0.042, 0.046, 15.03; with 0.8x densities 0.65 and 0.63 (rejected).
 
-class OpenVinsQdMonteCarlo : public ::testing::TestWithParam<Method> {};
+class OpenVinsQdMonteCarlo : public McNominalTest<Method> {};
 
 TEST_P(OpenVinsQdMonteCarlo, WhitenedNoiseCovarianceIsIdentity) {
   const Method method = GetParam();
-  const ImuCase c = LoadCase("smooth-0");
-  const std::vector<ImuSample> knots = McKnots(c);
-  const std::size_t K = knots.size() - 1;
-  PropagationInput in;
-  ASSERT_TRUE(SetMcNominalInput(c, knots, in).ok());
-  const PropagationResult nominal = Plugins().propagate(method.plugin, "openvins_jpl", in);
+  const std::size_t K = knots_.size() - 1;
+  const PropagationResult nominal = Plugins().propagate(method.plugin, "openvins_jpl", in_);
 
   std::mt19937_64 rng(2024 + static_cast<int>(method.mean));
   std::normal_distribution<double> normal(0.0, 1.0);
   auto normal3 = [&](double sd) {
     return Vec3(sd * normal(rng), sd * normal(rng), sd * normal(rng));
   };
-  const ImuNoise& n = in.noise;
+  const ImuNoise& n = in_.noise;
   std::vector<Vec15> errors;
   errors.reserve(kRuns);
-  PropagationInput step = in;  // one interval: two knots, no interior samples
+  PropagationInput step = in_;  // one interval: two knots, no interior samples
   step.window = SampleWindow{};
   for (int run = 0; run < kRuns; ++run) {
-    ImuState x = in.x_s;  // carries the estimate's biases b_0; the truth's offset is in the knots
-    Vec3 bg = in.x_s.bg, ba = in.x_s.ba;
+    ImuState x = in_.x_s;  // carries the estimate's biases b_0; the truth's offset is in the knots
+    Vec3 bg = in_.x_s.bg, ba = in_.x_s.ba;
     for (std::size_t k = 0; k < K; ++k) {
-      const double dt = knots[k + 1].t - knots[k].t;
-      const Vec3 shift_g = normal3(n.gyro_noise_density / std::sqrt(dt)) + (bg - in.x_s.bg);
-      const Vec3 shift_a = normal3(n.accel_noise_density / std::sqrt(dt)) + (ba - in.x_s.ba);
-      step.window.first = knots[k];
-      step.window.last = knots[k + 1];
+      const double dt = knots_[k + 1].t - knots_[k].t;
+      const Vec3 shift_g = normal3(n.gyro_noise_density / std::sqrt(dt)) + (bg - in_.x_s.bg);
+      const Vec3 shift_a = normal3(n.accel_noise_density / std::sqrt(dt)) + (ba - in_.x_s.ba);
+      step.window.first = knots_[k];
+      step.window.last = knots_[k + 1];
       for (ImuSample* s : {&step.window.first, &step.window.last}) {
         s->gyro -= shift_g;
         s->accel -= shift_a;
@@ -253,7 +249,7 @@ TEST_P(OpenVinsQdMonteCarlo, WhitenedNoiseCovarianceIsIdentity) {
 
   // Power: the same runs against the Qd predicted with densities 0.8x too small (variances
   // 0.64x) must be rejected, or the test above could not see a wrong noise model.
-  PropagationInput wrong = in;
+  PropagationInput wrong = in_;
   for (double* d : {&wrong.noise.gyro_noise_density, &wrong.noise.accel_noise_density,
                     &wrong.noise.gyro_random_walk, &wrong.noise.accel_random_walk})
     *d *= 0.8;
