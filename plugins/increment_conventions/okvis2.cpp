@@ -13,20 +13,10 @@
 // Exp(dalpha) Delta_C^ = Delta_C^ Exp(Delta_C^T dalpha), so dtheta = Delta_C^T dalpha and
 // dalpha = Delta_C dtheta; the other blocks are the same additive errors, reordered. This is
 // the perturbation of `basalt` (Basalt's delta state) in the same order; the two charts are
-// one, named after each system.
+// one (LeftReferenceIncrementChart, plugin/convention.h), named after each system.
 #include "imuconv/plugin/convention.h"
 #include "imuconv/plugin_abi.h"
 
-namespace {
-
-using namespace imuconv::plugin::prelude;
-
-constexpr BlockOrder kOkvisOrder{Block::p, Block::theta, Block::v, Block::bg, Block::ba};
-
-using Okvis2Increment = imuconv::plugin::LeftPerturbedIncrementChart<kOkvisOrder, 1>;
-
-}  // namespace
-
-IMUCONV_PLUGIN(IncrementConvention, Okvis2Increment, "okvis2", "1.0.0",
+IMUCONV_PLUGIN(IncrementConvention, imuconv::plugin::LeftReferenceIncrementChart, "okvis2", "1.0.0",
                "OKVIS2 ImuError P_delta (frame S0): dp + dp, Exp(dalpha) dR, dv + dv, Db + db; "
                "[p,alpha,v,bg,ba]")

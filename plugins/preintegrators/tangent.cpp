@@ -3,27 +3,9 @@
 // both additive on the tangent 9-vector [theta, p, v] with dR = Exp(theta) (paper,
 // "GTSAM Peculiarities": the tangent covariance follows the j perturbation).
 // The numerics live in imuconv/kernels/preintegration.h (compiled into imuconv_core).
-#include "imuconv/kernels/mean_only.h"
-#include "imuconv/kernels/preintegration.h"
-#include "imuconv/plugin/kernel_plugin.h"
-#include "imuconv/plugin_abi.h"
+#include "imuconv/kernels/gtsam_scheme.h"
+#include "imuconv/plugin/kernel_registration.h"
 
-namespace {
-
-struct Tangent {
-  static constexpr const char* kCovConvention = "gtsam_tangent";
-  static constexpr const char* kJacobianConvention = "gtsam_tangent";
-  imuconv::Status operator()(const imuconv::PreintegrationInput& in,
-                             imuconv::Preintegrated& out) const {
-    return imuconv::kernels::IntegrateTangent(in, out);
-  }
-  static imuconv::Status Mean(const imuconv::PreintegrationInput& in,
-                              imuconv::PreintIncrement& delta) {
-    return imuconv::kernels::TangentIncrementMean(in, delta);
-  }
-};
-
-}  // namespace
-
-IMUCONV_PLUGIN(Preintegrator, imuconv::plugin::KernelPreintegrator<Tangent>, "tangent", "1.0.0",
-               "GTSAM TangentPreintegration + combined 15x15 covariance, zero-order hold")
+IMUCONV_KERNEL_PREINTEGRATOR(
+    "tangent", "1.0.0", "GTSAM TangentPreintegration + combined 15x15 covariance, zero-order hold",
+    imuconv::kernels::GtsamScheme<imuconv::kernels::GtsamPreintegration::kTangent>)

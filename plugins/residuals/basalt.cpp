@@ -32,13 +32,7 @@ kernels::BasaltMeasurement BasaltMeasurementOf(const Preintegrated& m) {
   return b;
 }
 
-kernels::BasaltPoseVelState BasaltState(const ImuState& x) {
-  kernels::BasaltPoseVelState s;
-  s.R = x.R;
-  s.p = x.p;
-  s.v = x.v;
-  return s;
-}
+constexpr auto* BasaltState = &plugin::PoseVelOf<kernels::BasaltPoseVelState>;
 
 struct BasaltFactor {
   static constexpr const char* kIncrementConvention = "basalt";

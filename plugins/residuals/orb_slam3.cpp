@@ -42,13 +42,7 @@ k::OrbSlam3Preintegrated OrbSlam3PreintegratedOf(const Preintegrated& m) {
   return p;
 }
 
-k::OrbSlam3Pose<double> OrbSlam3PoseOf(const ImuState& x) {
-  k::OrbSlam3Pose<double> s;
-  s.R = x.R;
-  s.p = x.p;
-  s.v = x.v;
-  return s;
-}
+constexpr auto* OrbSlam3PoseOf = &plugin::PoseVelOf<k::OrbSlam3Pose<double>>;
 
 struct OrbSlam3Factor {
   static constexpr const char* kIncrementConvention = "orb_slam3";

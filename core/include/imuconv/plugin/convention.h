@@ -194,6 +194,11 @@ template <const BlockOrder& Order, int BiasSign>
 using LeftPerturbedIncrementChart =
     PerturbedIncrementChart<Order, BiasSign, RotationErrorSide::kLeft>;
 
+/// The state reference chart `left` (p + dp, Exp(dtheta) R, v + dv, b + db, order
+/// [p, theta, v, bg, ba]) applied to an increment: the chart of Basalt's delta state and of
+/// OKVIS2's P_delta, which their plugins register under their systems' names.
+using LeftReferenceIncrementChart = LeftPerturbedIncrementChart<kLeftOrder, 1>;
+
 /// The rotation a chart's body frame is that of: the state's R, or the increment's Delta R.
 inline const Mat3& RotationOf(const ImuState& x) noexcept { return x.R; }
 inline const Mat3& RotationOf(const PreintIncrement& x) noexcept { return x.dR; }

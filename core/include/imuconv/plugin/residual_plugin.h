@@ -59,4 +59,16 @@ class KernelResidual : public ResidualFactor {
   }
 };
 
+/// A system's pose-and-velocity state from a state, for a kernel whose state struct has members
+/// R, p and v meaning what an ImuState's do (rotation, position and velocity, in the same world
+/// frame) and takes the biases apart: Basalt's PoseVelState, ORB-SLAM3's pose with its velocity.
+template <class PoseVel>
+PoseVel PoseVelOf(const ImuState& x) {
+  PoseVel s;
+  s.R = x.R;
+  s.p = x.p;
+  s.v = x.v;
+  return s;
+}
+
 }  // namespace imuconv::plugin
