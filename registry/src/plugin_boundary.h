@@ -10,10 +10,12 @@
 
 #include <elf.h>
 #include <fcntl.h>
+#include <link.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <exception>
 #include <string>
@@ -102,12 +104,53 @@ inline std::string ElfMachineName(unsigned machine) {
   return "ELF machine " + std::to_string(machine);
 }
 
+/// "" when every segment dlopen maps (PT_LOAD) and the section header table lie within the
+/// file's `size` bytes, else what is cut off. The file's class, byte order and machine are the
+/// host's (checked before), so its headers read as this program's own ElfW types. dlopen maps a
+/// segment whether or not the file holds all of it, and the first touch of a missing page is a
+/// SIGBUS: a plugin truncated by an interrupted copy would crash the program instead of being
+/// named.
+inline std::string TruncatedElf(int fd, off_t size) {
+  const auto read_at = [fd](void* to, std::size_t n, off_t at) {
+    ssize_t got;
+    do got = ::pread(fd, to, n, at);
+    while (got < 0 && errno == EINTR);
+    return got == static_cast<ssize_t>(n);
+  };
+  const auto cut = [size](std::uint64_t needed) {
+    return "is a truncated ELF shared object (" + std::to_string(size) +
+           " bytes; its headers say " + std::to_string(needed) +
+           "): an interrupted copy? Copy or rebuild the plugin again";
+  };
+  ElfW(Ehdr) eh{};
+  if (!read_at(&eh, sizeof eh, 0)) return cut(sizeof eh);
+  const auto ends_within = [size](std::uint64_t offset, std::uint64_t count, std::uint64_t each) {
+    const auto bytes = static_cast<unsigned __int128>(count) * each + offset;
+    return bytes <= static_cast<unsigned __int128>(size);
+  };
+  if (eh.e_phentsize != sizeof(ElfW(Phdr)) || eh.e_phnum == 0)
+    return "is an ELF shared object without usable program headers";
+  if (!ends_within(eh.e_phoff, eh.e_phnum, eh.e_phentsize))
+    return cut(eh.e_phoff + std::uint64_t{eh.e_phnum} * eh.e_phentsize);
+  for (unsigned k = 0; k < eh.e_phnum; ++k) {
+    ElfW(Phdr) ph{};
+    if (!read_at(&ph, sizeof ph, static_cast<off_t>(eh.e_phoff + k * sizeof ph)))
+      return cut(eh.e_phoff + (k + 1) * sizeof ph);
+    if (ph.p_type == PT_LOAD && !ends_within(ph.p_offset, 1, ph.p_filesz))
+      return cut(ph.p_offset + ph.p_filesz);
+  }
+  // The section headers come last in a linked object: where they are cut, so is the file.
+  if (eh.e_shoff != 0 && !ends_within(eh.e_shoff, eh.e_shnum, eh.e_shentsize))
+    return cut(eh.e_shoff + std::uint64_t{eh.e_shnum} * eh.e_shentsize);
+  return {};
+}
+
 /// "" when `path` names a regular, non-empty file that starts like an ELF shared object built
 /// for this program's class, byte order and machine, else what it is instead. Checked before
 /// dlopen, whose answer for these cases ("Bad file descriptor" through Boost.DLL, "file too
 /// short", "wrong ELF class") does not say what is wrong; a plugin cross-built for another
-/// machine (build-aarch64's, say) is named for what it is. Never opens a FIFO or device (stat
-/// first, then open non-blocking and fstat again).
+/// machine (build-aarch64's, say) is named for what it is, and a truncated one too (TruncatedElf).
+/// Never opens a FIFO or device (stat first, then open non-blocking and fstat again).
 inline std::string NotASharedObject(const std::string& path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0)
@@ -124,7 +167,10 @@ inline std::string NotASharedObject(const std::string& path) {
     while (got < 0 && errno == EINTR);
   }
   const int read_errno = errno;
-  ::close(fd);
+  struct CloseOnReturn {
+    int fd;
+    ~CloseOnReturn() { ::close(fd); }
+  } close_on_return{fd};
   if (!regular) return "is not a regular file";
   if (got < 0) return std::string("cannot be read: ") + std::strerror(read_errno);
   if (st.st_size == 0 || got == 0)
@@ -160,7 +206,7 @@ inline std::string NotASharedObject(const std::string& path) {
   if (host.machine != 0 && machine != host.machine)
     return "is an ELF shared object for " + ElfMachineName(machine) + "; this program runs on " +
            ElfMachineName(host.machine) + " (rebuild the plugin for this machine)";
-  return {};
+  return TruncatedElf(fd, st.st_size);
 }
 
 /// The message of an exception thrown by plugin code, or a note that it is not a std::exception.

@@ -245,6 +245,31 @@ TEST(HostilePlugins, SharedObjectsForAnotherMachineOrClassAreNamedForWhatTheyAre
 #endif
 }
 
+// A plugin cut short (an interrupted copy): dlopen maps each segment whether or not the file
+// holds it, and touching a missing page is a SIGBUS, so before the check this test crashed its
+// own process. Cut inside a mapped segment (half the file), after the segments (the section
+// headers at the end lost) and after the ELF header alone: each is named, and nothing is loaded.
+TEST(HostilePlugins, ATruncatedPluginIsNamedNotMapped) {
+  TempDir tmp;
+  std::ifstream in(BuiltIn("imuconv_plugin_state_left.so"), std::ios::binary);
+  const std::string whole((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(whole.size(), 4096u);
+  for (const std::size_t keep : {whole.size() / 2, whole.size() - 1, std::size_t{64}}) {
+    SCOPED_TRACE(keep);
+    const std::string cut = tmp.write("imuconv_plugin_cut.so", whole.substr(0, keep));
+    Registry r;
+    try {
+      r.load_file(cut);
+      ADD_FAILURE() << "a plugin of " << keep << " of its " << whole.size() << " bytes loaded";
+    } catch (const Error& e) {
+      EXPECT_TRUE(Has(e.what(), "'" + cut + "': it is a truncated ELF shared object (" +
+                                    std::to_string(keep) + " bytes"))
+          << e.what();
+    }
+    EXPECT_EQ(r.plugins().size(), Registry().plugins().size());  // the built-in charts only
+  }
+}
+
 TEST(HostilePlugins, UnreadableOrMissingDirectoryIsAnIssue) {
   TempDir tmp;
   const std::string missing = tmp.file("missing");
