@@ -1,6 +1,14 @@
 #include "references.h"
 
 namespace imuconv::check {
+namespace {
+
+bool AllFinite(const Preintegrated& m) {
+  return m.delta.dR.allFinite() && m.delta.dp.allFinite() && m.delta.dv.allFinite() &&
+         m.J_bias.allFinite() && m.cov.allFinite();
+}
+
+}  // namespace
 
 ReferenceSchemes::ReferenceSchemes(const Registry& reg) : reg_(reg) {
   for (const char* id : kPropagatorSchemes) {
@@ -23,6 +31,15 @@ std::vector<ReferenceSchemes::Reference> ReferenceSchemes::compute(
   for (std::size_t s = 0; s < methods_.size(); ++s) {
     try {
       out[s].m = Preintegrate(reg_, methods_[s], w, bg, ba, noise);
+      // A scheme whose numbers overflow at this bias estimate (a gyro bias of 1e160 rad/s, say)
+      // is no reference: against inf and NaN every explanation ties, and a verdict would be
+      // noise. With no scheme left the measurement is refused as bad input (check.cpp).
+      if (!AllFinite(*out[s].m)) {
+        out[s].m.reset();
+        out[s].not_applicable =
+            "its increment, bias Jacobian or covariance is not finite at the measurement's bias "
+            "estimate (are bias_estimate's bg in rad/s and ba in m/s^2?)";
+      }
     } catch (const Error& e) {  // the scheme's own refusal (a Status from its plugin)
       out[s].not_applicable = e.what();
     }

@@ -457,6 +457,23 @@ TEST_F(Check, UnusableInputExitsWithTwoNamingFileAndPointer) {
   EXPECT_TRUE(r.out.empty()) << r.out;
 }
 
+// A bias estimate at which every scheme's numbers overflow (1e160 rad/s) is bad input, not a
+// verdict: before, check compared inf and NaN, every explanation tied and it printed
+// "inconsistent" (exit 1). A large but finite one (1e3 rad/s) is still judged: the file's
+// increment was not made at it.
+TEST_F(Check, ABiasEstimateWhereEverySchemeOverflowsIsRefused) {
+  json m = GtsamMeasurement("smooth-0");
+  m["bias_estimate"]["bg"] = {1e160, 0.0, 0.0};
+  const Checked overflow = Run(json::array({m}), "smooth-0", "overflowing_bias");
+  EXPECT_EQ(overflow.exit_code, 2) << overflow.err;
+  EXPECT_TRUE(Has(overflow.err, "overflowing_bias.json") && Has(overflow.err, "/measurements/0") &&
+              Has(overflow.err, "not finite at the measurement's bias estimate"))
+      << overflow.err;
+  m["bias_estimate"]["bg"] = {1e3, 0.0, 0.0};
+  const Checked large = Run(json::array({m}), "smooth-0", "large_bias");
+  EXPECT_EQ(large.exit_code, 1) << large.err;
+}
+
 TEST_F(Check, TableWithoutJson) {
   TempDir& tmp = Tmp();
   json m = GtsamMeasurement("smooth-0");
