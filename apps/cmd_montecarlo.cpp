@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <memory>
 #include <thread>
@@ -144,6 +145,20 @@ montecarlo::Input ReadRunInput(const CommandContext& ctx, const MontecarloComman
   if (!std::isfinite(t_from) || !std::isfinite(t_to) || !(t_from < t_to))
     throw Error("--from " + std::to_string(t_from) + " --to " + std::to_string(t_to) +
                 ": expected finite times with --from before --to");
+  // A time outside the samples is refused, as imuconv run refuses one: cut to the data in
+  // silence, --to 100 on 20 s of samples would simulate another interval than the one asked
+  // for. 1e-6 s: the measurements form's agreement of two statements of one time.
+  const auto refuse_outside = [&](const char* option, const std::optional<double>& t) {
+    if (!t || (*t >= samples.front().t - 1e-6 && *t <= samples.back().t + 1e-6)) return;
+    char given[32];
+    std::snprintf(given, sizeof given, "%.9g", *t);
+    throw Error(std::string(option) + " " + given + ": outside the samples of " +
+                Printable(pipeline_path.empty() ? case_path : pipeline_path) +
+                " (the samples span [" + std::to_string(samples.front().t) + ", " +
+                std::to_string(samples.back().t) + "] s)");
+  };
+  refuse_outside("--from", o.from);
+  refuse_outside("--to", o.to);
   const double duration = o.duration.value_or(0.0);
   for (const ImuSample& smp : samples)
     if (smp.t >= t_from - 1e-9) {

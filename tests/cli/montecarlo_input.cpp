@@ -154,6 +154,10 @@ TEST(MontecarloInput, PipelineOverAnIntervalIsTheCaseOverIt) {
       {"--case " + ShellQuote(case_path) + " --pipeline " + ShellQuote(pipeline), "not both"},
       {"--pipeline " + ShellQuote(pipeline) + " --from 5 --to 4", "--from before --to"},
       {"--pipeline " + ShellQuote(pipeline) + " --from 1e6 --to 2e6", "samples span"},
+      // Inside at one end, outside at the other: refused, not cut to the data.
+      {"--pipeline " + ShellQuote(pipeline) + " --from " + std::to_string(t0 + 1.0) + " --to 1e6",
+       "--to 1000000: outside the samples of"},
+      {"--case " + ShellQuote(case_path) + " --from -1e300", "--from -1e+300: outside the samples"},
       {"--pipeline " + ShellQuote(pipeline) + " --shard 0/2 -o " +
            ShellQuote(tmp.path() + "/s.mcs"),
        "--shard takes --case"},
