@@ -241,6 +241,10 @@ int ExecuteRun(const CommandContext& ctx, const RunCommandOptions& o) {
       file.write(s);
     });
   }
+  // Neither trajectory file may be the program or a plugin or library the run has loaded,
+  // checked before anything is committed: a refusal then leaves no output behind.
+  for (auto* f : {&tum, &errors})
+    if (*f) (*f)->refuse_if_loaded_object();
   std::cout.flush();
   file.commit();
   for (auto [f, text] : {std::pair{&tum, &tum_text}, std::pair{&errors, &errors_text}}) {

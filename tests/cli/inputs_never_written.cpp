@@ -276,6 +276,31 @@ TEST(InputsNeverWritten, ClosedStandardOutputIsNeverAFileOfOurs) {
   EXPECT_TRUE(Has(r.err, "-: standard output was closed when imuconv started")) << r.err;
 }
 
+// ---- the running program ---------------------------------------------------------------------
+
+// An output naming the program that runs, as /proc/self/exe or by its own path, is refused and
+// the program kept; a refused --tum leaves no document behind either. Before, -o /proc/self/exe
+// replaced the binary with the document, exit 0 (and through the Python module, the
+// interpreter), and --tum /proc/self/exe was refused only after -o's document was written.
+TEST(InputsNeverWritten, TheRunningProgramIsNeverAnOutput) {
+  TempDir tmp;
+  CopyGeneric(tmp);
+  const std::string program = tmp.file("imuconv_copy");
+  fs::copy_file(Binary(), program);
+  fs::permissions(program, fs::perms::owner_exec, fs::perm_options::add);
+  const std::string bytes = ReadText(program);
+  for (const char* outputs :
+       {"-o /proc/self/exe", "-o ./imuconv_copy", "-o out.json --tum /proc/self/exe"}) {
+    SCOPED_TRACE(outputs);
+    const CommandResult r =
+        Shell(std::string("./imuconv_copy -q run generic.json ") + outputs + " 2> .err", tmp);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_TRUE(Has(r.err, "is the same file as the running program")) << r.err;
+    EXPECT_FALSE(fs::exists(tmp.file("out.json")));
+  }
+  EXPECT_TRUE(ReadText(program) == bytes) << "the program was replaced";
+}
+
 // ---- an empty output path --------------------------------------------------------------------
 
 TEST(InputsNeverWritten, EmptyOutputPathIsRefusedNamingTheFlag) {

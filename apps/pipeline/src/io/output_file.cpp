@@ -239,22 +239,36 @@ void OutputFile::refuse_if_same(const std::string& other, const std::string& rol
 }
 
 namespace {
-std::vector<std::string> LoadedObjects() {
-  std::vector<std::string> files;
+/// A file the process runs from, and its role in a message.
+struct LoadedObject {
+  std::string path;
+  const char* role;
+};
+
+/// The running program and every shared object loaded (plugins, libraries, the Python module).
+std::vector<LoadedObject> LoadedObjects() {
+  // The program first: dl_iterate_phdr lists it with an empty name. /proc/self/exe names its
+  // file whatever path started it, so an output named /proc/self/exe, or the binary's own path
+  // (or the Python interpreter's, under the module), is refused instead of replacing it.
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  std::vector<LoadedObject> objects{
+      {ec ? std::string("/proc/self/exe") : exe.string(), "the running program"}};
   ::dl_iterate_phdr(
       [](dl_phdr_info* info, std::size_t, void* data) {
         if (info->dlpi_name && *info->dlpi_name)
-          static_cast<std::vector<std::string>*>(data)->emplace_back(info->dlpi_name);
+          static_cast<std::vector<LoadedObject>*>(data)->push_back(
+              {info->dlpi_name, "the loaded plugin or library"});
         return 0;
       },
-      &files);
-  return files;
+      &objects);
+  return objects;
 }
 }  // namespace
 
 void OutputFile::refuse_if_loaded_object() const {
   if (!exists_) return;
-  for (const auto& f : LoadedObjects()) refuse_if_same(f, "the loaded plugin or library");
+  for (const auto& o : LoadedObjects()) refuse_if_same(o.path, o.role);
 }
 
 void OutputFile::refuse_input(const FileIdentity& file) {
@@ -262,10 +276,10 @@ void OutputFile::refuse_input(const FileIdentity& file) {
     fail("is the same file as " + in->role + " " + Printable(in->path) +
              ": refusing to overwrite it; write the output elsewhere",
          0);
-  for (const auto& f : LoadedObjects()) {
+  for (const auto& o : LoadedObjects()) {
     struct stat st {};
-    if (::stat(f.c_str(), &st) == 0 && st.st_dev == file.dev && st.st_ino == file.ino)
-      fail("is the same file as the loaded plugin or library " + Printable(f) +
+    if (::stat(o.path.c_str(), &st) == 0 && st.st_dev == file.dev && st.st_ino == file.ino)
+      fail("is the same file as " + std::string(o.role) + " " + Printable(o.path) +
                ": refusing to overwrite it; write the output elsewhere",
            0);
   }
