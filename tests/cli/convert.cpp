@@ -143,6 +143,17 @@ TEST(CliConvert, TextOutputIsALabelledTable) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(Has(r.out, "covariance in gtsam_navstate (converted from left)")) << r.out;
   EXPECT_TRUE(Has(r.out, "     theta.x     theta.y     theta.z         p.x")) << r.out;
+  // A negative standard deviation is refused at its entry, not squared into a covariance.
+  const std::string negative =
+      tmp.write("negative.json", R"({"sigma": [1,1,1, 2,2,2, 3,3,-3, 0.1,0.1,0.1, 0.2,0.2,0.2]})");
+  r = RunImuconv("convert --what covariance --from left --to gtsam_navstate --state " +
+                     ShellQuote(state) + " --matrix " + ShellQuote(negative),
+                 tmp);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_TRUE(Has(r.err,
+                  "negative.json: /sigma: entry 8 is -3: a standard deviation is not "
+                  "negative"))
+      << r.err;
 }
 
 TEST(CliConvert, Refusals) {

@@ -3,6 +3,7 @@
 
 #include <tuple>
 
+#include "../io/message_text.h"
 #include "imuconv/pipeline/json_parse.h"
 #include "input_checks.h"
 
@@ -60,7 +61,15 @@ std::optional<Matrix15In> Matrix15FromJson(const Node& n) {
     if (auto d = n["diagonal"].vector(15)) out.m = d->asDiagonal();
   } else if (n.is_object() && n.has("sigma")) {
     n.expect_object({"sigma", "convention", "blocks"});
-    if (auto d = n["sigma"].vector(15)) out.m = d->cwiseAbs2().asDiagonal();
+    if (auto d = n["sigma"].vector(15)) {
+      // A standard deviation is not negative: squared in silence, a sign slip (or a row of
+      // something else) would pass as a covariance.
+      for (int i = 0; i < 15; ++i)
+        if ((*d)[i] < 0.0)
+          n["sigma"].fail("entry " + std::to_string(i) + " is " + Num((*d)[i]) +
+                          ": a standard deviation is not negative");
+      out.m = d->cwiseAbs2().asDiagonal();
+    }
   } else if (n.is_object()) {
     n.expect_object({"matrix", "convention", "blocks"});
     if (auto mn = n.get("matrix", true))
