@@ -1,0 +1,69 @@
+# Hostile arguments found by the sweep of the built module (27 Nov): each call either answers
+# with finite numbers or refuses with an error that names the call, the argument or the JSON
+# pointer; a Ctrl-C is a KeyboardInterrupt, not bad input. Every test here failed on the code
+# before its fix (the commit that added it says how).
+import json
+import os
+import pathlib
+import signal
+import threading
+import warnings
+
+import numpy as np
+import pytest
+
+import imuconv
+from conftest import DATA, start_state
+
+CASE = DATA / "reference" / "cases" / "smooth-0.json"
+EXAMPLES = pathlib.Path(__file__).resolve().parents[2] / "examples" / "data"
+
+
+@pytest.fixture(scope="module")
+def case():
+    with open(CASE) as f:
+        return json.load(f)
+
+
+@pytest.fixture(scope="module")
+def meas(reg, case):
+    return imuconv.preintegrate(reg, np.array(case["imu"]), bg=[0, 0, 0], ba=[0, 0, 0],
+                                noise=case["noise"], preintegrator="manifold")
+
+
+# ---- P2: the Registry's chart methods never return inf or NaN
+
+def test_state_retract_that_overflows_is_refused(reg, case):
+    x = start_state(case)
+    with pytest.raises(ValueError, match=r"^retract: produced a non-finite number \(x\)"):
+        reg.retract("left", x, np.ones(15) * 1e308)
+    d = np.zeros(15)
+    d[0] = 1e200  # a rotation of 1e200 rad: its sine and cosine are finite, the chart's p, v not
+    with pytest.raises(ValueError, match=r"^retract: produced a non-finite number"):
+        reg.retract("left_invariant_se23", x, d)
+
+
+def test_state_local_that_overflows_is_refused(reg):
+    x = imuconv.State(p=[-1e308, 0, 0], q_wxyz=[1, 0, 0, 0])
+    y = imuconv.State(p=[1e308, 0, 0], q_wxyz=[1, 0, 0, 0])
+    with pytest.raises(ValueError, match=r"^local: produced a non-finite number \(d\)"):
+        reg.local("left", x, y)
+
+
+def test_increment_retract_that_overflows_is_refused(reg, meas):
+    with pytest.raises(ValueError, match=r"^increment_retract: produced a non-finite number"):
+        reg.increment_retract("gtsam_tangent", meas.delta, np.ones(15) * 1e308)
+
+
+def test_covariance_and_transition_conversions_that_overflow_are_refused(reg, case):
+    x = imuconv.State(q_wxyz=[1, 0, 0, 0])
+    with pytest.raises(ValueError, match=r"^convert_covariance: produced a non-finite number"):
+        reg.convert_covariance("left", "openvins_jpl", x, np.eye(15) * 1e308)
+    # A finite Phi whose entries are near the largest double: J_e Phi J_s^-1 sums entries of
+    # Phi (x_e is rotated and away from the origin), and two of 1.7e308 overflow.
+    x_e = start_state(case)
+    with pytest.raises(ValueError, match=r"^convert_transition: produced a non-finite number"):
+        reg.convert_transition("left", "openvins_jpl", x, x_e, np.full((15, 15), 1.7e308))
+    # Still computed when finite (the same calls at ordinary sizes).
+    assert np.isfinite(reg.convert_covariance("left", "openvins_jpl", x, np.eye(15))).all()
+    assert np.isfinite(reg.convert_transition("left", "openvins_jpl", x, x_e, np.eye(15))).all()
