@@ -285,8 +285,11 @@ void BindBridge(py::module_& m) {
       "bias_corrected_delta",
       [](const LoadedRegistry& r, const Preintegrated& meas, const std::string& jacobian_convention,
          py::handle bg, py::handle ba) {
-        return BiasCorrectedDelta(r, meas, jacobian_convention, ToFixed<3, 1>(bg, "bg"),
-                                  ToFixed<3, 1>(ba, "ba"));
+        // A first-order correction by a bias far from the estimate (1e300 rad/s) overflows:
+        // refused, as every result of the module (finite_results.h).
+        return FiniteValue(BiasCorrectedDelta(r, meas, jacobian_convention, ToFixed<3, 1>(bg, "bg"),
+                                              ToFixed<3, 1>(ba, "ba")),
+                           "bias_corrected_delta");
       },
       py::arg("reg"), py::arg("m"), py::arg("jacobian_convention"), py::kw_only(), py::arg("bg"),
       py::arg("ba"),

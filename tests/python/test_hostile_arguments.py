@@ -67,3 +67,12 @@ def test_covariance_and_transition_conversions_that_overflow_are_refused(reg, ca
     # Still computed when finite (the same calls at ordinary sizes).
     assert np.isfinite(reg.convert_covariance("left", "openvins_jpl", x, np.eye(15))).all()
     assert np.isfinite(reg.convert_transition("left", "openvins_jpl", x, x_e, np.eye(15))).all()
+
+
+# ---- P3: bias_corrected_delta never returns a NaN increment
+
+def test_bias_corrected_delta_that_overflows_is_refused(reg, meas):
+    with pytest.raises(ValueError, match=r"^bias_corrected_delta: produced a non-finite number"):
+        imuconv.bias_corrected_delta(reg, meas, "gtsam_manifold", bg=[1e300, 0, 0], ba=[0, 0, 0])
+    d = imuconv.bias_corrected_delta(reg, meas, "gtsam_manifold", bg=[1e-3, 0, 0], ba=[0, 0, 0])
+    assert np.isfinite(d.dR).all() and np.isfinite(d.dp).all() and np.isfinite(d.dv).all()
