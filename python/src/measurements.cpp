@@ -190,6 +190,7 @@ void BindMeasurements(py::module_& m) {
         if (!samples.is_none()) {
           input.samples = ReadSamples(samples, /*allow_gaps=*/false);
           input.noise = ReadNoise(noise);
+          RequireUsableNoise(input.noise, input.samples);  // as a case file's noise is checked
           input.source = "the samples given";
           source = "samples";
         } else {

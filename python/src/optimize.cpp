@@ -88,6 +88,7 @@ void BindOptimize(py::module_& m) {
         const pipeline::GroundTruth gt = ReadPoses(poses);
         optimize::Options o;
         o.noise = ReadNoise(noise);
+        RequireUsableNoise(o.noise, imu.samples);  // as preintegrate, propagate and the CLI
         o.method = method;
         o.convention = convention;
         o.kind = residual == "forster" ? ResidualKind::Forster : ResidualKind::Gtsam;

@@ -76,3 +76,18 @@ def test_bias_corrected_delta_that_overflows_is_refused(reg, meas):
         imuconv.bias_corrected_delta(reg, meas, "gtsam_manifold", bg=[1e300, 0, 0], ba=[0, 0, 0])
     d = imuconv.bias_corrected_delta(reg, meas, "gtsam_manifold", bg=[1e-3, 0, 0], ba=[0, 0, 0])
     assert np.isfinite(d.dR).all() and np.isfinite(d.dp).all() and np.isfinite(d.dv).all()
+
+
+# ---- P4: noise that overflows the covariance is refused by check and optimize, as by
+# preintegrate, propagate and the CLI
+
+def test_check_and_optimize_refuse_noise_that_overflows(reg, case, meas):
+    noise = dict(case["noise"])
+    noise["gyro_noise_density"] = 1e160  # squared over a 5 ms period: 1e320 / 5e-3, past double
+    samples = np.array(case["imu"])
+    with pytest.raises(ValueError, match=r"^noise: gyro_noise_density = 1e\+160 is too large"):
+        imuconv.check(reg, meas, samples=samples, noise=noise)
+    if hasattr(imuconv, "optimize"):
+        poses = np.array([[samples[0, 0], 0, 0, 0, 1, 0, 0, 0], [samples[-1, 0], 0, 0, 0, 1, 0, 0, 0]])
+        with pytest.raises(ValueError, match=r"^noise: gyro_noise_density = 1e\+160 is too large"):
+            imuconv.optimize(reg, samples, poses, noise=noise, keyframe_step=1.0)
