@@ -60,4 +60,9 @@ std::vector<ImuSample> ReadSamples(py::handle samples, bool allow_gaps);
 /// The noise must keep the covariance finite over these samples (FindNoiseIssue).
 void RequireUsableNoise(const ImuNoise& noise, const std::vector<ImuSample>& samples);
 
+/// Samples that look mistaken (gyro and accelerometer columns swapped, g, deg/s:
+/// pipeline::ImuPlausibilityWarnings) give a UserWarning each, as the CLI warns wherever it
+/// reads an IMU file; the call goes on (the numbers may be meant).
+void WarnIfImplausible(const std::vector<ImuSample>& samples);
+
 }  // namespace imuconv::python

@@ -165,6 +165,7 @@ void BindBridge(py::module_& m) {
          std::optional<double> t_end, bool allow_gaps) {
         const PreintegrationMethod method = Method(r, propagator, preintegrator);
         const std::vector<ImuSample> s = ReadSamples(samples, allow_gaps);
+        WarnIfImplausible(s);
         const SampleWindow w = Window(s, t_start, t_end);
         const Vec3 g = ToFixed<3, 1>(bg, "bg"), a = ToFixed<3, 1>(ba, "ba");
         const ImuNoise q = ReadNoise(noise);
@@ -224,6 +225,7 @@ void BindBridge(py::module_& m) {
         in.x_s = x;
         in.cov_s = CheckedCovariance(cov, "cov");
         const std::vector<ImuSample> s = ReadSamples(samples, allow_gaps);
+        WarnIfImplausible(s);
         in.window = Window(s, t_start, t_end);
         in.noise = ReadNoise(noise);
         RequireUsableNoise(in.noise, s);

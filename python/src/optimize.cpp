@@ -85,6 +85,7 @@ void BindOptimize(py::module_& m) {
         pipeline::ImuData imu;
         imu.samples = ReadSamples(samples, /*allow_gaps=*/false);
         imu.source = "samples";
+        WarnIfImplausible(imu.samples);
         const pipeline::GroundTruth gt = ReadPoses(poses);
         optimize::Options o;
         o.noise = ReadNoise(noise);

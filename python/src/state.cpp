@@ -9,6 +9,7 @@
 
 #include "arrays.h"
 #include "bindings.h"
+#include "imuconv/pipeline/imu_plausibility.h"
 #include "imuconv/pipeline/sample_checks.h"
 #include "imuconv/so3.h"
 
@@ -227,6 +228,12 @@ void RequireUsableNoise(const ImuNoise& noise, const std::vector<ImuSample>& sam
     shortest = std::min(shortest, samples[k].t - samples[k - 1].t);
   if (const auto issue = pipeline::FindNoiseIssue(noise, shortest))
     throw py::value_error("noise: " + *issue);
+}
+
+void WarnIfImplausible(const std::vector<ImuSample>& samples) {
+  for (const auto& w : pipeline::ImuPlausibilityWarnings(samples, "samples"))
+    if (PyErr_WarnEx(PyExc_UserWarning, ("imuconv: " + w).c_str(), 1) != 0)
+      throw py::error_already_set();  // warnings turned into errors
 }
 
 }  // namespace imuconv::python

@@ -91,3 +91,52 @@ def test_check_and_optimize_refuse_noise_that_overflows(reg, case, meas):
         poses = np.array([[samples[0, 0], 0, 0, 0, 1, 0, 0, 0], [samples[-1, 0], 0, 0, 0, 1, 0, 0, 0]])
         with pytest.raises(ValueError, match=r"^noise: gyro_noise_density = 1e\+160 is too large"):
             imuconv.optimize(reg, samples, poses, noise=noise, keyframe_step=1.0)
+
+
+# ---- P5: samples that look mistaken warn in every call that takes samples, as the CLI warns
+# wherever it reads an IMU file
+
+EUROC_NOISE = {"gyro_noise_density": 1.6968e-04, "accel_noise_density": 2.0e-3,
+               "gyro_random_walk": 1.9393e-05, "accel_random_walk": 3.0e-3}  # EuRoC's datasheet
+
+
+def euroc_slice():
+    def rows(path):
+        stamps, values = [], []
+        for line in open(path):
+            if line.startswith("#") or not line.strip():
+                continue
+            fields = line.strip().split(",")
+            stamps.append(int(fields[0]))
+            values.append([float(v) for v in fields[1:]])
+        return np.array(stamps, dtype=np.int64), np.array(values)
+    t_imu, imu = rows(EXAMPLES / "V1_01_easy_imu0_slice.csv")
+    t_gt, gt = rows(EXAMPLES / "V1_01_easy_groundtruth_vicon2gt_slice.csv")
+    origin = t_imu[0]
+    return (np.column_stack([(t_imu - origin) * 1e-9, imu]),
+            np.column_stack([(t_gt - origin) * 1e-9, gt]))
+
+
+def swapped_warnings(call):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        call()
+    return [str(w.message) for w in caught
+            if issubclass(w.category, UserWarning) and "look swapped" in str(w.message)]
+
+
+def test_swapped_gyro_and_accel_columns_warn_in_every_call(reg):
+    samples, poses = euroc_slice()
+    swapped = samples[:, [0, 4, 5, 6, 1, 2, 3]]
+    window = dict(t_start=samples[0, 0], t_end=samples[0, 0] + 1.0)
+    assert swapped_warnings(lambda: imuconv.preintegrate(
+        reg, swapped, bg=[0, 0, 0], ba=[0, 0, 0], noise=EUROC_NOISE, preintegrator="manifold", **window))
+    assert swapped_warnings(lambda: imuconv.propagate(
+        reg, "euler", "left", imuconv.State(q_wxyz=[1, 0, 0, 0]), np.eye(15) * 1e-6, swapped,
+        noise=EUROC_NOISE, **window))
+    if hasattr(imuconv, "optimize"):
+        assert swapped_warnings(lambda: imuconv.optimize(
+            reg, swapped, poses[:, :8], noise=EUROC_NOISE, keyframe_step=1.0))
+    # The slice as recorded warns nowhere.
+    assert not swapped_warnings(lambda: imuconv.preintegrate(
+        reg, samples, bg=[0, 0, 0], ba=[0, 0, 0], noise=EUROC_NOISE, preintegrator="manifold", **window))
