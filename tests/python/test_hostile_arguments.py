@@ -140,3 +140,20 @@ def test_swapped_gyro_and_accel_columns_warn_in_every_call(reg):
     # The slice as recorded warns nowhere.
     assert not swapped_warnings(lambda: imuconv.preintegrate(
         reg, samples, bg=[0, 0, 0], ba=[0, 0, 0], noise=EUROC_NOISE, preintegrator="manifold", **window))
+
+
+# ---- P7: ground-truth quaternions follow one rule, the pipeline's (unit within 1e-3)
+
+@pytest.mark.skipif(not hasattr(imuconv, "optimize"), reason="built without Ceres")
+def test_pose_quaternions_follow_the_ground_truth_readers_rule(reg):
+    samples, poses = euroc_slice()
+    rows = poses[:, :8].copy()
+    rows[:, 4:8] = np.round(rows[:, 4:8], 3)  # three digits: norms off by up to ~1e-3 / 2
+    norm_error = np.abs(np.linalg.norm(rows[:, 4:8], axis=1) - 1.0)
+    assert norm_error.max() > 1e-6 and norm_error.max() <= 1e-3
+    out = imuconv.optimize(reg, samples, rows, noise=EUROC_NOISE, keyframe_step=2.0)
+    assert np.isfinite(out["p"]).all()
+    rows[3, 4:8] *= 1.002  # off by 2e-3: refused, as the CLI's readers refuse it
+    with pytest.raises(ValueError, match=r"^poses: row 3: quaternion \(q_w, q_x, q_y, q_z\) has norm "
+                                         r"1\.002\d*, expected 1 \(to 1e-3\)"):
+        imuconv.optimize(reg, samples, rows, noise=EUROC_NOISE, keyframe_step=2.0)
