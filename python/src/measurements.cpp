@@ -112,6 +112,30 @@ std::vector<Preintegrated> PreintegratedItems(const LoadedRegistry& r,
   return out;
 }
 
+/// The JSON pointer (below `pointer`) of the first integer in o that no double holds, or
+/// nothing: dicts by key, lists and tuples by index, as json.dumps walks them.
+std::optional<std::string> IntegerBeyondDouble(py::handle o, const std::string& pointer) {
+  if (PyLong_Check(o.ptr()) && !PyBool_Check(o.ptr())) {
+    PyLong_AsDouble(o.ptr());
+    if (!PyErr_Occurred()) return std::nullopt;
+    PyErr_Clear();
+    return pointer;
+  }
+  if (py::isinstance<py::dict>(o)) {
+    for (auto item : py::reinterpret_borrow<py::dict>(o)) {
+      const std::string key = py::str(item.first);
+      std::string escaped;  // RFC 6901: ~ as ~0, / as ~1
+      for (char c : key) escaped += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
+      if (auto at = IntegerBeyondDouble(item.second, pointer + "/" + escaped)) return at;
+    }
+  } else if (py::isinstance<py::list>(o) || py::isinstance<py::tuple>(o)) {
+    std::size_t k = 0;
+    for (py::handle item : o)
+      if (auto at = IntegerBeyondDouble(item, pointer + "/" + std::to_string(k++))) return at;
+  }
+  return std::nullopt;
+}
+
 /// A dict in the file's form (a whole document with "measurements", or one measurement
 /// object) as JSON: NumPy arrays and scalars through tolist(); NaN and infinities refused.
 json DictDocument(py::handle d) {
@@ -131,9 +155,22 @@ json DictDocument(py::handle d) {
                             " (every number must be finite)");
     throw;
   }
-  json doc = json::parse(text.cast<std::string>());
-  if (!doc.contains("measurements")) doc = json{{"measurements", json::array({doc})}};
-  return doc;
+  const bool whole = py::isinstance<py::dict>(d) && d.contains("measurements");
+  try {
+    json doc = json::parse(text.cast<std::string>());
+    if (!doc.contains("measurements")) doc = json{{"measurements", json::array({doc})}};
+    return doc;
+  } catch (const json::exception& e) {
+    // json.dumps writes Python's unbounded integers in full; one past the largest double
+    // (10**400) cannot be read as a number. Named by its pointer in the file's form, as the
+    // measurement reader names every other bad value.
+    const auto at = IntegerBeyondDouble(d, whole ? "" : "/measurements/0");
+    if (at)
+      throw Error("measurements (dict): " + *at +
+                  ": expected a number within double precision, found an integer beyond "
+                  "1.8e308");
+    throw Error(std::string("measurements (dict): not readable as JSON numbers: ") + e.what());
+  }
 }
 
 bool IsPath(py::handle h) {

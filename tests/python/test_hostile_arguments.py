@@ -157,3 +157,18 @@ def test_pose_quaternions_follow_the_ground_truth_readers_rule(reg):
     with pytest.raises(ValueError, match=r"^poses: row 3: quaternion \(q_w, q_x, q_y, q_z\) has norm "
                                          r"1\.002\d*, expected 1 \(to 1e-3\)"):
         imuconv.optimize(reg, samples, rows, noise=EUROC_NOISE, keyframe_step=2.0)
+
+
+# ---- P8: a number in a dict beyond double precision is an imuconv.Error with its pointer
+
+def test_an_integer_beyond_double_in_a_dict_is_named_by_pointer(reg, meas, tmp_path):
+    path = tmp_path / "m.json"
+    imuconv.write_measurements(path, reg, meas, t_start=0.0)
+    doc = json.loads(path.read_text())
+    doc["measurements"][0]["dt"] = 10 ** 400
+    beyond = r"^measurements \(dict\): /measurements/0/dt: expected a number within double precision"
+    with pytest.raises(imuconv.Error, match=beyond):
+        imuconv.check(reg, doc, case=CASE)
+    # One measurement given alone is named as the document it becomes.
+    with pytest.raises(imuconv.Error, match=beyond):
+        imuconv.check(reg, doc["measurements"][0], case=CASE)
