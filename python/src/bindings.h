@@ -60,6 +60,12 @@ std::vector<ImuSample> ReadSamples(py::handle samples, bool allow_gaps);
 /// The noise must keep the covariance finite over these samples (FindNoiseIssue).
 void RequireUsableNoise(const ImuNoise& noise, const std::vector<ImuSample>& samples);
 
+/// A path argument, the same in every call that takes one: str, bytes or os.PathLike
+/// (whose __fspath__ gives str or bytes), as the file system's bytes (os.fsencode). Anything
+/// else, or a NUL inside, is a ValueError naming `name`.
+bool IsPathArgument(py::handle h);
+std::string PathArgument(py::handle h, const char* name);
+
 /// Samples that look mistaken (gyro and accelerometer columns swapped, g, deg/s:
 /// pipeline::ImuPlausibilityWarnings) give a UserWarning each, as the CLI warns wherever it
 /// reads an IMU file; the call goes on (the numbers may be meant).

@@ -173,13 +173,6 @@ json DictDocument(py::handle d) {
   }
 }
 
-bool IsPath(py::handle h) {
-  return py::isinstance<py::str>(h) ||
-         py::isinstance(h, py::module_::import("os").attr("PathLike"));
-}
-
-std::string PathText(py::handle h) { return py::str(py::module_::import("os").attr("fspath")(h)); }
-
 }  // namespace
 
 void BindMeasurements(py::module_& m) {
@@ -187,8 +180,7 @@ void BindMeasurements(py::module_& m) {
       "write_measurements",
       [](py::handle path, const LoadedRegistry& r, py::handle measurements, py::handle t_start,
          const std::vector<std::string>& conventions) {
-        if (!IsPath(path)) throw py::value_error("path: expected a str or os.PathLike");
-        const std::string file = PathText(path);
+        const std::string file = PathArgument(path, "path");
         const auto items = Items(measurements);
         const std::vector<Preintegrated> ms = PreintegratedItems(r, items);
         const auto starts = Starts(t_start, ms.size(), std::nullopt);
@@ -231,15 +223,15 @@ void BindMeasurements(py::module_& m) {
           input.source = "the samples given";
           source = "samples";
         } else {
-          source = PathText(case_file);
+          source = PathArgument(case_file, "case");
           py::gil_scoped_release release;
           input = check::ReadCaseFile(source);  // at least 2 samples, or an Error naming the file
         }
         // The measurements: a file, or values turned into the file's form and read alike.
         std::optional<json> doc;
         std::string meas_name;
-        if (IsPath(measurements)) {
-          meas_name = PathText(measurements);
+        if (IsPathArgument(measurements)) {
+          meas_name = PathArgument(measurements, "measurements");
           if (!t_start.is_none())
             throw py::value_error("t_start: a measurements file holds its own times");
         } else if (py::isinstance<py::dict>(measurements) ||

@@ -36,7 +36,8 @@ py::array ToNumpy(const pipeline::NdArray& a) {
 void BindPipeline(py::module_& m) {
   m.def(
       "run",
-      [](const std::string& path, const std::vector<std::string>& plugin_dirs, unsigned threads) {
+      [](py::handle pipeline_file, const std::vector<std::string>& plugin_dirs, unsigned threads) {
+        const std::string path = PathArgument(pipeline_file, "pipeline");
         pipeline::ResultArrays result;
         std::string log_text;
         {

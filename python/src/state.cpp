@@ -236,4 +236,29 @@ void WarnIfImplausible(const std::vector<ImuSample>& samples) {
       throw py::error_already_set();  // warnings turned into errors
 }
 
+bool IsPathArgument(py::handle h) {
+  return py::isinstance<py::str>(h) || py::isinstance<py::bytes>(h) ||
+         py::isinstance(h, py::module_::import("os").attr("PathLike"));
+}
+
+std::string PathArgument(py::handle h, const char* name) {
+  if (!IsPathArgument(h))
+    throw py::value_error(std::string(name) +
+                          ": expected a path (str, bytes or os.PathLike), got " +
+                          std::string(py::str(py::type::of(h).attr("__name__"))));
+  std::string path;
+  try {
+    // os.fsencode: the bytes the file system takes, for str (surrogate escapes kept), bytes
+    // and a PathLike whose __fspath__ gives either.
+    path = py::module_::import("os").attr("fsencode")(h).cast<std::string>();
+  } catch (py::error_already_set& e) {
+    if (!e.matches(PyExc_TypeError)) throw;
+    throw py::value_error(std::string(name) + ": " + std::string(py::str(e.value())));
+  }
+  // The C library would stop at a NUL and use a different, shorter path.
+  if (path.find('\0') != std::string::npos)
+    throw py::value_error(std::string(name) + ": the path contains a NUL character");
+  return path;
+}
+
 }  // namespace imuconv::python

@@ -172,3 +172,37 @@ def test_an_integer_beyond_double_in_a_dict_is_named_by_pointer(reg, meas, tmp_p
     # One measurement given alone is named as the document it becomes.
     with pytest.raises(imuconv.Error, match=beyond):
         imuconv.check(reg, doc["measurements"][0], case=CASE)
+
+
+# ---- P9: a path is str, bytes or os.PathLike (returning either), the same everywhere
+
+class BytesPath:
+    def __init__(self, path):
+        self.path = os.fsencode(path)
+
+    def __fspath__(self):
+        return self.path
+
+
+def test_bytes_paths_are_the_paths_they_name(reg, case, meas, tmp_path):
+    for n, path in enumerate([os.fsencode(tmp_path / "b.json"), BytesPath(tmp_path / "pb.json")]):
+        imuconv.write_measurements(path, reg, meas, t_start=case["imu"][0][0])
+        assert (tmp_path / ("b.json", "pb.json")[n]).is_file()
+        report = imuconv.check(reg, path, case=os.fsencode(CASE))
+        assert report["verdict"]
+        report = imuconv.check(reg, path, case=BytesPath(CASE))
+        assert report["verdict"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["b.json", "pb.json"]
+    # imuconv.run takes the same paths: the missing file is named as given, not as "b'...'".
+    missing = tmp_path / "missing.json"
+    for path in (missing, os.fsencode(missing), BytesPath(missing)):
+        with pytest.raises(imuconv.Error, match="^" + str(missing)):
+            imuconv.run(path)
+    # What is not a path, or a path the C library would cut short, is refused by name.
+    with pytest.raises(ValueError, match=r"^path: expected a path \(str, bytes or os.PathLike\), got int"):
+        imuconv.write_measurements(3, reg, meas)
+    with pytest.raises(ValueError, match=r"^path: the path contains a NUL character"):
+        imuconv.write_measurements(str(tmp_path / "a\0b.json"), reg, meas)
+    with pytest.raises(ValueError, match=r"^case: the path contains a NUL character"):
+        imuconv.check(reg, meas, case=os.fsencode(CASE) + b"\0x")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["b.json", "pb.json"]
