@@ -185,12 +185,18 @@ void BindMeasurements(py::module_& m) {
         const std::vector<Preintegrated> ms = PreintegratedItems(r, items);
         const auto starts = Starts(t_start, ms.size(), std::nullopt);
         const std::string text = DocumentText(r, ms, starts, conventions);
-        py::gil_scoped_release release;
-        // The library's output file: a regular file is replaced atomically (never half
-        // written); a directory or an unwritable path is an Error naming it.
-        pipeline::OutputFile out(file);
-        out.write(text);
-        out.commit();
+        try {
+          py::gil_scoped_release release;
+          // The library's output file: a regular file is replaced atomically (never half
+          // written); a directory or an unwritable path is an Error naming it. A FIFO with no
+          // reader blocks in open until one comes, or until Ctrl-C.
+          pipeline::OutputFile out(file);
+          out.write(text);
+          out.commit();
+        } catch (const std::exception&) {
+          RaiseIfInterrupted();
+          throw;
+        }
       },
       py::arg("path"), py::arg("reg"), py::arg("measurements"), py::kw_only(),
       py::arg("t_start") = py::none(), py::arg("conventions") = std::vector<std::string>{},
@@ -224,8 +230,13 @@ void BindMeasurements(py::module_& m) {
           source = "samples";
         } else {
           source = PathArgument(case_file, "case");
-          py::gil_scoped_release release;
-          input = check::ReadCaseFile(source);  // at least 2 samples, or an Error naming the file
+          try {
+            py::gil_scoped_release release;
+            input = check::ReadCaseFile(source);  // at least 2 samples, or an Error naming it
+          } catch (const std::exception&) {
+            RaiseIfInterrupted();  // a FIFO's open blocks until Ctrl-C
+            throw;
+          }
         }
         // The measurements: a file, or values turned into the file's form and read alike.
         std::optional<json> doc;
@@ -258,7 +269,7 @@ void BindMeasurements(py::module_& m) {
         }
         std::string report;
         std::vector<std::string> warnings;
-        {
+        try {
           py::gil_scoped_release release;
           warnings = pipeline::ImuPlausibilityWarnings(input.samples, source);
           const auto ms = doc ? pipeline::ReadDeclaredMeasurementDocument(*doc, meas_name, r)
@@ -266,6 +277,9 @@ void BindMeasurements(py::module_& m) {
           json out = check::ReportJson(check::RunCheck(r, input, ms, meas_name));
           if (!warnings.empty()) out["warnings"] = warnings;
           report = out.dump();
+        } catch (const std::exception&) {
+          RaiseIfInterrupted();  // reading a measurements file that is a FIFO blocks until Ctrl-C
+          throw;
         }
         for (const auto& w : warnings)
           if (PyErr_WarnEx(PyExc_UserWarning, ("imuconv: " + w).c_str(), 1) != 0)

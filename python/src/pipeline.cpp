@@ -40,7 +40,7 @@ void BindPipeline(py::module_& m) {
         const std::string path = PathArgument(pipeline_file, "pipeline");
         pipeline::ResultArrays result;
         std::string log_text;
-        {
+        try {
           py::gil_scoped_release release;
           const pipeline::Pipeline p = pipeline::Pipeline::Load(path);
           std::ostringstream log;
@@ -50,6 +50,9 @@ void BindPipeline(py::module_& m) {
           o.log = &log;
           result = pipeline::RunToArrays(p, o);
           log_text = log.str();
+        } catch (const std::exception&) {
+          RaiseIfInterrupted();  // a file of the pipeline that is a FIFO blocks until Ctrl-C
+          throw;
         }
         if (!log_text.empty() &&
             PyErr_WarnEx(PyExc_RuntimeWarning, ("imuconv: " + log_text).c_str(), 1) != 0)

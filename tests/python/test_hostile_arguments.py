@@ -206,3 +206,33 @@ def test_bytes_paths_are_the_paths_they_name(reg, case, meas, tmp_path):
     with pytest.raises(ValueError, match=r"^case: the path contains a NUL character"):
         imuconv.check(reg, meas, case=os.fsencode(CASE) + b"\0x")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["b.json", "pb.json"]
+
+
+# ---- P10: Ctrl-C while blocked opening a FIFO is a KeyboardInterrupt
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs")
+def test_an_interrupted_fifo_write_is_a_keyboard_interrupt(reg, meas, tmp_path):
+    fifo = tmp_path / "fifo"
+    os.mkfifo(fifo)
+    main = threading.get_ident()
+    done = threading.Event()
+
+    def interrupt():
+        # SIGINT to the main thread, blocked in open(); should it not return, a reader opened
+        # after the event times out unblocks it, so the test cannot hang.
+        if not done.wait(0.3):
+            signal.pthread_kill(main, signal.SIGINT)
+        if not done.wait(10.0):
+            fd = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+            done.wait(10.0)
+            os.close(fd)
+
+    helper = threading.Thread(target=interrupt)
+    helper.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            imuconv.write_measurements(fifo, reg, meas, t_start=0.0)
+    finally:
+        done.set()
+        helper.join()
+    assert [p.name for p in tmp_path.iterdir()] == ["fifo"]  # nothing left beside it
