@@ -12,6 +12,7 @@
 #include "bindings.h"
 #include "finite_results.h"
 #include "imuconv/numeric.h"
+#include "imuconv/printable.h"
 
 namespace imuconv::python {
 namespace {
@@ -72,18 +73,23 @@ void BindRegistry(py::module_& m) {
       "Loaded plugins and the conversions between their conventions. Registry() loads the "
       "directories given, then those of IMUCONV_PLUGIN_PATH, then the built-in plugins; a "
       "file that fails to load is reported in load_issues (and as a warning), the rest load.");
-  reg.def(py::init([](const std::vector<std::string>& plugin_dirs, bool allow_override) {
-            auto r = std::make_unique<LoadedRegistry>();
-            LoadOptions o;
-            o.allow_override = allow_override;
-            r->load_issues = r->load_search_path(plugin_dirs, o);
-            for (const auto& i : r->load_issues)
-              if (PyErr_WarnEx(PyExc_RuntimeWarning, ("imuconv: " + i.message).c_str(), 1) != 0)
-                throw py::error_already_set();  // warnings turned into errors
-            return r;
-          }),
-          py::arg("plugin_dirs") = std::vector<std::string>{}, py::kw_only(),
-          py::arg("allow_override") = false);
+  reg.def(
+      py::init([](const std::vector<std::string>& plugin_dirs, bool allow_override) {
+        auto r = std::make_unique<LoadedRegistry>();
+        LoadOptions o;
+        o.allow_override = allow_override;
+        r->load_issues = r->load_search_path(plugin_dirs, o);
+        for (const auto& i : r->load_issues)
+          // Named as the CLI names it ("DIR: plugin directory does not exist"): the message
+          // alone does not say which of the directories or files it is about.
+          if (PyErr_WarnEx(PyExc_RuntimeWarning,
+                           ("imuconv: " + Printable(i.file) + ": " + Printable(i.message)).c_str(),
+                           1) != 0)
+            throw py::error_already_set();  // warnings turned into errors
+        return r;
+      }),
+      py::arg("plugin_dirs") = std::vector<std::string>{}, py::kw_only(),
+      py::arg("allow_override") = false);
   reg.def("__repr__", [](const LoadedRegistry& r) {
     // What is loaded, kind by kind, and whether anything failed: the first question about a
     // registry in an interactive session.

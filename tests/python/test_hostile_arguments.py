@@ -236,3 +236,12 @@ def test_an_interrupted_fifo_write_is_a_keyboard_interrupt(reg, meas, tmp_path):
         done.set()
         helper.join()
     assert [p.name for p in tmp_path.iterdir()] == ["fifo"]  # nothing left beside it
+
+
+# ---- A plugin directory that does not exist is named in the warning, as the CLI names it
+
+def test_a_missing_plugin_directory_is_named(tmp_path):
+    missing = tmp_path / "no-such-plugins"
+    with pytest.warns(RuntimeWarning, match="^imuconv: " + str(missing) + ": plugin directory does not exist"):
+        r = imuconv.Registry([str(missing)])
+    assert r.load_issues[0]["file"] == str(missing)
