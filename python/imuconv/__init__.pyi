@@ -132,14 +132,14 @@ def residual(reg: Registry, kind: str, m: Preintegrated, x_s: State, x_e: State,
 def bias_corrected_delta(reg: Registry, m: Preintegrated, jacobian_convention: str, *, bg: ArrayLike,
                          ba: ArrayLike) -> Increment: ...
 # A path: str, bytes or os.PathLike giving either (os.fsencode).
-Path = Union[str, bytes, os.PathLike[str], os.PathLike[bytes]]
-def run(pipeline: Path, *, plugin_dirs: Sequence[str] = ..., threads: int = ...) -> Dict[str, Any]: ...
+_Path = Union[str, bytes, os.PathLike[str], os.PathLike[bytes]]
+def run(pipeline: _Path, *, plugin_dirs: Sequence[str] = ..., threads: int = ...) -> Dict[str, Any]: ...
 MeasurementValues = Union[Preintegrated, Expressed, Sequence[Union[Preintegrated, Expressed]]]
-def check(reg: Registry, measurements: Union[Path, Mapping[str, Any], Sequence[Mapping[str, Any]],
+def check(reg: Registry, measurements: Union[_Path, Mapping[str, Any], Sequence[Mapping[str, Any]],
                                              MeasurementValues], *,
-          case: Optional[Path] = ..., samples: Optional[ArrayLike] = ...,
+          case: Optional[_Path] = ..., samples: Optional[ArrayLike] = ...,
           noise: Optional[Noise] = ..., t_start: Optional[Union[float, Sequence[float]]] = ...) -> Dict[str, Any]: ...
-def write_measurements(path: Path, reg: Registry, measurements: MeasurementValues, *,
+def write_measurements(path: _Path, reg: Registry, measurements: MeasurementValues, *,
                        t_start: Optional[Union[float, Sequence[float]]] = ...,
                        conventions: Sequence[str] = ...) -> None: ...
 # Only when the module was built with Ceres (imuconv::ceres).
