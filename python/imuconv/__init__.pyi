@@ -131,13 +131,15 @@ def residual(reg: Registry, kind: str, m: Preintegrated, x_s: State, x_e: State,
              gravity: ArrayLike = ...) -> Residual: ...
 def bias_corrected_delta(reg: Registry, m: Preintegrated, jacobian_convention: str, *, bg: ArrayLike,
                          ba: ArrayLike) -> Increment: ...
-def run(pipeline: str, *, plugin_dirs: Sequence[str] = ..., threads: int = ...) -> Dict[str, Any]: ...
+# A path: str, bytes or os.PathLike giving either (os.fsencode).
+_Path = Union[str, bytes, os.PathLike[str], os.PathLike[bytes]]
+def run(pipeline: _Path, *, plugin_dirs: Sequence[str] = ..., threads: int = ...) -> Dict[str, Any]: ...
 MeasurementValues = Union[Preintegrated, Expressed, Sequence[Union[Preintegrated, Expressed]]]
-def check(reg: Registry, measurements: Union[str, os.PathLike[str], Mapping[str, Any], Sequence[Mapping[str, Any]],
+def check(reg: Registry, measurements: Union[_Path, Mapping[str, Any], Sequence[Mapping[str, Any]],
                                              MeasurementValues], *,
-          case: Optional[Union[str, os.PathLike[str]]] = ..., samples: Optional[ArrayLike] = ...,
+          case: Optional[_Path] = ..., samples: Optional[ArrayLike] = ...,
           noise: Optional[Noise] = ..., t_start: Optional[Union[float, Sequence[float]]] = ...) -> Dict[str, Any]: ...
-def write_measurements(path: Union[str, os.PathLike[str]], reg: Registry, measurements: MeasurementValues, *,
+def write_measurements(path: _Path, reg: Registry, measurements: MeasurementValues, *,
                        t_start: Optional[Union[float, Sequence[float]]] = ...,
                        conventions: Sequence[str] = ...) -> None: ...
 # Only when the module was built with Ceres (imuconv::ceres).

@@ -60,4 +60,23 @@ std::vector<ImuSample> ReadSamples(py::handle samples, bool allow_gaps);
 /// The noise must keep the covariance finite over these samples (FindNoiseIssue).
 void RequireUsableNoise(const ImuNoise& noise, const std::vector<ImuSample>& samples);
 
+/// For a catch block after blocking work done without the GIL: a Ctrl-C that arrived meanwhile
+/// ended a blocked open or read with EINTR, which the library reports as an Error ("cannot open
+/// it for writing: Interrupted system call"); the interrupt is what happened, so it is raised
+/// (KeyboardInterrupt) instead of that error. Otherwise returns and the caller rethrows.
+inline void RaiseIfInterrupted() {
+  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+}
+
+/// A path argument, the same in every call that takes one: str, bytes or os.PathLike
+/// (whose __fspath__ gives str or bytes), as the file system's bytes (os.fsencode). Anything
+/// else, or a NUL inside, is a ValueError naming `name`.
+bool IsPathArgument(py::handle h);
+std::string PathArgument(py::handle h, const char* name);
+
+/// Samples that look mistaken (gyro and accelerometer columns swapped, g, deg/s:
+/// pipeline::ImuPlausibilityWarnings) give a UserWarning each, as the CLI warns wherever it
+/// reads an IMU file; the call goes on (the numbers may be meant).
+void WarnIfImplausible(const std::vector<ImuSample>& samples);
+
 }  // namespace imuconv::python

@@ -165,6 +165,7 @@ void BindBridge(py::module_& m) {
          std::optional<double> t_end, bool allow_gaps) {
         const PreintegrationMethod method = Method(r, propagator, preintegrator);
         const std::vector<ImuSample> s = ReadSamples(samples, allow_gaps);
+        WarnIfImplausible(s);
         const SampleWindow w = Window(s, t_start, t_end);
         const Vec3 g = ToFixed<3, 1>(bg, "bg"), a = ToFixed<3, 1>(ba, "ba");
         const ImuNoise q = ReadNoise(noise);
@@ -224,6 +225,7 @@ void BindBridge(py::module_& m) {
         in.x_s = x;
         in.cov_s = CheckedCovariance(cov, "cov");
         const std::vector<ImuSample> s = ReadSamples(samples, allow_gaps);
+        WarnIfImplausible(s);
         in.window = Window(s, t_start, t_end);
         in.noise = ReadNoise(noise);
         RequireUsableNoise(in.noise, s);
@@ -285,8 +287,11 @@ void BindBridge(py::module_& m) {
       "bias_corrected_delta",
       [](const LoadedRegistry& r, const Preintegrated& meas, const std::string& jacobian_convention,
          py::handle bg, py::handle ba) {
-        return BiasCorrectedDelta(r, meas, jacobian_convention, ToFixed<3, 1>(bg, "bg"),
-                                  ToFixed<3, 1>(ba, "ba"));
+        // A first-order correction by a bias far from the estimate (1e300 rad/s) overflows:
+        // refused, as every result of the module (finite_results.h).
+        return FiniteValue(BiasCorrectedDelta(r, meas, jacobian_convention, ToFixed<3, 1>(bg, "bg"),
+                                              ToFixed<3, 1>(ba, "ba")),
+                           "bias_corrected_delta");
       },
       py::arg("reg"), py::arg("m"), py::arg("jacobian_convention"), py::kw_only(), py::arg("bg"),
       py::arg("ba"),

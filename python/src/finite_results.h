@@ -28,7 +28,29 @@ inline void RequireIncrement(const PreintIncrement& d, const char* call) {
   Require(d.dbg.allFinite() && d.dba.allFinite(), call, "delta bias walk");
 }
 
+inline bool FiniteState(const ImuState& x) {
+  return x.R.allFinite() && x.p.allFinite() && x.v.allFinite() && x.bg.allFinite() &&
+         x.ba.allFinite();
+}
+
 }  // namespace finite_detail
+
+/// A matrix result (a converted covariance or transition, a chart's perturbation).
+template <class Matrix>
+Matrix FiniteMatrix(Matrix M, const char* call, const char* field) {
+  finite_detail::Require(M.allFinite(), call, field);
+  return M;
+}
+
+/// A state or an increment out of a chart's retract (a perturbation too large for the chart).
+inline ImuState FiniteValue(ImuState x, const char* call) {
+  finite_detail::Require(finite_detail::FiniteState(x), call, "x");
+  return x;
+}
+inline PreintIncrement FiniteValue(PreintIncrement d, const char* call) {
+  finite_detail::RequireIncrement(d, call);
+  return d;
+}
 
 /// `call` names the function in the message ("preintegrate: produced a non-finite number (cov)").
 inline Preintegrated FiniteMeasurement(Preintegrated m, const char* call) {
@@ -40,9 +62,7 @@ inline Preintegrated FiniteMeasurement(Preintegrated m, const char* call) {
 }
 
 inline PropagationResult FinitePropagation(PropagationResult p, const char* call) {
-  finite_detail::Require(p.x_e.R.allFinite() && p.x_e.p.allFinite() && p.x_e.v.allFinite() &&
-                             p.x_e.bg.allFinite() && p.x_e.ba.allFinite(),
-                         call, "x_e");
+  finite_detail::Require(finite_detail::FiniteState(p.x_e), call, "x_e");
   finite_detail::Require(p.Phi.allFinite(), call, "Phi");
   finite_detail::Require(p.cov.allFinite(), call, "cov");
   return p;

@@ -112,6 +112,30 @@ std::vector<Preintegrated> PreintegratedItems(const LoadedRegistry& r,
   return out;
 }
 
+/// The JSON pointer (below `pointer`) of the first integer in o that no double holds, or
+/// nothing: dicts by key, lists and tuples by index, as json.dumps walks them.
+std::optional<std::string> IntegerBeyondDouble(py::handle o, const std::string& pointer) {
+  if (PyLong_Check(o.ptr()) && !PyBool_Check(o.ptr())) {
+    PyLong_AsDouble(o.ptr());
+    if (!PyErr_Occurred()) return std::nullopt;
+    PyErr_Clear();
+    return pointer;
+  }
+  if (py::isinstance<py::dict>(o)) {
+    for (auto item : py::reinterpret_borrow<py::dict>(o)) {
+      const std::string key = py::str(item.first);
+      std::string escaped;  // RFC 6901: ~ as ~0, / as ~1
+      for (char c : key) escaped += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
+      if (auto at = IntegerBeyondDouble(item.second, pointer + "/" + escaped)) return at;
+    }
+  } else if (py::isinstance<py::list>(o) || py::isinstance<py::tuple>(o)) {
+    std::size_t k = 0;
+    for (py::handle item : o)
+      if (auto at = IntegerBeyondDouble(item, pointer + "/" + std::to_string(k++))) return at;
+  }
+  return std::nullopt;
+}
+
 /// A dict in the file's form (a whole document with "measurements", or one measurement
 /// object) as JSON: NumPy arrays and scalars through tolist(); NaN and infinities refused.
 json DictDocument(py::handle d) {
@@ -131,17 +155,23 @@ json DictDocument(py::handle d) {
                             " (every number must be finite)");
     throw;
   }
-  json doc = json::parse(text.cast<std::string>());
-  if (!doc.contains("measurements")) doc = json{{"measurements", json::array({doc})}};
-  return doc;
+  const bool whole = py::isinstance<py::dict>(d) && d.contains("measurements");
+  try {
+    json doc = json::parse(text.cast<std::string>());
+    if (!doc.contains("measurements")) doc = json{{"measurements", json::array({doc})}};
+    return doc;
+  } catch (const json::exception& e) {
+    // json.dumps writes Python's unbounded integers in full; one past the largest double
+    // (10**400) cannot be read as a number. Named by its pointer in the file's form, as the
+    // measurement reader names every other bad value.
+    const auto at = IntegerBeyondDouble(d, whole ? "" : "/measurements/0");
+    if (at)
+      throw Error("measurements (dict): " + *at +
+                  ": expected a number within double precision, found an integer beyond "
+                  "1.8e308");
+    throw Error(std::string("measurements (dict): not readable as JSON numbers: ") + e.what());
+  }
 }
-
-bool IsPath(py::handle h) {
-  return py::isinstance<py::str>(h) ||
-         py::isinstance(h, py::module_::import("os").attr("PathLike"));
-}
-
-std::string PathText(py::handle h) { return py::str(py::module_::import("os").attr("fspath")(h)); }
 
 }  // namespace
 
@@ -150,18 +180,23 @@ void BindMeasurements(py::module_& m) {
       "write_measurements",
       [](py::handle path, const LoadedRegistry& r, py::handle measurements, py::handle t_start,
          const std::vector<std::string>& conventions) {
-        if (!IsPath(path)) throw py::value_error("path: expected a str or os.PathLike");
-        const std::string file = PathText(path);
+        const std::string file = PathArgument(path, "path");
         const auto items = Items(measurements);
         const std::vector<Preintegrated> ms = PreintegratedItems(r, items);
         const auto starts = Starts(t_start, ms.size(), std::nullopt);
         const std::string text = DocumentText(r, ms, starts, conventions);
-        py::gil_scoped_release release;
-        // The library's output file: a regular file is replaced atomically (never half
-        // written); a directory or an unwritable path is an Error naming it.
-        pipeline::OutputFile out(file);
-        out.write(text);
-        out.commit();
+        try {
+          py::gil_scoped_release release;
+          // The library's output file: a regular file is replaced atomically (never half
+          // written); a directory or an unwritable path is an Error naming it. A FIFO with no
+          // reader blocks in open until one comes, or until Ctrl-C.
+          pipeline::OutputFile out(file);
+          out.write(text);
+          out.commit();
+        } catch (const std::exception&) {
+          RaiseIfInterrupted();
+          throw;
+        }
       },
       py::arg("path"), py::arg("reg"), py::arg("measurements"), py::kw_only(),
       py::arg("t_start") = py::none(), py::arg("conventions") = std::vector<std::string>{},
@@ -190,18 +225,24 @@ void BindMeasurements(py::module_& m) {
         if (!samples.is_none()) {
           input.samples = ReadSamples(samples, /*allow_gaps=*/false);
           input.noise = ReadNoise(noise);
+          RequireUsableNoise(input.noise, input.samples);  // as a case file's noise is checked
           input.source = "the samples given";
           source = "samples";
         } else {
-          source = PathText(case_file);
-          py::gil_scoped_release release;
-          input = check::ReadCaseFile(source);  // at least 2 samples, or an Error naming the file
+          source = PathArgument(case_file, "case");
+          try {
+            py::gil_scoped_release release;
+            input = check::ReadCaseFile(source);  // at least 2 samples, or an Error naming it
+          } catch (const std::exception&) {
+            RaiseIfInterrupted();  // a FIFO's open blocks until Ctrl-C
+            throw;
+          }
         }
         // The measurements: a file, or values turned into the file's form and read alike.
         std::optional<json> doc;
         std::string meas_name;
-        if (IsPath(measurements)) {
-          meas_name = PathText(measurements);
+        if (IsPathArgument(measurements)) {
+          meas_name = PathArgument(measurements, "measurements");
           if (!t_start.is_none())
             throw py::value_error("t_start: a measurements file holds its own times");
         } else if (py::isinstance<py::dict>(measurements) ||
@@ -228,7 +269,7 @@ void BindMeasurements(py::module_& m) {
         }
         std::string report;
         std::vector<std::string> warnings;
-        {
+        try {
           py::gil_scoped_release release;
           warnings = pipeline::ImuPlausibilityWarnings(input.samples, source);
           const auto ms = doc ? pipeline::ReadDeclaredMeasurementDocument(*doc, meas_name, r)
@@ -236,6 +277,9 @@ void BindMeasurements(py::module_& m) {
           json out = check::ReportJson(check::RunCheck(r, input, ms, meas_name));
           if (!warnings.empty()) out["warnings"] = warnings;
           report = out.dump();
+        } catch (const std::exception&) {
+          RaiseIfInterrupted();  // reading a measurements file that is a FIFO blocks until Ctrl-C
+          throw;
         }
         for (const auto& w : warnings)
           if (PyErr_WarnEx(PyExc_UserWarning, ("imuconv: " + w).c_str(), 1) != 0)

@@ -12,13 +12,10 @@
 #include "imuconv/optimize/optimize.h"
 #include "imuconv/optimize/optimize_output.h"
 #include "imuconv/optimize/pipeline_task.h"
+#include "imuconv/pipeline/ground_truth_quaternion.h"
 
 namespace imuconv::python {
 namespace {
-
-// Quaternions given as numbers must be unit to this (the JSON state reader's rule), then are
-// normalised: a typo is refused, six printed digits are not.
-constexpr double kUnitQuaternionTolerance = 1e-6;
 
 // (M, 8) rows t, px, py, pz, qw, qx, qy, qz, or (M, 17) EuRoC ground-truth rows (those, then v,
 // bg, ba; the biases become the reference the estimate is compared with); t in seconds on the
@@ -41,10 +38,12 @@ pipeline::GroundTruth ReadPoses(py::handle poses) {
     if (i > 0 && !(row[0] > gt.t.back()))
       throw py::value_error("poses: row " + std::to_string(i) + ": t " + Num(row[0]) +
                             " does not increase");
-    Eigen::Quaterniond q(row[4], row[5], row[6], row[7]);
-    if (std::abs(q.norm() - 1.0) > kUnitQuaternionTolerance)
-      throw py::value_error("poses: row " + std::to_string(i) + ": the quaternion's norm is " +
-                            Num(q.norm()) + ", not 1");
+    // The ground-truth readers' rule (unit within 1e-3, then normalised), so that the rows
+    // `imuconv optimize --poses` accepts from a file are accepted here as arrays.
+    if (const auto problem = pipeline::GroundTruthQuaternionProblem(row[4], row[5], row[6], row[7],
+                                                                    "(q_w, q_x, q_y, q_z)"))
+      throw py::value_error("poses: row " + std::to_string(i) + ": " + *problem);
+    const Eigen::Quaterniond q(row[4], row[5], row[6], row[7]);
     ImuState x;
     x.R = q.normalized().toRotationMatrix();
     x.p = Vec3(row[1], row[2], row[3]);
@@ -85,9 +84,11 @@ void BindOptimize(py::module_& m) {
         pipeline::ImuData imu;
         imu.samples = ReadSamples(samples, /*allow_gaps=*/false);
         imu.source = "samples";
+        WarnIfImplausible(imu.samples);
         const pipeline::GroundTruth gt = ReadPoses(poses);
         optimize::Options o;
         o.noise = ReadNoise(noise);
+        RequireUsableNoise(o.noise, imu.samples);  // as preintegrate, propagate and the CLI
         o.method = method;
         o.convention = convention;
         o.kind = residual == "forster" ? ResidualKind::Forster : ResidualKind::Gtsam;

@@ -36,10 +36,11 @@ py::array ToNumpy(const pipeline::NdArray& a) {
 void BindPipeline(py::module_& m) {
   m.def(
       "run",
-      [](const std::string& path, const std::vector<std::string>& plugin_dirs, unsigned threads) {
+      [](py::handle pipeline_file, const std::vector<std::string>& plugin_dirs, unsigned threads) {
+        const std::string path = PathArgument(pipeline_file, "pipeline");
         pipeline::ResultArrays result;
         std::string log_text;
-        {
+        try {
           py::gil_scoped_release release;
           const pipeline::Pipeline p = pipeline::Pipeline::Load(path);
           std::ostringstream log;
@@ -49,6 +50,9 @@ void BindPipeline(py::module_& m) {
           o.log = &log;
           result = pipeline::RunToArrays(p, o);
           log_text = log.str();
+        } catch (const std::exception&) {
+          RaiseIfInterrupted();  // a file of the pipeline that is a FIFO blocks until Ctrl-C
+          throw;
         }
         if (!log_text.empty() &&
             PyErr_WarnEx(PyExc_RuntimeWarning, ("imuconv: " + log_text).c_str(), 1) != 0)

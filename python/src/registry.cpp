@@ -10,25 +10,29 @@
 
 #include "arrays.h"
 #include "bindings.h"
+#include "finite_results.h"
 #include "imuconv/numeric.h"
+#include "imuconv/printable.h"
 
 namespace imuconv::python {
 namespace {
 
 // A chart's retract and local as the module gives them, for a state and an increment
-// convention alike: d read as a (15,) array named "d", the perturbation returned as one.
+// convention alike: d read as a (15,) array named "d", the perturbation returned as one. A
+// finite d can still take a chart past double precision (1e308 in every entry, a rotation of
+// 1e200 rad in an SE_2(3) chart): such a result is a ValueError naming `call`, never returned.
 template <class Value>
-Value ChartRetract(const Chart<Value>& chart, const Value& x, py::handle d) {
+Value ChartRetract(const Chart<Value>& chart, const Value& x, py::handle d, const char* call) {
   const Vec15 dx = ToFixed<15, 1>(d, "d");
   Value y;
   chart.retract(x, dx, y);
-  return y;
+  return FiniteValue(y, call);
 }
 template <class Value>
-py::array ChartLocal(const Chart<Value>& chart, const Value& x, const Value& y) {
+py::array ChartLocal(const Chart<Value>& chart, const Value& x, const Value& y, const char* call) {
   Vec15 d;
   chart.local(x, y, d);
-  return ToArray(d);
+  return ToArray(FiniteMatrix(d, call, "d"));
 }
 
 py::dict InfoDict(const PluginInfo& p) {
@@ -69,18 +73,23 @@ void BindRegistry(py::module_& m) {
       "Loaded plugins and the conversions between their conventions. Registry() loads the "
       "directories given, then those of IMUCONV_PLUGIN_PATH, then the built-in plugins; a "
       "file that fails to load is reported in load_issues (and as a warning), the rest load.");
-  reg.def(py::init([](const std::vector<std::string>& plugin_dirs, bool allow_override) {
-            auto r = std::make_unique<LoadedRegistry>();
-            LoadOptions o;
-            o.allow_override = allow_override;
-            r->load_issues = r->load_search_path(plugin_dirs, o);
-            for (const auto& i : r->load_issues)
-              if (PyErr_WarnEx(PyExc_RuntimeWarning, ("imuconv: " + i.message).c_str(), 1) != 0)
-                throw py::error_already_set();  // warnings turned into errors
-            return r;
-          }),
-          py::arg("plugin_dirs") = std::vector<std::string>{}, py::kw_only(),
-          py::arg("allow_override") = false);
+  reg.def(
+      py::init([](const std::vector<std::string>& plugin_dirs, bool allow_override) {
+        auto r = std::make_unique<LoadedRegistry>();
+        LoadOptions o;
+        o.allow_override = allow_override;
+        r->load_issues = r->load_search_path(plugin_dirs, o);
+        for (const auto& i : r->load_issues)
+          // Named as the CLI names it ("DIR: plugin directory does not exist"): the message
+          // alone does not say which of the directories or files it is about.
+          if (PyErr_WarnEx(PyExc_RuntimeWarning,
+                           ("imuconv: " + Printable(i.file) + ": " + Printable(i.message)).c_str(),
+                           1) != 0)
+            throw py::error_already_set();  // warnings turned into errors
+        return r;
+      }),
+      py::arg("plugin_dirs") = std::vector<std::string>{}, py::kw_only(),
+      py::arg("allow_override") = false);
   reg.def("__repr__", [](const LoadedRegistry& r) {
     // What is loaded, kind by kind, and whether anything failed: the first question about a
     // registry in an interactive session.
@@ -141,7 +150,7 @@ void BindRegistry(py::module_& m) {
           py::gil_scoped_release release;
           J = r.conversion(from, to, x);
         }
-        return ToArray(J);
+        return ToArray(FiniteMatrix(J, "conversion", "J"));
       },
       py::arg("from_convention"), py::arg("to_convention"), py::arg("x"),
       "d dx_to / d dx_from at x (15, 15): the Jacobian that carries a perturbation in one state "
@@ -157,7 +166,7 @@ void BindRegistry(py::module_& m) {
           py::gil_scoped_release release;
           out = r.convert_covariance(from, to, x, cov);
         }
-        return ToArray(out);
+        return ToArray(FiniteMatrix(out, "convert_covariance", "S"));
       },
       py::arg("from_convention"), py::arg("to_convention"), py::arg("x"), py::arg("S"),
       "A covariance at x in one state convention, in another: J S J^T.");
@@ -171,7 +180,7 @@ void BindRegistry(py::module_& m) {
           py::gil_scoped_release release;
           out = r.convert_transition(from, to, x_s, x_e, P);
         }
-        return ToArray(out);
+        return ToArray(FiniteMatrix(out, "convert_transition", "Phi"));
       },
       py::arg("from_convention"), py::arg("to_convention"), py::arg("x_s"), py::arg("x_e"),
       py::arg("Phi"),
@@ -179,14 +188,14 @@ void BindRegistry(py::module_& m) {
   reg.def(
       "retract",
       [](const LoadedRegistry& r, const std::string& convention, const ImuState& x, py::handle d) {
-        return ChartRetract(*r.state_convention(convention), x, d);
+        return ChartRetract(*r.state_convention(convention), x, d, "retract");
       },
       py::arg("convention"), py::arg("x"), py::arg("d"),
       "The state convention's chart: x perturbed by d (15,).");
   reg.def(
       "local",
       [](const LoadedRegistry& r, const std::string& convention, const ImuState& x,
-         const ImuState& y) { return ChartLocal(*r.state_convention(convention), x, y); },
+         const ImuState& y) { return ChartLocal(*r.state_convention(convention), x, y, "local"); },
       py::arg("convention"), py::arg("x"), py::arg("y"),
       "The state convention's chart: d with retract(x, d) = y.");
 
@@ -194,19 +203,23 @@ void BindRegistry(py::module_& m) {
   reg.def(
       "increment_conversion",
       [](const LoadedRegistry& r, const std::string& from, const std::string& to,
-         const PreintIncrement& d) { return ToArray(r.conversion(from, to, d)); },
+         const PreintIncrement& d) {
+        return ToArray(FiniteMatrix(r.conversion(from, to, d), "increment_conversion", "J"));
+      },
       py::arg("from_convention"), py::arg("to_convention"), py::arg("delta"),
       "d dx_to / d dx_from at the increment delta (15, 15).");
   reg.def(
       "increment_retract",
       [](const LoadedRegistry& r, const std::string& convention, const PreintIncrement& x,
-         py::handle d) { return ChartRetract(*r.increment_convention(convention), x, d); },
+         py::handle d) {
+        return ChartRetract(*r.increment_convention(convention), x, d, "increment_retract");
+      },
       py::arg("convention"), py::arg("delta"), py::arg("d"));
   reg.def(
       "increment_local",
       [](const LoadedRegistry& r, const std::string& convention, const PreintIncrement& x,
          const PreintIncrement& y) {
-        return ChartLocal(*r.increment_convention(convention), x, y);
+        return ChartLocal(*r.increment_convention(convention), x, y, "increment_local");
       },
       py::arg("convention"), py::arg("delta"), py::arg("other"));
   reg.def(

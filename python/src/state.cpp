@@ -9,6 +9,7 @@
 
 #include "arrays.h"
 #include "bindings.h"
+#include "imuconv/pipeline/imu_plausibility.h"
 #include "imuconv/pipeline/sample_checks.h"
 #include "imuconv/so3.h"
 
@@ -227,6 +228,37 @@ void RequireUsableNoise(const ImuNoise& noise, const std::vector<ImuSample>& sam
     shortest = std::min(shortest, samples[k].t - samples[k - 1].t);
   if (const auto issue = pipeline::FindNoiseIssue(noise, shortest))
     throw py::value_error("noise: " + *issue);
+}
+
+void WarnIfImplausible(const std::vector<ImuSample>& samples) {
+  for (const auto& w : pipeline::ImuPlausibilityWarnings(samples, "samples"))
+    if (PyErr_WarnEx(PyExc_UserWarning, ("imuconv: " + w).c_str(), 1) != 0)
+      throw py::error_already_set();  // warnings turned into errors
+}
+
+bool IsPathArgument(py::handle h) {
+  return py::isinstance<py::str>(h) || py::isinstance<py::bytes>(h) ||
+         py::isinstance(h, py::module_::import("os").attr("PathLike"));
+}
+
+std::string PathArgument(py::handle h, const char* name) {
+  if (!IsPathArgument(h))
+    throw py::value_error(std::string(name) +
+                          ": expected a path (str, bytes or os.PathLike), got " +
+                          std::string(py::str(py::type::of(h).attr("__name__"))));
+  std::string path;
+  try {
+    // os.fsencode: the bytes the file system takes, for str (surrogate escapes kept), bytes
+    // and a PathLike whose __fspath__ gives either.
+    path = py::module_::import("os").attr("fsencode")(h).cast<std::string>();
+  } catch (py::error_already_set& e) {
+    if (!e.matches(PyExc_TypeError)) throw;
+    throw py::value_error(std::string(name) + ": " + std::string(py::str(e.value())));
+  }
+  // The C library would stop at a NUL and use a different, shorter path.
+  if (path.find('\0') != std::string::npos)
+    throw py::value_error(std::string(name) + ": the path contains a NUL character");
+  return path;
 }
 
 }  // namespace imuconv::python

@@ -41,6 +41,7 @@ PUBLIC = {
     "standard_descriptors.h": "io",
     "text_sink.h": "io",
     "imu_plausibility.h": "data",
+    "ground_truth_quaternion.h": "data",  # the ground-truth quaternion rule (header-only: Python too)
     "imu_reader.h": "data",
     "kalibr_yaml.h": "data",         # noise from a Kalibr imu.yaml
     "sample_checks.h": "data",

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "imuconv/pipeline/errors.h"
+#include "imuconv/pipeline/ground_truth_quaternion.h"
 #include "imuconv/pipeline/imu_reader.h"
 #include "imuconv/so3.h"
 #include "row_loop.h"
@@ -36,12 +37,6 @@ constexpr std::size_t kGtFields = 17;
 const char* const kGtNames[kGtFields] = {
     "timestamp [ns]", "p_x",  "p_y",  "p_z",  "q_w",  "q_x", "q_y", "q_z", "v_x", "v_y", "v_z",
     "bg_x",           "bg_y", "bg_z", "ba_x", "ba_y", "ba_z"};
-
-std::string Fixed(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", x);
-  return buf;
-}
 }  // namespace
 
 GroundTruth ReadEurocGroundTruth(const std::string& path, const TimeOrigin& origin,
@@ -64,10 +59,9 @@ GroundTruth ReadEurocGroundTruth(const std::string& path, const TimeOrigin& orig
   auto kept = data::ReadRows<ImuState>(loop, options, [](const data::RowLoop& row) {
     double v[kGtFields];
     for (std::size_t k = 1; k < kGtFields; ++k) v[k] = row.number(k, kGtNames[k]);
-    const double qn = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
-    // 1e-3: the tolerance for quaternions written with 6 significant digits (EuRoC's files).
-    if (!(std::abs(qn - 1.0) <= 1e-3))
-      row.fail("quaternion (q_w, q_x, q_y, q_z) has norm " + Fixed(qn) + ", expected 1 (to 1e-3)");
+    if (const auto problem =
+            GroundTruthQuaternionProblem(v[4], v[5], v[6], v[7], "(q_w, q_x, q_y, q_z)"))
+      row.fail(*problem);
     ImuState s;
     s.p = Vec3(v[1], v[2], v[3]);
     s.R = so3::FromQuaternionWxyz(v[4], v[5], v[6], v[7]);
@@ -122,11 +116,9 @@ GroundTruth ReadPoseGroundTruth(const std::string& path, const std::string& form
     double v[8];
     for (std::size_t k = 1; k < 8; ++k) v[k] = row.number(k, kNames[k]);
     const double qw = v[iw], qx = v[ix], qy = v[ix + 1], qz = v[ix + 2];
-    const double qn = std::sqrt(qw * qw + qx * qx + qy * qy + qz * qz);
-    // 1e-3, as for EuRoC's state files: quaternions written with 6 significant digits.
-    if (!(std::abs(qn - 1.0) <= 1e-3))
-      row.fail(std::string("quaternion ") + (tum ? "(qx, qy, qz, qw)" : "(q_w, q_x, q_y, q_z)") +
-               " has norm " + Fixed(qn) + ", expected 1 (to 1e-3)");
+    if (const auto problem = GroundTruthQuaternionProblem(
+            qw, qx, qy, qz, tum ? "(qx, qy, qz, qw)" : "(q_w, q_x, q_y, q_z)"))
+      row.fail(*problem);
     // The sensor's pose T_RS, then the body's: R_RB = R_RS R_SB, p_RB = p_RS - R_RB p_BS.
     ImuState s;
     s.R = so3::FromQuaternionWxyz(qw, qx, qy, qz) * R_SB;
