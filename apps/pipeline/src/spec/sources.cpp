@@ -25,7 +25,7 @@ std::optional<TimeValue> TimeFromJson(const Node& n) {
   }
   if (n.value().is_string()) {
     if (auto t = ParseTimeValue(n.value().get<std::string>())) return t;
-    n.fail("expected a decimal time, found '" + n.value().get<std::string>() + "'");
+    n.fail("expected a decimal time, found " + QuotedShort(n.value().get<std::string>()));
     return std::nullopt;
   }
   n.fail("expected a time (a number, or a string holding a decimal number), found " +
@@ -118,9 +118,8 @@ std::optional<ImuSourceSpec> ReadImuSource(const ParseContext& ctx, const Node& 
         else if (d->size() == 1 && (*d)[0] != '"' && (*d)[0] != '\n')
           s.csv.delimiter = (*d)[0];
         else
-          dn->fail(
-              "expected one character (e.g. \",\", \";\", \"\\t\") or \"whitespace\", found '" +
-              *d + "'");
+          dn->fail("expected one character (e.g. \",\", \";\", \"\\t\") or \"whitespace\", found " +
+                   QuotedShort(*d));
       }
     }
     if (auto hn = n.get("header_rows", false)) {
