@@ -39,6 +39,13 @@ inline Preintegrated FiniteMeasurement(Preintegrated m, const char* call) {
   return m;
 }
 
+/// A conversion's matrix (a Jacobian, a covariance or a transition in another convention):
+/// "convert_covariance: produced a non-finite number (result)".
+inline Mat15 FiniteConversion(const Mat15& m, const char* call) {
+  finite_detail::Require(m.allFinite(), call, "result");
+  return m;
+}
+
 inline PropagationResult FinitePropagation(PropagationResult p, const char* call) {
   finite_detail::Require(p.x_e.R.allFinite() && p.x_e.p.allFinite() && p.x_e.v.allFinite() &&
                              p.x_e.bg.allFinite() && p.x_e.ba.allFinite(),

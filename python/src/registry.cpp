@@ -10,6 +10,7 @@
 
 #include "arrays.h"
 #include "bindings.h"
+#include "finite_results.h"
 #include "imuconv/numeric.h"
 
 namespace imuconv::python {
@@ -141,7 +142,7 @@ void BindRegistry(py::module_& m) {
           py::gil_scoped_release release;
           J = r.conversion(from, to, x);
         }
-        return ToArray(J);
+        return ToArray(FiniteConversion(J, "conversion"));
       },
       py::arg("from_convention"), py::arg("to_convention"), py::arg("x"),
       "d dx_to / d dx_from at x (15, 15): the Jacobian that carries a perturbation in one state "
@@ -157,7 +158,7 @@ void BindRegistry(py::module_& m) {
           py::gil_scoped_release release;
           out = r.convert_covariance(from, to, x, cov);
         }
-        return ToArray(out);
+        return ToArray(FiniteConversion(out, "convert_covariance"));
       },
       py::arg("from_convention"), py::arg("to_convention"), py::arg("x"), py::arg("S"),
       "A covariance at x in one state convention, in another: J S J^T.");
@@ -171,7 +172,7 @@ void BindRegistry(py::module_& m) {
           py::gil_scoped_release release;
           out = r.convert_transition(from, to, x_s, x_e, P);
         }
-        return ToArray(out);
+        return ToArray(FiniteConversion(out, "convert_transition"));
       },
       py::arg("from_convention"), py::arg("to_convention"), py::arg("x_s"), py::arg("x_e"),
       py::arg("Phi"),
@@ -194,7 +195,9 @@ void BindRegistry(py::module_& m) {
   reg.def(
       "increment_conversion",
       [](const LoadedRegistry& r, const std::string& from, const std::string& to,
-         const PreintIncrement& d) { return ToArray(r.conversion(from, to, d)); },
+         const PreintIncrement& d) {
+        return ToArray(FiniteConversion(r.conversion(from, to, d), "increment_conversion"));
+      },
       py::arg("from_convention"), py::arg("to_convention"), py::arg("delta"),
       "d dx_to / d dx_from at the increment delta (15, 15).");
   reg.def(
