@@ -5,6 +5,7 @@
 
 #include "imuconv/cli/commands.h"
 #include "imuconv/cli/exit_codes.h"
+#include "imuconv/cli/non_finite_result.h"
 #include "imuconv/pipeline/json_io.h"
 #include "imuconv/printable.h"
 
@@ -28,6 +29,12 @@ int ExecuteConversion(const CommandContext& ctx, const ConversionOptions& o) {
   }
   const ImuState x = pipeline::ReadStateFile(o.state);
   const Mat15 J = reg.conversion(o.from, o.to, x);
+  const std::string non_finite =
+      NonFiniteResultMessage(J, "conversion", "jacobian", o.from, o.to, "state");
+  if (!non_finite.empty()) {
+    PrintError(non_finite);
+    return kExitBadInput;
+  }
   const auto bf = pipeline::Blocks(reg, PluginKind::StateConvention, o.from);
   const auto bt = pipeline::Blocks(reg, PluginKind::StateConvention, o.to);
   if (o.as_json) {

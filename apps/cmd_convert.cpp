@@ -16,6 +16,7 @@
 
 #include "imuconv/cli/commands.h"
 #include "imuconv/cli/exit_codes.h"
+#include "imuconv/cli/non_finite_result.h"
 #include "imuconv/pipeline/json_io.h"
 #include "imuconv/printable.h"
 
@@ -125,6 +126,13 @@ int ExecuteConvert(const CommandContext& ctx, const ConvertOptions& o) {
     case What::IncrementCovariance:
       result = reg.convert_covariance(from, o.to, d, M->m);
       break;
+  }
+  const std::string non_finite = NonFiniteResultMessage(
+      result, "convert", o.what, from, o.to,
+      std::string(o.state.empty() ? "increment" : "state") + (M ? " or matrix" : ""));
+  if (!non_finite.empty()) {
+    PrintError(non_finite);
+    return kExitBadInput;
   }
 
   if (o.as_json) {

@@ -150,7 +150,7 @@ void BindRegistry(py::module_& m) {
           py::gil_scoped_release release;
           J = r.conversion(from, to, x);
         }
-        return ToArray(FiniteMatrix(J, "conversion", "J"));
+        return ToArray(FiniteMatrix(J, "conversion", "result"));
       },
       py::arg("from_convention"), py::arg("to_convention"), py::arg("x"),
       "d dx_to / d dx_from at x (15, 15): the Jacobian that carries a perturbation in one state "
@@ -166,7 +166,7 @@ void BindRegistry(py::module_& m) {
           py::gil_scoped_release release;
           out = r.convert_covariance(from, to, x, cov);
         }
-        return ToArray(FiniteMatrix(out, "convert_covariance", "S"));
+        return ToArray(FiniteMatrix(out, "convert_covariance", "result"));
       },
       py::arg("from_convention"), py::arg("to_convention"), py::arg("x"), py::arg("S"),
       "A covariance at x in one state convention, in another: J S J^T.");
@@ -180,7 +180,7 @@ void BindRegistry(py::module_& m) {
           py::gil_scoped_release release;
           out = r.convert_transition(from, to, x_s, x_e, P);
         }
-        return ToArray(FiniteMatrix(out, "convert_transition", "Phi"));
+        return ToArray(FiniteMatrix(out, "convert_transition", "result"));
       },
       py::arg("from_convention"), py::arg("to_convention"), py::arg("x_s"), py::arg("x_e"),
       py::arg("Phi"),
@@ -204,7 +204,7 @@ void BindRegistry(py::module_& m) {
       "increment_conversion",
       [](const LoadedRegistry& r, const std::string& from, const std::string& to,
          const PreintIncrement& d) {
-        return ToArray(FiniteMatrix(r.conversion(from, to, d), "increment_conversion", "J"));
+        return ToArray(FiniteMatrix(r.conversion(from, to, d), "increment_conversion", "result"));
       },
       py::arg("from_convention"), py::arg("to_convention"), py::arg("delta"),
       "d dx_to / d dx_from at the increment delta (15, 15).");

@@ -93,7 +93,7 @@ std::string Vicon0(const std::vector<GtRow>& rows, const Mat3& R_BS, const Vec3&
 
 /// The keyframes example with the start state and bias given (the first ground-truth row),
 /// over 2 s, chained: what a pose-only ground truth allows.
-json Pipeline(const std::vector<GtRow>& rows, const json& ground_truth) {
+json PoseGroundTruthPipeline(const std::vector<GtRow>& rows, const json& ground_truth) {
   json p = json::parse(ReadText(SourcePath("examples/euroc_v1_01_keyframes.json")));
   p.erase("$schema");
   p["imu"]["path"] = SourcePath("examples/data/V1_01_easy_imu0_slice.csv");
@@ -136,9 +136,9 @@ std::vector<json> Comparisons(const TempDir& tmp, const json& pipeline, const st
 std::vector<json> FullStateComparisons(const TempDir& tmp, const std::vector<GtRow>& rows) {
   return Comparisons(
       tmp,
-      Pipeline(rows,
-               {{"format", "euroc"},
-                {"path", SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv")}}),
+      PoseGroundTruthPipeline(
+          rows, {{"format", "euroc"},
+                 {"path", SourcePath("examples/data/V1_01_easy_groundtruth_vicon2gt_slice.csv")}}),
       "full");
 }
 
@@ -148,11 +148,13 @@ TEST(PoseGroundTruth, TumAndVicon0GiveTheFullStateErrorsExactly) {
   ASSERT_GT(rows.size(), 40u);
   const auto full = FullStateComparisons(tmp, rows);
   const auto tum = Comparisons(
-      tmp, Pipeline(rows, {{"format", "tum"}, {"path", tmp.write("gt.tum", Tum(rows))}}), "tum");
+      tmp,
+      PoseGroundTruthPipeline(rows, {{"format", "tum"}, {"path", tmp.write("gt.tum", Tum(rows))}}),
+      "tum");
   const auto vicon = Comparisons(
       tmp,
-      Pipeline(rows,
-               {{"format", "euroc_pose"}, {"path", tmp.write("vicon0.csv", Vicon0Copy(rows))}}),
+      PoseGroundTruthPipeline(
+          rows, {{"format", "euroc_pose"}, {"path", tmp.write("vicon0.csv", Vicon0Copy(rows))}}),
       "vicon");
   ASSERT_EQ(full.size(), 40u);  // two tasks of 20 steps
   for (const auto* poses : {&tum, &vicon}) {
@@ -185,9 +187,10 @@ TEST(PoseGroundTruth, SensorPosesAreMappedToTheBodyByT_BS) {
   const std::string file = tmp.write("vicon0.csv", Vicon0(rows, R_BS, p_BS));
   const auto full = FullStateComparisons(tmp, rows);
   const auto mapped = Comparisons(
-      tmp, Pipeline(rows, {{"format", "euroc_pose"}, {"path", file}, {"T_BS", T}}), "mapped");
-  const auto unmapped =
-      Comparisons(tmp, Pipeline(rows, {{"format", "euroc_pose"}, {"path", file}}), "unmapped");
+      tmp, PoseGroundTruthPipeline(rows, {{"format", "euroc_pose"}, {"path", file}, {"T_BS", T}}),
+      "mapped");
+  const auto unmapped = Comparisons(
+      tmp, PoseGroundTruthPipeline(rows, {{"format", "euroc_pose"}, {"path", file}}), "unmapped");
   ASSERT_EQ(mapped.size(), full.size());
   ASSERT_EQ(unmapped.size(), full.size());
   double worst = 0.0, unmapped_least = INFINITY;
@@ -208,7 +211,7 @@ TEST(PoseGroundTruth, WhatAPoseCannotGiveIsRefusedAtItsPointer) {
   TempDir tmp;
   const auto rows = ReadFullGroundTruth();
   const std::string tum = tmp.write("gt.tum", Tum(rows));
-  json p = Pipeline(rows, {{"format", "tum"}, {"path", tum}});
+  json p = PoseGroundTruthPipeline(rows, {{"format", "tum"}, {"path", tum}});
   p["tasks"][0]["bias"] = "ground_truth";
   p["tasks"][3]["start"] = {{"state", "ground_truth"}};
   const std::string path = tmp.write("p.json", p.dump());
@@ -220,7 +223,8 @@ TEST(PoseGroundTruth, WhatAPoseCannotGiveIsRefusedAtItsPointer) {
   EXPECT_FALSE(fs::exists(tmp.file("out.json")));
   // A start state from it.
   p["tasks"][0].erase("bias");
-  p["tasks"][0]["bias"] = Pipeline(rows, {{"format", "tum"}, {"path", tum}})["tasks"][0]["bias"];
+  p["tasks"][0]["bias"] =
+      PoseGroundTruthPipeline(rows, {{"format", "tum"}, {"path", tum}})["tasks"][0]["bias"];
   tmp.write("p.json", p.dump());
   const CommandResult r2 =
       RunImuconv("run " + ShellQuote(path) + " -o " + ShellQuote(tmp.file("out.json")), tmp);
@@ -254,7 +258,8 @@ TEST(PoseGroundTruth, MalformedPoseFilesNameTheLine) {
       {"quat.tum", bad_quaternion, ":4: quaternion (qx, qy, qz, qw) has norm 2"},
   };
   for (const auto& c : cases) {
-    const json p = Pipeline(rows, {{"format", "tum"}, {"path", tmp.write(c.name, c.text)}});
+    const json p =
+        PoseGroundTruthPipeline(rows, {{"format", "tum"}, {"path", tmp.write(c.name, c.text)}});
     const std::string path = tmp.write("p.json", p.dump());
     const CommandResult r =
         RunImuconv("run " + ShellQuote(path) + " -o " + ShellQuote(tmp.file("out.json")), tmp);
@@ -267,7 +272,8 @@ TEST(PoseGroundTruth, MalformedPoseFilesNameTheLine) {
 TEST(PoseGroundTruth, ErrorsCsvLeavesTheVelocityColumnEmpty) {
   TempDir tmp;
   const auto rows = ReadFullGroundTruth();
-  json p = Pipeline(rows, {{"format", "tum"}, {"path", tmp.write("gt.tum", Tum(rows))}});
+  json p =
+      PoseGroundTruthPipeline(rows, {{"format", "tum"}, {"path", tmp.write("gt.tum", Tum(rows))}});
   p["tasks"].erase(3);  // one propagate_by_preintegration task
   const std::string path = tmp.write("p.json", p.dump());
   const CommandResult r =

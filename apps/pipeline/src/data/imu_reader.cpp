@@ -166,10 +166,28 @@ ImuData ReadCsvImu(const std::string& path, const CsvFormat& f, const ReadOption
                             "') in the header; columns: " +
                             (header.empty() ? std::string("none (the header row is blank)")
                                             : KnownColumns(header)));
+      // A name the header holds twice does not say which column is meant.
+      const auto again = std::find(it + 1, header.end(), name);
+      if (again != header.end())
+        throw ReadError(path, layout.header_line,
+                        "the header names " + Shown(name) + " twice (columns " +
+                            std::to_string(it - header.begin()) + " and " +
+                            std::to_string(again - header.begin()) + "), so the column for '" +
+                            kImuColumnNames[k] + "' is ambiguous; give its index instead");
       layout.index[k] = static_cast<int>(it - header.begin());
       layout.label[k] = std::string(kImuColumnNames[k]) + ", " + Quoted(name);
     }
   }
+  // Each quantity has its own column (the pipeline's parser refuses two equal entries of the
+  // map; a name and an index can still meet here, where the header is known).
+  for (std::size_t k = 1; k < 7; ++k)
+    for (std::size_t j = 0; j < k; ++j)
+      if (layout.index[j] == layout.index[k])
+        throw ReadError(path, layout.header_line,
+                        "the column map reads column " + std::to_string(layout.index[k]) +
+                            " for both '" + kImuColumnNames[j] + "' and '" + kImuColumnNames[k] +
+                            "' (" + layout.label[j] + "; " + layout.label[k] +
+                            "); each of t, wx, wy, wz, ax, ay, az needs its own column");
   return ReadImuRows(path, CsvRows(f), layout, f.time_origin, lr, options);
 }
 

@@ -12,8 +12,8 @@ namespace {
 /// "ground_truth" as a state or bias: needs the top-level source. False (reported) otherwise.
 bool GroundTruthString(const ParseContext& ctx, const Node& n, const std::string& expected) {
   if (n.value().get<std::string>() != "ground_truth") {
-    n.fail("expected " + expected + " or \"ground_truth\", found the string '" +
-           n.value().get<std::string>() + "'");
+    n.fail("expected " + expected + " or \"ground_truth\", found the string " +
+           QuotedShort(n.value().get<std::string>()));
     return false;
   }
   if (!ctx.has_gt) {
@@ -213,7 +213,7 @@ void WriteMeasurementsSource(JsonWriter& w, const MeasurementsSpec& m) {
 }
 
 std::string MeasurementsName(const MeasurementsSpec& m) {
-  return m.task.empty() ? "file " + m.file : "task '" + m.task + "'";
+  return m.task.empty() ? "file " + Printable(m.file) : "task " + Quoted(m.task);
 }
 
 }  // namespace imuconv::pipeline

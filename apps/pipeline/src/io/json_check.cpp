@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <set>
+#include <string_view>
 
 #include "imuconv/printable.h"
 
@@ -228,6 +230,21 @@ std::optional<std::vector<std::string>> Node::string_list(bool allow_empty) cons
     return std::nullopt;
   }
   return ReadElements(*this, &Node::string);
+}
+
+std::optional<std::vector<std::string>> Node::distinct_string_list(bool allow_empty) const {
+  auto items = string_list(allow_empty);
+  if (!items) return std::nullopt;
+  // A set, not a search of the items before: a hostile list may be long.
+  std::set<std::string_view> seen;
+  bool distinct = true;
+  for (std::size_t i = 0; i < items->size(); ++i)
+    if (!seen.insert((*items)[i]).second) {
+      (*this)[i].fail(QuotedShort((*items)[i]) + " is listed twice");
+      distinct = false;
+    }
+  if (!distinct) return std::nullopt;
+  return items;
 }
 
 std::optional<std::vector<double>> Node::number_list(std::size_t min_size) const {

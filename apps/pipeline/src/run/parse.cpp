@@ -43,7 +43,7 @@ std::unique_ptr<const Task> ReadTask(ParseContext& ctx, const Node& n) {
     if (!ValidName(*name))
       n.checker().error(
           n.child_pointer("name"),
-          "expected a name of letters, digits, '_', '-' and '.', found '" + *name + "'");
+          "expected a name of letters, digits, '_', '-' and '.', found " + QuotedShort(*name));
     else if (ctx.earlier(*name))
       n.checker().error(n.child_pointer("name"), "duplicate task name " + Quoted(*name));
   }

@@ -2,6 +2,8 @@
 // "ground_truth" (sources.h).
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
+#include <variant>
 
 #include "../io/message_text.h"
 #include "imuconv/pipeline/sample_checks.h"
@@ -23,7 +25,7 @@ std::optional<TimeValue> TimeFromJson(const Node& n) {
   }
   if (n.value().is_string()) {
     if (auto t = ParseTimeValue(n.value().get<std::string>())) return t;
-    n.fail("expected a decimal time, found '" + n.value().get<std::string>() + "'");
+    n.fail("expected a decimal time, found " + QuotedShort(n.value().get<std::string>()));
     return std::nullopt;
   }
   n.fail("expected a time (a number, or a string holding a decimal number), found " +
@@ -116,9 +118,8 @@ std::optional<ImuSourceSpec> ReadImuSource(const ParseContext& ctx, const Node& 
         else if (d->size() == 1 && (*d)[0] != '"' && (*d)[0] != '\n')
           s.csv.delimiter = (*d)[0];
         else
-          dn->fail(
-              "expected one character (e.g. \",\", \";\", \"\\t\") or \"whitespace\", found '" +
-              *d + "'");
+          dn->fail("expected one character (e.g. \",\", \";\", \"\\t\") or \"whitespace\", found " +
+                   QuotedShort(*d));
       }
     }
     if (auto hn = n.get("header_rows", false)) {
@@ -135,22 +136,44 @@ std::optional<ImuSourceSpec> ReadImuSource(const ParseContext& ctx, const Node& 
     if (auto cn = n.get("columns", true)) {
       std::vector<std::string> names(kImuColumnNames.begin(), kImuColumnNames.end());
       if (cn->expect_object(names)) {
+        std::array<bool, 7> given{};
         for (std::size_t k = 0; k < 7; ++k) {
           auto col = cn->get(kImuColumnNames[k], true);
           if (!col) continue;
           if (col->value().is_string()) {
             s.csv.columns[k] = col->value().get<std::string>();
+            given[k] = true;
           } else if (col->value().is_number_integer()) {
             const auto i = col->integer();
-            if (i && *i >= 0 && *i < 100000)
+            if (i && *i >= 0 && *i < 100000) {
               s.csv.columns[k] = static_cast<int>(*i);
-            else
+              given[k] = true;
+            } else {
               col->fail("expected a column index >= 0");
+            }
           } else {
             col->fail("expected a 0-based column index or a header name, found " +
                       TypeName(col->value()));
           }
         }
+        // Each quantity has its own column: two keys naming one column (the same index, or
+        // the same header name) would read one axis twice and give a wrong answer in silence.
+        // A name and an index that meet in one column are found by the reader (imu_reader.cpp),
+        // which knows the header.
+        for (std::size_t k = 1; k < 7; ++k)
+          for (std::size_t j = 0; j < k; ++j)
+            if (given[j] && given[k] && s.csv.columns[j] == s.csv.columns[k]) {
+              const ColumnRef& c = s.csv.columns[k];
+              const std::string column =
+                  std::holds_alternative<int>(c)
+                      ? "column " + std::to_string(std::get<int>(c))
+                      : "the column named " + QuotedShort(std::get<std::string>(c));
+              cn->checker().error(cn->child_pointer(kImuColumnNames[k]),
+                                  column + " is already used for '" +
+                                      std::string(kImuColumnNames[j]) +
+                                      "'; each of t, wx, wy, wz, ax, ay, az needs its own column");
+              break;
+            }
       }
     }
     if (auto o = n.get("time_origin", false))

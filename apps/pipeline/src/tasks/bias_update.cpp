@@ -151,7 +151,7 @@ std::unique_ptr<Task> ParseBiasUpdate(const ParseContext& ctx, const Node& n) {
   p->charts = {"preint_reference"};
   p->charts_pointer = n.child_pointer("first_order_charts");
   if (auto cn = n.get("first_order_charts", false))
-    if (auto l = cn->string_list(true)) p->charts = *l;
+    if (auto l = cn->distinct_string_list(true)) p->charts = *l;
   if (auto b = n.boolean("reintegrate", false)) p->reintegrate = *b;
   if (p->reintegrate && !p->meas.file.empty())
     n.checker().error(

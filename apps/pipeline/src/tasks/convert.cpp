@@ -64,8 +64,8 @@ class ConvertTask : public Task {
     if (from) ctx.check_id(c, kind(), *from, from_pointer);
     ctx.check_id(c, kind(), to, to_pointer);
     if (matrix && matrix->convention && from && *matrix->convention != *from)
-      c.error(matrix->pointer + "/convention",
-              "the matrix is in '" + *matrix->convention + "' but \"from\" is '" + *from + "'");
+      c.error(matrix->pointer + "/convention", "the matrix is in " + Quoted(*matrix->convention) +
+                                                   " but \"from\" is " + Quoted(*from));
     if (matrix && from && ctx.reg.has(kind(), *from)) {
       CovSpec cs;
       cs.given = true;

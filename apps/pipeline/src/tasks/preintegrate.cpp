@@ -171,7 +171,7 @@ std::unique_ptr<Task> ParsePreintegrate(const ParseContext& ctx, const Node& n) 
   }
   if (auto cn = n.get("conventions", false)) {
     p->conventions_pointer = cn->pointer();
-    if (auto l = cn->string_list(true)) p->conventions = *l;
+    if (auto l = cn->distinct_string_list(true)) p->conventions = *l;
   }
   if (auto bn = n.get("bias", false))
     if (auto b = ReadBiasSpec(ctx, *bn)) p->bias = *b;

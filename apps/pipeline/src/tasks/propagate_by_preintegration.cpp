@@ -9,6 +9,7 @@
 #include "../forms/increment.h"
 #include "../forms/state.h"
 #include "context.h"
+#include "imuconv/printable.h"
 #include "plugins_used.h"
 #include "summary.h"
 #include "task.h"
@@ -33,7 +34,8 @@ std::string Seconds(double t) {
 
 /// "measurement 3 (M.json: /measurements/3, [0.1 s, 0.2 s])": which, where, and when.
 std::string DescribeMeasurement(const MeasurementsSpec& meas, const MeasRecord& r, std::size_t k) {
-  std::string where = meas.task.empty() ? meas.file + ": " + r.pointer : "task '" + meas.task + "'";
+  std::string where =
+      meas.task.empty() ? Printable(meas.file) + ": " + r.pointer : "task " + Quoted(meas.task);
   return "measurement " + std::to_string(k) + " (" + where + ", [" + Seconds(*r.t_s) + ", " +
          Seconds(*r.t_e) + "])";
 }

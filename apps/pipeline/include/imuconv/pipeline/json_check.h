@@ -96,6 +96,11 @@ class Node {
   std::optional<std::string> one_of(const std::vector<std::string>& choices,
                                     std::string_view what) const;
   std::optional<std::vector<std::string>> string_list(bool allow_empty = false) const;
+  /// string_list() whose items are distinct: for lists of ids that each become a key of an
+  /// output object (a convention listed twice would write a key twice, which no JSON reader
+  /// takes). An item equal to an earlier one is reported at its own pointer ("'x' is listed
+  /// twice"), as "omit" does, and nothing is returned.
+  std::optional<std::vector<std::string>> distinct_string_list(bool allow_empty = false) const;
   std::optional<std::vector<double>> number_list(std::size_t min_size = 0) const;
   std::optional<Vec3> vec3() const;
   /// Fixed-size vector of n numbers.
