@@ -17,6 +17,7 @@
 #include "imuconv/ceres/state_block.h"
 #include "imuconv/ceres/state_manifold.h"
 #include "imuconv/did_you_mean.h"
+#include "imuconv/pipeline/interval_samples.h"
 #include "imuconv/printable.h"
 
 namespace imuconv::optimize {
@@ -164,6 +165,20 @@ Result RunOptimize(const Registry& reg, const pipeline::ImuData& imu,
     times.push_back(std::min(t, t_end));
   }
   const std::size_t n = times.size();
+  // Each factor needs a sample strictly inside its interval (interval_samples.h: over one
+  // interpolated step its covariance is singular), whatever the step: a step of one median
+  // period still leaves intervals between two samples where the stamps jitter, and every
+  // interval in a gap of the data holds none.
+  if (const auto empty = pipeline::FindEmptyInterval(
+          imu.samples, n, [&times](std::size_t k) { return times[k]; },
+          pipeline::IntervalEnds::kExcluded))
+    throw Error(
+        "--keyframe-step: " +
+        pipeline::EmptyIntervalSentence(*empty, pipeline::IntervalEnds::kExcluded, step, n - 1) +
+        " (" + imu.source +
+        "). A preintegration factor needs one: over a single step its covariance is singular (a "
+        "step longer than the longest sample period gives every interval one, unless the "
+        "keyframes fall in a gap of the data)");
 
   // Initial values: the measured pose, the velocity from a central difference of the poses over
   // one keyframe step (clamped to the span), zero biases (the factors' linearization point).

@@ -49,7 +49,7 @@ struct Options {
   std::string method = "manifold";  ///< a propagator or preintegrator id
   std::string convention = "left";  ///< the state convention the solver steps in
   ResidualKind kind = ResidualKind::Gtsam;
-  double keyframe_step = 0.0;  ///< seconds between keyframes, at least the sample period
+  double keyframe_step = 0.0;  ///< seconds between keyframes (each interval holds a sample)
   double pose_sigma_m = 0.01;  ///< pose measurement's position standard deviation
   double pose_sigma_rad = 0.01;
   /// Re-integration thresholds on the norm of the bias change, VINS-Fusion's (imu_factor.h:
@@ -113,7 +113,8 @@ struct Result {
 
 /// Builds and solves the problem. Throws Error (the option named) for an unknown method or
 /// convention, all-zero noise densities, a keyframe step not finite, below the IMU's median
-/// sample period or longer than the span the samples and the poses share.
+/// sample period, longer than the span the samples and the poses share, or leaving an interval
+/// without a sample strictly inside it (interval_samples.h).
 Result RunOptimize(const Registry& reg, const pipeline::ImuData& imu,
                    const pipeline::GroundTruth& poses, const Options& options);
 
