@@ -131,7 +131,7 @@ void RegisterOptimizeCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--keyframe-step", o->keyframe_step,
                   "Seconds between keyframes: every interval must hold an IMU sample strictly "
                   "inside (a step longer than the longest sample period does), at most the "
-                  "data's span")
+                  "data's span and at most 1e6 keyframes")
       ->required();
   sub->add_option("--pose-sigma", o->pose_sigma,
                   "Standard deviations of the pose measurements, METRES,RADIANS (default "

@@ -148,6 +148,14 @@ Result RunOptimize(const Registry& reg, const pipeline::ImuData& imu,
                 " the IMU data (" + imu.source + ") and the poses (" + poses.source +
                 ") share: there would be fewer than two keyframes");
 
+  // A count from span and step, before anything is stored per keyframe: a step in the wrong
+  // unit, or one over a gap of days, would otherwise allocate until the process dies.
+  if (span / step + 1.0 > static_cast<double>(kMaxKeyframes))
+    throw Error("--keyframe-step: " + Seconds(step) + " over the " + Seconds(span) +
+                " the IMU data (" + imu.source + ") and the poses (" + poses.source +
+                ") share gives more than " + std::to_string(kMaxKeyframes) +
+                " keyframes, the limit of one solve (a step in the wrong unit?)");
+
   Result r;
   r.method = options.method;
   r.convention = options.convention;

@@ -1,6 +1,6 @@
-// imuconv optimize, `optimize --pipeline` and the pipeline task against inputs that used to
-// blame the noise densities: each is now refused with exit 2, a message naming the option or
-// JSON pointer and what was expected, and no output file.
+// imuconv optimize, `optimize --pipeline` and the pipeline task against inputs that used to run
+// out of memory or blame the noise densities: each is now refused with exit 2, a message naming
+// the option or JSON pointer and what was expected, and no output file.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -71,6 +71,23 @@ void ExpectRefusedWithoutOutput(const CommandResult& r, const std::vector<std::s
   EXPECT_EQ(r.exit_code, 2) << r.err;
   for (const std::string& n : named) EXPECT_TRUE(Mentions(r.err, n)) << n << "\n" << r.err;
   EXPECT_FALSE(std::filesystem::exists(output)) << output;
+}
+
+// Bug: keyframes every 5 ms over the days of the gap are 2e8 keyframes; the command stored them
+// all before any check (2.1 GB, then "out of memory", exit 3; std::bad_alloc in `run`). Now the
+// count is checked from span / step before anything is stored.
+TEST(OptimizeHostileInput, KeyframesOverAGapOfDaysAreCountedBeforeAnythingIsStored) {
+  TempDir tmp;
+  const std::string p = GapPipeline(tmp, 0.005);
+  const CommandResult cli =
+      RunImuconv("optimize --pipeline " + ShellQuote(p) + " --keyframe-step 0.005 -o " +
+                     ShellQuote(tmp.file("o.json")),
+                 tmp);
+  ExpectRefusedWithoutOutput(cli, {"--keyframe-step: 0.005 s", "more than 1000000 keyframes"},
+                             tmp.file("o.json"));
+  const CommandResult run =
+      RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(tmp.file("o2.json")), tmp);
+  ExpectRefusedWithoutOutput(run, {"/tasks/0", "more than 1000000 keyframes"}, tmp.file("o2.json"));
 }
 
 // Bug: at a step of the median period (0.005 s; the slice's stamps jitter by 64 ns), interval 1

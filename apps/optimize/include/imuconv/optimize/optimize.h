@@ -22,6 +22,7 @@
 // none moves or max_rounds solves have run.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,14 @@
 #include "imuconv/registry.h"
 
 namespace imuconv::optimize {
+
+/// The most keyframes one solve takes, checked from span / step before anything is stored:
+/// nees's limit on windows (kMaxWindows), the count of integrations over one sequence. A
+/// keyframe costs some 45 KB here (state block, factor, Ceres's residual and Jacobian blocks:
+/// the V1_01 slice at 1000 and 2000 keyframes took 60 and 106 MB), so 1e6 keyframes are already
+/// tens of GB; below it, every interval must also hold a sample strictly inside, so the count is
+/// at most the IMU samples' and the memory grows with the input, not with a tiny step.
+constexpr std::size_t kMaxKeyframes = 1000000;
 
 /// The prior on the first keyframe (standard deviations, in the chart `left`): it centres on the
 /// first pose measurement, the velocity from a central difference of the poses, zero biases.
@@ -113,8 +122,9 @@ struct Result {
 
 /// Builds and solves the problem. Throws Error (the option named) for an unknown method or
 /// convention, all-zero noise densities, a keyframe step not finite, below the IMU's median
-/// sample period, longer than the span the samples and the poses share, or leaving an interval
-/// without a sample strictly inside it (interval_samples.h).
+/// sample period, longer than the span the samples and the poses share, giving more than
+/// kMaxKeyframes keyframes, or leaving an interval without a sample strictly inside it
+/// (interval_samples.h).
 Result RunOptimize(const Registry& reg, const pipeline::ImuData& imu,
                    const pipeline::GroundTruth& poses, const Options& options);
 
