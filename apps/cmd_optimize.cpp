@@ -135,7 +135,7 @@ void RegisterOptimizeCommand(CLI::App& app, CommandContext& ctx) {
       ->required();
   sub->add_option("--pose-sigma", o->pose_sigma,
                   "Standard deviations of the pose measurements, METRES,RADIANS (default "
-                  "0.01,0.01)")
+                  "0.01,0.01; each at least 1e-9)")
       ->delimiter(',');
   sub->add_option("--method", o->method,
                   "A propagator (preintegration by propagation) or preintegrator id (default "

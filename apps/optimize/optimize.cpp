@@ -3,6 +3,7 @@
 #include "imuconv/optimize/optimize.h"
 
 #include <ceres/ceres.h>
+#include <glog/logging.h>
 
 #include <algorithm>
 #include <array>
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <mutex>
 #include <thread>
 
 #include "imuconv/ceres/pose_factors.h"
@@ -18,6 +20,7 @@
 #include "imuconv/ceres/state_manifold.h"
 #include "imuconv/did_you_mean.h"
 #include "imuconv/pipeline/interval_samples.h"
+#include "imuconv/pipeline/optimize_evaluator.h"
 #include "imuconv/printable.h"
 
 namespace imuconv::optimize {
@@ -37,11 +40,13 @@ constexpr double kFunctionTolerance = 1e-12;
 constexpr double kGradientTolerance = 1e-12;
 constexpr double kParameterTolerance = 1e-12;
 
-std::string Seconds(double s) {
+std::string Number(double v) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g s", s);
+  std::snprintf(buf, sizeof buf, "%.9g", v);
   return buf;
 }
+
+std::string Seconds(double s) { return Number(s) + " s"; }
 
 PreintegrationMethod ResolveMethod(const Registry& reg, const std::string& id) {
   if (reg.has(PluginKind::Propagator, id))
@@ -108,18 +113,31 @@ Mat15 PriorCovariance(const BlockLabels& labels, const WeakPriorSigmas& s) {
 
 std::string TerminationName(ceres::TerminationType t) { return ceres::TerminationTypeToString(t); }
 
+// Ceres logs through glog; a program that never called InitGoogleLogging (this one, a Python
+// host) gets its warnings (ceres::Covariance's "rank deficient") on stderr with a banner, while
+// everything they say is in the result (covariance_message). Warnings and below are dropped,
+// once per process; a host that set a stricter level keeps it.
+void QuietCeresLogging() {
+  static std::once_flag once;
+  std::call_once(once, [] { FLAGS_minloglevel = std::max(FLAGS_minloglevel, google::GLOG_ERROR); });
+}
+
 }  // namespace
 
 Result RunOptimize(const Registry& reg, const pipeline::ImuData& imu,
                    const pipeline::GroundTruth& poses, const Options& options) {
+  QuietCeresLogging();
   const PreintegrationMethod method = ResolveMethod(reg, options.method);
   if (!reg.has(PluginKind::StateConvention, options.convention))
     throw Error("--convention: unknown state convention " + Printable(options.convention) +
                 DidYouMean(options.convention, reg.ids(PluginKind::StateConvention)));
   CheckNoise(options.noise);
-  if (!(options.pose_sigma_m > 0) || !(options.pose_sigma_rad > 0) ||
+  if (!(options.pose_sigma_m >= pipeline::kMinPoseSigma) ||
+      !(options.pose_sigma_rad >= pipeline::kMinPoseSigma) ||
       !std::isfinite(options.pose_sigma_m) || !std::isfinite(options.pose_sigma_rad))
-    throw Error("--pose-sigma: both standard deviations must be positive and finite");
+    throw Error(std::string("--pose-sigma: both standard deviations must be finite and at least ") +
+                pipeline::kMinPoseSigmaText + ", found " + Number(options.pose_sigma_m) + " m, " +
+                Number(options.pose_sigma_rad) + " rad");
   if (!(options.reintegrate_gyro > 0) || !(options.reintegrate_accel > 0))
     throw Error("--reintegrate-gyro/--reintegrate-accel: thresholds must be positive");
   if (options.max_rounds < 1) throw Error("--max-rounds: at least one solve");
@@ -265,8 +283,13 @@ Result RunOptimize(const Registry& reg, const pipeline::ImuData& imu,
     r.rounds.back().reintegrated = moved;
     if (moved == 0) break;
   }
-  r.converged = summary.termination_type == ceres::CONVERGENCE;
-  r.solver_message = summary.message;
+  // A cost that overflowed (a pose sigma so small that its information is inf) is no optimum,
+  // whatever Ceres's termination says: NaN passes every comparison its convergence tests make.
+  const bool finite_cost = std::isfinite(summary.final_cost);
+  r.converged = summary.termination_type == ceres::CONVERGENCE && finite_cost;
+  r.solver_message = finite_cost ? summary.message
+                                 : "the final cost " + Number(summary.final_cost) +
+                                       " is not finite (" + summary.message + ")";
   // Factors whose bias still moved beyond the thresholds after the last solve (max_rounds
   // reached): their measurement is first-order corrected, not re-integrated.
   for (std::size_t i = 0; i + 1 < n; ++i) {
@@ -310,6 +333,11 @@ Result RunOptimize(const Registry& reg, const pipeline::ImuData& imu,
       for (std::size_t i = 0; i < n; ++i) {
         covariance.GetCovarianceBlockInTangentSpace(blocks[i].data(), blocks[i].data(), m.data());
         r.keyframes[i].cov = m;
+        if (!m.allFinite()) r.covariance_ok = false;
+      }
+      if (!r.covariance_ok) {
+        for (Keyframe& k : r.keyframes) k.cov.setZero();
+        r.covariance_message = "ceres::Covariance gave a covariance that is not finite";
       }
     } else {
       r.covariance_message = "ceres::Covariance failed: the problem's Jacobian is rank deficient";

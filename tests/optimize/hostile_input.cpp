@@ -1,6 +1,7 @@
 // imuconv optimize, `optimize --pipeline` and the pipeline task against inputs that used to run
-// out of memory or blame the noise densities: each is now refused with exit 2, a message naming
-// the option or JSON pointer and what was expected, and no output file.
+// out of memory, blame the noise densities or call a NaN cost converged: each is now refused
+// with exit 2, a message naming the option or JSON pointer and what was expected, and no output
+// file.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -146,6 +147,45 @@ TEST(OptimizeHostileInput, AnIntervalInAGapIsNamed) {
   const CommandResult run =
       RunImuconv("run " + ShellQuote(p) + " -o " + ShellQuote(tmp.file("o2.json")), tmp);
   ExpectRefusedWithoutOutput(run, {"/tasks/0", said}, tmp.file("o2.json"));
+}
+
+// Bug: a pose sigma of 1e-300 squares to 0, its information to inf, and the solve "converged"
+// on a NaN cost with every covariance null (exit 0); 1e-100 gave a cost of 1.6e169 and no
+// covariance. Now a sigma below kMinPoseSigma (1e-9) is refused, on the command line and at the
+// task's pointer.
+TEST(OptimizeHostileInput, APoseSigmaThatOverflowsTheCostIsRefused) {
+  TempDir tmp;
+  for (const char* sigma : {"1e-300,1e-300", "1e-100,0.01", "0.01,1e-10"}) {
+    const CommandResult r =
+        RunImuconv("optimize " + SliceFileArgs(tmp) + " --keyframe-step 1.0 --json --pose-sigma " +
+                       sigma + " -o " + ShellQuote(tmp.file("o.json")),
+                   tmp);
+    ExpectRefusedWithoutOutput(r, {"--pose-sigma", "at least 1e-9"}, tmp.file("o.json"));
+  }
+  CopyEurocSlice(tmp);
+  std::ofstream(tmp.file("p.json"))
+      << EurocSlicePipeline(json::array({{{"type", "optimize"},
+                                          {"name", "op"},
+                                          {"keyframe_step", 1.0},
+                                          {"pose_sigma", {1e-300, 1e-300}}}}))
+             .dump(1);
+  const CommandResult run = RunImuconv(
+      "run " + ShellQuote(tmp.file("p.json")) + " -o " + ShellQuote(tmp.file("o2.json")), tmp);
+  ExpectRefusedWithoutOutput(run, {"/tasks/0/pose_sigma", "1e-9"}, tmp.file("o2.json"));
+}
+
+// The bound is usable: at 1e-9 m and rad the solve converges to a finite cost with every
+// covariance, and nothing but the command's own lines reaches stderr (no glog banner).
+TEST(OptimizeHostileInput, TheSmallestPoseSigmaStillSolves) {
+  TempDir tmp;
+  const CommandResult r = RunImuconv(
+      "optimize " + SliceFileArgs(tmp) + " --keyframe-step 1.0 --json --pose-sigma 1e-9,1e-9", tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_TRUE(j["solver"]["converged"].get<bool>());
+  EXPECT_TRUE(j["solver"]["final_cost"].is_number()) << j["solver"];
+  EXPECT_TRUE(j["covariance"]["computed"].get<bool>()) << j["covariance"];
+  EXPECT_TRUE(r.err.empty()) << r.err;
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 # imuconv.optimize refuses what `imuconv optimize` refuses, with its sentence (the checks are in
-# the shared solve, apps/optimize/optimize.cpp): keyframes whose intervals hold no sample
-# strictly inside.
+# the shared solve, apps/optimize/optimize.cpp): a pose sigma whose information overflows the
+# cost, and keyframes whose intervals hold no sample strictly inside.
 import pathlib
 
 import numpy as np
@@ -28,6 +28,14 @@ def slice_arrays():
     origin = t_imu[0]
     return (np.column_stack([(t_imu - origin) * 1e-9, imu]),
             np.column_stack([(t_gt - origin) * 1e-9, gt]))
+
+
+def test_a_pose_sigma_that_overflows_the_cost_is_refused(reg):
+    samples, poses = slice_arrays()
+    # Before: 1e-300 "converged" on a NaN cost with every covariance None.
+    with pytest.raises(imuconv.Error, match="--pose-sigma: .* at least 1e-9"):
+        imuconv.optimize(reg, samples, poses, noise=NOISE, keyframe_step=1.0,
+                         pose_sigma=(1e-300, 1e-300))
 
 
 def test_an_interval_between_two_samples_is_named(reg):

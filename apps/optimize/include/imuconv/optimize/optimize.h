@@ -121,10 +121,10 @@ struct Result {
 };
 
 /// Builds and solves the problem. Throws Error (the option named) for an unknown method or
-/// convention, all-zero noise densities, a keyframe step not finite, below the IMU's median
-/// sample period, longer than the span the samples and the poses share, giving more than
-/// kMaxKeyframes keyframes, or leaving an interval without a sample strictly inside it
-/// (interval_samples.h).
+/// convention, all-zero noise densities, a pose sigma below kMinPoseSigma, a keyframe step not
+/// finite, below the IMU's median sample period, longer than the span the samples and the poses
+/// share, giving more than kMaxKeyframes keyframes, or leaving an interval without a sample
+/// strictly inside it (interval_samples.h). A final cost that is not finite is not converged.
 Result RunOptimize(const Registry& reg, const pipeline::ImuData& imu,
                    const pipeline::GroundTruth& poses, const Options& options);
 
