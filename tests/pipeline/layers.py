@@ -42,6 +42,7 @@ PUBLIC = {
     "text_sink.h": "io",
     "imu_plausibility.h": "data",
     "imu_reader.h": "data",
+    "interval_samples.h": "data",    # intervals holding no IMU sample (run and optimize)
     "kalibr_yaml.h": "data",         # noise from a Kalibr imu.yaml
     "sample_checks.h": "data",
     "timing.h": "data",
