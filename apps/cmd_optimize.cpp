@@ -129,12 +129,13 @@ void RegisterOptimizeCommand(CLI::App& app, CommandContext& ctx) {
                   "The four noise densities: a JSON noise object (or a pipeline holding one), or a "
                   "Kalibr imu.yaml (.yaml/.yml); with --pipeline, replaces its /noise");
   sub->add_option("--keyframe-step", o->keyframe_step,
-                  "Seconds between keyframes (at least the IMU's sample period, at most the data's "
-                  "span)")
+                  "Seconds between keyframes: every interval must hold an IMU sample strictly "
+                  "inside (a step longer than the longest sample period does), at most the "
+                  "data's span and at most 1e6 keyframes")
       ->required();
   sub->add_option("--pose-sigma", o->pose_sigma,
                   "Standard deviations of the pose measurements, METRES,RADIANS (default "
-                  "0.01,0.01)")
+                  "0.01,0.01; each at least 1e-9)")
       ->delimiter(',');
   sub->add_option("--method", o->method,
                   "A propagator (preintegration by propagation) or preintegrator id (default "

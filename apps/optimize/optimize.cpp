@@ -3,6 +3,7 @@
 #include "imuconv/optimize/optimize.h"
 
 #include <ceres/ceres.h>
+#include <glog/logging.h>
 
 #include <algorithm>
 #include <array>
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <mutex>
 #include <thread>
 
 #include "imuconv/ceres/pose_factors.h"
@@ -17,6 +19,8 @@
 #include "imuconv/ceres/state_block.h"
 #include "imuconv/ceres/state_manifold.h"
 #include "imuconv/did_you_mean.h"
+#include "imuconv/pipeline/interval_samples.h"
+#include "imuconv/pipeline/optimize_evaluator.h"
 #include "imuconv/printable.h"
 
 namespace imuconv::optimize {
@@ -36,11 +40,13 @@ constexpr double kFunctionTolerance = 1e-12;
 constexpr double kGradientTolerance = 1e-12;
 constexpr double kParameterTolerance = 1e-12;
 
-std::string Seconds(double s) {
+std::string Number(double v) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g s", s);
+  std::snprintf(buf, sizeof buf, "%.9g", v);
   return buf;
 }
+
+std::string Seconds(double s) { return Number(s) + " s"; }
 
 PreintegrationMethod ResolveMethod(const Registry& reg, const std::string& id) {
   if (reg.has(PluginKind::Propagator, id))
@@ -107,18 +113,31 @@ Mat15 PriorCovariance(const BlockLabels& labels, const WeakPriorSigmas& s) {
 
 std::string TerminationName(ceres::TerminationType t) { return ceres::TerminationTypeToString(t); }
 
+// Ceres logs through glog; a program that never called InitGoogleLogging (this one, a Python
+// host) gets its warnings (ceres::Covariance's "rank deficient") on stderr with a banner, while
+// everything they say is in the result (covariance_message). Warnings and below are dropped,
+// once per process; a host that set a stricter level keeps it.
+void QuietCeresLogging() {
+  static std::once_flag once;
+  std::call_once(once, [] { FLAGS_minloglevel = std::max(FLAGS_minloglevel, google::GLOG_ERROR); });
+}
+
 }  // namespace
 
 Result RunOptimize(const Registry& reg, const pipeline::ImuData& imu,
                    const pipeline::GroundTruth& poses, const Options& options) {
+  QuietCeresLogging();
   const PreintegrationMethod method = ResolveMethod(reg, options.method);
   if (!reg.has(PluginKind::StateConvention, options.convention))
     throw Error("--convention: unknown state convention " + Printable(options.convention) +
                 DidYouMean(options.convention, reg.ids(PluginKind::StateConvention)));
   CheckNoise(options.noise);
-  if (!(options.pose_sigma_m > 0) || !(options.pose_sigma_rad > 0) ||
+  if (!(options.pose_sigma_m >= pipeline::kMinPoseSigma) ||
+      !(options.pose_sigma_rad >= pipeline::kMinPoseSigma) ||
       !std::isfinite(options.pose_sigma_m) || !std::isfinite(options.pose_sigma_rad))
-    throw Error("--pose-sigma: both standard deviations must be positive and finite");
+    throw Error(std::string("--pose-sigma: both standard deviations must be finite and at least ") +
+                pipeline::kMinPoseSigmaText + ", found " + Number(options.pose_sigma_m) + " m, " +
+                Number(options.pose_sigma_rad) + " rad");
   if (!(options.reintegrate_gyro > 0) || !(options.reintegrate_accel > 0))
     throw Error("--reintegrate-gyro/--reintegrate-accel: thresholds must be positive");
   if (options.max_rounds < 1) throw Error("--max-rounds: at least one solve");
@@ -147,6 +166,14 @@ Result RunOptimize(const Registry& reg, const pipeline::ImuData& imu,
                 " the IMU data (" + imu.source + ") and the poses (" + poses.source +
                 ") share: there would be fewer than two keyframes");
 
+  // A count from span and step, before anything is stored per keyframe: a step in the wrong
+  // unit, or one over a gap of days, would otherwise allocate until the process dies.
+  if (span / step + 1.0 > static_cast<double>(kMaxKeyframes))
+    throw Error("--keyframe-step: " + Seconds(step) + " over the " + Seconds(span) +
+                " the IMU data (" + imu.source + ") and the poses (" + poses.source +
+                ") share gives more than " + std::to_string(kMaxKeyframes) +
+                " keyframes, the limit of one solve (a step in the wrong unit?)");
+
   Result r;
   r.method = options.method;
   r.convention = options.convention;
@@ -164,6 +191,20 @@ Result RunOptimize(const Registry& reg, const pipeline::ImuData& imu,
     times.push_back(std::min(t, t_end));
   }
   const std::size_t n = times.size();
+  // Each factor needs a sample strictly inside its interval (interval_samples.h: over one
+  // interpolated step its covariance is singular), whatever the step: a step of one median
+  // period still leaves intervals between two samples where the stamps jitter, and every
+  // interval in a gap of the data holds none.
+  if (const auto empty = pipeline::FindEmptyInterval(
+          imu.samples, n, [&times](std::size_t k) { return times[k]; },
+          pipeline::IntervalEnds::kExcluded))
+    throw Error(
+        "--keyframe-step: " +
+        pipeline::EmptyIntervalSentence(*empty, pipeline::IntervalEnds::kExcluded, step, n - 1) +
+        " (" + imu.source +
+        "). A preintegration factor needs one: over a single step its covariance is singular (a "
+        "step longer than the longest sample period gives every interval one, unless the "
+        "keyframes fall in a gap of the data)");
 
   // Initial values: the measured pose, the velocity from a central difference of the poses over
   // one keyframe step (clamped to the span), zero biases (the factors' linearization point).
@@ -242,8 +283,13 @@ Result RunOptimize(const Registry& reg, const pipeline::ImuData& imu,
     r.rounds.back().reintegrated = moved;
     if (moved == 0) break;
   }
-  r.converged = summary.termination_type == ceres::CONVERGENCE;
-  r.solver_message = summary.message;
+  // A cost that overflowed (a pose sigma so small that its information is inf) is no optimum,
+  // whatever Ceres's termination says: NaN passes every comparison its convergence tests make.
+  const bool finite_cost = std::isfinite(summary.final_cost);
+  r.converged = summary.termination_type == ceres::CONVERGENCE && finite_cost;
+  r.solver_message = finite_cost ? summary.message
+                                 : "the final cost " + Number(summary.final_cost) +
+                                       " is not finite (" + summary.message + ")";
   // Factors whose bias still moved beyond the thresholds after the last solve (max_rounds
   // reached): their measurement is first-order corrected, not re-integrated.
   for (std::size_t i = 0; i + 1 < n; ++i) {
@@ -287,6 +333,11 @@ Result RunOptimize(const Registry& reg, const pipeline::ImuData& imu,
       for (std::size_t i = 0; i < n; ++i) {
         covariance.GetCovarianceBlockInTangentSpace(blocks[i].data(), blocks[i].data(), m.data());
         r.keyframes[i].cov = m;
+        if (!m.allFinite()) r.covariance_ok = false;
+      }
+      if (!r.covariance_ok) {
+        for (Keyframe& k : r.keyframes) k.cov.setZero();
+        r.covariance_message = "ceres::Covariance gave a covariance that is not finite";
       }
     } else {
       r.covariance_message = "ceres::Covariance failed: the problem's Jacobian is rank deficient";

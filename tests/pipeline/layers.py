@@ -43,6 +43,7 @@ PUBLIC = {
     "imu_plausibility.h": "data",
     "ground_truth_quaternion.h": "data",  # the ground-truth quaternion rule (header-only: Python too)
     "imu_reader.h": "data",
+    "interval_samples.h": "data",    # intervals holding no IMU sample (run and optimize)
     "kalibr_yaml.h": "data",         # noise from a Kalibr imu.yaml
     "sample_checks.h": "data",
     "timing.h": "data",

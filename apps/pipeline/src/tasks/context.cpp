@@ -1,5 +1,6 @@
 #include "context.h"
 
+#include "imuconv/pipeline/interval_samples.h"
 #include "imuconv/pipeline/timing.h"
 #include "imuconv/window.h"
 
@@ -147,31 +148,16 @@ void RunContext::check_gt_state(Checker& c, double t, const std::string& pointer
 }
 
 void RunContext::check_intervals_hold_samples(Checker& c, const IntervalsSpec& iv) const {
-  const auto& s = imu.samples;
-  if (spec.allow_empty_intervals || iv.size() < 2 || s.size() < 2) return;
-  std::size_t j =
-      0;  // the first sample at or after the current interval's start (within kSameInstant)
-  for (std::size_t k = 0; k + 1 < iv.size(); ++k) {
-    const double a = iv.time(k), b = iv.time(k + 1);
-    // Keyframes out of order or outside the data are reported by the other checks.
-    if (!(b > a) || a < s.front().t - kSameInstant || b > s.back().t + kSameInstant) continue;
-    while (j < s.size() && s[j].t < a - kSameInstant) ++j;
-    if (j < s.size() && s[j].t <= b + kSameInstant) continue;
-    std::vector<double> t(s.size());
-    for (std::size_t i = 0; i < s.size(); ++i) t[i] = s[i].t;
-    const double period = MedianPeriod(t);
-    const bool generated = iv.form == IntervalsSpec::Form::Generated;
-    c.error(generated ? iv.pointer + "/step" : iv.pointer_of(k + 1),
-            "interval " + std::to_string(k) + " [" + Num(a, 10) + ", " + Num(b, 10) +
-                "] s holds no IMU sample: " +
-                (generated ? "the keyframe step is " + Num(iv.step, 6) : "it is " + Num(b - a, 6)) +
-                " s, the IMU period " + Num(period, 6) +
-                " s (median), so it lies between two samples and is " +
-                "interpolation only (a step in the wrong unit?); " + std::to_string(iv.size() - 1) +
-                " intervals in all. Set \"allow_empty_intervals\": true at the top of the pipeline "
-                "if that is meant");
-    return;
-  }
+  if (spec.allow_empty_intervals) return;
+  const auto empty = FindEmptyInterval(
+      imu.samples, iv.size(), [&iv](std::size_t k) { return iv.time(k); }, IntervalEnds::kIncluded);
+  if (!empty) return;
+  const bool generated = iv.form == IntervalsSpec::Form::Generated;
+  c.error(generated ? iv.pointer + "/step" : iv.pointer_of(empty->index + 1),
+          EmptyIntervalSentence(*empty, IntervalEnds::kIncluded,
+                                generated ? std::optional<double>(iv.step) : std::nullopt,
+                                iv.size() - 1) +
+              ". Set \"allow_empty_intervals\": true at the top of the pipeline if that is meant");
 }
 
 void RunContext::check_interval_times(Checker& c, const IntervalsSpec& iv) const {

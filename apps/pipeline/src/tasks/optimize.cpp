@@ -118,8 +118,9 @@ std::unique_ptr<Task> ParseOptimize(const ParseContext& ctx, const Node& n) {
     if (auto kind = r->one_of({"gtsam", "forster"})) s.residual = *kind;
   if (auto ps = n.get("pose_sigma", false)) {
     if (auto v = ps->number_list(2)) {
-      if (v->size() != 2 || !((*v)[0] > 0) || !((*v)[1] > 0))
-        ps->fail("expected [METRES, RADIANS], two standard deviations > 0");
+      if (v->size() != 2 || !((*v)[0] >= kMinPoseSigma) || !((*v)[1] >= kMinPoseSigma))
+        ps->fail(std::string("expected [METRES, RADIANS], two standard deviations >= ") +
+                 kMinPoseSigmaText + " (optimize_evaluator.h: a smaller one overflows the cost)");
       else {
         s.pose_sigma_m = (*v)[0];
         s.pose_sigma_rad = (*v)[1];

@@ -22,6 +22,7 @@
 // none moves or max_rounds solves have run.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,14 @@
 #include "imuconv/registry.h"
 
 namespace imuconv::optimize {
+
+/// The most keyframes one solve takes, checked from span / step before anything is stored:
+/// nees's limit on windows (kMaxWindows), the count of integrations over one sequence. A
+/// keyframe costs some 45 KB here (state block, factor, Ceres's residual and Jacobian blocks:
+/// the V1_01 slice at 1000 and 2000 keyframes took 60 and 106 MB), so 1e6 keyframes are already
+/// tens of GB; below it, every interval must also hold a sample strictly inside, so the count is
+/// at most the IMU samples' and the memory grows with the input, not with a tiny step.
+constexpr std::size_t kMaxKeyframes = 1000000;
 
 /// The prior on the first keyframe (standard deviations, in the chart `left`): it centres on the
 /// first pose measurement, the velocity from a central difference of the poses, zero biases.
@@ -49,7 +58,7 @@ struct Options {
   std::string method = "manifold";  ///< a propagator or preintegrator id
   std::string convention = "left";  ///< the state convention the solver steps in
   ResidualKind kind = ResidualKind::Gtsam;
-  double keyframe_step = 0.0;  ///< seconds between keyframes, at least the sample period
+  double keyframe_step = 0.0;  ///< seconds between keyframes (each interval holds a sample)
   double pose_sigma_m = 0.01;  ///< pose measurement's position standard deviation
   double pose_sigma_rad = 0.01;
   /// Re-integration thresholds on the norm of the bias change, VINS-Fusion's (imu_factor.h:
@@ -112,8 +121,10 @@ struct Result {
 };
 
 /// Builds and solves the problem. Throws Error (the option named) for an unknown method or
-/// convention, all-zero noise densities, a keyframe step not finite, below the IMU's median
-/// sample period or longer than the span the samples and the poses share.
+/// convention, all-zero noise densities, a pose sigma below kMinPoseSigma, a keyframe step not
+/// finite, below the IMU's median sample period, longer than the span the samples and the poses
+/// share, giving more than kMaxKeyframes keyframes, or leaving an interval without a sample
+/// strictly inside it (interval_samples.h). A final cost that is not finite is not converged.
 Result RunOptimize(const Registry& reg, const pipeline::ImuData& imu,
                    const pipeline::GroundTruth& poses, const Options& options);
 

@@ -15,6 +15,15 @@
 
 namespace imuconv::pipeline {
 
+/// The smallest pose standard deviation optimize takes, in metres and in radians alike. Its
+/// residual is whitened by 1 / sigma, so the cost carries 1 / sigma^2: at 1e-300 that is inf
+/// and the cost NaN; at 1e-100 the poses' information (1e200) swamps the IMU factors' beyond
+/// double precision and the covariance comes out rank deficient. 1 nm and 1 nrad are a thousand
+/// times finer than the digits pose files hold (EuRoC's ground truth: 1e-6 m) and still solve
+/// with full covariances (the V1_01 slice at 0.5 s keyframes), so no meaningful sigma is below.
+inline constexpr double kMinPoseSigma = 1e-9;
+inline const char* const kMinPoseSigmaText = "1e-9";
+
 /// The task's settings, as `imuconv optimize` takes them (docs/optimize.md).
 struct OptimizeSettings {
   double keyframe_step = 0.0;
