@@ -81,7 +81,7 @@ void RegisterNeesCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--noise", o->noise_path,
                   "The four noise densities: a JSON noise object (or a pipeline holding one), or a "
                   "Kalibr imu.yaml "
-                  "(.yaml/.yml); with --pipeline, replaces its /noise");
+                  "(.yaml/.yml, any case); with --pipeline, replaces its /noise");
   sub->add_option("--windows", o->windows,
                   "Window lengths in seconds, comma-separated (e.g. 0.2,0.5,1.0)")
       ->required()
