@@ -30,7 +30,8 @@ constexpr int kDof = 9;
 /// Two-sided confidence of the per-window bounds.
 constexpr double kConfidence = 0.95;
 
-/// Most windows of one length (--stride small against the data's span).
+/// Most windows of one run, all the window lengths together (--stride small against the data's
+/// span; the reason for the number is at its check, nees.cpp).
 constexpr std::size_t kMaxWindows = 1000000;
 
 /// The chi-square(9) figures the report is judged against (imuconv/chi_square.h, exact).
@@ -84,8 +85,9 @@ struct Result {
 };
 
 /// Runs every window length. Throws Error for an unknown method or convention, noise densities
-/// that are all zero, a window longer than the span the IMU data and the ground truth share, or
-/// a propagated covariance that is not positive definite.
+/// that are all zero, a window longer than the span the IMU data and the ground truth share,
+/// more than kMaxWindows windows in all, or a propagated covariance that is not positive
+/// definite.
 Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline::GroundTruth& gt,
                const Options& options);
 
