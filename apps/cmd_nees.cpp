@@ -53,6 +53,10 @@ int RunNeesCommand(const CommandContext& ctx, const NeesCommandOptions& o) {
     PrintWarnings(judgment.warnings);
     const auto result =
         std::make_shared<const nees::Result>(nees::RunNees(reg, in.imu, in.gt, options));
+    // Windows in a gap of the data are skipped, never fitted in silence.
+    const std::vector<std::string> skipped = nees::SkippedWindows(*result);
+    PrintWarnings(skipped);
+    judgment.warnings.insert(judgment.warnings.end(), skipped.begin(), skipped.end());
     report.Write([&] { return report::NeesPage(*result, inputs); }, ctx);
     judgment.SetResult(result, nees::ReportJson, nees::PrintSummary);
     judgment.exit_code = kExitOk;  // no verdict: the factor is the answer

@@ -2,12 +2,14 @@
 #include "nees.h"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
 
 #include "imuconv/chi_square.h"
 #include "imuconv/did_you_mean.h"
+#include "imuconv/pipeline/timing.h"
 #include "imuconv/printable.h"
 #include "imuconv/window.h"
 #include "order_statistics.h"
@@ -25,9 +27,9 @@ ChiSquareReference ChiSquare9() {
 
 namespace {
 
-std::string Seconds(double s) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g s", s);
+std::string Seconds(double s, int digits = 9) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g s", digits, s);
   return buf;
 }
 
@@ -39,6 +41,15 @@ std::string WindowCount(double n) {
   else
     std::snprintf(buf, sizeof buf, "%.3g", n);
   return buf;
+}
+
+// Whether [t_s, t_e] holds an IMU sample, its ends included within kSameInstant (the rule of
+// docs/timing.md, "Intervals holding no sample", as the run's "check times" stage applies it).
+bool HoldsSample(const std::vector<ImuSample>& samples, double t_s, double t_e) {
+  const auto first =
+      std::lower_bound(samples.begin(), samples.end(), t_s - kSameInstant,
+                       [](const ImuSample& sample, double t) { return sample.t < t; });
+  return first != samples.end() && first->t <= t_e + kSameInstant;
 }
 
 // The [p, theta, v] blocks of a 15-dim error and covariance, by label offsets.
@@ -124,6 +135,9 @@ Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline
   // Times are relative seconds of ~1e2 magnitude: 1 ns absorbs their rounding (the data's
   // stamps are integer nanoseconds), so a window ending exactly at the last row still counts.
   constexpr double kTimeSlack = 1e-9;
+  std::vector<double> sample_times(imu.samples.size());
+  for (std::size_t i = 0; i < imu.samples.size(); ++i) sample_times[i] = imu.samples[i].t;
+  const double period = pipeline::MedianPeriod(sample_times);
   // Every length checked, and the windows of all of them counted, before any is propagated.
   double total_windows = 0.0;
   for (const double length : options.window_lengths) {
@@ -132,6 +146,15 @@ Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline
     if (length > span + kTimeSlack)
       throw Error("--windows: " + Seconds(length) + " is longer than the " + Seconds(span) +
                   " the IMU data and the ground truth share");
+    // A window shorter than the sample period lies between two samples (or holds one): it is
+    // interpolation, not IMU data, and such a length is almost always one in the wrong unit.
+    // The rule of every interval (docs/timing.md), applied to the length once.
+    if (length < period - kTimeSlack)
+      throw Error("--windows: " + Seconds(length) + " is shorter than the IMU's sample period, " +
+                  Seconds(period, 6) + " (median): its windows, the first [" + Seconds(r.t_begin) +
+                  ", " + Seconds(r.t_begin + length) +
+                  "], would lie between two samples, interpolation only (a length in the wrong "
+                  "unit?)");
     const double stride = options.stride > 0 ? options.stride : length;
     total_windows += (span - length) / stride + 1;
   }
@@ -157,6 +180,13 @@ Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline
       double t_e = t_s + length;
       if (t_e > r.t_end + kTimeSlack) break;
       t_e = std::min(t_e, r.t_end);
+      // The length is at least the sample period, so a window without a sample lies in a gap
+      // of the data (allowed by the pipeline's allow_gaps): skipped and counted, never fitted.
+      if (!HoldsSample(imu.samples, t_s, t_e)) {
+        if (w.skipped_no_sample == 0) w.first_skipped = t_s;
+        ++w.skipped_no_sample;
+        continue;
+      }
       w.t_start.push_back(t_s);
       Vec9 e, sigma;
       Mat9 cov_gyro, cov_accel;
@@ -167,6 +197,11 @@ Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline
       w.cov_gyro.push_back(cov_gyro);
       w.cov_accel.push_back(cov_accel);
     }
+    if (w.nees.empty())
+      throw Error("--windows: none of the " + std::to_string(w.skipped_no_sample) + " windows of " +
+                  Seconds(length) +
+                  " holds an IMU sample (they all lie in gaps of the data), the first [" +
+                  Seconds(w.first_skipped) + ", " + Seconds(w.first_skipped + length) + "]");
     w.median = SampleMedian(w.nees);
     w.mean =
         std::accumulate(w.nees.begin(), w.nees.end(), 0.0) / static_cast<double>(w.nees.size());

@@ -55,6 +55,10 @@ struct Options {
 struct WindowLengthResult {
   double length = 0.0;
   double stride = 0.0;
+  /// Windows holding no IMU sample (they lie in a gap of the data), skipped, not fitted; the
+  /// start of the first of them. The statistics are over the other windows.
+  std::size_t skipped_no_sample = 0;
+  double first_skipped = 0.0;
   std::vector<double> t_start;  ///< seconds relative to the IMU data's origin
   std::vector<double> nees;     ///< one per window, in the order of t_start
   /// Per window: the end error [p, theta, v] (the chart's local coordinates of the propagated
@@ -85,9 +89,10 @@ struct Result {
 };
 
 /// Runs every window length. Throws Error for an unknown method or convention, noise densities
-/// that are all zero, a window longer than the span the IMU data and the ground truth share,
-/// more than kMaxWindows windows in all, or a propagated covariance that is not positive
-/// definite.
+/// that are all zero, a window longer than the span the IMU data and the ground truth share or
+/// shorter than the IMU's median sample period, more than kMaxWindows windows in all, a length
+/// none of whose windows holds an IMU sample, or a propagated covariance that is not positive
+/// definite. A window holding no IMU sample (in a gap) is skipped and counted.
 Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline::GroundTruth& gt,
                const Options& options);
 

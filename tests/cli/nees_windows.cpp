@@ -1,10 +1,16 @@
-// imuconv nees: which windows are fitted. The number of windows is bounded over all the
-// lengths together, refused before any is propagated.
+// imuconv nees: which windows are fitted. A window must hold at least one IMU sample
+// (docs/timing.md, the rule run and check apply to every interval): a window length shorter
+// than the IMU's sample period is refused (exit 2, naming --windows, the length and the
+// period); a window holding no sample because it lies in a gap of the data (a pipeline with
+// allow_gaps) is skipped, counted in the output and warned about, never fitted. And the number
+// of windows is bounded over all the lengths together, refused before any is propagated.
 //
-// Every run here is refused before propagating: well under a second.
+// Every run here is refused before propagating, or propagates two windows: well under a second.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "../pipeline/pipeline_test_util.h"
 #include "euroc_slice.h"
@@ -21,6 +27,17 @@ std::string SliceArgsRk4(const TempDir& tmp) {
          ShellQuote(tmp.write("noise.json", kEurocNoise.dump())) + " --method rk4";
 }
 
+// 1 ms windows on 200 Hz samples (5 ms apart): most lie between two samples.
+TEST(NeesWindows, LengthShorterThanTheSamplePeriodIsRefused) {
+  const TempDir tmp;
+  const CommandResult r = RunImuconv("nees " + SliceArgsRk4(tmp) + " --windows 0.5,0.001", tmp);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(Has(r.err, "--windows: 0.001 s is shorter than the IMU's sample period, ") &&
+              Has(r.err, " s (median)") && Has(r.err, "interpolation only"))
+      << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
 // Three lengths of a stride typo (2.05e-5 s on 20 s of data): some 980 000 windows each, under
 // the bound one at a time, three times it together. Refused at once, naming both options.
 TEST(NeesWindows, TooManyWindowsOverAllLengthsAreRefused) {
@@ -32,6 +49,55 @@ TEST(NeesWindows, TooManyWindowsOverAllLengthsAreRefused) {
               Has(r.err, "more than 1000000 in all"))
       << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+/// Lines 1..rows of `text` (after its header line 0), then the same rows again with their
+/// nanosecond stamps (the first field) moved by `shift_ns`: the data, a gap, the data again.
+std::string RowsGapRows(const std::string& text, std::size_t rows, std::int64_t shift_ns) {
+  std::vector<std::string> lines;
+  std::size_t at = 0;
+  for (std::size_t next; (next = text.find('\n', at)) != std::string::npos; at = next + 1)
+    lines.push_back(text.substr(at, next - at));
+  std::string out = lines.at(0) + "\n";
+  for (std::size_t i = 1; i <= rows; ++i) out += lines.at(i) + "\n";
+  for (std::size_t i = 1; i <= rows; ++i) {
+    const std::size_t comma = lines.at(i).find(',');
+    out += std::to_string(std::stoll(lines[i].substr(0, comma)) + shift_ns) +
+           lines[i].substr(comma) + "\n";
+  }
+  return out;
+}
+
+// 2 s of data (401 IMU rows at 200 Hz, 41 ground-truth rows at 20 Hz), a gap of 1e6 s, the same
+// 2 s again. Windows of 1000 s start every 1000 s from 0 while they end by 1e6 + 2 s: 1000 of
+// them. The first, [0, 1000], holds the first 2 s of samples; the one ending at exactly 1e6 s
+// holds the first sample after the gap (its end, within 1 ns); the 998 between hold none.
+TEST(NeesWindows, WindowsInAGapAreSkippedAndCounted) {
+  const TempDir tmp;
+  constexpr std::int64_t kGapNs = 1000000000000000;  // 1e6 s
+  const std::string imu =
+      tmp.write("imu_gap.csv", RowsGapRows(ReadText(kEurocSliceImu), 401, kGapNs));
+  const std::string gt =
+      tmp.write("gt_gap.csv", RowsGapRows(ReadText(kEurocSliceGroundTruth), 41, kGapNs));
+  json p = NeesPipeline({{"format", "euroc"}, {"path", imu}, {"allow_gaps", true}});
+  p["ground_truth"] = {{"format", "euroc"}, {"path", gt}, {"allow_gaps", true}};
+  const std::string pipeline = tmp.write("gap.json", p.dump());
+  const CommandResult r = RunImuconv(
+      "nees --pipeline " + ShellQuote(pipeline) + " --windows 1000 --method rk4 --json", tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json out = json::parse(r.out);
+  const json& w = out["windows"][0];
+  EXPECT_EQ(w["count"].get<std::size_t>(), 2u);
+  EXPECT_EQ(w["nees"].size(), 2u);
+  EXPECT_EQ(w["skipped_no_sample"].get<std::size_t>(), 998u);
+  EXPECT_EQ(w["t_start"][0].get<double>(), 0.0);
+  EXPECT_EQ(w["t_start"][1].get<double>(), 999000.0);
+  const std::string warning = "1000 s windows: 998 of 1000 hold no IMU sample (a gap in the data)";
+  EXPECT_TRUE(Has(r.err, warning)) << r.err;
+  ASSERT_TRUE(out.contains("warnings")) << r.out;
+  bool warned = false;
+  for (const auto& s : out["warnings"]) warned = warned || Has(s.get<std::string>(), warning);
+  EXPECT_TRUE(warned) << out["warnings"].dump();
 }
 
 }  // namespace
