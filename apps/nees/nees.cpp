@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
+#include <limits>
 #include <numeric>
 
 #include "imuconv/chi_square.h"
@@ -43,13 +45,17 @@ std::string WindowCount(double n) {
   return buf;
 }
 
-// Whether [t_s, t_e] holds an IMU sample, its ends included within kSameInstant (the rule of
-// docs/timing.md, "Intervals holding no sample", as the run's "check times" stage applies it).
-bool HoldsSample(const std::vector<ImuSample>& samples, double t_s, double t_e) {
+// 0 when [t_s, t_e] holds an IMU sample, its ends included within kSameInstant (the rule of
+// docs/timing.md, "Intervals holding no sample", as the run's "check times" stage applies it);
+// else the time between the two samples it lies between (infinite past either end).
+double SpacingAroundEmptyWindow(const std::vector<ImuSample>& samples, double t_s, double t_e) {
   const auto first =
       std::lower_bound(samples.begin(), samples.end(), t_s - kSameInstant,
                        [](const ImuSample& sample, double t) { return sample.t < t; });
-  return first != samples.end() && first->t <= t_e + kSameInstant;
+  if (first != samples.end() && first->t <= t_e + kSameInstant) return 0.0;
+  if (first == samples.begin() || first == samples.end())
+    return std::numeric_limits<double>::infinity();
+  return first->t - std::prev(first)->t;
 }
 
 // The [p, theta, v] blocks of a 15-dim error and covariance, by label offsets.
@@ -180,9 +186,16 @@ Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline
       double t_e = t_s + length;
       if (t_e > r.t_end + kTimeSlack) break;
       t_e = std::min(t_e, r.t_end);
-      // The length is at least the sample period, so a window without a sample lies in a gap
-      // of the data (allowed by the pipeline's allow_gaps): skipped and counted, never fitted.
-      if (!HoldsSample(imu.samples, t_s, t_e)) {
+      if (const double spacing = SpacingAroundEmptyWindow(imu.samples, t_s, t_e); spacing > 0) {
+        // Between two samples further apart than a gap (the readers' max_gap_factor, 10, times
+        // the median period; docs/timing.md), the window lies in a gap the data was allowed to
+        // have: skipped and counted, never fitted. Between two ordinary samples, the length is
+        // too short for the samples' jitter: refused.
+        if (!(spacing > pipeline::TimingPolicy{}.max_gap_factor * period))
+          throw Error("--windows: the window [" + Seconds(t_s) + ", " + Seconds(t_e) + "] of " +
+                      Seconds(length) + " holds no IMU sample: it lies between two samples " +
+                      Seconds(spacing, 6) + " apart (the median period is " + Seconds(period, 6) +
+                      "); every window must hold one (a longer window)");
         if (w.skipped_no_sample == 0) w.first_skipped = t_s;
         ++w.skipped_no_sample;
         continue;

@@ -90,9 +90,10 @@ struct Result {
 
 /// Runs every window length. Throws Error for an unknown method or convention, noise densities
 /// that are all zero, a window longer than the span the IMU data and the ground truth share or
-/// shorter than the IMU's median sample period, more than kMaxWindows windows in all, a length
-/// none of whose windows holds an IMU sample, or a propagated covariance that is not positive
-/// definite. A window holding no IMU sample (in a gap) is skipped and counted.
+/// shorter than the IMU's median sample period, more than kMaxWindows windows in all, a window
+/// holding no IMU sample between two ordinary samples, a length none of whose windows holds an
+/// IMU sample, or a propagated covariance that is not positive definite. A window holding no
+/// IMU sample in a gap (samples more than 10 median periods apart) is skipped and counted.
 Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline::GroundTruth& gt,
                const Options& options);
 

@@ -36,6 +36,16 @@ TEST(NeesWindows, LengthShorterThanTheSamplePeriodIsRefused) {
               Has(r.err, " s (median)") && Has(r.err, "interpolation only"))
       << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
+
+  // Windows of one median period starting at multiples of it: the slice's stamps jitter by tens
+  // of nanoseconds about 5 ms, so some window lies strictly between two ordinary samples (no
+  // gap): refused, naming that window.
+  const CommandResult at_period = RunImuconv("nees " + SliceArgsRk4(tmp) + " --windows 0.005", tmp);
+  EXPECT_EQ(at_period.exit_code, 2);
+  EXPECT_TRUE(Has(at_period.err, "--windows: the window [") &&
+              Has(at_period.err, "of 0.005 s holds no IMU sample: it lies between two samples"))
+      << at_period.err;
+  EXPECT_TRUE(at_period.out.empty()) << at_period.out;
 }
 
 // Three lengths of a stride typo (2.05e-5 s on 20 s of data): some 980 000 windows each, under
