@@ -55,9 +55,9 @@ struct Options {
 struct WindowLengthResult {
   double length = 0.0;
   double stride = 0.0;
-  /// Windows holding no IMU sample (they lie in a gap of the data), skipped, not fitted; the
-  /// start of the first of them. The statistics are over the other windows.
-  std::size_t skipped_no_sample = 0;
+  /// Windows reaching into a gap of the data (samples more than 10 median periods apart),
+  /// skipped, not fitted; the start of the first of them. The statistics are over the others.
+  std::size_t skipped_in_gap = 0;
   double first_skipped = 0.0;
   std::vector<double> t_start;  ///< seconds relative to the IMU data's origin
   std::vector<double> nees;     ///< one per window, in the order of t_start
@@ -91,9 +91,9 @@ struct Result {
 /// Runs every window length. Throws Error for an unknown method or convention, noise densities
 /// that are all zero, a window longer than the span the IMU data and the ground truth share or
 /// shorter than the IMU's median sample period, more than kMaxWindows windows in all, a window
-/// holding no IMU sample between two ordinary samples, a length none of whose windows holds an
-/// IMU sample, or a propagated covariance that is not positive definite. A window holding no
-/// IMU sample in a gap (samples more than 10 median periods apart) is skipped and counted.
+/// holding no IMU sample between two ordinary samples, a length all of whose windows reach into
+/// a gap, or a propagated covariance that is not positive definite. A window reaching into a
+/// gap of the samples (more than 10 median periods apart) is skipped and counted.
 Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline::GroundTruth& gt,
                const Options& options);
 

@@ -67,7 +67,7 @@ nlohmann::json ReportJson(const Result& r) {
                   {"cov_gyro", cov_gyro},
                   {"cov_accel", cov_accel}};
     // Only when there are some: a run on data without gaps prints what it always printed.
-    if (w.skipped_no_sample > 0) entry["skipped_no_sample"] = w.skipped_no_sample;
+    if (w.skipped_in_gap > 0) entry["skipped_in_gap"] = w.skipped_in_gap;
     windows.push_back(std::move(entry));
   }
   return json{{"method", r.method},
@@ -92,13 +92,14 @@ nlohmann::json ReportJson(const Result& r) {
 std::vector<std::string> SkippedWindows(const Result& r) {
   std::vector<std::string> lines;
   for (const WindowLengthResult& w : r.windows) {
-    if (w.skipped_no_sample == 0) continue;
+    if (w.skipped_in_gap == 0) continue;
     char line[256];
     std::snprintf(line, sizeof line,
-                  "%.9g s windows: %zu of %zu hold no IMU sample (a gap in the data) and are "
-                  "skipped, the first starting at %.9g s; the statistics are over the other %zu",
-                  w.length, w.skipped_no_sample, w.skipped_no_sample + w.nees.size(),
-                  w.first_skipped, w.nees.size());
+                  "%.9g s windows: %zu of %zu reach into a gap in the data (IMU samples more "
+                  "than 10 median periods apart) and are skipped, the first starting at %.9g s; "
+                  "the statistics are over the other %zu",
+                  w.length, w.skipped_in_gap, w.skipped_in_gap + w.nees.size(), w.first_skipped,
+                  w.nees.size());
     lines.push_back(line);
   }
   return lines;

@@ -15,8 +15,8 @@ namespace imuconv::nees {
 extern const char* const kOffsetCauses;
 
 nlohmann::json ReportJson(const Result& r);
-/// One sentence per window length with windows skipped for holding no IMU sample (none when
-/// there are none): the command's warnings, and a line of the table.
+/// One sentence per window length with windows skipped for reaching into a gap of the data
+/// (none when there are none): the command's warnings, and a line of the table.
 std::vector<std::string> SkippedWindows(const Result& r);
 void PrintSummary(std::ostream& out, const Result& r);
 

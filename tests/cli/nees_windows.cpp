@@ -1,11 +1,12 @@
 // imuconv nees: which windows are fitted. A window must hold at least one IMU sample
 // (docs/timing.md, the rule run and check apply to every interval): a window length shorter
 // than the IMU's sample period is refused (exit 2, naming --windows, the length and the
-// period); a window holding no sample because it lies in a gap of the data (a pipeline with
-// allow_gaps) is skipped, counted in the output and warned about, never fitted. And the number
-// of windows is bounded over all the lengths together, refused before any is propagated.
+// period), as is one lying between two ordinary samples; a window reaching into a gap of the
+// data (a pipeline with allow_gaps) is skipped, counted in the output and warned about, never
+// fitted. And the number of windows is bounded over all the lengths together, refused before
+// any is propagated.
 //
-// Every run here is refused before propagating, or propagates two windows: well under a second.
+// Every run here is refused, or propagates two windows: well under a second.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -79,10 +80,8 @@ std::string RowsGapRows(const std::string& text, std::size_t rows, std::int64_t 
 }
 
 // 2 s of data (401 IMU rows at 200 Hz, 41 ground-truth rows at 20 Hz), a gap of 1e6 s, the same
-// 2 s again. Windows of 1000 s start every 1000 s from 0 while they end by 1e6 + 2 s: 1000 of
-// them. The first, [0, 1000], holds the first 2 s of samples; the one ending at exactly 1e6 s
-// holds the first sample after the gap (its end, within 1 ns); the 998 between hold none.
-TEST(NeesWindows, WindowsInAGapAreSkippedAndCounted) {
+// 2 s again (the first sample after the gap at exactly 1e6 s, the shift being whole seconds).
+TEST(NeesWindows, WindowsReachingIntoAGapAreSkippedAndCounted) {
   const TempDir tmp;
   constexpr std::int64_t kGapNs = 1000000000000000;  // 1e6 s
   const std::string imu =
@@ -92,22 +91,37 @@ TEST(NeesWindows, WindowsInAGapAreSkippedAndCounted) {
   json p = NeesPipeline({{"format", "euroc"}, {"path", imu}, {"allow_gaps", true}});
   p["ground_truth"] = {{"format", "euroc"}, {"path", gt}, {"allow_gaps", true}};
   const std::string pipeline = tmp.write("gap.json", p.dump());
+
+  // Windows of 0.5 s every 500 s, from 0 while they end by the data's end (1e6 + 2 s): starts
+  // 0, 500, ..., 1e6, 2001 windows. [0, 0.5] lies in the first 2 s and [1e6, 1e6 + 0.5] in the
+  // last; the 1999 between lie in the gap.
   const CommandResult r = RunImuconv(
-      "nees --pipeline " + ShellQuote(pipeline) + " --windows 1000 --method rk4 --json", tmp);
+      "nees --pipeline " + ShellQuote(pipeline) + " --windows 0.5 --stride 500 --method rk4 --json",
+      tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json out = json::parse(r.out);
   const json& w = out["windows"][0];
   EXPECT_EQ(w["count"].get<std::size_t>(), 2u);
   EXPECT_EQ(w["nees"].size(), 2u);
-  EXPECT_EQ(w["skipped_no_sample"].get<std::size_t>(), 998u);
+  EXPECT_EQ(w["skipped_in_gap"].get<std::size_t>(), 1999u);
   EXPECT_EQ(w["t_start"][0].get<double>(), 0.0);
-  EXPECT_EQ(w["t_start"][1].get<double>(), 999000.0);
-  const std::string warning = "1000 s windows: 998 of 1000 hold no IMU sample (a gap in the data)";
+  EXPECT_EQ(w["t_start"][1].get<double>(), 1e6);
+  const std::string warning = "0.5 s windows: 1999 of 2001 reach into a gap in the data";
   EXPECT_TRUE(Has(r.err, warning)) << r.err;
   ASSERT_TRUE(out.contains("warnings")) << r.out;
   bool warned = false;
   for (const auto& s : out["warnings"]) warned = warned || Has(s.get<std::string>(), warning);
   EXPECT_TRUE(warned) << out["warnings"].dump();
+
+  // Windows of 1000 s every 1000 s: [0, 1000] holds the first 2 s of samples and then the gap,
+  // [999000, 1e6] the gap and the first sample after it, the 998 between only the gap. Every
+  // one reaches into the gap: nothing to fit, refused.
+  const CommandResult all =
+      RunImuconv("nees --pipeline " + ShellQuote(pipeline) + " --windows 1000 --method rk4", tmp);
+  EXPECT_EQ(all.exit_code, 2);
+  EXPECT_TRUE(Has(all.err, "--windows: all 1000 windows of 1000 s reach into a gap of the data"))
+      << all.err;
+  EXPECT_TRUE(all.out.empty()) << all.out;
 }
 
 }  // namespace
