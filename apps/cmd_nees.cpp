@@ -53,6 +53,10 @@ int RunNeesCommand(const CommandContext& ctx, const NeesCommandOptions& o) {
     PrintWarnings(judgment.warnings);
     const auto result =
         std::make_shared<const nees::Result>(nees::RunNees(reg, in.imu, in.gt, options));
+    // Windows in a gap of the data are skipped, never fitted in silence.
+    const std::vector<std::string> skipped = nees::SkippedWindows(*result);
+    PrintWarnings(skipped);
+    judgment.warnings.insert(judgment.warnings.end(), skipped.begin(), skipped.end());
     report.Write([&] { return report::NeesPage(*result, inputs); }, ctx);
     judgment.SetResult(result, nees::ReportJson, nees::PrintSummary);
     judgment.exit_code = kExitOk;  // no verdict: the factor is the answer
@@ -81,7 +85,7 @@ void RegisterNeesCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--noise", o->noise_path,
                   "The four noise densities: a JSON noise object (or a pipeline holding one), or a "
                   "Kalibr imu.yaml "
-                  "(.yaml/.yml); with --pipeline, replaces its /noise");
+                  "(.yaml/.yml, any case); with --pipeline, replaces its /noise");
   sub->add_option("--windows", o->windows,
                   "Window lengths in seconds, comma-separated (e.g. 0.2,0.5,1.0)")
       ->required()

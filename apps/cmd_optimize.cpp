@@ -127,7 +127,7 @@ void RegisterOptimizeCommand(CLI::App& app, CommandContext& ctx) {
       ->excludes(poses_opt);
   sub->add_option("--noise", o->noise_path,
                   "The four noise densities: a JSON noise object (or a pipeline holding one), or a "
-                  "Kalibr imu.yaml (.yaml/.yml); with --pipeline, replaces its /noise");
+                  "Kalibr imu.yaml (.yaml/.yml, any case); with --pipeline, replaces its /noise");
   sub->add_option("--keyframe-step", o->keyframe_step,
                   "Seconds between keyframes: every interval must hold an IMU sample strictly "
                   "inside (a step longer than the longest sample period does), at most the "

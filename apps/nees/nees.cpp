@@ -2,11 +2,16 @@
 #include "nees.h"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <iterator>
+#include <limits>
 #include <numeric>
 
 #include "imuconv/chi_square.h"
 #include "imuconv/did_you_mean.h"
+#include "imuconv/pipeline/timing.h"
 #include "imuconv/printable.h"
 #include "imuconv/window.h"
 #include "order_statistics.h"
@@ -24,10 +29,44 @@ ChiSquareReference ChiSquare9() {
 
 namespace {
 
-std::string Seconds(double s) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g s", s);
+std::string Seconds(double s, int digits = 9) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g s", digits, s);
   return buf;
+}
+
+// A count estimated in doubles, whole below 1e15 (any real count), else in three digits.
+std::string WindowCount(double n) {
+  char buf[32];
+  if (n < 1e15)
+    std::snprintf(buf, sizeof buf, "%.0f", std::floor(n));
+  else
+    std::snprintf(buf, sizeof buf, "%.3g", n);
+  return buf;
+}
+
+// 0 when [t_s, t_e] holds an IMU sample, its ends included within kSameInstant (the rule of
+// docs/timing.md, "Intervals holding no sample", as the run's "check times" stage applies it);
+// else the time between the two samples it lies between (infinite past either end).
+double SpacingAroundEmptyWindow(const std::vector<ImuSample>& samples, double t_s, double t_e) {
+  const auto first =
+      std::lower_bound(samples.begin(), samples.end(), t_s - kSameInstant,
+                       [](const ImuSample& sample, double t) { return sample.t < t; });
+  if (first != samples.end() && first->t <= t_e + kSameInstant) return 0.0;
+  if (first == samples.begin() || first == samples.end())
+    return std::numeric_limits<double>::infinity();
+  return first->t - std::prev(first)->t;
+}
+
+// Whether [t_s, t_e] reaches into a gap of the samples, the open interval between two samples
+// listed in `gaps` (each i: samples i and i + 1 are a gap apart), beyond kSameInstant.
+bool ReachesIntoGap(const std::vector<ImuSample>& samples, const std::vector<std::size_t>& gaps,
+                    double t_s, double t_e) {
+  // The first gap ending after t_s (the gaps' ends increase with i).
+  const auto gap =
+      std::lower_bound(gaps.begin(), gaps.end(), t_s + kSameInstant,
+                       [&samples](std::size_t i, double t) { return samples[i + 1].t <= t; });
+  return gap != gaps.end() && samples[*gap].t < t_e - kSameInstant;
 }
 
 // The [p, theta, v] blocks of a 15-dim error and covariance, by label offsets.
@@ -113,26 +152,73 @@ Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline
   // Times are relative seconds of ~1e2 magnitude: 1 ns absorbs their rounding (the data's
   // stamps are integer nanoseconds), so a window ending exactly at the last row still counts.
   constexpr double kTimeSlack = 1e-9;
+  std::vector<double> sample_times(imu.samples.size());
+  for (std::size_t i = 0; i < imu.samples.size(); ++i) sample_times[i] = imu.samples[i].t;
+  const double period = pipeline::MedianPeriod(sample_times);
+  // A gap: two samples more than the readers' max_gap_factor (10) median periods apart
+  // (docs/timing.md), which only data read with allow_gaps has.
+  const double gap_limit = pipeline::TimingPolicy{}.max_gap_factor * period;
+  std::vector<std::size_t> gaps;
+  for (std::size_t i = 0; i + 1 < sample_times.size(); ++i)
+    if (sample_times[i + 1] - sample_times[i] > gap_limit) gaps.push_back(i);
+  // Every length checked, and the windows of all of them counted, before any is propagated.
+  double total_windows = 0.0;
   for (const double length : options.window_lengths) {
     if (!(length > 0) || !std::isfinite(length))
       throw Error("--windows: " + Seconds(length) + " is not a positive length");
     if (length > span + kTimeSlack)
       throw Error("--windows: " + Seconds(length) + " is longer than the " + Seconds(span) +
                   " the IMU data and the ground truth share");
+    // A window shorter than the sample period lies between two samples (or holds one): it is
+    // interpolation, not IMU data, and such a length is almost always one in the wrong unit.
+    // The rule of every interval (docs/timing.md), applied to the length once.
+    if (length < period - kTimeSlack)
+      throw Error("--windows: " + Seconds(length) + " is shorter than the IMU's sample period, " +
+                  Seconds(period, 6) + " (median): its windows, the first [" + Seconds(r.t_begin) +
+                  ", " + Seconds(r.t_begin + length) +
+                  "], would lie between two samples, interpolation only (a length in the wrong "
+                  "unit?)");
+    const double stride = options.stride > 0 ? options.stride : length;
+    total_windows += (span - length) / stride + 1;
+  }
+  // The bound is on all the lengths together: applied to each length alone, three lengths at a
+  // stride typo (2e-5 s) were 3 million windows and ran out of 4 GB. Each window keeps some
+  // 1.6 KB (its two 9x9 covariance parts, error and sigma); measured on the EuRoC slice, 100 000
+  // windows peak at 170 MB, and at 1.7 GB with --json (its document is built whole, every
+  // window's matrices as JSON values). kMaxWindows, the number nees always had, is kept (a run
+  // that worked stays allowed). A stride far below the sample period only repeats windows.
+  if (total_windows > static_cast<double>(kMaxWindows))
+    throw Error("--windows, --stride: " + std::to_string(options.window_lengths.size()) +
+                " window length(s) at a stride of " +
+                (options.stride > 0 ? Seconds(options.stride) : std::string("their own length")) +
+                " make " + WindowCount(total_windows) + " windows, more than " +
+                std::to_string(kMaxWindows) + " in all (a larger --stride, or fewer lengths)");
+  for (const double length : options.window_lengths) {
     WindowLengthResult w;
     w.length = length;
     w.stride = options.stride > 0 ? options.stride : length;
-    // A stride far below the sample period only repeats windows; a bound keeps a typo (1e-9)
-    // from running for hours.
-    if ((span - length) / w.stride + 1 > static_cast<double>(kMaxWindows))
-      throw Error("--stride " + Seconds(w.stride) + ": more than " + std::to_string(kMaxWindows) +
-                  " windows of " + Seconds(length));
     for (std::size_t i = 0;; ++i) {
       // Starts by multiplication, not accumulation, so they carry no drift.
       const double t_s = r.t_begin + static_cast<double>(i) * w.stride;
       double t_e = t_s + length;
       if (t_e > r.t_end + kTimeSlack) break;
       t_e = std::min(t_e, r.t_end);
+      // A window holding no sample between two ordinary samples: the length is too short for
+      // the samples' jitter, refused. One between the two samples of a gap lies in the gap.
+      const double spacing = SpacingAroundEmptyWindow(imu.samples, t_s, t_e);
+      if (spacing > 0 && !(spacing > gap_limit))
+        throw Error("--windows: the window [" + Seconds(t_s) + ", " + Seconds(t_e) + "] of " +
+                    Seconds(length) + " holds no IMU sample: it lies between two samples " +
+                    Seconds(spacing, 6) + " apart (the median period is " + Seconds(period, 6) +
+                    "); every window must hold one (a longer window)");
+      // A window reaching into a gap (lying in it, or holding samples on one side of it) would
+      // be propagated over the gap by interpolation and compared with a ground truth
+      // interpolated across it: skipped and counted, never fitted.
+      if (ReachesIntoGap(imu.samples, gaps, t_s, t_e)) {
+        if (w.skipped_in_gap == 0) w.first_skipped = t_s;
+        ++w.skipped_in_gap;
+        continue;
+      }
       w.t_start.push_back(t_s);
       Vec9 e, sigma;
       Mat9 cov_gyro, cov_accel;
@@ -143,6 +229,11 @@ Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline
       w.cov_gyro.push_back(cov_gyro);
       w.cov_accel.push_back(cov_accel);
     }
+    if (w.nees.empty())
+      throw Error("--windows: all " + std::to_string(w.skipped_in_gap) + " windows of " +
+                  Seconds(length) + " reach into a gap of the data, the first [" +
+                  Seconds(w.first_skipped) + ", " + Seconds(w.first_skipped + length) +
+                  "]: nothing to fit (a shorter window)");
     w.median = SampleMedian(w.nees);
     w.mean =
         std::accumulate(w.nees.begin(), w.nees.end(), 0.0) / static_cast<double>(w.nees.size());

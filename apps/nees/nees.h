@@ -30,7 +30,8 @@ constexpr int kDof = 9;
 /// Two-sided confidence of the per-window bounds.
 constexpr double kConfidence = 0.95;
 
-/// Most windows of one length (--stride small against the data's span).
+/// Most windows of one run, all the window lengths together (--stride small against the data's
+/// span; the reason for the number is at its check, nees.cpp).
 constexpr std::size_t kMaxWindows = 1000000;
 
 /// The chi-square(9) figures the report is judged against (imuconv/chi_square.h, exact).
@@ -54,6 +55,10 @@ struct Options {
 struct WindowLengthResult {
   double length = 0.0;
   double stride = 0.0;
+  /// Windows reaching into a gap of the data (samples more than 10 median periods apart),
+  /// skipped, not fitted; the start of the first of them. The statistics are over the others.
+  std::size_t skipped_in_gap = 0;
+  double first_skipped = 0.0;
   std::vector<double> t_start;  ///< seconds relative to the IMU data's origin
   std::vector<double> nees;     ///< one per window, in the order of t_start
   /// Per window: the end error [p, theta, v] (the chart's local coordinates of the propagated
@@ -84,8 +89,11 @@ struct Result {
 };
 
 /// Runs every window length. Throws Error for an unknown method or convention, noise densities
-/// that are all zero, a window longer than the span the IMU data and the ground truth share, or
-/// a propagated covariance that is not positive definite.
+/// that are all zero, a window longer than the span the IMU data and the ground truth share or
+/// shorter than the IMU's median sample period, more than kMaxWindows windows in all, a window
+/// holding no IMU sample between two ordinary samples, a length all of whose windows reach into
+/// a gap, or a propagated covariance that is not positive definite. A window reaching into a
+/// gap of the samples (more than 10 median periods apart) is skipped and counted.
 Result RunNees(const Registry& reg, const pipeline::ImuData& imu, const pipeline::GroundTruth& gt,
                const Options& options);
 

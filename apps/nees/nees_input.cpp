@@ -1,5 +1,8 @@
 #include "nees_input.h"
 
+#include <cctype>
+#include <filesystem>
+
 #include "imuconv/pipeline/errors.h"
 #include "imuconv/pipeline/json_io.h"
 #include "imuconv/pipeline/json_parse.h"
@@ -13,19 +16,24 @@ namespace imuconv::nees {
 
 namespace {
 
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+// Whether `path`'s extension is .yaml or .yml, in any case (NOISE.YAML is a Kalibr file too).
+bool IsYamlPath(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".yaml" || ext == ".yml";
 }
 
 }  // namespace
 
 ImuNoise ReadNoiseFile(const std::string& path) {
-  if (EndsWith(path, ".yaml") || EndsWith(path, ".yml"))
-    return pipeline::data::ReadKalibrImuYaml(path);
-  return pipeline::ReadJsonFileAs(path, [](const pipeline::Node& root) {
-    if (root.has("noise")) return pipeline::NoiseFromJson(root["noise"]);
-    return pipeline::NoiseFromJson(root);
+  if (IsYamlPath(path)) return pipeline::data::ReadKalibrImuYaml(path);
+  // A pipeline's /noise, or a noise object alone, in either form (inline or {"kalibr": ...}),
+  // read by the pipeline's own reader; a Kalibr path is relative to this file's directory, as
+  // Pipeline::Load resolves it.
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  const std::string base_dir = dir.empty() ? "." : dir;
+  return pipeline::ReadJsonFileAs(path, [&](const pipeline::Node& root) {
+    return pipeline::NoiseFormFromJson(root.has("noise") ? root["noise"] : root, base_dir);
   });
 }
 

@@ -18,8 +18,10 @@ struct Input {
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
 };
 
-/// The four noise densities from --noise: a Kalibr imu.yaml (by extension, .yaml/.yml), else a
-/// JSON file holding a pipeline's "noise" object, or a whole pipeline whose /noise is one. The
+/// The four noise densities from --noise: a Kalibr imu.yaml (by extension, .yaml/.yml in any
+/// case), else a JSON file holding a pipeline's "noise" object, or a whole pipeline whose /noise
+/// is one, in either form the pipeline takes (the densities, or {"kalibr": "imu.yaml"} relative
+/// to that JSON file's directory; pipeline::NoiseFormFromJson, the pipeline's own reader). The
 /// readers' errors name the file and the line or JSON pointer. (nees and optimize take --noise
 /// alike.)
 ImuNoise ReadNoiseFile(const std::string& path);

@@ -47,25 +47,28 @@ nlohmann::json ReportJson(const Result& r) {
     }
     for (const Mat9& m : w.cov_gyro) cov_gyro.push_back(pipeline::MatrixToJson(m));
     for (const Mat9& m : w.cov_accel) cov_accel.push_back(pipeline::MatrixToJson(m));
-    windows.push_back({{"length", w.length},
-                       {"stride", w.stride},
-                       {"count", w.nees.size()},
-                       {"median", w.median},
-                       {"mean", w.mean},
-                       {"p95", w.p95},
-                       {"fraction_inside", w.fraction_inside},
-                       {"factor", w.factor},
-                       {"factors",
-                        {{"all", w.factor},
-                         {"gyro", NumberOrNull(w.factor_gyro)},
-                         {"accel", NumberOrNull(w.factor_accel)}}},
-                       {"components", components},
-                       {"t_start", w.t_start},
-                       {"nees", w.nees},
-                       {"error", error},
-                       {"sigma", sigma},
-                       {"cov_gyro", cov_gyro},
-                       {"cov_accel", cov_accel}});
+    json entry = {{"length", w.length},
+                  {"stride", w.stride},
+                  {"count", w.nees.size()},
+                  {"median", w.median},
+                  {"mean", w.mean},
+                  {"p95", w.p95},
+                  {"fraction_inside", w.fraction_inside},
+                  {"factor", w.factor},
+                  {"factors",
+                   {{"all", w.factor},
+                    {"gyro", NumberOrNull(w.factor_gyro)},
+                    {"accel", NumberOrNull(w.factor_accel)}}},
+                  {"components", components},
+                  {"t_start", w.t_start},
+                  {"nees", w.nees},
+                  {"error", error},
+                  {"sigma", sigma},
+                  {"cov_gyro", cov_gyro},
+                  {"cov_accel", cov_accel}};
+    // Only when there are some: a run on data without gaps prints what it always printed.
+    if (w.skipped_in_gap > 0) entry["skipped_in_gap"] = w.skipped_in_gap;
+    windows.push_back(std::move(entry));
   }
   return json{{"method", r.method},
               {"convention", r.convention},
@@ -86,6 +89,22 @@ nlohmann::json ReportJson(const Result& r) {
               {"windows", windows}};
 }
 
+std::vector<std::string> SkippedWindows(const Result& r) {
+  std::vector<std::string> lines;
+  for (const WindowLengthResult& w : r.windows) {
+    if (w.skipped_in_gap == 0) continue;
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "%.9g s windows: %zu of %zu reach into a gap in the data (IMU samples more "
+                  "than 10 median periods apart) and are skipped, the first starting at %.9g s; "
+                  "the statistics are over the other %zu",
+                  w.length, w.skipped_in_gap, w.skipped_in_gap + w.nees.size(), w.first_skipped,
+                  w.nees.size());
+    lines.push_back(line);
+  }
+  return lines;
+}
+
 void PrintSummary(std::ostream& out, const Result& r) {
   char line[256];
   out << "nees: " << r.method << " in the " << r.convention << " chart, error [p, theta, v] ("
@@ -102,6 +121,7 @@ void PrintSummary(std::ostream& out, const Result& r) {
                   100 * w.fraction_inside, w.factor);
     out << line;
   }
+  for (const std::string& skipped : SkippedWindows(r)) out << skipped << "\n";
   out << "factor k: the one scale on all four noise densities that puts the median NEES on the "
          "chi-square median\n"
          "(NEES scales as 1/k^2). k > 1: the data's errors are larger than the declared densities "

@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 #include <ostream>
+#include <string>
+#include <vector>
 
 #include "nees.h"
 
@@ -13,6 +15,9 @@ namespace imuconv::nees {
 extern const char* const kOffsetCauses;
 
 nlohmann::json ReportJson(const Result& r);
+/// One sentence per window length with windows skipped for reaching into a gap of the data
+/// (none when there are none): the command's warnings, and a line of the table.
+std::vector<std::string> SkippedWindows(const Result& r);
 void PrintSummary(std::ostream& out, const Result& r);
 
 }  // namespace imuconv::nees

@@ -1,6 +1,10 @@
 // The noise form, read and written (json_io.h).
 #include "imuconv/pipeline/json_io.h"
 
+#include "imuconv/pipeline/errors.h"
+#include "imuconv/pipeline/kalibr_yaml.h"
+#include "task_common.h"
+
 namespace imuconv::pipeline {
 
 json NoiseToJson(const ImuNoise& n) {
@@ -30,6 +34,24 @@ std::optional<ImuNoise> NoiseFromJson(const Node& n) {
   read("accel_random_walk", q.accel_random_walk);
   if (n.checker().count() != before) return std::nullopt;
   return q;
+}
+
+std::optional<ImuNoise> NoiseFormFromJson(const Node& n, const std::string& base_dir,
+                                          std::string* kalibr_file) {
+  if (!(n.is_object() && n.has("kalibr"))) return NoiseFromJson(n);
+  // {"kalibr": "imu.yaml"}: the file is read now (a few hundred bytes), so that its problems
+  // are reported with the document's.
+  n.expect_object({"kalibr"});
+  const auto f = n.string("kalibr", true);
+  if (!f) return std::nullopt;
+  const std::string path = ParseContext(n.checker(), base_dir).resolve(*f);
+  if (kalibr_file) *kalibr_file = path;
+  try {
+    return data::ReadKalibrImuYaml(path);
+  } catch (const ReadError& e) {
+    n.checker().error(n.child_pointer("kalibr"), e.what());
+    return std::nullopt;
+  }
 }
 
 }  // namespace imuconv::pipeline

@@ -5,7 +5,6 @@
 
 #include "../spec/sources.h"
 #include "../tasks/task.h"
-#include "imuconv/pipeline/kalibr_yaml.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/printable.h"
 #include "parse.h"
@@ -121,21 +120,7 @@ std::unique_ptr<PipelineSpec> ParseSpec(const json& doc, const std::string& file
   if (auto g = root.vec3("gravity", false)) spec->gravity = *g;
   if (auto nn = root.get("noise", false)) {
     spec->has_noise = true;
-    if (nn->is_object() && nn->has("kalibr")) {
-      // {"kalibr": "imu.yaml"}: the four densities of a Kalibr IMU file, read now (a few
-      // hundred bytes), so that its problems are reported with the pipeline's.
-      nn->expect_object({"kalibr"});
-      if (auto f = nn->string("kalibr", true)) {
-        try {
-          spec->noise_file = ctx.resolve(*f);
-          spec->noise = data::ReadKalibrImuYaml(spec->noise_file);
-        } catch (const ReadError& e) {
-          c.error(nn->child_pointer("kalibr"), e.what());
-        }
-      }
-    } else if (auto q = NoiseFromJson(*nn)) {
-      spec->noise = *q;
-    }
+    if (auto q = NoiseFormFromJson(*nn, base_dir, &spec->noise_file)) spec->noise = *q;
   }
   if (auto in = root.get("imu", false)) {
     ctx.has_imu = true;

@@ -38,6 +38,14 @@ std::vector<std::string> Blocks(const Registry& reg, PluginKind kind, const std:
 /// within 1e-6 and is normalised.
 [[nodiscard]] std::optional<ImuState> StateFromJson(const Node& n);
 [[nodiscard]] std::optional<ImuNoise> NoiseFromJson(const Node& n);
+/// A pipeline's /noise in either of its forms: the four densities (NoiseFromJson), or
+/// {"kalibr": "imu.yaml"}, that Kalibr file read now (ReadKalibrImuYaml), a relative path
+/// resolved against `base_dir`, the directory of the document holding `n`, as every path in a
+/// pipeline is. The file's problems are reported at n's "kalibr" pointer. `kalibr_file`, when
+/// given, receives the resolved path of the file read. The one reader of the form: the
+/// pipeline's /noise and a --noise file (nees, optimize) both come here.
+[[nodiscard]] std::optional<ImuNoise> NoiseFormFromJson(const Node& n, const std::string& base_dir,
+                                                        std::string* kalibr_file = nullptr);
 
 /// A 15x15 matrix given as an array of rows, {"diagonal": [15]}, {"sigma": [15]} (standard
 /// deviations) or {"convention": id, "blocks": [...], "matrix": [[...]]}. When a convention
