@@ -10,12 +10,7 @@
 // A named namespace, not an anonymous one: the tests are compiled in unity batches, where
 // this file's helpers and using-directives must not meet another file's.
 namespace convert_non_finite_test {
-using imuconv::test::CommandResult;
-using imuconv::test::ReadText;
-using imuconv::test::RunImuconv;
-using imuconv::test::ShellQuote;
-using imuconv::test::SourcePath;
-using imuconv::test::TempDir;
+using namespace imuconv::test;
 using nlohmann::json;
 
 /// examples/hover.state.json moved to the position (x, x, x) m.

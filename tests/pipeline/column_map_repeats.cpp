@@ -13,12 +13,7 @@
 namespace column_map_repeats_test {
 using namespace imuconv;
 using namespace imuconv::pipeline;
-using imuconv::test::CommandResult;
-using imuconv::test::MessageOf;
-using imuconv::test::RunImuconv;
-using imuconv::test::ShellQuote;
-using imuconv::test::SourcePath;
-using imuconv::test::TempDir;
+using namespace imuconv::test;
 using nlohmann::json;
 
 /// A pipeline reading examples/data/generic_imu_seconds.csv (header
@@ -43,27 +38,17 @@ json CsvPipeline(const json& columns) {
              {"keyframes", {0.0, 0.5, 1.0}}}}}};
 }
 
-/// The issues of parsing `doc` (empty if it parses).
-std::vector<Issue> ParseIssues(const json& doc) {
-  try {
-    pipeline::Pipeline::FromJson(doc, "mem/pipeline.json", IMUCONV_SOURCE_DIR);
-  } catch (const ConfigError& e) {
-    return e.issues();
-  }
-  return {};
-}
-
 const json kGoodColumns = {{"t", "time"}, {"ax", "ax"}, {"ay", "ay"}, {"az", "az"},
                            {"wx", 4},     {"wy", 5},    {"wz", 6}};
 
 TEST(ColumnMapRepeats, TheGoodMapParses) {
-  EXPECT_TRUE(ParseIssues(CsvPipeline(kGoodColumns)).empty());
+  EXPECT_TRUE(ReadingIssues(CsvPipeline(kGoodColumns)).empty());
 }
 
 TEST(ColumnMapRepeats, OneIndexForTwoAxesIsRefusedAtThePointer) {
   json cols = kGoodColumns;
   cols["wy"] = 4;
-  const auto is = ParseIssues(CsvPipeline(cols));
+  const auto is = ReadingIssues(CsvPipeline(cols));
   EXPECT_ISSUE(is, "/imu/columns/wy", "column 4 is already used for 'wx'");
   EXPECT_EQ(is.size(), 1u);
 }
@@ -71,7 +56,7 @@ TEST(ColumnMapRepeats, OneIndexForTwoAxesIsRefusedAtThePointer) {
 TEST(ColumnMapRepeats, OneNameForTwoAxesIsRefusedAtThePointer) {
   json cols = kGoodColumns;
   cols["az"] = "ax";
-  EXPECT_ISSUE(ParseIssues(CsvPipeline(cols)), "/imu/columns/az",
+  EXPECT_ISSUE(ReadingIssues(CsvPipeline(cols)), "/imu/columns/az",
                "the column named 'ax' is already used for 'ax'");
 }
 

@@ -16,13 +16,7 @@
 namespace control_characters_in_messages_test {
 using namespace imuconv;
 using namespace imuconv::pipeline;
-using imuconv::test::OnePreintegrationWithNoise;
-using imuconv::test::Plugins;
-using imuconv::test::Rk4PropagationOverTenthSecond;
-using imuconv::test::SourcePath;
-using imuconv::test::TacticalNoiseDensities;
-using imuconv::test::TenthSecondAt100HzRunning;
-using imuconv::test::UnitSpeedStartState;
+using namespace imuconv::test;
 using nlohmann::json;
 
 // ESC [31m (red), a newline, a BEL: each must reach the message as \x1b, \n, \x07.

@@ -14,23 +14,8 @@
 namespace ids_listed_twice_test {
 using namespace imuconv;
 using namespace imuconv::pipeline;
-using imuconv::test::CommandResult;
-using imuconv::test::OnePreintegrationWithNoise;
-using imuconv::test::RunImuconv;
-using imuconv::test::ShellQuote;
-using imuconv::test::TacticalNoiseDensities;
-using imuconv::test::TempDir;
+using namespace imuconv::test;
 using nlohmann::json;
-
-/// The issues of reading `doc` (empty if it is read): no task runs in pipeline::Pipeline::FromJson.
-std::vector<Issue> ParseIssues(const json& doc) {
-  try {
-    pipeline::Pipeline::FromJson(doc, "mem/pipeline.json", IMUCONV_SOURCE_DIR);
-  } catch (const ConfigError& e) {
-    return e.issues();
-  }
-  return {};
-}
 
 /// One preintegration over 0.1 s expressed in `conventions`, and a bias update of it with
 /// first-order charts `charts`.
@@ -46,20 +31,20 @@ json PreintegrationAndBiasUpdate(const json& conventions, const json& charts) {
 }
 
 TEST(IdsListedTwice, DistinctListsAreRead) {
-  EXPECT_TRUE(ParseIssues(PreintegrationAndBiasUpdate({"gtsam_manifold", "gtsam_tangent"},
-                                                      {"preint_reference", "gtsam_manifold"}))
+  EXPECT_TRUE(ReadingIssues(PreintegrationAndBiasUpdate({"gtsam_manifold", "gtsam_tangent"},
+                                                        {"preint_reference", "gtsam_manifold"}))
                   .empty());
 }
 
 TEST(IdsListedTwice, ARepeatedConventionIsRefusedAtTheRepeat) {
-  const auto is = ParseIssues(PreintegrationAndBiasUpdate(
+  const auto is = ReadingIssues(PreintegrationAndBiasUpdate(
       {"gtsam_manifold", "gtsam_tangent", "gtsam_manifold"}, json::array()));
   EXPECT_ISSUE(is, "/tasks/0/conventions/2", "'gtsam_manifold' is listed twice");
   EXPECT_EQ(is.size(), 1u);
 }
 
 TEST(IdsListedTwice, ARepeatedFirstOrderChartIsRefusedAtTheRepeat) {
-  const auto is = ParseIssues(PreintegrationAndBiasUpdate(
+  const auto is = ReadingIssues(PreintegrationAndBiasUpdate(
       json::array(), {"preint_reference", "gtsam_manifold", "preint_reference"}));
   EXPECT_ISSUE(is, "/tasks/1/first_order_charts/2", "'preint_reference' is listed twice");
   EXPECT_EQ(is.size(), 1u);

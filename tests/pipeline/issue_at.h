@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "imuconv/pipeline/errors.h"
+#include "imuconv/pipeline/pipeline.h"
 
 namespace imuconv::test {
 
@@ -20,6 +21,17 @@ inline std::string IssueAt(const std::vector<pipeline::Issue>& issues, const std
     all += "\n  " + i.pointer + ": " + i.message;
   }
   return "(no issue at " + pointer + "; issues:" + all + ")";
+}
+
+/// The issues of reading `doc` as a pipeline file "mem/pipeline.json" whose relative paths are
+/// the repository's (empty if it is read): the checks made before any task runs.
+inline std::vector<pipeline::Issue> ReadingIssues(const nlohmann::json& doc) {
+  try {
+    pipeline::Pipeline::FromJson(doc, "mem/pipeline.json", IMUCONV_SOURCE_DIR);
+  } catch (const pipeline::ConfigError& e) {
+    return e.issues();
+  }
+  return {};
 }
 
 }  // namespace imuconv::test
