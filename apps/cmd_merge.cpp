@@ -6,19 +6,21 @@
 // layout, the FNV-1a 64 each shard records of its own content, what is refused); this file is
 // the command: the montecarlo-shard pointer, the atomic output, never one of the shards.
 //
-// Refused, each with the file named (exit 2, no output written): a file that is not a shard, a
+// Refused, each with the file named (exit 2, no output written): a FIFO, a device or a directory
+// (read as every input is: never waited on), a file that is not a shard, a
 // truncated one, shards of different splits or of another pipeline, imuconv version, plugins,
 // data (the heads before "tasks" differ) or inputs (sizes and FNV-1a hashes differ), shards
 // computed by kernel instances that round differently (/shard/kernel_instance), a shard given
 // twice, a missing one, one whose content does not match its /shard_fnv1a_64. A montecarlo
 // shard is pointed to imuconv montecarlo --merge.
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "imuconv/cli/commands.h"
+#include "imuconv/pipeline/errors.h"
+#include "imuconv/pipeline/input_start.h"
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/pipeline/shard_merge.h"
 #include "imuconv/printable.h"
@@ -34,11 +36,15 @@ struct MergeOptions {
 
 int Merge(const CommandContext& ctx, const MergeOptions& o) {
   for (const auto& file : o.shards) {
-    // A montecarlo shard has its own merge (it concludes statistics, it does not join text).
-    std::ifstream in(file, std::ios::binary);
-    std::string first(montecarlo::kShardMagic.size(), '\0');
-    if (in.read(first.data(), static_cast<std::streamsize>(first.size())) &&
-        first == montecarlo::kShardMagic)
+    // A montecarlo shard has its own merge (it concludes statistics, it does not join text). Its
+    // first bytes are read as every input is: a FIFO or a device is refused, never waited on.
+    std::string first;
+    try {
+      first = pipeline::ReadInputStart(file, montecarlo::kShardMagic.size());
+    } catch (const pipeline::ReadError& e) {
+      throw UsageError{std::string("merge: ") + e.what()};
+    }
+    if (first == montecarlo::kShardMagic)
       throw UsageError{"merge: " + Printable(file) +
                        " is a shard of imuconv montecarlo --shard K/N: join those with imuconv "
                        "montecarlo --merge"};

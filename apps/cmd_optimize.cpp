@@ -48,11 +48,7 @@ int RunOptimizeCommand(const CommandContext& ctx, const OptimizeCommandOptions& 
     std::optional<pipeline::OutputFile> out;
     if (!o.output_path.empty()) {
       out.emplace(o.output_path);
-      if (!o.report_path.empty()) {
-        report.RefuseIfSame(o.output_path, "the output (-o)");
-        if (pipeline::SameDestination(o.output_path, o.report_path))
-          throw Error("-o and --report name the same file: " + Printable(o.output_path));
-      }
+      report.RefuseIfSameOutput(*out, "-o");
     }
     for (const auto& input : inputs) {
       report.RefuseIfSame(input.second, "the " + input.first + " file");

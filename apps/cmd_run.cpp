@@ -180,7 +180,10 @@ int ExecuteRun(const CommandContext& ctx, const RunCommandOptions& o) {
   for (std::size_t i = 0; i < inputs.size(); ++i)
     file.refuse_if_same(inputs[i], inputs[i] == p.file() ? "the pipeline" : "the input file");
   // The trajectory files: examined like the output, before any work; none may be an input
-  // or another output.
+  // or another output (compared as files: OutputFile::refuse_if_same_output).
+  const std::string out_role = !o.output.empty() ? "-o"
+                               : p.output_path() ? Printable(p.file()) + "'s /output"
+                                                 : "standard output";
   std::optional<pipeline::OutputFile> tum, errors;
   for (auto [path, f, what] :
        {std::tuple{&o.tum, &tum, "--tum"}, std::tuple{&o.errors, &errors, "--errors"}}) {
@@ -188,18 +191,12 @@ int ExecuteRun(const CommandContext& ctx, const RunCommandOptions& o) {
     f->emplace(*path);
     for (const auto& in : inputs)
       (*f)->refuse_if_same(in, in == p.file() ? "the pipeline" : "the input file");
-    (*f)->refuse_if_same(out, "the output");
-    if (pipeline::SameDestination(*path, out))
-      throw UsageError{std::string(what) + " names the same file as the output"};
+    (*f)->refuse_if_same_output(what, file, out_role);
     if ((*f)->is_stdout())
       throw UsageError{std::string(what) +
                        ": give a file, not stdout (stdout carries the summary or the JSON output)"};
   }
-  if (tum && errors) {
-    errors->refuse_if_same(o.tum, "the --tum file");
-    if (pipeline::SameDestination(o.tum, o.errors))
-      throw UsageError{"--tum and --errors name the same file"};
-  }
+  if (tum && errors) errors->refuse_if_same_output("--errors", *tum, "--tum");
   std::string tum_text, errors_text;
   if (errors)
     errors_text = "k,t_end,t_end_abs_ns,position_error_m,rotation_error_deg,velocity_error_mps\n";

@@ -9,6 +9,7 @@
 #include "imuconv/pipeline/output_file.h"
 #include "imuconv/pipeline/standard_descriptors.h"
 #include "imuconv/plugin_kind.h"
+#include "standard_output.h"
 #include "usage_hint.h"
 
 int main(int argc, char** argv) {
@@ -21,6 +22,8 @@ int main(int argc, char** argv) {
     PrintError(e.what());
     return 2;
   }
+  // What is printed on standard output is checked at the end (CompleteStandardOutput below).
+  WatchStandardOutput();
   // An interrupted run (Ctrl-C, kill, a closed terminal or pipe) removes its temporary output
   // file before dying of the signal; the previous output, if any, is untouched.
   imuconv::pipeline::RemoveTemporariesOnSignal();
@@ -72,7 +75,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);  // runs the chosen subcommand's callback
   } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version (stdout)
+    if (e.get_exit_code() == 0)
+      return CompleteStandardOutput(app.exit(e));  // --help, --version (stdout)
     // A mistyped subcommand or flag: name it and the nearest known ones; otherwise the
     // parser's own message (a missing argument, a bad value).
     const std::string hint = UsageHint(app, argc, argv);
@@ -84,16 +88,18 @@ int main(int argc, char** argv) {
     }
     return kExitBadInput;
   } catch (const std::exception& e) {
-    return ReportFailure(e);
+    return CompleteStandardOutput(ReportFailure(e));
   } catch (...) {
     PrintError(
         "internal error: an unknown failure (a defect of imuconv or of a plugin; please report "
         "it)");
-    return kExitInternal;
+    return CompleteStandardOutput(kExitInternal);
   }
   if (ctx.verbose())
     std::cerr << "imuconv: " << app.get_subcommands().front()->get_name() << " took "
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
               << " s\n";
-  return ctx.exit_code;
+  // What the command printed must have reached standard output, else it failed
+  // (standard_output.h): checked here once, for every command.
+  return CompleteStandardOutput(ctx.exit_code);
 }

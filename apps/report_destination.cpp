@@ -24,6 +24,11 @@ void ReportDestination::RefuseIfLoadedObject() const {
   if (out_) out_->RefuseIfLoadedObject();
 }
 
+void ReportDestination::RefuseIfSameOutput(const pipeline::OutputFile& other,
+                                           const std::string& other_role) const {
+  if (out_) out_->RefuseIfSameOutput(other, other_role);
+}
+
 void ReportDestination::Write(const std::function<report::HtmlDocument()>& page,
                               const CommandContext& ctx, bool announce) {
   if (!out_) return;

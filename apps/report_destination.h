@@ -40,6 +40,9 @@ class ReportDestination {
   void RefuseIfSame(const std::string& input, const std::string& role) const;
   /// Throws imuconv::Error when the report would replace a shared object loaded (a plugin).
   void RefuseIfLoadedObject() const;
+  /// Throws imuconv::Error when `other`, another output of the command (given as
+  /// `other_role`, "-o"), is the report's file too, however either is spelled.
+  void RefuseIfSameOutput(const pipeline::OutputFile& other, const std::string& other_role) const;
 
   /// Builds the page (only when a report is wanted), checks the loaded objects once more (the
   /// plugins are loaded by now), writes it atomically and, unless -q, says "wrote PATH" on

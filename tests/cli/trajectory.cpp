@@ -100,17 +100,21 @@ TEST(Trajectory, RefusedBeforeAnyWork) {
                  tmp);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(Has(r.err, "the pipeline")) << r.err;
-  // The same path as the output, which does not exist yet (so no file to compare): refused by name.
+  // The same path as the output, which does not exist yet: the same name in the same directory.
   r = RunImuconv("run " + ShellQuote(keyframes) + out + " --tum " +
                      ShellQuote(tmp.file("out.json")) + " --trajectory-task pred_rk4",
                  tmp);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "--tum names the same file as the output")) << r.err;
+  EXPECT_TRUE(Has(r.err, "--tum " + tmp.file("out.json") + " and -o " + tmp.file("out.json") +
+                             " name the same file"))
+      << r.err;
   r = RunImuconv("run " + ShellQuote(keyframes) + out + tum + " --errors " +
                      ShellQuote(tmp.path() + "/./t.tum") + " --trajectory-task pred_rk4",
                  tmp);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Has(r.err, "--tum and --errors name the same file")) << r.err;
+  EXPECT_TRUE(Has(r.err, "--errors " + tmp.path() + "/./t.tum and --tum " + tmp.file("t.tum") +
+                             " name the same file"))
+      << r.err;
   // A pipeline without ground truth has no errors to write.
   const std::string basics = SourcePath("examples/inline_basics.json");
   r = RunImuconv("run " + ShellQuote(basics) + out + " --errors " + ShellQuote(tmp.file("e.csv")),

@@ -282,7 +282,8 @@ TEST(OptimizeCommand, AnOutputNamingAnInputIsRefusedAndTheInputKept) {
   Slice o;
   o.o.output_path = o.tmp.file("same.html");
   o.o.report_path = o.tmp.file("same.html");
-  ExpectRefused(o.o, "-o and --report name the same file");
+  ExpectRefused(o.o, "--report " + o.tmp.file("same.html") + " and -o " + o.tmp.file("same.html") +
+                         " name the same file");
   Slice t;
   const std::string poses_before = ReadText(t.poses);
   t.o.report_path = t.poses;

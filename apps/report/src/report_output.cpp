@@ -37,6 +37,12 @@ void ReportOutput::RefuseIfLoadedObject() const {
   Prefixed([&] { file_->refuse_if_loaded_object(); });
 }
 
+void ReportOutput::RefuseIfSameOutput(const pipeline::OutputFile& other,
+                                      const std::string& other_role) const {
+  // Not Prefixed: the message names both options itself.
+  file_->refuse_if_same_output("--report", other, other_role);
+}
+
 void ReportOutput::Write(const HtmlDocument& doc) {
   Prefixed([&] {
     file_->write(doc.Render());

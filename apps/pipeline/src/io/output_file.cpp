@@ -223,10 +223,29 @@ void OutputFile::fail(const std::string& what, int err) {
               (err != 0 ? std::string(": ") + std::strerror(err) : std::string()));
 }
 
-bool SameDestination(const std::string& a, const std::string& b) {
-  std::error_code ea, eb;
-  const auto ca = fs::weakly_canonical(a, ea), cb = fs::weakly_canonical(b, eb);
-  return !ea && !eb && ca == cb;
+void OutputFile::refuse_if_same_output(const std::string& role, const OutputFile& other,
+                                       const std::string& other_role) const {
+  // Names cannot be compared: "x" and "./x" normalise differently while neither exists (that
+  // let one output replace the other), and a link to a new name shows nothing of its target.
+  // The kernel's view can: both outputs were examined already, links followed, and a file to
+  // be replaced or created is the entry of its final name in the directory held open (dir_fd_).
+  bool same = exists_ && other.exists_ && identity_.same_file(other.identity_);
+  const std::string leaf = fs::path(target_).filename().string();
+  if (!same && mode_ == Mode::Replace && other.mode_ == Mode::Replace &&
+      leaf == fs::path(other.target_).filename().string()) {
+    struct stat a {
+    }, b{};
+    same = ::fstat(dir_fd_, &a) == 0 && ::fstat(other.dir_fd_, &b) == 0 && a.st_dev == b.st_dev &&
+           a.st_ino == b.st_ino;
+  }
+  if (!same) return;
+  // The one file, as the kernel will find it: the directory's real path and the name in it.
+  std::string file = target_;
+  if (mode_ == Mode::Replace)
+    if (const auto dir = RealPath(dir_)) file = (fs::path(*dir) / leaf).string();
+  throw Error(role + " " + Printable(path_) + " and " + other_role + " " + Printable(other.path_) +
+              " name the same file (" + Printable(file) +
+              "): one would replace the other; give each output a file of its own");
 }
 
 void OutputFile::refuse_if_same(const std::string& other, const std::string& role) const {

@@ -16,16 +16,16 @@
 // refused; the caller's output, written atomically, is then not created).
 #include "imuconv/pipeline/shard_merge.h"
 
-#include <sys/stat.h>
-
 #include <algorithm>
 #include <cstdint>
-#include <fstream>
 #include <map>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "../io/input_file.h"
+#include "imuconv/pipeline/errors.h"
 #include "imuconv/pipeline/file_digest.h"
 #include "imuconv/pipeline/input_registry.h"
 #include "imuconv/pipeline/json_parse.h"
@@ -116,13 +116,15 @@ struct ShardLayout {
 class ShardReader {
  public:
   explicit ShardReader(const std::string& file) : file_(file) {
-    struct stat st {};
-    if (stat(file.c_str(), &st) != 0) fail("cannot be read (no such file?)");
-    if (!S_ISREG(st.st_mode)) fail("is not a regular file");
-    size_ = static_cast<std::uint64_t>(st.st_size);
-    in_.open(file, std::ios::binary);
-    if (!in_) fail("cannot be opened");
-    RegisterInputPath(file, "a shard");  // no output may replace it (input_registry.h)
+    // Opened as every input is (input_file.h): a FIFO or a device is refused, never waited on,
+    // also one swapped in after a check by name.
+    try {
+      in_ = std::make_unique<data::InputFile>(file);
+    } catch (const ReadError& e) {
+      throw ShardError(e.what());
+    }
+    size_ = in_->size();
+    RegisterInputPath(file, "a shard");  // its role, for a refused output (input_registry.h)
   }
 
   [[noreturn]] void fail(const std::string& what) const {
@@ -133,12 +135,17 @@ class ShardReader {
   /// The next byte, or -1 at the end.
   int get() {
     if (pos_ == len_) {
-      if (in_.bad() || in_.eof()) return -1;
-      in_.read(buf_.data(), static_cast<std::streamsize>(buf_.size()));
-      len_ = static_cast<std::size_t>(in_.gcount());
+      if (at_end_) return -1;
+      try {
+        len_ = in_->read(buf_.data(), buf_.size());
+      } catch (const ReadError&) {
+        fail("could not be read");
+      }
       pos_ = 0;
-      if (in_.bad()) fail("could not be read");
-      if (len_ == 0) return -1;
+      if (len_ == 0) {
+        at_end_ = true;
+        return -1;
+      }
     }
     ++offset_;
     const char c = buf_[pos_++];
@@ -216,7 +223,8 @@ class ShardReader {
 
  private:
   std::string file_;
-  std::ifstream in_;
+  std::unique_ptr<data::InputFile> in_;
+  bool at_end_ = false;
   std::vector<char> buf_ = std::vector<char>(std::size_t{1} << 16);
   std::size_t pos_ = 0, len_ = 0;
   std::uint64_t offset_ = 0, size_ = 0;

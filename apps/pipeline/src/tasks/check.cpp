@@ -5,7 +5,8 @@
 // Its times are on the pipeline's time axis, as every measurements file of a pipeline. The
 // task writes what `imuconv check --json` prints (verdict, tolerances, measurements) under
 // its name and type, after "measurements_file"; an inconsistent verdict is reported to
-// RunOptions::inconsistent_checks (imuconv run then exits 3, the document written).
+// RunOptions::inconsistent_checks (imuconv run then exits 1, the document written;
+// docs/exit-codes.md).
 //
 // The evaluation itself is imuconv check's (apps/check), which links this library: it is
 // registered from above (check_evaluator.h, SetCheckEvaluator); here are only the grammar, the

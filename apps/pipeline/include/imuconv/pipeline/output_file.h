@@ -23,7 +23,8 @@
 // An output is never an input: when it is made and again at commit(), the destination (by
 // device and inode, links followed) is compared with every file this process has read
 // (imuconv/pipeline/input_registry.h) and every shared object it has loaded, and refused
-// naming the input. refuse_if_same() adds a file not read yet (checked before a run starts).
+// naming the input. refuse_if_same() adds a file not read yet (checked before a run starts),
+// refuse_if_same_output() another output of the same command.
 // A file the output opens never takes descriptors 0-2 (standard_descriptors.h). The rules in
 // one place: docs/outputs.md. Temporaries are removed by the destructor on every failure path
 // and, once RemoveTemporariesOnSignal() has been called, on SIGINT, SIGTERM, SIGHUP and
@@ -75,6 +76,14 @@ class OutputFile {
   /// The same against every shared object loaded in this process (the plugins a registry has
   /// loaded, the libraries): for a caller that does not hold the registry itself.
   void refuse_if_loaded_object() const;
+  /// Throws imuconv::Error when `other`, another output of the same command, would write this
+  /// file too: "ROLE PATH and OTHER_ROLE OTHER_PATH name the same file (FILE); ..." (roles as
+  /// the user gave them: "--tum", "-o"). Compared as the files the two will write, not as
+  /// names: an existing file by its identity (device and inode, links followed), a file not
+  /// created yet by its directory's identity and its name there, so "x", "./x", "sub/../x", an
+  /// absolute path and a link to it are one file while "x" and "sub/x" are two.
+  void refuse_if_same_output(const std::string& role, const OutputFile& other,
+                             const std::string& other_role) const;
 
   /// Appends text: into the temporary (created on the first call) or the spool.
   void write(std::string_view text);
@@ -125,12 +134,6 @@ using AtomicFile = OutputFile;
 /// Writes `text` to `path` as an OutputFile does (atomically for a regular file, through for a
 /// device or FIFO). On any failure nothing is left behind and Error is thrown.
 void WriteFileAtomically(const std::string& path, const std::string& text);
-
-/// Whether two output paths name one file: before either exists, by the normalised absolute
-/// path (symbolic links resolved as far as they exist). For a command with two outputs (run's
-/// --tum and --errors, optimize's -o and --report); an existing file is also caught by
-/// OutputFile's own identity check.
-bool SameDestination(const std::string& a, const std::string& b);
 
 /// Installs handlers for SIGINT, SIGTERM, SIGHUP and SIGPIPE (each one not ignored) that remove
 /// every live temporary of this process and then die of the same signal, by its default

@@ -28,6 +28,9 @@ class ReportOutput {
   void RefuseIfSame(const std::string& input, const std::string& role) const;
   /// Also every shared object loaded (the plugins).
   void RefuseIfLoadedObject() const;
+  /// Throws imuconv::Error when `other`, another output of the command (`other_role`: "-o"),
+  /// would write the report's file too (pipeline::OutputFile::refuse_if_same_output).
+  void RefuseIfSameOutput(const pipeline::OutputFile& other, const std::string& other_role) const;
 
   /// Writes the document and commits it. Throws imuconv::Error naming the path on failure.
   void Write(const HtmlDocument& doc);
