@@ -54,7 +54,9 @@ TEST(CliConvertNonFinite, AFarButFiniteStateStillConverts) {
           ShellQuote(StateAt(tmp, 1e100)) + " --matrix " + ShellQuote(Identity15(tmp)) + " --json",
       tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const auto& row : json::parse(r.out)["result"]["matrix"])
+  // Named: a range-for over a member of the temporary json::parse returns would read it freed.
+  const json out = json::parse(r.out);
+  for (const auto& row : out["result"]["matrix"])
     for (const auto& v : row) EXPECT_TRUE(v.is_number()) << v;
 }
 
