@@ -2,7 +2,6 @@
 
 #include <fcntl.h>
 #include <limits.h>
-#include <link.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <sys/xattr.h>
@@ -26,6 +25,7 @@
 #include "imuconv/printable.h"
 #include "imuconv/registry.h"
 #include "live_temporaries.h"
+#include "loaded_objects.h"
 
 namespace imuconv::pipeline {
 
@@ -257,37 +257,9 @@ void OutputFile::refuse_if_same(const std::string& other, const std::string& rol
                 ": refusing to overwrite it; write the output elsewhere");
 }
 
-namespace {
-/// A file the process runs from, and its role in a message.
-struct LoadedObject {
-  std::string path;
-  const char* role;
-};
-
-/// The running program and every shared object loaded (plugins, libraries, the Python module).
-std::vector<LoadedObject> LoadedObjects() {
-  // The program first: dl_iterate_phdr lists it with an empty name. /proc/self/exe names its
-  // file whatever path started it, so an output named /proc/self/exe, or the binary's own path
-  // (or the Python interpreter's, under the module), is refused instead of replacing it.
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  std::vector<LoadedObject> objects{
-      {ec ? std::string("/proc/self/exe") : exe.string(), "the running program"}};
-  ::dl_iterate_phdr(
-      [](dl_phdr_info* info, std::size_t, void* data) {
-        if (info->dlpi_name && *info->dlpi_name)
-          static_cast<std::vector<LoadedObject>*>(data)->push_back(
-              {info->dlpi_name, "the loaded plugin or library"});
-        return 0;
-      },
-      &objects);
-  return objects;
-}
-}  // namespace
-
 void OutputFile::refuse_if_loaded_object() const {
   if (!exists_) return;
-  for (const auto& o : LoadedObjects()) refuse_if_same(o.path, o.role);
+  for (const auto& o : loaded_objects::List()) refuse_if_same(o.path, o.role);
 }
 
 void OutputFile::refuse_input(const FileIdentity& file) {
@@ -295,7 +267,7 @@ void OutputFile::refuse_input(const FileIdentity& file) {
     fail("is the same file as " + in->role + " " + Printable(in->path) +
              ": refusing to overwrite it; write the output elsewhere",
          0);
-  for (const auto& o : LoadedObjects()) {
+  for (const auto& o : loaded_objects::List()) {
     struct stat st {};
     if (::stat(o.path.c_str(), &st) == 0 && st.st_dev == file.dev && st.st_ino == file.ino)
       fail("is the same file as " + std::string(o.role) + " " + Printable(o.path) +
