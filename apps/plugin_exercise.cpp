@@ -153,8 +153,7 @@ std::string ExercisePlugin(const std::string& file) {
     const Status st = reg.preintegrator(p.id)->integrate(in, out);
     if (!st.ok())
       throw Error(who + ": integrate() failed on a 10 ms test window: " + Printable(st.message()));
-    if (!std::isfinite(out.dt) || !out.delta.dR.allFinite() || !out.delta.dp.allFinite() ||
-        !out.delta.dv.allFinite() || !out.cov.allFinite() || !out.J_bias.allFinite())
+    if (!AllFinite(out))
       throw Error(who + ": integrate() returned non-finite values on a 10 ms test window");
     what += "; integrate() ran on a 10 ms test window";
   } else if (p.kind == PluginKind::Residual) {

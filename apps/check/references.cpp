@@ -1,14 +1,6 @@
 #include "references.h"
 
 namespace imuconv::check {
-namespace {
-
-bool AllFinite(const Preintegrated& m) {
-  return m.delta.dR.allFinite() && m.delta.dp.allFinite() && m.delta.dv.allFinite() &&
-         m.J_bias.allFinite() && m.cov.allFinite();
-}
-
-}  // namespace
 
 ReferenceSchemes::ReferenceSchemes(const Registry& reg) : reg_(reg) {
   for (const char* id : kPropagatorSchemes) {

@@ -5,6 +5,7 @@
 // matrices are in are members, so a measurement always says what its numbers mean.
 #pragma once
 
+#include <cmath>
 #include <string>
 
 #include "imuconv/reference_charts.h"
@@ -44,5 +45,12 @@ struct Preintegrated {
            jacobian_convention == ReferenceChart<PreintIncrement>::id;
   }
 };
+
+/// Whether every number a preintegrator writes (dt, the increment, cov and J_bias) is finite.
+inline bool AllFinite(const Preintegrated& m) {
+  return std::isfinite(m.dt) && m.delta.dR.allFinite() && m.delta.dp.allFinite() &&
+         m.delta.dv.allFinite() && m.delta.dbg.allFinite() && m.delta.dba.allFinite() &&
+         m.cov.allFinite() && m.J_bias.allFinite();
+}
 
 }  // namespace imuconv
