@@ -30,20 +30,27 @@ std::string Identity15(const TempDir& tmp) {
   return tmp.write("I.json", rows.dump());
 }
 
+/// Runs `args` as text and with --json: each form exits 2, prints nothing on stdout and says
+/// `says` on stderr.
+void ExpectRefusedInTextAndJson(const std::string& args, const std::string& says,
+                                const TempDir& tmp) {
+  for (const std::string form : {"", " --json"}) {
+    const CommandResult r = RunImuconv(args + form, tmp);
+    EXPECT_EQ(r.exit_code, 2) << form << "\n" << r.out;
+    EXPECT_EQ(r.out, "") << form;
+    EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+  }
+}
+
 TEST(CliConvertNonFinite, AnOverflowingCovarianceIsRefusedInTextAndJson) {
   TempDir tmp;
   const std::string args =
       "convert --what covariance --from left --to right_invariant_se23 --state " +
       ShellQuote(StateAt(tmp, 1e200)) + " --matrix " + ShellQuote(Identity15(tmp));
-  for (const std::string form : {"", " --json"}) {
-    const CommandResult r = RunImuconv(args + form, tmp);
-    EXPECT_EQ(r.exit_code, 2) << form << "\n" << r.out;
-    EXPECT_EQ(r.out, "") << form;
-    EXPECT_NE(r.err.find("convert: the covariance from 'left' to 'right_invariant_se23' produced a "
-                         "non-finite number (row "),
-              std::string::npos)
-        << r.err;
-  }
+  ExpectRefusedInTextAndJson(args,
+                             "convert: the covariance from 'left' to 'right_invariant_se23' "
+                             "produced a non-finite number (row ",
+                             tmp);
 }
 
 TEST(CliConvertNonFinite, AFarButFiniteStateStillConverts) {
@@ -80,15 +87,10 @@ TEST(CliConvertNonFinite, ConversionRefusesAnOverflowingJacobianToo) {
   TempDir tmp;
   const std::string args = "conversion --from right_invariant_se23 --to gtsam_navstate --state " +
                            ShellQuote(StateAt(tmp, 1.7e308));
-  for (const std::string form : {"", " --json"}) {
-    const CommandResult r = RunImuconv(args + form, tmp);
-    EXPECT_EQ(r.exit_code, 2) << form << "\n" << r.out;
-    EXPECT_EQ(r.out, "") << form;
-    EXPECT_NE(r.err.find("conversion: the jacobian from 'right_invariant_se23' to "
-                         "'gtsam_navstate' produced a non-finite number (row "),
-              std::string::npos)
-        << r.err;
-  }
+  ExpectRefusedInTextAndJson(args,
+                             "conversion: the jacobian from 'right_invariant_se23' to "
+                             "'gtsam_navstate' produced a non-finite number (row ",
+                             tmp);
 }
 
 }  // namespace convert_non_finite_test
