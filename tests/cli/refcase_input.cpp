@@ -39,27 +39,19 @@ TEST(RefcaseInput, GoodCaseRuns) {
 TEST(RefcaseInput, BadInputsNameThePointerAndWriteNothing) {
   TempDir tmp;
   const auto cov = [](json& c, int i, int j) -> json& { return c["cov_s_left"]["matrix"][i][j]; };
+  // The edit that states the start attitude as `q` (the three quaternions that are not unit).
+  const auto with_q = [](const json& q) { return [q](json& c) { c["state_s"]["q_wxyz"] = q; }; };
   struct Bad {
     std::string name;
     std::function<void(json&)> edit;
     std::string says;
   };
   const std::vector<Bad> bad = {
-      {"zero_q",
-       [](json& c) {
-         c["state_s"]["q_wxyz"] = {0, 0, 0, 0};
-       },
+      {"zero_q", with_q({0, 0, 0, 0}),
        "/state_s/q_wxyz: expected a unit quaternion [w, x, y, z] (norm within 1e-6 of 1), found "
        "one of norm 0"},
-      {"double_q",
-       [](json& c) {
-         c["state_s"]["q_wxyz"] = {2, 0, 0, 0};
-       },
-       "/state_s/q_wxyz: expected a unit quaternion"},
-      {"short_q",
-       [](json& c) {
-         c["state_s"]["q_wxyz"] = {0.7, 0.7, 0, 0};
-       },
+      {"double_q", with_q({2, 0, 0, 0}), "/state_s/q_wxyz: expected a unit quaternion"},
+      {"short_q", with_q({0.7, 0.7, 0, 0}),
        "/state_s/q_wxyz: expected a unit quaternion [w, x, y, z] (norm within 1e-6 of 1), found "
        "one of norm 0.9899494937"},
       {"indefinite_cov",
