@@ -321,6 +321,18 @@ HeatmapSpec Spec6(double fill) {
   return h;
 }
 
+/// The heatmap of `h`, whose anchored scale is stated as `scale_attributes` (the data-scale-*
+/// attributes the browser test reads), marked in the legend `tolerance_marks` times and
+/// counted in its label `beyond_label`.
+std::string AnchoredHeatmapSvg(const HeatmapSpec& h, const std::string& scale_attributes,
+                               std::size_t tolerance_marks, const std::string& beyond_label) {
+  const std::string svg = HeatmapSvg(h);
+  EXPECT_TRUE(Has(svg, scale_attributes));
+  EXPECT_EQ(Count(svg, "class=\"legend-tolerance\""), tolerance_marks);
+  EXPECT_TRUE(Has(svg, beyond_label));
+  return svg;
+}
+
 TEST(AnchoredHeatmap, AttributesToleranceMarkAndCounts) {
   HeatmapSpec h = Spec6(1e-15);
   h.values(0, 0) = 2.0;
@@ -328,12 +340,11 @@ TEST(AnchoredHeatmap, AttributesToleranceMarkAndCounts) {
   h.values(2, 2) = 0.0;
   h.values(3, 3) = 0.0;
   h.anchored = AnchoredScale::Magnitude(1e-16, 1e2, 1e-2);
-  const std::string svg = HeatmapSvg(h);
-  EXPECT_TRUE(Has(svg,
-                  "data-scale-kind=\"magnitude\" data-scale-min=\"1e-16\" data-scale-max=\"100\" "
-                  "data-tolerance=\"0.01\" data-beyond-tolerance=\"2\""));
-  EXPECT_EQ(Count(svg, "class=\"legend-tolerance\""), 1u);
-  EXPECT_TRUE(Has(svg, ">2 beyond tol 0.01</text>"));
+  const std::string svg = AnchoredHeatmapSvg(
+      h,
+      "data-scale-kind=\"magnitude\" data-scale-min=\"1e-16\" data-scale-max=\"100\" "
+      "data-tolerance=\"0.01\" data-beyond-tolerance=\"2\"",
+      1u, ">2 beyond tol 0.01</text>");
   // Zeros: the calm end's colour with a dot each, listed as exact agreement; no white cell.
   EXPECT_EQ(Count(svg, "class=\"zero-mark\""), 2u);
   EXPECT_TRUE(Has(svg, ">0 (exact) \u00d72</text>"));
@@ -354,12 +365,10 @@ TEST(AnchoredHeatmap, SignedMarksBothTolerances) {
   h.values(0, 0) = -4.0;
   h.values(1, 1) = 9.0;  // beyond the range: the top colour, the top label says so
   h.anchored = AnchoredScale::Signed(5.0, 3.0);
-  const std::string svg = HeatmapSvg(h);
-  EXPECT_TRUE(Has(svg,
-                  "data-scale-kind=\"signed\" data-scale-min=\"-5\" data-scale-max=\"5\" "
-                  "data-tolerance=\"3\""));
-  EXPECT_EQ(Count(svg, "class=\"legend-tolerance\""), 2u);
-  EXPECT_TRUE(Has(svg, ">2 beyond tol \u00b13</text>"));
+  const std::string svg = AnchoredHeatmapSvg(
+      h,
+      "data-scale-kind=\"signed\" data-scale-min=\"-5\" data-scale-max=\"5\" data-tolerance=\"3\"",
+      2u, ">2 beyond tol \u00b13</text>");
   EXPECT_TRUE(Has(svg, ">\u22655</text>"));
   EXPECT_EQ(Count(svg, "class=\"legend-special\""), 0u);  // zeros and negatives are values here
 }
