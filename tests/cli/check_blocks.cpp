@@ -11,6 +11,7 @@
 
 #include <set>
 #include <string>
+#include <vector>
 
 #include "../pipeline/pipeline_test_util.h"
 #include "gtsam_measurement.h"
@@ -74,6 +75,14 @@ class CheckBlocks : public ::testing::Test {
     for (const auto& f : m["findings"]) s += f.get<std::string>() + "\n";
     return s;
   }
+  /// The block finding `f` names a defect of kind `kind` in the block (rows, cols).
+  static void ExpectBlockFinding(const json& f, const std::string& kind,
+                                 const std::vector<std::string>& rows,
+                                 const std::vector<std::string>& cols) {
+    EXPECT_EQ(f["kind"], kind);
+    EXPECT_EQ(f["rows"], json(rows));
+    EXPECT_EQ(f["cols"], json(cols));
+  }
   static double SamplePeriod() {
     const json c = CaseJson(kBlocksCase);
     return c["imu"][1][0].get<double>() - c["imu"][0][0].get<double>();
@@ -98,9 +107,7 @@ TEST_F(CheckBlocks, OneNegatedBlockKeepsTheDeclaredChartAndNamesTheBlock) {
   ASSERT_EQ(r["block_findings"].size(), 1u) << r["block_findings"].dump(1);
   const json& f = r["block_findings"][0];
   EXPECT_EQ(f["matrix"], "J_bias");
-  EXPECT_EQ(f["rows"], json({"theta"}));
-  EXPECT_EQ(f["cols"], json({"bg"}));
-  EXPECT_EQ(f["kind"], "sign");
+  ExpectBlockFinding(f, "sign", {"theta"}, {"bg"});
   EXPECT_EQ(f["factor"], -1.0);
   EXPECT_TRUE(r["unexplained_blocks"].empty());
   EXPECT_TRUE(Has(Findings(r), "J_bias block (rows theta, cols bg) has the opposite sign"))
@@ -117,9 +124,7 @@ TEST_F(CheckBlocks, JacobianBlockScaledByOneOverDtIsNamed) {
   ASSERT_EQ(r["block_findings"].size(), 1u) << r["block_findings"].dump(1) << Findings(r);
   const json& f = r["block_findings"][0];
   EXPECT_EQ(f["matrix"], "J_bias");
-  EXPECT_EQ(f["rows"], json({"p"}));
-  EXPECT_EQ(f["cols"], json({"ba"}));
-  EXPECT_EQ(f["kind"], "scale");
+  ExpectBlockFinding(f, "scale", {"p"}, {"ba"});
   EXPECT_NEAR(f["factor"].get<double>() * dt, 1.0, 1e-9);
   EXPECT_TRUE(Has(Findings(r), "J_bias block (rows p, cols ba) is scaled by 1/dt")) << Findings(r);
 }
@@ -134,9 +139,7 @@ TEST_F(CheckBlocks, SwappedJacobianBlocksAreNamed) {
   EXPECT_EQ(r["best"]["J_bias_columns"], json({"ba", "bg"})) << Findings(r);
   ASSERT_EQ(r["block_findings"].size(), 1u) << r["block_findings"].dump(1) << Findings(r);
   const json& f = r["block_findings"][0];
-  EXPECT_EQ(f["kind"], "swap");
-  EXPECT_EQ(f["rows"], json({"p", "p"}));
-  EXPECT_EQ(f["cols"], json({"ba", "bg"}));
+  ExpectBlockFinding(f, "swap", {"p", "p"}, {"ba", "bg"});
   EXPECT_EQ(f["factor"], 1.0);
 }
 
@@ -150,9 +153,7 @@ TEST_F(CheckBlocks, TransposedJacobianBlockIsNamed) {
   const json r = RunWithJacobian(m, J, "transposed-jacobian-block");
   ASSERT_EQ(r["block_findings"].size(), 1u) << r["block_findings"].dump(1) << Findings(r);
   const json& f = r["block_findings"][0];
-  EXPECT_EQ(f["kind"], "transpose");
-  EXPECT_EQ(f["rows"], json({"v"}));
-  EXPECT_EQ(f["cols"], json({"bg"}));
+  ExpectBlockFinding(f, "transpose", {"v"}, {"bg"});
 }
 
 // The gyro bias's cross terms never formed (ORB-SLAM3 forms none): each block of them whose
@@ -229,14 +230,10 @@ TEST_F(CheckBlocks, ScaledCovarianceBlocksAreNamedWithTheirFactors) {
   EXPECT_TRUE(r["unexplained_blocks"].empty()) << r["unexplained_blocks"].dump(1);
   ASSERT_EQ(r["block_findings"].size(), 2u) << r["block_findings"].dump(1);
   const json& p = r["block_findings"][0];
-  EXPECT_EQ(p["kind"], "scale");
-  EXPECT_EQ(p["rows"], json({"p"}));
-  EXPECT_EQ(p["cols"], json({"p"}));
+  ExpectBlockFinding(p, "scale", {"p"}, {"p"});
   EXPECT_NEAR(p["factor"].get<double>(), 2.0, 2.0 * 1e-9);
   const json& ba = r["block_findings"][1];
-  EXPECT_EQ(ba["kind"], "scale");
-  EXPECT_EQ(ba["rows"], json({"ba"}));
-  EXPECT_EQ(ba["cols"], json({"ba"}));
+  ExpectBlockFinding(ba, "scale", {"ba"}, {"ba"});
   EXPECT_NEAR(ba["factor"].get<double>() * dt, 1.0, 1e-9);
   EXPECT_TRUE(Has(Findings(r), "cov block (rows p, cols p) is scaled by 2 ")) << Findings(r);
   EXPECT_TRUE(Has(Findings(r), "cov block (rows ba, cols ba) is scaled by 1/dt")) << Findings(r);
