@@ -4,7 +4,6 @@
 # before its fix (the commit that added it says how).
 import json
 import os
-import pathlib
 import signal
 import threading
 import warnings
@@ -13,10 +12,9 @@ import numpy as np
 import pytest
 
 import imuconv
-from conftest import DATA, start_state
+from conftest import DATA, EUROC_NOISE, euroc_slice, start_state
 
 CASE = DATA / "reference" / "cases" / "smooth-0.json"
-EXAMPLES = pathlib.Path(__file__).resolve().parents[2] / "examples" / "data"
 
 
 @pytest.fixture(scope="module")
@@ -95,27 +93,6 @@ def test_check_and_optimize_refuse_noise_that_overflows(reg, case, meas):
 
 # ---- P5: samples that look mistaken warn in every call that takes samples, as the CLI warns
 # wherever it reads an IMU file
-
-EUROC_NOISE = {"gyro_noise_density": 1.6968e-04, "accel_noise_density": 2.0e-3,
-               "gyro_random_walk": 1.9393e-05, "accel_random_walk": 3.0e-3}  # EuRoC's datasheet
-
-
-def euroc_slice():
-    def rows(path):
-        stamps, values = [], []
-        for line in open(path):
-            if line.startswith("#") or not line.strip():
-                continue
-            fields = line.strip().split(",")
-            stamps.append(int(fields[0]))
-            values.append([float(v) for v in fields[1:]])
-        return np.array(stamps, dtype=np.int64), np.array(values)
-    t_imu, imu = rows(EXAMPLES / "V1_01_easy_imu0_slice.csv")
-    t_gt, gt = rows(EXAMPLES / "V1_01_easy_groundtruth_vicon2gt_slice.csv")
-    origin = t_imu[0]
-    return (np.column_stack([(t_imu - origin) * 1e-9, imu]),
-            np.column_stack([(t_gt - origin) * 1e-9, gt]))
-
 
 def swapped_warnings(call):
     with warnings.catch_warnings(record=True) as caught:

@@ -1,50 +1,22 @@
 # imuconv.optimize on arrays against `imuconv optimize --json` on the same EuRoC slice files: the
 # module and the command are one computation, so their keyframes agree but for the rounding of the
-# times (the files' integer nanoseconds, made relative here in int64 and then divided).
+# times (the files' integer nanoseconds, made relative in int64 and then divided: conftest.euroc_slice).
 import json
 import os
-import pathlib
 import subprocess
 
 import numpy as np
 import pytest
 
 import imuconv
-
-EXAMPLES = pathlib.Path(__file__).resolve().parents[2] / "examples" / "data"
-IMU = EXAMPLES / "V1_01_easy_imu0_slice.csv"
-GT = EXAMPLES / "V1_01_easy_groundtruth_vicon2gt_slice.csv"
-NOISE = {"gyro_noise_density": 1.6968e-04, "accel_noise_density": 2.0e-3,
-         "gyro_random_walk": 1.9393e-05, "accel_random_walk": 3.0e-3}  # EuRoC's datasheet
+from conftest import EUROC_GT, EUROC_IMU, EUROC_NOISE, euroc_slice
 
 pytestmark = pytest.mark.skipif(not hasattr(imuconv, "optimize"), reason="built without Ceres")
 
 
-def euroc_rows(path):
-    """Integer nanosecond stamps (exact) and the other fields of a EuRoC CSV."""
-    stamps, rows = [], []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#") or not line.strip():
-                continue
-            fields = line.strip().split(",")
-            stamps.append(int(fields[0]))
-            rows.append([float(x) for x in fields[1:]])
-    return np.array(stamps, dtype=np.int64), np.array(rows)
-
-
-def slice_arrays():
-    t_imu, imu = euroc_rows(IMU)
-    t_gt, gt = euroc_rows(GT)
-    origin = t_imu[0]  # the command's origin: the IMU file's first sample
-    samples = np.column_stack([(t_imu - origin) * 1e-9, imu])
-    poses = np.column_stack([(t_gt - origin) * 1e-9, gt])
-    return samples, poses
-
-
 def test_optimize_matches_the_command(reg, tmp_path):
-    samples, poses = slice_arrays()
-    out = imuconv.optimize(reg, samples, poses, noise=NOISE, keyframe_step=2.0)
+    samples, poses = euroc_slice()
+    out = imuconv.optimize(reg, samples, poses, noise=EUROC_NOISE, keyframe_step=2.0)
     assert out["converged"]
     k = out["t"].shape[0]
     assert k >= 2
@@ -54,12 +26,12 @@ def test_optimize_matches_the_command(reg, tmp_path):
     assert len(out["blocks"]) == 5
 
     noise_file = tmp_path / "noise.json"
-    noise_file.write_text(json.dumps({"noise": NOISE}))
+    noise_file.write_text(json.dumps({"noise": EUROC_NOISE}))
     binary = os.environ.get("IMUCONV_BINARY")
     if not binary:
         pytest.skip("IMUCONV_BINARY not set (ctest sets it)")
     cli = json.loads(subprocess.run(
-        [binary, "optimize", "--imu", str(IMU), "--poses", str(GT), "--noise", str(noise_file),
+        [binary, "optimize", "--imu", str(EUROC_IMU), "--poses", str(EUROC_GT), "--noise", str(noise_file),
          "--keyframe-step", "2.0", "--json"], check=True, capture_output=True, text=True).stdout)
     kfs = cli["keyframes"]
     assert len(kfs) == k
@@ -77,12 +49,12 @@ def test_optimize_matches_the_command(reg, tmp_path):
 
 
 def test_optimize_refuses_bad_poses(reg):
-    samples, poses = slice_arrays()
+    samples, poses = euroc_slice()
     with pytest.raises(ValueError, match="poses: expected shape"):
-        imuconv.optimize(reg, samples, poses[:, :5], noise=NOISE, keyframe_step=2.0)
+        imuconv.optimize(reg, samples, poses[:, :5], noise=EUROC_NOISE, keyframe_step=2.0)
     bad = poses.copy()
     bad[3, 0] = bad[2, 0]
     with pytest.raises(ValueError, match="row 3"):
-        imuconv.optimize(reg, samples, bad, noise=NOISE, keyframe_step=2.0)
+        imuconv.optimize(reg, samples, bad, noise=EUROC_NOISE, keyframe_step=2.0)
     with pytest.raises(imuconv.Error, match="keyframe-step"):
-        imuconv.optimize(reg, samples, poses, noise=NOISE, keyframe_step=1000.0)
+        imuconv.optimize(reg, samples, poses, noise=EUROC_NOISE, keyframe_step=1000.0)
