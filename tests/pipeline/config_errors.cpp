@@ -15,16 +15,11 @@ using namespace imuconv::pipeline;
 using imuconv::test::TempDir;
 using nlohmann::json;
 
-const char* kConfigFile = "mem/pipeline.json";
-
 /// A valid pipeline: 0.1 s of inline samples at 100 Hz and one task of each kind.
 json Base() {
   const json state = test::UnitSpeedStartState();
   return test::TenthSecondAt100HzRunning({test::Rk4PropagationOverTenthSecond("prop", state),
-                                          {{"type", "preintegrate"},
-                                           {"name", "pre"},
-                                           {"method", {{"propagator", "rk4"}}},
-                                           {"keyframes", {0.0, 0.05, 0.1}}},
+                                          test::Rk4PreintegrationAt("pre", {0.0, 0.05, 0.1}),
                                           {{"type", "propagate_by_preintegration"},
                                            {"name", "pbp"},
                                            {"measurements", "pre"},
@@ -50,13 +45,13 @@ json Base() {
 /// The issues of loading and running `doc` (empty if it runs).
 std::vector<Issue> Issues(const json& doc) {
   try {
-    const Pipeline p = Pipeline::FromJson(doc, kConfigFile, IMUCONV_SOURCE_DIR);
+    const Pipeline p = Pipeline::FromJson(doc, test::kMemPipelineFile, IMUCONV_SOURCE_DIR);
     pipeline::Run(p, imuconv::test::Plugins(), RunOptions{});
   } catch (const ConfigError& e) {
-    EXPECT_EQ(e.file(), kConfigFile);
+    EXPECT_EQ(e.file(), test::kMemPipelineFile);
     // what() is one "FILE: POINTER: MESSAGE" line per issue.
     const std::string w = e.what();
-    EXPECT_EQ(w.rfind(std::string(kConfigFile) + ": ", 0), 0u) << w;
+    EXPECT_EQ(w.rfind(std::string(test::kMemPipelineFile) + ": ", 0), 0u) << w;
     return e.issues();
   }
   return {};
@@ -114,7 +109,7 @@ TEST(PipelineConfig, NoiseIsRequiredOnlyByTasksThatIntegrateSamples) {
                          {"to", "gtsam_navstate"},
                          {"state", Base()["tasks"][0]["start"]["state"]}}}}};
   EXPECT_TRUE(Issues(conversions).empty());
-  const Pipeline p = Pipeline::FromJson(conversions, kConfigFile, IMUCONV_SOURCE_DIR);
+  const Pipeline p = Pipeline::FromJson(conversions, test::kMemPipelineFile, IMUCONV_SOURCE_DIR);
   const json out = pipeline::Run(p, imuconv::test::Plugins(), RunOptions{});
   EXPECT_FALSE(out.contains("noise"));
   ASSERT_EQ(out["tasks"].size(), 1u);
@@ -236,7 +231,7 @@ TEST(PipelineConfig, DataSourceErrorsNameTheirFiles) {
   TempDir tmp;
   json d = Base();
   d["imu"] = {{"format", "euroc"}, {"path", "nowhere/imu.csv"}};
-  const Pipeline p = Pipeline::FromJson(d, kConfigFile, tmp.path());
+  const Pipeline p = Pipeline::FromJson(d, test::kMemPipelineFile, tmp.path());
   const std::string msg = imuconv::test::MessageOf<ReadError>(
       [&] { pipeline::Run(p, imuconv::test::Plugins(), RunOptions{}); });
   EXPECT_EQ(msg, tmp.file("nowhere/imu.csv") + ": cannot open the file for reading");
@@ -272,7 +267,7 @@ TEST(PipelineConfig, MeasurementFileErrorsPointIntoThatFile) {
   const std::string f = tmp.write("m.json", m.dump());
   json d = Base();
   d["tasks"][2]["measurements"] = {{"file", "m.json"}};
-  const Pipeline p = Pipeline::FromJson(d, kConfigFile, tmp.path());
+  const Pipeline p = Pipeline::FromJson(d, test::kMemPipelineFile, tmp.path());
   try {
     pipeline::Run(p, imuconv::test::Plugins(), RunOptions{});
     FAIL();
@@ -289,23 +284,23 @@ TEST(PipelineConfig, MeasurementFileErrorsPointIntoThatFile) {
 TEST(PipelineConfig, RuntimeFailuresNameTheTask) {
   json d = Base();
   d["tasks"][5]["source"]["index"] = 3;  // prop has one result
-  const Pipeline p = Pipeline::FromJson(d, kConfigFile, IMUCONV_SOURCE_DIR);
+  const Pipeline p = Pipeline::FromJson(d, test::kMemPipelineFile, IMUCONV_SOURCE_DIR);
   const std::string msg = imuconv::test::MessageOf<Error>(
       [&] { pipeline::Run(p, imuconv::test::Plugins(), RunOptions{}); });
   EXPECT_EQ(msg,
-            std::string(kConfigFile) +
+            std::string(test::kMemPipelineFile) +
                 ": /tasks/5/source/index: task 'prop' has 1 result(s); index 3 is out of range");
   // A start covariance of 1e308 overflows in propagation: the task fails instead of writing null.
   json big = Base();
   json sigma = json::array();
   for (int i = 0; i < 15; ++i) sigma.push_back(1e154);
   big["tasks"][0]["start"]["cov"] = {{"sigma", sigma}};
-  const Pipeline q = Pipeline::FromJson(big, kConfigFile, IMUCONV_SOURCE_DIR);
+  const Pipeline q = Pipeline::FromJson(big, test::kMemPipelineFile, IMUCONV_SOURCE_DIR);
   const std::string m2 = imuconv::test::MessageOf<Error>(
       [&] { pipeline::Run(q, imuconv::test::Plugins(), RunOptions{}); });
   EXPECT_NE(
       m2.find(
-          std::string(kConfigFile) +
+          std::string(test::kMemPipelineFile) +
           ": /tasks/0 (task 'prop'): produced a non-finite number (output /tasks/0/cov/matrix/"),
       std::string::npos)
       << m2;

@@ -27,7 +27,7 @@ const std::string kEscaped = "a\\x1b[31mb\\nc\\x07";
 std::vector<Issue> Issues(const json& doc) {
   try {
     const pipeline::Pipeline p =
-        pipeline::Pipeline::FromJson(doc, "mem/pipeline.json", IMUCONV_SOURCE_DIR);
+        pipeline::Pipeline::FromJson(doc, kMemPipelineFile, IMUCONV_SOURCE_DIR);
     pipeline::Run(p, Plugins(), RunOptions{});
   } catch (const ConfigError& e) {
     // what() joins the issues: no control character (but the newlines between issues).

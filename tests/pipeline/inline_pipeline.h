@@ -57,6 +57,16 @@ inline nlohmann::json Rk4PropagationOverTenthSecond(const std::string& name,
           {"interval", {{"t_start", 0.0}, {"t_end", 0.1}}}};
 }
 
+/// A `preintegrate` task named `name`: measurements by rk4 propagation between the `keyframes`
+/// (a list of times, or {start, end, step}).
+inline nlohmann::json Rk4PreintegrationAt(const std::string& name,
+                                          const nlohmann::json& keyframes) {
+  return {{"type", "preintegrate"},
+          {"name", name},
+          {"method", {{"propagator", "rk4"}}},
+          {"keyframes", keyframes}};
+}
+
 /// A pipeline of 0.1 s of inline samples at 200 Hz and one `manifold` preintegration over it
 /// (keyframes 0 and 0.1 s), whose covariance depends on every density of `noise`.
 inline nlohmann::json OnePreintegrationWithNoise(const nlohmann::json& noise) {

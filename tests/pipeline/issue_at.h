@@ -23,11 +23,14 @@ inline std::string IssueAt(const std::vector<pipeline::Issue>& issues, const std
   return "(no issue at " + pointer + "; issues:" + all + ")";
 }
 
-/// The issues of reading `doc` as a pipeline file "mem/pipeline.json" whose relative paths are
+/// The file name the pipeline tests read a document from memory as: the file its messages name.
+inline constexpr const char* kMemPipelineFile = "mem/pipeline.json";
+
+/// The issues of reading `doc` as the pipeline file kMemPipelineFile whose relative paths are
 /// the repository's (empty if it is read): the checks made before any task runs.
 inline std::vector<pipeline::Issue> ReadingIssues(const nlohmann::json& doc) {
   try {
-    pipeline::Pipeline::FromJson(doc, "mem/pipeline.json", IMUCONV_SOURCE_DIR);
+    pipeline::Pipeline::FromJson(doc, kMemPipelineFile, IMUCONV_SOURCE_DIR);
   } catch (const pipeline::ConfigError& e) {
     return e.issues();
   }

@@ -126,10 +126,7 @@ TEST(Covariances, EveryFormAndEveryPlaceIsChecked) {
   asym[0][1] = 0.5;  // (1, 0) stays 0
   json tasks = {
       Propagate({{"diagonal", neg}}),
-      {{"type", "preintegrate"},
-       {"name", "pre"},
-       {"method", {{"propagator", "rk4"}}},
-       {"keyframes", {0.0, 0.5, 1.0}}},
+      test::Rk4PreintegrationAt("pre", {0.0, 0.5, 1.0}),
       {{"type", "propagate_by_preintegration"},
        {"name", "pbp"},
        {"measurements", "pre"},
@@ -339,10 +336,7 @@ TEST(Measurements, RelativeAndAbsoluteTimesMustAgree) {
 // ---- keyframes {start, end, step} -----------------------------------------------------------
 
 json Keyframes(double start, double end, double step) {
-  return {{"type", "preintegrate"},
-          {"name", "kf"},
-          {"method", {{"propagator", "rk4"}}},
-          {"keyframes", {{"start", start}, {"end", end}, {"step", step}}}};
+  return test::Rk4PreintegrationAt("kf", {{"start", start}, {"end", end}, {"step", step}});
 }
 
 std::vector<std::pair<double, double>> Spans(const json& out) {
