@@ -53,6 +53,16 @@ std::string GtRows(std::size_t n, std::int64_t t0, std::int64_t period,
   return s;
 }
 
+/// The message ReadCsvImu refuses `path` with under `fmt` ("" if it reads it).
+std::string CsvImuError(const std::string& path, const CsvFormat& fmt) {
+  return MessageOf<ReadError>([&] { ReadCsvImu(path, fmt); });
+}
+
+/// The message ReadEurocImu refuses `path` with under `options` ("" if it reads it).
+std::string EurocImuError(const std::string& path, const ReadOptions& options = {}) {
+  return MessageOf<ReadError>([&] { ReadEurocImu(path, std::nullopt, options); });
+}
+
 // ---- 1. column indices past the width of the header or of the rows -----------------------
 TEST(ColumnMap, IndexPastTheHeaderIsAnErrorNotAReadPastTheEnd) {
   // Before the fix the width check ran only when no header had fixed the field count, so
@@ -63,18 +73,18 @@ TEST(ColumnMap, IndexPastTheHeaderIsAnErrorNotAReadPastTheEnd) {
   CsvFormat fmt;
   fmt.header_rows = 1;
   fmt.columns = {0, 1, 2, 3, 4, 5, 9};
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(f, fmt); }),
+  EXPECT_EQ(CsvImuError(f, fmt),
             f + ":1: the column map uses index 9 (for 'az') but the header has 7 columns");
   // The widest column is named whichever it is, and a header below a comment-free second row.
   fmt.columns = {0, 1, 2, 3, 100000, 5, 6};
   fmt.header_rows = 2;
   const std::string g = tmp.write("imu2.csv", "t,gx,gy,gz,ax,ay,az\nunits\n0,0,0,0,0,0,9.8\n");
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(g, fmt); }),
+  EXPECT_EQ(CsvImuError(g, fmt),
             g + ":1: the column map uses index 100000 (for 'ax') but the header has 7 columns");
   // Names and indices mixed: the index is still checked against the header.
   fmt.header_rows = 1;
   fmt.columns = {std::string("t"), 1, 2, 3, 4, 5, 7};
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(f, fmt); }),
+  EXPECT_EQ(CsvImuError(f, fmt),
             f + ":1: the column map uses index 7 (for 'az') but the header has 7 columns");
 }
 
@@ -84,14 +94,13 @@ TEST(ColumnMap, IndexPastTheFirstRowWithoutHeader) {
   CsvFormat fmt;
   fmt.delimiter = ';';
   fmt.columns = {0, 1, 2, 3, 4, 5, 9};
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(f, fmt); }),
+  EXPECT_EQ(CsvImuError(f, fmt),
             f + ":1: expected at least 10 fields separated by ';' (the column map uses index 9 for "
                 "'az'), found 7");
   // A later row narrower than the first: refused before any field of it is read.
   const std::string g = tmp.write("imu2.csv", "0 0 0 0 0 0 9.8 1 2 3\n0.005 0 0\n");
   fmt.whitespace_delimited = true;
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(g, fmt); }),
-            g + ":2: expected 10 fields separated by whitespace, found 3");
+  EXPECT_EQ(CsvImuError(g, fmt), g + ":2: expected 10 fields separated by whitespace, found 3");
 }
 
 TEST(ColumnMap, BlankHeaderWithNamedColumns) {
@@ -101,7 +110,7 @@ TEST(ColumnMap, BlankHeaderWithNamedColumns) {
   fmt.whitespace_delimited = true;
   fmt.header_rows = 1;
   fmt.columns = {std::string("t"), 1, 2, 3, 4, 5, 6};
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(f, fmt); }),
+  EXPECT_EQ(CsvImuError(f, fmt),
             f + ":1: no column named 't' (for 't') in the header; columns: none (the header row is "
                 "blank)");
 }
@@ -112,7 +121,7 @@ TEST(ImuTiming, GapIsAnErrorAtTheLineAfterIt) {
   // 200 Hz, and 0.5 s missing before row 100 (line 102).
   const std::string f =
       tmp.write("imu.csv", kShortEurocHeader + EurocRows(300, 1000000000, 5000000, 100, 495000000));
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(f); }),
+  EXPECT_EQ(EurocImuError(f),
             f + ":102: gap of 0.5 s before this sample (the median period is 0.005 s; limit 10 x "
                 "median = 0.05 s); "
                 "set \"allow_gaps\": true in the IMU source to integrate across it");
@@ -124,10 +133,7 @@ TEST(ImuTiming, GapIsAnErrorAtTheLineAfterIt) {
   factor.timing.max_gap_factor = 101;
   EXPECT_EQ(ReadEurocImu(f, std::nullopt, factor).samples.size(), 300u);
   factor.timing.max_gap_factor = 99;
-  EXPECT_NE(MessageOf<ReadError>([&] {
-              ReadEurocImu(f, std::nullopt, factor);
-            }).find(f + ":102: gap of 0.5 s"),
-            std::string::npos);
+  EXPECT_NE(EurocImuError(f, factor).find(f + ":102: gap of 0.5 s"), std::string::npos);
 }
 
 TEST(ImuTiming, GapInGenericCsv) {
@@ -138,7 +144,7 @@ TEST(ImuTiming, GapInGenericCsv) {
   const std::string f = tmp.write("imu.csv", body);
   CsvFormat fmt;
   fmt.header_rows = 1;
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(f, fmt); }),
+  EXPECT_EQ(CsvImuError(f, fmt),
             f + ":52: gap of 3600.01 s before this sample (the median period is 0.01 s; limit 10 x "
                 "median = 0.1 s); "
                 "set \"allow_gaps\": true in the IMU source to integrate across it");
@@ -151,7 +157,7 @@ TEST(ImuTiming, NanosecondStampsDeclaredAsSecondsNameTheUnit) {
     body += std::to_string(1403715273262142976LL + 5000000LL * i) + ",0,0,0,0,0,9.8\n";
   const std::string f = tmp.write("imu.csv", body);
   CsvFormat fmt;  // time_unit s
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(f, fmt); }),
+  EXPECT_EQ(CsvImuError(f, fmt),
             f + ": the median period is 5e+06 s (rate 2e-07 Hz); the timestamps look like "
                 "nanoseconds: set time_unit to "
                 "\"ns\" (an IMU rate is expected between 1 Hz and 100 kHz)");
@@ -162,17 +168,15 @@ TEST(ImuTiming, NanosecondStampsDeclaredAsSecondsNameTheUnit) {
   for (int i = 0; i < 20; ++i) ms += std::to_string(1000000 + 5 * i) + ",0,0,0,0,0,9.8\n";
   const std::string g = tmp.write("ms.csv", ms);
   fmt.time_unit = TimeUnit::s;
-  EXPECT_NE(MessageOf<ReadError>([&] { ReadCsvImu(g, fmt); })
-                .find(g + ": the median period is 5 s (rate 0.2 Hz); the timestamps look like "
-                          "milliseconds: set time_unit to \"ms\""),
+  EXPECT_NE(CsvImuError(g, fmt).find(
+                g + ": the median period is 5 s (rate 0.2 Hz); the timestamps look like "
+                    "milliseconds: set time_unit to \"ms\""),
             std::string::npos);
   // Seconds declared as microseconds: 5e-9 s periods (200 MHz).
   fmt.time_unit = TimeUnit::us;
   const std::string h =
       tmp.write("s.csv", "0.000,0,0,0,0,0,9.8\n0.005,0,0,0,0,0,9.8\n0.010,0,0,0,0,0,9.8\n");
-  EXPECT_NE(MessageOf<ReadError>([&] {
-              ReadCsvImu(h, fmt);
-            }).find("the timestamps look like seconds: set time_unit to \"s\""),
+  EXPECT_NE(CsvImuError(h, fmt).find("the timestamps look like seconds: set time_unit to \"s\""),
             std::string::npos);
 }
 
@@ -180,7 +184,7 @@ TEST(ImuTiming, EurocFileInMicroseconds) {
   TempDir tmp;
   const std::string f =
       tmp.write("imu.csv", kShortEurocHeader + EurocRows(20, 1403715273262142, 5000));
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(f); }),
+  EXPECT_EQ(EurocImuError(f),
             f + ": the median period is 5e-06 s (rate 200000 Hz); the timestamps look like "
                 "microseconds, but the EuRoC "
                 "format reads nanoseconds: convert them, or read the file with \"format\": \"csv\" "
@@ -297,14 +301,12 @@ TEST(KeepRange, EveryLineIsStillValidated) {
   const std::string f = tmp.write("imu.csv", body);
   ReadOptions o;
   o.keep = std::make_pair(2.0, 3.0);
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(f, std::nullopt, o); }),
+  EXPECT_EQ(EurocImuError(f, o),
             f + ":2002: column 3 (w_z): expected a finite number, found 'nan'");
   const std::string g =
       tmp.write("back.csv", kShortEurocHeader + EurocRows(2000, 1000000000, 5000000) +
                                 "1000000000,0,0,0,0,0,9.81\n");
-  EXPECT_NE(MessageOf<ReadError>([&] {
-              ReadEurocImu(g, std::nullopt, o);
-            }).find(g + ":2002: timestamp 1000000000 is not after"),
+  EXPECT_NE(EurocImuError(g, o).find(g + ":2002: timestamp 1000000000 is not after"),
             std::string::npos);
 }
 
@@ -317,17 +319,14 @@ TEST(KeepRange, TimingIsJudgedOnTheKeptRange) {
   o.keep = std::make_pair(1.0, 2.0);
   EXPECT_EQ(ReadEurocImu(f, std::nullopt, o).samples.size(), 203u);
   o.keep = std::make_pair(5.5, 6.5);
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(f, std::nullopt, o); }),
+  EXPECT_EQ(EurocImuError(f, o),
             f + ":1002: gap of 1.005 s before this sample (the median period is 0.005 s; limit 10 "
                 "x median = 0.05 s); "
                 "set \"allow_gaps\": true in the IMU source to integrate across it");
   // A range inside the gap keeps the two samples around it; the median comes from the
   // neighbouring samples, so the gap is still seen.
   o.keep = std::make_pair(5.2, 5.3);
-  EXPECT_NE(MessageOf<ReadError>([&] {
-              ReadEurocImu(f, std::nullopt, o);
-            }).find(f + ":1002: gap of 1.005 s"),
-            std::string::npos);
+  EXPECT_NE(EurocImuError(f, o).find(f + ":1002: gap of 1.005 s"), std::string::npos);
 }
 
 // ---- 4./5. regular files only: a FIFO must not block, a device is refused ---------------------
@@ -369,11 +368,8 @@ TEST(RegularFilesOnly, FifoIsRefusedWithoutBlocking) {
   const std::string fifo = tmp.file("input.fifo");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   const std::string expect = fifo + ": is a FIFO, not a regular file";
-  EXPECT_EQ(MessageInChild([&] { return MessageOf<ReadError>([&] { ReadEurocImu(fifo); }); }),
-            expect);
-  EXPECT_EQ(
-      MessageInChild([&] { return MessageOf<ReadError>([&] { ReadCsvImu(fifo, CsvFormat{}); }); }),
-      expect);
+  EXPECT_EQ(MessageInChild([&] { return EurocImuError(fifo); }), expect);
+  EXPECT_EQ(MessageInChild([&] { return CsvImuError(fifo, CsvFormat{}); }), expect);
   EXPECT_EQ(MessageInChild([&] {
               return MessageOf<ReadError>([&] { ReadEurocGroundTruth(fifo, TimeOrigin{}); });
             }),
@@ -390,8 +386,7 @@ TEST(RegularFilesOnly, FifoIsRefusedWithoutBlocking) {
 }
 
 TEST(RegularFilesOnly, DevicesAndDirectories) {
-  EXPECT_EQ(MessageOf<ReadError>([] { ReadEurocImu("/dev/null"); }),
-            "/dev/null: is a character device, not a regular file");
+  EXPECT_EQ(EurocImuError("/dev/null"), "/dev/null: is a character device, not a regular file");
   EXPECT_EQ(MessageOf<ReadError>([] { (void)ParseJsonFile("/dev/zero"); }),
             "/dev/zero: is a character device, not a regular file");
   TempDir tmp;
@@ -574,21 +569,19 @@ TEST(ErrorCap, TwoHundredThousandUnknownKeysGiveAShortMessage) {
 TEST(Escaping, FileNamesKeysAndFieldsInMessages) {
   TempDir tmp;
   const std::string f = tmp.file("a\nok b.csv");
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(f); }),
-            tmp.path() + "/a\\nok b.csv: cannot open the file for reading");
+  EXPECT_EQ(EurocImuError(f), tmp.path() + "/a\\nok b.csv: cannot open the file for reading");
   // A header name with an escape sequence, and a field with a control byte.
   const std::string g = tmp.write("h.csv", "t,g\x1b[2Jx,gy,gz,ax,ay,az\n0,0,0,0,0,0,9.8\n");
   CsvFormat fmt;
   fmt.header_rows = 1;
   fmt.columns = {std::string("t"), std::string("gx"), 2, 3, 4, 5, 6};
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadCsvImu(g, fmt); }),
+  EXPECT_EQ(CsvImuError(g, fmt),
             g + ":1: no column named 'gx' (for 'wx') in the header; columns: 't', 'g\\x1b[2Jx', "
                 "'gy', 'gz', 'ax', 'ay', 'az'");
   const std::string h = tmp.write("f.csv", kShortEurocHeader +
                                                "1000,0,0,\x07"
                                                "1,0,0,9.81\n");
-  EXPECT_EQ(MessageOf<ReadError>([&] { ReadEurocImu(h); }),
-            h + ":2: column 3 (w_z): expected a finite number, found '\\x071'");
+  EXPECT_EQ(EurocImuError(h), h + ":2: column 3 (w_z): expected a finite number, found '\\x071'");
   // A JSON key with a newline, in the pointer and in the message.
   const std::string j = tmp.write("k.json", "{\"a\\nb\": 1, \"a\\nb\": 2}");
   EXPECT_EQ(MessageOf<ConfigError>([&] { (void)ParseJsonFile(j); }),
