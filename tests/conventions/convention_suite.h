@@ -1,9 +1,11 @@
 // The generic test suite every perturbation convention runs, manif-style: one macro defines
 // the suite for a kind of convention (states or increments), one line in each convention's
-// own test file instantiates it:
+// own test file instantiates it, with the facts the convention documents:
 //   IMUCONV_DECLARE_CONVENTION_SUITE(StateConventionSuite);           (below)
 //   IMUCONV_DEFINE_CONVENTION_SUITE(StateConventionSuite, StateKind)   (state/all.cpp)
-//   IMUCONV_CONVENTION_SUITE(StateConventionSuite, gtsam_navstate);    (state/gtsam_navstate.cpp)
+//   IMUCONV_STATE_CONVENTION(gtsam_navstate, "theta p v ba bg");       (state/gtsam_navstate.cpp)
+// the last being IMUCONV_CONVENTION_SUITE(StateConventionSuite, gtsam_navstate) and the block
+// order it documents, IMUCONV_CONVENTION_BLOCK_ORDER (below).
 //
 // Everything is checked against the convention's own retract/local and the kind's reference
 // chart (`left` or `preint_reference`), never against the registry's derived results, so a
@@ -477,6 +479,19 @@ inline void ExpectReferenceWithLeftRotation(const char* id) {
 /// Runs the suite SUITE for the convention with id ID (an identifier-like id).
 #define IMUCONV_CONVENTION_SUITE(SUITE, ID) \
   INSTANTIATE_TEST_SUITE_P(ID, SUITE, ::testing::Values(std::string(#ID)))
+
+/// The state convention ID's one line in its own test file: it runs StateConventionSuite and
+/// documents the block order ORDER (IMUCONV_CONVENTION_SUITE, IMUCONV_CONVENTION_BLOCK_ORDER).
+#define IMUCONV_STATE_CONVENTION(ID, ORDER)           \
+  IMUCONV_CONVENTION_SUITE(StateConventionSuite, ID); \
+  IMUCONV_CONVENTION_BLOCK_ORDER(StateKind, ID, ORDER)
+
+/// The increment convention ID's one line: it runs IncrementConventionSuite, documents the block
+/// order ORDER and states its bias Jacobians in CHART (the three declarations above at once).
+#define IMUCONV_INCREMENT_CONVENTION(ID, ORDER, CHART)      \
+  IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, ID);   \
+  IMUCONV_CONVENTION_BLOCK_ORDER(IncrementKind, ID, ORDER); \
+  IMUCONV_BIAS_JACOBIAN_CHART(ID, CHART)
 
 // Each convention's test file includes this header, instantiates its kind's suite in one
 // line and writes its hand-derived conversions in the names of imuconv::test::conventions.
