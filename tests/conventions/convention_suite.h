@@ -95,11 +95,16 @@ double MaxAbs(const Diff&... diffs) {
   return std::max({static_cast<double>(diffs.cwiseAbs().maxCoeff())...});
 }
 
-/// What both kinds share: the value, its chart interface and its reference chart.
-template <class V>
+/// What both kinds share: the value, its chart interface and its reference chart; the plugin
+/// kind of its conventions, the registry's accessor of one (kGet, e.g.
+/// &Registry::state_convention) and the points it is tested at (FixedPoints<kDraw>).
+template <class V, PluginKind kConventionKind, auto kGet, auto kDraw>
 struct ChartKind {
   using Value = V;
   using Convention = Chart<V>;
+  static constexpr PluginKind kKind = kConventionKind;
+  static auto Get(const std::string& id) { return (Plugins().*kGet)(id); }
+  static const std::vector<V>& Points() { return FixedPoints<kDraw>(); }
   static constexpr const char* kReference = ReferenceChart<V>::id;
   static void RefRetract(const V& x, const Vec15& d, V& y) { ReferenceChart<V>::retract(x, d, y); }
   static void RefLocal(const V& x, const V& y, Vec15& d) { ReferenceChart<V>::local(x, y, d); }
@@ -109,19 +114,15 @@ struct ChartKind {
   }
 };
 
-struct StateKind : ChartKind<ImuState> {
-  static constexpr PluginKind kKind = PluginKind::StateConvention;
-  static auto Get(const std::string& id) { return Plugins().state_convention(id); }
-  static const std::vector<Value>& Points() { return FixedPoints<TestStates>(); }
+struct StateKind
+    : ChartKind<ImuState, PluginKind::StateConvention, &Registry::state_convention, TestStates> {
   static double Distance(const Value& a, const Value& b) {
     return MaxAbs(a.R - b.R, a.p - b.p, a.v - b.v, a.ba - b.ba, a.bg - b.bg);
   }
 };
 
-struct IncrementKind : ChartKind<PreintIncrement> {
-  static constexpr PluginKind kKind = PluginKind::IncrementConvention;
-  static auto Get(const std::string& id) { return Plugins().increment_convention(id); }
-  static const std::vector<Value>& Points() { return FixedPoints<TestIncrements>(); }
+struct IncrementKind : ChartKind<PreintIncrement, PluginKind::IncrementConvention,
+                                 &Registry::increment_convention, TestIncrements> {
   static double Distance(const Value& a, const Value& b) {
     return MaxAbs(a.dR - b.dR, a.dp - b.dp, a.dv - b.dv, a.dba - b.dba, a.dbg - b.dbg);
   }
