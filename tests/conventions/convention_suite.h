@@ -1,9 +1,11 @@
 // The generic test suite every perturbation convention runs, manif-style: one macro defines
 // the suite for a kind of convention (states or increments), one line in each convention's
-// own test file instantiates it:
+// own test file instantiates it, with the facts the convention documents:
 //   IMUCONV_DECLARE_CONVENTION_SUITE(StateConventionSuite);           (below)
 //   IMUCONV_DEFINE_CONVENTION_SUITE(StateConventionSuite, StateKind)   (state/all.cpp)
-//   IMUCONV_CONVENTION_SUITE(StateConventionSuite, gtsam_navstate);    (state/gtsam_navstate.cpp)
+//   IMUCONV_STATE_CONVENTION(gtsam_navstate, "theta p v ba bg");       (state/gtsam_navstate.cpp)
+// the last being IMUCONV_CONVENTION_SUITE(StateConventionSuite, gtsam_navstate) and the block
+// order it documents, IMUCONV_CONVENTION_BLOCK_ORDER (below).
 //
 // Everything is checked against the convention's own retract/local and the kind's reference
 // chart (`left` or `preint_reference`), never against the registry's derived results, so a
@@ -93,11 +95,16 @@ double MaxAbs(const Diff&... diffs) {
   return std::max({static_cast<double>(diffs.cwiseAbs().maxCoeff())...});
 }
 
-/// What both kinds share: the value, its chart interface and its reference chart.
-template <class V>
+/// What both kinds share: the value, its chart interface and its reference chart; the plugin
+/// kind of its conventions, the registry's accessor of one (kGet, e.g.
+/// &Registry::state_convention) and the points it is tested at (FixedPoints<kDraw>).
+template <class V, PluginKind kConventionKind, auto kGet, auto kDraw>
 struct ChartKind {
   using Value = V;
   using Convention = Chart<V>;
+  static constexpr PluginKind kKind = kConventionKind;
+  static auto Get(const std::string& id) { return (Plugins().*kGet)(id); }
+  static const std::vector<V>& Points() { return FixedPoints<kDraw>(); }
   static constexpr const char* kReference = ReferenceChart<V>::id;
   static void RefRetract(const V& x, const Vec15& d, V& y) { ReferenceChart<V>::retract(x, d, y); }
   static void RefLocal(const V& x, const V& y, Vec15& d) { ReferenceChart<V>::local(x, y, d); }
@@ -107,19 +114,15 @@ struct ChartKind {
   }
 };
 
-struct StateKind : ChartKind<ImuState> {
-  static constexpr PluginKind kKind = PluginKind::StateConvention;
-  static auto Get(const std::string& id) { return Plugins().state_convention(id); }
-  static const std::vector<Value>& Points() { return FixedPoints<TestStates>(); }
+struct StateKind
+    : ChartKind<ImuState, PluginKind::StateConvention, &Registry::state_convention, TestStates> {
   static double Distance(const Value& a, const Value& b) {
     return MaxAbs(a.R - b.R, a.p - b.p, a.v - b.v, a.ba - b.ba, a.bg - b.bg);
   }
 };
 
-struct IncrementKind : ChartKind<PreintIncrement> {
-  static constexpr PluginKind kKind = PluginKind::IncrementConvention;
-  static auto Get(const std::string& id) { return Plugins().increment_convention(id); }
-  static const std::vector<Value>& Points() { return FixedPoints<TestIncrements>(); }
+struct IncrementKind : ChartKind<PreintIncrement, PluginKind::IncrementConvention,
+                                 &Registry::increment_convention, TestIncrements> {
   static double Distance(const Value& a, const Value& b) {
     return MaxAbs(a.dR - b.dR, a.dp - b.dp, a.dv - b.dv, a.dba - b.dba, a.dbg - b.dbg);
   }
@@ -477,6 +480,19 @@ inline void ExpectReferenceWithLeftRotation(const char* id) {
 /// Runs the suite SUITE for the convention with id ID (an identifier-like id).
 #define IMUCONV_CONVENTION_SUITE(SUITE, ID) \
   INSTANTIATE_TEST_SUITE_P(ID, SUITE, ::testing::Values(std::string(#ID)))
+
+/// The state convention ID's one line in its own test file: it runs StateConventionSuite and
+/// documents the block order ORDER (IMUCONV_CONVENTION_SUITE, IMUCONV_CONVENTION_BLOCK_ORDER).
+#define IMUCONV_STATE_CONVENTION(ID, ORDER)           \
+  IMUCONV_CONVENTION_SUITE(StateConventionSuite, ID); \
+  IMUCONV_CONVENTION_BLOCK_ORDER(StateKind, ID, ORDER)
+
+/// The increment convention ID's one line: it runs IncrementConventionSuite, documents the block
+/// order ORDER and states its bias Jacobians in CHART (the three declarations above at once).
+#define IMUCONV_INCREMENT_CONVENTION(ID, ORDER, CHART)      \
+  IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, ID);   \
+  IMUCONV_CONVENTION_BLOCK_ORDER(IncrementKind, ID, ORDER); \
+  IMUCONV_BIAS_JACOBIAN_CHART(ID, CHART)
 
 // Each convention's test file includes this header, instantiates its kind's suite in one
 // line and writes its hand-derived conversions in the names of imuconv::test::conventions.

@@ -18,27 +18,23 @@
 
 #include "imuconv/kernels/fast_lio2.h"
 #include "imuconv_test.h"
-#include "increment_mean_facts.h"
 #include "integrator_cases.h"
 #include "json_quaternion.h"
-#include "noise_simulation_facts.h"
 #include "scale_aware.h"
+#include "scheme_fact_declarations.h"
 
 namespace {
 
-// What the three propagators say of their noise (noise_simulation_facts.h; docs/fast-lio2.md,
-// "What it does to a user: Monte Carlo"): ImuProcess averages the two ends of each step
-// (centered cells); `fast_lio2` and `fast_lio2_exact_rotation` read densities, and
-// `fast_lio2_as_configured` reads FAST-LIO's per-sample variances, which no density reproduces
-// (not simulable: montecarlo flags the mismatch).
-IMUCONV_NOISE_SIMULATION(Propagator, fast_lio2, kCentered, kContinuous, true);
-IMUCONV_NOISE_SIMULATION(Propagator, fast_lio2_exact_rotation, kCentered, kContinuous, true);
-IMUCONV_NOISE_SIMULATION(Propagator, fast_lio2_as_configured, kCentered, kContinuous, false);
-// All three give the mean alone, FastLio2IncrementMean (docs/fast-lio2.md: the same numbers
-// as the full path, bit for bit; the transition and the noise reading do not enter it).
-IMUCONV_INCREMENT_MEAN(Propagator, fast_lio2, kProvided);
-IMUCONV_INCREMENT_MEAN(Propagator, fast_lio2_exact_rotation, kProvided);
-IMUCONV_INCREMENT_MEAN(Propagator, fast_lio2_as_configured, kProvided);
+// What the three propagators say of their noise and mean (scheme_fact_declarations.h;
+// docs/fast-lio2.md, "What it does to a user: Monte Carlo"): ImuProcess averages the two ends
+// of each step (centered cells); `fast_lio2` and `fast_lio2_exact_rotation` read densities,
+// and `fast_lio2_as_configured` reads FAST-LIO's per-sample variances, which no density
+// reproduces (not simulable: montecarlo flags the mismatch). All three give the mean alone,
+// FastLio2IncrementMean (docs/fast-lio2.md: the same numbers as the full path, bit for bit;
+// the transition and the noise reading do not enter it).
+IMUCONV_SCHEME_FACTS(Propagator, fast_lio2, kCentered, kContinuous, true, kProvided);
+IMUCONV_SCHEME_FACTS(Propagator, fast_lio2_exact_rotation, kCentered, kContinuous, true, kProvided);
+IMUCONV_SCHEME_FACTS(Propagator, fast_lio2_as_configured, kCentered, kContinuous, false, kProvided);
 
 using namespace imuconv;
 using namespace imuconv::kernels;

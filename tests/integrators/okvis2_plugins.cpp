@@ -13,20 +13,18 @@
 #include "imuconv/bridge.h"
 #include "imuconv/kernels/okvis2.h"
 #include "imuconv/kernels/okvis2_scheme.h"
-#include "increment_mean_facts.h"
 #include "integrator_cases.h"
-#include "noise_simulation_facts.h"
 #include "scale_aware.h"
+#include "scheme_fact_declarations.h"
 
 namespace {
 
-// What the two propagators say of their noise (noise_simulation_facts.h; docs/montecarlo.md):
-// OKVIS's trapezoidal loop averages a step's two ends (centered cells); sigma_*_c are densities.
-IMUCONV_NOISE_SIMULATION(Propagator, okvis2, kCentered, kContinuous, true);
-IMUCONV_NOISE_SIMULATION(Propagator, okvis2_step_local, kCentered, kContinuous, true);
-// Neither gives the mean alone (docs/okvis2.md): the trials run the full propagation.
-IMUCONV_INCREMENT_MEAN(Propagator, okvis2, kNotProvided);
-IMUCONV_INCREMENT_MEAN(Propagator, okvis2_step_local, kNotProvided);
+// What the two propagators say of their noise and mean (scheme_fact_declarations.h;
+// docs/montecarlo.md): OKVIS's trapezoidal loop averages a step's two ends (centered cells);
+// sigma_*_c are densities. Neither gives the mean alone (docs/okvis2.md): the trials run the
+// full propagation.
+IMUCONV_SCHEME_FACTS(Propagator, okvis2, kCentered, kContinuous, true, kNotProvided);
+IMUCONV_SCHEME_FACTS(Propagator, okvis2_step_local, kCentered, kContinuous, true, kNotProvided);
 
 using namespace imuconv;
 using namespace imuconv::kernels;

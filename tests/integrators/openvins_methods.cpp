@@ -18,21 +18,18 @@
 #include "imuconv/kernels/openvins.h"
 #include "imuconv/numeric.h"
 #include "imuconv/registry.h"
-#include "increment_mean_facts.h"
 #include "integrator_cases.h"
-#include "noise_simulation_facts.h"
+#include "scheme_fact_declarations.h"
 
 namespace {
 
-// What each method says of its noise (noise_simulation_facts.h; docs/montecarlo.md): all three
-// average or interpolate between a step's two ends (centered cells) and read densities.
-IMUCONV_NOISE_SIMULATION(Propagator, openvins_discrete, kCentered, kContinuous, true);
-IMUCONV_NOISE_SIMULATION(Propagator, openvins_analytical, kCentered, kContinuous, true);
-IMUCONV_NOISE_SIMULATION(Propagator, openvins_rk4, kCentered, kContinuous, true);
-// None gives the mean alone: montecarlo's trials run the full propagation.
-IMUCONV_INCREMENT_MEAN(Propagator, openvins_discrete, kNotProvided);
-IMUCONV_INCREMENT_MEAN(Propagator, openvins_analytical, kNotProvided);
-IMUCONV_INCREMENT_MEAN(Propagator, openvins_rk4, kNotProvided);
+// What each method says of its noise and mean (scheme_fact_declarations.h;
+// docs/montecarlo.md): all three average or interpolate between a step's two ends (centered
+// cells) and read densities; none gives the mean alone: montecarlo's trials run the full
+// propagation.
+IMUCONV_SCHEME_FACTS(Propagator, openvins_discrete, kCentered, kContinuous, true, kNotProvided);
+IMUCONV_SCHEME_FACTS(Propagator, openvins_analytical, kCentered, kContinuous, true, kNotProvided);
+IMUCONV_SCHEME_FACTS(Propagator, openvins_rk4, kCentered, kContinuous, true, kNotProvided);
 
 using namespace imuconv;
 using namespace imuconv::test;

@@ -8,22 +8,19 @@
 #include <string>
 #include <vector>
 
-#include "increment_mean_facts.h"
 #include "integrator_cases.h"
-#include "noise_simulation_facts.h"
+#include "scheme_fact_declarations.h"
 
 namespace {
 
-// What each of the three says of its noise (noise_simulation_facts.h; docs/montecarlo.md): euler
-// holds each sample over the step it starts; midpoint averages a step's two ends and rk4
-// interpolates linearly between knots, so each sample weighs half of each step beside it.
-IMUCONV_NOISE_SIMULATION(Propagator, euler, kForward, kContinuous, true);
-IMUCONV_NOISE_SIMULATION(Propagator, midpoint, kCentered, kContinuous, true);
-IMUCONV_NOISE_SIMULATION(Propagator, rk4, kCentered, kContinuous, true);
-// All three give the mean alone (kernels/mean_only.h; tests/integrators/mean_only.cpp).
-IMUCONV_INCREMENT_MEAN(Propagator, euler, kProvided);
-IMUCONV_INCREMENT_MEAN(Propagator, midpoint, kProvided);
-IMUCONV_INCREMENT_MEAN(Propagator, rk4, kProvided);
+// What each of the three says of its noise and mean (scheme_fact_declarations.h;
+// docs/montecarlo.md): euler holds each sample over the step it starts; midpoint averages a
+// step's two ends and rk4 interpolates linearly between knots, so each sample weighs half of
+// each step beside it. All three give the mean alone (kernels/mean_only.h;
+// tests/integrators/mean_only.cpp).
+IMUCONV_SCHEME_FACTS(Propagator, euler, kForward, kContinuous, true, kProvided);
+IMUCONV_SCHEME_FACTS(Propagator, midpoint, kCentered, kContinuous, true, kProvided);
+IMUCONV_SCHEME_FACTS(Propagator, rk4, kCentered, kContinuous, true, kProvided);
 
 using namespace imuconv;
 using namespace imuconv::test;

@@ -19,24 +19,23 @@
 #include "bias_blocks.h"
 #include "imuconv/so3.h"
 #include "imuconv_test.h"
-#include "increment_mean_facts.h"
-#include "noise_simulation_facts.h"
 #include "reference_cases.h"
+#include "scheme_fact_declarations.h"
 #include "whitened.h"
 
 namespace {
 
-// What the three plugins say of their noise (noise_simulation_facts.h; docs/montecarlo.md):
-// Basalt holds each sample over the step ending at it (backward; basalt_forward_zoh over the
-// step it starts) and keeps the bias constant over the interval (the walk in the increment
-// only); basalt_as_configured takes the white-noise numbers as per-sample standard deviations.
-IMUCONV_NOISE_SIMULATION(Preintegrator, basalt, kBackward, kWalkInIncrementOnly, true);
-IMUCONV_NOISE_SIMULATION(Preintegrator, basalt_forward_zoh, kForward, kWalkInIncrementOnly, true);
-IMUCONV_NOISE_SIMULATION(Preintegrator, basalt_as_configured, kBackward, kPerSampleStd, true);
-// None gives the mean alone: montecarlo's trials run the full preintegration.
-IMUCONV_INCREMENT_MEAN(Preintegrator, basalt, kNotProvided);
-IMUCONV_INCREMENT_MEAN(Preintegrator, basalt_forward_zoh, kNotProvided);
-IMUCONV_INCREMENT_MEAN(Preintegrator, basalt_as_configured, kNotProvided);
+// What the three plugins say of their noise and mean (scheme_fact_declarations.h;
+// docs/montecarlo.md): Basalt holds each sample over the step ending at it (backward;
+// basalt_forward_zoh over the step it starts) and keeps the bias constant over the interval
+// (the walk in the increment only); basalt_as_configured takes the white-noise numbers as
+// per-sample standard deviations. None gives the mean alone: montecarlo's trials run the full
+// preintegration.
+IMUCONV_SCHEME_FACTS(Preintegrator, basalt, kBackward, kWalkInIncrementOnly, true, kNotProvided);
+IMUCONV_SCHEME_FACTS(Preintegrator, basalt_forward_zoh, kForward, kWalkInIncrementOnly, true,
+                     kNotProvided);
+IMUCONV_SCHEME_FACTS(Preintegrator, basalt_as_configured, kBackward, kPerSampleStd, true,
+                     kNotProvided);
 
 using namespace imuconv;
 using namespace imuconv::test;

@@ -8,19 +8,17 @@
 #include <limits>
 
 #include "imuconv_test.h"
-#include "increment_mean_facts.h"
-#include "noise_simulation_facts.h"
 #include "reference_cases.h"
+#include "scheme_fact_declarations.h"
 
 namespace {
 
-// What GTSAM's two schemes say of their noise (noise_simulation_facts.h; docs/montecarlo.md):
-// both hold each sample over the step it starts and read continuous densities.
-IMUCONV_NOISE_SIMULATION(Preintegrator, manifold, kForward, kContinuous, true);
-IMUCONV_NOISE_SIMULATION(Preintegrator, tangent, kForward, kContinuous, true);
-// Both give the mean alone (kernels/mean_only.h: the recursion with its covariance off).
-IMUCONV_INCREMENT_MEAN(Preintegrator, manifold, kProvided);
-IMUCONV_INCREMENT_MEAN(Preintegrator, tangent, kProvided);
+// What GTSAM's two schemes say of their noise and mean (scheme_fact_declarations.h;
+// docs/montecarlo.md): both hold each sample over the step it starts and read continuous
+// densities; both give the mean alone (kernels/mean_only.h: the recursion with its covariance
+// off).
+IMUCONV_SCHEME_FACTS(Preintegrator, manifold, kForward, kContinuous, true, kProvided);
+IMUCONV_SCHEME_FACTS(Preintegrator, tangent, kForward, kContinuous, true, kProvided);
 
 using namespace imuconv;
 using namespace imuconv::test;

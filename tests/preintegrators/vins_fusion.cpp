@@ -21,22 +21,21 @@
 
 #include "bias_blocks.h"
 #include "imuconv_test.h"
-#include "increment_mean_facts.h"
-#include "noise_simulation_facts.h"
 #include "reference_cases.h"
+#include "scheme_fact_declarations.h"
 #include "whitened.h"
 
 namespace {
 
-// What the two plugins say of their noise (noise_simulation_facts.h; docs/montecarlo.md): both
-// average a step's two ends (centered cells); `vins_fusion_as_configured` reads per-step standard
-// deviations with the two ends of a step independent, which no per-sample noise reproduces.
-IMUCONV_NOISE_SIMULATION(Preintegrator, vins_fusion, kCentered, kContinuous, true);
-IMUCONV_NOISE_SIMULATION(Preintegrator, vins_fusion_as_configured, kCentered, kContinuous, false);
-// Both give the mean alone (VinsFusionIncrementMean: the full path without its Jacobian product
-// and covariance), bit for bit the full path's increment: montecarlo's trials run it.
-IMUCONV_INCREMENT_MEAN(Preintegrator, vins_fusion, kProvided);
-IMUCONV_INCREMENT_MEAN(Preintegrator, vins_fusion_as_configured, kProvided);
+// What the two plugins say of their noise and mean (scheme_fact_declarations.h;
+// docs/montecarlo.md): both average a step's two ends (centered cells);
+// `vins_fusion_as_configured` reads per-step standard deviations with the two ends of a step
+// independent, which no per-sample noise reproduces. Both give the mean alone
+// (VinsFusionIncrementMean: the full path without its Jacobian product and covariance), bit for
+// bit the full path's increment: montecarlo's trials run it.
+IMUCONV_SCHEME_FACTS(Preintegrator, vins_fusion, kCentered, kContinuous, true, kProvided);
+IMUCONV_SCHEME_FACTS(Preintegrator, vins_fusion_as_configured, kCentered, kContinuous, false,
+                     kProvided);
 
 using namespace imuconv;
 using namespace imuconv::test;

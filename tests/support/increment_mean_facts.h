@@ -2,6 +2,7 @@
 // increment_mean.h; what imuconv montecarlo's trials run), declared in each system's own test
 // file (declared_facts.h), one line per plugin id:
 //   IMUCONV_INCREMENT_MEAN(Propagator, euler, kProvided);
+// (or with its noise, IMUCONV_SCHEME_FACTS, scheme_fact_declarations.h)
 // in tests/integrators/ for a propagator, tests/preintegrators/ for a preintegrator; and what
 // the declaration promises, checked by CheckDeclaredIncrementMeans (run by each area's
 // mean_only.cpp), which also fails for a plugin of the kind loaded from the built-in directory

@@ -3,6 +3,7 @@
 // and readings of docs/montecarlo.md's lists and table, declared in each system's own test file
 // (declared_facts.h), one line per plugin id:
 //   IMUCONV_NOISE_SIMULATION(Propagator, okvis2, kCentered, kContinuous, true);
+// (or with its increment_mean() fact, IMUCONV_SCHEME_FACTS, scheme_fact_declarations.h)
 // in tests/integrators/ for a propagator, tests/preintegrators/ for a preintegrator. The cells
 // follow from each scheme's arithmetic (docs/noise.md): a held sample's cell is the step it is
 // held over; a scheme averaging a step's two ends or interpolating between knots weighs each

@@ -2,9 +2,7 @@
 // conversions derived by hand.
 #include "../convention_suite.h"
 
-IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, basalt);
-IMUCONV_CONVENTION_BLOCK_ORDER(IncrementKind, basalt, "p theta v bg ba");
-IMUCONV_BIAS_JACOBIAN_CHART(basalt, "basalt");
+IMUCONV_INCREMENT_CONVENTION(basalt, "p theta v bg ba", "basalt");
 
 TEST(PreintStructure, BasaltRotatesTheRotationBlockByTheIncrement) {
   // Exp(dtheta) dR^ = dR^ Exp(dR^T dtheta): the reference's rotation error is dR^T times

@@ -2,9 +2,7 @@
 // conversions derived by hand.
 #include "../convention_suite.h"
 
-IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, forster);
-IMUCONV_CONVENTION_BLOCK_ORDER(IncrementKind, forster, "theta p v bg ba");
-IMUCONV_BIAS_JACOBIAN_CHART(forster, "forster");
+IMUCONV_INCREMENT_CONVENTION(forster, "theta p v bg ba", "forster");
 
 TEST(PreintStructure, ForsterIsMinusTheReference) {
   for (const PreintIncrement& x : IncrementKind::Points()) {

@@ -2,11 +2,9 @@
 // its bias-Jacobian chart derived by hand.
 #include "../convention_suite.h"
 
-IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, gtsam_manifold);
-IMUCONV_CONVENTION_BLOCK_ORDER(IncrementKind, gtsam_manifold, "theta p v ba bg");
 // GTSAM's ManifoldPreintegration states its covariance in c (gtsam_manifold) and its bias
 // Jacobians in j (gtsam_manifold_jacobian); the other conventions each use their own.
-IMUCONV_BIAS_JACOBIAN_CHART(gtsam_manifold, "gtsam_manifold_jacobian");
+IMUCONV_INCREMENT_CONVENTION(gtsam_manifold, "theta p v ba bg", "gtsam_manifold_jacobian");
 
 TEST(PreintStructure, ManifoldToManifoldJacobianRotatesTranslations) {
   // eq. residual-error vs subeq:preint-error-dp: dp_j = dR^ dp_c, dv_j = dR^ dv_c.

@@ -2,9 +2,7 @@
 // and its conversion from the reference derived by hand.
 #include "../convention_suite.h"
 
-IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, gtsam_manifold_jacobian);
-IMUCONV_CONVENTION_BLOCK_ORDER(IncrementKind, gtsam_manifold_jacobian, "theta p v ba bg");
-IMUCONV_BIAS_JACOBIAN_CHART(gtsam_manifold_jacobian, "gtsam_manifold_jacobian");
+IMUCONV_INCREMENT_CONVENTION(gtsam_manifold_jacobian, "theta p v ba bg", "gtsam_manifold_jacobian");
 
 TEST(PreintStructure, ReferenceToManifoldJacobianFlipsAndSwapsBiases) {
   ExpectConversion("preint_reference", "gtsam_manifold_jacobian",

@@ -4,9 +4,7 @@
 
 #include "../convention_suite.h"
 
-IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, gtsam_tangent);
-IMUCONV_CONVENTION_BLOCK_ORDER(IncrementKind, gtsam_tangent, "theta p v ba bg");
-IMUCONV_BIAS_JACOBIAN_CHART(gtsam_tangent, "gtsam_tangent");
+IMUCONV_INCREMENT_CONVENTION(gtsam_tangent, "theta p v ba bg", "gtsam_tangent");
 
 TEST(PreintStructure, TangentToManifoldJacobianIsTheRightJacobian) {
   // Exp(psi + dtheta) = Exp(psi) Exp(Jr(psi) dtheta + ...), psi = Log(dR^): the tangent

@@ -2,9 +2,7 @@
 // the generic suite and its conversions derived by hand.
 #include "../convention_suite.h"
 
-IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, okvis2);
-IMUCONV_CONVENTION_BLOCK_ORDER(IncrementKind, okvis2, "p theta v bg ba");
-IMUCONV_BIAS_JACOBIAN_CHART(okvis2, "okvis2");
+IMUCONV_INCREMENT_CONVENTION(okvis2, "p theta v bg ba", "okvis2");
 
 TEST(PreintStructure, Okvis2RotatesTheRotationBlockByTheIncrement) {
   // Exp(dalpha) Delta_C^ = Delta_C^ Exp(Delta_C^T dalpha): the reference's rotation error is

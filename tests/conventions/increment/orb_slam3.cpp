@@ -2,9 +2,7 @@
 // its conversions derived by hand.
 #include "../convention_suite.h"
 
-IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, orb_slam3);
-IMUCONV_CONVENTION_BLOCK_ORDER(IncrementKind, orb_slam3, "theta v p bg ba");
-IMUCONV_BIAS_JACOBIAN_CHART(orb_slam3, "orb_slam3");
+IMUCONV_INCREMENT_CONVENTION(orb_slam3, "theta v p bg ba", "orb_slam3");
 
 TEST(PreintStructure, OrbSlam3IsTheReferenceReordered) {
   // The same perturbation of every block as preint_reference (right rotation error, plus

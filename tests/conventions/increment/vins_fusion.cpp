@@ -2,9 +2,7 @@
 // its conversions derived by hand.
 #include "../convention_suite.h"
 
-IMUCONV_CONVENTION_SUITE(IncrementConventionSuite, vins_fusion);
-IMUCONV_CONVENTION_BLOCK_ORDER(IncrementKind, vins_fusion, "p theta v ba bg");
-IMUCONV_BIAS_JACOBIAN_CHART(vins_fusion, "vins_fusion");
+IMUCONV_INCREMENT_CONVENTION(vins_fusion, "p theta v ba bg", "vins_fusion");
 
 TEST(PreintStructure, VinsFusionIsTheReferenceReordered) {
   // The same perturbation of every block as preint_reference (right rotation error, plus

@@ -7,8 +7,7 @@
 #include "../convention_suite.h"
 #include "imuconv/kernels/fast_lio2.h"
 
-IMUCONV_CONVENTION_SUITE(StateConventionSuite, fast_lio2);
-IMUCONV_CONVENTION_BLOCK_ORDER(StateKind, fast_lio2, "p theta v bg ba");
+IMUCONV_STATE_CONVENTION(fast_lio2, "p theta v bg ba");
 
 namespace {
 

@@ -1,8 +1,7 @@
 // `forster` (state): the generic suite and its conversions derived by hand.
 #include "../convention_suite.h"
 
-IMUCONV_CONVENTION_SUITE(StateConventionSuite, forster);
-IMUCONV_CONVENTION_BLOCK_ORDER(StateKind, forster, "theta p v bg ba");
+IMUCONV_STATE_CONVENTION(forster, "theta p v bg ba");
 
 TEST(StateStructure, LeftToForster) {
   // Right rotation and body-frame position (R^T), world velocity, biases in place.

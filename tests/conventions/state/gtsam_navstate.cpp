@@ -1,8 +1,7 @@
 // `gtsam_navstate`: the generic suite and the conversion from `left` derived by hand.
 #include "../convention_suite.h"
 
-IMUCONV_CONVENTION_SUITE(StateConventionSuite, gtsam_navstate);
-IMUCONV_CONVENTION_BLOCK_ORDER(StateKind, gtsam_navstate, "theta p v ba bg");
+IMUCONV_STATE_CONVENTION(gtsam_navstate, "theta p v ba bg");
 
 TEST(StateStructure, LeftToNavStateRotatesIntoTheBodyFrame) {
   // R^ Exp(dtheta) = Exp(dtheta_l) R^  =>  dtheta = R^T dtheta_l; dp = R^T dp_l, dv = R^T dv_l

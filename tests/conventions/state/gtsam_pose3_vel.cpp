@@ -2,8 +2,7 @@
 // coupling beyond first order.
 #include "../convention_suite.h"
 
-IMUCONV_CONVENTION_SUITE(StateConventionSuite, gtsam_pose3_vel);
-IMUCONV_CONVENTION_BLOCK_ORDER(StateKind, gtsam_pose3_vel, "theta p v ba bg");
+IMUCONV_STATE_CONVENTION(gtsam_pose3_vel, "theta p v ba bg");
 
 TEST(StateStructure, LeftToPose3VelKeepsWorldVelocity) {
   // Pose3 Expmap at 0: theta = R^T dtheta_l, t = Jl(0)^{-1} R^T dp_l = R^T dp_l; v world frame.

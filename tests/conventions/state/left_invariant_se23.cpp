@@ -1,8 +1,7 @@
 // `left_invariant_se23`: the generic suite and its conversion from `left` derived by hand.
 #include "../convention_suite.h"
 
-IMUCONV_CONVENTION_SUITE(StateConventionSuite, left_invariant_se23);
-IMUCONV_CONVENTION_BLOCK_ORDER(StateKind, left_invariant_se23, "theta v p bg ba");
+IMUCONV_STATE_CONVENTION(left_invariant_se23, "theta v p bg ba");
 
 TEST(StateStructure, LeftToLeftInvariant) {
   // X^ Exp(xi) at first order: R^ phi, R^ nu, R^ rho.

@@ -11,8 +11,7 @@
 
 namespace {
 
-IMUCONV_CONVENTION_SUITE(StateConventionSuite, okvis2);
-IMUCONV_CONVENTION_BLOCK_ORDER(StateKind, okvis2, "p theta v bg ba");
+IMUCONV_STATE_CONVENTION(okvis2, "p theta v bg ba");
 
 TEST(StateStructure, Okvis2IsLeft) {
   // The same perturbation of each block as `left`, in the same order [r, alpha, v, bg, ba] =

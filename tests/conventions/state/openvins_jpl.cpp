@@ -49,8 +49,7 @@ Quat RandomJpl() {
 // 3x3 products of unit-size entries along two different routes: a few ulps.
 constexpr double kRotTol = 1e-14;
 
-IMUCONV_CONVENTION_SUITE(StateConventionSuite, openvins_jpl);
-IMUCONV_CONVENTION_BLOCK_ORDER(StateKind, openvins_jpl, "theta p v bg ba");
+IMUCONV_STATE_CONVENTION(openvins_jpl, "theta p v bg ba");
 
 TEST(StateStructure, LeftToOpenVinsJpl) {
   // JPL's left update of q_GtoI is a right update of R = R_GtoI^T (R^T dtheta_l to first

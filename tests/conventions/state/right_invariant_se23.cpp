@@ -2,8 +2,7 @@
 // adjoint).
 #include "../convention_suite.h"
 
-IMUCONV_CONVENTION_SUITE(StateConventionSuite, right_invariant_se23);
-IMUCONV_CONVENTION_BLOCK_ORDER(StateKind, right_invariant_se23, "theta v p bg ba");
+IMUCONV_STATE_CONVENTION(right_invariant_se23, "theta v p bg ba");
 
 TEST(StateStructure, LeftToRightInvariantCouplesRotationIntoTranslations) {
   // Exp(phi) v^ + Jl(phi) nu = v^ + dv_l  =>  nu = dv_l - [phi]x v^ = dv_l + [v^]x dtheta_l.
