@@ -69,7 +69,7 @@ class VinsFusionResidualAnchor : public AnchorCaseTest {
     // as the linearization point, G = -gravity.
     m_.linearized_ba = case_.x_s.ba;
     m_.linearized_bg = case_.x_s.bg;
-    m_.G = JsonVec3(anchor_.at("inputs").at("G"));
+    m_.G = JsonVec3(inputs_.at("G"));
     ASSERT_EQ(m_.G, Vec3(-case_.gravity));
     ASSERT_TRUE(IntegrateVinsFusion(AnchorInput(case_, case_.x_s.bg, case_.x_s.ba),
                                     VinsNoiseMapping::kAsConfigured, m_.pre)
