@@ -120,12 +120,8 @@ class FastLio2Anchor : public AnchorCaseJsonTest {
 
     AnchorFieldDiffs w(std::string(GetParam()) + " " + run);
     const nlohmann::json& e = j.at("state_end");
-    w.Metric("pos", JsonMatrix(e.at("pos")), out.end.pos);
-    w.Metric("rot_q_wxyz", JsonMatrix(e.at("rot_q_wxyz")), Wxyz(out.end.rot));
-    w.Metric("rot_R", JsonMatrix(e.at("rot_R")), out.end.rot.toRotationMatrix());
-    w.Metric("vel", JsonMatrix(e.at("vel")), out.end.vel);
-    EXPECT_EQ(JsonVec3(e.at("bg")), out.end.bg);
-    EXPECT_EQ(JsonVec3(e.at("ba")), out.end.ba);
+    w.PropagatedState(e, {"pos", "rot_q_wxyz", "rot_R", "vel"}, out.end.pos, Wxyz(out.end.rot),
+                      out.end.rot.toRotationMatrix(), out.end.vel, out.end.bg, out.end.ba);
     EXPECT_EQ(JsonVec3(e.at("offset_T_L_I")), out.end.offset_T_L_I);
     EXPECT_EQ(Eigen::Vector4d(JsonMatrix(e.at("offset_R_L_I_q_wxyz"))), Wxyz(out.end.offset_R_L_I));
     EXPECT_EQ(JsonVec3(e.at("grav")), out.end.grav.vec);
