@@ -22,6 +22,7 @@
 
 #include "anchor_field_diffs.h"
 #include "anchors.h"
+#include "anchors/fast_lio2_start.h"
 #include "imuconv/kernels/fast_lio2.h"
 #include "imuconv_test.h"
 #include "reference_case.h"
@@ -93,13 +94,7 @@ class FastLio2Anchor : public AnchorCaseJsonTest {
     // apart from the file's: rounding only, 1e-14 on the correlation scale.
     P0_ = JsonMatrix(inputs_.at("P0").at("matrix"));
     const Mat15 cov_left = JsonMatrix(case_.at("cov_s_left").at("matrix"));
-    Eigen::Matrix<double, 23, 15> T = Eigen::Matrix<double, 23, 15>::Zero();
-    T.block<3, 3>(kFastLio2Pos, 0).setIdentity();
-    T.block<3, 3>(kFastLio2Rot, 3) = start_.rot.toRotationMatrix().transpose();
-    T.block<3, 3>(kFastLio2Vel, 6).setIdentity();
-    T.block<3, 3>(kFastLio2Bg, 9).setIdentity();
-    T.block<3, 3>(kFastLio2Ba, 12).setIdentity();
-    const Mat23 mapped = T * cov_left * T.transpose();
+    const Mat23 mapped = refcase::FastLio2StartCovariance(start_.rot, cov_left);
     EXPECT_LE(CorrelationScaleDiff(P0_, mapped).d, 1e-14);
   }
 

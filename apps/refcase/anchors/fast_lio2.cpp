@@ -11,6 +11,7 @@
 #include <string>
 
 #include "anchor_writer.h"
+#include "fast_lio2_start.h"
 #include "imuconv/kernels/fast_lio2.h"
 
 namespace imuconv::refcase {
@@ -90,13 +91,7 @@ json FastLio2(const Registry&, const Case& k) {
   start.ba = k.x_s.ba;
 
   // P0: cov_s_left's [dp, dtheta, dv, dbg, dba] (R = Exp(dtheta) R^) in this error state.
-  Eigen::Matrix<double, 23, 15> T = Eigen::Matrix<double, 23, 15>::Zero();
-  T.block<3, 3>(kFastLio2Pos, 0).setIdentity();
-  T.block<3, 3>(kFastLio2Rot, 3) = start.rot.toRotationMatrix().transpose();
-  T.block<3, 3>(kFastLio2Vel, 6).setIdentity();
-  T.block<3, 3>(kFastLio2Bg, 9).setIdentity();
-  T.block<3, 3>(kFastLio2Ba, 12).setIdentity();
-  const Mat23 P0 = T * k.cov_s_left * T.transpose();
+  const Mat23 P0 = FastLio2StartCovariance(start.rot, k.cov_s_left);
 
   FastLio2State as_built = start, case_gravity = start;
   as_built.grav = FastLio2GravityAsBuilt(k.gravity);
