@@ -125,12 +125,9 @@ json Okvis2(const Registry&, const Case& k) {
   }
   const std::int64_t t0 = samples.front().t_ns, t1 = samples.back().t_ns;
 
-  Okvis2State s0;
-  s0.r = k.x_s.p;
+  // state_s as OKVIS's state, its quaternion as the case writes it (StartQuaternion).
+  Okvis2State s0 = Okvis2StateOf(k.x_s);
   s0.q = StartQuaternion(k);
-  s0.v = k.x_s.v;
-  s0.bg = k.x_s.bg;
-  s0.ba = k.x_s.ba;
 
   static const char* const kOrder[5] = {"r", "alpha", "v", "bg", "ba"};
   Okvis2Propagation prop;
