@@ -44,14 +44,10 @@ json ErrorStateMatrix(const Mat23& m) {
 }
 
 json FastLio2StateJson(const FastLio2State& s) {
-  return {{"pos", ToJsonVec(s.pos)},
-          {"rot_q_wxyz", Wxyz(s.rot)},
+  return {{"rot_q_wxyz", Wxyz(s.rot)},
           {"rot_R", ToJson(s.rot.toRotationMatrix())},
           {"offset_R_L_I_q_wxyz", Wxyz(s.offset_R_L_I)},
-          {"offset_T_L_I", ToJsonVec(s.offset_T_L_I)},
-          {"vel", ToJsonVec(s.vel)},
-          {"bg", ToJsonVec(s.bg)},
-          {"ba", ToJsonVec(s.ba)},
+          IMUCONV_ANCHOR_MEMBERS(FieldJson, s, (pos)(offset_T_L_I)(vel)(bg)(ba))
           {"grav", ToJsonVec(s.grav.vec)},
           {"grav_S2_length", s.grav.length}};
 }
@@ -63,15 +59,11 @@ json ScanRun(const Case& k, const FastLio2Parameters& params, const FastLio2Stat
   Require(PropagateFastLio2Scan(k.samples, params, first, last, start, P0, out),
           "FAST-LIO2 propagation");
   return {{"gravity_setup", gravity_setup},
-          {"n_predict", out.n_predict},
-          {"sum_dt", out.sum_dt},
-          {"last_predict_dt", out.last_predict_dt},
+          IMUCONV_ANCHOR_MEMBERS(FieldJson, out, (n_predict)(sum_dt)(last_predict_dt))
           // the scan ends on the last sample: the frame-end predict's dt is -0.0, a no-op
           {"last_predict_is_noop", out.last_predict_dt == 0.0},
           {"state_end", FastLio2StateJson(out.end)},
-          {"covariance", ErrorStateMatrix(out.covariance)},
-          {"Phi_summed", ErrorStateMatrix(out.Phi_summed)},
-          {"Qd_summed", ErrorStateMatrix(out.Qd_summed)}};
+          IMUCONV_ANCHOR_MEMBERS(ErrorStateMatrix, out, (covariance)(Phi_summed)(Qd_summed))};
 }
 
 json FastLio2(const Registry&, const Case& k) {
