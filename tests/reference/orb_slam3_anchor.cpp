@@ -25,6 +25,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "anchor_field_diffs.h"
+#include "anchor_members.h"
 #include "anchors.h"
 #include "imuconv/kernels/orb_slam3.h"
 #include "imuconv_test.h"
@@ -183,12 +184,8 @@ TEST_P(OrbSlam3Anchor, EdgeInertialIsOrbSlam3Own) {
     w.Metric("residual", JsonMatrix(r.at("residual")), e.residual);
     w.Metric("chi2", Eigen::Matrix<double, 1, 1>(r.at("chi2").get<double>()),
              Eigen::Matrix<double, 1, 1>(e.chi2));
-    w.Metric("J_pose1", JsonMatrix(r.at("J_pose1")), e.J_pose1);
-    w.Metric("J_vel1", JsonMatrix(r.at("J_vel1")), e.J_vel1);
-    w.Metric("J_gyro_bias1", JsonMatrix(r.at("J_gyro_bias1")), e.J_gyro_bias1);
-    w.Metric("J_acc_bias1", JsonMatrix(r.at("J_acc_bias1")), e.J_acc_bias1);
-    w.Metric("J_pose2", JsonMatrix(r.at("J_pose2")), e.J_pose2);
-    w.Metric("J_vel2", JsonMatrix(r.at("J_vel2")), e.J_vel2);
+    IMUCONV_CHECK_ANCHOR_MEMBERS(w.Metric, r, e,
+                                 (J_pose1)(J_vel1)(J_gyro_bias1)(J_acc_bias1)(J_pose2)(J_vel2));
   }
   w.Print();
 }

@@ -17,6 +17,7 @@
 #include <string>
 
 #include "anchor_field_diffs.h"
+#include "anchor_members.h"
 #include "anchors.h"
 #include "imuconv/kernels/vins_fusion.h"
 #include "imuconv/kernels/vins_fusion_residual.h"
@@ -33,11 +34,8 @@ constexpr double kWhitenedTol = 1e-5;
 
 VinsFusionFactorState FactorState(const nlohmann::json& s) {
   VinsFusionFactorState x;
-  x.P = JsonVec3(s.at("P"));
   x.Q = JsonQuaternionWxyz(s.at("Q_wxyz"));
-  x.V = JsonVec3(s.at("V"));
-  x.Ba = JsonVec3(s.at("Ba"));
-  x.Bg = JsonVec3(s.at("Bg"));
+  IMUCONV_READ_ANCHOR_MEMBERS(JsonVec3, s, x, (P)(V)(Ba)(Bg));
   return x;
 }
 
