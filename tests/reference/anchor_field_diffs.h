@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -64,6 +65,27 @@ class AnchorFieldDiffs {
   void Covariance(const char* field, const A& ref, const B& est) {
     Metric(field, ref, est);
     Scaled(field, CorrelationScaleDiff(ref, est));
+  }
+  /// The names a system's anchor files give the end state's position, rotation quaternion
+  /// [w, x, y, z], rotation matrix and velocity (its biases are `bg` and `ba` in every file).
+  struct StateKeys {
+    const char* p;
+    const char* q_wxyz;
+    const char* R;
+    const char* v;
+  };
+  /// A propagated end state against the file's `e`: position, rotation (the quaternion where
+  /// the run compares one) and velocity by the note's metric, and the biases exactly
+  /// (propagation carries them unchanged).
+  void PropagatedState(const nlohmann::json& e, const StateKeys& keys, const Vec3& p,
+                       const std::optional<Eigen::Vector4d>& q_wxyz, const Mat3& R, const Vec3& v,
+                       const Vec3& bg, const Vec3& ba) {
+    Metric(keys.p, JsonMatrix(e.at(keys.p)), p);
+    if (q_wxyz) Metric(keys.q_wxyz, JsonMatrix(e.at(keys.q_wxyz)), *q_wxyz);
+    Metric(keys.R, JsonMatrix(e.at(keys.R)), R);
+    Metric(keys.v, JsonMatrix(e.at(keys.v)), v);
+    EXPECT_EQ(JsonVec3(e.at("bg")), bg);
+    EXPECT_EQ(JsonVec3(e.at("ba")), ba);
   }
   void Print() const {
     std::printf("  %-36s metric %.2g (%s) scaled %.2g\n", label_.c_str(), metric_,

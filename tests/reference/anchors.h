@@ -25,26 +25,26 @@ constexpr double kAnchorMetricTol = 1e-8;
 constexpr double kAnchorScaledTol = 1e-9;
 
 /// The fixture of a test over the reference cases (its parameter: a case id) against one
-/// system's anchors: the case and that system's anchor file for it, both read when the test is
-/// constructed (a missing or unreadable file fails the test there).
-class AnchorCaseTest : public ::testing::TestWithParam<const char*> {
+/// system's anchors: the case, as `Load` reads it, and that system's anchor file for it, both
+/// read when the test is constructed (a missing or unreadable file fails the test there).
+template <typename CaseT, CaseT (*Load)(const std::string&)>
+class AnchorFixture : public ::testing::TestWithParam<const char*> {
  protected:
   /// `system`: the anchors' folder, as AnchorJson takes it.
-  explicit AnchorCaseTest(const char* system)
-      : anchor_(AnchorJson(system, GetParam())), case_(LoadCase(GetParam())) {}
+  explicit AnchorFixture(const char* system)
+      : anchor_(AnchorJson(system, GetParam())),
+        case_(Load(GetParam())),
+        inputs_(anchor_.at("inputs")) {}
   nlohmann::json anchor_;
-  ImuCase case_;
+  CaseT case_;
+  const nlohmann::json& inputs_;  ///< the anchor's `inputs`: what the system was run with
 };
 
-/// The same with the case as its JSON document (for the tests that take its samples and noise
-/// from the document, as the anchors' inputs were written).
-class AnchorCaseJsonTest : public ::testing::TestWithParam<const char*> {
- protected:
-  /// `system`: the anchors' folder, as AnchorJson takes it.
-  explicit AnchorCaseJsonTest(const char* system)
-      : anchor_(AnchorJson(system, GetParam())), case_(CaseJson(GetParam())) {}
-  nlohmann::json anchor_, case_;
-};
+/// The case as an ImuCase.
+using AnchorCaseTest = AnchorFixture<ImuCase, LoadCase>;
+/// The case as its JSON document (for the tests that take its samples and noise from the
+/// document, as the anchors' inputs were written).
+using AnchorCaseJsonTest = AnchorFixture<nlohmann::json, CaseJson>;
 
 /// The preintegration anchors' input: the whole case from its first sample to its last, at
 /// the bias estimate given (the case's start biases, or a changed one).

@@ -72,14 +72,13 @@ class BasaltAnchor : public AnchorCaseTest {
  protected:
   BasaltAnchor() : AnchorCaseTest("basalt") {}
   void SetUp() override {
-    const nlohmann::json& in = anchor_.at("inputs");
-    ASSERT_EQ(JsonVec3(in.at("bias_accel_lin")), case_.x_s.ba);
-    ASSERT_EQ(JsonVec3(in.at("bias_gyro_lin")), case_.x_s.bg);
-    ASSERT_EQ(in.at("n_integrate").get<std::size_t>() + 1, case_.samples.size());
+    ASSERT_EQ(JsonVec3(inputs_.at("bias_accel_lin")), case_.x_s.ba);
+    ASSERT_EQ(JsonVec3(inputs_.at("bias_gyro_lin")), case_.x_s.bg);
+    ASSERT_EQ(inputs_.at("n_integrate").get<std::size_t>() + 1, case_.samples.size());
     // Basalt's VIO variances: the densities squared times the nominal rate.
-    variances_.accel = JsonVec3(in.at("accel_cov"));
-    variances_.gyro = JsonVec3(in.at("gyro_cov"));
-    const double rate = in.at("imu_update_rate").get<double>();
+    variances_.accel = JsonVec3(inputs_.at("accel_cov"));
+    variances_.gyro = JsonVec3(inputs_.at("gyro_cov"));
+    const double rate = inputs_.at("imu_update_rate").get<double>();
     EXPECT_NEAR(variances_.accel.x(),
                 case_.noise.accel_noise_density * case_.noise.accel_noise_density * rate,
                 1e-15 * variances_.accel.x());

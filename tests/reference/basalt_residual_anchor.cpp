@@ -44,10 +44,9 @@ class BasaltResidualAnchor : public AnchorCaseTest {
  protected:
   BasaltResidualAnchor() : AnchorCaseTest("basalt") {}
   void SetUp() override {
-    const nlohmann::json& in = anchor_.at("inputs");
-    variances_.accel = JsonVec3(in.at("accel_cov"));
-    variances_.gyro = JsonVec3(in.at("gyro_cov"));
-    g_ = JsonVec3(in.at("g"));
+    variances_.accel = JsonVec3(inputs_.at("accel_cov"));
+    variances_.gyro = JsonVec3(inputs_.at("gyro_cov"));
+    g_ = JsonVec3(inputs_.at("g"));
     ASSERT_EQ(g_, case_.gravity);
   }
   /// The measurement of one feeding at the case's start biases.

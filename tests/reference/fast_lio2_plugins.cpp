@@ -80,11 +80,10 @@ class FastLio2Plugins : public AnchorCaseJsonTest {
     in_.x_s.ba = JsonVec3(st.at("ba"));
     gravity_ = JsonVec3(case_.at("gravity"));
     cov_left_ = JsonMatrix(case_.at("cov_s_left").at("matrix"));
-    const nlohmann::json& i = anchor_.at("inputs");
-    configured_.gyro_noise_density = i.at("gyr_cov").get<double>();
-    configured_.accel_noise_density = i.at("acc_cov").get<double>();
-    configured_.gyro_random_walk = i.at("b_gyr_cov").get<double>();
-    configured_.accel_random_walk = i.at("b_acc_cov").get<double>();
+    configured_.gyro_noise_density = inputs_.at("gyr_cov").get<double>();
+    configured_.accel_noise_density = inputs_.at("acc_cov").get<double>();
+    configured_.gyro_random_walk = inputs_.at("b_gyr_cov").get<double>();
+    configured_.accel_random_walk = inputs_.at("b_acc_cov").get<double>();
   }
 
   /// The gravity of run `run` as a user gives it to the plugins.
@@ -146,7 +145,7 @@ TEST_P(FastLio2Plugins, AsConfiguredIsFastLioOwn) {
 TEST_P(FastLio2Plugins, DensitiesAreFastLioOwnAtTheMeanRate) {
   const ImuNoise densities = CaseNoise(case_);
   const double rate = (samples_.size() - 1) / (samples_.back().t - samples_.front().t);
-  const double nominal = anchor_.at("inputs").at("imu_rate").get<double>();
+  const double nominal = inputs_.at("imu_rate").get<double>();
   // Regular sampling: 2000 steps of 5 ms to rounding of the stamps (4e-13 relative).
   if (std::abs(rate / nominal - 1.0) < 1e-12) {
     ExpectRun("fast_lio2", densities, "case_gravity");
@@ -200,7 +199,7 @@ TEST_P(FastLio2Plugins, ExactRotationIsTheKernelsExactVariant) {
   start.grav = FastLio2GravityExact(gravity_);
   FastLio2Propagation k;
   ASSERT_TRUE(PropagateFastLio2Scan(samples_, params, samples_.front().t, samples_.back().t, start,
-                                    JsonMatrix(anchor_.at("inputs").at("P0").at("matrix")), k,
+                                    JsonMatrix(inputs_.at("P0").at("matrix")), k,
                                     FastLio2Transition::kExactRotation)
                   .ok());
   AnchorFieldDiffs w(std::string(GetParam()) + " fast_lio2_exact_rotation");

@@ -22,6 +22,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "anchor_field_diffs.h"
+#include "anchor_members.h"
 #include "anchors.h"
 #include "imuconv/kernels/okvis2.h"
 #include "imuconv_test.h"
@@ -36,11 +37,8 @@ using namespace imuconv::test;  // DataPath, JsonMatrix, MaxEntryDiff, the ancho
 
 Okvis2State JsonState(const nlohmann::json& s) {
   Okvis2State x;
-  x.r = JsonVec3(s.at("r"));
   x.q = JsonQuaternionWxyz(s.at("q_wxyz"));
-  x.v = JsonVec3(s.at("v"));
-  x.bg = JsonVec3(s.at("bg"));
-  x.ba = JsonVec3(s.at("ba"));
+  IMUCONV_READ_ANCHOR_MEMBERS(JsonVec3, s, x, (r)(v)(bg)(ba));
   return x;
 }
 
@@ -97,13 +95,9 @@ class Okvis2Anchor : public ::testing::TestWithParam<const char*> {
     EXPECT_EQ(j.at("redoCounter").get<int>(), 1) << label;
     w.Metric("Delta_q_wxyz", JsonMatrix(j.at("Delta_q_wxyz")), Wxyz(p.Delta_q));
     w.Metric("Delta_R", JsonMatrix(j.at("Delta_R")), p.Delta_q.toRotationMatrix());
-    w.Jacobian("C_integral", JsonMatrix(j.at("C_integral")), p.C_integral);
-    w.Jacobian("C_doubleintegral", JsonMatrix(j.at("C_doubleintegral")), p.C_doubleintegral);
-    w.Metric("acc_integral", JsonMatrix(j.at("acc_integral")), p.acc_integral);
-    w.Metric("acc_doubleintegral", JsonMatrix(j.at("acc_doubleintegral")), p.acc_doubleintegral);
-    w.Jacobian("dalpha_db_g", JsonMatrix(j.at("dalpha_db_g")), p.dalpha_db_g);
-    w.Jacobian("dv_db_g", JsonMatrix(j.at("dv_db_g")), p.dv_db_g);
-    w.Jacobian("dp_db_g", JsonMatrix(j.at("dp_db_g")), p.dp_db_g);
+    IMUCONV_CHECK_ANCHOR_MEMBERS(w.Jacobian, j, p, (C_integral)(C_doubleintegral));
+    IMUCONV_CHECK_ANCHOR_MEMBERS(w.Metric, j, p, (acc_integral)(acc_doubleintegral));
+    IMUCONV_CHECK_ANCHOR_MEMBERS(w.Jacobian, j, p, (dalpha_db_g)(dv_db_g)(dp_db_g));
     Vec9 ref_point;
     ref_point << Vec3::Zero(), p.bg_ref, p.ba_ref;
     // speedAndBiases_ref also holds the speed it was called with; only the biases are used.
@@ -142,16 +136,10 @@ class Okvis2Anchor : public ::testing::TestWithParam<const char*> {
     AnchorFieldDiffs w(label);
     const nlohmann::json& raw = j.at("raw");
     w.Metric("residual", JsonMatrix(raw.at("residual")), t.residual);
-    w.Jacobian("jacobian_pose_0", JsonMatrix(raw.at("jacobian_pose_0")), t.jacobian_pose_0);
-    w.Jacobian("jacobian_pose_1", JsonMatrix(raw.at("jacobian_pose_1")), t.jacobian_pose_1);
-    w.Jacobian("jacobian_speedbias_0", JsonMatrix(raw.at("jacobian_speedbias_0")),
-               t.jacobian_speedbias_0);
-    w.Jacobian("jacobian_speedbias_1", JsonMatrix(raw.at("jacobian_speedbias_1")),
-               t.jacobian_speedbias_1);
-    w.Jacobian("jacobian_pose_0_minimal", JsonMatrix(raw.at("jacobian_pose_0_minimal")),
-               t.jacobian_pose_0_minimal);
-    w.Jacobian("jacobian_pose_1_minimal", JsonMatrix(raw.at("jacobian_pose_1_minimal")),
-               t.jacobian_pose_1_minimal);
+    IMUCONV_CHECK_ANCHOR_MEMBERS(w.Jacobian, raw, t,
+                                 (jacobian_pose_0)(jacobian_pose_1)(jacobian_speedbias_0)(
+                                     jacobian_speedbias_1)(jacobian_pose_0_minimal)(
+                                     jacobian_pose_1_minimal));
     const Eigen::VectorXd whitened = JsonMatrix(j.at("whitened").at("residual"));
     const double chi2_file = whitened.squaredNorm();
     const double chi2 = t.residual.dot(information * t.residual);
@@ -174,13 +162,8 @@ TEST_P(Okvis2Anchor, PropagationIsOkvisOwn) {
   EXPECT_NEAR(out.Delta_t, anchor_.at("inputs").at("Delta_t").get<double>(),
               1e-12);  // 2000 sums of dt
   AnchorFieldDiffs w(std::string(GetParam()) + " propagation");
-  const nlohmann::json& e = j.at("state_end");
-  w.Metric("r", JsonMatrix(e.at("r")), out.end.r);
-  w.Metric("q_wxyz", JsonMatrix(e.at("q_wxyz")), Wxyz(out.end.q));
-  w.Metric("C", JsonMatrix(e.at("C")), out.end.q.toRotationMatrix());
-  w.Metric("v", JsonMatrix(e.at("v")), out.end.v);
-  EXPECT_EQ(JsonVec3(e.at("bg")), out.end.bg);
-  EXPECT_EQ(JsonVec3(e.at("ba")), out.end.ba);
+  w.PropagatedState(j.at("state_end"), {"r", "q_wxyz", "C", "v"}, out.end.r, Wxyz(out.end.q),
+                    out.end.q.toRotationMatrix(), out.end.v, out.end.bg, out.end.ba);
   w.Covariance("covariance", JsonMatrix(j.at("covariance").at("matrix")), out.covariance);
   w.Jacobian("jacobian", JsonMatrix(j.at("jacobian").at("matrix")), out.jacobian);
   w.Print();

@@ -25,6 +25,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "anchor_field_diffs.h"
+#include "anchor_members.h"
 #include "anchors.h"
 #include "imuconv/kernels/orb_slam3.h"
 #include "imuconv_test.h"
@@ -72,16 +73,15 @@ class OrbSlam3Anchor : public AnchorCaseJsonTest {
  protected:
   OrbSlam3Anchor() : AnchorCaseJsonTest("orb-slam3") {}
   void SetUp() override {
-    const nlohmann::json& in = anchor_.at("inputs");
     const ImuNoise noise = CaseNoise(case_);
-    ASSERT_EQ(in.at("IMU.NoiseGyro").get<double>(), noise.gyro_noise_density);
-    ASSERT_EQ(in.at("IMU.NoiseAcc").get<double>(), noise.accel_noise_density);
-    ASSERT_EQ(in.at("IMU.GyroWalk").get<double>(), noise.gyro_random_walk);
-    ASSERT_EQ(in.at("IMU.AccWalk").get<double>(), noise.accel_random_walk);
-    calib_ = OrbSlam3CalibFromDensities(noise, in.at("IMU.Frequency").get<double>());
+    ASSERT_EQ(inputs_.at("IMU.NoiseGyro").get<double>(), noise.gyro_noise_density);
+    ASSERT_EQ(inputs_.at("IMU.NoiseAcc").get<double>(), noise.accel_noise_density);
+    ASSERT_EQ(inputs_.at("IMU.GyroWalk").get<double>(), noise.gyro_random_walk);
+    ASSERT_EQ(inputs_.at("IMU.AccWalk").get<double>(), noise.accel_random_walk);
+    calib_ = OrbSlam3CalibFromDensities(noise, inputs_.at("IMU.Frequency").get<double>());
     // The Calib ORB-SLAM3 made, bit for bit (the noise interpretation of the header).
-    const Eigen::VectorXd cov = JsonMatrix(in.at("calib_Cov_diag")),
-                          walk = JsonMatrix(in.at("calib_CovWalk_diag"));
+    const Eigen::VectorXd cov = JsonMatrix(inputs_.at("calib_Cov_diag")),
+                          walk = JsonMatrix(inputs_.at("calib_CovWalk_diag"));
     for (int i = 0; i < 6; ++i) {
       ASSERT_EQ(static_cast<float>(cov(i)), calib_.cov(i)) << i;
       ASSERT_EQ(static_cast<float>(walk(i)), calib_.cov_walk(i)) << i;
@@ -89,13 +89,13 @@ class OrbSlam3Anchor : public AnchorCaseJsonTest {
     const nlohmann::json& st = case_.at("state_s");
     bias_.bg = JsonVec3(st.at("bg")).cast<float>();
     bias_.ba = JsonVec3(st.at("ba")).cast<float>();
-    const OrbSlam3Bias file_bias = JsonFloatBias(in.at("bias_lin_float"));
+    const OrbSlam3Bias file_bias = JsonFloatBias(inputs_.at("bias_lin_float"));
     ASSERT_EQ(file_bias.bg, bias_.bg);
     ASSERT_EQ(file_bias.ba, bias_.ba);
     const std::vector<ImuSample> samples = CaseSamples(case_);
-    ASSERT_EQ(in.at("n_samples").get<std::size_t>(), samples.size());
+    ASSERT_EQ(inputs_.at("n_samples").get<std::size_t>(), samples.size());
     ASSERT_TRUE(OrbSlam3Steps(samples, steps_).ok());
-    ASSERT_EQ(in.at("n_integrate").get<std::size_t>(), steps_.size());
+    ASSERT_EQ(inputs_.at("n_integrate").get<std::size_t>(), steps_.size());
   }
 
   OrbSlam3Calib calib_;
@@ -184,12 +184,8 @@ TEST_P(OrbSlam3Anchor, EdgeInertialIsOrbSlam3Own) {
     w.Metric("residual", JsonMatrix(r.at("residual")), e.residual);
     w.Metric("chi2", Eigen::Matrix<double, 1, 1>(r.at("chi2").get<double>()),
              Eigen::Matrix<double, 1, 1>(e.chi2));
-    w.Metric("J_pose1", JsonMatrix(r.at("J_pose1")), e.J_pose1);
-    w.Metric("J_vel1", JsonMatrix(r.at("J_vel1")), e.J_vel1);
-    w.Metric("J_gyro_bias1", JsonMatrix(r.at("J_gyro_bias1")), e.J_gyro_bias1);
-    w.Metric("J_acc_bias1", JsonMatrix(r.at("J_acc_bias1")), e.J_acc_bias1);
-    w.Metric("J_pose2", JsonMatrix(r.at("J_pose2")), e.J_pose2);
-    w.Metric("J_vel2", JsonMatrix(r.at("J_vel2")), e.J_vel2);
+    IMUCONV_CHECK_ANCHOR_MEMBERS(w.Metric, r, e,
+                                 (J_pose1)(J_vel1)(J_gyro_bias1)(J_acc_bias1)(J_pose2)(J_vel2));
   }
   w.Print();
 }

@@ -89,7 +89,7 @@ class OrbSlam3Plugin : public AnchorCaseTest {
  protected:
   OrbSlam3Plugin() : AnchorCaseTest("orb-slam3") {}
   void SetUp() override {
-    ASSERT_EQ(anchor_.at("inputs").at("IMU.Frequency").get<double>(), 200.0);
+    ASSERT_EQ(inputs_.at("IMU.Frequency").get<double>(), 200.0);
   }
 };
 

@@ -72,14 +72,13 @@ class VinsFusionAnchor : public AnchorCaseTest {
   void SetUp() override {
     // The anchor ran with the case's densities as ACC_N, GYR_N, ACC_W, GYR_W and its start
     // biases as the linearization point: what kAsConfigured reads from ImuNoise.
-    const nlohmann::json& in = anchor_.at("inputs");
-    ASSERT_EQ(in.at("ACC_N").get<double>(), case_.noise.accel_noise_density);
-    ASSERT_EQ(in.at("GYR_N").get<double>(), case_.noise.gyro_noise_density);
-    ASSERT_EQ(in.at("ACC_W").get<double>(), case_.noise.accel_random_walk);
-    ASSERT_EQ(in.at("GYR_W").get<double>(), case_.noise.gyro_random_walk);
-    ASSERT_EQ(JsonVec3(in.at("linearized_ba")), case_.x_s.ba);
-    ASSERT_EQ(JsonVec3(in.at("linearized_bg")), case_.x_s.bg);
-    ASSERT_EQ(in.at("n_push_back").get<std::size_t>() + 1, case_.samples.size());
+    ASSERT_EQ(inputs_.at("ACC_N").get<double>(), case_.noise.accel_noise_density);
+    ASSERT_EQ(inputs_.at("GYR_N").get<double>(), case_.noise.gyro_noise_density);
+    ASSERT_EQ(inputs_.at("ACC_W").get<double>(), case_.noise.accel_random_walk);
+    ASSERT_EQ(inputs_.at("GYR_W").get<double>(), case_.noise.gyro_random_walk);
+    ASSERT_EQ(JsonVec3(inputs_.at("linearized_ba")), case_.x_s.ba);
+    ASSERT_EQ(JsonVec3(inputs_.at("linearized_bg")), case_.x_s.bg);
+    ASSERT_EQ(inputs_.at("n_push_back").get<std::size_t>() + 1, case_.samples.size());
   }
 };
 

@@ -17,6 +17,7 @@
 #include <string>
 
 #include "anchor_field_diffs.h"
+#include "anchor_members.h"
 #include "anchors.h"
 #include "imuconv/kernels/vins_fusion.h"
 #include "imuconv/kernels/vins_fusion_residual.h"
@@ -33,11 +34,8 @@ constexpr double kWhitenedTol = 1e-5;
 
 VinsFusionFactorState FactorState(const nlohmann::json& s) {
   VinsFusionFactorState x;
-  x.P = JsonVec3(s.at("P"));
   x.Q = JsonQuaternionWxyz(s.at("Q_wxyz"));
-  x.V = JsonVec3(s.at("V"));
-  x.Ba = JsonVec3(s.at("Ba"));
-  x.Bg = JsonVec3(s.at("Bg"));
+  IMUCONV_READ_ANCHOR_MEMBERS(JsonVec3, s, x, (P)(V)(Ba)(Bg));
   return x;
 }
 
@@ -69,7 +67,7 @@ class VinsFusionResidualAnchor : public AnchorCaseTest {
     // as the linearization point, G = -gravity.
     m_.linearized_ba = case_.x_s.ba;
     m_.linearized_bg = case_.x_s.bg;
-    m_.G = JsonVec3(anchor_.at("inputs").at("G"));
+    m_.G = JsonVec3(inputs_.at("G"));
     ASSERT_EQ(m_.G, Vec3(-case_.gravity));
     ASSERT_TRUE(IntegrateVinsFusion(AnchorInput(case_, case_.x_s.bg, case_.x_s.ba),
                                     VinsNoiseMapping::kAsConfigured, m_.pre)

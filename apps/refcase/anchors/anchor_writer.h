@@ -6,8 +6,12 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <boost/preprocessor/seq/for_each.hpp>
+#include <boost/preprocessor/stringize.hpp>
+#include <boost/preprocessor/tuple/elem.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <type_traits>
 
 #include "imuconv/registry.h"
 #include "imuconv/so3.h"
@@ -56,8 +60,32 @@ inline Eigen::Quaterniond QuaternionExp(const Vec3& dtheta) {
   return Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
 }
 
+/// A field as the anchor files write it: a column vector as an array, a matrix as an array of
+/// rows (ToJsonVec, ToJson), a number as itself.
+template <typename Derived>
+nlohmann::json FieldJson(const Eigen::MatrixBase<Derived>& m) {
+  if constexpr (Derived::ColsAtCompileTime == 1)
+    return ToJsonVec(m);
+  else
+    return ToJson(m);
+}
+template <typename T, std::enable_if_t<std::is_arithmetic_v<T>, int> = 0>
+nlohmann::json FieldJson(T x) {
+  return x;
+}
+
 }  // namespace anchor_support
 }  // namespace imuconv::refcase
+
+#define IMUCONV_ANCHOR_MEMBER_ENTRY(r, of_obj, member) \
+  {BOOST_PP_STRINGIZE(member),                         \
+   BOOST_PP_TUPLE_ELEM(2, 0, of_obj)(BOOST_PP_TUPLE_ELEM(2, 1, of_obj).member)},
+/// The entries {"member", OF(OBJ.member)} of a JSON object, each followed by a comma, for each
+/// member of MEMBERS, a Boost.Preprocessor sequence (a)(b)(c): where an anchor file names a
+/// field as the system's struct names its member, the name is written once (OF: FieldJson, or
+/// the system's own conversion).
+#define IMUCONV_ANCHOR_MEMBERS(OF, OBJ, MEMBERS) \
+  BOOST_PP_SEQ_FOR_EACH(IMUCONV_ANCHOR_MEMBER_ENTRY, (OF, OBJ), MEMBERS)
 
 /// Declares this file's writer: STEM is the file's name without .cpp, NAME the --anchor name,
 /// WRITE the function json(const Registry&, const Case&).

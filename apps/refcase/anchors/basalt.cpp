@@ -26,19 +26,14 @@ struct BasaltStateOut {
 };
 
 json BasaltStateJson(const BasaltStateOut& s) {
-  return {{"R", ToJson(s.x.R)},
-          {"p", ToJsonVec(s.x.p)},
-          {"q_wxyz", Wxyz(s.q)},
+  return {{"q_wxyz", Wxyz(s.q)},
           {"t_ns", s.t_ns},
-          {"v", ToJsonVec(s.x.v)}};
+          IMUCONV_ANCHOR_MEMBERS(FieldJson, s.x, (R)(p)(v))};
 }
 
 json BasaltResidualJson(const BasaltResidual& r) {
-  return {{"residual", ToJsonVec(r.residual)},
-          {"d_res_d_state0", ToJson(r.d_res_d_state0)},
-          {"d_res_d_state1", ToJson(r.d_res_d_state1)},
-          {"d_res_d_bg", ToJson(r.d_res_d_bg)},
-          {"d_res_d_ba", ToJson(r.d_res_d_ba)}};
+  return {IMUCONV_ANCHOR_MEMBERS(
+      FieldJson, r, (residual)(d_res_d_state0)(d_res_d_state1)(d_res_d_bg)(d_res_d_ba))};
 }
 
 /// The delta state as getDeltaState() returns it; its quaternion with w >= 0 (a product of

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "anchor_writer.h"
+#include "fast_lio2_start.h"
 #include "imuconv/kernels/fast_lio2.h"
 
 namespace imuconv::refcase {
@@ -43,14 +44,10 @@ json ErrorStateMatrix(const Mat23& m) {
 }
 
 json FastLio2StateJson(const FastLio2State& s) {
-  return {{"pos", ToJsonVec(s.pos)},
-          {"rot_q_wxyz", Wxyz(s.rot)},
+  return {{"rot_q_wxyz", Wxyz(s.rot)},
           {"rot_R", ToJson(s.rot.toRotationMatrix())},
           {"offset_R_L_I_q_wxyz", Wxyz(s.offset_R_L_I)},
-          {"offset_T_L_I", ToJsonVec(s.offset_T_L_I)},
-          {"vel", ToJsonVec(s.vel)},
-          {"bg", ToJsonVec(s.bg)},
-          {"ba", ToJsonVec(s.ba)},
+          IMUCONV_ANCHOR_MEMBERS(FieldJson, s, (pos)(offset_T_L_I)(vel)(bg)(ba))
           {"grav", ToJsonVec(s.grav.vec)},
           {"grav_S2_length", s.grav.length}};
 }
@@ -62,15 +59,11 @@ json ScanRun(const Case& k, const FastLio2Parameters& params, const FastLio2Stat
   Require(PropagateFastLio2Scan(k.samples, params, first, last, start, P0, out),
           "FAST-LIO2 propagation");
   return {{"gravity_setup", gravity_setup},
-          {"n_predict", out.n_predict},
-          {"sum_dt", out.sum_dt},
-          {"last_predict_dt", out.last_predict_dt},
+          IMUCONV_ANCHOR_MEMBERS(FieldJson, out, (n_predict)(sum_dt)(last_predict_dt))
           // the scan ends on the last sample: the frame-end predict's dt is -0.0, a no-op
           {"last_predict_is_noop", out.last_predict_dt == 0.0},
           {"state_end", FastLio2StateJson(out.end)},
-          {"covariance", ErrorStateMatrix(out.covariance)},
-          {"Phi_summed", ErrorStateMatrix(out.Phi_summed)},
-          {"Qd_summed", ErrorStateMatrix(out.Qd_summed)}};
+          IMUCONV_ANCHOR_MEMBERS(ErrorStateMatrix, out, (covariance)(Phi_summed)(Qd_summed))};
 }
 
 json FastLio2(const Registry&, const Case& k) {
@@ -90,13 +83,7 @@ json FastLio2(const Registry&, const Case& k) {
   start.ba = k.x_s.ba;
 
   // P0: cov_s_left's [dp, dtheta, dv, dbg, dba] (R = Exp(dtheta) R^) in this error state.
-  Eigen::Matrix<double, 23, 15> T = Eigen::Matrix<double, 23, 15>::Zero();
-  T.block<3, 3>(kFastLio2Pos, 0).setIdentity();
-  T.block<3, 3>(kFastLio2Rot, 3) = start.rot.toRotationMatrix().transpose();
-  T.block<3, 3>(kFastLio2Vel, 6).setIdentity();
-  T.block<3, 3>(kFastLio2Bg, 9).setIdentity();
-  T.block<3, 3>(kFastLio2Ba, 12).setIdentity();
-  const Mat23 P0 = T * k.cov_s_left * T.transpose();
+  const Mat23 P0 = FastLio2StartCovariance(start.rot, k.cov_s_left);
 
   FastLio2State as_built = start, case_gravity = start;
   as_built.grav = FastLio2GravityAsBuilt(k.gravity);

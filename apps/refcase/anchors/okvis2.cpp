@@ -34,12 +34,9 @@ const char* const kIncrementDefinition =
     "Exp(dalpha) Delta_C^ (LEFT), Delta_v = Delta_v^ + dv, bg = bg^ + dbg, ba = ba^ + dba";
 
 json Okvis2StateJson(const Okvis2State& s) {
-  return {{"r", ToJsonVec(s.r)},
-          {"q_wxyz", Wxyz(s.q)},
+  return {{"q_wxyz", Wxyz(s.q)},
           {"C", ToJson(s.q.normalized().toRotationMatrix())},
-          {"v", ToJsonVec(s.v)},
-          {"bg", ToJsonVec(s.bg)},
-          {"ba", ToJsonVec(s.ba)}};
+          IMUCONV_ANCHOR_MEMBERS(FieldJson, s, (r)(v)(bg)(ba))};
 }
 
 json Ordered(const char* const (&order)[5], const std::string& definition, const Mat15& m) {
@@ -62,26 +59,22 @@ Mat15 SquareRootInformation(const Okvis2Preintegration& p) {
   return S;
 }
 
-json TermsJson(const Okvis2ImuErrorTerms& t) {
-  return {{"residual", ToJsonVec(t.residual)},
-          {"jacobian_pose_0", ToJson(t.jacobian_pose_0)},
-          {"jacobian_speedbias_0", ToJson(t.jacobian_speedbias_0)},
-          {"jacobian_pose_1", ToJson(t.jacobian_pose_1)},
-          {"jacobian_speedbias_1", ToJson(t.jacobian_speedbias_1)},
-          {"jacobian_pose_0_minimal", ToJson(t.jacobian_pose_0_minimal)},
-          {"jacobian_pose_1_minimal", ToJson(t.jacobian_pose_1_minimal)}};
+/// The residual and Jacobians of `t`, each as `of` gives it (the field itself, or S times it).
+template <typename Of>
+json TermsJson(const Okvis2ImuErrorTerms& t, const Of& of) {
+  const auto field = [&of](const auto& m) { return FieldJson(of(m)); };
+  return {IMUCONV_ANCHOR_MEMBERS(field, t,
+                                 (residual)(jacobian_pose_0)(jacobian_speedbias_0)(jacobian_pose_1)(
+                                     jacobian_speedbias_1)(jacobian_pose_0_minimal)(
+                                     jacobian_pose_1_minimal))};
 }
 
+/// `raw` as EvaluateWithMinimalJacobians returns it before weighting, and `whitened`: S times
+/// each of its fields.
 json EvaluationJson(const Okvis2ImuErrorTerms& raw, const Mat15& S) {
-  Okvis2ImuErrorTerms w;
-  w.residual = S * raw.residual;
-  w.jacobian_pose_0 = S * raw.jacobian_pose_0;
-  w.jacobian_speedbias_0 = S * raw.jacobian_speedbias_0;
-  w.jacobian_pose_1 = S * raw.jacobian_pose_1;
-  w.jacobian_speedbias_1 = S * raw.jacobian_speedbias_1;
-  w.jacobian_pose_0_minimal = S * raw.jacobian_pose_0_minimal;
-  w.jacobian_pose_1_minimal = S * raw.jacobian_pose_1_minimal;
-  return {{"whitened", TermsJson(w)}, {"raw", TermsJson(raw)}};
+  const auto itself = [](const auto& m) -> const auto& { return m; };
+  const auto whitened = [&S](const auto& m) { return (S * m).eval(); };
+  return {{"whitened", TermsJson(raw, whitened)}, {"raw", TermsJson(raw, itself)}};
 }
 
 json PreintegrationJson(const Okvis2Preintegration& p, const Vec3& v_ref, const Mat15& S) {
@@ -90,17 +83,12 @@ json PreintegrationJson(const Okvis2Preintegration& p, const Vec3& v_ref, const 
   ref << v_ref, p.bg_ref, p.ba_ref;
   return {{"Delta_q_wxyz", Wxyz(p.Delta_q)},
           {"Delta_R", ToJson(p.Delta_q.toRotationMatrix())},
-          {"C_integral", ToJson(p.C_integral)},
-          {"C_doubleintegral", ToJson(p.C_doubleintegral)},
-          {"acc_integral", ToJsonVec(p.acc_integral)},
-          {"acc_doubleintegral", ToJsonVec(p.acc_doubleintegral)},
-          {"dalpha_db_g", ToJson(p.dalpha_db_g)},
-          {"dv_db_g", ToJson(p.dv_db_g)},
-          {"dp_db_g", ToJson(p.dp_db_g)},
+          IMUCONV_ANCHOR_MEMBERS(FieldJson, p,
+                                 (C_integral)(C_doubleintegral)(acc_integral)(acc_doubleintegral)(
+                                     dalpha_db_g)(dv_db_g)(dp_db_g)(information))
           {"speedAndBiases_ref", ToJsonVec(ref)},
           {"redoCounter", 1},  // each ImuError below integrates once
           {"P_delta", Ordered(kOrder, kIncrementDefinition, p.P_delta)},
-          {"information", ToJson(p.information)},
           {"squareRootInformation", ToJson(S)}};
 }
 
@@ -125,12 +113,9 @@ json Okvis2(const Registry&, const Case& k) {
   }
   const std::int64_t t0 = samples.front().t_ns, t1 = samples.back().t_ns;
 
-  Okvis2State s0;
-  s0.r = k.x_s.p;
+  // state_s as OKVIS's state, its quaternion as the case writes it (StartQuaternion).
+  Okvis2State s0 = Okvis2StateOf(k.x_s);
   s0.q = StartQuaternion(k);
-  s0.v = k.x_s.v;
-  s0.bg = k.x_s.bg;
-  s0.ba = k.x_s.ba;
 
   static const char* const kOrder[5] = {"r", "alpha", "v", "bg", "ba"};
   Okvis2Propagation prop;

@@ -31,16 +31,7 @@ json OrbFloatJson(const Eigen::MatrixBase<Derived>& m) {
 
 json OrbPreintegratedJson(const OrbSlam3Preintegrated& p) {
   return {{"dT", static_cast<double>(p.dT)},
-          {"dR", OrbFloatJson(p.dR)},
-          {"dV", OrbFloatJson(p.dV)},
-          {"dP", OrbFloatJson(p.dP)},
-          {"JRg", OrbFloatJson(p.JRg)},
-          {"JVg", OrbFloatJson(p.JVg)},
-          {"JVa", OrbFloatJson(p.JVa)},
-          {"JPg", OrbFloatJson(p.JPg)},
-          {"JPa", OrbFloatJson(p.JPa)},
-          {"avgA", OrbFloatJson(p.avgA)},
-          {"avgW", OrbFloatJson(p.avgW)},
+          IMUCONV_ANCHOR_MEMBERS(OrbFloatJson, p, (dR)(dV)(dP)(JRg)(JVg)(JVa)(JPg)(JPa)(avgA)(avgW))
           {"C",
            {{"order", json::array({"theta", "v", "p", "bg", "ba"})},
             {"definition",
@@ -60,10 +51,9 @@ json OrbStateJson(const OrbSlam3Pose<double>& x, const Vec3& bg, const Vec3& ba)
 }
 
 json OrbEdgeJson(const OrbSlam3EdgeInertial& e) {
-  return {{"residual", ToJsonVec(e.residual)},      {"chi2", e.chi2},
-          {"J_pose1", ToJson(e.J_pose1)},           {"J_vel1", ToJson(e.J_vel1)},
-          {"J_gyro_bias1", ToJson(e.J_gyro_bias1)}, {"J_acc_bias1", ToJson(e.J_acc_bias1)},
-          {"J_pose2", ToJson(e.J_pose2)},           {"J_vel2", ToJson(e.J_vel2)}};
+  return {IMUCONV_ANCHOR_MEMBERS(
+      FieldJson, e,
+      (residual)(chi2)(J_pose1)(J_vel1)(J_gyro_bias1)(J_acc_bias1)(J_pose2)(J_vel2))};
 }
 
 json OrbSlam3Fields(const Registry&, const Case& k) {

@@ -15,25 +15,20 @@ using namespace imuconv::kernels;
 using namespace anchor_support;
 
 json VinsStateJson(const VinsFusionFactorState& x) {
-  return {{"P", ToJsonVec(x.P)}, {"Q_wxyz", Wxyz(x.Q)},   {"R", ToJson(x.Q.toRotationMatrix())},
-          {"V", ToJsonVec(x.V)}, {"Ba", ToJsonVec(x.Ba)}, {"Bg", ToJsonVec(x.Bg)}};
+  return {{"Q_wxyz", Wxyz(x.Q)},
+          {"R", ToJson(x.Q.toRotationMatrix())},
+          IMUCONV_ANCHOR_MEMBERS(FieldJson, x, (P)(V)(Ba)(Bg))};
 }
 
 json VinsOutputJson(const VinsFusionFactorOutput& o) {
-  return {{"residual", ToJsonVec(o.residual)},
-          {"jacobian_pose_i", ToJson(o.jacobian_pose_i)},
-          {"jacobian_speedbias_i", ToJson(o.jacobian_speedbias_i)},
-          {"jacobian_pose_j", ToJson(o.jacobian_pose_j)},
-          {"jacobian_speedbias_j", ToJson(o.jacobian_speedbias_j)}};
+  return {IMUCONV_ANCHOR_MEMBERS(
+      FieldJson, o,
+      (residual)(jacobian_pose_i)(jacobian_speedbias_i)(jacobian_pose_j)(jacobian_speedbias_j))};
 }
 
 json VinsIntegrationJson(const VinsFusionPreintegration& r) {
-  return {{"sum_dt", r.sum_dt},
-          {"delta_p", ToJsonVec(r.delta_p)},
-          {"delta_q_wxyz", Wxyz(r.delta_q)},
-          {"delta_v", ToJsonVec(r.delta_v)},
-          {"jacobian", ToJson(r.jacobian)},
-          {"covariance", ToJson(r.covariance)}};
+  return {{"delta_q_wxyz", Wxyz(r.delta_q)},
+          IMUCONV_ANCHOR_MEMBERS(FieldJson, r, (sum_dt)(delta_p)(delta_v)(jacobian)(covariance))};
 }
 
 json VinsFusion(const Registry&, const Case& k) {
