@@ -44,6 +44,18 @@ CLI::Validator OutputPathCheck() {
       "", "OUTPUT");
 }
 
+CLI::Option* AddImuCsvOption(CLI::App& sub, std::string& path) {
+  return sub.add_option("--imu", path,
+                        "EuRoC/ASL IMU CSV (#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z)");
+}
+
+CLI::Option* AddNoiseFileOption(CLI::App& sub, std::string& path) {
+  return sub.add_option("--noise", path,
+                        "The four noise densities: a JSON noise object (or a pipeline holding "
+                        "one), or a Kalibr imu.yaml (.yaml/.yml, any case); with --pipeline, "
+                        "replaces its /noise");
+}
+
 void AddPluginSearchDirOption(CLI::App& app, std::vector<std::string>& dirs) {
   app.add_option("--plugin-dir", dirs,
                  "Extra plugin directory, searched before IMUCONV_PLUGIN_PATH and the built-in one "

@@ -59,11 +59,11 @@ int RunCheckCommand(const CommandContext& ctx, const CheckCommandOptions& o) {
   });
 }
 
-void RegisterCheckCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand("check",
-                                 "Check a preintegrated measurement file against propagation over "
-                                 "a case's or a pipeline's samples");
-  const auto o = std::make_shared<CheckCommandOptions>();
+// The command line of imuconv check: its description, and its flags onto the options.
+static void DeclareCheckCommand(CLI::App* sub, CheckCommandOptions* o) {
+  sub->description(
+      "Check a preintegrated measurement file against propagation over "
+      "a case's or a pipeline's samples");
   sub->add_option(
          "MEAS", o->measurements,
          "Measurements file (schemas/measurements.schema.json; any chart may be \"unknown\")")
@@ -84,8 +84,10 @@ void RegisterCheckCommand(CLI::App& app, CommandContext& ctx) {
       *sub, o->report_path,
       "per measurement, heatmaps of the entrywise differences under the best explanation, and the "
       "summary (replaced atomically)");
-  AddPluginDirOption(*sub, ctx);
-  SetCommandAction(*sub, ctx, [&ctx, o] { return RunCheckCommand(ctx, *o); });
+}
+
+void RegisterCheckCommand(CLI::App& app, CommandContext& ctx) {
+  AddCommand(app, ctx, "check", DeclareCheckCommand, RunCheckCommand);
 }
 
 }  // namespace imuconv::cli

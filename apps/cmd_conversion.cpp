@@ -17,6 +17,23 @@ struct ConversionOptions {
   bool as_json = false;
 };
 
+// The command line of imuconv conversion: its description, and its flags onto the options.
+void DeclareConversionCommand(CLI::App* sub, ConversionOptions* o) {
+  sub->description(
+      "Print the 15x15 Jacobian d dx_B / d dx_A between two state conventions at a state");
+  sub->add_option("--from", o->from, "State convention id A (e.g. left)")
+      ->required()
+      ->type_name("A");
+  sub->add_option("--to", o->to, "State convention id B (e.g. gtsam_navstate)")
+      ->required()
+      ->type_name("B");
+  sub->add_option("--state", o->state, "State file: {\"p\", \"q_wxyz\", \"v\", \"bg\", \"ba\"}")
+      ->required()
+      ->type_name("STATE.json");
+  sub->add_flag("--json", o->as_json,
+                "Print JSON (the matrix with its row and column conventions and blocks)");
+}
+
 int ExecuteConversion(const CommandContext& ctx, const ConversionOptions& o) {
   Registry reg;
   const auto issues = LoadRegistry(reg, ctx);
@@ -54,23 +71,7 @@ int ExecuteConversion(const CommandContext& ctx, const ConversionOptions& o) {
 }  // namespace
 
 void RegisterConversionCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand(
-      "conversion",
-      "Print the 15x15 Jacobian d dx_B / d dx_A between two state conventions at a state");
-  const auto o = std::make_shared<ConversionOptions>();
-  sub->add_option("--from", o->from, "State convention id A (e.g. left)")
-      ->required()
-      ->type_name("A");
-  sub->add_option("--to", o->to, "State convention id B (e.g. gtsam_navstate)")
-      ->required()
-      ->type_name("B");
-  sub->add_option("--state", o->state, "State file: {\"p\", \"q_wxyz\", \"v\", \"bg\", \"ba\"}")
-      ->required()
-      ->type_name("STATE.json");
-  sub->add_flag("--json", o->as_json,
-                "Print JSON (the matrix with its row and column conventions and blocks)");
-  AddPluginDirOption(*sub, ctx);
-  sub->callback([&ctx, o] { ctx.exit_code = ExecuteConversion(ctx, *o); });
+  AddCommand(app, ctx, "conversion", DeclareConversionCommand, ExecuteConversion);
 }
 
 }  // namespace imuconv::cli

@@ -169,14 +169,12 @@ int ExecuteConvert(const CommandContext& ctx, const ConvertOptions& o) {
   return 0;
 }
 
-}  // namespace
-
-void RegisterConvertCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand("convert",
-                                 "Convert a covariance, a transition matrix or a conversion "
-                                 "Jacobian between two conventions at a state "
-                                 "or an increment (no pipeline file)");
-  const auto o = std::make_shared<ConvertOptions>();
+// The command line of imuconv convert: its description, and its flags onto the options.
+void DeclareConvertCommand(CLI::App* sub, ConvertOptions* o) {
+  sub->description(
+      "Convert a covariance, a transition matrix or a conversion "
+      "Jacobian between two conventions at a state "
+      "or an increment (no pipeline file)");
   sub->add_option("--what", o->what, "What to convert")
       ->required()
       ->check(CLI::IsMember(
@@ -200,8 +198,12 @@ void RegisterConvertCommand(CLI::App& app, CommandContext& ctx) {
       ->type_name("M.json");
   sub->add_flag("--json", o->as_json,
                 "Print JSON: the input and the result, each with its convention and blocks");
-  AddPluginDirOption(*sub, ctx);
-  SetCommandAction(*sub, ctx, [&ctx, o] { return ExecuteConvert(ctx, *o); });
+}
+
+}  // namespace
+
+void RegisterConvertCommand(CLI::App& app, CommandContext& ctx) {
+  AddCommand(app, ctx, "convert", DeclareConvertCommand, ExecuteConvert);
 }
 
 }  // namespace imuconv::cli

@@ -95,12 +95,12 @@ int RunExperimentCommand(const CommandContext& ctx, const ExperimentCommandOptio
   return exit_code;
 }
 
-void RegisterExperimentCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand("experiment",
-                                 "Reproduce the note's experiments: preintegration by propagation "
-                                 "and propagation by preintegration "
-                                 "against GTSAM's two preintegration schemes, over random trials");
-  const auto o = std::make_shared<ExperimentCommandOptions>();
+// The command line of imuconv experiment: its description, and its flags onto the options.
+static void DeclareExperimentCommand(CLI::App* sub, ExperimentCommandOptions* o) {
+  sub->description(
+      "Reproduce the note's experiments: preintegration by propagation "
+      "and propagation by preintegration "
+      "against GTSAM's two preintegration schemes, over random trials");
   sub->add_option("experiment", o->which,
                   "preint-by-prop (the note's Figure 1), prop-by-preint (Figure 2) or both")
       ->required()
@@ -137,8 +137,10 @@ void RegisterExperimentCommand(CLI::App& app, CommandContext& ctx) {
       "Print one JSON object (schemas/experiment_output.schema.json) instead of the summary");
   AddReportOption(*sub, o->report_path,
                   "the note's Figures 1 and 2 as heatmaps of the mean entrywise difference");
-  AddPluginDirOption(*sub, ctx);
-  SetCommandAction(*sub, ctx, [&ctx, o] { return RunExperimentCommand(ctx, *o); });
+}
+
+void RegisterExperimentCommand(CLI::App& app, CommandContext& ctx) {
+  AddCommand(app, ctx, "experiment", DeclareExperimentCommand, RunExperimentCommand);
 }
 
 }  // namespace imuconv::cli

@@ -77,12 +77,11 @@ void RegisterMergeCommand(CLI::App& app, CommandContext& ctx) {
                                  "truncated one, shards of another split, pipeline, imuconv "
                                  "version, plugins or input data (examples/batch/)");
   const auto o = std::make_shared<MergeOptions>();
-  sub->add_option("-o,--output", o->output,
-                  "Output file (replaced atomically, as imuconv run writes it; '-' is stdout); "
-                  "never one of the shards")
-      ->required()
-      ->type_name("OUT.json")
-      ->check(OutputPathCheck());
+  AddOutputPathOption(*sub, "-o,--output", o->output,
+                      "Output file (replaced atomically, as imuconv run writes it; '-' is stdout); "
+                      "never one of the shards",
+                      "OUT.json")
+      ->required();
   sub->add_option("shards", o->shards, "The shard outputs")->required()->type_name("SHARD.json");
   SetCommandAction(*sub, ctx, [&ctx, o] { return Merge(ctx, *o); });
 }

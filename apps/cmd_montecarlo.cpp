@@ -317,11 +317,11 @@ int RunMontecarloCommand(const CommandContext& ctx, const MontecarloCommandOptio
   });
 }
 
-void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand("montecarlo",
-                                 "Re-integrate a case's samples N times with noise and compare the "
-                                 "errors with the predicted covariance");
-  const auto o = std::make_shared<MontecarloCommandOptions>();
+// The command line of imuconv montecarlo: its description, and its flags onto the options.
+static void DeclareMontecarloCommand(CLI::App* sub, MontecarloCommandOptions* o) {
+  sub->description(
+      "Re-integrate a case's samples N times with noise and compare the "
+      "errors with the predicted covariance");
   // --case, --method, --trials and --seed are required but for --merge (checked by the run).
   sub->add_option(
       "--case", o->case_path,
@@ -375,18 +375,18 @@ void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
                   "joins the N "
                   "files into the whole run's output (docs/montecarlo.md)")
       ->type_name("K/N");
-  sub->add_option("-o,--output", o->shard_output,
-                  "With --shard: the shard file (replaced atomically)")
-      ->type_name("FILE")
-      ->check(OutputPathCheck());
+  AddOutputPathOption(*sub, "-o,--output", o->shard_output,
+                      "With --shard: the shard file (replaced atomically)", "FILE");
   sub->add_option("--merge", o->merge_files,
                   "Join the N shard files of one run (any order; every K once) and print, and exit "
                   "with, what the "
                   "whole run would have (--json, --report as for a run); the run's options come "
                   "from the shards")
       ->type_name("SHARD...");
-  AddPluginDirOption(*sub, ctx);
-  SetCommandAction(*sub, ctx, [&ctx, o] { return RunMontecarloCommand(ctx, *o); });
+}
+
+void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx) {
+  AddCommand(app, ctx, "montecarlo", DeclareMontecarloCommand, RunMontecarloCommand);
 }
 
 }  // namespace imuconv::cli

@@ -64,13 +64,12 @@ int RunNeesCommand(const CommandContext& ctx, const NeesCommandOptions& o) {
   });
 }
 
-void RegisterNeesCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand("nees",
-                                 "Propagate windows of real data from the ground truth and fit the "
-                                 "noise densities' scale to their NEES");
-  const auto o = std::make_shared<NeesCommandOptions>();
-  auto* imu_opt = sub->add_option("--imu", o->imu_path,
-                                  "EuRoC/ASL IMU CSV (#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z)");
+// The command line of imuconv nees: its description, and its flags onto the options.
+static void DeclareNeesCommand(CLI::App* sub, NeesCommandOptions* o) {
+  sub->description(
+      "Propagate windows of real data from the ground truth and fit the "
+      "noise densities' scale to their NEES");
+  auto* imu_opt = AddImuCsvOption(*sub, o->imu_path);
   auto* gt_opt =
       sub->add_option("--ground-truth", o->ground_truth_path,
                       "EuRoC/ASL full-state ground truth (17 fields: time, p, q wxyz, v, bg, ba)");
@@ -82,10 +81,7 @@ void RegisterNeesCommand(CLI::App& app, CommandContext& ctx) {
                   "run reads them (its tasks are not run)")
       ->excludes(imu_opt)
       ->excludes(gt_opt);
-  sub->add_option("--noise", o->noise_path,
-                  "The four noise densities: a JSON noise object (or a pipeline holding one), or a "
-                  "Kalibr imu.yaml "
-                  "(.yaml/.yml, any case); with --pipeline, replaces its /noise");
+  AddNoiseFileOption(*sub, o->noise_path);
   sub->add_option("--windows", o->windows,
                   "Window lengths in seconds, comma-separated (e.g. 0.2,0.5,1.0)")
       ->required()
@@ -102,8 +98,10 @@ void RegisterNeesCommand(CLI::App& app, CommandContext& ctx) {
                   "NEES per window against chi-square(9), each error component with its +-3 sigma "
                   "over time, and "
                   "the summary (replaced atomically)");
-  AddPluginDirOption(*sub, ctx);
-  SetCommandAction(*sub, ctx, [&ctx, o] { return RunNeesCommand(ctx, *o); });
+}
+
+void RegisterNeesCommand(CLI::App& app, CommandContext& ctx) {
+  AddCommand(app, ctx, "nees", DeclareNeesCommand, RunNeesCommand);
 }
 
 }  // namespace imuconv::cli

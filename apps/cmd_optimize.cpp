@@ -103,14 +103,12 @@ int RunOptimizeCommand(const CommandContext& ctx, const OptimizeCommandOptions& 
   });
 }
 
-void RegisterOptimizeCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand(
-      "optimize",
+// The command line of imuconv optimize: its description, and its flags onto the options.
+static void DeclareOptimizeCommand(CLI::App* sub, OptimizeCommandOptions* o) {
+  sub->description(
       "Estimate every keyframe's state (velocity and biases, and the poses) over a sequence "
       "from preintegration factors and pose measurements, with Ceres");
-  const auto o = std::make_shared<OptimizeCommandOptions>();
-  auto* imu_opt = sub->add_option("--imu", o->imu_path,
-                                  "EuRoC/ASL IMU CSV (#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z)");
+  auto* imu_opt = AddImuCsvOption(*sub, o->imu_path);
   auto* poses_opt = sub->add_option(
       "--poses", o->poses_path,
       "The pose measurements: EuRoC/ASL ground truth (17 fields; its biases are then the "
@@ -121,9 +119,7 @@ void RegisterOptimizeCommand(CLI::App& app, CommandContext& ctx) {
                   "poses), /noise and /gravity are read as imuconv run reads them")
       ->excludes(imu_opt)
       ->excludes(poses_opt);
-  sub->add_option("--noise", o->noise_path,
-                  "The four noise densities: a JSON noise object (or a pipeline holding one), or a "
-                  "Kalibr imu.yaml (.yaml/.yml, any case); with --pipeline, replaces its /noise");
+  AddNoiseFileOption(*sub, o->noise_path);
   sub->add_option("--keyframe-step", o->keyframe_step,
                   "Seconds between keyframes: every interval must hold an IMU sample strictly "
                   "inside (a step longer than the longest sample period does), at most the "
@@ -159,18 +155,19 @@ void RegisterOptimizeCommand(CLI::App& app, CommandContext& ctx) {
   sub->add_flag("--json", o->as_json,
                 "Print one JSON object (its keyframes the list \"keyframes\", docs/optimize.md) "
                 "instead of the table");
-  sub->add_option("-o,--output", o->output_path,
-                  "Write the table or JSON to this file (replaced atomically) instead of stdout")
-      ->type_name("OUT")
-      ->check(OutputPathCheck());
+  AddOutputPathOption(
+      *sub, "-o,--output", o->output_path,
+      "Write the table or JSON to this file (replaced atomically) instead of stdout", "OUT");
   AddReportOption(*sub, o->report_path,
                   "each estimated bias over time with its +-3 sigma band, against the ground "
                   "truth's biases when the poses file has them, and the solver summary (replaced "
                   "atomically)");
-  AddPluginDirOption(*sub, ctx);
   // The pipeline's optimize tasks (`imuconv run`) are solved by this command's library.
   optimize::RegisterPipelineTask();
-  SetCommandAction(*sub, ctx, [&ctx, o] { return RunOptimizeCommand(ctx, *o); });
+}
+
+void RegisterOptimizeCommand(CLI::App& app, CommandContext& ctx) {
+  AddCommand(app, ctx, "optimize", DeclareOptimizeCommand, RunOptimizeCommand);
 }
 
 }  // namespace imuconv::cli

@@ -151,15 +151,18 @@ int Check(const PluginsOptions& o) {
   return all_ok ? 0 : 1;
 }
 
-}  // namespace
+// The list, or with --check the checks.
+int RunPlugins(const CommandContext& ctx, const PluginsOptions& o) {
+  return o.check_dirs.empty() ? List(ctx, o.as_json) : Check(o);
+}
 
-void RegisterPluginsCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand("plugins",
-                                 "List the plugins found (id, kind, file, block order, version) "
-                                 "and load errors; or, with --check DIR, load "
-                                 "and exercise each plugin file of DIR in a child process and "
-                                 "report which ones fail, crash or hang");
-  const auto o = std::make_shared<PluginsOptions>();
+// The command line of imuconv plugins: its description, and its flags onto the options.
+void DeclarePluginsCommand(CLI::App* sub, PluginsOptions* o) {
+  sub->description(
+      "List the plugins found (id, kind, file, block order, version) "
+      "and load errors; or, with --check DIR, load "
+      "and exercise each plugin file of DIR in a child process and "
+      "report which ones fail, crash or hang");
   sub->add_flag("--json", o->as_json, "Print JSON instead of a table");
   sub->add_option("--check", o->check_dirs,
                   "Check every imuconv_plugin_*.so in DIR, each in its own child process "
@@ -171,9 +174,12 @@ void RegisterPluginsCommand(CLI::App& app, CommandContext& ctx) {
                   "Seconds each plugin file may take under --check (default 20)")
       ->type_name("SECONDS")
       ->check(CLI::Range(0.1, 3600.0));
-  AddPluginDirOption(*sub, ctx);
-  sub->callback(
-      [&ctx, o] { ctx.exit_code = o->check_dirs.empty() ? List(ctx, o->as_json) : Check(*o); });
+}
+
+}  // namespace
+
+void RegisterPluginsCommand(CLI::App& app, CommandContext& ctx) {
+  AddCommand(app, ctx, "plugins", DeclarePluginsCommand, RunPlugins);
 }
 
 }  // namespace imuconv::cli

@@ -263,26 +263,24 @@ int ExecuteRun(const CommandContext& ctx, const RunCommandOptions& o) {
   return inconsistent.empty() && unconverged.empty() ? kExitOk : kExitInconsistent;
 }
 
-}  // namespace
-
-void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
-  auto* sub = app.add_subcommand("run",
-                                 "Run a JSON pipeline (schemas/pipeline.schema.json). The result "
-                                 "goes to -o, else to the pipeline's "
-                                 "\"output\", else to stdout, as JSON or (--format npz, or an "
-                                 "output named *.npz) as a NumPy .npz of its "
-                                 "arrays (docs/interop.md); the summary goes to stdout (stderr "
-                                 "when the result does). A failing run writes "
-                                 "nothing.");
-  const auto o = std::make_shared<RunCommandOptions>();
+// The command line of imuconv run: its description, and its flags onto the options.
+void DeclareRunCommand(CLI::App* sub, RunCommandOptions* o) {
+  sub->description(
+      "Run a JSON pipeline (schemas/pipeline.schema.json). The result "
+      "goes to -o, else to the pipeline's "
+      "\"output\", else to stdout, as JSON or (--format npz, or an "
+      "output named *.npz) as a NumPy .npz of its "
+      "arrays (docs/interop.md); the summary goes to stdout (stderr "
+      "when the result does). A failing run writes "
+      "nothing.");
   sub->add_option("pipeline", o->pipeline, "Pipeline file")->required()->type_name("PIPELINE.json");
-  sub->add_option("-o,--output", o->output,
-                  "Output file: a regular file is replaced atomically (keeping its permissions; a "
-                  "symbolic link is "
-                  "followed to it); a device or FIFO is written through; '-' is stdout. Never one "
-                  "of the inputs")
-      ->type_name("OUT.json|OUT.npz")
-      ->check(OutputPathCheck());
+  AddOutputPathOption(
+      *sub, "-o,--output", o->output,
+      "Output file: a regular file is replaced atomically (keeping its permissions; a "
+      "symbolic link is "
+      "followed to it); a device or FIFO is written through; '-' is stdout. Never one "
+      "of the inputs",
+      "OUT.json|OUT.npz");
   sub->add_option("--format", o->format,
                   "json (the default) or npz: every array of the result in one NumPy .npz "
                   "(uncompressed; keys are "
@@ -293,19 +291,17 @@ void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
                   "npz needs -o (or the pipeline's \"output\") and is never written to a terminal")
       ->type_name("FORMAT");
   sub->add_flag("-q,--quiet", o->quiet, "Do not print the summary");
-  sub->add_option(
-         "--tum", o->tum,
-         "Also write a propagate_by_preintegration task's predicted end states as a TUM trajectory "
-         "(t x y z qx qy qz qw; t absolute seconds when the data's time origin is known), as evo "
-         "reads it")
-      ->type_name("TRAJ.txt")
-      ->check(OutputPathCheck());
-  sub->add_option(
-         "--errors", o->errors,
-         "Also write that task's per-step errors against the ground truth as CSV "
-         "(k, t_end, t_end_abs_ns, position_error_m, rotation_error_deg, velocity_error_mps)")
-      ->type_name("ERRORS.csv")
-      ->check(OutputPathCheck());
+  AddOutputPathOption(
+      *sub, "--tum", o->tum,
+      "Also write a propagate_by_preintegration task's predicted end states as a TUM trajectory "
+      "(t x y z qx qy qz qw; t absolute seconds when the data's time origin is known), as evo "
+      "reads it",
+      "TRAJ.txt");
+  AddOutputPathOption(
+      *sub, "--errors", o->errors,
+      "Also write that task's per-step errors against the ground truth as CSV "
+      "(k, t_end, t_end_abs_ns, position_error_m, rotation_error_deg, velocity_error_mps)",
+      "ERRORS.csv");
   sub->add_option("--trajectory-task", o->trajectory_task,
                   "The propagate_by_preintegration task --tum and --errors write (needed when "
                   "there are several)")
@@ -327,8 +323,12 @@ void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
          "only the block's tasks; imuconv merge joins the N shards into the whole run's bytes "
          "(examples/batch/)")
       ->type_name("K/N");
-  AddPluginDirOption(*sub, ctx);
-  SetCommandAction(*sub, ctx, [&ctx, o] { return ExecuteRun(ctx, *o); });
+}
+
+}  // namespace
+
+void RegisterRunCommand(CLI::App& app, CommandContext& ctx) {
+  AddCommand(app, ctx, "run", DeclareRunCommand, ExecuteRun);
 }
 
 }  // namespace imuconv::cli

@@ -49,20 +49,9 @@ int main(int argc, char** argv) {
   quiet->excludes(verbose);
 
   // ---- subcommands (one file each) ----
-  RegisterPluginsCommand(app, ctx);
-  RegisterConversionCommand(app, ctx);
-  RegisterConvertCommand(app, ctx);
-  RegisterRunCommand(app, ctx);
-  RegisterMergeCommand(app, ctx);
-  RegisterRefcaseCommand(app, ctx);
-  RegisterBenchCommand(app, ctx);
-  RegisterCheckCommand(app, ctx);
-  RegisterMontecarloCommand(app, ctx);
-  RegisterNeesCommand(app, ctx);
-  RegisterExperimentCommand(app, ctx);
-#ifdef IMUCONV_HAVE_OPTIMIZE
-  RegisterOptimizeCommand(app, ctx);
-#endif
+#define IMUCONV_REGISTER_COMMAND(Name) Register##Name##Command(app, ctx);
+  IMUCONV_COMMANDS(IMUCONV_REGISTER_COMMAND)
+#undef IMUCONV_REGISTER_COMMAND
   // One rule for every numeric option of every command (cli_common.cpp).
   RefuseNonFiniteNumbers(app);
 

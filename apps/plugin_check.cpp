@@ -34,6 +34,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <thread>
 
 #include "imuconv/printable.h"
@@ -260,21 +261,14 @@ struct Fd {
 }  // namespace
 
 const char* OutcomeName(PluginCheck::Outcome o) {
-  switch (o) {
-    case PluginCheck::Outcome::Ok:
-      return "ok";
-    case PluginCheck::Outcome::Refused:
-      return "refused";
-    case PluginCheck::Outcome::Crashed:
-      return "crashed";
-    case PluginCheck::Outcome::TimedOut:
-      return "timed_out";
-    case PluginCheck::Outcome::NoResult:
-      return "no_result";
-    case PluginCheck::Outcome::LeftProcesses:
-      return "left_processes";
-  }
-  return "no_result";
+  // One name per outcome, in the order of the enum (plugin_check.h).
+  static constexpr const char* kNames[] = {"ok",        "refused",   "crashed",
+                                           "timed_out", "no_result", "left_processes"};
+  static_assert(
+      std::size(kNames) == static_cast<std::size_t>(PluginCheck::Outcome::LeftProcesses) + 1,
+      "a name for every PluginCheck::Outcome");
+  const auto i = static_cast<std::size_t>(o);
+  return i < std::size(kNames) ? kNames[i] : "no_result";
 }
 
 std::string SafeText(const std::string& text) {

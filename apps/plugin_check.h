@@ -8,6 +8,8 @@
 namespace imuconv::cli {
 
 struct PluginCheck {
+  /// OutcomeName names them by position: a new outcome goes last, and OutcomeName's
+  /// static_assert then counts up to it.
   enum class Outcome { Ok, Refused, Crashed, TimedOut, NoResult, LeftProcesses };
   std::string file;
   Outcome outcome = Outcome::NoResult;
@@ -16,6 +18,7 @@ struct PluginCheck {
   std::string message;
 };
 
+/// "ok", "refused", "crashed", "timed_out", "no_result", "left_processes": --json's "result".
 const char* OutcomeName(PluginCheck::Outcome o);
 
 /// Every imuconv_plugin_*.so in dir, sorted. Throws Error if dir cannot be listed.

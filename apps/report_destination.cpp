@@ -7,9 +7,8 @@
 namespace imuconv::cli {
 
 CLI::Option* AddReportOption(CLI::App& sub, std::string& path, const std::string& contents) {
-  return sub.add_option("--report", path, "Also write a self-contained HTML report: " + contents)
-      ->type_name("OUT.html")
-      ->check(OutputPathCheck());
+  return AddOutputPathOption(sub, "--report", path,
+                             "Also write a self-contained HTML report: " + contents, "OUT.html");
 }
 
 ReportDestination::ReportDestination(const std::string& path) {

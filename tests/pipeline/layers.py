@@ -55,6 +55,7 @@ PUBLIC = {
     "run_options.h": "tasks",        # what the tasks run with (threads, limits, step callback)
     "check_evaluator.h": "tasks",    # the check task's evaluator, registered from above
     "optimize_evaluator.h": "tasks",  # the optimize task's solve, registered from above
+    "registered_from_above.h": "tasks",  # the slot each of the two above is kept in
     "pipeline.h": "run",             # Pipeline, Run, RunToText, RunToArrays
     "pipeline_data.h": "run",        # a loaded Pipeline's data, outside a run
     "shard_merge.h": "run",

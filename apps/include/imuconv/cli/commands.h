@@ -1,16 +1,17 @@
 // The imuconv command line: each subcommand lives in its own cmd_<name>.cpp and provides one
 // Register<Name>Command function, called from main.cpp. To add a subcommand: write
-// cmd_<name>.cpp (it is picked up by apps/CMakeLists.txt's glob), declare its Register
-// function below and add it to the list in main.cpp. The shape (cmd_convert.cpp,
-// cmd_check.cpp): an options struct, a Run<Name>Command(ctx, options) that returns the exit
-// code and needs no CLI11 (declared in cmd_<name>.h, so that tests call it), and a Register
-// function that only maps the flags onto the options (SetCommandAction). The judging commands
-// end in one tail: judgment.h (print the verdict, exit by it) and report_destination.h
-// (--report).
+// cmd_<name>.cpp (it is picked up by apps/CMakeLists.txt's glob) and add its row to
+// IMUCONV_COMMANDS below. The shape (cmd_convert.cpp, cmd_check.cpp): an options struct, a
+// Run<Name>Command(ctx, options) that returns the exit code and needs no CLI11 (declared in
+// cmd_<name>.h, so that tests call it), a Declare<Name>Command that only gives the description
+// and maps the flags onto the options, and a Register function that adds the two as one
+// subcommand (AddCommand). The judging commands end in one tail: judgment.h (print the
+// verdict, exit by it) and report_destination.h (--report).
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
@@ -52,12 +53,44 @@ void SetCommandAction(CLI::App& sub, CommandContext& ctx, std::function<int()> r
 /// standard output: `-o "$OUT"` with OUT unset must not write somewhere the user did not say.
 CLI::Validator OutputPathCheck();
 
+/// An option that names an output file, `names` ("-o,--output"), into `path` (a std::string or
+/// a std::optional<std::string>): shown as `type_name` in --help and checked by
+/// OutputPathCheck. Returns the option, for what else it is (->required()).
+template <typename Path>
+CLI::Option* AddOutputPathOption(CLI::App& sub, const std::string& names, Path& path,
+                                 const std::string& help, const std::string& type_name) {
+  return sub.add_option(names, path, help)->type_name(type_name)->check(OutputPathCheck());
+}
+
+/// --imu IMU.csv of the commands that read real data (nees, optimize): the EuRoC/ASL IMU CSV.
+CLI::Option* AddImuCsvOption(CLI::App& sub, std::string& path);
+
+/// --noise NOISE of the commands that read real data (nees, optimize): the four densities, from
+/// any of the files that hold them; with --pipeline, replacing its /noise.
+CLI::Option* AddNoiseFileOption(CLI::App& sub, std::string& path);
+
 /// The repeatable --plugin-dir DIR option, into `dirs`: before the subcommand (main.cpp,
 /// CommandContext::plugin_dirs_main) and after it (AddPluginDirOption, plugin_dirs_sub) alike.
 void AddPluginSearchDirOption(CLI::App& app, std::vector<std::string>& dirs);
 
 /// Adds the repeatable --plugin-dir option and the --allow-plugin-override flag to a subcommand.
 void AddPluginDirOption(CLI::App& sub, CommandContext& ctx);
+
+/// Adds the subcommand `name` in the shape of every command that loads plugins: one Options
+/// struct, held for the program's run; declare(sub, options) gives its description and its
+/// flags, onto the options, in the order --help lists them; then the plugin search options
+/// (AddPluginDirOption, last in its --help), and run(ctx, options) as the action
+/// (SetCommandAction: its return value is the exit code).
+template <typename Options>
+void AddCommand(CLI::App& app, CommandContext& ctx, const std::string& name,
+                void (*declare)(CLI::App*, Options*),
+                int (*run)(const CommandContext&, const Options&)) {
+  CLI::App* sub = app.add_subcommand(name);
+  const auto options = std::make_shared<Options>();
+  declare(sub, options.get());
+  AddPluginDirOption(*sub, ctx);
+  SetCommandAction(*sub, ctx, [&ctx, options, run] { return run(ctx, *options); });
+}
 
 /// Loads the plugin search path (--plugin-dir first, then `extra`, IMUCONV_PLUGIN_PATH and the
 /// default directory) and returns what failed to load. Throws Error for a duplicate plugin id
@@ -121,18 +154,31 @@ void PrintLabelledMatrix(std::ostream& out, const Mat15& m,
 void LoadRegistryWithStateConvention(Registry& reg, const CommandContext& ctx,
                                      const std::string& state_convention);
 
-void RegisterPluginsCommand(CLI::App& app, CommandContext& ctx);
-void RegisterConversionCommand(CLI::App& app, CommandContext& ctx);
-void RegisterConvertCommand(CLI::App& app, CommandContext& ctx);
-void RegisterRunCommand(CLI::App& app, CommandContext& ctx);
-void RegisterMergeCommand(CLI::App& app, CommandContext& ctx);
-void RegisterRefcaseCommand(CLI::App& app, CommandContext& ctx);
-void RegisterBenchCommand(CLI::App& app, CommandContext& ctx);
-void RegisterCheckCommand(CLI::App& app, CommandContext& ctx);
-void RegisterMontecarloCommand(CLI::App& app, CommandContext& ctx);
-void RegisterNeesCommand(CLI::App& app, CommandContext& ctx);
-void RegisterExperimentCommand(CLI::App& app, CommandContext& ctx);
-/// Only with Ceres (IMUCONV_HAVE_OPTIMIZE).
-void RegisterOptimizeCommand(CLI::App& app, CommandContext& ctx);
+/// Every subcommand, in the order `imuconv --help` lists them: COMMAND(Name) for each, so that
+/// Register<Name>Command is declared below and called by main.cpp from this one list. Optimize
+/// only with Ceres (IMUCONV_HAVE_OPTIMIZE).
+#ifdef IMUCONV_HAVE_OPTIMIZE
+#define IMUCONV_OPTIMIZE_COMMAND(COMMAND) COMMAND(Optimize)
+#else
+#define IMUCONV_OPTIMIZE_COMMAND(COMMAND)
+#endif
+#define IMUCONV_COMMANDS(COMMAND) \
+  COMMAND(Plugins)                \
+  COMMAND(Conversion)             \
+  COMMAND(Convert)                \
+  COMMAND(Run)                    \
+  COMMAND(Merge)                  \
+  COMMAND(Refcase)                \
+  COMMAND(Bench)                  \
+  COMMAND(Check)                  \
+  COMMAND(Montecarlo)             \
+  COMMAND(Nees)                   \
+  COMMAND(Experiment)             \
+  IMUCONV_OPTIMIZE_COMMAND(COMMAND)
+
+#define IMUCONV_DECLARE_COMMAND(Name) \
+  void Register##Name##Command(CLI::App& app, CommandContext& ctx);
+IMUCONV_COMMANDS(IMUCONV_DECLARE_COMMAND)
+#undef IMUCONV_DECLARE_COMMAND
 
 }  // namespace imuconv::cli

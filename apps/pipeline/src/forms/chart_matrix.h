@@ -19,26 +19,30 @@ namespace imuconv::pipeline {
 void WriteChartKeys(JsonWriter& w, const std::string& convention,
                     const std::vector<std::string>& blocks);
 
+/// {"convention", "blocks", key}: one value in one chart, written by write_value().
+template <typename WriteValue>
+void WriteInChart(JsonWriter& w, const std::string& convention,
+                  const std::vector<std::string>& blocks, const char* key,
+                  const WriteValue& write_value) {
+  w.begin_object();
+  WriteChartKeys(w, convention, blocks);
+  w.key(key);
+  write_value();
+  w.end_object();
+}
+
 /// {"convention", "blocks", "matrix"}.
 template <typename M>
 void WriteChart(JsonWriter& w, const M& m, const std::string& convention,
                 const std::vector<std::string>& blocks) {
-  w.begin_object();
-  WriteChartKeys(w, convention, blocks);
-  w.key("matrix");
-  w.matrix(m);
-  w.end_object();
+  WriteInChart(w, convention, blocks, "matrix", [&] { w.matrix(m); });
 }
 
 /// {"convention", "blocks", "vector"}.
 template <typename V>
 void WriteChartVector(JsonWriter& w, const V& v, const std::string& convention,
                       const std::vector<std::string>& blocks) {
-  w.begin_object();
-  WriteChartKeys(w, convention, blocks);
-  w.key("vector");
-  w.vector(v);
-  w.end_object();
+  WriteInChart(w, convention, blocks, "vector", [&] { w.vector(v); });
 }
 
 /// The "rows" and "cols" keys of a two-chart matrix (WriteMixed without the matrix).

@@ -79,6 +79,14 @@ std::optional<CovSpec> ReadCovSpec(const Node& n);
 void ReadStart(const ParseContext& ctx, const Node& task, StateSpec& state, CovSpec& cov);
 /// "measurements" of `task`: an earlier preintegrate task's name or {"file": PATH}.
 std::optional<MeasurementsSpec> ReadMeasurementsSpec(const ParseContext& ctx, const Node& task);
+/// A new task of type T (a task over measurements, with a `meas`) with the "measurements" of
+/// `task` read into it (ReadMeasurementsSpec), before any other key.
+template <typename T>
+std::unique_ptr<T> NewMeasurementsTask(const ParseContext& ctx, const Node& task) {
+  auto p = std::make_unique<T>();
+  if (auto m = ReadMeasurementsSpec(ctx, task)) p->meas = *m;
+  return p;
+}
 /// A plugin id at task[key] (not empty); `pointer` receives its pointer when given.
 std::optional<std::string> ReadPluginId(const Node& task, const char* key, bool required,
                                         std::string* pointer = nullptr);

@@ -144,8 +144,7 @@ void ReadNewBias(const Node& bn, BiasUpdateTask& p) {
 std::unique_ptr<Task> ParseBiasUpdate(const ParseContext& ctx, const Node& n) {
   n.expect_object({"type", "name", "description", "measurements", "bias", "first_order_charts",
                    "reintegrate", "index"});
-  auto p = std::make_unique<BiasUpdateTask>();
-  if (auto m = ReadMeasurementsSpec(ctx, n)) p->meas = *m;
+  auto p = NewMeasurementsTask<BiasUpdateTask>(ctx, n);
   p->index = ReadIndex(n);
   if (auto bn = n.get("bias", true)) ReadNewBias(*bn, *p);
   p->charts = {"preint_reference"};

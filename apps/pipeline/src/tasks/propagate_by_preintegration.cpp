@@ -263,8 +263,7 @@ class PropagateByPreintegrationTask : public Task {
 std::unique_ptr<Task> ParsePropagateByPreintegration(const ParseContext& ctx, const Node& n) {
   n.expect_object({"type", "name", "description", "measurements", "state_convention", "start",
                    "chain", "compare_ground_truth"});
-  auto p = std::make_unique<PropagateByPreintegrationTask>();
-  if (auto m = ReadMeasurementsSpec(ctx, n)) p->meas = *m;
+  auto p = NewMeasurementsTask<PropagateByPreintegrationTask>(ctx, n);
   if (auto s = ReadPluginId(n, "state_convention", false)) p->convention = *s;
   ReadStart(ctx, n, p->start, p->cov);
   p->chain = !p->start.ground_truth;

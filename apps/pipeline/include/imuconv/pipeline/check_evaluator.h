@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "imuconv/pipeline/json_check.h"
+#include "imuconv/pipeline/registered_from_above.h"
 #include "imuconv/registry.h"
 #include "imuconv/types.h"
 
@@ -31,7 +32,9 @@ using CheckEvaluator = CheckEvaluation (*)(const Registry& reg,
                                            const ImuNoise& noise,
                                            const std::vector<DeclaredMeasurement>& ms,
                                            const std::string& measurements_file);
-void SetCheckEvaluator(CheckEvaluator evaluator);
-CheckEvaluator GetCheckEvaluator();
+inline void SetCheckEvaluator(CheckEvaluator evaluator) {
+  RegisteredFromAbove<CheckEvaluator>() = evaluator;
+}
+inline CheckEvaluator GetCheckEvaluator() { return RegisteredFromAbove<CheckEvaluator>(); }
 
 }  // namespace imuconv::pipeline

@@ -11,6 +11,7 @@
 
 #include "imuconv/pipeline/imu_reader.h"
 #include "imuconv/pipeline/json_check.h"
+#include "imuconv/pipeline/registered_from_above.h"
 #include "imuconv/registry.h"
 
 namespace imuconv::pipeline {
@@ -41,7 +42,9 @@ struct OptimizeSettings {
 using OptimizeEvaluator = json (*)(const Registry& reg, const ImuData& imu,
                                    const GroundTruth& poses, const ImuNoise& noise,
                                    const Vec3& gravity, const OptimizeSettings& settings);
-void SetOptimizeEvaluator(OptimizeEvaluator evaluator);
-OptimizeEvaluator GetOptimizeEvaluator();
+inline void SetOptimizeEvaluator(OptimizeEvaluator evaluator) {
+  RegisteredFromAbove<OptimizeEvaluator>() = evaluator;
+}
+inline OptimizeEvaluator GetOptimizeEvaluator() { return RegisteredFromAbove<OptimizeEvaluator>(); }
 
 }  // namespace imuconv::pipeline
