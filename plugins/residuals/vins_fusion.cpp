@@ -10,6 +10,7 @@
 #include "imuconv/kernels/vins_fusion_residual.h"
 #include "imuconv/plugin/residual_plugin.h"
 #include "imuconv/plugin_abi.h"
+#include "jacobian_blocks.h"
 
 namespace {
 
@@ -72,20 +73,12 @@ struct VinsFusionFactor {
   // normalized, which is R Exp(dtheta) to first order, and the speed-bias block additively:
   // to first order the chart of `fast_lio2` (pos + dp, R Exp(drot), vel + dv, b + db), whose
   // blocks VINS's columns hold in its order [p, theta | v, ba, bg].
-  static constexpr ResidualCostSpec kCostSpec{"raw/residual",
-                                              "fast_lio2",
-                                              ResidualWeighting::SqrtInformation,
-                                              "sqrt_info",
-                                              {{"raw/jacobian_pose_i", 0, Block::p},
-                                               {"raw/jacobian_pose_i", 3, Block::theta},
-                                               {"raw/jacobian_speedbias_i", 0, Block::v},
-                                               {"raw/jacobian_speedbias_i", 3, Block::ba},
-                                               {"raw/jacobian_speedbias_i", 6, Block::bg}},
-                                              {{"raw/jacobian_pose_j", 0, Block::p},
-                                               {"raw/jacobian_pose_j", 3, Block::theta},
-                                               {"raw/jacobian_speedbias_j", 0, Block::v},
-                                               {"raw/jacobian_speedbias_j", 3, Block::ba},
-                                               {"raw/jacobian_speedbias_j", 6, Block::bg}}};
+  static constexpr ResidualCostSpec kCostSpec = plugin::CostSpecOf(
+      "raw/residual", "fast_lio2", ResidualWeighting::SqrtInformation, "sqrt_info",
+      {{"raw/jacobian_pose_i", Block::p, Block::theta},
+       {"raw/jacobian_speedbias_i", Block::v, Block::ba, Block::bg}},
+      {{"raw/jacobian_pose_j", Block::p, Block::theta},
+       {"raw/jacobian_speedbias_j", Block::v, Block::ba, Block::bg}});
 
   Status operator()(const Preintegrated& m, const ImuState& x_s, const ImuState& x_e,
                     const Vec3& gravity, ResidualSink& sink) const {
