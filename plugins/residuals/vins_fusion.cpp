@@ -7,6 +7,7 @@
 // on the ten reference cases (tests/reference/vins_fusion_residual_anchor.cpp).
 #include <Eigen/Geometry>
 
+#include "imuconv/kernels/system_state.h"
 #include "imuconv/kernels/vins_fusion_residual.h"
 #include "imuconv/plugin/residual_plugin.h"
 #include "imuconv/plugin_abi.h"
@@ -35,13 +36,8 @@ kernels::VinsFusionMeasurement VinsMeasurement(const Preintegrated& m, const Vec
 }
 
 kernels::VinsFusionFactorState VinsState(const ImuState& x) {
-  kernels::VinsFusionFactorState s;
-  s.P = x.p;
-  s.Q = Eigen::Quaterniond(x.R);
-  s.V = x.v;
-  s.Ba = x.ba;
-  s.Bg = x.bg;
-  return s;
+  using S = kernels::VinsFusionFactorState;
+  return kernels::SystemStateOf(x, &S::P, &S::Q, &S::V, &S::Bg, &S::Ba);
 }
 
 void WriteFactorOutput(ResidualSink& sink, const char* group,
