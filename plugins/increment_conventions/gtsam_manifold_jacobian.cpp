@@ -10,23 +10,14 @@
 //
 // Against `preint_reference` it differs only in the bias sign and order: the Jacobians are
 // identities on theta, p, v and -I on the swapped bias blocks.
-#include "imuconv/plugin/convention.h"
-#include "imuconv/plugin_abi.h"
-
-namespace {
-
-using namespace imuconv::plugin::prelude;
+#include "right_perturbed_increment.h"
 
 // GTSAM's order, accelerometer bias first.
-constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
-
 // The reference's perturbations with GTSAM's order and bias sign: the Jacobians are the
 // permutation with -I on the swapped bias blocks, each its own inverse.
-using GtsamManifoldJacobian = imuconv::plugin::RightPerturbedIncrementChart<kOrder, -1>;
-
-}  // namespace
-
-IMUCONV_PLUGIN(IncrementConvention, GtsamManifoldJacobian, "gtsam_manifold_jacobian", "1.0.0",
-               "GTSAM preintegration bias-Jacobian chart (paper's j): dR Exp(dtheta), dp + dp, dv "
-               "+ dv, Db - db; "
-               "[theta,p,v,ba,bg]")
+IMUCONV_RIGHT_PERTURBED_INCREMENT(
+    "gtsam_manifold_jacobian", "1.0.0",
+    "GTSAM preintegration bias-Jacobian chart (paper's j): dR Exp(dtheta), dp + dp, dv "
+    "+ dv, Db - db; "
+    "[theta,p,v,ba,bg]",
+    -1, theta, p, v, ba, bg)

@@ -10,19 +10,10 @@
 //
 // Against `preint_reference` (the same perturbations, order [theta, p, v, bg, ba]): a
 // permutation, both ways.
-#include "imuconv/plugin/convention.h"
-#include "imuconv/plugin_abi.h"
+#include "right_perturbed_increment.h"
 
-namespace {
-
-using namespace imuconv::plugin::prelude;
-
-constexpr BlockOrder kOrder{Block::theta, Block::v, Block::p, Block::bg, Block::ba};
-
-using OrbSlam3Increment = imuconv::plugin::RightPerturbedIncrementChart<kOrder, 1>;
-
-}  // namespace
-
-IMUCONV_PLUGIN(IncrementConvention, OrbSlam3Increment, "orb_slam3", "1.0.0",
-               "ORB-SLAM3 IMU::Preintegrated: dR Exp(dtheta), dV + dv, dP + dp, Db + db; "
-               "[theta,v,p,bg,ba]")
+IMUCONV_RIGHT_PERTURBED_INCREMENT(
+    "orb_slam3", "1.0.0",
+    "ORB-SLAM3 IMU::Preintegrated: dR Exp(dtheta), dV + dv, dP + dp, Db + db; "
+    "[theta,v,p,bg,ba]",
+    +1, theta, v, p, bg, ba)

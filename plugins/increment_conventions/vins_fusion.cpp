@@ -11,19 +11,10 @@
 //
 // Against `preint_reference` (same perturbations, order [theta, p, v, bg, ba]): a
 // permutation, both ways.
-#include "imuconv/plugin/convention.h"
-#include "imuconv/plugin_abi.h"
+#include "right_perturbed_increment.h"
 
-namespace {
-
-using namespace imuconv::plugin::prelude;
-
-constexpr BlockOrder kOrder{Block::p, Block::theta, Block::v, Block::ba, Block::bg};
-
-using VinsFusionIncrement = imuconv::plugin::RightPerturbedIncrementChart<kOrder, 1>;
-
-}  // namespace
-
-IMUCONV_PLUGIN(IncrementConvention, VinsFusionIncrement, "vins_fusion", "1.0.0",
-               "VINS-Fusion IntegrationBase: dp + dp, dq (x) [1, dtheta/2], dv + dv, Db + db; "
-               "[p,theta,v,ba,bg]")
+IMUCONV_RIGHT_PERTURBED_INCREMENT(
+    "vins_fusion", "1.0.0",
+    "VINS-Fusion IntegrationBase: dp + dp, dq (x) [1, dtheta/2], dv + dv, Db + db; "
+    "[p,theta,v,ba,bg]",
+    +1, p, theta, v, ba, bg)

@@ -30,5 +30,4 @@ IMUCONV_KERNEL_PROPAGATOR(
     "fast_lio2", "1.0.0",
     "FAST-LIO2 ImuProcess + IKFoM predict as built (identity rotation block of F, "
     "scalar_type(1/2) = 0); densities as Q = sigma^2 f; native fast_lio2",
-    imuconv::kernels::FastLio2Propagator<imuconv::kernels::FastLio2Transition::kAsFastLio,
-                                         imuconv::kernels::FastLio2NoiseReading::kDensities>)
+    imuconv::kernels::FastLio2AsBuilt)

@@ -14,5 +14,4 @@ IMUCONV_KERNEL_PROPAGATOR(
     "fast_lio2_as_configured", "1.0.0",
     "FAST-LIO2 propagation as built; noise numbers used as its gyr_cov, acc_cov, "
     "b_gyr_cov, b_acc_cov (per-sample variances)",
-    imuconv::kernels::FastLio2Propagator<imuconv::kernels::FastLio2Transition::kAsFastLio,
-                                         imuconv::kernels::FastLio2NoiseReading::kAsConfigured>)
+    imuconv::kernels::FastLio2AsConfigured)

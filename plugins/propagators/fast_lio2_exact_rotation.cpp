@@ -14,5 +14,4 @@ IMUCONV_KERNEL_PROPAGATOR(
     "fast_lio2_exact_rotation", "1.0.0",
     "FAST-LIO2 propagation with the rotation block of F Exp(-w dt), the half-angle "
     "IKFoM meant; densities as Q = sigma^2 f; native fast_lio2",
-    imuconv::kernels::FastLio2Propagator<imuconv::kernels::FastLio2Transition::kExactRotation,
-                                         imuconv::kernels::FastLio2NoiseReading::kDensities>)
+    imuconv::kernels::FastLio2ExactRotation)

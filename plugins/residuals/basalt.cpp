@@ -11,6 +11,7 @@
 #include "imuconv/kernels/basalt_residual.h"
 #include "imuconv/plugin/residual_plugin.h"
 #include "imuconv/plugin_abi.h"
+#include "jacobian_blocks.h"
 
 namespace {
 
@@ -47,18 +48,12 @@ struct BasaltFactor {
   // random walk in a separate term), whitened by a square root of the measurement's
   // covariance inverse (get_cov_inv). applyInc moves p + dp, Exp(dtheta) R, v + dv and the
   // biases additively: the chart of `left`; the end state's biases do not enter.
-  static constexpr ResidualCostSpec kCostSpec{"residual",
-                                              "left",
-                                              ResidualWeighting::MeasurementCovariance,
-                                              nullptr,
-                                              {{"d_res_d_state0", 0, Block::p},
-                                               {"d_res_d_state0", 3, Block::theta},
-                                               {"d_res_d_state0", 6, Block::v},
-                                               {"d_res_d_bg", 0, Block::bg},
-                                               {"d_res_d_ba", 0, Block::ba}},
-                                              {{"d_res_d_state1", 0, Block::p},
-                                               {"d_res_d_state1", 3, Block::theta},
-                                               {"d_res_d_state1", 6, Block::v}}};
+  static constexpr ResidualCostSpec kCostSpec =
+      plugin::CostSpecOf("residual", "left", ResidualWeighting::MeasurementCovariance, nullptr,
+                         {{"d_res_d_state0", Block::p, Block::theta, Block::v},
+                          {"d_res_d_bg", Block::bg},
+                          {"d_res_d_ba", Block::ba}},
+                         {{"d_res_d_state1", Block::p, Block::theta, Block::v}});
 
   Status operator()(const Preintegrated& m, const ImuState& x_s, const ImuState& x_e,
                     const Vec3& gravity, ResidualSink& sink) const {

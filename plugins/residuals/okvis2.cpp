@@ -19,6 +19,7 @@
 #include "imuconv/kernels/okvis2.h"
 #include "imuconv/plugin/residual_plugin.h"
 #include "imuconv/plugin_abi.h"
+#include "jacobian_blocks.h"
 
 namespace {
 
@@ -62,20 +63,12 @@ struct Okvis2Factor {
   // information (OKVIS's own has eigen-solver row signs; the cost does not depend on which
   // root). The minimal pose Jacobians (r + dr, Exp(dalpha) C) and the additive speed-and-bias
   // ones are in the chart of the `okvis2` state convention, [r, alpha | v, bg, ba].
-  static constexpr ResidualCostSpec kCostSpec{"raw/residual",
-                                              "okvis2",
-                                              ResidualWeighting::Information,
-                                              "information",
-                                              {{"raw/jacobian_pose_0_minimal", 0, Block::p},
-                                               {"raw/jacobian_pose_0_minimal", 3, Block::theta},
-                                               {"raw/jacobian_speedbias_0", 0, Block::v},
-                                               {"raw/jacobian_speedbias_0", 3, Block::bg},
-                                               {"raw/jacobian_speedbias_0", 6, Block::ba}},
-                                              {{"raw/jacobian_pose_1_minimal", 0, Block::p},
-                                               {"raw/jacobian_pose_1_minimal", 3, Block::theta},
-                                               {"raw/jacobian_speedbias_1", 0, Block::v},
-                                               {"raw/jacobian_speedbias_1", 3, Block::bg},
-                                               {"raw/jacobian_speedbias_1", 6, Block::ba}}};
+  static constexpr ResidualCostSpec kCostSpec =
+      plugin::CostSpecOf("raw/residual", "okvis2", ResidualWeighting::Information, "information",
+                         {{"raw/jacobian_pose_0_minimal", Block::p, Block::theta},
+                          {"raw/jacobian_speedbias_0", Block::v, Block::bg, Block::ba}},
+                         {{"raw/jacobian_pose_1_minimal", Block::p, Block::theta},
+                          {"raw/jacobian_speedbias_1", Block::v, Block::bg, Block::ba}});
 
   Status operator()(const Preintegrated& m, const ImuState& x_s, const ImuState& x_e,
                     const Vec3& gravity, ResidualSink& sink) const {

@@ -18,6 +18,7 @@
 #include "imuconv/kernels/orb_slam3.h"
 #include "imuconv/plugin/residual_plugin.h"
 #include "imuconv/plugin_abi.h"
+#include "jacobian_blocks.h"
 
 namespace {
 
@@ -61,17 +62,13 @@ struct OrbSlam3Factor {
   // separate edges in ORB-SLAM3), whitened by a square root of the information. VertexPose
   // moves R Exp(dtheta), t + R dt, and velocity and biases additively: the chart of `forster`
   // (R Exp(dtheta), p + R dp, v + dv, b + db); the end state's biases do not enter.
-  static constexpr ResidualCostSpec kCostSpec{
-      "residual",
-      "forster",
-      ResidualWeighting::Information,
-      "information",
-      {{"J_pose1", 0, Block::theta},
-       {"J_pose1", 3, Block::p},
-       {"J_vel1", 0, Block::v},
-       {"J_gyro_bias1", 0, Block::bg},
-       {"J_acc_bias1", 0, Block::ba}},
-      {{"J_pose2", 0, Block::theta}, {"J_pose2", 3, Block::p}, {"J_vel2", 0, Block::v}}};
+  static constexpr ResidualCostSpec kCostSpec =
+      plugin::CostSpecOf("residual", "forster", ResidualWeighting::Information, "information",
+                         {{"J_pose1", Block::theta, Block::p},
+                          {"J_vel1", Block::v},
+                          {"J_gyro_bias1", Block::bg},
+                          {"J_acc_bias1", Block::ba}},
+                         {{"J_pose2", Block::theta, Block::p}, {"J_vel2", Block::v}});
 
   Status operator()(const Preintegrated& m, const ImuState& x_s, const ImuState& x_e,
                     const Vec3& gravity, ResidualSink& sink) const {

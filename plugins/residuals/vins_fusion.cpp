@@ -7,9 +7,11 @@
 // on the ten reference cases (tests/reference/vins_fusion_residual_anchor.cpp).
 #include <Eigen/Geometry>
 
+#include "imuconv/kernels/system_state.h"
 #include "imuconv/kernels/vins_fusion_residual.h"
 #include "imuconv/plugin/residual_plugin.h"
 #include "imuconv/plugin_abi.h"
+#include "jacobian_blocks.h"
 
 namespace {
 
@@ -34,13 +36,8 @@ kernels::VinsFusionMeasurement VinsMeasurement(const Preintegrated& m, const Vec
 }
 
 kernels::VinsFusionFactorState VinsState(const ImuState& x) {
-  kernels::VinsFusionFactorState s;
-  s.P = x.p;
-  s.Q = Eigen::Quaterniond(x.R);
-  s.V = x.v;
-  s.Ba = x.ba;
-  s.Bg = x.bg;
-  return s;
+  using S = kernels::VinsFusionFactorState;
+  return kernels::SystemStateOf(x, &S::P, &S::Q, &S::V, &S::Bg, &S::Ba);
 }
 
 void WriteFactorOutput(ResidualSink& sink, const char* group,
@@ -72,20 +69,12 @@ struct VinsFusionFactor {
   // normalized, which is R Exp(dtheta) to first order, and the speed-bias block additively:
   // to first order the chart of `fast_lio2` (pos + dp, R Exp(drot), vel + dv, b + db), whose
   // blocks VINS's columns hold in its order [p, theta | v, ba, bg].
-  static constexpr ResidualCostSpec kCostSpec{"raw/residual",
-                                              "fast_lio2",
-                                              ResidualWeighting::SqrtInformation,
-                                              "sqrt_info",
-                                              {{"raw/jacobian_pose_i", 0, Block::p},
-                                               {"raw/jacobian_pose_i", 3, Block::theta},
-                                               {"raw/jacobian_speedbias_i", 0, Block::v},
-                                               {"raw/jacobian_speedbias_i", 3, Block::ba},
-                                               {"raw/jacobian_speedbias_i", 6, Block::bg}},
-                                              {{"raw/jacobian_pose_j", 0, Block::p},
-                                               {"raw/jacobian_pose_j", 3, Block::theta},
-                                               {"raw/jacobian_speedbias_j", 0, Block::v},
-                                               {"raw/jacobian_speedbias_j", 3, Block::ba},
-                                               {"raw/jacobian_speedbias_j", 6, Block::bg}}};
+  static constexpr ResidualCostSpec kCostSpec = plugin::CostSpecOf(
+      "raw/residual", "fast_lio2", ResidualWeighting::SqrtInformation, "sqrt_info",
+      {{"raw/jacobian_pose_i", Block::p, Block::theta},
+       {"raw/jacobian_speedbias_i", Block::v, Block::ba, Block::bg}},
+      {{"raw/jacobian_pose_j", Block::p, Block::theta},
+       {"raw/jacobian_speedbias_j", Block::v, Block::ba, Block::bg}});
 
   Status operator()(const Preintegrated& m, const ImuState& x_s, const ImuState& x_e,
                     const Vec3& gravity, ResidualSink& sink) const {

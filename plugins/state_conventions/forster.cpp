@@ -7,22 +7,10 @@
 // R^ (the paper writes R, equal to first order), the velocity in the world frame.
 //
 // Against `left`: dtheta_l = R^ dtheta and dp_l = R^ dp exactly, dv_l = dv.
-#include "imuconv/plugin/convention.h"
-#include "imuconv/plugin_abi.h"
+#include "right_rotation_state.h"
 
-namespace {
-
-using namespace imuconv::plugin::prelude;
-
-constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::bg, Block::ba};
 // left's blocks rotated by R^T: p body-frame, v not
-constexpr std::array kBodyFrame{Block::theta, Block::p};
-
-using Forster =
-    imuconv::plugin::RightRotationChart<imuconv::plugin::StateChart<kOrder>, kBodyFrame>;
-
-}  // namespace
-
-IMUCONV_PLUGIN(
-    StateConvention, Forster, "forster", "1.0.0",
-    "Forster et al. TRO 2017: R Exp(dtheta), p + R dp, v + dv, b + db; [theta,p,v,bg,ba]")
+IMUCONV_RIGHT_ROTATION_STATE(
+    "forster", "1.0.0",
+    "Forster et al. TRO 2017: R Exp(dtheta), p + R dp, v + dv, b + db; [theta,p,v,bg,ba]",
+    (Block::theta, Block::p, Block::v, Block::bg, Block::ba), (Block::theta, Block::p))

@@ -10,22 +10,10 @@
 // Against `left` (p + dp_l, Exp(dtheta_l) R, v + dv_l): R^ Exp(dtheta) = Exp(R^ dtheta) R^,
 // so dtheta_l = R^ dtheta, dp_l = R^ dp, dv_l = R^ dv exactly; the Jacobians are
 // block-diagonal rotations plus a bias permutation.
-#include "imuconv/plugin/convention.h"
-#include "imuconv/plugin_abi.h"
+#include "right_rotation_state.h"
 
-namespace {
-
-using namespace imuconv::plugin::prelude;
-
-constexpr BlockOrder kOrder{Block::theta, Block::p, Block::v, Block::ba, Block::bg};
 // left's blocks rotated by R^T: p, v body-frame
-constexpr std::array kBodyFrame{Block::theta, Block::p, Block::v};
-
-using GtsamNavState =
-    imuconv::plugin::RightRotationChart<imuconv::plugin::StateChart<kOrder>, kBodyFrame>;
-
-}  // namespace
-
-IMUCONV_PLUGIN(
-    StateConvention, GtsamNavState, "gtsam_navstate", "1.0.0",
-    "gtsam::NavState::retract: R Exp(dtheta), p + R dp, v + R dv, b + db; [theta,p,v,ba,bg]")
+IMUCONV_RIGHT_ROTATION_STATE(
+    "gtsam_navstate", "1.0.0",
+    "gtsam::NavState::retract: R Exp(dtheta), p + R dp, v + R dv, b + db; [theta,p,v,ba,bg]",
+    (Block::theta, Block::p, Block::v, Block::ba, Block::bg), (Block::theta, Block::p, Block::v))

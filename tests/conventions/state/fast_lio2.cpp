@@ -6,6 +6,7 @@
 
 #include "../convention_suite.h"
 #include "imuconv/kernels/fast_lio2.h"
+#include "imuconv/kernels/system_state.h"
 
 IMUCONV_STATE_CONVENTION(fast_lio2, "p theta v bg ba");
 
@@ -45,12 +46,8 @@ TEST(FastLio2Chart, RetractIsIkfomBoxplusOnTheFifteenDimensions) {
   for (const ImuState& x : imuconv::test::TestStates()) {
     for (double scale : {1e-6, 0.3}) {
       const Vec15 d = imuconv::test::RandVec15(scale);
-      k::FastLio2State s;
-      s.pos = x.p;
-      s.rot = Eigen::Quaterniond(x.R);
-      s.vel = x.v;
-      s.bg = x.bg;
-      s.ba = x.ba;
+      using S = k::FastLio2State;
+      const S s = k::SystemStateOf(x, &S::pos, &S::rot, &S::vel, &S::bg, &S::ba);
       k::Vec23 d23 = k::Vec23::Zero();
       d23.segment<3>(k::kFastLio2Pos) = d.segment<3>(0);
       d23.segment<3>(k::kFastLio2Rot) = d.segment<3>(3);

@@ -228,4 +228,15 @@ struct FastLio2Propagator {
   }
 };
 
+/// The readings registered as propagator plugins (plugins/propagators/), each named for what
+/// it reads: FAST-LIO as built with densities (`fast_lio2`), as built with its configuration
+/// file's own variances (`fast_lio2_as_configured`), and with the rotation block IKFoM meant
+/// (`fast_lio2_exact_rotation`).
+using FastLio2AsBuilt =
+    FastLio2Propagator<FastLio2Transition::kAsFastLio, FastLio2NoiseReading::kDensities>;
+using FastLio2AsConfigured =
+    FastLio2Propagator<FastLio2Transition::kAsFastLio, FastLio2NoiseReading::kAsConfigured>;
+using FastLio2ExactRotation =
+    FastLio2Propagator<FastLio2Transition::kExactRotation, FastLio2NoiseReading::kDensities>;
+
 }  // namespace imuconv::kernels

@@ -42,6 +42,7 @@
 #include <Eigen/Geometry>
 
 #include "imuconv/export.h"
+#include "imuconv/kernels/system_state.h"
 #include "imuconv/status.h"
 #include "imuconv/types.h"
 
@@ -86,13 +87,8 @@ struct Okvis2State {
 
 /// `x` as OKVIS's state: the same position, rotation (as a quaternion), velocity and biases.
 inline Okvis2State Okvis2StateOf(const ImuState& x) {
-  Okvis2State s;
-  s.r = x.p;
-  s.q = Eigen::Quaterniond(x.R);
-  s.v = x.v;
-  s.bg = x.bg;
-  s.ba = x.ba;
-  return s;
+  return SystemStateOf(x, &Okvis2State::r, &Okvis2State::q, &Okvis2State::v, &Okvis2State::bg,
+                       &Okvis2State::ba);
 }
 
 /// Which transition the covariance uses.
