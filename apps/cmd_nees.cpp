@@ -49,7 +49,7 @@ int RunNeesCommand(const CommandContext& ctx, const NeesCommandOptions& o) {
     options.noise = nees::NoiseGivenOrInPipeline(o.noise_path, in.noise, o.pipeline_path);
     options.gravity = in.gravity;
     Judgment judgment;
-    judgment.warnings = in.imu.warnings;  // suspected units or column order of the samples
+    judgment.warnings = in.warnings;  // the samples' units or columns; the poses against the gyro
     PrintWarnings(judgment.warnings);
     const auto result =
         std::make_shared<const nees::Result>(nees::RunNees(reg, in.imu, in.gt, options));

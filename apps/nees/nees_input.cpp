@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "imuconv/pipeline/errors.h"
+#include "imuconv/pipeline/imu_plausibility.h"
 #include "imuconv/pipeline/json_io.h"
 #include "imuconv/pipeline/json_parse.h"
 #include "imuconv/pipeline/kalibr_yaml.h"
@@ -21,6 +22,15 @@ bool IsYamlPath(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext == ".yaml" || ext == ".yml";
+}
+
+// The samples' warnings, then the ground truth's against the gyro, named `gt_name`.
+std::vector<std::string> JoinedWarnings(const pipeline::ImuData& imu,
+                                        const pipeline::GroundTruth& gt,
+                                        const std::string& gt_name) {
+  std::vector<std::string> out = imu.warnings;
+  for (auto& w : pipeline::PoseGyroWarnings(imu.samples, gt, gt_name)) out.push_back(std::move(w));
+  return out;
 }
 
 }  // namespace
@@ -49,6 +59,7 @@ Input ReadEurocInput(const std::string& imu_path, const std::string& gt_path) {
   Input in;
   in.imu = pipeline::ReadEurocImu(imu_path);
   in.gt = pipeline::ReadEurocGroundTruth(gt_path, *in.imu.origin);
+  in.warnings = JoinedWarnings(in.imu, in.gt, gt_path);
   return in;
 }
 
@@ -68,6 +79,7 @@ Input ReadPipelineInput(const std::string& pipeline_path) {
                                                 in.gt.format + "\" (poses only)"}});
   in.gravity = pipeline::PipelineGravity(p);
   in.noise = pipeline::PipelineNoiseIfGiven(p);
+  in.warnings = JoinedWarnings(in.imu, in.gt, p.file() + ": /ground_truth");
   return in;
 }
 

@@ -6,6 +6,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "imuconv/pipeline/imu_reader.h"
 
@@ -16,6 +17,9 @@ struct Input {
   pipeline::GroundTruth gt;
   std::optional<ImuNoise> noise;  ///< the pipeline's /noise, when it has one
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
+  /// The samples' suspected units or column order (imu.warnings), then the ground truth's
+  /// rotations against the gyro (pipeline::PoseGyroWarnings).
+  std::vector<std::string> warnings;
 };
 
 /// The four noise densities from --noise: a Kalibr imu.yaml (by extension, .yaml/.yml in any

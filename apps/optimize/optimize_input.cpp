@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "imuconv/pipeline/errors.h"
+#include "imuconv/pipeline/imu_plausibility.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/pipeline/pipeline_data.h"
 
@@ -34,6 +35,12 @@ std::size_t CountFields(const std::string& line, bool commas) {
 const char* kVicon0Warning =
     ": EuRoC vicon0 poses are the Vicon marker's; they are used as the IMU's (no T_BS is "
     "applied), so the estimate carries the marker's lever arm";
+
+// The poses' rotations against the gyro (a quaternion order, a sequence or a time axis mistaken).
+void AddPoseGyroWarnings(Input& in, const std::string& poses_name) {
+  for (auto& w : pipeline::PoseGyroWarnings(in.imu.samples, in.poses, poses_name))
+    in.warnings.push_back(std::move(w));
+}
 
 }  // namespace
 
@@ -67,6 +74,7 @@ Input ReadFileInput(const std::string& imu_path, const std::string& poses_path) 
   else
     in.poses = pipeline::ReadPoseGroundTruth(poses_path, format, *in.imu.origin);
   if (format == "euroc_pose") in.warnings.push_back(poses_path + kVicon0Warning);
+  AddPoseGyroWarnings(in, poses_path);
   return in;
 }
 
@@ -84,6 +92,7 @@ Input ReadPipelineInput(const std::string& pipeline_path) {
   in.noise = pipeline::PipelineNoiseIfGiven(p);
   if (in.poses.format == "euroc_pose")
     in.warnings.push_back(p.file() + ": /ground_truth" + kVicon0Warning);
+  AddPoseGyroWarnings(in, p.file() + ": /ground_truth");
   return in;
 }
 

@@ -13,6 +13,7 @@
 #include "imuconv/optimize/optimize_output.h"
 #include "imuconv/optimize/pipeline_task.h"
 #include "imuconv/pipeline/ground_truth_quaternion.h"
+#include "imuconv/pipeline/imu_plausibility.h"
 
 namespace imuconv::python {
 namespace {
@@ -86,6 +87,9 @@ void BindOptimize(py::module_& m) {
         imu.source = "samples";
         WarnIfImplausible(imu.samples);
         const pipeline::GroundTruth gt = ReadPoses(poses);
+        for (const auto& w : pipeline::PoseGyroWarnings(imu.samples, gt, "poses"))
+          if (PyErr_WarnEx(PyExc_UserWarning, ("imuconv: " + w).c_str(), 1) != 0)
+            throw py::error_already_set();  // warnings turned into errors
         optimize::Options o;
         o.noise = ReadNoise(noise);
         RequireUsableNoise(o.noise, imu.samples);  // as preintegrate, propagate and the CLI

@@ -4,6 +4,7 @@
 import json
 import os
 import subprocess
+import warnings
 
 import numpy as np
 import pytest
@@ -58,3 +59,17 @@ def test_optimize_refuses_bad_poses(reg):
         imuconv.optimize(reg, samples, bad, noise=EUROC_NOISE, keyframe_step=2.0)
     with pytest.raises(imuconv.Error, match="keyframe-step"):
         imuconv.optimize(reg, samples, poses, noise=EUROC_NOISE, keyframe_step=1000.0)
+
+
+def test_optimize_warns_when_the_poses_disagree_with_the_gyro(reg):
+    # The slice's poses with each quaternion written x,y,z,w in the w,x,y,z columns (still unit):
+    # a UserWarning naming the poses, and the solve still runs; the true poses give none.
+    samples, poses = euroc_slice()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)
+        imuconv.optimize(reg, samples, poses, noise=EUROC_NOISE, keyframe_step=2.0)
+    reordered = poses.copy()
+    reordered[:, 4:8] = poses[:, [5, 6, 7, 4]]
+    with pytest.warns(UserWarning, match=r"imuconv: poses: the poses' rotations disagree with the gyro"):
+        out = imuconv.optimize(reg, samples, reordered, noise=EUROC_NOISE, keyframe_step=2.0)
+    assert out["t"].shape[0] >= 2

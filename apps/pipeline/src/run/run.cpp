@@ -19,6 +19,7 @@
 #include "../tasks/task.h"
 #include "imuconv/kernels/preintegration.h"
 #include "imuconv/pipeline/file_digest.h"
+#include "imuconv/pipeline/imu_plausibility.h"
 #include "imuconv/pipeline/pipeline.h"
 #include "imuconv/pipeline/result_arrays.h"
 #include "imuconv/printable.h"
@@ -346,8 +347,13 @@ void RunToSink(const Pipeline& p, const Registry& reg, const RunOptions& options
   ctx.referenced = ReferencedTasks(ctx.spec);
   CheckRegistry(ctx);
   LoadData(ctx);
-  if (options.log)
+  if (options.log) {
     for (const auto& w : ctx.imu.warnings) *options.log << "warning: " << w << "\n";
+    if (ctx.gt)  // the ground truth's rotations against the gyro
+      for (const auto& w :
+           PoseGyroWarnings(ctx.imu.samples, *ctx.gt, ctx.spec.file + ": /ground_truth"))
+        *options.log << "warning: " << w << "\n";
+  }
   CheckTimes(ctx);
   CheckKeptMemory(
       ctx.spec, ctx.referenced, [&](const std::string& f) { return ctx.files.at(f).size(); },

@@ -11,6 +11,8 @@
 // - gyro in deg/s: median |gyro| above 10 rad/s (sustained, not a peak: 573 deg/s if the
 //   numbers were rad/s), with the share of samples beyond the +-2000 deg/s (34.9 rad/s) full
 //   scale of common MEMS gyros as further evidence.
+// And poses read with the samples (ground truth, optimize's poses) must turn as the gyro does:
+// PoseGyroWarnings (docs/imu-plausibility.md, "Poses against the gyro").
 #pragma once
 
 #include <string>
@@ -19,6 +21,8 @@
 #include "imuconv/types.h"
 
 namespace imuconv::pipeline {
+
+struct GroundTruth;  // imuconv/pipeline/imu_reader.h
 
 /// The medians (and what else the warnings quote) of a set of samples.
 struct ImuMagnitudes {
@@ -39,5 +43,16 @@ std::vector<std::string> ImuPlausibilityWarnings(const std::vector<ImuSample>& s
                                                  const std::string& source);
 
 inline constexpr std::size_t kPlausibilityMinSamples = 20;
+
+/// Whether `poses`' rotations agree with the gyro's: over non-overlapping windows of 0.5 s
+/// between poses (within the samples' span), the rotation vector of the poses' relative rotation
+/// Log(R_i^T R_j) against that of the gyro's integrated rotation (the product of Exp(w dt)),
+/// after the best constant rotation between the two frames and a constant offset (the gyro
+/// bias times the window) are fitted: what is left is the windows' residual. One sentence
+/// naming `poses_name` with the median residual, the median rotation and the number of windows
+/// when that median exceeds 0.02 rad; empty when it does not, and when fewer than 20 windows
+/// turn by more than 0.05 rad (no judgment without rotation). Work: O(samples + poses).
+std::vector<std::string> PoseGyroWarnings(const std::vector<ImuSample>& samples,
+                                          const GroundTruth& poses, const std::string& poses_name);
 
 }  // namespace imuconv::pipeline
